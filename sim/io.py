@@ -1,0 +1,60 @@
+"""Atomic output files: written to a temporary name beside the target, then renamed over it."""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+from analytic import ParameterError
+
+
+def check_writable(path: str | os.PathLike, suffixes: tuple[str, ...] | None = None) -> Path:
+    """Fail early, with one line, on an output path that cannot be written or has the wrong extension."""
+    p = Path(path)
+    if suffixes is not None and p.suffix.lower() not in suffixes:
+        raise ParameterError(f"{p}: unsupported output type {p.suffix or '(none)'!r}; use one of "
+                             f"{', '.join(suffixes)}")
+    parent = p.parent if str(p.parent) else Path(".")
+    if not parent.is_dir():
+        raise ParameterError(f"{p}: folder {parent} does not exist; create it or choose another path")
+    if not os.access(parent, os.W_OK):
+        raise ParameterError(f"{p}: folder {parent} is not writable; choose another path")
+    if p.is_dir():
+        raise ParameterError(f"{p} is a folder; give a file name")
+    return p
+
+
+@contextlib.contextmanager
+def atomic_path(path: str | os.PathLike):
+    """Yield a temporary path beside ``path``; on success rename it to ``path``, else remove it.
+
+    An interrupted write never leaves a truncated file under the requested name, and an existing file is
+    replaced only by a complete one.
+    """
+    p = Path(path)
+    fd, tmp = tempfile.mkstemp(prefix=f".{p.stem}.", suffix=p.suffix, dir=p.parent if str(p.parent) else ".")
+    os.close(fd)
+    try:
+        yield tmp
+        os.replace(tmp, p)
+    except BaseException:
+        with contextlib.suppress(FileNotFoundError):
+            os.remove(tmp)
+        raise
+
+
+def write_csv(path, columns: dict[str, np.ndarray]) -> None:
+    """Write named columns as CSV with a header row, atomically. Values in full double precision."""
+    names = list(columns)
+    data = np.column_stack([np.ravel(columns[n]) for n in names])
+    with atomic_path(path) as tmp:
+        np.savetxt(tmp, data, delimiter=",", header=",".join(names), comments="", fmt="%.17g")
+
+
+def write_text(path, text: str) -> None:
+    with atomic_path(path) as tmp:
+        Path(tmp).write_text(text)
