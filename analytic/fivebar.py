@@ -21,7 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._common import ParameterError, check_finite, check_length, drive as _drive
+from ._common import ParameterError, blockwise, check_finite, check_length, drive as _drive
 
 __all__ = ["FiveBar", "FiveBarState", "solve", "drive", "METHODS"]
 
@@ -122,23 +122,36 @@ def solve(mech: FiveBar, phi2, phi4, omega2, omega4, alpha2=0.0, alpha4=0.0,
         raise ParameterError(f"method={method!r} is not known: use one of {', '.join(METHODS)}")
     arrays = np.broadcast_arrays(*(np.asarray(x, dtype=float)
                                    for x in (phi2, phi4, omega2, omega4, alpha2, alpha4)))
-    phi2, phi4, omega2, omega4, alpha2, alpha4 = arrays
+    kernel = _complex_kernel if method == "complex" else _matrix_kernel
+    return FiveBarState(**dict(zip(("phi2", "phi4", "omega2", "omega4", "alpha2", "alpha4"), arrays)),
+                        **blockwise(kernel, mech, tuple(arrays)))
+
+
+def _complex_kernel(mech, *inputs):
+    return _kernel(mech, _complex, *inputs)
+
+
+def _matrix_kernel(mech, *inputs):
+    return _kernel(mech, _matrix, *inputs)
+
+
+def _kernel(mech: FiveBar, rates, phi2, phi4, omega2, omega4, alpha2, alpha4) -> dict:
+    """Positions, the chosen method's rates, and point P on 1-D arrays (see :func:`solve`)."""
     l1, l2, l4, lp = mech.l1, mech.l2, mech.l4, mech.lp
     c2, s2, c4, s4 = np.cos(phi2), np.sin(phi2), np.cos(phi4), np.sin(phi4)
     xB, yB = l2 * c2, l2 * s2
     xC, yC = l1 + l4 * c4, l4 * s4
-    S = np.hypot(xC - xB, yC - yB)
+    dx, dy = xC - xB, yC - yB
+    S = np.sqrt(dx * dx + dy * dy)
     S = np.where(S > 1e-12 * l1, S, np.nan)      # B on C: theta3 undefined
-    c3, s3 = (xC - xB) / S, (yC - yB) / S
-    rates = _complex if method == "complex" else _matrix
-    dS, omega3, ddS, alpha3 = rates(mech, c2, s2, c4, s4, S, c3, s3, *arrays[2:])
+    c3, s3 = dx / S, dy / S
+    dS, omega3, ddS, alpha3 = rates(mech, c2, s2, c4, s4, S, c3, s3, omega2, omega4, alpha2, alpha4)
 
     # P = B + lp e^{i theta3}: v = vB + i lp omega3 e^{i theta3}, a = aB + lp (i alpha3 - omega3^2) e^{i theta3}.
     vxB, vyB = -l2 * omega2 * s2, l2 * omega2 * c2
     axB = -l2 * (alpha2 * s2 + omega2 * omega2 * c2)
     ayB = l2 * (alpha2 * c2 - omega2 * omega2 * s2)
-    return FiveBarState(
-        phi2=phi2, phi4=phi4, omega2=omega2, omega4=omega4, alpha2=alpha2, alpha4=alpha4,
+    return dict(
         S=S, theta3=np.arctan2(s3, c3), dS=dS, omega3=omega3, ddS=ddS, alpha3=alpha3,
         xP=xB + lp * c3, yP=yB + lp * s3,
         vxP=vxB - lp * omega3 * s3, vyP=vyB + lp * omega3 * c3,

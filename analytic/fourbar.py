@@ -21,11 +21,11 @@ from dataclasses import dataclass, fields
 
 import numpy as np
 
-from ._common import (AssemblyError, ParameterError, check_branch, check_finite, check_length,
+from ._common import (AssemblyError, ParameterError, blockwise, check_branch, check_finite, check_length,
                       drive as _drive, fmt_deg)
 
 __all__ = ["FourBar", "FourBarState", "Grashof", "CrankLimits", "solve", "grashof", "crank_limits",
-           "check_reachable", "drive"]
+           "check_reachable", "drive", "joints"]
 
 
 @dataclass(frozen=True)
@@ -79,10 +79,6 @@ class FourBarState:
     omega3: np.ndarray
     alpha2: np.ndarray
     alpha3: np.ndarray
-    xB: np.ndarray
-    yB: np.ndarray
-    xC: np.ndarray
-    yC: np.ndarray
     xE: np.ndarray
     yE: np.ndarray
     vxE: np.ndarray
@@ -95,6 +91,16 @@ class FourBarState:
     def valid(self) -> np.ndarray:
         """True where the linkage assembled (False where every output is NaN)."""
         return np.isfinite(self.phi3)
+
+
+def joints(mech: FourBar, state: FourBarState) -> dict[str, tuple[np.ndarray, np.ndarray]]:
+    """World positions [m] of the named points A, B, C, D, E of a solved state, for drawing and checks."""
+    zero = np.zeros_like(state.phi1)
+    return {"A": (zero, zero),
+            "B": (mech.l1 * np.cos(state.phi1), mech.l1 * np.sin(state.phi1)),
+            "C": (mech.l4 + mech.l3 * np.cos(state.phi3), mech.l3 * np.sin(state.phi3)),
+            "D": (zero + mech.l4, zero),
+            "E": (state.xE, state.yE)}
 
 
 OUTPUTS = ("phi2", "phi3", "omega2", "omega3", "alpha2", "alpha3",
@@ -121,8 +127,14 @@ def solve(mech: FourBar, phi1, omega1, alpha1=0.0) -> FourBarState:
     FourBarState
         Fields of the broadcast shape; NaN where the crank angle cannot be reached.
     """
-    l1, l2, l3, l4 = mech.l1, mech.l2, mech.l3, mech.l4
     phi1, omega1, alpha1 = np.broadcast_arrays(*(np.asarray(x, dtype=float) for x in (phi1, omega1, alpha1)))
+    return FourBarState(phi1=phi1, omega1=omega1, alpha1=alpha1,
+                        **blockwise(_kernel, mech, (phi1, omega1, alpha1)))
+
+
+def _kernel(mech: FourBar, phi1, omega1, alpha1) -> dict:
+    """The closed form on 1-D arrays (see :func:`solve`)."""
+    l1, l2, l3, l4 = mech.l1, mech.l2, mech.l3, mech.l4
     c1, s1 = np.cos(phi1), np.sin(phi1)
 
     # Seed 000 (3-4 ... 3-7) in SPEC's convention: E cos(phi3) + F sin(phi3) + G = 0.
@@ -131,16 +143,21 @@ def solve(mech: FourBar, phi1, omega1, alpha1=0.0) -> FourBarState:
     g = (l1 * l1 + l3 * l3 + l4 * l4 - l2 * l2) - (2.0 * l1 * l4) * c1
     disc = e * e + f * f - g * g
     # A sample exactly at a limit position may round to a tiny negative discriminant: clamp those to 0.
-    scale = (2.0 * l3 * (l1 + l4)) ** 2
-    disc = np.where(disc > -1e-13 * scale, np.abs(disc), np.nan)
-    # tan(phi3/2) = (-F -+ sqrt(E^2+F^2-G^2)) / (G - E); the minus root is branch +1 (C left of B->D).
-    phi3 = 2.0 * np.arctan2(-f - mech.branch * np.sqrt(disc), g - e)
-    c3, s3 = np.cos(phi3), np.sin(phi3)
+    unreachable = disc < -1e-13 * (2.0 * l3 * (l1 + l4)) ** 2
+    root = np.sqrt(np.abs(disc))
+    if unreachable.any():
+        root[unreachable] = np.nan
+    # tan(phi3/2) = num/den = (-F -+ sqrt(E^2+F^2-G^2)) / (G - E); the minus root is branch +1 (C left
+    # of B->D). The half-angle identities give cos and sin of phi3 without more trigonometry.
+    num = -f - mech.branch * root
+    den = g - e
+    nn, dd = num * num, den * den
+    norm = nn + dd
+    c3, s3 = (dd - nn) / norm, 2.0 * num * den / norm
     xB, yB = l1 * c1, l1 * s1
     xC, yC = l4 + l3 * c3, l3 * s3
     # |BC| = l2 by construction, so the coupler's direction cosines need no more trigonometry.
     c2, s2 = (xC - xB) / l2, (yC - yB) / l2
-    phi2 = np.arctan2(s2, c2)
 
     # Velocities (seed 000 3-15, 3-17): real parts after multiplying by e^{-i phi2} and e^{-i phi3}.
     s12 = s1 * c2 - c1 * s2          # sin(phi1 - phi2)
@@ -165,15 +182,14 @@ def solve(mech: FourBar, phi1, omega1, alpha1=0.0) -> FourBarState:
     rx = mech.ex * c2 - mech.ey * s2
     ry = mech.ex * s2 + mech.ey * c2
     w2w2 = omega2 * omega2
-    return FourBarState(
-        phi1=phi1, omega1=omega1, alpha1=alpha1,
-        phi2=phi2, phi3=np.arctan2(s3, c3), omega2=omega2, omega3=omega3, alpha2=alpha2, alpha3=alpha3,
-        xB=xB, yB=yB, xC=xC, yC=yC,
+    return dict(
+        phi2=np.arctan2(s2, c2), phi3=np.arctan2(s3, c3), omega2=omega2, omega3=omega3,
+        alpha2=alpha2, alpha3=alpha3,
         xE=xB + rx, yE=yB + ry,
         vxE=-l1w1 * s1 - omega2 * ry, vyE=l1w1 * c1 + omega2 * rx,
         axE=-l1a1 * s1 - l1w1w1 * c1 - alpha2 * ry - w2w2 * rx,
         ayE=l1a1 * c1 - l1w1w1 * s1 + alpha2 * rx - w2w2 * ry,
-        mu=np.arccos(np.minimum(np.abs(c23), 1.0)),
+        mu=np.arctan2(np.abs(s32), np.abs(c23)),     # acute angle between coupler and rocker
     )
 
 

@@ -20,7 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._common import ParameterError, check_branch, check_finite, check_length, drive as _drive
+from ._common import ParameterError, blockwise, check_branch, check_finite, check_length, drive as _drive
 
 __all__ = ["SixBar", "SixBarState", "Shaper", "solve", "figures", "drive", "default_h"]
 
@@ -127,13 +127,19 @@ def solve(mech: SixBar, phi1, omega1, alpha1=0.0) -> SixBarState:
     phi1, omega1, alpha1 : array_like
         Crank angle [rad], angular velocity [rad/s] and acceleration [rad/s^2]; broadcast together.
     """
-    l1, l3, l4, l6, h = mech.l1, mech.l3, mech.l4, mech.l6, mech.h
     phi1, omega1, alpha1 = np.broadcast_arrays(*(np.asarray(x, dtype=float) for x in (phi1, omega1, alpha1)))
+    return SixBarState(phi1=phi1, omega1=omega1, alpha1=alpha1,
+                       **blockwise(_kernel, mech, (phi1, omega1, alpha1)))
+
+
+def _kernel(mech: SixBar, phi1, omega1, alpha1) -> dict:
+    """Both loops on 1-D arrays (see :func:`solve`)."""
+    l1, l3, l4, l6, h = mech.l1, mech.l3, mech.l4, mech.l6, mech.h
     c1, s1 = np.cos(phi1), np.sin(phi1)
 
     # Loop 1: the block A on the guide bar.
     xA, yA = l1 * c1, l6 + l1 * s1
-    s = np.hypot(xA, yA)
+    s = np.sqrt(xA * xA + yA * yA)
     c3, s3 = xA / s, yA / s
     sin13 = s1 * c3 - c1 * s3            # sin(phi1 - phi3)
     cos13 = c1 * c3 + s1 * s3
@@ -153,8 +159,7 @@ def solve(mech: SixBar, phi1, omega1, alpha1=0.0) -> SixBarState:
     c4 = mech.branch * np.sqrt(1.0 - s4 * s4)
     omega4 = -vyB / (l4 * c4)
     alpha4 = (-ayB + l4 * s4 * omega4 * omega4) / (l4 * c4)
-    return SixBarState(
-        phi1=phi1, omega1=omega1, alpha1=alpha1,
+    return dict(
         s=s, phi3=np.arctan2(s3, c3), phi4=np.arctan2(s4, c4), xC=xB + l4 * c4,
         ds=ds, omega3=omega3, omega4=omega4, vxC=vxB - l4 * s4 * omega4,
         dds=dds, alpha3=alpha3, alpha4=alpha4, axC=axB - l4 * (s4 * alpha4 + c4 * omega4 * omega4),

@@ -1,6 +1,7 @@
 """Hand-checkable four-bar geometry, branches, loop closure, Grashof table and limit positions."""
 
 import math
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -9,6 +10,12 @@ from analytic import ParameterError, fourbar
 from analytic.fourbar import FourBar
 
 ROUND = 1e-14       # a few ulps of lengths of order 1 m: what rounding alone leaves
+
+
+def _pts(m, st):
+    """The state with its joint coordinates xB, yB, xC, yC attached, for short assertions."""
+    j = fourbar.joints(m, st)
+    return SimpleNamespace(**vars(st), xB=j["B"][0], yB=j["B"][1], xC=j["C"][0], yC=j["C"][1])
 
 
 def test_parallelogram_translates_the_coupler():
@@ -27,7 +34,7 @@ def test_parallelogram_translates_the_coupler():
 def test_345_triangle_pose_by_hand():
     # A=(0,0), D=(0.4,0), B=(0,0.3) at phi1=90deg, C=(0.4,0.3): BC=0.4 horizontal, DC=0.3 vertical, BD=0.5.
     m = FourBar(l1=0.3, l2=0.4, l3=0.3, l4=0.4, ex=0.0, ey=0.0)
-    st = fourbar.solve(m, math.pi / 2, 1.0)
+    st = _pts(m, fourbar.solve(m, math.pi / 2, 1.0))
     assert abs(st.xC - 0.4) < ROUND and abs(st.yC - 0.3) < ROUND
     assert abs(st.phi2) < ROUND and abs(st.phi3 - math.pi / 2) < ROUND
     assert abs(st.mu - math.pi / 2) < 1e-7           # arccos near 0 loses half the digits
@@ -35,7 +42,7 @@ def test_345_triangle_pose_by_hand():
     assert abs(st.omega3 - 1.0) < ROUND and abs(st.omega2) < ROUND
     # The other branch reflects C across BD: C' = (0.4 - 0.32*..., ...) computed by reflection.
     mm = FourBar(l1=0.3, l2=0.4, l3=0.3, l4=0.4, ex=0.0, ey=0.0, branch=-1)
-    other = fourbar.solve(mm, math.pi / 2, 1.0)
+    other = _pts(mm, fourbar.solve(mm, math.pi / 2, 1.0))
     b, d, c = np.array([0, 0.3]), np.array([0.4, 0.0]), np.array([0.4, 0.3])
     u = (d - b) / 0.5
     mirror = b + 2 * np.dot(c - b, u) * u - (c - b)
@@ -48,7 +55,7 @@ def test_branches_mirror_across_BD_and_close_the_loop(seed):
     m = FourBar(0.1, 0.3, 0.25, 0.3, ex=0.15, ey=0.1)
     mm = FourBar(0.1, 0.3, 0.25, 0.3, ex=0.15, ey=0.1, branch=-1)
     phi1 = rng.uniform(-math.pi, math.pi, 200)
-    p, q = fourbar.solve(m, phi1, 1.0), fourbar.solve(mm, phi1, 1.0)
+    p, q = _pts(m, fourbar.solve(m, phi1, 1.0)), _pts(mm, fourbar.solve(mm, phi1, 1.0))
     for st, sign in ((p, 1), (q, -1)):
         assert np.allclose(np.hypot(st.xC - st.xB, st.yC - st.yB), m.l2, atol=ROUND)
         assert np.allclose(np.hypot(st.xC - m.l4, st.yC), m.l3, atol=ROUND)
@@ -68,7 +75,8 @@ def test_branches_mirror_across_BD_and_close_the_loop(seed):
 def test_change_point_branches_meet_when_collinear():
     m = FourBar(l1=0.1, l2=0.25, l3=0.15, l4=0.2)        # s + l = p + q = 0.35
     assert fourbar.grashof(m).chain == "change-point"
-    a, b = fourbar.solve(m, 0.0, 1.0), fourbar.solve(FourBar(0.1, 0.25, 0.15, 0.2, branch=-1), 0.0, 1.0)
+    mm = FourBar(0.1, 0.25, 0.15, 0.2, branch=-1)
+    a, b = _pts(m, fourbar.solve(m, 0.0, 1.0)), _pts(mm, fourbar.solve(mm, 0.0, 1.0))
     # At phi1 = 0 all four pivots are collinear (|BD| = l2 - l3), so both assembly modes coincide;
     # the square root of a rounding-size discriminant leaves ~1e-8.
     assert math.hypot(a.xC - b.xC, a.yC - b.yC) < 1e-7
