@@ -1,0 +1,239 @@
+"""MuJoCo models of the mechanisms: the MJCF files in ``mjcf/`` with the user's parameters applied
+through :class:`mujoco.MjSpec`, and the initial state assembled from the analytic solver.
+
+Everything is looked up by name (bodies, geoms, sites, joints, keys), never by index.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import mujoco
+import numpy as np
+
+import mjcf
+from analytic import MECHANISMS, ParameterError, fivebar, fourbar, sixbar
+from .params import mechanism_name
+
+MJCF_DIR = Path(mjcf.__file__).resolve().parent
+
+INTEGRATORS = {"euler": mujoco.mjtIntegrator.mjINT_EULER, "rk4": mujoco.mjtIntegrator.mjINT_RK4,
+               "implicit": mujoco.mjtIntegrator.mjINT_IMPLICIT,
+               "implicitfast": mujoco.mjtIntegrator.mjINT_IMPLICITFAST}
+if hasattr(mujoco.mjtIntegrator, "mjINT_DISCRETE"):
+    INTEGRATORS["discrete"] = mujoco.mjtIntegrator.mjINT_DISCRETE
+
+DEFAULT_TIMESTEP = 0.002
+DEFAULT_INTEGRATOR = "rk4"
+SERVO_RATIO = 1.0
+"""kv * timestep / armature of the crank velocity servos: at most 1 keeps the explicit servo stable under
+RK4 (whose real stability limit is 2.78) with margin; kv follows the timestep."""
+LOOP_TIMECONST = 16.0
+"""Time constant of the loops' drift correction, in timesteps (solref[0] = LOOP_TIMECONST * timestep).
+With the regularisation below made negligible, the loops are held by the constraint force itself and
+this Baumgarte-style correction only removes integration drift; a slow one (16 steps) disturbs RK4 least:
+errors fell 10-50x from 3 to 16 steps in the study of benchmarks/simulate.py."""
+REGULARIZATION_SCALE = 1e-4
+"""Scale applied to the compiled ``body_invweight0``. MuJoCo sizes each constraint's regulariser as
+R = (1 - d) / d * invweight with the impedance d capped at 0.9999, and that leak of 1e-4 of the constraint
+force shows up as loop violation (up to 3e-7 m) and velocity error (up to 1e-3 rad/s) in these fast
+linkages. invweight0 serves only that purpose in a model without contacts, so scaling it by 1e-4 acts as
+an impedance of 1 - 1e-8 (measured: violation 2e-7 -> 2e-8 m for the five-bar at omega4 = 2 omega2)."""
+CRANK_ARMATURE = 0.01
+"""Rotor inertia [kg m^2] added to each driven crank joint: a motor's rotor, which also lets the servo
+be stiff (kv = armature / timestep) so that the crank speed ripples by ~1 % (reported by compare)."""
+
+
+def mjcf_path(name: str) -> Path:
+    """Path of the MJCF file of mechanism ``name``."""
+    return MJCF_DIR / f"{name}.xml"
+
+
+@dataclass(frozen=True)
+class Built:
+    """A compiled model with the parameters it was built from and its initial state."""
+
+    name: str
+    mech: object
+    model: mujoco.MjModel
+    qpos0: np.ndarray
+    qvel0: np.ndarray
+    ctrl0: np.ndarray
+
+
+def check_settings(timestep: float, integrator: str) -> None:
+    if not (isinstance(timestep, float | int) and math.isfinite(timestep) and 0 < timestep <= 0.05):
+        raise ParameterError(f"--timestep {timestep!r} must be a number in (0, 0.05] s (e.g. 0.001)")
+    if integrator not in INTEGRATORS:
+        raise ParameterError(f"--integrator {integrator!r} is not known: use one of {', '.join(INTEGRATORS)}")
+
+
+def build(mech, timestep: float = DEFAULT_TIMESTEP, integrator: str = DEFAULT_INTEGRATOR,
+          timeconst: float = LOOP_TIMECONST) -> Built:
+    """Compile the mechanism's MJCF with ``mech``'s parameters, simulation settings and initial state."""
+    check_settings(timestep, integrator)
+    name = mechanism_name(mech)
+    spec = mujoco.MjSpec.from_file(str(mjcf_path(name)))
+    _GEOMETRY[name](spec, mech)
+    joints, ctrl = _INITIAL[name](mech)
+    spec.option.timestep = float(timestep)
+    spec.option.integrator = INTEGRATORS[integrator]
+    for act in spec.actuators:
+        joint = spec.joint(act.target)
+        joint.armature = CRANK_ARMATURE
+        kv = SERVO_RATIO * CRANK_ARMATURE / timestep
+        act.gainprm[0] = kv          # velocity servo: force = kv * (ctrl - qvel)
+        act.biasprm[2] = -kv
+    for eq in spec.equalities:
+        eq.solref[0] = timeconst * timestep
+    _frame_camera(spec, name, mech)
+    model = spec.compile()
+    model.body_invweight0[:] *= REGULARIZATION_SCALE
+    qpos = np.zeros(model.nq)
+    qvel = np.zeros(model.nv)
+    for jname, (q, v) in joints.items():
+        j = model.joint(jname)
+        qpos[j.qposadr[0]] = q
+        qvel[j.dofadr[0]] = v
+    # The MJCF's home keyframe is the SPEC default; the built model's keyframe is this mechanism's.
+    key = model.key("home")
+    key.qpos[:] = qpos
+    key.qvel[:] = qvel
+    key.ctrl[:] = ctrl
+    return Built(name, mech, model, qpos, qvel, np.asarray(ctrl, float))
+
+
+# ------------------------------------------------------------------------------------ geometry
+def _set(spec, kind: str, name: str, **attrs) -> None:
+    element = getattr(spec, kind)(name)
+    if element is None:
+        raise KeyError(f"MJCF has no {kind} named {name!r}")
+    for key, value in attrs.items():
+        setattr(element, key, value)
+
+
+def _fourbar_geometry(spec, m: fourbar.FourBar) -> None:
+    _set(spec, "site", "D", pos=[m.l4, 0, 0])
+    _set(spec, "geom", "ground_D", pos=[m.l4, -0.012, -0.012])
+    _set(spec, "geom", "crank", fromto=[0, 0, 0, m.l1, 0, 0])
+    _set(spec, "site", "B_crank", pos=[m.l1, 0, 0])
+    _set(spec, "body", "coupler", pos=[m.l1, 0, 0])
+    _set(spec, "geom", "coupler", fromto=[0, 0, 0.012, m.l2, 0, 0.012])
+    _set(spec, "geom", "coupler_E", fromto=[0, 0, 0.012, m.ex, m.ey, 0.012])
+    _set(spec, "site", "C_coupler", pos=[m.l2, 0, 0])
+    _set(spec, "site", "E", pos=[m.ex, m.ey, 0])
+    _set(spec, "body", "rocker", pos=[m.l4, 0, 0])
+    _set(spec, "geom", "rocker", fromto=[0, 0, 0.006, m.l3, 0, 0.006])
+    _set(spec, "geom", "pin_C", pos=[m.l3, 0, 0.012])
+    _set(spec, "site", "C", pos=[m.l3, 0, 0])
+
+
+def _sixbar_geometry(spec, m: sixbar.SixBar) -> None:
+    _set(spec, "site", "O2", pos=[0, m.l6, 0])
+    _set(spec, "geom", "ground_O2", pos=[-0.02, m.l6, -0.012])
+    _set(spec, "body", "crank", pos=[0, m.l6, 0])
+    _set(spec, "geom", "crank", fromto=[0, 0, 0.012, m.l1, 0, 0.012])
+    _set(spec, "geom", "pin_A", pos=[m.l1, 0, 0.018])
+    _set(spec, "site", "A", pos=[m.l1, 0, 0])
+    _set(spec, "geom", "guide", fromto=[0, 0, 0, m.l3, 0, 0])
+    _set(spec, "site", "B_guide", pos=[m.l3, 0, 0])
+    _set(spec, "body", "rod", pos=[m.l3, 0, 0])
+    _set(spec, "geom", "rod", fromto=[0, 0, 0.012, m.l4, 0, 0.012])
+    _set(spec, "site", "C_rod", pos=[m.l4, 0, 0])
+    _set(spec, "body", "ram", pos=[0, m.h, 0])
+    f = sixbar.figures(m)
+    lo, hi = sorted(f.xC_limits)
+    _set(spec, "geom", "ram_guide", pos=[0.5 * (lo + hi), m.h, -0.02], size=[0.5 * (hi - lo) + 0.06, 0.004, 0.002])
+
+
+def _fivebar_geometry(spec, m: fivebar.FiveBar) -> None:
+    _set(spec, "site", "D", pos=[m.l1, 0, 0])
+    _set(spec, "geom", "ground_D", pos=[m.l1, -0.012, -0.02])
+    _set(spec, "geom", "crank2", fromto=[0, 0, 0, m.l2, 0, 0])
+    _set(spec, "site", "B_crank2", pos=[m.l2, 0, 0])
+    _set(spec, "body", "link3", pos=[m.l2, 0, 0])
+    # Link 3 reaches past both P and the farthest block position S_max = l1 + l2 + l4.
+    _set(spec, "geom", "link3", fromto=[0, 0, 0.012, max(m.lp, m.l1 + m.l2 + m.l4) + 0.01, 0, 0.012])
+    _set(spec, "site", "P", pos=[m.lp, 0, 0])
+    _set(spec, "body", "crank4", pos=[m.l1, 0, 0])
+    _set(spec, "geom", "crank4", fromto=[0, 0, 0, m.l4, 0, 0])
+    _set(spec, "geom", "pin_C", pos=[m.l4, 0, 0.02])
+    _set(spec, "site", "C", pos=[m.l4, 0, 0])
+
+
+_GEOMETRY = {"fourbar": _fourbar_geometry, "sixbar": _sixbar_geometry, "fivebar": _fivebar_geometry}
+
+
+# ------------------------------------------------------------------------------- initial state
+def _wrap(a):
+    return float(math.remainder(float(a), 2 * math.pi))
+
+
+def _fourbar_initial(m: fourbar.FourBar):
+    fourbar.check_reachable(m, [m.phi1_0])
+    s = fourbar.solve(m, m.phi1_0, m.omega1, m.alpha1)
+    joints = {"A": (m.phi1_0, m.omega1), "B": (_wrap(s.phi2 - m.phi1_0), float(s.omega2 - m.omega1)),
+              "D": (float(s.phi3), float(s.omega3))}
+    return joints, [m.omega1]
+
+
+def _sixbar_initial(m: sixbar.SixBar):
+    s = sixbar.solve(m, m.phi1_0, m.omega1, m.alpha1)
+    joints = {"O2": (m.phi1_0, m.omega1), "O4": (float(s.phi3), float(s.omega3)), "s": (float(s.s), float(s.ds)),
+              "B": (_wrap(s.phi4 - s.phi3), float(s.omega4 - s.omega3)), "xC": (float(s.xC), float(s.vxC))}
+    return joints, [m.omega1]
+
+
+def _fivebar_initial(m: fivebar.FiveBar):
+    s = fivebar.solve(m, m.phi2_0, m.phi4_0, m.omega2, m.omega4, m.alpha2, m.alpha4)
+    joints = {"A": (m.phi2_0, m.omega2), "B": (_wrap(s.theta3 - m.phi2_0), float(s.omega3 - m.omega2)),
+              "S": (float(s.S), float(s.dS)), "D": (m.phi4_0, m.omega4)}
+    return joints, [m.omega2, m.omega4]
+
+
+_INITIAL = {"fourbar": _fourbar_initial, "sixbar": _sixbar_initial, "fivebar": _fivebar_initial}
+
+
+# -------------------------------------------------------------------------------------- camera
+def path_points(mech, samples: int = 361) -> np.ndarray:
+    """Every drawn point over one period of the first crank, shape (k, 2) [m]: frames the camera."""
+    name = mechanism_name(mech)
+    t = np.linspace(0.0, 1.0, samples)
+    if name == "fourbar":
+        lim = fourbar.crank_limits(mech)
+        lo, hi = lim.intervals[0]
+        st = fourbar.solve(mech, lo + (hi - lo) * t, 1.0)
+        pts = fourbar.joints(mech, st)
+        return np.concatenate([np.column_stack(p) for p in pts.values()])
+    if name == "sixbar":
+        st = sixbar.solve(mech, 2 * math.pi * t, 1.0)
+        xs = [st.xA, st.xB, st.xC, 0 * t, 0 * t]
+        ys = [st.yA, st.yB, mech.h + 0 * t, 0 * t, mech.l6 + 0 * t]
+        return np.column_stack([np.concatenate(xs), np.concatenate(ys)])
+    period = 2 * math.pi / min(abs(mech.omega2), abs(mech.omega4)) if mech.omega2 and mech.omega4 else 1.0
+    st = fivebar.solve(mech, *fivebar.drive(mech, t * period))
+    xs = [st.xB, st.xC, st.xP, 0 * t, mech.l1 + 0 * t]
+    ys = [st.yB, st.yC, st.yP, 0 * t, 0 * t]
+    return np.column_stack([np.concatenate(xs), np.concatenate(ys)])
+
+
+def _frame_camera(spec, name: str, mech, aspect: float = 4 / 3) -> None:
+    pts = path_points(mech)
+    lo, hi = pts.min(0), pts.max(0)
+    center = 0.5 * (lo + hi)
+    extent = max(hi[1] - lo[1], (hi[0] - lo[0]) / aspect) * 1.15 + 0.04
+    _set(spec, "camera", "top", pos=[center[0], center[1], 1.0], fovy=float(extent))
+    _set(spec, "geom", "paper", pos=[center[0], center[1], -0.03])
+
+
+def frame_extent(model: mujoco.MjModel, mech, aspect: float) -> float:
+    """The orthographic camera's vertical extent [m] that shows every point for an image ``aspect``."""
+    pts = path_points(mech)
+    lo, hi = pts.min(0), pts.max(0)
+    return float(max(hi[1] - lo[1], (hi[0] - lo[0]) / aspect) * 1.15 + 0.04)
+
+
+def output_names(name: str) -> tuple[str, ...]:
+    return MECHANISMS[name].OUTPUTS
