@@ -25,7 +25,8 @@ from ._common import (AssemblyError, ParameterError, blockwise, check_branch, ch
                       drive as _drive, fmt_deg)
 
 __all__ = ["FourBar", "FourBarState", "Grashof", "CrankLimits", "solve", "grashof", "crank_limits",
-           "check_reachable", "drive", "joints"]
+           "check_reachable", "drive", "joints",
+           "transmission_extremes"]
 
 
 @dataclass(frozen=True)
@@ -265,6 +266,21 @@ def crank_limits(mech: FourBar) -> CrankLimits:
     if b == math.pi:
         return CrankLimits(False, ((a, 2.0 * math.pi - a),), (a, -a))
     return CrankLimits(False, ((-b, -a), (a, b)), (-b, -a, a, b))
+
+
+def transmission_extremes(mech: FourBar) -> tuple[float, float]:
+    """Exact (min, max) of the transmission angle mu [rad] over every reachable crank angle.
+
+    mu depends on the diagonal |BD| alone: cos(angle BCD) = (l2^2 + l3^2 - BD^2) / (2 l2 l3), monotonic in
+    BD, and BD ranges over [max(|l4 - l1|, |l2 - l3|), min(l1 + l4, l2 + l3)] as the crank moves.
+    """
+    l1, l2, l3, l4 = mech.l1, mech.l2, mech.l3, mech.l4
+    lo, hi = max(abs(l4 - l1), abs(l2 - l3)), min(l1 + l4, l2 + l3)
+    cos_ends = [(l2 * l2 + l3 * l3 - bd * bd) / (2.0 * l2 * l3) for bd in (lo, hi)]
+    mu_min = math.acos(min(1.0, max(abs(c) for c in cos_ends)))
+    crosses = cos_ends[0] >= 0.0 >= cos_ends[1]
+    mu_max = math.pi / 2 if crosses else math.acos(min(1.0, min(abs(c) for c in cos_ends)))
+    return mu_min, mu_max
 
 
 def check_reachable(mech: FourBar, phi1) -> None:

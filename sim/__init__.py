@@ -1,0 +1,9 @@
+"""MuJoCo models of the linkages: build, simulate, cross-validate, render; and the ``linkage`` command.
+
+MuJoCo fixes its OpenGL backend when it is imported, so the offscreen backend is chosen here, before
+any submodule imports mujoco: the user's ``MUJOCO_GL`` if set, else EGL (OSMesa where EGL is missing).
+"""
+
+from .render import ensure_gl_backend
+
+ensure_gl_backend()

@@ -101,7 +101,9 @@ def summary(name: str, mech, state, fig: dict) -> str:
                      f"{'yes' if fig['crank_turns_fully'] else 'no'}")
         if fig["limit_angles"]:
             lines.append("  limit angles: " + ", ".join(f"{deg(a):.3f} deg" for a in fig["limit_angles"]))
-        lines.append(f"  transmission angle mu: {deg(fig['mu_min']):.3f} .. {deg(fig['mu_max']):.3f} deg")
+        lo, hi = fig["mu_extremes"]
+        lines.append(f"  transmission angle mu: {deg(fig['mu_min']):.3f} .. {deg(fig['mu_max']):.3f} deg over the "
+                     f"samples; {deg(lo):.3f} .. {deg(hi):.3f} deg over every crank angle")
         lines.append(f"  rocker swing: {deg(fig['phi3_swing']):.3f} deg;  |vE| max {fig['vE_max']:.6g} m/s")
         lines.append(f"  E path: x {fig['xE_range'][0]:.6g} .. {fig['xE_range'][1]:.6g} m, "
                      f"y {fig['yE_range'][0]:.6g} .. {fig['yE_range'][1]:.6g} m")

@@ -71,7 +71,117 @@ def cmd_compare(args) -> int:
     return 0 if c.passed else 1
 
 
+def cmd_render(args) -> int:
+    from .render import check_video_args, render
+    from .model import build
+    from .simulate import simulate
+    path, size = check_video_args(args.out, args.fps, args.size)
+    mech = params.build(args.mechanism, args.sets)
+    check_full_turn(mech)
+    params.duration(mech, args.revolutions)
+    built = build(mech, args.timestep, args.integrator)
+    tr = simulate(built, args.revolutions)
+    stats = render(built, tr, str(path), args.fps, size)
+    print(f"wrote {stats.path}: {stats.frames} frames {size[0]}x{size[1]} at {args.fps:g} fps "
+          f"({stats.fps:.1f} frames/s rendered)")
+    return 0
+
+
+def cmd_plot(args) -> int:
+    from .compare import compare
+    from .plot import check_plot_path, sheet
+    check_plot_path(args.out)
+    mech = params.build(args.mechanism, args.sets)
+    tr = run_simulation(mech, args.revolutions, args.timestep, args.integrator)
+    sheet(compare(tr, mech), mech, args.out)
+    print(f"wrote {args.out}")
+    return 0
+
+
+def cmd_run(args) -> int:
+    """The main job: simulate, cross-validate, render, plot and write CSV for each mechanism."""
+    import time
+    from pathlib import Path
+    from .compare import compare, table
+    from .model import build
+    from .plot import sheet
+    from .render import check_video_args, render
+    from .simulate import simulate
+
+    out_dir = Path(args.out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    names = args.mechanisms or ["fourbar", "sixbar", "fivebar"]
+    for name in names:
+        if name not in params.CLASSES:
+            raise ParameterError(f"{name!r} is not a mechanism: use fourbar, sixbar or fivebar")
+    ext = "." + args.format
+    if not args.no_video:
+        check_video_args(str(out_dir / f"{names[0]}{ext}"), args.fps, args.size)
+    mechs = {name: params.build(name, args.sets if len(names) == 1 else None) for name in names}
+    for mech in mechs.values():
+        check_full_turn(mech)
+        params.duration(mech, args.revolutions)
+    t_start = time.perf_counter()
+    results = []
+    for name, mech in mechs.items():
+        built = build(mech, args.timestep, args.integrator)
+        tr = simulate(built, args.revolutions)
+        c = compare(tr, mech)
+        print(table(c))
+        files = []
+        write_csv(out_dir / f"{name}.csv", trajectory_columns(tr))
+        files.append(out_dir / f"{name}.csv")
+        sheet(c, mech, str(out_dir / f"{name}.png"))
+        files.append(out_dir / f"{name}.png")
+        if not args.no_video:
+            from .render import parse_size
+            render(built, tr, str(out_dir / f"{name}{ext}"), args.fps, parse_size(args.size))
+            files.append(out_dir / f"{name}{ext}")
+        results.append((name, c, files))
+        print()
+    print(f"summary ({time.perf_counter() - t_start:.1f} s):")
+    for name, c, files in results:
+        worst = max(c.errors, key=lambda k: c.errors[k]["max"] / c.errors[k]["tol"])
+        e = c.errors[worst]
+        print(f"  {name:<8s} {'PASSED' if c.passed else 'FAILED'}  worst {worst}: {e['max']:.2e} {e['unit']} "
+              f"(tol {e['tol']:.1e}); loop {c.max_loop_violation:.1e} m")
+        for f in files:
+            print(f"           {f}")
+    return 0 if all(c.passed for _, c, _ in results) else 1
+
+
+def add_video_options(p, out_required: bool = True) -> None:
+    if out_required:
+        p.add_argument("--out", required=True, metavar="PATH", help="video file, .mp4 (H.264) or .gif")
+    p.add_argument("--fps", type=float, default=30.0, metavar="F", help="frames per second (default 30)")
+    p.add_argument("--size", default="640x480", metavar="WxH", help="frame size in pixels (default 640x480)")
+
+
 def register(sub, add_common) -> None:
+    p = sub.add_parser("render", help="render the simulation offscreen to MP4 or GIF")
+    add_common(p)
+    add_sim_options(p)
+    add_video_options(p)
+    p.set_defaults(func=cmd_render)
+
+    p = sub.add_parser("plot", help="analysis sheet: simulated samples over analytic curves, with errors")
+    add_common(p)
+    add_sim_options(p)
+    p.add_argument("--out", required=True, metavar="PATH", help="image file: .png, .svg or .pdf")
+    p.set_defaults(func=cmd_plot)
+
+    p = sub.add_parser("run", help="the main job: simulate, cross-validate, render, plot and save every mechanism")
+    p.add_argument("mechanisms", nargs="*", metavar="MECH", help="fourbar, sixbar, fivebar (default: all three)")
+    p.add_argument("--set", dest="sets", action="append", default=[], metavar="NAME=VALUE",
+                   help="override a parameter (only with a single mechanism)")
+    p.add_argument("--revolutions", type=float, default=1.0, metavar="R", help="revolutions (default 1)")
+    p.add_argument("--out-dir", default="renders", metavar="DIR", help="output folder (default renders/)")
+    p.add_argument("--format", choices=("mp4", "gif"), default="mp4", help="video format (default mp4)")
+    p.add_argument("--no-video", action="store_true", help="skip the animations")
+    add_sim_options(p)
+    add_video_options(p, out_required=False)
+    p.set_defaults(func=cmd_run)
+
     p = sub.add_parser("simulate", help="simulate in MuJoCo and record the trajectory")
     add_common(p)
     add_sim_options(p)

@@ -28,6 +28,7 @@ def figures(mech, state) -> dict:
             "limit_angles": list(lim.limit_angles),
             "reachable_phi1": [list(iv) for iv in lim.intervals],
             "mu_min": float(np.nanmin(state.mu)), "mu_max": float(np.nanmax(state.mu)),
+            "mu_extremes": list(fourbar.transmission_extremes(mech)),
             "xE_range": _span(state.xE), "yE_range": _span(state.yE),
             "vE_max": float(np.nanmax(speed)),
             "phi3_swing": float(np.ptp(np.unwrap(state.phi3))),

@@ -45,6 +45,8 @@ class Trajectory:
     loop_violation: np.ndarray
     forces: dict[str, np.ndarray]
     commanded: dict[str, float]
+    qpos: np.ndarray
+    """Joint positions at the same instants, shape (steps, nq), for rendering."""
 
 
 def _sensor(model, data_rows, name):
@@ -134,15 +136,17 @@ def simulate(built: Built, revolutions: float = 1.0) -> Trajectory:
     mujoco.mj_getState(model, data, state0, spec)
     ctrl = commanded_speeds(built, np.arange(nstep) * h)[None]
     t0 = time.process_time()
-    _, sens = rollout.rollout(model, data, state0[None], ctrl, nstep=nstep)
+    states, sens = rollout.rollout(model, data, state0[None], ctrl, nstep=nstep)
     cpu = time.process_time() - t0
     sens = sens[0]
+    # states[k] follows step k (time (k+1) h); the sensors of step k see the state before it.
+    qpos = np.concatenate([state0[None, 1:1 + model.nq], states[0, :-1, 1:1 + model.nq]])
     inputs, outputs, viol, forces = _MEASURE[built.name](model, sens)
     _check_run(built, sens, inputs, viol)
     cranks = ("2", "4") if built.name == "fivebar" else ("1",)
     return Trajectory(built.name, h, _integrator_name(model), nstep, cpu, _sensor(model, sens, "time")[:, 0],
                       inputs, outputs, viol, forces,
-                      {f"omega{c}": getattr(built.mech, f"omega{c}") for c in cranks})
+                      {f"omega{c}": getattr(built.mech, f"omega{c}") for c in cranks}, qpos)
 
 
 def _integrator_name(model) -> str:

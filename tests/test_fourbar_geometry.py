@@ -129,3 +129,16 @@ def test_unreachable_angle_names_the_angle_and_the_range():
 def test_bad_parameters_name_themselves(kw, name):
     with pytest.raises(ParameterError, match=name):
         FourBar(**kw)
+
+
+@pytest.mark.parametrize("lengths", [(0.1, 0.3, 0.25, 0.3), (0.1, 0.25, 0.3, 0.35), (0.2, 0.3, 0.1, 0.3),
+                                     (0.3, 0.1, 0.35, 0.25)])
+def test_exact_transmission_extremes_bound_a_dense_sweep(lengths):
+    m = FourBar(*lengths)
+    lo, hi = fourbar.transmission_extremes(m)
+    mu = fourbar.solve(m, np.linspace(-math.pi, math.pi, 200_001), 1.0).mu
+    mu = mu[np.isfinite(mu)]
+    # A sweep with step 3e-5 rad approaches the extremes within: O(step) at the kink of mu = 90 deg,
+    # O(sqrt(step)) = 6e-3 at a dead centre (mu ~ sqrt(phi - limit)); it never passes them.
+    tol = 1e-4 if fourbar.crank_limits(m).full_turn else 1e-2
+    assert lo - 1e-12 <= mu.min() <= lo + tol and hi - tol <= mu.max() <= hi + 1e-12

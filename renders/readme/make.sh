@@ -1,0 +1,7 @@
+#!/usr/bin/env bash
+# Regenerates the pictures README.md shows (run from the repository root after installing).
+set -euo pipefail
+for m in fourbar sixbar fivebar; do
+  linkage render "$m" --out "renders/readme/$m.gif" --size 320x240 --fps 20
+done
+linkage plot fourbar --out renders/readme/fourbar_sheet.png

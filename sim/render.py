@@ -1,0 +1,202 @@
+"""Offscreen rendering of a simulated run to MP4 (H.264) or GIF, streamed frame by frame to ffmpeg.
+
+Frames are sampled at the video's frame rate from simulation time (the recorded step nearest each frame
+instant; steps are 2 ms by default, so a frame is at most 1 ms off), drawn from the model's ``top``
+camera (orthographic, looking straight down on the plane), with the output point's path traced so far.
+"""
+
+from __future__ import annotations
+
+import ctypes.util
+import math
+import os
+import sys
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from analytic import ParameterError
+from .io import atomic_path, check_writable
+
+VIDEO_SUFFIXES = (".mp4", ".gif")
+OUTPUT_POINT = {"fourbar": ("xE", "yE"), "sixbar": ("xC", None), "fivebar": ("xP", "yP")}
+"""The traced point of each mechanism: coupler point E, ram C (on y = h), five-bar point P."""
+PATH_RGBA = np.array([0.89, 0.10, 0.11, 1.0], np.float32)
+MAX_PATH_SEGMENTS = 400
+
+
+def ensure_gl_backend() -> str:
+    """Choose MuJoCo's offscreen GL backend before mujoco is imported: the user's ``MUJOCO_GL`` if set,
+    else EGL, else OSMesa where no EGL library is installed."""
+    if "MUJOCO_GL" not in os.environ:
+        have_egl = ctypes.util.find_library("EGL") is not None
+        have_osmesa = ctypes.util.find_library("OSMesa") is not None
+        os.environ["MUJOCO_GL"] = "egl" if have_egl or not have_osmesa else "osmesa"
+        if "PYOPENGL_PLATFORM" not in os.environ:
+            os.environ["PYOPENGL_PLATFORM"] = os.environ["MUJOCO_GL"]
+    return os.environ["MUJOCO_GL"]
+
+
+def parse_size(text: str) -> tuple[int, int]:
+    """``'640x480'`` -> (640, 480); even sizes from 16 to 4096 px (H.264's 4:2:0 needs even sizes)."""
+    try:
+        w, h = (int(x) for x in text.lower().split("x"))
+    except ValueError:
+        raise ParameterError(f"--size {text!r} is not WxH (e.g. --size 640x480)") from None
+    for v, name in ((w, "width"), (h, "height")):
+        if not (16 <= v <= 4096 and v % 2 == 0):
+            raise ParameterError(f"--size {text}: {name} {v} must be an even number of pixels in 16..4096")
+    return w, h
+
+
+def check_video_args(out: str, fps: float, size: str) -> tuple[Path, tuple[int, int]]:
+    """Validate the output path, frame rate and size before any simulation starts."""
+    path = check_writable(out, VIDEO_SUFFIXES)
+    if not (math.isfinite(fps) and fps > 0):
+        raise ParameterError(f"--fps {fps!r} must be a number > 0 (e.g. --fps 30)")
+    return path, parse_size(size)
+
+
+@dataclass(frozen=True)
+class RenderStats:
+    frames: int
+    seconds: float
+    path: str
+
+    @property
+    def fps(self) -> float:
+        return self.frames / self.seconds if self.seconds > 0 else math.inf
+
+
+def frame_indices(t: np.ndarray, fps: float) -> np.ndarray:
+    """For each frame instant 0, 1/fps, ... <= t[-1], the index of the recorded sample nearest to it."""
+    instants = np.arange(0.0, t[-1] + 1e-9, 1.0 / fps)
+    return np.clip(np.searchsorted(t, instants - 0.5 * (t[1] - t[0])), 0, len(t) - 1)
+
+
+def output_path(tr, mech) -> np.ndarray:
+    """The output point's recorded path, shape (steps, 3) [m] (z = 0)."""
+    xk, yk = OUTPUT_POINT[tr.name]
+    x = tr.outputs[xk]
+    y = tr.outputs[yk] if yk else np.full_like(x, mech.h)
+    return np.column_stack([x, y, np.zeros_like(x)])
+
+
+class _Writer:
+    """Frames streamed to an ffmpeg process (imageio-ffmpeg): H.264 MP4, or GIF with a palette made
+    per frame (``stats_mode=single``), so neither side ever holds more than one frame."""
+
+    def __init__(self, path: str, fps: float, size: tuple[int, int]):
+        import imageio_ffmpeg
+        if path.lower().endswith(".gif"):
+            kw = dict(codec="gif", pix_fmt_out="pal8", quality=None, output_params=[
+                "-vf", "split[a][b];[a]palettegen=stats_mode=single:max_colors=64[p];"
+                       "[b][p]paletteuse=new=1:dither=none", "-loop", "0"])
+        else:
+            kw = dict(codec="libx264", pix_fmt_out="yuv420p", quality=None,
+                      output_params=["-crf", "20", "-preset", "veryfast", "-movflags", "+faststart"])
+        self._gen = imageio_ffmpeg.write_frames(path, size, fps=float(fps), macro_block_size=1,
+                                                ffmpeg_log_level="error", **kw)
+        self._gen.send(None)                      # start ffmpeg
+
+    def append(self, frame: np.ndarray) -> None:
+        self._gen.send(np.ascontiguousarray(frame))
+
+    def close(self) -> None:
+        self._gen.close()
+
+
+class _Progress:
+    """A one-line progress bar on a terminal; silent otherwise."""
+
+    def __init__(self, total: int, label: str):
+        self.total, self.label = total, label
+        self.on = sys.stderr.isatty()
+
+    def __call__(self, done: int) -> None:
+        if self.on and (done == self.total or done % 5 == 0):
+            bar = "#" * int(30 * done / self.total)
+            sys.stderr.write(f"\r{self.label} [{bar:<30s}] {done}/{self.total} frames")
+            if done == self.total:
+                sys.stderr.write("\n")
+            sys.stderr.flush()
+
+
+def _add_path(scene, points: np.ndarray, width_px: float) -> None:
+    import mujoco
+    if len(points) < 2:
+        return
+    step = max(1, math.ceil((len(points) - 1) / MAX_PATH_SEGMENTS))
+    pts = points[::step]
+    if not np.array_equal(pts[-1], points[-1]):
+        pts = np.vstack([pts, points[-1]])
+    pts = pts + np.array([0.0, 0.0, 0.03])               # above every link, so never hidden
+    eye = np.eye(3).ravel()
+    for a, b in zip(pts[:-1], pts[1:]):
+        if scene.ngeom >= scene.maxgeom:
+            return
+        g = scene.geoms[scene.ngeom]
+        mujoco.mjv_initGeom(g, mujoco.mjtGeom.mjGEOM_LINE, np.zeros(3), np.zeros(3), eye, PATH_RGBA)
+        mujoco.mjv_connector(g, mujoco.mjtGeom.mjGEOM_LINE, width_px, a, b)
+        scene.ngeom += 1
+
+
+def render(built, tr, out: str, fps: float = 30.0, size: tuple[int, int] = (640, 480),
+           markers: tuple[tuple[float, float], ...] = ()) -> RenderStats:
+    """Render trajectory ``tr`` of model ``built`` to ``out`` (.mp4 or .gif), atomically.
+
+    ``markers`` are extra points [m] drawn as small crosses (e.g. a synthesis task's E1 and E2).
+    """
+    ensure_gl_backend()
+    import mujoco
+    from .model import frame_extent
+
+    w, h = size
+    model = built.model
+    model.vis.global_.offwidth = max(model.vis.global_.offwidth, w)
+    model.vis.global_.offheight = max(model.vis.global_.offheight, h)
+    cam = model.camera("top").id
+    model.cam_fovy[cam] = frame_extent(model, built.mech, w / h)
+    data = mujoco.MjData(model)
+    frames = frame_indices(tr.t, fps)
+    path = output_path(tr, built.mech)
+    progress = _Progress(len(frames), f"rendering {Path(out).name}")
+    opt = mujoco.MjvOption()
+    t0 = time.perf_counter()
+    try:
+        renderer = mujoco.Renderer(model, h, w)
+    except Exception as exc:                      # no usable OpenGL: say so in one line
+        raise ParameterError(
+            f"offscreen rendering is unavailable (MUJOCO_GL={os.environ.get('MUJOCO_GL')}): "
+            f"{str(exc).splitlines()[0]}; install Mesa's EGL (Debian: libegl1) or set MUJOCO_GL=osmesa") from None
+    with renderer, atomic_path(out) as tmp:
+        writer = _Writer(tmp, fps, size)
+        try:
+            for i, k in enumerate(frames):
+                data.qpos[:] = tr.qpos[k]
+                mujoco.mj_kinematics(model, data)
+                mujoco.mj_camlight(model, data)          # the fixed camera's pose
+                renderer.update_scene(data, camera=cam, scene_option=opt)
+                _add_path(renderer.scene, path[:k + 1], width_px=max(2.0, h / 200))
+                for mx, my in markers:
+                    _add_cross(renderer.scene, mx, my, 0.012)
+                writer.append(renderer.render())
+                progress(i + 1)
+        finally:
+            writer.close()
+    return RenderStats(len(frames), time.perf_counter() - t0, str(out))
+
+
+def _add_cross(scene, x: float, y: float, r: float) -> None:
+    import mujoco
+    eye = np.eye(3).ravel()
+    for (ax, ay), (bx, by) in (((x - r, y - r), (x + r, y + r)), ((x - r, y + r), (x + r, y - r))):
+        if scene.ngeom >= scene.maxgeom:
+            return
+        g = scene.geoms[scene.ngeom]
+        mujoco.mjv_initGeom(g, mujoco.mjtGeom.mjGEOM_LINE, np.zeros(3), np.zeros(3), eye,
+                            np.array([0.1, 0.1, 0.1, 1.0], np.float32))
+        mujoco.mjv_connector(g, mujoco.mjtGeom.mjGEOM_LINE, 3.0, np.array([ax, ay, 0.04]), np.array([bx, by, 0.04]))
+        scene.ngeom += 1

@@ -1,0 +1,83 @@
+"""Rendering to MP4 and GIF, the plot sheets and the main job, at small sizes so CI stays fast."""
+
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import sim  # noqa: F401  (chooses the offscreen GL backend before mujoco is imported)
+import imageio.v3 as iio
+
+from analytic import FourBar
+from sim import model, render, simulate
+
+
+def run(*args, cwd=None):
+    return subprocess.run([sys.executable, "-m", "sim", *args], capture_output=True, text=True, cwd=cwd)
+
+
+@pytest.mark.parametrize("ext", ["mp4", "gif"])
+def test_render_decodes_with_expected_frames_and_content(tmp_path, ext):
+    out = tmp_path / f"fourbar.{ext}"
+    built = model.build(FourBar())
+    tr = simulate.simulate(built, 0.5)
+    stats = render.render(built, tr, str(out), fps=20, size=(160, 120))
+    frames = iio.imread(out, index=None)
+    # 0.5 s at 20 fps: frames at 0, 0.05, ..., 0.5 s.
+    assert stats.frames == 11 and frames.shape[0] == 11
+    assert frames.shape[1:3] == (120, 160)
+    assert frames.std() > 10                                 # not blank
+    # The crank turns 90 degrees in 0.25 s: consecutive frames differ.
+    assert all(np.abs(frames[i].astype(int) - frames[i + 1]).mean() > 0.5 for i in range(len(frames) - 1))
+    # The traced path is drawn in red: more red pixels at the end than at the start.
+    red = lambda f: np.sum((f[..., 0] > 180) & (f[..., 1] < 90) & (f[..., 2] < 90))  # noqa: E731
+    assert red(frames[-1]) > red(frames[0]) + 20
+
+
+def test_frames_are_sampled_from_simulation_time():
+    t = np.arange(0, 501) * 0.002                      # 1 s at 2 ms
+    idx = render.frame_indices(t, 30.0)
+    assert len(idx) == 31
+    assert np.abs(t[idx] - np.arange(31) / 30).max() <= 0.001 + 1e-12   # nearest step: half a step off
+
+
+@pytest.mark.parametrize("args,pattern", [
+    (["--out", "x.avi"], "unsupported output type"),
+    (["--out", "x.mp4", "--size", "640by480"], "is not WxH"),
+    (["--out", "x.mp4", "--size", "641x480"], "even number"),
+    (["--out", "x.mp4", "--fps", "0"], "--fps"),
+    (["--out", "/no/such/dir/x.mp4"], "does not exist"),
+])
+def test_bad_render_arguments_fail_before_simulating(tmp_path, args, pattern):
+    r = run("render", "fourbar", *args, cwd=tmp_path)
+    assert r.returncode == 2 and pattern in r.stderr and "Traceback" not in r.stderr
+
+
+def test_an_existing_file_survives_a_failed_render(tmp_path):
+    out = tmp_path / "keep.mp4"
+    out.write_bytes(b"precious")
+    r = run("render", "fourbar", "--out", str(out), "--set", "l1=0.2", "--set", "l3=0.1")
+    assert r.returncode == 2 and out.read_bytes() == b"precious"
+    assert [p.name for p in tmp_path.iterdir()] == ["keep.mp4"]         # no temporary left behind
+
+
+@pytest.mark.parametrize("name", ["fourbar", "sixbar", "fivebar"])
+def test_plot_writes_a_sheet(tmp_path, name):
+    out = tmp_path / f"{name}.png"
+    r = run("plot", name, "--out", str(out), "--revolutions", "0.5")
+    assert r.returncode == 0, r.stderr
+    img = iio.imread(out)
+    assert img.shape[0] > 500 and img.shape[1] > 800 and img.std() > 10
+
+
+def test_run_end_to_end_reduced(tmp_path):
+    r = run("run", "--out-dir", str(tmp_path), "--revolutions", "0.25", "--size", "160x120", "--fps", "12",
+            "--format", "gif")
+    assert r.returncode == 0, r.stdout + r.stderr
+    for name in ("fourbar", "sixbar", "fivebar"):
+        for ext in ("csv", "png", "gif"):
+            assert (tmp_path / f"{name}.{ext}").stat().st_size > 0
+        assert iio.imread(tmp_path / f"{name}.gif", index=None).shape[0] == 4     # 0.25 s at 12 fps
+    assert r.stdout.count("PASSED") == 6                    # three tables and three summary lines
