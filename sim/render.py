@@ -24,7 +24,7 @@ VIDEO_SUFFIXES = (".mp4", ".gif")
 OUTPUT_POINT = {"fourbar": ("xE", "yE"), "sixbar": ("xC", None), "fivebar": ("xP", "yP")}
 """The traced point of each mechanism: coupler point E, ram C (on y = h), five-bar point P."""
 PATH_RGBA = np.array([0.89, 0.10, 0.11, 1.0], np.float32)
-MAX_PATH_SEGMENTS = 400
+MAX_PATH_SEGMENTS = 250
 
 
 def ensure_gl_backend() -> str:
@@ -86,7 +86,10 @@ def output_path(tr, mech) -> np.ndarray:
 
 class _Writer:
     """Frames streamed to an ffmpeg process (imageio-ffmpeg): H.264 MP4, or GIF with a palette made
-    per frame (``stats_mode=single``), so neither side ever holds more than one frame."""
+    per frame (``stats_mode=single``), so neither side ever holds more than one frame.
+
+    x264's ``ultrafast`` preset: the encoder shares two cores with the software rasteriser, and on this
+    machine it raised the whole path from 33 to 38 frames/s (files ~3x larger than ``veryfast``)."""
 
     def __init__(self, path: str, fps: float, size: tuple[int, int]):
         import imageio_ffmpeg
@@ -96,7 +99,7 @@ class _Writer:
                        "[b][p]paletteuse=new=1:dither=none", "-loop", "0"])
         else:
             kw = dict(codec="libx264", pix_fmt_out="yuv420p", quality=None,
-                      output_params=["-crf", "20", "-preset", "veryfast", "-movflags", "+faststart"])
+                      output_params=["-crf", "23", "-preset", "ultrafast", "-movflags", "+faststart"])
         self._gen = imageio_ffmpeg.write_frames(path, size, fps=float(fps), macro_block_size=1,
                                                 ffmpeg_log_level="error", **kw)
         self._gen.send(None)                      # start ffmpeg
