@@ -45,11 +45,12 @@ def study(settings) -> None:
     for case, mech in CASES.items():
         for integrator, h in settings:
             try:
-                tr = simulate.simulate(model.build(mech, h, integrator), 1.0)
+                built = model.build(mech, h, integrator)
+                tr = simulate.simulate(built, 1.0)
             except simulate.SimulationError as exc:
                 print(f"{case:<16s} {integrator:<12s} {h * 1e3:7.2f}  failed: {exc}")
                 continue
-            c = compare.compare(tr, mech)
+            c = compare.compare(tr, built)
             name, ratio = worst(c)
             cpu = min(tr.cpu_seconds, best_cpu(lambda: simulate.simulate(model.build(mech, h, integrator), 1.0)))
             print(f"{case:<16s} {integrator:<12s} {h * 1e3:7.2f} {ratio:10.3g} {name:<9s} "

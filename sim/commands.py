@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import math
 
+import math
+
 from analytic import ParameterError, fourbar
 from . import params
 from .io import check_writable, write_csv
@@ -15,6 +17,58 @@ def add_sim_options(p) -> None:
                    help=f"physics timestep [s] (default {DEFAULT_TIMESTEP:g})")
     p.add_argument("--integrator", default=DEFAULT_INTEGRATOR, choices=sorted(INTEGRATORS),
                    help=f"MuJoCo integrator (default {DEFAULT_INTEGRATOR})")
+    p.add_argument("--gravity", metavar="GX,GY", help="gravity in the plane [m/s^2], e.g. 0,-9.81")
+    p.add_argument("--force", metavar="FX,FY", help="constant external force on the output point [N]")
+    p.add_argument("--cutting-force", type=float, metavar="F",
+                   help="shaper: cutting force on the ram during the cutting stroke [N]")
+    p.add_argument("--inertia", metavar="PATH.json",
+                   help='bodies\' inertial data: {"coupler": {"m": 0.5, "cx": 0.15, "cy": 0, "I": 0.004}, ...}')
+
+
+def _pair(option: str, text: str | None) -> tuple[float, float] | None:
+    if text is None:
+        return None
+    parts = text.split(",")
+    if len(parts) != 2:
+        raise ParameterError(f"{option} {text!r} is not two numbers X,Y (e.g. {option} 0,-9.81)")
+    return params.parse_value(option, parts[0]), params.parse_value(option, parts[1])
+
+
+def loads_from(args, mech):
+    """The Loads of the command line: gravity, external or cutting force, bodies' inertias."""
+    import json
+    from analytic.dynamics import Inertia
+    from .model import Loads
+    gravity = _pair("--gravity", getattr(args, "gravity", None))
+    force = _pair("--force", getattr(args, "force", None)) or (0.0, 0.0)
+    cutting = getattr(args, "cutting_force", None)
+    if cutting is not None:
+        if params.mechanism_name(mech) != "sixbar":
+            raise ParameterError("--cutting-force applies to the shaper (sixbar) only; use --force for a constant load")
+        if not (math.isfinite(cutting) and cutting >= 0):
+            raise ParameterError(f"--cutting-force {cutting!r} must be a number >= 0 [N]")
+        if getattr(args, "force", None):
+            raise ParameterError("give either --force or --cutting-force, not both")
+        # It resists the ram, whose cutting (slow) stroke runs towards -x when the crank turns CCW.
+        force = (math.copysign(cutting, mech.omega1), 0.0)
+    inertias = None
+    if getattr(args, "inertia", None):
+        try:
+            with open(args.inertia) as f:
+                raw = json.load(f)
+        except (OSError, ValueError) as exc:
+            raise ParameterError(f"--inertia {args.inertia}: cannot read it as JSON ({exc})") from None
+        if not isinstance(raw, dict):
+            raise ParameterError(f"--inertia {args.inertia}: expected an object of bodies")
+        inertias = {}
+        for body, data in raw.items():
+            try:
+                inertias[body] = Inertia(**data)
+            except TypeError:
+                raise ParameterError(f"--inertia {body}: give m, cx, cy and I (got {sorted(data)})") from None
+            except ParameterError as exc:
+                raise ParameterError(f"--inertia {body}: {exc}") from None
+    return Loads(gravity=gravity, force=force, cutting_only=cutting is not None, inertias=inertias)
 
 
 def check_full_turn(mech) -> None:
@@ -28,25 +82,29 @@ def check_full_turn(mech) -> None:
                 f"{fourbar.describe_range(lim)}): a velocity-driven simulation would lock at a dead centre")
 
 
-def run_simulation(mech, revolutions: float, timestep: float, integrator: str):
-    """Build, check and simulate; returns the Trajectory."""
-    from .model import build
+def run_simulation(mech, revolutions: float, timestep: float, integrator: str, loads=None):
+    """Build, check and simulate; returns (Built, Trajectory)."""
+    from .model import Loads, build
     from .simulate import simulate
     check_full_turn(mech)
     params.duration(mech, revolutions)             # validates revolutions and the drive before building
-    return simulate(build(mech, timestep, integrator), revolutions)
+    built = build(mech, timestep, integrator, loads=loads or Loads())
+    return built, simulate(built, revolutions)
 
 
 def trajectory_columns(tr) -> dict:
-    """CSV columns of a trajectory: t, drive inputs, SPEC outputs, loop violation, actuator forces."""
-    return {"t": tr.t, **tr.inputs, **tr.outputs, "loop_violation": tr.loop_violation, **tr.forces}
+    """CSV columns of a trajectory: t, drive inputs, SPEC outputs, loop violation, actuator forces, and
+    every joint's coordinate and rate (``q_NAME``, ``v_NAME``: rad or m, rad/s or m/s)."""
+    joints = {f"q_{n}": tr.qpos[:, i] for i, n in enumerate(tr.joint_names)}
+    joints.update({f"v_{n}": tr.qvel[:, i] for i, n in enumerate(tr.joint_names)})
+    return {"t": tr.t, **tr.inputs, **tr.outputs, "loop_violation": tr.loop_violation, **tr.forces, **joints}
 
 
 def cmd_simulate(args) -> int:
     mech = params.build(args.mechanism, args.sets)
     if args.csv:
         check_writable(args.csv, (".csv",))
-    tr = run_simulation(mech, args.revolutions, args.timestep, args.integrator)
+    _, tr = run_simulation(mech, args.revolutions, args.timestep, args.integrator, loads_from(args, mech))
     if args.csv:
         write_csv(args.csv, trajectory_columns(tr))
     print(f"{tr.name}: {tr.steps} steps of {tr.timestep:g} s ({tr.integrator}), {tr.cpu_seconds * 1e3:.1f} ms CPU; "
@@ -60,8 +118,8 @@ def cmd_compare(args) -> int:
     from .cli import dumps
     from .compare import compare, table
     mech = params.build(args.mechanism, args.sets)
-    tr = run_simulation(mech, args.revolutions, args.timestep, args.integrator)
-    c = compare(tr, mech)
+    built, tr = run_simulation(mech, args.revolutions, args.timestep, args.integrator, loads_from(args, mech))
+    c = compare(tr, built)
     if args.json:
         out = c.as_dict()
         out["revolutions"] = args.revolutions
@@ -79,7 +137,7 @@ def cmd_render(args) -> int:
     mech = params.build(args.mechanism, args.sets)
     check_full_turn(mech)
     params.duration(mech, args.revolutions)
-    built = build(mech, args.timestep, args.integrator)
+    built = build(mech, args.timestep, args.integrator, loads=loads_from(args, mech))
     tr = simulate(built, args.revolutions)
     stats = render(built, tr, str(path), args.fps, size)
     print(f"wrote {stats.path}: {stats.frames} frames {size[0]}x{size[1]} at {args.fps:g} fps "
@@ -92,8 +150,8 @@ def cmd_plot(args) -> int:
     from .plot import check_plot_path, sheet
     check_plot_path(args.out)
     mech = params.build(args.mechanism, args.sets)
-    tr = run_simulation(mech, args.revolutions, args.timestep, args.integrator)
-    sheet(compare(tr, mech), mech, args.out)
+    built, tr = run_simulation(mech, args.revolutions, args.timestep, args.integrator, loads_from(args, mech))
+    sheet(compare(tr, built), mech, args.out)
     print(f"wrote {args.out}")
     return 0
 
@@ -114,19 +172,21 @@ def cmd_run(args) -> int:
     for name in names:
         if name not in params.CLASSES:
             raise ParameterError(f"{name!r} is not a mechanism: use fourbar, sixbar or fivebar")
+    if (args.sets or args.inertia or args.cutting_force is not None) and len(names) != 1:
+        raise ParameterError("--set applies to one mechanism at a time: name it (e.g. linkage run fourbar --set l1=0.12)")
     ext = "." + args.format
     if not args.no_video:
         check_video_args(str(out_dir / f"{names[0]}{ext}"), args.fps, args.size)
-    mechs = {name: params.build(name, args.sets if len(names) == 1 else None) for name in names}
+    mechs = {name: params.build(name, args.sets) for name in names}
     for mech in mechs.values():
         check_full_turn(mech)
         params.duration(mech, args.revolutions)
     t_start = time.perf_counter()
     results = []
     for name, mech in mechs.items():
-        built = build(mech, args.timestep, args.integrator)
+        built = build(mech, args.timestep, args.integrator, loads=loads_from(args, mech))
         tr = simulate(built, args.revolutions)
-        c = compare(tr, mech)
+        c = compare(tr, built)
         print(table(c))
         files = []
         write_csv(out_dir / f"{name}.csv", trajectory_columns(tr))

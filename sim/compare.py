@@ -10,7 +10,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from analytic import MECHANISMS
-from .simulate import Trajectory
+from .simulate import Trajectory, energies
 
 # (unit, kind) of every SPEC output; kind picks the tolerance.
 UNITS = {
@@ -20,7 +20,7 @@ UNITS = {
     "s": "m", "S": "m", "xC": "m", "xE": "m", "yE": "m", "xP": "m", "yP": "m",
     "ds": "m/s", "dS": "m/s", "vxC": "m/s", "vxE": "m/s", "vyE": "m/s", "vxP": "m/s", "vyP": "m/s",
     "dds": "m/s^2", "ddS": "m/s^2", "axC": "m/s^2", "axE": "m/s^2", "ayE": "m/s^2", "axP": "m/s^2",
-    "ayP": "m/s^2",
+    "ayP": "m/s^2", "tau1": "N m", "tau2": "N m", "tau4": "N m",
 }
 ANGLES = {"phi2", "phi3", "phi4", "theta3"}
 
@@ -32,10 +32,19 @@ ACCELERATION_REL_TOL = 1e-3
 """[of the peak] soft constraints (impedance 0.9999) leave ~1e-4 of the constraint acceleration unforced."""
 LOOP_TOL = 1e-7
 """[m] the loops' position drift under the stiff constraint's stabilisation."""
+TORQUE_REL_TOL = 5e-3
+"""[of the peak analytic torque] the servo force is read at each step's start, where the constraint
+solver's residual (~1e-8 of the constraint force after the regulariser scaling) is all that separates it
+from the inverse dynamics."""
+WORK_TOL = 1e-3
+"""[of the kinetic-energy swing] Simpson quadrature of the drive power over 2 ms steps (error ~(h w)^4)
+and the constraint forces' work on a loop open by ~1e-9 m."""
 
 
 def tolerance(name: str, peak: float) -> float:
     unit = UNITS[name]
+    if unit == "N m":
+        return TORQUE_REL_TOL * peak
     if unit.endswith("^2"):
         return ACCELERATION_REL_TOL * peak
     if unit.endswith("/s"):
@@ -52,6 +61,8 @@ class Comparison:
     errors: dict[str, dict]
     speed_ripple: float
     max_loop_violation: float
+    torques: dict[str, np.ndarray]
+    work_balance: float
     passed: bool
 
     def as_dict(self) -> dict:
@@ -59,7 +70,8 @@ class Comparison:
         return {"mechanism": tr.name, "timestep": tr.timestep, "integrator": tr.integrator,
                 "revolutions": None, "steps": tr.steps, "cpu_seconds": tr.cpu_seconds,
                 "errors": self.errors, "speed_ripple": self.speed_ripple,
-                "max_loop_violation": self.max_loop_violation, "loop_tol": LOOP_TOL, "passed": self.passed}
+                "max_loop_violation": self.max_loop_violation, "loop_tol": LOOP_TOL,
+                "work_balance": self.work_balance, "work_tol": WORK_TOL, "passed": self.passed}
 
 
 def analytic_at(tr: Trajectory, mech):
@@ -71,12 +83,99 @@ def analytic_at(tr: Trajectory, mech):
     return module.solve(mech, i["phi1"], i["omega1"], i["alpha1"])
 
 
-def compare(tr: Trajectory, mech) -> Comparison:
+def analytic_torques(tr: Trajectory, built, mech=None) -> dict[str, np.ndarray]:
+    """Inverse-dynamics torques at the simulated state, with the compiled model's inertias, armature,
+    gravity and the load as actually applied."""
+    from analytic.dynamics import INPUTS, torques
+    from .model import body_inertias
+    model = built.model
+    mech = mech or built.mech
+    names = [model.body(i).name for i in range(1, model.nbody)]
+    inputs = INPUTS[tr.name]
+    joint = {"fourbar": {"1": "A"}, "sixbar": {"1": "O2"}, "fivebar": {"2": "A", "4": "D"}}[tr.name]
+    armature = {j: float(model.dof_armature[model.joint(joint[j]).dofadr[0]]) for j in inputs}
+    gear = model.actuator("load").gear[:2]
+    return torques(tr.name, mech, {j: tr.inputs[f"phi{j}"] for j in inputs},
+                   {j: tr.inputs[f"omega{j}"] for j in inputs}, {j: tr.inputs[f"alpha{j}"] for j in inputs},
+                   body_inertias(model, names), armature, tuple(model.opt.gravity[:2]), tuple(gear),
+                   tr.load)
+
+
+def work_balance(tr: Trajectory, built) -> float:
+    """max over the run of |work done on the mechanism - change of its energy|, as a fraction of the
+    kinetic-energy swing.
+
+    Energy: MuJoCo's kinetic + potential energy at each recorded state. Work of each crank servo over a step, during which its
+    command c is constant: the integral of tau omega = kv (c - omega) omega, with omega(t) the cubic
+    through the step's end speeds and accelerations (4-point Gauss, exact for that polynomial); at the two
+    steps per revolution where the shaper's cutting load switches (the crank's acceleration jumps there)
+    the end slope under the step's own controls is found by mj_forward at the step's end state. Work of
+    the load: its constant force times the output point's displacement over each step where it is on
+    (exact).
+    """
+    model = built.model
+    h = tr.t[1] - tr.t[0]
+    switch = np.abs(np.diff(tr.load)) > 0
+    work_steps = np.zeros(len(tr.t) - 1)
+    nodes, weights = np.polynomial.legendre.leggauss(4)
+    u = 0.5 * (nodes + 1.0)
+    h00, h10 = 2 * u ** 3 - 3 * u ** 2 + 1, u ** 3 - 2 * u ** 2 + u
+    h01, h11 = -2 * u ** 3 + 3 * u ** 2, u ** 3 - u ** 2
+    for name, key in zip(built.cranks, tr.commanded):
+        kv = model.actuator(name).gainprm[0]
+        w, a = tr.inputs[key], tr.inputs["alpha" + key[5:]]
+        c = w + tr.forces["tau" + key[5:]] / kv                 # each step's command, from tau = kv (c - w)
+        a1 = a[1:].copy()
+        for k, acc in _end_accelerations(built, tr, np.flatnonzero(switch), name).items():
+            a1[k] = acc
+        a0 = a[:-1]
+        ws = (np.outer(w[:-1], h00) + np.outer(h * a0, h10) + np.outer(w[1:], h01) + np.outer(h * a1, h11))
+        power = kv * (c[:-1, None] - ws) * ws
+        work_steps += 0.5 * h * power @ weights
+    gear = model.actuator("load").gear[:2]
+    if np.any(gear):
+        xk, yk = {"fourbar": ("xE", "yE"), "sixbar": ("xC", None), "fivebar": ("xP", "yP")}[tr.name]
+        dx = np.diff(tr.outputs[xk])
+        dy = np.diff(tr.outputs[yk]) if yk else 0.0
+        work_steps += tr.load[:-1] * (gear[0] * dx + gear[1] * dy)
+    work = np.concatenate([[0.0], np.cumsum(work_steps)])
+    kinetic, potential = energies(built, tr)
+    energy = kinetic + potential
+    swing = float(np.ptp(kinetic))
+    return float(np.max(np.abs(work - (energy - energy[0]))) / swing) if swing > 0 else 0.0
+
+
+def _end_accelerations(built, tr: Trajectory, steps, actuator: str) -> dict[int, float]:
+    """The crank's angular acceleration at the end of each step in ``steps`` under that step's controls
+    (where the load switches, the recorded value belongs to the next step's controls)."""
+    import mujoco
+    model = built.model
+    data = mujoco.MjData(model)
+    dof = model.jnt_dofadr[model.actuator(actuator).trnid[0]]
+    out = {}
+    for k in steps:
+        data.qpos[:], data.qvel[:] = tr.qpos[k + 1], tr.qvel[k + 1]
+        for i, name in enumerate(built.cranks):
+            kv = model.actuator(name).gainprm[0]
+            key = list(tr.commanded)[i]
+            data.ctrl[model.actuator(name).id] = tr.inputs[key][k] + tr.forces["tau" + key[5:]][k] / kv
+        data.ctrl[model.actuator("load").id] = tr.load[k]
+        mujoco.mj_forward(model, data)
+        out[int(k)] = float(data.qacc[dof])
+    return out
+
+
+def compare(tr: Trajectory, built, mech=None) -> Comparison:
+    """Every SPEC output, the crank torques and the work balance of run ``tr`` of model ``built`` against
+    the analytic solution (of ``mech``, by default the parameters the model was built from)."""
+    mech = mech or built.mech
     ref = analytic_at(tr, mech)
     errors = {}
     ok = True
-    for name in MECHANISMS[tr.name].OUTPUTS:
-        a, s = np.asarray(getattr(ref, name)), tr.outputs[name]
+    taus = analytic_torques(tr, built, mech)
+    pairs = [(n, np.asarray(getattr(ref, n)), tr.outputs[n]) for n in MECHANISMS[tr.name].OUTPUTS]
+    pairs += [(n, taus[n], tr.forces[n]) for n in taus]
+    for name, a, s in pairs:
         diff = s - a
         if name in ANGLES:
             diff = np.pi - np.mod(np.pi - diff, 2 * np.pi)
@@ -90,8 +189,9 @@ def compare(tr: Trajectory, mech) -> Comparison:
     ripple = max(float(np.max(np.abs(tr.inputs[k] - v))) / abs(v) if v else 0.0
                  for k, v in tr.commanded.items())
     viol = float(np.max(tr.loop_violation))
-    ok &= viol <= LOOP_TOL
-    return Comparison(tr, ref, errors, ripple, viol, bool(ok))
+    balance = work_balance(tr, built)
+    ok &= viol <= LOOP_TOL and balance <= WORK_TOL
+    return Comparison(tr, ref, errors, ripple, viol, taus, balance, bool(ok))
 
 
 def table(c: Comparison) -> str:
@@ -107,5 +207,6 @@ def table(c: Comparison) -> str:
                      f"{e['unit']}{flag}")
     lines.append(f"  loop violation max {c.max_loop_violation:.3e} m (tol {LOOP_TOL:.0e}); "
                  f"speed ripple {c.speed_ripple:.3e} of the commanded speed")
+    lines.append(f"  work balance {c.work_balance:.3e} of the kinetic-energy swing (tol {WORK_TOL:.0e})")
     lines.append(f"  {'PASSED' if c.passed else 'FAILED'}")
     return "\n".join(lines)

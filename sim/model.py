@@ -27,9 +27,11 @@ if hasattr(mujoco.mjtIntegrator, "mjINT_DISCRETE"):
 
 DEFAULT_TIMESTEP = 0.002
 DEFAULT_INTEGRATOR = "rk4"
-SERVO_RATIO = 1.0
-"""kv * timestep / armature of the crank velocity servos: at most 1 keeps the explicit servo stable under
-RK4 (whose real stability limit is 2.78) with margin; kv follows the timestep."""
+SERVO_RATIO = 0.25
+"""kv * timestep / armature of the crank velocity servos, i.e. the servo's time constant is 4 steps. RK4 is
+stable up to 2.78, but a servo mode resolved by only 1 step lets the integrator pump energy: the work
+balance of linkage compare was 1e-4 (four-bar) to 4e-3 (loaded shaper) of the kinetic-energy swing at 1,
+1e-5 at 0.25 (benchmarks/simulate.py). kv follows the timestep."""
 LOOP_TIMECONST = 16.0
 """Time constant of the loops' drift correction, in timesteps (solref[0] = LOOP_TIMECONST * timestep).
 With the regularisation below made negligible, the loops are held by the constraint force itself and
@@ -44,11 +46,31 @@ an impedance of 1 - 1e-8 (measured: violation 2e-7 -> 2e-8 m for the five-bar at
 CRANK_ARMATURE = 0.01
 """Rotor inertia [kg m^2] added to each driven crank joint: a motor's rotor, which also lets the servo
 be stiff (kv = armature / timestep) so that the crank speed ripples by ~1 % (reported by compare)."""
+RIPPLE_TARGET = 0.01
+"""Drives are sized so that the peak analytic torque would slow the crank by at most 1 % of its speed
+through the servo (kv >= peak torque / (0.01 omega)); the armature grows with kv (kv h / armature = 1),
+like the reflected inertia of a bigger geared motor. Unloaded defaults keep CRANK_ARMATURE."""
 
 
 def mjcf_path(name: str) -> Path:
     """Path of the MJCF file of mechanism ``name``."""
     return MJCF_DIR / f"{name}.xml"
+
+
+@dataclass(frozen=True)
+class Loads:
+    """What acts on the mechanism besides its drives.
+
+    ``gravity`` (gx, gy) [m/s^2] in the plane (None: MuJoCo's -z gravity, normal to the plane, no effect);
+    ``force`` (Fx, Fy) [N] on the output point (four-bar E, shaper ram C, five-bar P), fixed in the world
+    frame; ``cutting_only`` (shaper) applies it only during the slow (cutting) stroke; ``inertias``
+    replaces bodies' inertial data (keyed by MJCF body name) on the MuJoCo side too.
+    """
+
+    gravity: tuple[float, float] | None = None
+    force: tuple[float, float] = (0.0, 0.0)
+    cutting_only: bool = False
+    inertias: dict | None = None
 
 
 @dataclass(frozen=True)
@@ -61,6 +83,13 @@ class Built:
     qpos0: np.ndarray
     qvel0: np.ndarray
     ctrl0: np.ndarray
+    loads: Loads = Loads()
+
+    @property
+    def cranks(self) -> tuple[str, ...]:
+        """Names of the crank velocity actuators (every actuator but the load)."""
+        return tuple(self.model.actuator(i).name for i in range(self.model.nu)
+                     if self.model.actuator(i).name != "load")
 
 
 def check_settings(timestep: float, integrator: str) -> None:
@@ -71,16 +100,21 @@ def check_settings(timestep: float, integrator: str) -> None:
 
 
 def build(mech, timestep: float = DEFAULT_TIMESTEP, integrator: str = DEFAULT_INTEGRATOR,
-          timeconst: float = LOOP_TIMECONST) -> Built:
-    """Compile the mechanism's MJCF with ``mech``'s parameters, simulation settings and initial state."""
+          timeconst: float = LOOP_TIMECONST, loads: Loads = Loads()) -> Built:
+    """Compile the mechanism's MJCF with ``mech``'s parameters, simulation settings, loads and initial
+    state."""
     check_settings(timestep, integrator)
     name = mechanism_name(mech)
     spec = mujoco.MjSpec.from_file(str(mjcf_path(name)))
     _GEOMETRY[name](spec, mech)
+    _apply_loads(spec, name, loads)
     joints, ctrl = _INITIAL[name](mech)
+    ctrl = list(ctrl) + [0.0]                      # the load actuator, switched by the controls
     spec.option.timestep = float(timestep)
     spec.option.integrator = INTEGRATORS[integrator]
     for act in spec.actuators:
+        if act.name == "load":
+            continue
         joint = spec.joint(act.target)
         joint.armature = CRANK_ARMATURE
         kv = SERVO_RATIO * CRANK_ARMATURE / timestep
@@ -91,6 +125,7 @@ def build(mech, timestep: float = DEFAULT_TIMESTEP, integrator: str = DEFAULT_IN
     _frame_camera(spec, name, mech)
     model = spec.compile()
     model.body_invweight0[:] *= REGULARIZATION_SCALE
+    _size_drives(model, name, mech, loads, timestep)
     qpos = np.zeros(model.nq)
     qvel = np.zeros(model.nv)
     for jname, (q, v) in joints.items():
@@ -102,7 +137,67 @@ def build(mech, timestep: float = DEFAULT_TIMESTEP, integrator: str = DEFAULT_IN
     key.qpos[:] = qpos
     key.qvel[:] = qvel
     key.ctrl[:] = ctrl
-    return Built(name, mech, model, qpos, qvel, np.asarray(ctrl, float))
+    return Built(name, mech, model, qpos, qvel, np.asarray(ctrl, float), loads)
+
+
+def _size_drives(model: mujoco.MjModel, name: str, mech, loads: Loads, timestep: float) -> None:
+    """Stiffen each crank servo (and its rotor) where the load needs it; see RIPPLE_TARGET."""
+    from analytic.dynamics import INPUTS, torques
+    inputs = INPUTS[name]
+    t = np.linspace(0.0, 1.0, 721)
+    period = 2 * math.pi / max(abs(getattr(mech, f"omega{j}")) or 1.0 for j in inputs)
+    phi = {j: getattr(mech, f"phi{j}_0") + getattr(mech, f"omega{j}") * t * period for j in inputs}
+    omega = {j: np.full_like(t, getattr(mech, f"omega{j}")) for j in inputs}
+    alpha = {j: np.zeros_like(t) for j in inputs}
+    names = [model.body(i).name for i in range(1, model.nbody)]
+    gravity = tuple(model.opt.gravity[:2])
+    tau = torques(name, mech, phi, omega, alpha, body_inertias(model, names), None, gravity,
+                  tuple(model.actuator("load").gear[:2]), 1.0)
+    for j, act in zip(inputs, [a for a in (model.actuator(i) for i in range(model.nu)) if a.name != "load"]):
+        speed = abs(getattr(mech, f"omega{j}"))
+        if speed == 0:
+            continue
+        kv = float(np.max(np.abs(tau[f"tau{j}"]))) / (RIPPLE_TARGET * speed)
+        if kv > act.gainprm[0]:
+            act.gainprm[0], act.biasprm[2] = kv, -kv
+            model.dof_armature[model.jnt_dofadr[act.trnid[0]]] = kv * timestep / SERVO_RATIO
+
+
+def _apply_loads(spec, name: str, loads: Loads) -> None:
+    if loads.gravity is not None:
+        gx, gy = loads.gravity
+        if not (math.isfinite(gx) and math.isfinite(gy)):
+            raise ParameterError(f"--gravity {loads.gravity} must be two finite numbers gx,gy [m/s^2]")
+        spec.option.gravity = [gx, gy, 0.0]
+    fx, fy = loads.force
+    if not (math.isfinite(fx) and math.isfinite(fy)):
+        raise ParameterError(f"--force {loads.force} must be two finite numbers Fx,Fy [N]")
+    spec.actuator("load").gear = [fx, fy, 0.0, 0.0, 0.0, 0.0]
+    for body, inertia in (loads.inertias or {}).items():
+        b = spec.body(body)
+        if b is None:
+            raise ParameterError(f"--inertia: the {name} has no body {body!r}")
+        b.explicitinertial = True
+        b.mass = inertia.m
+        b.ipos = [inertia.cx, inertia.cy, 0.0]
+        b.iquat = [1.0, 0.0, 0.0, 0.0]
+        # A thin plate in the plane: Ixx + Iyy = Izz satisfies the triangle inequality.
+        b.inertia = [inertia.I / 2, inertia.I / 2, inertia.I]
+
+
+def body_inertias(model: mujoco.MjModel, names) -> dict:
+    """The compiled bodies' inertial data as analytic.dynamics.Inertia (mass, COM in the body frame, Izz
+    about the COM in the body frame)."""
+    from analytic.dynamics import Inertia
+    out = {}
+    for n in names:
+        b = model.body(n)
+        rot = np.empty(9)
+        mujoco.mju_quat2Mat(rot, b.iquat)
+        rot = rot.reshape(3, 3)
+        izz = float((rot @ np.diag(b.inertia) @ rot.T)[2, 2])
+        out[n] = Inertia(m=float(b.mass[0]), cx=float(b.ipos[0]), cy=float(b.ipos[1]), I=izz)
+    return out
 
 
 # ------------------------------------------------------------------------------------ geometry

@@ -45,13 +45,23 @@ class Trajectory:
     loop_violation: np.ndarray
     forces: dict[str, np.ndarray]
     commanded: dict[str, float]
+    load: np.ndarray
+    """The external load's switch (1 on, 0 off) at each step, as the load actuator applied it."""
     qpos: np.ndarray
-    """Joint positions at the same instants, shape (steps, nq), for rendering."""
+    """Joint positions at the same instants, shape (steps, nq) (every joint here has one coordinate)."""
+    qvel: np.ndarray
+    """Joint velocities at the same instants, shape (steps, nv)."""
+    joint_names: tuple[str, ...]
 
 
 def _sensor(model, data_rows, name):
+    """Sensor ``name``'s columns. Linear accelerations are returned as true accelerations: MuJoCo's
+    frame accelerometers read a - g (the world's acceleration is -g), so g is added back."""
     s = model.sensor(name)
-    return data_rows[:, s.adr[0]:s.adr[0] + s.dim[0]]
+    values = data_rows[:, s.adr[0]:s.adr[0] + s.dim[0]]
+    if s.type[0] == mujoco.mjtSensor.mjSENS_FRAMELINACC:
+        values = values + model.opt.gravity
+    return values
 
 
 def _angle(x):
@@ -115,11 +125,25 @@ def _fivebar(model, S):
 _MEASURE = {"fourbar": _fourbar, "sixbar": _sixbar, "fivebar": _fivebar}
 
 
-def commanded_speeds(built: Built, t: np.ndarray) -> np.ndarray:
-    """The servo commands ctrl(t) [rad/s], shape (len(t), nu): omega + alpha t for each crank."""
+def controls(built: Built, t: np.ndarray) -> np.ndarray:
+    """The controls at times t, shape (len(t), nu): each crank servo's speed omega + alpha t [rad/s], then
+    the load switch (1 on, 0 off: on throughout, or the shaper's cutting stroke only)."""
     mech = built.mech
     cranks = ("2", "4") if built.name == "fivebar" else ("1",)
-    return np.column_stack([getattr(mech, f"omega{c}") + getattr(mech, f"alpha{c}") * t for c in cranks])
+    speeds = [getattr(mech, f"omega{c}") + getattr(mech, f"alpha{c}") * t for c in cranks]
+    return np.column_stack(speeds + [load_switch(built, t)])
+
+
+def load_switch(built: Built, t: np.ndarray) -> np.ndarray:
+    """1 where the external load acts, else 0. The shaper's cutting stroke is the slow one, while the
+    commanded crank angle lies between the limit positions -psi and pi + psi (counter-clockwise)."""
+    if not built.loads.cutting_only:
+        return np.ones_like(t)
+    from analytic import sixbar
+    mech = built.mech
+    psi = sixbar.figures(mech).psi
+    phi = mech.phi1_0 + mech.omega1 * t + 0.5 * mech.alpha1 * t * t
+    return (np.mod(phi + psi, 2 * np.pi) <= np.pi + 2 * psi).astype(float)
 
 
 def simulate(built: Built, revolutions: float = 1.0) -> Trajectory:
@@ -134,19 +158,45 @@ def simulate(built: Built, revolutions: float = 1.0) -> Trajectory:
     spec = mujoco.mjtState.mjSTATE_FULLPHYSICS
     state0 = np.empty(mujoco.mj_stateSize(model, spec))
     mujoco.mj_getState(model, data, state0, spec)
-    ctrl = commanded_speeds(built, np.arange(nstep) * h)[None]
+    ctrl = controls(built, np.arange(nstep) * h)[None]
     t0 = time.process_time()
     states, sens = rollout.rollout(model, data, state0[None], ctrl, nstep=nstep)
     cpu = time.process_time() - t0
     sens = sens[0]
     # states[k] follows step k (time (k+1) h); the sensors of step k see the state before it.
-    qpos = np.concatenate([state0[None, 1:1 + model.nq], states[0, :-1, 1:1 + model.nq]])
+    nq, nv = model.nq, model.nv
+    qpos = np.concatenate([state0[None, 1:1 + nq], states[0, :-1, 1:1 + nq]])
+    qvel = np.concatenate([state0[None, 1 + nq:1 + nq + nv], states[0, :-1, 1 + nq:1 + nq + nv]])
     inputs, outputs, viol, forces = _MEASURE[built.name](model, sens)
     _check_run(built, sens, inputs, viol)
     cranks = ("2", "4") if built.name == "fivebar" else ("1",)
     return Trajectory(built.name, h, _integrator_name(model), nstep, cpu, _sensor(model, sens, "time")[:, 0],
                       inputs, outputs, viol, forces,
-                      {f"omega{c}": getattr(built.mech, f"omega{c}") for c in cranks}, qpos)
+                      {f"omega{c}": getattr(built.mech, f"omega{c}") for c in cranks},
+                      _sensor(model, sens, "load")[:, 0], qpos, qvel,
+                      tuple(model.joint(i).name for i in range(model.njnt)))
+
+
+def energies(built: Built, tr: Trajectory) -> tuple[np.ndarray, np.ndarray]:
+    """MuJoCo's kinetic and potential energy [J] at every recorded state (armature included).
+
+    Computed by mj_forward on each recorded state after the run: MuJoCo's energy sensors, read during an
+    RK4 step, are not evaluated at the step's initial state (measured: 1e-4 J off for the four-bar).
+    """
+    model = built.model
+    data = mujoco.MjData(model)
+    flags = model.opt.enableflags
+    model.opt.enableflags = flags | mujoco.mjtEnableBit.mjENBL_ENERGY
+    try:
+        out = np.empty((len(tr.t), 2))
+        for k in range(len(tr.t)):
+            data.qpos[:] = tr.qpos[k]
+            data.qvel[:] = tr.qvel[k]
+            mujoco.mj_forward(model, data)
+            out[k] = data.energy[1], data.energy[0]
+    finally:
+        model.opt.enableflags = flags
+    return out[:, 0], out[:, 1]
 
 
 def _integrator_name(model) -> str:

@@ -16,10 +16,10 @@ def test_compare_json_has_the_documented_fields_and_passes():
     assert r.returncode == 0, r.stdout + r.stderr
     out = json.loads(r.stdout)
     assert {"mechanism", "timestep", "integrator", "revolutions", "steps", "cpu_seconds", "errors",
-            "speed_ripple", "max_loop_violation", "passed"} <= set(out)
+            "speed_ripple", "max_loop_violation", "work_balance", "passed"} <= set(out)
     assert out["passed"] is True and out["integrator"] == "rk4"
     assert set(out["errors"]) == {"S", "theta3", "dS", "omega3", "ddS", "alpha3",
-                                  "xP", "yP", "vxP", "vyP", "axP", "ayP"}
+                                  "xP", "yP", "vxP", "vyP", "axP", "ayP", "tau2", "tau4"}
     for e in out["errors"].values():
         assert {"max", "rms", "peak", "tol", "unit"} <= set(e) and e["max"] <= e["tol"]
 
