@@ -77,7 +77,7 @@ def sheet(c: Comparison, mech, out: str):
     name = c.trajectory.name
     x, xlabel = _input_angle(c)
     colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
-    fig, axes = plt.subplots(3, 4, figsize=(17, 11), constrained_layout=True)
+    fig, axes = plt.subplots(4, 4, figsize=(17, 14.5), constrained_layout=True)
     panels = PANELS[name]
     slots = [axes[0, 0], axes[0, 1], axes[0, 2], axes[1, 0], axes[1, 1], axes[1, 2]]
     for ax, (title, lines, ylabel) in zip(slots, panels):
@@ -92,6 +92,7 @@ def sheet(c: Comparison, mech, out: str):
         _error_panel(ax, x, c, units, title, xlabel)
     _summary_panel(axes[1, 3], c, mech)
     _speed_panel(axes[2, 3], x, c, xlabel, colors)
+    _torque_panels(axes[3], x, c, xlabel, colors)
     fig.suptitle(f"{name}: MuJoCo simulation (markers) over the analytic solution (lines)", fontsize=14)
     with atomic_path(out) as tmp:
         fig.savefig(tmp, dpi=90)
@@ -190,3 +191,45 @@ def _speed_panel(ax, x, c: Comparison, xlabel, colors) -> None:
     ax.set(title=label, xlabel=xlabel, ylabel="[m/s]")
     ax.legend(fontsize=7)
     ax.grid(alpha=0.3)
+
+
+def flywheel_energy(t: np.ndarray, power: np.ndarray) -> np.ndarray:
+    """Energy [J] a flywheel must absorb: the integral of (power - mean power) over time (trapezoid);
+    its max - min is the fluctuation to size the flywheel for."""
+    excess = power - np.trapezoid(power, t) / (t[-1] - t[0])
+    return np.concatenate([[0.0], np.cumsum(0.5 * np.diff(t) * (excess[1:] + excess[:-1]))])
+
+
+def _torque_panels(axes, x, c: Comparison, xlabel, colors) -> None:
+    """Crank torque(s), simulated over analytic; their error; the flywheel energy; the figures."""
+    tr = c.trajectory
+    names = sorted(c.torques)
+    power = 0.0
+    for name, color in zip(names, colors):
+        ref, sim = c.torques[name], tr.forces[name]
+        axes[0].plot(x, ref, color=color, lw=1.6, label=f"$\\tau_{name[-1]}$ analytic")
+        axes[0].plot(x[::MARK_EVERY], sim[::MARK_EVERY], "o", ms=3.5, mfc="none", color=color,
+                     label=f"$\\tau_{name[-1]}$ MuJoCo")
+        axes[1].plot(x, np.abs(sim - ref), color=color, lw=1.0, label=name)
+        axes[1].axhline(c.errors[name]["tol"], color=color, ls="--", lw=0.8)
+        power = power + ref * tr.inputs["omega" + name[-1]]
+    axes[0].set(title="Driving torque", xlabel=xlabel, ylabel="[N m]")
+    axes[1].set(title="Torque error (dashed: 0.5 % of peak)", xlabel=xlabel, ylabel="|MuJoCo - analytic| [N m]")
+    axes[1].set_yscale("log")
+    energy = flywheel_energy(tr.t, power)
+    axes[2].plot(x, energy, color=colors[0], lw=1.6)
+    axes[2].set(title=f"Flywheel: excess energy (swing {np.ptp(energy):.4g} J)", xlabel=xlabel,
+                ylabel="$\\int (P - \\bar P)\\,dt$ [J]")
+    for ax in axes[:3]:
+        ax.grid(alpha=0.3)
+    axes[0].legend(fontsize=7)
+    axes[1].legend(fontsize=7)
+    axes[3].axis("off")
+    lines = []
+    for name in names:
+        ref = c.torques[name]
+        lines.append(f"{name}: peak {np.max(np.abs(ref)):.4g} N m, RMS {np.sqrt(np.mean(ref ** 2)):.4g} N m")
+    lines += [f"mean drive power {np.trapezoid(power, tr.t) / (tr.t[-1] - tr.t[0]):.4g} W",
+              f"flywheel energy swing {np.ptp(energy):.4g} J",
+              f"work balance {c.work_balance:.2e} of the KE swing"]
+    axes[3].text(0.0, 1.0, "\n".join(lines), va="top", family="monospace", fontsize=9, transform=axes[3].transAxes)

@@ -5,6 +5,7 @@ import subprocess
 import sys
 
 import numpy as np
+import pytest
 
 
 def run(*args):
@@ -43,3 +44,31 @@ def test_simulate_writes_a_csv_of_every_step(tmp_path):
 def test_simulate_refuses_a_crank_that_cannot_turn():
     r = run("simulate", "fourbar", "--set", "l1=0.2", "--set", "l3=0.1")
     assert r.returncode == 2 and "limit angles" in r.stderr and "Traceback" not in r.stderr
+
+
+def test_compare_reports_torque_and_work_balance_with_a_cutting_force():
+    r = run("compare", "sixbar", "--cutting-force", "500", "--json")
+    assert r.returncode == 0, r.stdout + r.stderr
+    out = json.loads(r.stdout)
+    assert out["errors"]["tau1"]["peak"] > 40          # 500 N on a ~0.1 m effective lever
+    assert out["work_balance"] <= 1e-3
+
+
+@pytest.mark.parametrize("args,pattern", [
+    (["fourbar", "--cutting-force", "10"], "applies to the shaper"),
+    (["fourbar", "--gravity", "1"], "is not two numbers"),
+    (["fourbar", "--inertia", "/no/such.json"], "cannot read it as JSON"),
+])
+def test_bad_load_arguments(args, pattern):
+    r = run("compare", *args)
+    assert r.returncode == 2 and pattern in r.stderr and "Traceback" not in r.stderr
+
+
+def test_inertia_file_with_a_bad_value_names_it(tmp_path):
+    f = tmp_path / "inertia.json"
+    f.write_text(json.dumps({"coupler": {"m": -1, "cx": 0, "cy": 0, "I": 0.01}}))
+    r = run("compare", "fourbar", "--inertia", str(f))
+    assert r.returncode == 2 and "coupler: mass m=-1" in r.stderr
+    f.write_text(json.dumps({"flywheel": {"m": 1, "cx": 0, "cy": 0, "I": 0.01}}))
+    r = run("compare", "fourbar", "--inertia", str(f))
+    assert r.returncode == 2 and "no body 'flywheel'" in r.stderr
