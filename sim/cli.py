@@ -134,8 +134,9 @@ def make_parser() -> argparse.ArgumentParser:
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.set_defaults(func=cmd_analyze)
 
-    from . import commands          # simulation, rendering and the main job
+    from . import commands, design  # simulation, rendering, the main job; synthesis and sweeps
     commands.register(sub, _add_common)
+    design.register(sub, _add_common)
     return parser
 
 

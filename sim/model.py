@@ -107,6 +107,7 @@ def build(mech, timestep: float = DEFAULT_TIMESTEP, integrator: str = DEFAULT_IN
     name = mechanism_name(mech)
     spec = mujoco.MjSpec.from_file(str(mjcf_path(name)))
     _GEOMETRY[name](spec, mech)
+    _scale_visuals(spec, _scale(name, mech))
     _apply_loads(spec, name, loads)
     joints, ctrl = _INITIAL[name](mech)
     ctrl = list(ctrl) + [0.0]                      # the load actuator, switched by the controls
@@ -261,6 +262,37 @@ def _fivebar_geometry(spec, m: fivebar.FiveBar) -> None:
 _GEOMETRY = {"fourbar": _fourbar_geometry, "sixbar": _sixbar_geometry, "fivebar": _fivebar_geometry}
 
 
+def _lengths(mech) -> list[float]:
+    return [v for k, v in vars(mech).items() if k[0] == "l" and isinstance(v, float)]
+
+
+def _scale(name: str, mech) -> float:
+    """Size of ``mech`` relative to its SPEC default (longest length against longest length)."""
+    from .params import CLASSES
+    return max(_lengths(mech)) / max(_lengths(CLASSES[name]()))
+
+
+def _scale_visuals(spec, k: float) -> None:
+    """Scale link thickness, pins, blocks, anchors and markers with the mechanism's size, so that a
+    36 mm linkage is drawn like a 300 mm one (masses follow: capsules of steel, ~k^3)."""
+    if abs(k - 1.0) < 1e-12:
+        return
+    for g in spec.geoms:
+        if g.name == "paper":
+            continue
+        g.size = [x * k for x in g.size]
+        if g.name.startswith("ground_"):
+            pivot = spec.site(g.name[len("ground_"):]).pos
+            g.pos = [pivot[0], pivot[1] - 0.012 * k, -0.012 * k]
+        else:
+            g.pos = [g.pos[0], g.pos[1], g.pos[2] * k]
+            if g.type == mujoco.mjtGeom.mjGEOM_CAPSULE:
+                f = list(g.fromto)
+                g.fromto = [f[0], f[1], f[2] * k, f[3], f[4], f[5] * k]
+    for site in spec.sites:
+        site.size = [x * k for x in site.size]
+
+
 # ------------------------------------------------------------------------------- initial state
 def _wrap(a):
     return float(math.remainder(float(a), 2 * math.pi))
@@ -298,7 +330,9 @@ def path_points(mech, samples: int = 361) -> np.ndarray:
     t = np.linspace(0.0, 1.0, samples)
     if name == "fourbar":
         lim = fourbar.crank_limits(mech)
-        lo, hi = lim.intervals[0]
+        phi0 = mech.phi1_0 % (2 * math.pi)                 # the interval the linkage starts in
+        lo, hi = next(((a, b) for a, b in lim.intervals
+                       if a <= phi0 <= b or a <= phi0 - 2 * math.pi <= b), lim.intervals[0])
         st = fourbar.solve(mech, lo + (hi - lo) * t, 1.0)
         pts = fourbar.joints(mech, st)
         return np.concatenate([np.column_stack(p) for p in pts.values()])
@@ -318,7 +352,7 @@ def _frame_camera(spec, name: str, mech, aspect: float = 4 / 3) -> None:
     pts = path_points(mech)
     lo, hi = pts.min(0), pts.max(0)
     center = 0.5 * (lo + hi)
-    extent = max(hi[1] - lo[1], (hi[0] - lo[0]) / aspect) * 1.15 + 0.04
+    extent = max(hi[1] - lo[1], (hi[0] - lo[0]) / aspect) * 1.3
     _set(spec, "camera", "top", pos=[center[0], center[1], 1.0], fovy=float(extent))
     _set(spec, "geom", "paper", pos=[center[0], center[1], -0.03])
 
@@ -327,7 +361,7 @@ def frame_extent(model: mujoco.MjModel, mech, aspect: float) -> float:
     """The orthographic camera's vertical extent [m] that shows every point for an image ``aspect``."""
     pts = path_points(mech)
     lo, hi = pts.min(0), pts.max(0)
-    return float(max(hi[1] - lo[1], (hi[0] - lo[0]) / aspect) * 1.15 + 0.04)
+    return float(max(hi[1] - lo[1], (hi[0] - lo[0]) / aspect) * 1.3)
 
 
 def output_names(name: str) -> tuple[str, ...]:

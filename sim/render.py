@@ -184,7 +184,7 @@ def render(built, tr, out: str, fps: float = 30.0, size: tuple[int, int] = (640,
                 renderer.update_scene(data, camera=cam, scene_option=opt)
                 _add_path(renderer.scene, path[:k + 1], width_px=max(2.0, h / 200))
                 for mx, my in markers:
-                    _add_cross(renderer.scene, mx, my, 0.012)
+                    _add_cross(renderer.scene, mx, my, 0.015 * model.cam_fovy[cam])
                 writer.append(renderer.render())
                 progress(i + 1)
         finally:

@@ -1,0 +1,283 @@
+"""Design commands: ``linkage synthesize two-position`` (seed 001) and ``linkage sweep`` (seed 003)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from analytic import ParameterError, fourbar, studies, synthesis
+from . import params
+from .io import check_writable, write_csv
+
+UNIT_TO_M = {"mm": 1e-3, "cm": 1e-2, "m": 1.0}
+
+
+# --------------------------------------------------------------------------------------- synthesis
+def _point(option: str, text: str) -> tuple[float, float]:
+    parts = text.split(",")
+    if len(parts) != 2:
+        raise ParameterError(f"{option} {text!r} is not x,y (e.g. {option} 30,31)")
+    return params.parse_value(option, parts[0]), params.parse_value(option, parts[1])
+
+
+def _angle_range(option: str, text: str) -> tuple[float, float]:
+    if ":" not in text:
+        raise ParameterError(f"{option} {text!r} is not LO:HI (e.g. {option} -90deg:90deg)")
+    lo, hi = text.split(":", 1)
+    return params.parse_value(option, lo), params.parse_value(option, hi)
+
+
+def row(task: synthesis.Task, dsg: synthesis.Design) -> dict:
+    """A paper-style row: angles in degrees, lengths in the task's unit."""
+    g = "-"
+    if synthesis.feasibility(task, dsg) is None:
+        g = fourbar.grashof(synthesis.linkage(task, dsg)).chain
+    return {"theta_deg": math.degrees(dsg.theta), "phi0_deg": math.degrees(dsg.phi0),
+            "psi0_deg": math.degrees(dsg.psi0), "l1": dsg.l1, "l2": dsg.l2, "l3": dsg.l3, "l4": dsg.l4,
+            "total": dsg.total, "grashof": g}
+
+
+def cmd_synthesize(args) -> int:
+    from .cli import dumps
+    if args.problem != "two-position":
+        raise ParameterError(f"unknown synthesis problem {args.problem!r}: use two-position")
+    if args.render:
+        from .render import check_video_args
+        check_video_args(args.render, args.fps, args.size)
+    if args.plot:
+        check_writable(args.plot, (".png", ".svg", ".pdf"))
+    task = synthesis.Task(E1=_point("--E1", args.E1), E2=_point("--E2", args.E2), A=_point("--A", args.A),
+                          D=_point("--D", args.D),
+                          phi12=params.parse_value("--crank-rotation", args.crank_rotation),
+                          psi12=params.parse_value("--rocker-rotation", args.rocker_rotation))
+    lo, hi = _angle_range("--theta-range", args.theta_range)
+    search = synthesis.optimum(task, lo, hi)
+    thetas = [math.radians(t) for t in synthesis.SEED_THETAS if lo <= math.radians(t) <= hi]
+    rows = [row(task, synthesis.design(task, th)) for th in thetas]
+    best = row(task, search.optimum) if search.optimum else None
+    excluded = [{"theta_deg": math.degrees(th), "reason": why} for th, why in search.excluded]
+    if args.json:
+        print(dumps({"rows": rows, "optimum": best, "excluded": excluded, "unit": args.unit}))
+    else:
+        print(_table(rows, best, args.unit))
+        print(_excluded_summary(search.excluded))
+    if best is None:
+        raise ParameterError("no coupler rotation in the range gives a linkage that moves E from E1 to E2")
+    if args.plot:
+        _plot_total(task, search, lo, hi, args.plot, args.unit)
+        print(f"wrote {args.plot}")
+    if args.render:
+        _render_design(task, search.optimum, args)
+    return 0
+
+
+def _table(rows, best, unit) -> str:
+    head = (f"{'theta [deg]':>12s} {'phi0 [deg]':>11s} {'psi0 [deg]':>11s} {'l1':>9s} {'l2':>9s} {'l3':>9s} "
+            f"{'l4':>7s} {'total':>10s}  Grashof   [lengths in {unit}]")
+    lines = [head]
+    for r in rows + ([dict(best, label="optimum")] if best else []):
+        lines.append(f"{r['theta_deg']:12.4f} {r['phi0_deg']:11.4f} {r['psi0_deg']:11.4f} {r['l1']:9.4f} "
+                     f"{r['l2']:9.4f} {r['l3']:9.4f} {r['l4']:7.2f} {r['total']:10.4f}  {r['grashof']}"
+                     + ("   <- optimum" if r.get("label") else ""))
+    return "\n".join(lines)
+
+
+def _excluded_summary(excluded) -> str:
+    if not excluded:
+        return "no coupler rotation in the range was excluded"
+    groups: list[list] = []
+    for th, why in excluded:
+        kind = why.split(" (")[0].split(" at crank angle")[0]
+        if groups and groups[-1][2] == kind and abs(th - groups[-1][1] - math.radians(1.0)) < 1e-9:
+            groups[-1][1] = th
+        else:
+            groups.append([th, th, kind])
+    parts = [f"{math.degrees(a):.0f}..{math.degrees(b):.0f} deg: {k}" if a != b else f"{math.degrees(a):.0f} deg: {k}"
+             for a, b, k in groups]
+    return "excluded coupler rotations (1 deg scan): " + "; ".join(parts)
+
+
+def _plot_total(task, search, lo, hi, out, unit) -> None:
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from .io import atomic_path
+    th = np.linspace(lo, hi, 721)
+    total = np.array([synthesis.design(task, float(t)).total for t in th])
+    ok = np.array([synthesis.feasibility(task, synthesis.design(task, float(t)), 91) is None for t in th])
+    fig, ax = plt.subplots(figsize=(8, 5), constrained_layout=True)
+    ax.plot(np.degrees(th), np.where(ok, total, np.nan), lw=1.8, label="feasible designs")
+    ax.plot(np.degrees(th), np.where(~ok, total, np.nan), lw=1.0, color="0.6", ls="--", label="excluded")
+    o = search.optimum
+    ax.plot(math.degrees(o.theta), o.total, "o", color="tab:red",
+            label=f"optimum: theta={math.degrees(o.theta):.3f} deg, total={o.total:.4f} {unit}")
+    finite = total[np.isfinite(total) & ok]
+    ax.set_ylim(0.95 * finite.min(), min(finite.max(), 2.0 * finite.min()))
+    ax.set(xlabel="coupler rotation theta [deg]", ylabel=f"total link length l1+l2+l3+l4 [{unit}]",
+           title="Two-position synthesis: total length against coupler rotation")
+    ax.grid(alpha=0.3)
+    ax.legend()
+    with atomic_path(out) as tmp:
+        fig.savefig(tmp, dpi=100)
+    plt.close(fig)
+
+
+def _render_design(task, dsg, args) -> None:
+    """Animate the optimum moving E from E1 to E2 in MuJoCo, with E1 and E2 marked (SI scale)."""
+    from dataclasses import replace
+    from .model import build
+    from .render import parse_size, render
+    from .simulate import simulate
+    k = UNIT_TO_M[args.unit]
+    mech = synthesis.linkage(task, dsg)
+    duration = 2.0                                                 # seconds for the motion E1 -> E2
+    mech = replace(mech, l1=mech.l1 * k, l2=mech.l2 * k, l3=mech.l3 * k, l4=mech.l4 * k,
+                   ex=mech.ex * k, ey=mech.ey * k, omega1=task.phi12 / duration)
+    built = build(mech)
+    tr = simulate(built, abs(task.phi12) / (2 * math.pi))
+    marks = tuple(tuple(task.local(p) * k) for p in (task.E1, task.E2))
+    stats = render(built, tr, args.render, args.fps, parse_size(args.size), markers=marks)
+    print(f"wrote {stats.path}: {stats.frames} frames (E1 and E2 marked with crosses)")
+
+
+# ------------------------------------------------------------------------------------------- sweep
+def parse_vary(items: list[str]) -> dict[str, list[float]]:
+    """``NAME=V1,V2,...`` or ``NAME=start:stop:count`` (count evenly spaced values, ends included)."""
+    out: dict[str, list[float]] = {}
+    for item in items:
+        if "=" not in item:
+            raise ParameterError(f"--vary {item!r} is not NAME=V1,V2,... or NAME=start:stop:count")
+        name, text = (x.strip() for x in item.split("=", 1))
+        if text.count(":") == 2:
+            a, b, n = text.split(":")
+            start, stop = params.parse_value(name, a), params.parse_value(name, b)
+            try:
+                count = int(n)
+            except ValueError:
+                raise ParameterError(f"--vary {name}: count {n!r} must be an integer >= 1") from None
+            if count < 1:
+                raise ParameterError(f"--vary {name}: count {count} must be >= 1")
+            if count > 1 and not stop > start:
+                raise ParameterError(f"--vary {name}={text}: the range is empty or inverted (stop must exceed start)")
+            out[name] = [float(v) for v in np.linspace(start, stop, count)]
+        else:
+            vals = [v for v in text.split(",") if v.strip()]
+            if not vals:
+                raise ParameterError(f"--vary {name}: no values given")
+            out[name] = [params.parse_value(name, v) for v in vals]
+    return out
+
+
+MAX_COMBOS = 10_000_000
+
+
+def cmd_sweep(args) -> int:
+    if args.csv:
+        check_writable(args.csv, (".csv",))
+    if args.plot:
+        check_writable(args.plot, (".png", ".svg", ".pdf"))
+    base = params.build(args.mechanism, args.sets)
+    if args.mechanism == "sixbar":
+        raise ParameterError("sweep supports fivebar (output path of P) and fourbar (coupler curves)")
+    if not args.vary:
+        raise ParameterError("give at least one --vary NAME=V1,V2,... (or NAME=start:stop:count)")
+    vary = parse_vary(args.vary)
+    n = math.prod(len(v) for v in vary.values())
+    if n > MAX_COMBOS and not args.yes:
+        raise ParameterError(f"the grid has {n:,} combinations (over {MAX_COMBOS:,}): narrow it, or add --yes")
+    rows, paths = studies.sweep(base, vary, args.samples, keep_paths=12 if args.plot else 0)
+    keys = list(vary)
+    extra = ["S_min", "period"] if args.mechanism == "fivebar" else ["mu_min", "period"]
+    stat_names = list(studies.STATS) + extra
+    if args.csv:
+        cols = {k: np.array([r.params[k] for r in rows]) for k in keys}
+        cols.update({s: np.array([r.values.get(s, np.nan) for r in rows]) for s in stat_names})
+        cols["valid"] = np.array([1.0 if r.valid else 0.0 for r in rows])
+        write_csv(args.csv, cols)
+    print(_sweep_table(rows, keys, limit=args.show))
+    bad = [r for r in rows if not r.valid]
+    print(f"{len(rows)} combinations, {len(rows) - len(bad)} valid" +
+          (f"; invalid, e.g. {', '.join(f'{k}={v:g}' for k, v in bad[0].params.items())}: {bad[0].reason}" if bad else ""))
+    if args.csv:
+        print(f"wrote {args.csv}")
+    if args.plot:
+        _plot_family(paths, args.mechanism, args.plot, len(rows))
+        print(f"wrote {args.plot}")
+    return 0
+
+
+def _sweep_table(rows, keys, limit: int) -> str:
+    head = " ".join(f"{k:>10s}" for k in keys) + (
+        f" {'x range [m]':>21s} {'y range [m]':>21s} {'area [m^2]':>11s} {'|v| mean':>9s} {'min':>8s} "
+        f"{'max':>8s} {'fluct.':>7s}")
+    lines = [head]
+    for r in rows[:limit]:
+        p = " ".join(f"{r.params[k]:10.5g}" for k in keys)
+        if not r.valid:
+            lines.append(f"{p}  invalid: {r.reason}")
+            continue
+        v = r.values
+        lines.append(f"{p} {v['x_min']:10.5f}..{v['x_max']:<9.5f} {v['y_min']:10.5f}..{v['y_max']:<9.5f} "
+                     f"{v['area']:11.4e} {v['speed_mean']:9.5f} {v['speed_min']:8.5f} {v['speed_max']:8.5f} "
+                     f"{v['fluctuation']:7.4f}")
+    if len(rows) > limit:
+        lines.append(f"... {len(rows) - limit} more rows (--csv writes them all, --show N prints more)")
+    return "\n".join(lines)
+
+
+def _plot_family(paths, mechanism, out, total) -> None:
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from .io import atomic_path
+    point = "P" if mechanism == "fivebar" else "E"
+    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(13, 5.5), constrained_layout=True)
+    for params_, t, x, y, speed in paths:
+        label = ", ".join(f"{k}={v:.4g}" for k, v in params_.items())
+        line, = ax1.plot(x, y, lw=1.4, label=label)
+        ax2.plot(t / t[-1], speed, lw=1.4, color=line.get_color(), label=label)
+    ax1.set(title=f"Paths of {point}", xlabel="x [m]", ylabel="y [m]")
+    ax1.set_aspect("equal", adjustable="datalim")
+    ax2.set(title=f"Speed of {point} over one period", xlabel="t / period", ylabel=f"|v{point}| [m/s]")
+    for ax in (ax1, ax2):
+        ax.grid(alpha=0.3)
+    ax2.legend(fontsize=8, loc="upper right")
+    if total > len(paths):
+        fig.suptitle(f"first {len(paths)} of {total} combinations")
+    with atomic_path(out) as tmp:
+        fig.savefig(tmp, dpi=100)
+    plt.close(fig)
+
+
+def register(sub, add_common) -> None:
+    from .commands import add_video_options
+    p = sub.add_parser("synthesize", help="seed 001: two-position four-bar synthesis with minimum total length")
+    p.add_argument("problem", choices=("two-position",))
+    p.add_argument("--E1", default="30,31", help="coupler point E in position 1 (default 30,31)")
+    p.add_argument("--E2", default="10,35", help="coupler point E in position 2 (default 10,35)")
+    p.add_argument("--A", default="0,0", help="crank pivot (default 0,0)")
+    p.add_argument("--D", default="36,0", help="rocker pivot (default 36,0)")
+    p.add_argument("--crank-rotation", default="35deg", help="crank rotation from 1 to 2 (default 35deg)")
+    p.add_argument("--rocker-rotation", default="50deg", help="rocker rotation from 1 to 2 (default 50deg)")
+    p.add_argument("--theta-range", default="-90deg:90deg", metavar="LO:HI",
+                   help="coupler rotations searched (default -90deg:90deg)")
+    p.add_argument("--unit", choices=sorted(UNIT_TO_M), default="mm", help="length unit of the data (default mm)")
+    p.add_argument("--json", action="store_true", help="print one JSON object")
+    p.add_argument("--plot", metavar="PATH", help="plot total length against theta (.png/.svg/.pdf)")
+    p.add_argument("--render", metavar="PATH", help="animate the optimum moving E from E1 to E2 (.mp4/.gif)")
+    add_video_options(p, out_required=False)
+    p.set_defaults(func=cmd_synthesize)
+
+    p = sub.add_parser("sweep", help="seed 003 parameter studies: five-bar P paths, four-bar coupler curves")
+    p.add_argument("mechanism", choices=("fivebar", "fourbar", "sixbar"))
+    p.add_argument("--set", dest="sets", action="append", default=[], metavar="NAME=VALUE",
+                   help="fixed parameters")
+    p.add_argument("--vary", action="append", default=[], metavar="NAME=V1,V2,...|start:stop:count",
+                   help="a varied parameter (repeatable: every combination is evaluated)")
+    p.add_argument("--samples", type=int, default=360, help="samples per period (default 360)")
+    p.add_argument("--csv", metavar="PATH", help="write every combination as CSV")
+    p.add_argument("--plot", metavar="PATH", help="families of paths and speed curves (.png/.svg/.pdf)")
+    p.add_argument("--show", type=int, default=20, metavar="N", help="rows to print (default 20)")
+    p.add_argument("--yes", action="store_true", help=f"allow grids over {MAX_COMBOS:,} combinations")
+    p.set_defaults(func=cmd_sweep)
