@@ -75,6 +75,13 @@ def main() -> None:
         }
         for name, fn in cases.items():
             print(f"N={n:>9,d}  {name:<16s} {best_rate(fn, n, reps) / 1e6:8.2f} M samples/s")
+    from analytic import studies
+    vary = {"l2": [float(v) for v in np.linspace(0.03, 0.09, 100)],
+            "l4": [float(v) for v in np.linspace(0.04, 0.10, 100)]}
+    t0 = time.perf_counter()
+    rows, _ = studies.sweep(fivebar.FiveBar(), vary, samples=360)
+    print(f"five-bar sweep, 10,000 parameter sets x 360 samples (positions + velocities): "
+          f"{time.perf_counter() - t0:.2f} s, {sum(r.valid for r in rows)} valid")
     ours = best_rate(lambda: fourbar.solve(fourbar.FourBar(), phi, w), 1_000_000, 5)
     print(f"fourbar N=1e6 with glibc's default malloc thresholds (LINKAGE_MALLOPT=0): "
           f"{default_allocator_rate()} M samples/s")
