@@ -21,6 +21,8 @@ def add_sim_options(p) -> None:
     p.add_argument("--force", metavar="FX,FY", help="constant external force on the output point [N]")
     p.add_argument("--cutting-force", type=float, metavar="F",
                    help="shaper: cutting force on the ram during the cutting stroke [N]")
+    p.add_argument("--input-range", metavar="LO:HI",
+                   help="four-bar: rock the crank between LO and HI (e.g. a crank that cannot turn fully)")
     p.add_argument("--inertia", metavar="PATH.json",
                    help='bodies\' inertial data: {"coupler": {"m": 0.5, "cx": 0.15, "cy": 0, "I": 0.004}, ...}')
 
@@ -79,16 +81,28 @@ def check_full_turn(mech) -> None:
             ends = ", ".join(f"{math.degrees(a):.2f}deg" for a in lim.limit_angles)
             raise ParameterError(
                 f"the crank l1={mech.l1:g} cannot turn fully (limit angles {ends}; reachable "
-                f"{fourbar.describe_range(lim)}): a velocity-driven simulation would lock at a dead centre")
+                f"{fourbar.describe_range(lim)}): a velocity-driven simulation would lock at a dead centre; "
+                f"rock it between them with --input-range LO:HI")
 
 
-def run_simulation(mech, revolutions: float, timestep: float, integrator: str, loads=None):
-    """Build, check and simulate; returns (Built, Trajectory)."""
+def rock_from(args):
+    """The rocking range of ``--input-range`` [rad], or None."""
+    text = getattr(args, "input_range", None)
+    if not text:
+        return None
+    from .cli import _range
+    return _range(text)
+
+
+def run_simulation(mech, revolutions: float, timestep: float, integrator: str, loads=None, rock=None):
+    """Build, check and simulate; returns (Built, Trajectory). ``revolutions`` counts rocking cycles
+    (period 2 pi / |omega1|) when ``rock`` is given."""
     from .model import Loads, build
     from .simulate import simulate
-    check_full_turn(mech)
+    if rock is None:
+        check_full_turn(mech)
     params.duration(mech, revolutions)             # validates revolutions and the drive before building
-    built = build(mech, timestep, integrator, loads=loads or Loads())
+    built = build(mech, timestep, integrator, loads=loads or Loads(), rock=rock)
     return built, simulate(built, revolutions)
 
 
@@ -104,7 +118,8 @@ def cmd_simulate(args) -> int:
     mech = params.build(args.mechanism, args.sets)
     if args.csv:
         check_writable(args.csv, (".csv",))
-    _, tr = run_simulation(mech, args.revolutions, args.timestep, args.integrator, loads_from(args, mech))
+    _, tr = run_simulation(mech, args.revolutions, args.timestep, args.integrator, loads_from(args, mech),
+                                   rock_from(args))
     if args.csv:
         write_csv(args.csv, trajectory_columns(tr))
     print(f"{tr.name}: {tr.steps} steps of {tr.timestep:g} s ({tr.integrator}), {tr.cpu_seconds * 1e3:.1f} ms CPU; "
@@ -118,7 +133,8 @@ def cmd_compare(args) -> int:
     from .cli import dumps
     from .compare import compare, table
     mech = params.build(args.mechanism, args.sets)
-    built, tr = run_simulation(mech, args.revolutions, args.timestep, args.integrator, loads_from(args, mech))
+    built, tr = run_simulation(mech, args.revolutions, args.timestep, args.integrator, loads_from(args, mech),
+                                   rock_from(args))
     c = compare(tr, built)
     if args.json:
         out = c.as_dict()
@@ -135,9 +151,11 @@ def cmd_render(args) -> int:
     from .simulate import simulate
     path, size = check_video_args(args.out, args.fps, args.size)
     mech = params.build(args.mechanism, args.sets)
-    check_full_turn(mech)
+    rock = rock_from(args)
+    if rock is None:
+        check_full_turn(mech)
     params.duration(mech, args.revolutions)
-    built = build(mech, args.timestep, args.integrator, loads=loads_from(args, mech))
+    built = build(mech, args.timestep, args.integrator, loads=loads_from(args, mech), rock=rock)
     tr = simulate(built, args.revolutions)
     stats = render(built, tr, str(path), args.fps, size)
     print(f"wrote {stats.path}: {stats.frames} frames {size[0]}x{size[1]} at {args.fps:g} fps "
@@ -150,7 +168,8 @@ def cmd_plot(args) -> int:
     from .plot import check_plot_path, sheet
     check_plot_path(args.out)
     mech = params.build(args.mechanism, args.sets)
-    built, tr = run_simulation(mech, args.revolutions, args.timestep, args.integrator, loads_from(args, mech))
+    built, tr = run_simulation(mech, args.revolutions, args.timestep, args.integrator, loads_from(args, mech),
+                                   rock_from(args))
     sheet(compare(tr, built), mech, args.out)
     print(f"wrote {args.out}")
     return 0
@@ -172,19 +191,21 @@ def cmd_run(args) -> int:
     for name in names:
         if name not in params.CLASSES:
             raise ParameterError(f"{name!r} is not a mechanism: use fourbar, sixbar or fivebar")
-    if (args.sets or args.inertia or args.cutting_force is not None) and len(names) != 1:
+    if (args.sets or args.inertia or args.cutting_force is not None or args.input_range) and len(names) != 1:
         raise ParameterError("--set applies to one mechanism at a time: name it (e.g. linkage run fourbar --set l1=0.12)")
     ext = "." + args.format
     if not args.no_video:
         check_video_args(str(out_dir / f"{names[0]}{ext}"), args.fps, args.size)
     mechs = {name: params.build(name, args.sets) for name in names}
+    rock = rock_from(args)
     for mech in mechs.values():
-        check_full_turn(mech)
+        if rock is None:
+            check_full_turn(mech)
         params.duration(mech, args.revolutions)
     t_start = time.perf_counter()
     results = []
     for name, mech in mechs.items():
-        built = build(mech, args.timestep, args.integrator, loads=loads_from(args, mech))
+        built = build(mech, args.timestep, args.integrator, loads=loads_from(args, mech), rock=rock)
         tr = simulate(built, args.revolutions)
         c = compare(tr, built)
         print(table(c))

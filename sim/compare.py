@@ -105,29 +105,33 @@ def work_balance(tr: Trajectory, built) -> float:
     """max over the run of |work done on the mechanism - change of its energy|, as a fraction of the
     kinetic-energy swing.
 
-    Energy: MuJoCo's kinetic + potential energy at each recorded state. Work of each crank servo over a step, during which its
-    command c is constant: the integral of tau omega = kv (c - omega) omega, with omega(t) the cubic
-    through the step's end speeds and accelerations (4-point Gauss, exact for that polynomial); at the two
-    steps per revolution where the shaper's cutting load switches (the crank's acceleration jumps there)
-    the end slope under the step's own controls is found by mj_forward at the step's end state. Work of
-    the load: its constant force times the output point's displacement over each step where it is on
-    (exact).
+    Energy: MuJoCo's kinetic + potential energy at each recorded state. Work of each crank servo over a
+    step, during which its command c is constant: the integral of tau omega = kv (c - omega) omega, with
+    omega(t) the cubic through the step's end speeds and accelerations (4-point Gauss, exact for that
+    polynomial). Where a control changes between steps (the load switches, or an accelerating or rocking
+    crank's command moves on) the recorded end acceleration belongs to the next step's controls, so the
+    end slope under the step's own controls is found by mj_forward at the step's end state. Work of the
+    load: its constant force times the output point's displacement over each step where it is on (exact).
     """
     model = built.model
     h = tr.t[1] - tr.t[0]
-    switch = np.abs(np.diff(tr.load)) > 0
+    commands = [tr.inputs[key] + tr.forces["tau" + key[5:]] / model.actuator(name).gainprm[0]
+                for name, key in zip(built.cranks, tr.commanded)]          # tau = kv (c - omega)
+    changed = np.abs(np.diff(tr.load)) > 0
+    for c in commands:
+        changed |= np.abs(np.diff(c)) > 1e-12 * np.max(np.abs(c))
+    ends = _end_accelerations(built, tr, np.flatnonzero(changed), commands)
     work_steps = np.zeros(len(tr.t) - 1)
     nodes, weights = np.polynomial.legendre.leggauss(4)
     u = 0.5 * (nodes + 1.0)
     h00, h10 = 2 * u ** 3 - 3 * u ** 2 + 1, u ** 3 - 2 * u ** 2 + u
     h01, h11 = -2 * u ** 3 + 3 * u ** 2, u ** 3 - u ** 2
-    for name, key in zip(built.cranks, tr.commanded):
+    for i, (name, key) in enumerate(zip(built.cranks, tr.commanded)):
         kv = model.actuator(name).gainprm[0]
-        w, a = tr.inputs[key], tr.inputs["alpha" + key[5:]]
-        c = w + tr.forces["tau" + key[5:]] / kv                 # each step's command, from tau = kv (c - w)
+        w, a, c = tr.inputs[key], tr.inputs["alpha" + key[5:]], commands[i]
         a1 = a[1:].copy()
-        for k, acc in _end_accelerations(built, tr, np.flatnonzero(switch), name).items():
-            a1[k] = acc
+        for k, acc in ends.items():
+            a1[k] = acc[i]
         a0 = a[:-1]
         ws = (np.outer(w[:-1], h00) + np.outer(h * a0, h10) + np.outer(w[1:], h01) + np.outer(h * a1, h11))
         power = kv * (c[:-1, None] - ws) * ws
@@ -145,23 +149,22 @@ def work_balance(tr: Trajectory, built) -> float:
     return float(np.max(np.abs(work - (energy - energy[0]))) / swing) if swing > 0 else 0.0
 
 
-def _end_accelerations(built, tr: Trajectory, steps, actuator: str) -> dict[int, float]:
-    """The crank's angular acceleration at the end of each step in ``steps`` under that step's controls
-    (where the load switches, the recorded value belongs to the next step's controls)."""
+def _end_accelerations(built, tr: Trajectory, steps, commands) -> dict[int, list[float]]:
+    """Each crank's angular acceleration at the end of each step in ``steps`` under that step's controls
+    (``commands``: each crank's command per step)."""
     import mujoco
     model = built.model
     data = mujoco.MjData(model)
-    dof = model.jnt_dofadr[model.actuator(actuator).trnid[0]]
+    dofs = [model.jnt_dofadr[model.actuator(n).trnid[0]] for n in built.cranks]
+    ids = [model.actuator(n).id for n in built.cranks]
     out = {}
     for k in steps:
         data.qpos[:], data.qvel[:] = tr.qpos[k + 1], tr.qvel[k + 1]
-        for i, name in enumerate(built.cranks):
-            kv = model.actuator(name).gainprm[0]
-            key = list(tr.commanded)[i]
-            data.ctrl[model.actuator(name).id] = tr.inputs[key][k] + tr.forces["tau" + key[5:]][k] / kv
+        for i, c in zip(ids, commands):
+            data.ctrl[i] = c[k]
         data.ctrl[model.actuator("load").id] = tr.load[k]
         mujoco.mj_forward(model, data)
-        out[int(k)] = float(data.qacc[dof])
+        out[int(k)] = [float(data.qacc[d]) for d in dofs]
     return out
 
 
@@ -186,7 +189,7 @@ def compare(tr: Trajectory, built, mech=None) -> Comparison:
         ok &= passed
         errors[name] = {"max": e_max, "rms": e_rms, "peak": peak, "tol": tol, "unit": UNITS[name],
                         "passed": passed}
-    ripple = max(float(np.max(np.abs(tr.inputs[k] - v))) / abs(v) if v else 0.0
+    ripple = max(float(np.max(np.abs(tr.inputs[k] - v)) / np.max(np.abs(v))) if np.any(v) else 0.0
                  for k, v in tr.commanded.items())
     viol = float(np.max(tr.loop_violation))
     balance = work_balance(tr, built)

@@ -84,6 +84,8 @@ class Built:
     qvel0: np.ndarray
     ctrl0: np.ndarray
     loads: Loads = Loads()
+    rock: tuple[float, float] | None = None
+    """Four-bar only: the crank rocks between these angles [rad] instead of turning (see check_rock)."""
 
     @property
     def cranks(self) -> tuple[str, ...]:
@@ -100,16 +102,25 @@ def check_settings(timestep: float, integrator: str) -> None:
 
 
 def build(mech, timestep: float = DEFAULT_TIMESTEP, integrator: str = DEFAULT_INTEGRATOR,
-          timeconst: float = LOOP_TIMECONST, loads: Loads = Loads()) -> Built:
+          timeconst: float = LOOP_TIMECONST, loads: Loads = Loads(),
+          rock: tuple[float, float] | None = None) -> Built:
     """Compile the mechanism's MJCF with ``mech``'s parameters, simulation settings, loads and initial
-    state."""
+    state. ``rock`` (four-bar): drive the crank back and forth between two angles [rad], starting at rest
+    at the first, phi(t) = mid - amp cos(|omega1| t)."""
     check_settings(timestep, integrator)
     name = mechanism_name(mech)
+    if rock is not None:
+        check_rock(mech, rock)
+        from dataclasses import replace
+        mech = replace(mech, phi1_0=rock[0])
     spec = mujoco.MjSpec.from_file(str(mjcf_path(name)))
     _GEOMETRY[name](spec, mech)
     _scale_visuals(spec, _scale(name, mech))
     _apply_loads(spec, name, loads)
     joints, ctrl = _INITIAL[name](mech)
+    if rock is not None:                            # at rest at the first angle
+        joints = {j: (q, 0.0) for j, (q, _) in joints.items()}
+        ctrl = [0.0]
     ctrl = list(ctrl) + [0.0]                      # the load actuator, switched by the controls
     spec.option.timestep = float(timestep)
     spec.option.integrator = INTEGRATORS[integrator]
@@ -126,7 +137,7 @@ def build(mech, timestep: float = DEFAULT_TIMESTEP, integrator: str = DEFAULT_IN
     _frame_camera(spec, name, mech)
     model = spec.compile()
     model.body_invweight0[:] *= REGULARIZATION_SCALE
-    _size_drives(model, name, mech, loads, timestep)
+    _size_drives(model, name, mech, loads, timestep, rock)
     qpos = np.zeros(model.nq)
     qvel = np.zeros(model.nv)
     for jname, (q, v) in joints.items():
@@ -138,24 +149,58 @@ def build(mech, timestep: float = DEFAULT_TIMESTEP, integrator: str = DEFAULT_IN
     key.qpos[:] = qpos
     key.qvel[:] = qvel
     key.ctrl[:] = ctrl
-    return Built(name, mech, model, qpos, qvel, np.asarray(ctrl, float), loads)
+    return Built(name, mech, model, qpos, qvel, np.asarray(ctrl, float), loads, rock)
 
 
-def _size_drives(model: mujoco.MjModel, name: str, mech, loads: Loads, timestep: float) -> None:
+ROCK_MARGIN = math.radians(1.0)
+"""A rocking crank must stay this far inside its reachable interval: at a limit angle the loop is at a
+dead centre, where the servo could push it through to the other branch."""
+
+
+def check_rock(mech, rock: tuple[float, float]) -> None:
+    """The rocking range must be a four-bar's, ordered, and inside one reachable crank interval with a
+    margin of ROCK_MARGIN; the error names the limits."""
+    if mechanism_name(mech) != "fourbar":
+        raise ParameterError("--input-range applies to the four-bar only (its crank may not turn fully)")
+    lo, hi = rock
+    if not hi > lo:
+        raise ParameterError(f"--input-range {math.degrees(lo):.2f}deg:{math.degrees(hi):.2f}deg: the end must "
+                             f"exceed the start")
+    lim = fourbar.crank_limits(mech)
+    if lim.full_turn:
+        return
+    for a, b in lim.intervals:
+        for shift in (0.0, 2 * math.pi, -2 * math.pi):
+            if a + ROCK_MARGIN <= lo + shift and hi + shift <= b - ROCK_MARGIN:
+                return
+    raise ParameterError(
+        f"--input-range {math.degrees(lo):.2f}deg:{math.degrees(hi):.2f}deg leaves the crank's reachable range "
+        f"{fourbar.describe_range(lim)} (keep {math.degrees(ROCK_MARGIN):g}deg clear of the limit angles)")
+
+
+def _size_drives(model: mujoco.MjModel, name: str, mech, loads: Loads, timestep: float, rock=None) -> None:
     """Stiffen each crank servo (and its rotor) where the load needs it; see RIPPLE_TARGET."""
     from analytic.dynamics import INPUTS, torques
     inputs = INPUTS[name]
     t = np.linspace(0.0, 1.0, 721)
     period = 2 * math.pi / max(abs(getattr(mech, f"omega{j}")) or 1.0 for j in inputs)
-    phi = {j: getattr(mech, f"phi{j}_0") + getattr(mech, f"omega{j}") * t * period for j in inputs}
-    omega = {j: np.full_like(t, getattr(mech, f"omega{j}")) for j in inputs}
-    alpha = {j: np.zeros_like(t) for j in inputs}
+    if rock is not None:                          # the rocking motion of the four-bar crank
+        rate, amp = abs(mech.omega1), 0.5 * (rock[1] - rock[0])
+        u = rate * t * period
+        phi, omega, alpha = ({"1": 0.5 * (rock[0] + rock[1]) - amp * np.cos(u)}, {"1": amp * rate * np.sin(u)},
+                             {"1": amp * rate ** 2 * np.cos(u)})
+        speeds = {"1": amp * rate}
+    else:
+        phi = {j: getattr(mech, f"phi{j}_0") + getattr(mech, f"omega{j}") * t * period for j in inputs}
+        omega = {j: np.full_like(t, getattr(mech, f"omega{j}")) for j in inputs}
+        alpha = {j: np.zeros_like(t) for j in inputs}
+        speeds = {j: abs(getattr(mech, f"omega{j}")) for j in inputs}
     names = [model.body(i).name for i in range(1, model.nbody)]
     gravity = tuple(model.opt.gravity[:2])
     tau = torques(name, mech, phi, omega, alpha, body_inertias(model, names), None, gravity,
                   tuple(model.actuator("load").gear[:2]), 1.0)
     for j, act in zip(inputs, [a for a in (model.actuator(i) for i in range(model.nu)) if a.name != "load"]):
-        speed = abs(getattr(mech, f"omega{j}"))
+        speed = speeds[j]
         if speed == 0:
             continue
         kv = float(np.max(np.abs(tau[f"tau{j}"]))) / (RIPPLE_TARGET * speed)

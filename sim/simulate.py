@@ -44,7 +44,8 @@ class Trajectory:
     outputs: dict[str, np.ndarray]
     loop_violation: np.ndarray
     forces: dict[str, np.ndarray]
-    commanded: dict[str, float]
+    commanded: dict[str, np.ndarray]
+    """Each crank's desired speed [rad/s] at the recorded instants, keyed omega1 / omega2, omega4."""
     load: np.ndarray
     """The external load's switch (1 on, 0 off) at each step, as the load actuator applied it."""
     qpos: np.ndarray
@@ -125,13 +126,32 @@ def _fivebar(model, S):
 _MEASURE = {"fourbar": _fourbar, "sixbar": _sixbar, "fivebar": _fivebar}
 
 
-def controls(built: Built, t: np.ndarray) -> np.ndarray:
-    """The controls at times t, shape (len(t), nu): each crank servo's speed omega + alpha t [rad/s], then
-    the load switch (1 on, 0 off: on throughout, or the shaper's cutting stroke only)."""
+def desired_motion(built: Built, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Each crank's desired speed [rad/s] and acceleration [rad/s^2] at times t, shape (len(t), ncranks):
+    omega + alpha t, or for a rocking four-bar crank phi = mid - amp cos(|omega1| t)."""
     mech = built.mech
+    if built.rock is not None:
+        lo, hi = built.rock
+        rate, amp = abs(mech.omega1), 0.5 * (hi - lo)
+        return (amp * rate * np.sin(rate * t))[:, None], (amp * rate ** 2 * np.cos(rate * t))[:, None]
     cranks = ("2", "4") if built.name == "fivebar" else ("1",)
-    speeds = [getattr(mech, f"omega{c}") + getattr(mech, f"alpha{c}") * t for c in cranks]
-    return np.column_stack(speeds + [load_switch(built, t)])
+    speed = np.column_stack([getattr(mech, f"omega{c}") + getattr(mech, f"alpha{c}") * t for c in cranks])
+    accel = np.column_stack([np.full_like(t, getattr(mech, f"alpha{c}")) for c in cranks])
+    return speed, accel
+
+
+def controls(built: Built, t: np.ndarray) -> np.ndarray:
+    """The controls at times t, shape (len(t), nu): each crank servo's command, then the load switch
+    (1 on, 0 off: on throughout, or the shaper's cutting stroke only).
+
+    A velocity servo tau = kv (c - omega) driving its rotor (armature J) lags a changing speed by
+    alpha J / kv; the command c = omega + alpha J / kv feeds that lag forward, so an accelerating or
+    rocking crank follows its desired motion as closely as a steady one."""
+    speed, accel = desired_motion(built, t)
+    model = built.model
+    lead = [model.dof_armature[model.jnt_dofadr[model.actuator(n).trnid[0]]] / model.actuator(n).gainprm[0]
+            for n in built.cranks]
+    return np.column_stack([speed + accel * np.array(lead), load_switch(built, t)])
 
 
 def load_switch(built: Built, t: np.ndarray) -> np.ndarray:
@@ -159,6 +179,8 @@ def simulate(built: Built, revolutions: float = 1.0) -> Trajectory:
     state0 = np.empty(mujoco.mj_stateSize(model, spec))
     mujoco.mj_getState(model, data, state0, spec)
     ctrl = controls(built, np.arange(nstep) * h)[None]
+    desired = desired_motion(built, np.arange(nstep) * h)[0]
+    commanded = {f"omega{c}": desired[:, i] for i, c in enumerate(("2", "4") if built.name == "fivebar" else ("1",))}
     t0 = time.process_time()
     states, sens = rollout.rollout(model, data, state0[None], ctrl, nstep=nstep)
     cpu = time.process_time() - t0
@@ -169,10 +191,9 @@ def simulate(built: Built, revolutions: float = 1.0) -> Trajectory:
     qvel = np.concatenate([state0[None, 1 + nq:1 + nq + nv], states[0, :-1, 1 + nq:1 + nq + nv]])
     inputs, outputs, viol, forces = _MEASURE[built.name](model, sens)
     _check_run(built, sens, inputs, viol)
-    cranks = ("2", "4") if built.name == "fivebar" else ("1",)
     return Trajectory(built.name, h, _integrator_name(model), nstep, cpu, _sensor(model, sens, "time")[:, 0],
                       inputs, outputs, viol, forces,
-                      {f"omega{c}": getattr(built.mech, f"omega{c}") for c in cranks},
+                      commanded,
                       _sensor(model, sens, "load")[:, 0], qpos, qvel,
                       tuple(model.joint(i).name for i in range(model.njnt)))
 

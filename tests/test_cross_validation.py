@@ -9,7 +9,7 @@ import math
 import numpy as np
 import pytest
 
-from analytic import FiveBar, FourBar, SixBar
+from analytic import FiveBar, FourBar, ParameterError, SixBar
 from sim import compare, model, simulate
 from sim.simulate import SimulationError
 
@@ -60,3 +60,26 @@ def test_a_diverging_run_stops_with_time_and_angle():
     mech = FiveBar(omega4=8 * math.pi, omega2=8 * math.pi)
     with pytest.raises(SimulationError, match=r"at t=.* s \(phi2=.*deg\)"):
         simulate.simulate(model.build(mech, timestep=0.05), 2.0)
+
+
+def test_an_accelerating_crank_matches():
+    mech = FourBar(alpha1=3.0)
+    built = model.build(mech)
+    c = compare.compare(simulate.simulate(built, 1.0), built)
+    assert c.passed and c.speed_ripple < 0.02       # the servo's feed-forward keeps up with the ramp
+
+
+def test_a_crank_that_cannot_turn_fully_rocks_when_asked():
+    mech = FourBar(l1=0.2, l3=0.1)                   # Grashof double-rocker: limits at 41.41 and 104.48 deg
+    rock = (math.radians(45.0), math.radians(100.0))
+    built = model.build(mech, rock=rock)
+    tr = simulate.simulate(built, 2.0)               # two rocking cycles
+    c = compare.compare(tr, built)
+    assert c.passed, {k: e for k, e in c.errors.items() if not e["passed"]}
+    # It really rocks between the two angles (within the servo's 1-2 % speed ripple).
+    assert abs(tr.inputs["phi1"].min() - rock[0]) < 0.01 and abs(tr.inputs["phi1"].max() - rock[1]) < 0.02
+
+
+def test_a_rocking_range_past_a_limit_is_refused():
+    with pytest.raises(ParameterError, match=r"leaves the crank's reachable range .*41.41deg"):
+        model.build(FourBar(l1=0.2, l3=0.1), rock=(math.radians(40.0), math.radians(100.0)))
