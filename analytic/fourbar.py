@@ -17,7 +17,7 @@ is the mask of the samples that assembled.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, fields
+from dataclasses import dataclass
 
 import numpy as np
 

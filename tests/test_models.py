@@ -1,14 +1,12 @@
 """Every MJCF file: compiles, all elements named, keyframe closes every loop and matches the analytic
 solver, steps with zero MuJoCo warnings, is deterministic, and the built lengths equal the parameters."""
 
-import math
 
 import mujoco
 import numpy as np
 import pytest
 
 from analytic import FiveBar, FourBar, SixBar
-from mjcf import __file__ as _mjcf_init
 from sim import keyframes, model
 from sim.params import CLASSES
 
@@ -62,17 +60,18 @@ def test_steps_without_warnings_deterministically_and_moves(name):
     assert np.array_equal(runs[0], runs[1])
 
 
-def _world(m, d, site):
-    return d.site(site).xpos[:2].copy()
-
-
-def test_fourbar_lengths_read_back():
-    mech = FourBar(l1=0.07, l2=0.23, l3=0.19, l4=0.21, ex=-0.04, ey=0.06, phi1_0=1.0)
+def _sites_at_home(mech):
+    """Built model and a function giving a site's world (x, y) at its home keyframe."""
     b = model.build(mech)
     d = mujoco.MjData(b.model)
     mujoco.mj_resetDataKeyframe(b.model, d, 0)
     mujoco.mj_forward(b.model, d)
-    w = lambda s: _world(b.model, d, s)          # noqa: E731
+    return b, lambda site: d.site(site).xpos[:2].copy()
+
+
+def test_fourbar_lengths_read_back():
+    mech = FourBar(l1=0.07, l2=0.23, l3=0.19, l4=0.21, ex=-0.04, ey=0.06, phi1_0=1.0)
+    b, w = _sites_at_home(mech)
     tol = 1e-12                                   # rounding of body/site poses
     assert abs(np.linalg.norm(w("B") - w("A")) - mech.l1) < tol
     assert abs(np.linalg.norm(w("C_coupler") - w("B")) - mech.l2) < tol
@@ -85,11 +84,7 @@ def test_fourbar_lengths_read_back():
 
 def test_sixbar_lengths_read_back():
     mech = SixBar(l6=0.35, l1=0.09, l3=0.5, l4=0.2, phi1_0=2.0)
-    b = model.build(mech)
-    d = mujoco.MjData(b.model)
-    mujoco.mj_resetDataKeyframe(b.model, d, 0)
-    mujoco.mj_forward(b.model, d)
-    w = lambda s: _world(b.model, d, s)          # noqa: E731
+    b, w = _sites_at_home(mech)
     tol = 1e-12
     assert abs(np.linalg.norm(w("O2") - w("O4")) - mech.l6) < tol
     assert abs(np.linalg.norm(w("A") - w("O2")) - mech.l1) < tol
@@ -101,11 +96,7 @@ def test_sixbar_lengths_read_back():
 
 def test_fivebar_lengths_read_back():
     mech = FiveBar(l1=0.25, l2=0.05, l4=0.07, lp=0.2, phi2_0=0.3, phi4_0=2.0)
-    b = model.build(mech)
-    d = mujoco.MjData(b.model)
-    mujoco.mj_resetDataKeyframe(b.model, d, 0)
-    mujoco.mj_forward(b.model, d)
-    w = lambda s: _world(b.model, d, s)          # noqa: E731
+    b, w = _sites_at_home(mech)
     tol = 1e-12
     assert abs(np.linalg.norm(w("D") - w("A")) - mech.l1) < tol
     assert abs(np.linalg.norm(w("B") - w("A")) - mech.l2) < tol

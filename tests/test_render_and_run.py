@@ -1,6 +1,5 @@
 """Rendering to MP4 and GIF, the plot sheets and the main job, at small sizes so CI stays fast."""
 
-import json
 import subprocess
 import sys
 
