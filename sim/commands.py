@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import math
 
-
 from analytic import ParameterError, fourbar
 from . import params
 from .io import check_writable, write_csv
