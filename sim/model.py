@@ -183,7 +183,11 @@ def _size_drives(model: mujoco.MjModel, name: str, mech, loads: Loads, timestep:
     from analytic.dynamics import INPUTS, torques
     inputs = INPUTS[name]
     t = np.linspace(0.0, 1.0, 721)
-    period = 2 * math.pi / max(abs(getattr(mech, f"omega{j}")) or 1.0 for j in inputs)
+    if name == "fivebar":                          # both cranks back where they started
+        from analytic.studies import common_period
+        period = common_period(mech.omega2, mech.omega4)[0]
+    else:
+        period = 2 * math.pi / (abs(mech.omega1) or 1.0)
     if rock is not None:                          # the rocking motion of the four-bar crank
         rate, amp = abs(mech.omega1), 0.5 * (rock[1] - rock[0])
         u = rate * t * period
