@@ -10,6 +10,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from analytic import MECHANISMS
+from .params import OUTPUT_POINT
 from .simulate import Trajectory, energies
 
 # (unit, kind) of every SPEC output; kind picks the tolerance.
@@ -138,7 +139,7 @@ def work_balance(tr: Trajectory, built) -> float:
         work_steps += 0.5 * h * power @ weights
     gear = model.actuator("load").gear[:2]
     if np.any(gear):
-        xk, yk = {"fourbar": ("xE", "yE"), "sixbar": ("xC", None), "fivebar": ("xP", "yP")}[tr.name]
+        xk, yk = OUTPUT_POINT[tr.name]
         dx = np.diff(tr.outputs[xk])
         dy = np.diff(tr.outputs[yk]) if yk else 0.0
         work_steps += tr.load[:-1] * (gear[0] * dx + gear[1] * dy)

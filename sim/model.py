@@ -14,7 +14,7 @@ import mujoco
 import numpy as np
 
 import mjcf
-from analytic import MECHANISMS, ParameterError, fivebar, fourbar, sixbar
+from analytic import ParameterError, fivebar, fourbar, sixbar
 from .params import mechanism_name
 
 MJCF_DIR = Path(mjcf.__file__).resolve().parent
@@ -397,21 +397,20 @@ def path_points(mech, samples: int = 361) -> np.ndarray:
     return np.column_stack([np.concatenate(xs), np.concatenate(ys)])
 
 
-def _frame_camera(spec, name: str, mech, aspect: float = 4 / 3) -> None:
+def _framing(mech, aspect: float) -> tuple[np.ndarray, float]:
+    """Centre (x, y) [m] and vertical extent [m] of an orthographic view showing every drawn point of
+    ``mech`` in an image of width/height ``aspect``, with a 30 % margin."""
     pts = path_points(mech)
     lo, hi = pts.min(0), pts.max(0)
-    center = 0.5 * (lo + hi)
-    extent = max(hi[1] - lo[1], (hi[0] - lo[0]) / aspect) * 1.3
-    _set(spec, "camera", "top", pos=[center[0], center[1], 1.0], fovy=float(extent))
+    return 0.5 * (lo + hi), float(max(hi[1] - lo[1], (hi[0] - lo[0]) / aspect) * 1.3)
+
+
+def _frame_camera(spec, name: str, mech, aspect: float = 4 / 3) -> None:
+    center, extent = _framing(mech, aspect)
+    _set(spec, "camera", "top", pos=[center[0], center[1], 1.0], fovy=extent)
     _set(spec, "geom", "paper", pos=[center[0], center[1], -0.03])
 
 
-def frame_extent(model: mujoco.MjModel, mech, aspect: float) -> float:
+def frame_extent(mech, aspect: float) -> float:
     """The orthographic camera's vertical extent [m] that shows every point for an image ``aspect``."""
-    pts = path_points(mech)
-    lo, hi = pts.min(0), pts.max(0)
-    return float(max(hi[1] - lo[1], (hi[0] - lo[0]) / aspect) * 1.3)
-
-
-def output_names(name: str) -> tuple[str, ...]:
-    return MECHANISMS[name].OUTPUTS
+    return _framing(mech, aspect)[1]

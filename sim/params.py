@@ -14,6 +14,8 @@ from analytic import MECHANISMS, FiveBar, FourBar, ParameterError, SixBar, fourb
 CLASSES = {"fourbar": FourBar, "sixbar": SixBar, "fivebar": FiveBar}
 FIRST_CRANK = {"fourbar": "1", "sixbar": "1", "fivebar": "2"}
 """The crank whose revolutions count the run (SPEC: the first crank)."""
+OUTPUT_POINT = {"fourbar": ("xE", "yE"), "sixbar": ("xC", None), "fivebar": ("xP", "yP")}
+"""The output point's coordinate outputs: coupler point E, ram C (which moves on y = h), five-bar P."""
 
 _NUMBER = re.compile(r"^\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(deg)?\s*$")
 

@@ -4,11 +4,13 @@ with the errors on their own axes (after the seeds' MATLAB figures)."""
 from __future__ import annotations
 
 import math
+import textwrap
 
 import numpy as np
 
 from .compare import Comparison
 from .io import atomic_path, check_writable
+from .params import OUTPUT_POINT
 
 PLOT_SUFFIXES = (".png", ".svg", ".pdf")
 MARK_EVERY = 12
@@ -42,8 +44,7 @@ PANELS = {
         ("Point P: acceleration", [("axP", "$a_{Px}$", 1), ("ayP", "$a_{Py}$", 1)], "[m/s$^2$]"),
     ],
 }
-PATH = {"fourbar": ("xE", "yE", "Coupler curve of E"), "sixbar": ("xC", None, "Ram C"),
-        "fivebar": ("xP", "yP", "Path of P")}
+PATH_TITLE = {"fourbar": "Coupler curve of E", "sixbar": "Ram C", "fivebar": "Path of P"}
 ERROR_GROUPS = (("Position error", ("rad", "m")), ("Velocity error", ("rad/s", "m/s")),
                 ("Acceleration error", ("rad/s^2", "m/s^2")))
 
@@ -111,7 +112,7 @@ def _mark_strokes(ax, x, vx) -> None:
 
 
 def _path_panel(ax, c: Comparison, mech) -> None:
-    xk, yk, title = PATH[c.trajectory.name]
+    (xk, yk), title = OUTPUT_POINT[c.trajectory.name], PATH_TITLE[c.trajectory.name]
     if yk is None:                                           # the ram moves on a line: x against time
         ax.plot(c.trajectory.t, getattr(c.analytic, xk), lw=1.6, label="analytic")
         ax.plot(c.trajectory.t[::MARK_EVERY], c.trajectory.outputs[xk][::MARK_EVERY], "o", ms=3.5, mfc="none",
@@ -167,13 +168,8 @@ def _summary_panel(ax, c: Comparison, mech) -> None:
                   f"S = {fig['S_range'][0] * 1e3:.2f} .. {fig['S_range'][1] * 1e3:.2f} mm",
                   f"|vP| mean {fig['vP_mean']:.4g}, min {fig['vP_min']:.4g}, max {fig['vP_max']:.4g} m/s"]
     params = ", ".join(f"{k}={v:.4g}" for k, v in vars(mech).items())
-    lines += ["", "parameters:"] + _wrap_text(params, 48)
+    lines += ["", "parameters:"] + textwrap.wrap(params, 48)
     ax.text(0.0, 1.0, "\n".join(lines), va="top", family="monospace", fontsize=8.5, transform=ax.transAxes)
-
-
-def _wrap_text(text: str, width: int) -> list[str]:
-    import textwrap
-    return textwrap.wrap(text, width)
 
 
 def _speed_panel(ax, x, c: Comparison, xlabel, colors) -> None:

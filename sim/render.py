@@ -19,10 +19,9 @@ import numpy as np
 
 from analytic import ParameterError
 from .io import atomic_path, check_writable
+from .params import OUTPUT_POINT
 
 VIDEO_SUFFIXES = (".mp4", ".gif")
-OUTPUT_POINT = {"fourbar": ("xE", "yE"), "sixbar": ("xC", None), "fivebar": ("xP", "yP")}
-"""The traced point of each mechanism: coupler point E, ram C (on y = h), five-bar point P."""
 PATH_RGBA = np.array([0.89, 0.10, 0.11, 1.0], np.float32)
 MAX_PATH_SEGMENTS = 250
 
@@ -127,23 +126,29 @@ class _Progress:
             sys.stderr.flush()
 
 
-def _add_path(scene, points: np.ndarray, width_px: float) -> None:
+def _line(scene, a, b, width_px: float, rgba) -> None:
+    """Append a line segment from a to b [m, world] to the scene (width in pixels), if there is room."""
     import mujoco
+    if scene.ngeom >= scene.maxgeom:
+        return
+    g = scene.geoms[scene.ngeom]
+    mujoco.mjv_initGeom(g, mujoco.mjtGeom.mjGEOM_LINE, np.zeros(3), np.zeros(3), np.eye(3).ravel(),
+                        np.asarray(rgba, np.float32))
+    mujoco.mjv_connector(g, mujoco.mjtGeom.mjGEOM_LINE, width_px, np.asarray(a, float), np.asarray(b, float))
+    scene.ngeom += 1
+
+
+def _add_path(scene, points: np.ndarray, width_px: float) -> None:
+    """The traced path, at most MAX_PATH_SEGMENTS segments, drawn above every link."""
     if len(points) < 2:
         return
     step = max(1, math.ceil((len(points) - 1) / MAX_PATH_SEGMENTS))
     pts = points[::step]
     if not np.array_equal(pts[-1], points[-1]):
         pts = np.vstack([pts, points[-1]])
-    pts = pts + np.array([0.0, 0.0, 0.03])               # above every link, so never hidden
-    eye = np.eye(3).ravel()
+    pts = pts + np.array([0.0, 0.0, 0.03])
     for a, b in zip(pts[:-1], pts[1:]):
-        if scene.ngeom >= scene.maxgeom:
-            return
-        g = scene.geoms[scene.ngeom]
-        mujoco.mjv_initGeom(g, mujoco.mjtGeom.mjGEOM_LINE, np.zeros(3), np.zeros(3), eye, PATH_RGBA)
-        mujoco.mjv_connector(g, mujoco.mjtGeom.mjGEOM_LINE, width_px, a, b)
-        scene.ngeom += 1
+        _line(scene, a, b, width_px, PATH_RGBA)
 
 
 def render(built, tr, out: str, fps: float = 30.0, size: tuple[int, int] = (640, 480),
@@ -161,7 +166,7 @@ def render(built, tr, out: str, fps: float = 30.0, size: tuple[int, int] = (640,
     model.vis.global_.offwidth = max(model.vis.global_.offwidth, w)
     model.vis.global_.offheight = max(model.vis.global_.offheight, h)
     cam = model.camera("top").id
-    model.cam_fovy[cam] = frame_extent(model, built.mech, w / h)
+    model.cam_fovy[cam] = frame_extent(built.mech, w / h)
     data = mujoco.MjData(model)
     frames = frame_indices(tr.t, fps)
     path = output_path(tr, built.mech)
@@ -193,13 +198,6 @@ def render(built, tr, out: str, fps: float = 30.0, size: tuple[int, int] = (640,
 
 
 def _add_cross(scene, x: float, y: float, r: float) -> None:
-    import mujoco
-    eye = np.eye(3).ravel()
+    """A cross of half-size r [m] centred on (x, y), e.g. a synthesis task's E1 or E2."""
     for (ax, ay), (bx, by) in (((x - r, y - r), (x + r, y + r)), ((x - r, y + r), (x + r, y - r))):
-        if scene.ngeom >= scene.maxgeom:
-            return
-        g = scene.geoms[scene.ngeom]
-        mujoco.mjv_initGeom(g, mujoco.mjtGeom.mjGEOM_LINE, np.zeros(3), np.zeros(3), eye,
-                            np.array([0.1, 0.1, 0.1, 1.0], np.float32))
-        mujoco.mjv_connector(g, mujoco.mjtGeom.mjGEOM_LINE, 3.0, np.array([ax, ay, 0.04]), np.array([bx, by, 0.04]))
-        scene.ngeom += 1
+        _line(scene, (ax, ay, 0.04), (bx, by, 0.04), 3.0, (0.1, 0.1, 0.1, 1.0))
