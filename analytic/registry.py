@@ -1,0 +1,65 @@
+"""Where mechanisms come from: the built-ins, the shipped library and the user's files.
+
+``load(NAME_OR_PATH, **overrides)`` returns a :class:`~analytic.mechanism.Mechanism`. A name is looked
+up among the files shipped in ``analytic/library/`` (the three built-ins of SPEC.md are among them, with
+their SPEC output names and dedicated closed forms attached); anything else is read as a file path.
+This module is the only place that knows mechanisms by name.
+"""
+
+from __future__ import annotations
+
+import functools
+from pathlib import Path
+
+from . import fivebar, fourbar, linkfile, sixbar
+from ._common import ParameterError
+from .mechanism import Builtin, Mechanism
+
+LIBRARY = Path(__file__).resolve().parent / "library"
+
+BUILTINS: dict[str, Builtin] = {
+    "fourbar": Builtin(fourbar.OUTPUTS, {"mu": "muC"}, fourbar, fourbar.FourBar, "fourbar"),
+    "sixbar": Builtin(sixbar.OUTPUTS, {"s": "sblock", "ds": "dsblock", "dds": "ddsblock"}, sixbar,
+                      sixbar.SixBar, "sixbar"),
+    "fivebar": Builtin(fivebar.OUTPUTS, {"S": "sblock", "dS": "dsblock", "ddS": "ddsblock", "theta3": "phi3"},
+                       fivebar, fivebar.FiveBar, "fivebar"),
+}
+"""The three mechanisms of SPEC.md: their SPEC outputs, aliases and closed-form modules."""
+
+
+def names() -> tuple[str, ...]:
+    """Every mechanism addressable by name: the built-ins first, then the library in name order."""
+    lib = sorted(p.stem for p in LIBRARY.glob("*.toml") if p.stem not in BUILTINS)
+    return tuple(BUILTINS) + tuple(lib)
+
+
+@functools.lru_cache(maxsize=64)
+def _library_definition(name: str) -> linkfile.Definition:
+    return linkfile.read(LIBRARY / f"{name}.toml")
+
+
+def definition(name_or_path: str) -> linkfile.Definition:
+    """The definition of a built-in or library mechanism by name, or of a file by path."""
+    if name_or_path in names():
+        return _library_definition(name_or_path)
+    p = Path(name_or_path)
+    if p.suffix.lower() in (".toml", ".json") or p.exists():
+        if not p.exists():
+            raise linkfile.FileError(f"{name_or_path}: no such file; give a mechanism file's path or one of "
+                                     f"the names listed by 'linkage list'")
+        return linkfile.read(p)
+    raise ParameterError(f"{name_or_path!r} is not a mechanism: use one of {', '.join(names())} "
+                         f"(linkage list) or the path of a linkage/1 file (.toml or .json)")
+
+
+def load(name_or_path: str, **overrides) -> Mechanism:
+    """A mechanism by built-in/library name or file path, with parameters overridden (file units,
+    angles in rad)."""
+    d = definition(name_or_path)
+    builtin = BUILTINS.get(name_or_path) if name_or_path in BUILTINS else None
+    return Mechanism.from_definition(d, overrides, builtin)
+
+
+def from_text(text: str, source: str = "<upload>", **overrides) -> Mechanism:
+    """A mechanism from a file's text (TOML or JSON), e.g. uploaded to the app."""
+    return Mechanism.from_definition(linkfile.parse(text, source), overrides)
