@@ -376,8 +376,8 @@ def _check_names(source: str, params: dict, ground: dict, elements: list[Element
             if ln in links:
                 raise _fail(source, e.label, f"link name {ln!r} is already used by {links[ln]}; every link is "
                                              f"named once (attach more points to it with kind = \"point\")")
-            if ln in params:
-                raise _fail(source, e.label, f"link name {ln!r} is also a parameter; choose another")
+            if ln in params or ln in ground or any(ln == x.point for x in elements):
+                raise _fail(source, e.label, f"link name {ln!r} is also a parameter or point name; choose another")
             links[ln] = e.label
     points = set(ground) | {e.point for e in elements}
     for e in elements:

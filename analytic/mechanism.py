@@ -110,6 +110,21 @@ class Input:
         return 2 * math.pi if self.kind == "crank" else abs(self.motion.rate) or 1.0
 
 
+@dataclass(frozen=True)
+class Joint:
+    """A lower pair between links ``a`` and ``b`` (``ground`` for the frame) at ``point``: a revolute
+    there, or a prismatic pair whose block link is ``slide`` (direction: the block's angle). ``input`` is
+    the Input that drives it, if any."""
+
+    kind: str
+    name: str
+    a: str
+    b: str
+    point: str
+    input: Input | None
+    slide: str | None
+
+
 # ------------------------------------------------------------------------------------------ solution
 class Solution(Mapping):
     """Outputs of one solve: a read-only mapping from output name to array (shape of the inputs).
@@ -166,7 +181,10 @@ class Builtin:
     aliases: dict[str, str]
     module: object
     params: type
-    spec_name: str
+    figures: object
+    """figures(params, solution) -> dict: the mechanism's own figures of merit."""
+    summary: object
+    """summary(figures) -> list of lines for the analysis summary."""
 
 
 @dataclass(frozen=True)
@@ -274,6 +292,77 @@ class Mechanism:
         return tuple(out)
 
     @property
+    def link_origins(self) -> dict[str, str]:
+        """Each link's frame origin: its first point (a block: the point it is pinned at). The frame's
+        x-axis is the link's angle ``phiL``."""
+        out = {}
+        for e in self.geometry.elements:
+            kind = e["kind"]
+            if kind == "crank":
+                out[e["link"]] = e["pivot"]
+            elif kind == "slider":
+                out[e["link"]] = e["point"]
+            elif kind == "RRR":
+                out[e["links"][0]], out[e["links"][1]] = e["from"]
+            elif kind == "RRP":
+                out[e["links"][0]], out[e["links"][1]] = e["from"], e["point"]
+            elif kind == "RPR":
+                out[e["links"][0]], out[e["links"][1]] = e["pivot"], e["through"]
+        return out
+
+    @property
+    def joints(self) -> tuple[Joint, ...]:
+        """Every lower pair: revolutes (one per extra link pinned at a point) and prismatic pairs, with
+        the inputs' pairs marked driven. Links are named as in the file; the ground is ``ground``."""
+        carriers = linkfile.carrier_links(self.definition)
+        members = linkfile.link_members(self.definition)
+        out: list[Joint] = []
+        driven_points = {}
+        for inp in self.inputs:
+            driven_points[inp.link] = inp
+        for e in self.geometry.elements:
+            kind = e["kind"]
+            if kind == "slider":
+                inp = driven_points[e["link"]]
+                out.append(Joint("prismatic", e["link"], linkfile.GROUND, e["link"], e["point"], inp, e["link"]))
+            elif kind == "RRP":
+                g = e["guide"]
+                if "points" in g:
+                    p, q = g["points"]
+                    guide_link = next(ln for ln, pts in members.items() if p in pts and q in pts)
+                else:
+                    guide_link = linkfile.GROUND
+                out.append(Joint("prismatic", e["links"][1], guide_link, e["links"][1], e["point"], None,
+                                 e["links"][1]))
+            elif kind == "RPR":
+                out.append(Joint("prismatic", e["links"][1], e["links"][0], e["links"][1], e["through"], None,
+                                 e["links"][1]))
+        for point, links in linkfile.incidence(self.definition).items():
+            for other in links[1:]:
+                inp = next((i for i in self.inputs if i.kind == "crank" and i.joint == point and
+                            {links[0], other} == {linkfile.GROUND, i.link}), None)
+                name = point if len(links) == 2 else f"{point}_{other}"
+                out.append(Joint("revolute", name, links[0], other, point, inp, None))
+        del carriers
+        return tuple(out)
+
+    @property
+    def slide_frames(self) -> dict[str, tuple[object, str, float]]:
+        """Each prismatic pair's measurement: (guide origin: a point name or fixed (x, y) [m], the block's
+        point, offset [m]); the direction is the block link's angle. s = (C - O).u, see kinematics."""
+        out = {}
+        for e in self.geometry.elements:
+            kind = e["kind"]
+            if kind in ("slider", "RRP"):
+                g = e["guide"]
+                origin = g["points"][0] if "points" in g else g["through"]
+                block = e["link"] if kind == "slider" else e["links"][1]
+                out[block] = (origin, e["point"], e.get("offset", 0.0))
+            elif kind == "RPR":
+                out[e["links"][1]] = (e["pivot"], e["through"], e["offset"])
+        return out
+
+    @property
     def output_point(self) -> str:
         """The point whose path is traced and on which an external load acts."""
         return self.definition.output
@@ -344,7 +433,7 @@ class Mechanism:
         k = len(self.inputs)
         arrays = [np.asarray(x, dtype=float) for x in (q, qd, qdd)]
         if k == 1:
-            arrays = [a[..., None] if (a.ndim == 0 or a.shape[-1] != 1) else a for a in arrays]
+            arrays = [a if (a.ndim >= 2 and a.shape[-1] == 1) else a[..., None] for a in arrays]
         q, qd, qdd = np.broadcast_arrays(*arrays)
         if q.shape[-1] != k:
             raise ParameterError(f"{self.name} has {k} inputs: give q of shape (N, {k})")
@@ -408,6 +497,21 @@ class Mechanism:
             hint = (f"; {first.q} assembles in {describe_ranges(first, ranges)}" if ranges
                     else f"; it assembles at no value of {first.q}")
         raise AssemblyError(f"the {self.name} cannot be assembled at {at}: {label} cannot close{hint}")
+
+    def figures(self, sol: Solution) -> dict:
+        """Figures of merit over a sampled solution: the general ones, and a built-in's own."""
+        from . import figures
+        out = figures.general(self, sol)
+        if self.builtin is not None:
+            out.update(self.builtin.figures(self.closed_form_parameters(), sol))
+        return out
+
+    def summary(self, figs: dict) -> list[str]:
+        """The figures of merit as readable lines."""
+        from . import figures
+        if self.builtin is not None:
+            return self.builtin.summary(figs)
+        return figures.general_summary(self, figs)
 
     # ------------------------------------------------------------------ the dedicated closed form
     def closed_form_parameters(self):

@@ -11,18 +11,19 @@ from __future__ import annotations
 import functools
 from pathlib import Path
 
-from . import fivebar, fourbar, linkfile, sixbar
+from . import fivebar, figures, fourbar, linkfile, sixbar
 from ._common import ParameterError
 from .mechanism import Builtin, Mechanism
 
 LIBRARY = Path(__file__).resolve().parent / "library"
 
 BUILTINS: dict[str, Builtin] = {
-    "fourbar": Builtin(fourbar.OUTPUTS, {"mu": "muC"}, fourbar, fourbar.FourBar, "fourbar"),
+    "fourbar": Builtin(fourbar.OUTPUTS, {"mu": "muC"}, fourbar, fourbar.FourBar,
+                       figures.fourbar_figures, figures.fourbar_summary),
     "sixbar": Builtin(sixbar.OUTPUTS, {"s": "sblock", "ds": "dsblock", "dds": "ddsblock"}, sixbar,
-                      sixbar.SixBar, "sixbar"),
+                      sixbar.SixBar, figures.sixbar_figures, figures.sixbar_summary),
     "fivebar": Builtin(fivebar.OUTPUTS, {"S": "sblock", "dS": "dsblock", "ddS": "ddsblock", "theta3": "phi3"},
-                       fivebar, fivebar.FiveBar, "fivebar"),
+                       fivebar, fivebar.FiveBar, figures.fivebar_figures, figures.fivebar_summary),
 }
 """The three mechanisms of SPEC.md: their SPEC outputs, aliases and closed-form modules."""
 

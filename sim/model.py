@@ -1,243 +1,541 @@
-"""MuJoCo models of the mechanisms: the MJCF files in ``mjcf/`` with the user's parameters applied
-through :class:`mujoco.MjSpec`, and the initial state assembled from the analytic solver.
+"""MuJoCo models generated for any mechanism through :class:`mujoco.MjSpec`.
 
-Everything is looked up by name (bodies, geoms, sites, joints, keys), never by index.
+The model is a spanning tree of link bodies: every driven pair and every prismatic pair is a tree joint
+(MuJoCo cannot close a loop at a slide), the remaining revolutes close the loops, one site-based
+``connect`` each. Bodies carry the file's link names, joints the point (revolute) or block-link
+(prismatic) names, sites the point names. Every body is placed at its assembled pose at t = 0 (joint
+values 0 there), so the model as written, before any keyframe, already closes every loop; the ``home``
+keyframe adds the analytic initial velocities and drive states.
+
+Drives track the commanded motion by position (MuJoCo's integrated-velocity servo): the actuator's
+activation integrates the commanded speed, and force = kp (act - q) - kv qdot. With the speed and
+acceleration fed forward (see :func:`drive_command`) there is no phase drift; the tracking error is the
+reaction torque over kp. Everything in sim/ reads the model by name.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import mujoco
 import numpy as np
 
 import mjcf
-from analytic import ParameterError, fivebar, fourbar, sixbar
-from .params import mechanism_name
+from analytic import ParameterError
+from analytic.linkfile import GROUND
 
 MJCF_DIR = Path(mjcf.__file__).resolve().parent
+TEMPLATE = MJCF_DIR / "template.xml"
 
 INTEGRATORS = {"euler": mujoco.mjtIntegrator.mjINT_EULER, "rk4": mujoco.mjtIntegrator.mjINT_RK4,
                "implicit": mujoco.mjtIntegrator.mjINT_IMPLICIT,
                "implicitfast": mujoco.mjtIntegrator.mjINT_IMPLICITFAST}
-if hasattr(mujoco.mjtIntegrator, "mjINT_DISCRETE"):
-    INTEGRATORS["discrete"] = mujoco.mjtIntegrator.mjINT_DISCRETE
-
-DEFAULT_TIMESTEP = 0.002
 DEFAULT_INTEGRATOR = "rk4"
-SERVO_RATIO = 0.25
-"""kv * timestep / armature of the crank velocity servos, i.e. the servo's time constant is 4 steps. RK4 is
-stable up to 2.78, but a servo mode resolved by only 1 step lets the integrator pump energy: the work
-balance of linkage compare was 1e-4 (four-bar) to 4e-3 (loaded shaper) of the kinetic-energy swing at 1,
-1e-5 at 0.25 (benchmarks/simulate.py). kv follows the timestep."""
+STEP_ANGLE = 0.01
+"""The time step is chosen so that the fastest rate in the motion turns at most this many radians per
+step: h = STEP_ANGLE / Omega, with Omega the largest of every link's |omega|, sqrt(|alpha|) and the
+sliders' |ds| / size over the run (benchmarks/trust.py: designs above 0.02 rad per step started to
+fail, at 0.2 all failed)."""
+MAX_TIMESTEP = 0.004
+MIN_TIMESTEP = 1e-6
+"""Bounds of the chosen step [s]: slow designs still get 250 steps a second (the drives' and loops'
+time constants are a few steps); a design that would need a step below MIN_TIMESTEP is refused."""
 LOOP_TIMECONST = 16.0
-"""Time constant of the loops' drift correction, in timesteps (solref[0] = LOOP_TIMECONST * timestep).
-With the regularisation below made negligible, the loops are held by the constraint force itself and
-this Baumgarte-style correction only removes integration drift; a slow one (16 steps) disturbs RK4 least:
-errors fell 10-50x from 3 to 16 steps in the study of benchmarks/simulate.py."""
+"""Time constant of the loops' drift correction, in time steps (solref[0] = LOOP_TIMECONST * h).
+With the regulariser below made negligible the loops are held by the constraint force itself and this
+Baumgarte-style correction only removes integration drift; a slow one disturbs RK4 least (errors fell
+10-50x from 3 to 16 steps in benchmarks/simulate.py)."""
 REGULARIZATION_SCALE = 1e-4
-"""Scale applied to the compiled ``body_invweight0``. MuJoCo sizes each constraint's regulariser as
-R = (1 - d) / d * invweight with the impedance d capped at 0.9999, and that leak of 1e-4 of the constraint
-force shows up as loop violation (up to 3e-7 m) and velocity error (up to 1e-3 rad/s) in these fast
-linkages. invweight0 serves only that purpose in a model without contacts, so scaling it by 1e-4 acts as
-an impedance of 1 - 1e-8 (measured: violation 2e-7 -> 2e-8 m for the five-bar at omega4 = 2 omega2)."""
-CRANK_ARMATURE = 0.01
-"""Rotor inertia [kg m^2] added to each driven crank joint: a motor's rotor, which also lets the servo
-be stiff (kv = armature / timestep) so that the crank speed ripples by ~1 % (reported by compare)."""
-RIPPLE_TARGET = 0.01
-"""Drives are sized so that the peak analytic torque would slow the crank by at most 1 % of its speed
-through the servo (kv >= peak torque / (0.01 omega)); the armature grows with kv (kv h / armature = 1),
-like the reflected inertia of a bigger geared motor. Unloaded defaults keep CRANK_ARMATURE."""
+"""Scale applied to the compiled ``body_invweight0``: MuJoCo sizes each constraint's regulariser as
+R = (1 - d) / d * invweight with the impedance d capped at 0.9999; that leak of 1e-4 of the constraint
+force showed as loop violation and velocity error. invweight0 serves only that purpose in a model without
+contacts, so scaling it acts as an impedance of 1 - 1e-8."""
+DRIVE_ERROR_BUDGET = 1e-6
+"""[rad, or of the size for a slider] The drives' stiffness kp is sized so that the peak reaction
+torque deflects the drive by at most this much (kp = peak / budget)."""
+SERVO_RATE = 0.25
+"""The drive's natural frequency times the time step: sqrt(kp / J) h. The rotor inertia J (armature)
+is sized for it (J = kp (h / SERVO_RATE)^2), critically damped (kv = 2 sqrt(kp J)); RK4 resolves a mode
+of 0.25 rad per step without pumping energy."""
+LINEAR_DENSITY = 1.0
+"""[kg/m] Default mass per length of a link: a slender bar (a 12.8 mm steel rod), pinned at its
+points; a link with several points is a star of bars from its origin. Blocks weigh as 0.1 size of bar.
+Override per link with the file's [inertia] table or --inertia."""
 
 
-def mjcf_path(name: str) -> Path:
-    """Path of the MJCF file of mechanism ``name``."""
-    return MJCF_DIR / f"{name}.xml"
+@dataclass(frozen=True)
+class Settings:
+    """Simulation settings: ``timestep`` [s] (None: chosen from the design, see STEP_ANGLE), the
+    integrator, and the loops' drift-correction time constant in steps."""
+
+    timestep: float | None = None
+    integrator: str = DEFAULT_INTEGRATOR
+    timeconst: float = LOOP_TIMECONST
+
+    def __post_init__(self):
+        if self.timestep is not None and not (isinstance(self.timestep, (float, int))
+                                              and math.isfinite(self.timestep) and 0 < self.timestep <= 0.05):
+            raise ParameterError(f"timestep={self.timestep!r} must be a number in (0, 0.05] s (e.g. 0.001)")
+        if self.integrator not in INTEGRATORS:
+            raise ParameterError(f"integrator={self.integrator!r} is not known: use one of {', '.join(INTEGRATORS)}")
 
 
 @dataclass(frozen=True)
 class Loads:
-    """What acts on the mechanism besides its drives.
-
-    ``gravity`` (gx, gy) [m/s^2] in the plane (None: MuJoCo's -z gravity, normal to the plane, no effect);
-    ``force`` (Fx, Fy) [N] on the output point (four-bar E, shaper ram C, five-bar P), fixed in the world
-    frame; ``cutting_only`` (shaper) applies it only during the slow (cutting) stroke; ``inertias``
-    replaces bodies' inertial data (keyed by MJCF body name) on the MuJoCo side too.
-    """
+    """What acts on the mechanism besides its drives: ``gravity`` (gx, gy) [m/s^2] in the plane (None:
+    normal to it, no effect); ``force`` (Fx, Fy) [N] on the output point, fixed in the world frame, on
+    throughout or (``slow_stroke_only``) only while the output point makes its slow stroke (a cutting
+    force); ``inertias``: {link: Inertia} replacing the default masses."""
 
     gravity: tuple[float, float] | None = None
     force: tuple[float, float] = (0.0, 0.0)
-    cutting_only: bool = False
+    slow_stroke_only: bool = False
     inertias: dict | None = None
+
+    def __post_init__(self):
+        for name, v in (("gravity", self.gravity), ("force", self.force)):
+            if v is not None and not all(isinstance(x, (int, float)) and math.isfinite(x) and abs(x) <= 1e9
+                                         for x in v):
+                raise ParameterError(f"{name}={v} must be two finite numbers of magnitude <= 1e9")
+
+
+@dataclass(frozen=True)
+class Drive:
+    """A driven tree joint: its input, actuator and joint names, servo gains and rotor inertia."""
+
+    input: object
+    joint: str
+    actuator: str
+    kp: float
+    kv: float
+    armature: float
+    q_offset: float
+    """The input's value at qpos = 0 (the joint measures q - q_offset)."""
+
+
+@dataclass(frozen=True)
+class Loop:
+    """A loop closed by a connect at ``point`` between the sites ``site1`` and ``site2``."""
+
+    name: str
+    point: str
+    site1: str
+    site2: str
 
 
 @dataclass(frozen=True)
 class Built:
-    """A compiled model with the parameters it was built from and its initial state."""
+    """A compiled model with the mechanism it was built from, its initial state and its parts."""
 
-    name: str
     mech: object
     model: mujoco.MjModel
+    settings: Settings
+    loads: Loads
+    drives: tuple[Drive, ...]
+    loops: tuple[Loop, ...]
+    bodies: tuple[str, ...]
     qpos0: np.ndarray
     qvel0: np.ndarray
+    act0: np.ndarray
     ctrl0: np.ndarray
-    loads: Loads = Loads()
-    rock: tuple[float, float] | None = None
-    """Four-bar only: the crank rocks between these angles [rad] instead of turning (see check_rock)."""
+    slow_stroke: tuple[float, float] | None = None
+    """For a slow-stroke load: the first input's phase interval [rad] where it acts."""
+    spec_xml: str = field(default="", repr=False)
 
     @property
-    def cranks(self) -> tuple[str, ...]:
-        """Names of the crank velocity actuators (every actuator but the load)."""
-        return tuple(self.model.actuator(i).name for i in range(self.model.nu)
-                     if self.model.actuator(i).name != "load")
+    def name(self) -> str:
+        return self.mech.name
+
+    @property
+    def timestep(self) -> float:
+        return float(self.model.opt.timestep)
 
 
-def check_settings(timestep: float, integrator: str) -> None:
-    if not (isinstance(timestep, float | int) and math.isfinite(timestep) and 0 < timestep <= 0.05):
-        raise ParameterError(f"--timestep {timestep!r} must be a number in (0, 0.05] s (e.g. 0.001)")
-    if integrator not in INTEGRATORS:
-        raise ParameterError(f"--integrator {integrator!r} is not known: use one of {', '.join(INTEGRATORS)}")
+# ------------------------------------------------------------------------------- the time step
+def rate_scale(mech, samples: int = 721, revolutions: float = 1.0) -> float:
+    """Omega [1/s]: the fastest rate in one run of the motion (see STEP_ANGLE)."""
+    t = np.linspace(0.0, mech.duration(revolutions), samples)
+    (_, qd, qdd), sol = mech.solve_at(t)
+    rates = [np.abs(qd).max(), math.sqrt(np.abs(qdd).max())]
+    for ln in mech.links:
+        rates += [np.nanmax(np.abs(sol["omega" + ln])), math.sqrt(np.nanmax(np.abs(sol["alpha" + ln])))]
+    size = mech.size
+    for j in mech.slides:
+        rates += [np.nanmax(np.abs(sol["ds" + j])) / size, math.sqrt(np.nanmax(np.abs(sol["dds" + j])) / size)]
+    return float(max(rates))
 
 
-def build(mech, timestep: float = DEFAULT_TIMESTEP, integrator: str = DEFAULT_INTEGRATOR,
-          timeconst: float = LOOP_TIMECONST, loads: Loads = Loads(),
-          rock: tuple[float, float] | None = None) -> Built:
-    """Compile the mechanism's MJCF with ``mech``'s parameters, simulation settings, loads and initial
-    state. ``rock`` (four-bar): drive the crank back and forth between two angles [rad], starting at rest
-    at the first, phi(t) = mid - amp cos(|omega1| t)."""
-    check_settings(timestep, integrator)
-    name = mechanism_name(mech)
-    if rock is not None:
-        check_rock(mech, rock)
-        from dataclasses import replace
-        mech = replace(mech, phi1_0=rock[0])
-    spec = mujoco.MjSpec.from_file(str(mjcf_path(name)))
-    _GEOMETRY[name](spec, mech)
-    _scale_visuals(spec, _scale(name, mech))
-    _apply_loads(spec, name, loads)
-    joints, ctrl = _INITIAL[name](mech)
-    if rock is not None:                            # at rest at the first angle
-        joints = {j: (q, 0.0) for j, (q, _) in joints.items()}
-        ctrl = [0.0]
-    ctrl = list(ctrl) + [0.0]                      # the load actuator, switched by the controls
-    spec.option.timestep = float(timestep)
-    spec.option.integrator = INTEGRATORS[integrator]
-    for act in spec.actuators:
-        if act.name == "load":
-            continue
-        joint = spec.joint(act.target)
-        joint.armature = CRANK_ARMATURE
-        kv = SERVO_RATIO * CRANK_ARMATURE / timestep
-        act.gainprm[0] = kv          # velocity servo: force = kv * (ctrl - qvel)
-        act.biasprm[2] = -kv
-    for eq in spec.equalities:
-        eq.solref[0] = timeconst * timestep
-    _frame_camera(spec, name, mech)
-    model = spec.compile()
-    model.body_invweight0[:] *= REGULARIZATION_SCALE
-    _size_drives(model, name, mech, loads, timestep, rock)
-    qpos = np.zeros(model.nq)
-    qvel = np.zeros(model.nv)
-    for jname, (q, v) in joints.items():
-        j = model.joint(jname)
-        qpos[j.qposadr[0]] = q
-        qvel[j.dofadr[0]] = v
-    # The MJCF's home keyframe is the SPEC default; the built model's keyframe is this mechanism's.
-    key = model.key("home")
-    key.qpos[:] = qpos
-    key.qvel[:] = qvel
-    key.ctrl[:] = ctrl
-    return Built(name, mech, model, qpos, qvel, np.asarray(ctrl, float), loads, rock)
+def choose_timestep(mech, revolutions: float = 1.0) -> float:
+    """The time step for ``mech`` (STEP_ANGLE, MAX_TIMESTEP); refuses a design needing < MIN_TIMESTEP."""
+    omega = rate_scale(mech, revolutions=min(revolutions, 1.0))
+    if not math.isfinite(omega):
+        raise ParameterError(f"the {mech.name} cannot be assembled over the whole run; check its input range")
+    h = min(MAX_TIMESTEP, STEP_ANGLE / omega) if omega > 0 else MAX_TIMESTEP
+    if h < MIN_TIMESTEP:
+        raise ParameterError(f"the {mech.name} moves too fast to simulate accurately (a link turns at up to "
+                             f"{omega:.3g} rad/s, needing a step of {h:.2g} s < {MIN_TIMESTEP:g} s): slow its "
+                             f"drives or move it away from its singular pose")
+    return h
 
 
-ROCK_MARGIN = math.radians(1.0)
-"""A rocking crank must stay this far inside its reachable interval: at a limit angle the loop is at a
-dead centre, where the servo could push it through to the other branch."""
+# --------------------------------------------------------------------------------------- building
+def _frames(mech, sol) -> dict[str, tuple[float, float, float]]:
+    """World pose (x, y, angle) of every body at the solution's first sample."""
+    origins = mech.link_origins
+    frames = {GROUND: (0.0, 0.0, 0.0)}
+    for ln in mech.links:
+        p = origins[ln]
+        frames[ln] = (float(sol["x" + p][0]), float(sol["y" + p][0]), float(sol["phi" + ln][0]))
+    return frames
 
 
-def check_rock(mech, rock: tuple[float, float]) -> None:
-    """The rocking range must be a four-bar's, ordered, and inside one reachable crank interval with a
-    margin of ROCK_MARGIN; the error names the limits."""
-    if mechanism_name(mech) != "fourbar":
-        raise ParameterError("--input-range applies to the four-bar only (its crank may not turn fully)")
-    lo, hi = rock
-    if not hi > lo:
-        raise ParameterError(f"--input-range {math.degrees(lo):.2f}deg:{math.degrees(hi):.2f}deg: the end must "
-                             f"exceed the start")
-    lim = fourbar.crank_limits(mech)
-    if lim.full_turn:
-        return
-    for a, b in lim.intervals:
-        for shift in (0.0, 2 * math.pi, -2 * math.pi):
-            if a + ROCK_MARGIN <= lo + shift and hi + shift <= b - ROCK_MARGIN:
-                return
-    raise ParameterError(
-        f"--input-range {math.degrees(lo):.2f}deg:{math.degrees(hi):.2f}deg leaves the crank's reachable range "
-        f"{fourbar.describe_range(lim)} (keep {math.degrees(ROCK_MARGIN):g}deg clear of the limit angles)")
+def _local(frame, x, y):
+    ox, oy, th = frame
+    c, s = math.cos(th), math.sin(th)
+    return ((x - ox) * c + (y - oy) * s, -(x - ox) * s + (y - oy) * c)
 
 
-def _size_drives(model: mujoco.MjModel, name: str, mech, loads: Loads, timestep: float, rock=None) -> None:
-    """Stiffen each crank servo (and its rotor) where the load needs it; see RIPPLE_TARGET."""
-    from analytic.dynamics import INPUTS, torques
-    inputs = INPUTS[name]
-    t = np.linspace(0.0, 1.0, 721)
-    if name == "fivebar":                          # both cranks back where they started
-        from analytic.studies import common_period
-        period = common_period(mech.omega2, mech.omega4)[0]
-    else:
-        period = 2 * math.pi / (abs(mech.omega1) or 1.0)
-    if rock is not None:                          # the rocking motion of the four-bar crank
-        rate, amp = abs(mech.omega1), 0.5 * (rock[1] - rock[0])
-        u = rate * t * period
-        phi, omega, alpha = ({"1": 0.5 * (rock[0] + rock[1]) - amp * np.cos(u)}, {"1": amp * rate * np.sin(u)},
-                             {"1": amp * rate ** 2 * np.cos(u)})
-        speeds = {"1": amp * rate}
-    else:
-        phi = {j: getattr(mech, f"phi{j}_0") + getattr(mech, f"omega{j}") * t * period for j in inputs}
-        omega = {j: np.full_like(t, getattr(mech, f"omega{j}")) for j in inputs}
-        alpha = {j: np.zeros_like(t) for j in inputs}
-        speeds = {j: abs(getattr(mech, f"omega{j}")) for j in inputs}
-    names = [model.body(i).name for i in range(1, model.nbody)]
-    gravity = tuple(model.opt.gravity[:2])
-    tau = torques(name, mech, phi, omega, alpha, body_inertias(model, names), None, gravity,
-                  tuple(model.actuator("load").gear[:2]), 1.0)
-    for j, act in zip(inputs, [a for a in (model.actuator(i) for i in range(model.nu)) if a.name != "load"]):
-        speed = speeds[j]
-        if speed == 0:
-            continue
-        kv = float(np.max(np.abs(tau[f"tau{j}"]))) / (RIPPLE_TARGET * speed)
-        if kv > act.gainprm[0]:
-            act.gainprm[0], act.biasprm[2] = kv, -kv
-            model.dof_armature[model.jnt_dofadr[act.trnid[0]]] = kv * timestep / SERVO_RATIO
+def _quat(angle: float) -> list[float]:
+    return [math.cos(angle / 2), 0.0, 0.0, math.sin(angle / 2)]
 
 
-def _apply_loads(spec, name: str, loads: Loads) -> None:
+def spanning_tree(mech):
+    """Split the joints into tree joints (parent, child, joint) rooted at the ground and loop closures.
+    Driven and prismatic joints come first: they must be tree joints."""
+    joints = sorted(mech.joints, key=lambda j: (j.input is None, j.kind != "prismatic"))
+    parent = {GROUND: GROUND}
+
+    def root(x):
+        while parent.setdefault(x, x) != x:
+            x = parent[x]
+        return x
+
+    tree, cuts = [], []
+    for j in joints:
+        ra, rb = root(j.a), root(j.b)
+        if ra == rb:
+            if j.kind == "prismatic" or j.input is not None:
+                raise ParameterError(f"the {mech.name}'s loop through {j.name} would close at a prismatic or "
+                                     f"driven pair, which MuJoCo cannot close; restructure the loop")
+            cuts.append(j)
+        else:
+            parent[ra] = rb
+            tree.append(j)
+    # orient the tree from the ground outwards
+    adj: dict[str, list] = {}
+    for j in tree:
+        adj.setdefault(j.a, []).append((j.b, j))
+        adj.setdefault(j.b, []).append((j.a, j))
+    order, seen, queue = [], {GROUND}, [GROUND]
+    while queue:
+        body = queue.pop(0)
+        for other, j in adj.get(body, []):
+            if other not in seen:
+                seen.add(other)
+                order.append((body, other, j))
+                queue.append(other)
+    missing = set(mech.links) - seen
+    if missing:
+        raise ParameterError(f"links {', '.join(sorted(missing))} of the {mech.name} are not connected to the ground")
+    return order, cuts
+
+
+def default_inertia(mech, frames, link: str):
+    """Slender-bar inertia of a link (see LINEAR_DENSITY), in its frame: (m, cx, cy, Izz about COM)."""
+    from analytic.dynamics import Inertia
+    size = mech.size
+    members = [p for p in _members(mech)[link] if p != mech.link_origins[link]]
+    segs = []
+    for p in members:
+        x, y = _point_local(mech, frames, link, p)
+        segs.append((math.hypot(x, y), x / 2, y / 2))
+    if link in mech.slides or not segs or all(L < 1e-12 * size for L, _, _ in segs):
+        m = LINEAR_DENSITY * 0.1 * size
+        return Inertia(m=m, cx=0.0, cy=0.0, I=m * (0.1 * size) ** 2 / 6)
+    mass = sum(LINEAR_DENSITY * L for L, _, _ in segs)
+    cx = sum(LINEAR_DENSITY * L * x for L, x, _ in segs) / mass
+    cy = sum(LINEAR_DENSITY * L * y for L, _, y in segs) / mass
+    inertia = sum(LINEAR_DENSITY * L * (L * L / 12 + (x - cx) ** 2 + (y - cy) ** 2) for L, x, y in segs)
+    return Inertia(m=mass, cx=cx, cy=cy, I=max(inertia, mass * (0.01 * size) ** 2))
+
+
+_POINTS_AT_START: dict = {}
+
+
+def _point_local(mech, frames, link, p):
+    x, y = _POINTS_AT_START[id(mech)][p]
+    return _local(frames[link], x, y)
+
+
+def _members(mech) -> dict[str, set[str]]:
+    from analytic.linkfile import link_members
+    return link_members(mech.definition)
+
+
+_COLORS = ["crank", "coupler", "rocker", "slider", "ground"]
+
+
+def build(mech, settings: Settings = Settings(), loads: Loads = Loads(), revolutions: float = 1.0) -> Built:
+    """Generate and compile the model of ``mech`` with its initial state from the analytic solver."""
+    if settings.timestep is None:
+        settings = replace(settings, timestep=choose_timestep(mech, revolutions))
+    h = float(settings.timestep)
+    (q0, qd0, qdd0), sol = mech.solve_at([0.0])
+    if not sol.valid.all():
+        mech.check_assembles(q0)
+    points = {p: (float(sol["x" + p][0]), float(sol["y" + p][0])) for p in mech.points}
+    _POINTS_AT_START[id(mech)] = points
+    try:
+        return _build(mech, settings, loads, h, sol, points, (q0[0], qd0[0], qdd0[0]), revolutions)
+    finally:
+        _POINTS_AT_START.pop(id(mech), None)
+
+
+def _build(mech, settings, loads, h, sol, points, q_start, revolutions) -> Built:
+    spec = mujoco.MjSpec.from_file(str(TEMPLATE))
+    spec.modelname = mech.name
+    size = mech.size
+    frames = _frames(mech, sol)
+    order, cuts = spanning_tree(mech)
+    members = _members(mech)
+    carriers = _carriers(mech)
+    bodies = {GROUND: spec.worldbody}
+    radius = 0.015 * size
+
+    for n, (parent, child, j) in enumerate(order):
+        pf, cf = frames[parent], frames[child]
+        px, py = _local(pf, cf[0], cf[1])
+        body = bodies[parent].add_body(name=child, pos=[px, py, 0.0], quat=_quat(cf[2] - pf[2]))
+        bodies[child] = body
+        jx, jy = _point_local(mech, frames, child, j.point)
+        if j.kind == "revolute":
+            body.add_joint(name=j.name, type=mujoco.mjtJoint.mjJNT_HINGE, axis=[0, 0, 1], pos=[jx, jy, 0])
+        else:
+            u = frames[j.slide][2]                         # the block's angle is the slide direction
+            ax, ay = math.cos(u - cf[2]), math.sin(u - cf[2])
+            body.add_joint(name=j.name, type=mujoco.mjtJoint.mjJNT_SLIDE, axis=[ax, ay, 0], pos=[jx, jy, 0])
+        _draw_link(spec, body, mech, frames, child, members, radius, _COLORS[n % 4])
+    _draw_ground(spec, mech, points, radius)
+
+    # Sites: every point on its carrier body; loop closures get a second site on the other body.
+    for p, (x, y) in points.items():
+        link = carriers[p]
+        lx, ly = _local(frames[link], x, y)
+        marker = p == mech.output_point
+        site = bodies[link].add_site(name=p, pos=[lx, ly, 0], size=[radius * (0.8 if marker else 0.3)] * 3,
+                                     rgba=[0.89, 0.10, 0.11, 1] if marker else [1, 1, 1, 0])
+        site.group = 0 if marker else 4
+    loops = []
+    for j in cuts:
+        other = j.b if carriers[j.point] == j.a else j.a
+        host = j.a if other == j.b else j.b
+        x, y = points[j.point]
+        name2 = f"{j.point}_{other}"
+        lx, ly = _local(frames[other], x, y)
+        bodies[other].add_site(name=name2, pos=[lx, ly, 0], size=[radius * 0.3] * 3, rgba=[1, 1, 1, 0], group=4)
+        site1 = j.point if carriers[j.point] == host else f"{j.point}_{host}"
+        if site1 != j.point:
+            lx1, ly1 = _local(frames[host], x, y)
+            bodies[host].add_site(name=site1, pos=[lx1, ly1, 0], size=[radius * 0.3] * 3, rgba=[1, 1, 1, 0])
+        eq = spec.add_equality(name=f"loop_{j.name}", type=mujoco.mjtEq.mjEQ_CONNECT,
+                               objtype=mujoco.mjtObj.mjOBJ_SITE, name1=site1, name2=name2)
+        eq.solref = [settings.timeconst * h, 1.0]
+        eq.solimp = [0.9999, 0.9999, 0.001, 0.5, 2]
+        loops.append(Loop(eq.name, j.point, site1, name2))
+
+    _add_inertias(spec, mech, frames, loads)
+    drives = _add_drives(spec, mech, order, q_start, h)
+    _add_load(spec, mech, loads)
+    _add_sensors(spec, mech, drives, loops)
+    spec.option.timestep = h
+    spec.option.integrator = INTEGRATORS[settings.integrator]
     if loads.gravity is not None:
-        gx, gy = loads.gravity
-        if not (math.isfinite(gx) and math.isfinite(gy)):
-            raise ParameterError(f"--gravity {loads.gravity} must be two finite numbers gx,gy [m/s^2]")
-        spec.option.gravity = [gx, gy, 0.0]
-    fx, fy = loads.force
-    if not (math.isfinite(fx) and math.isfinite(fy)):
-        raise ParameterError(f"--force {loads.force} must be two finite numbers Fx,Fy [N]")
-    spec.actuator("load").gear = [fx, fy, 0.0, 0.0, 0.0, 0.0]
-    for body, inertia in (loads.inertias or {}).items():
-        b = spec.body(body)
-        if b is None:
-            raise ParameterError(f"--inertia: the {name} has no body {body!r}")
+        spec.option.gravity = [loads.gravity[0], loads.gravity[1], 0.0]
+    _frame_camera(spec, mech)
+    xml = spec.to_xml()
+    try:
+        model = spec.compile()
+    except ValueError as exc:
+        raise ParameterError(f"MuJoCo cannot compile the {mech.name}: {str(exc).splitlines()[0]}") from None
+    model.body_invweight0[:] *= REGULARIZATION_SCALE
+    drives = _size_drives(model, mech, drives, loads, h)
+    qpos0, qvel0 = _initial_state(model, mech, order, frames, sol)
+    act0, ctrl0 = _initial_controls(model, mech, drives, q_start)
+    built = Built(mech, model, settings, loads, tuple(drives), tuple(loops), tuple(mech.links),
+                  qpos0, qvel0, act0, ctrl0, _slow_stroke(mech) if loads.slow_stroke_only else None, xml)
+    return built
+
+
+def _carriers(mech) -> dict[str, str]:
+    from analytic.linkfile import carrier_links
+    return carrier_links(mech.definition)
+
+
+def _draw_link(spec, body, mech, frames, link, members, radius, material):
+    origin = mech.link_origins[link]
+    if link in mech.slides:
+        s = 0.04 * mech.size
+        body.add_geom(name=link, type=mujoco.mjtGeom.mjGEOM_BOX, size=[1.6 * s, s, 0.5 * radius],
+                      pos=[0, 0, 2 * radius], material="slider", contype=0, conaffinity=0, density=0)
+        return
+    z = 2.0 * radius * (len(spec.geoms) % 3)
+    for k, p in enumerate(sorted(members[link] - {origin})):
+        x, y = _point_local(mech, frames, link, p)
+        body.add_geom(name=f"{link}_{p}", type=mujoco.mjtGeom.mjGEOM_CAPSULE, size=[radius, 0, 0],
+                      fromto=[0, 0, z, x, y, z], material=material, contype=0, conaffinity=0, density=0)
+        body.add_geom(name=f"pin_{link}_{p}", type=mujoco.mjtGeom.mjGEOM_CYLINDER,
+                      size=[1.4 * radius, 0.7 * radius, 0], pos=[x, y, z + radius], material="pin",
+                      contype=0, conaffinity=0, density=0)
+    body.add_geom(name=f"pin_{link}_{origin}", type=mujoco.mjtGeom.mjGEOM_CYLINDER,
+                  size=[1.4 * radius, 0.7 * radius, 0], pos=[0, 0, z + radius], material="pin",
+                  contype=0, conaffinity=0, density=0)
+
+
+def _draw_ground(spec, mech, points, radius):
+    world = spec.worldbody
+    for g in mech.ground_points:
+        x, y = points[g]
+        world.add_geom(name=f"ground_{g}", type=mujoco.mjtGeom.mjGEOM_BOX,
+                       size=[3 * radius, 2 * radius, 0.7 * radius], pos=[x, y - 2 * radius, -2 * radius],
+                       material="ground", contype=0, conaffinity=0)
+    # ground guide lines: a rail over the block's travel
+    for e in mech.geometry.elements:
+        if e["kind"] in ("slider", "RRP") and "points" not in e["guide"]:
+            t = np.linspace(0.0, mech.duration(1.0), 181)
+            sol = mech.solve(*mech.drive(t))
+            block = e["link"] if e["kind"] == "slider" else e["links"][1]
+            s = sol["s" + block]
+            lo, hi = float(np.nanmin(s)), float(np.nanmax(s))
+            g = e["guide"]
+            ox, oy = (points[g["through"]] if isinstance(g["through"], str) else g["through"])
+            c, sn = math.cos(g["angle"]), math.sin(g["angle"])
+            mid = 0.5 * (lo + hi)
+            off = e.get("offset", 0.0)
+            world.add_geom(name=f"rail_{block}", type=mujoco.mjtGeom.mjGEOM_BOX,
+                           size=[0.5 * (hi - lo) + 3 * radius, 0.4 * radius, 0.2 * radius],
+                           pos=[ox + mid * c - off * sn, oy + mid * sn + off * c, -2 * radius],
+                           quat=_quat(g["angle"]), material="ground", contype=0, conaffinity=0)
+
+
+def _add_inertias(spec, mech, frames, loads):
+    given = dict(mech.definition.inertia)
+    from analytic.dynamics import Inertia
+    user = {k: Inertia(m=float(v["m"]), cx=float(v.get("cx", 0.0)) * mech.scale,
+                       cy=float(v.get("cy", 0.0)) * mech.scale, I=float(v["I"]) * mech.scale ** 2)
+            for k, v in given.items()}
+    user.update(loads.inertias or {})
+    unknown = set(user) - set(mech.links)
+    if unknown:
+        raise ParameterError(f"inertia: the {mech.name} has no link {sorted(unknown)[0]!r}; links: "
+                             f"{', '.join(mech.links)}")
+    for ln in mech.links:
+        b = spec.body(ln)
+        inertia = user.get(ln) or default_inertia(mech, frames, ln)
         b.explicitinertial = True
         b.mass = inertia.m
         b.ipos = [inertia.cx, inertia.cy, 0.0]
         b.iquat = [1.0, 0.0, 0.0, 0.0]
-        # A thin plate in the plane: Ixx + Iyy = Izz satisfies the triangle inequality.
-        b.inertia = [inertia.I / 2, inertia.I / 2, inertia.I]
+        b.inertia = [inertia.I / 2, inertia.I / 2, inertia.I]   # a thin plate: Ixx + Iyy = Izz
 
 
+def _add_drives(spec, mech, order, q_start, h) -> list[Drive]:
+    drives = []
+    q0, _, _ = q_start
+    for k, inp in enumerate(mech.inputs):
+        j = next(jt for _, _, jt in order if jt.input is inp or (jt.input is not None and jt.input.link == inp.link))
+        name = f"drive_{inp.link}"
+        act = spec.add_actuator(name=name, target=j.name, trntype=mujoco.mjtTrn.mjTRN_JOINT)
+        act.dyntype = mujoco.mjtDyn.mjDYN_INTEGRATOR
+        act.gaintype = mujoco.mjtGain.mjGAIN_FIXED
+        act.biastype = mujoco.mjtBias.mjBIAS_AFFINE
+        act.actlimited = False
+        act.ctrllimited = False
+        act.forcelimited = False
+        drives.append(Drive(inp, j.name, name, 1.0, 0.0, 0.0, float(q0[k])))
+    return drives
+
+
+def _add_load(spec, mech, loads):
+    act = spec.add_actuator(name="load", target=mech.output_point, trntype=mujoco.mjtTrn.mjTRN_SITE,
+                            refsite="origin")
+    fx, fy = loads.force
+    act.gear = [fx, fy, 0.0, 0.0, 0.0, 0.0]
+    act.ctrllimited = False
+
+
+def _add_sensors(spec, mech, drives, loops):
+    S = mujoco.mjtSensor
+    site, body = mujoco.mjtObj.mjOBJ_SITE, mujoco.mjtObj.mjOBJ_BODY
+
+    def add(name, kind, objtype=None, objname=None):
+        s = spec.add_sensor(name=name, type=kind)
+        if objtype is not None:
+            s.objtype, s.objname = objtype, objname
+        return s
+
+    add("time", S.mjSENS_CLOCK)
+    for p in mech.points:
+        add(f"{p}_pos", S.mjSENS_FRAMEPOS, site, p)
+        add(f"{p}_vel", S.mjSENS_FRAMELINVEL, site, p)
+        add(f"{p}_acc", S.mjSENS_FRAMELINACC, site, p)
+    for ln in mech.links:
+        add(f"{ln}_xaxis", S.mjSENS_FRAMEXAXIS, body, ln)
+        add(f"{ln}_angvel", S.mjSENS_FRAMEANGVEL, body, ln)
+        add(f"{ln}_angacc", S.mjSENS_FRAMEANGACC, body, ln)
+    for d in drives:
+        s = add(f"{d.joint}_q", S.mjSENS_JOINTPOS)
+        s.objtype, s.objname = mujoco.mjtObj.mjOBJ_JOINT, d.joint
+        s = add(f"{d.joint}_qd", S.mjSENS_JOINTVEL)
+        s.objtype, s.objname = mujoco.mjtObj.mjOBJ_JOINT, d.joint
+        s = add(f"tau{d.input.link}", S.mjSENS_ACTUATORFRC)
+        s.objtype, s.objname = mujoco.mjtObj.mjOBJ_ACTUATOR, d.actuator
+    s = add("load", S.mjSENS_ACTUATORFRC)
+    s.objtype, s.objname = mujoco.mjtObj.mjOBJ_ACTUATOR, "load"
+    for lp in loops:
+        for nm in (lp.site1, lp.site2):
+            if nm not in mech.points:
+                add(f"{nm}_pos", S.mjSENS_FRAMEPOS, site, nm)
+
+
+def _frame_camera(spec, mech, aspect: float = 4 / 3) -> None:
+    center, extent = framing(mech, aspect)
+    cam = spec.camera("top")
+    cam.pos = [center[0], center[1], 10.0 * extent]
+    cam.fovy = extent
+    paper = spec.geom("paper")
+    paper.pos = [center[0], center[1], -0.1 * extent]
+    paper.size = [2 * extent, 2 * extent, 0.01]
+    spec.visual.map.znear = 0.001
+    spec.stat.extent = extent
+
+
+def path_points(mech, samples: int = 361) -> np.ndarray:
+    """Every point over one period of the first input, shape (k, 2) [m]: frames the camera."""
+    t = np.linspace(0.0, mech.duration(1.0), samples)
+    sol = mech.solve(*mech.drive(t))
+    pts = [np.column_stack([sol["x" + p], sol["y" + p]]) for p in mech.points]
+    pts = np.concatenate(pts)
+    return pts[np.all(np.isfinite(pts), axis=1)]
+
+
+def framing(mech, aspect: float) -> tuple[np.ndarray, float]:
+    """Centre (x, y) [m] and vertical extent [m] of an orthographic view showing every point of ``mech``
+    in an image of width/height ``aspect``, with a 30 % margin."""
+    pts = path_points(mech)
+    lo, hi = pts.min(0), pts.max(0)
+    return 0.5 * (lo + hi), float(max(hi[1] - lo[1], (hi[0] - lo[0]) / aspect, 1e-9) * 1.3)
+
+
+def frame_extent(mech, aspect: float) -> float:
+    return framing(mech, aspect)[1]
+
+
+# ----------------------------------------------------------------------------------- drives sizing
 def body_inertias(model: mujoco.MjModel, names) -> dict:
     """The compiled bodies' inertial data as analytic.dynamics.Inertia (mass, COM in the body frame, Izz
-    about the COM in the body frame)."""
+    about the COM)."""
     from analytic.dynamics import Inertia
     out = {}
     for n in names:
@@ -250,167 +548,112 @@ def body_inertias(model: mujoco.MjModel, names) -> dict:
     return out
 
 
-# ------------------------------------------------------------------------------------ geometry
-def _set(spec, kind: str, name: str, **attrs) -> None:
-    element = getattr(spec, kind)(name)
-    if element is None:
-        raise KeyError(f"MJCF has no {kind} named {name!r}")
-    for key, value in attrs.items():
-        setattr(element, key, value)
+def _size_drives(model, mech, drives, loads, h) -> list[Drive]:
+    """kp from the peak analytic drive force (DRIVE_ERROR_BUDGET), J and kv for SERVO_RATE."""
+    from analytic import torque
+    t = np.linspace(0.0, mech.duration(1.0), 361)
+    q, qd, qdd = mech.drive(t)
+    switch = 1.0
+    tau = torque.drive_forces(mech, q, qd, qdd, body_inertias(model, mech.links), None,
+                              tuple(model.opt.gravity[:2]), tuple(model.actuator("load").gear[:2]), switch)
+    out = []
+    size = mech.size
+    for d in drives:
+        peak = float(np.nanmax(np.abs(tau[d.input.link])))
+        budget = DRIVE_ERROR_BUDGET * (1.0 if d.input.kind == "crank" else size)
+        total_mass = float(sum(model.body_mass))
+        floor = 1e-3 * total_mass * 9.81 * size          # a small load so kp is never zero
+        kp = max(peak, floor) / budget
+        J = kp * (h / SERVO_RATE) ** 2
+        kv = 2.0 * math.sqrt(kp * J)
+        a = model.actuator(d.actuator)
+        a.gainprm[0] = kp
+        a.biasprm[:3] = [0.0, -kp, -kv]
+        model.dof_armature[model.jnt_dofadr[model.joint(d.joint).id]] = J
+        out.append(replace(d, kp=kp, kv=kv, armature=J))
+    return out
 
 
-def _fourbar_geometry(spec, m: fourbar.FourBar) -> None:
-    _set(spec, "site", "D", pos=[m.l4, 0, 0])
-    _set(spec, "geom", "ground_D", pos=[m.l4, -0.012, -0.012])
-    _set(spec, "geom", "crank", fromto=[0, 0, 0, m.l1, 0, 0])
-    _set(spec, "site", "B_crank", pos=[m.l1, 0, 0])
-    _set(spec, "body", "coupler", pos=[m.l1, 0, 0])
-    _set(spec, "geom", "coupler", fromto=[0, 0, 0.012, m.l2, 0, 0.012])
-    _set(spec, "geom", "coupler_E", fromto=[0, 0, 0.012, m.ex, m.ey, 0.012])
-    _set(spec, "site", "C_coupler", pos=[m.l2, 0, 0])
-    _set(spec, "site", "E", pos=[m.ex, m.ey, 0])
-    _set(spec, "body", "rocker", pos=[m.l4, 0, 0])
-    _set(spec, "geom", "rocker", fromto=[0, 0, 0.006, m.l3, 0, 0.006])
-    _set(spec, "geom", "pin_C", pos=[m.l3, 0, 0.012])
-    _set(spec, "site", "C", pos=[m.l3, 0, 0])
+def drive_command(d: Drive, q, qd, qdd, qddd):
+    """The servo's activation target and its rate for a desired motion (q, qd, qdd, qddd): the
+    activation a leads q by (kv qd + J qdd) / kp, so that force = kp (a - q) - kv qdot = J qdd on the
+    desired motion with no reaction; ctrl = da/dt."""
+    lead = (d.kv * qd + d.armature * qdd) / d.kp
+    rate = qd + (d.kv * qdd + d.armature * qddd) / d.kp
+    return q - d.q_offset + lead, rate
 
 
-def _sixbar_geometry(spec, m: sixbar.SixBar) -> None:
-    _set(spec, "site", "O2", pos=[0, m.l6, 0])
-    _set(spec, "geom", "ground_O2", pos=[-0.02, m.l6, -0.012])
-    _set(spec, "body", "crank", pos=[0, m.l6, 0])
-    _set(spec, "geom", "crank", fromto=[0, 0, 0.012, m.l1, 0, 0.012])
-    _set(spec, "geom", "pin_A", pos=[m.l1, 0, 0.018])
-    _set(spec, "site", "A", pos=[m.l1, 0, 0])
-    _set(spec, "geom", "guide", fromto=[0, 0, 0, m.l3, 0, 0])
-    _set(spec, "site", "B_guide", pos=[m.l3, 0, 0])
-    _set(spec, "body", "rod", pos=[m.l3, 0, 0])
-    _set(spec, "geom", "rod", fromto=[0, 0, 0.012, m.l4, 0, 0.012])
-    _set(spec, "site", "C_rod", pos=[m.l4, 0, 0])
-    _set(spec, "body", "ram", pos=[0, m.h, 0])
-    f = sixbar.figures(m)
-    lo, hi = sorted(f.xC_limits)
-    _set(spec, "geom", "ram_guide", pos=[0.5 * (lo + hi), m.h, -0.02], size=[0.5 * (hi - lo) + 0.06, 0.004, 0.002])
-
-
-def _fivebar_geometry(spec, m: fivebar.FiveBar) -> None:
-    _set(spec, "site", "D", pos=[m.l1, 0, 0])
-    _set(spec, "geom", "ground_D", pos=[m.l1, -0.012, -0.02])
-    _set(spec, "geom", "crank2", fromto=[0, 0, 0, m.l2, 0, 0])
-    _set(spec, "site", "B_crank2", pos=[m.l2, 0, 0])
-    _set(spec, "body", "link3", pos=[m.l2, 0, 0])
-    # Link 3 reaches past both P and the farthest block position S_max = l1 + l2 + l4.
-    _set(spec, "geom", "link3", fromto=[0, 0, 0.012, max(m.lp, m.l1 + m.l2 + m.l4) + 0.01, 0, 0.012])
-    _set(spec, "site", "P", pos=[m.lp, 0, 0])
-    _set(spec, "body", "crank4", pos=[m.l1, 0, 0])
-    _set(spec, "geom", "crank4", fromto=[0, 0, 0, m.l4, 0, 0])
-    _set(spec, "geom", "pin_C", pos=[m.l4, 0, 0.02])
-    _set(spec, "site", "C", pos=[m.l4, 0, 0])
-
-
-_GEOMETRY = {"fourbar": _fourbar_geometry, "sixbar": _sixbar_geometry, "fivebar": _fivebar_geometry}
-
-
-def _lengths(mech) -> list[float]:
-    return [v for k, v in vars(mech).items() if k[0] == "l" and isinstance(v, float)]
-
-
-def _scale(name: str, mech) -> float:
-    """Size of ``mech`` relative to its SPEC default (longest length against longest length)."""
-    from .params import CLASSES
-    return max(_lengths(mech)) / max(_lengths(CLASSES[name]()))
-
-
-def _scale_visuals(spec, k: float) -> None:
-    """Scale link thickness, pins, blocks, anchors and markers with the mechanism's size, so that a
-    36 mm linkage is drawn like a 300 mm one (masses follow: capsules of steel, ~k^3)."""
-    if abs(k - 1.0) < 1e-12:
-        return
-    for g in spec.geoms:
-        if g.name == "paper":
-            continue
-        g.size = [x * k for x in g.size]
-        if g.name.startswith("ground_"):
-            pivot = spec.site(g.name[len("ground_"):]).pos
-            g.pos = [pivot[0], pivot[1] - 0.012 * k, -0.012 * k]
+def _initial_state(model, mech, order, frames, sol):
+    qpos = np.zeros(model.nq)
+    qvel = np.zeros(model.nv)
+    vel = {GROUND: (0.0, 0.0, 0.0)}
+    origins = mech.link_origins
+    for ln in mech.links:
+        p = origins[ln]
+        vel[ln] = (float(sol["vx" + p][0]), float(sol["vy" + p][0]), float(sol["omega" + ln][0]))
+    for parent, child, j in order:
+        dof = model.jnt_dofadr[model.joint(j.name).id]
+        if j.kind == "revolute":
+            qvel[dof] = vel[child][2] - vel[parent][2]
         else:
-            g.pos = [g.pos[0], g.pos[1], g.pos[2] * k]
-            if g.type == mujoco.mjtGeom.mjGEOM_CAPSULE:
-                f = list(g.fromto)
-                g.fromto = [f[0], f[1], f[2] * k, f[3], f[4], f[5] * k]
-    for site in spec.sites:
-        site.size = [x * k for x in site.size]
+            px, py, pth = frames[parent]
+            cx, cy, _ = frames[child]
+            vpx = vel[parent][0] - vel[parent][2] * (cy - py)
+            vpy = vel[parent][1] + vel[parent][2] * (cx - px)
+            u = frames[j.slide][2]
+            qvel[dof] = (vel[child][0] - vpx) * math.cos(u) + (vel[child][1] - vpy) * math.sin(u)
+    return qpos, qvel
 
 
-# ------------------------------------------------------------------------------- initial state
-def _wrap(a):
-    return float(math.remainder(float(a), 2 * math.pi))
+def _initial_controls(model, mech, drives, q_start):
+    q0, qd0, qdd0 = q_start
+    act = np.zeros(model.na)
+    ctrl = np.zeros(model.nu)
+    jerk = _jerk(mech, np.array([0.0]))
+    for k, d in enumerate(drives):
+        a, c = drive_command(d, q0[k], qd0[k], qdd0[k], jerk[0, k])
+        act[model.actuator(d.actuator).actadr[0]] = a
+        ctrl[model.actuator(d.actuator).id] = c
+    return act, ctrl
 
 
-def _fourbar_initial(m: fourbar.FourBar):
-    fourbar.check_reachable(m, [m.phi1_0])
-    s = fourbar.solve(m, m.phi1_0, m.omega1, m.alpha1)
-    joints = {"A": (m.phi1_0, m.omega1), "B": (_wrap(s.phi2 - m.phi1_0), float(s.omega2 - m.omega1)),
-              "D": (float(s.phi3), float(s.omega3))}
-    return joints, [m.omega1]
+def _jerk(mech, t):
+    """d^3 q / dt^3 of every input at times t (nonzero only for a rocking drive)."""
+    out = np.zeros((len(t), len(mech.inputs)))
+    for k, inp in enumerate(mech.inputs):
+        m = inp.motion
+        if m.rock is not None:
+            w, amp = abs(m.rate), 0.5 * (m.rock[1] - m.rock[0])
+            out[:, k] = -amp * w ** 3 * np.sin(w * t)
+    return out
 
 
-def _sixbar_initial(m: sixbar.SixBar):
-    s = sixbar.solve(m, m.phi1_0, m.omega1, m.alpha1)
-    joints = {"O2": (m.phi1_0, m.omega1), "O4": (float(s.phi3), float(s.omega3)), "s": (float(s.s), float(s.ds)),
-              "B": (_wrap(s.phi4 - s.phi3), float(s.omega4 - s.omega3)), "xC": (float(s.xC), float(s.vxC))}
-    return joints, [m.omega1]
+def _slow_stroke(mech) -> tuple[float, float]:
+    """The first input's phase interval [rad from its start] in which the output point makes its slower
+    stroke along x (the cutting stroke of a quick-return mechanism)."""
+    first = mech.inputs[0]
+    T = mech.duration(1.0)
+    t = np.linspace(0.0, T, 3601)
+    sol = mech.solve(*mech.drive(t))
+    x = sol["x" + mech.output_point]
+    k_min, k_max = int(np.nanargmin(x)), int(np.nanargmax(x))
+    a, b = sorted((k_min, k_max))
+    inner = b - a                           # samples from one extreme to the other
+    phase = (first.motion.at(t)[0] - first.motion.q0)
+    if inner >= len(t) - 1 - inner:
+        return float(phase[a]), float(phase[b])
+    return float(phase[b]), float(phase[a] + 2 * math.pi)
 
 
-def _fivebar_initial(m: fivebar.FiveBar):
-    s = fivebar.solve(m, m.phi2_0, m.phi4_0, m.omega2, m.omega4, m.alpha2, m.alpha4)
-    joints = {"A": (m.phi2_0, m.omega2), "B": (_wrap(s.theta3 - m.phi2_0), float(s.omega3 - m.omega2)),
-              "S": (float(s.S), float(s.dS)), "D": (m.phi4_0, m.omega4)}
-    return joints, [m.omega2, m.omega4]
-
-
-_INITIAL = {"fourbar": _fourbar_initial, "sixbar": _sixbar_initial, "fivebar": _fivebar_initial}
-
-
-# -------------------------------------------------------------------------------------- camera
-def path_points(mech, samples: int = 361) -> np.ndarray:
-    """Every drawn point over one period of the first crank, shape (k, 2) [m]: frames the camera."""
-    name = mechanism_name(mech)
-    t = np.linspace(0.0, 1.0, samples)
-    if name == "fourbar":
-        lim = fourbar.crank_limits(mech)
-        phi0 = mech.phi1_0 % (2 * math.pi)                 # the interval the linkage starts in
-        lo, hi = next(((a, b) for a, b in lim.intervals
-                       if a <= phi0 <= b or a <= phi0 - 2 * math.pi <= b), lim.intervals[0])
-        st = fourbar.solve(mech, lo + (hi - lo) * t, 1.0)
-        pts = fourbar.joints(mech, st)
-        return np.concatenate([np.column_stack(p) for p in pts.values()])
-    if name == "sixbar":
-        st = sixbar.solve(mech, 2 * math.pi * t, 1.0)
-        xs = [st.xA, st.xB, st.xC, 0 * t, 0 * t]
-        ys = [st.yA, st.yB, mech.h + 0 * t, 0 * t, mech.l6 + 0 * t]
-        return np.column_stack([np.concatenate(xs), np.concatenate(ys)])
-    period = 2 * math.pi / min(abs(mech.omega2), abs(mech.omega4)) if mech.omega2 and mech.omega4 else 1.0
-    st = fivebar.solve(mech, *fivebar.drive(mech, t * period))
-    xs = [st.xB, st.xC, st.xP, 0 * t, mech.l1 + 0 * t]
-    ys = [st.yB, st.yC, st.yP, 0 * t, 0 * t]
-    return np.column_stack([np.concatenate(xs), np.concatenate(ys)])
-
-
-def _framing(mech, aspect: float) -> tuple[np.ndarray, float]:
-    """Centre (x, y) [m] and vertical extent [m] of an orthographic view showing every drawn point of
-    ``mech`` in an image of width/height ``aspect``, with a 30 % margin."""
-    pts = path_points(mech)
-    lo, hi = pts.min(0), pts.max(0)
-    return 0.5 * (lo + hi), float(max(hi[1] - lo[1], (hi[0] - lo[0]) / aspect) * 1.3)
-
-
-def _frame_camera(spec, name: str, mech, aspect: float = 4 / 3) -> None:
-    center, extent = _framing(mech, aspect)
-    _set(spec, "camera", "top", pos=[center[0], center[1], 1.0], fovy=extent)
-    _set(spec, "geom", "paper", pos=[center[0], center[1], -0.03])
-
-
-def frame_extent(mech, aspect: float) -> float:
-    """The orthographic camera's vertical extent [m] that shows every point for an image ``aspect``."""
-    return _framing(mech, aspect)[1]
+def export_xml(built: Built) -> str:
+    """The model as a standalone MJCF document (every loop closed in its default pose) with its home key."""
+    spec = mujoco.MjSpec.from_string(built.spec_xml)
+    spec.add_key(name="home", qpos=list(built.qpos0), qvel=list(built.qvel0), act=list(built.act0),
+                 ctrl=list(built.ctrl0))
+    # the drive sizing happens on the compiled model: carry it back
+    for d in built.drives:
+        a = spec.actuator(d.actuator)
+        a.gainprm[0] = d.kp
+        a.biasprm[0], a.biasprm[1], a.biasprm[2] = 0.0, -d.kp, -d.kv
+        spec.joint(d.joint).armature = d.armature
+    return spec.to_xml()

@@ -1,0 +1,274 @@
+"""Figures of merit of any mechanism: where its first input can go, its dead points and singular poses,
+transmission angles, and its output point's path; plus the built-ins' own figures (Grashof type,
+stroke, quick-return ratio...) from their dedicated closed forms.
+
+Singularity measures (dimensionless, zero where a group folds and its rates are undefined):
+RRR, sin of the angle between its two links; RRP, cos of the angle between rod and guide; RPR, the
+block's distance from the pivot over the mechanism's size.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ._common import fmt_deg
+
+SINGULAR = 1e-6
+"""A group whose singularity measure falls below this is at a singular (change-point) pose: its rates
+are of order 1/measure, i.e. >= 1e6 times their usual size."""
+SCAN = 3600
+"""Samples per turn when scanning the first input's range; boundaries are then refined by bisection."""
+
+
+def _first_range(mech) -> tuple[float, float]:
+    first = mech.inputs[0]
+    if first.kind == "crank":
+        q0 = first.motion.q0
+        return q0, q0 + 2 * math.pi
+    span = 4.0 * mech.size / mech.scale if mech.scale else 4.0 * mech.size
+    return first.motion.q0 - span, first.motion.q0 + span
+
+
+def _valid(mech, q: np.ndarray) -> np.ndarray:
+    return mech.solve(q).valid
+
+
+def assembly_ranges(mech, samples: int = SCAN) -> list[tuple[float, float]]:
+    """Intervals of the first input (others at their start values) where every group assembles, over
+    one turn from its start angle (a slider: +-4 sizes about its start). Ends are refined by bisection
+    to 1e-12 rad (m). One interval spanning the whole turn means it turns fully."""
+    lo, hi = _first_range(mech)
+    q = np.linspace(lo, hi, samples + 1)
+    others = [i.motion.q0 for i in mech.inputs[1:]]
+
+    def ok(x):
+        x = np.atleast_1d(x)
+        if others:
+            x = np.column_stack([x] + [np.full_like(x, o) for o in others])
+        return mech.solve(x).valid
+
+    good = ok(q)
+    if good.all():
+        return [(lo, hi)]
+    edges = np.flatnonzero(np.diff(good.astype(np.int8)))
+    ranges, start = [], (lo if good[0] else None)
+    for k in edges:
+        a, b = q[k], q[k + 1]
+        for _ in range(60):
+            m = 0.5 * (a + b)
+            if ok(m)[0] == good[k]:
+                a = m
+            else:
+                b = m
+            if b - a < 1e-13:
+                break
+        x = a if good[k] else b
+        if good[k]:
+            ranges.append((start, x))
+            start = None
+        else:
+            start = x
+    if start is not None:
+        ranges.append((start, hi))
+    # a range wrapping round the turn's end joins the one at its start (cranks only)
+    if mech.inputs[0].kind == "crank" and len(ranges) > 1 and good[0] and good[-1]:
+        first = ranges.pop(0)
+        last = ranges.pop()
+        ranges.append((last[0], first[1] + 2 * math.pi))
+    return ranges
+
+
+def turns_fully(mech, ranges=None) -> bool:
+    ranges = assembly_ranges(mech) if ranges is None else ranges
+    lo, hi = _first_range(mech)
+    return len(ranges) == 1 and ranges[0][1] - ranges[0][0] >= hi - lo - 1e-9
+
+
+def describe_ranges(first, ranges) -> str:
+    fmt = fmt_deg if first.kind == "crank" else (lambda v: f"{v:.6g}")
+    return " or ".join(f"{fmt(a)}..{fmt(b)}" for a, b in ranges)
+
+
+def singularity(mech, sol) -> dict[str, np.ndarray]:
+    """Each group's singularity measure (see the module docstring), keyed by the group's label."""
+    out = {}
+    size = mech.size
+    for e in mech.geometry.elements:
+        kind, p = e["kind"], e["point"]
+        if kind == "RRR":
+            out[e["label"]] = np.sin(sol["mu" + p])
+        elif kind == "RRP":
+            q = e["from"]
+            rx, ry = sol["x" + p] - sol["x" + q], sol["y" + p] - sol["y" + q]
+            block = e["links"][1]
+            c, s = sol["cos" + block], sol["sin" + block]
+            out[e["label"]] = np.abs(rx * c + ry * s) / e["length"]
+        elif kind == "RPR":
+            out[e["label"]] = np.abs(sol["s" + e["links"][1]]) / size
+    return out
+
+
+def singular_poses(mech, samples: int = SCAN) -> list[tuple[float, str, float]]:
+    """Values of the first input at which a group passes through a singular pose inside its assembly
+    range (measure < SINGULAR; the range's own ends are its dead points): ``[(q, group label,
+    measure)]``. Local minima of each measure on a fine scan are refined by golden section. Other inputs
+    stay at their start values."""
+    ranges = assembly_ranges(mech, samples)
+    full = turns_fully(mech, ranges)
+    others = [i.motion.q0 for i in mech.inputs[1:]]
+
+    def measures(x):
+        x = np.atleast_1d(np.asarray(x, dtype=float))
+        if others:
+            x = np.column_stack([x] + [np.full_like(x, o) for o in others])
+        return singularity(mech, mech.solve(x, 1.0))
+
+    found = []
+    for a0, b0 in ranges:
+        n = max(int(samples * (b0 - a0) / (2 * math.pi)), 16)
+        pad = (b0 - a0) / n if full else 0.0          # a full turn is periodic: look past its ends
+        q = np.linspace(a0 - pad, b0 + pad, n + 3 if full else n + 1)
+        for label, m in measures(q).items():
+            m = np.where(np.isfinite(m), m, np.inf)
+            for k in np.flatnonzero((m[1:-1] <= m[:-2]) & (m[1:-1] <= m[2:])) + 1:
+                a, b = q[k - 1], q[k + 1]
+                g = (math.sqrt(5) - 1) / 2
+                for _ in range(80):
+                    c, d = b - g * (b - a), a + g * (b - a)
+                    if measures([c])[label][0] < measures([d])[label][0]:
+                        b = d
+                    else:
+                        a = c
+                x = 0.5 * (a + b)
+                value = float(measures([x])[label][0])
+                if full:
+                    x = a0 + (x - a0) % (2 * math.pi)
+                elif min(abs(x - a0), abs(x - b0)) < 1e-6:
+                    continue                               # a dead point, reported as a range end
+                if value < SINGULAR and not any(abs(x - f[0]) < 1e-6 and f[1] == label for f in found):
+                    found.append((x, label, value))
+    return sorted(found)
+
+
+def min_singularity(mech, sol) -> tuple[float, str]:
+    """The smallest singularity measure over a solution and the group it belongs to."""
+    best, where = math.inf, ""
+    for label, m in singularity(mech, sol).items():
+        v = float(np.nanmin(m)) if np.any(np.isfinite(m)) else math.inf
+        if v < best:
+            best, where = v, label
+    return best, where
+
+
+def _span(x) -> list[float]:
+    x = np.asarray(x)
+    return [float(np.nanmin(x)), float(np.nanmax(x))] if np.any(np.isfinite(x)) else [math.nan, math.nan]
+
+
+def general(mech, sol) -> dict:
+    """Figures every mechanism has, over the sampled solution ``sol``."""
+    p = mech.output_point
+    speed = np.hypot(sol["vx" + p], sol["vy" + p])
+    out = {
+        "output_point": p,
+        f"x{p}_range": _span(sol["x" + p]), f"y{p}_range": _span(sol["y" + p]),
+        f"v{p}_min": float(np.nanmin(speed)), f"v{p}_mean": float(np.nanmean(speed)),
+        f"v{p}_max": float(np.nanmax(speed)),
+        "transmission": {e["point"]: _span(sol["mu" + e["point"]]) for e in mech.geometry.elements
+                         if e["kind"] == "RRR"},
+    }
+    if len(mech.inputs) == 1:
+        ranges = assembly_ranges(mech)
+        first = mech.inputs[0]
+        full = turns_fully(mech, ranges)
+        out["input"] = first.q
+        out["turns_fully"] = full
+        out["input_ranges"] = [list(r) for r in ranges]
+        out["dead_points"] = [] if full else [x for r in ranges for x in r]
+        out["singular_points"] = [{"at": x, "group": g} for x, g, _ in singular_poses(mech)]
+    m, label = min_singularity(mech, sol)
+    out["min_singularity"] = {"value": m, "group": label}
+    return out
+
+
+# ------------------------------------------------------------------------------ the built-ins' own
+def fourbar_figures(p, sol) -> dict:
+    from . import fourbar
+    g = fourbar.grashof(p)
+    lim = fourbar.crank_limits(p)
+    speed = np.hypot(sol["vxE"], sol["vyE"])
+    return {
+        "grashof": g.chain, "inversion": g.inversion, "crank_turns_fully": lim.full_turn,
+        "limit_angles": list(lim.limit_angles), "reachable_phi1": [list(iv) for iv in lim.intervals],
+        "mu_min": float(np.nanmin(sol["mu"])), "mu_max": float(np.nanmax(sol["mu"])),
+        "mu_extremes": list(fourbar.transmission_extremes(p)),
+        "xE_range": _span(sol["xE"]), "yE_range": _span(sol["yE"]), "vE_max": float(np.nanmax(speed)),
+        "phi3_swing": float(np.ptp(np.unwrap(sol["phi3"][np.isfinite(sol["phi3"])]))) if np.any(
+            np.isfinite(sol["phi3"])) else math.nan,
+    }
+
+
+def sixbar_figures(p, sol) -> dict:
+    from . import sixbar
+    f = sixbar.figures(p)
+    return {"h": p.h, "stroke": f.stroke, "swing": f.swing, "theta": f.swing, "K": f.K,
+            "phi1_limits": list(f.phi1_limits), "xC_limits": list(f.xC_limits),
+            "s_range": _span(sol["s"]), "vxC_range": _span(sol["vxC"]), "axC_range": _span(sol["axC"])}
+
+
+def fivebar_figures(p, sol) -> dict:
+    speed = np.hypot(sol["vxP"], sol["vyP"])
+    return {"speed_ratio": p.omega2 / p.omega4 if p.omega4 != 0 else math.inf,
+            "S_range": _span(sol["S"]), "S_min_possible": p.l1 - p.l2 - p.l4,
+            "xP_range": _span(sol["xP"]), "yP_range": _span(sol["yP"]),
+            "vP_min": float(np.nanmin(speed)), "vP_max": float(np.nanmax(speed)),
+            "vP_mean": float(np.nanmean(speed))}
+
+
+def fourbar_summary(f: dict) -> list[str]:
+    deg = math.degrees
+    lines = [f"  Grashof: {f['grashof']}, {f['inversion']}; crank turns fully: "
+             f"{'yes' if f['crank_turns_fully'] else 'no'}"]
+    if f["limit_angles"]:
+        lines.append("  limit angles: " + ", ".join(f"{deg(a):.3f} deg" for a in f["limit_angles"]))
+    lo, hi = f["mu_extremes"]
+    lines.append(f"  transmission angle mu: {deg(f['mu_min']):.3f} .. {deg(f['mu_max']):.3f} deg over the "
+                 f"samples; {deg(lo):.3f} .. {deg(hi):.3f} deg over every crank angle")
+    lines.append(f"  rocker swing: {deg(f['phi3_swing']):.3f} deg;  |vE| max {f['vE_max']:.6g} m/s")
+    lines.append(f"  E path: x {f['xE_range'][0]:.6g} .. {f['xE_range'][1]:.6g} m, "
+                 f"y {f['yE_range'][0]:.6g} .. {f['yE_range'][1]:.6g} m")
+    return lines
+
+
+def sixbar_summary(f: dict) -> list[str]:
+    return [f"  ram line h = {f['h']:.6g} m; stroke H = {f['stroke']:.6g} m",
+            f"  guide swing theta = {math.degrees(f['swing']):.3f} deg; quick-return ratio K = {f['K']:.4f}",
+            f"  ram velocity {f['vxC_range'][0]:.6g} .. {f['vxC_range'][1]:.6g} m/s; "
+            f"acceleration {f['axC_range'][0]:.6g} .. {f['axC_range'][1]:.6g} m/s^2"]
+
+
+def fivebar_summary(f: dict) -> list[str]:
+    return [f"  speed ratio i = omega2/omega4 = {f['speed_ratio']:.6g}",
+            f"  S: {f['S_range'][0]:.6g} .. {f['S_range'][1]:.6g} m (never below {f['S_min_possible']:.6g} m)",
+            f"  |vP|: min {f['vP_min']:.6g}, mean {f['vP_mean']:.6g}, max {f['vP_max']:.6g} m/s"]
+
+
+def general_summary(mech, f: dict) -> list[str]:
+    deg = math.degrees
+    p = f["output_point"]
+    lines = []
+    if "turns_fully" in f:
+        first = mech.inputs[0]
+        lines.append(f"  {first.q}: " + ("turns fully" if f["turns_fully"] else
+                                          "assembles in " + describe_ranges(first, f["input_ranges"])))
+        for s in f["singular_points"]:
+            where = fmt_deg(s["at"]) if first.kind == "crank" else f"{s['at']:.6g} m"
+            lines.append(f"  singular pose at {first.q}={where}: {s['group']} folds (change point)")
+    for point, (lo, hi) in f["transmission"].items():
+        lines.append(f"  transmission angle at {point}: {deg(lo):.3f} .. {deg(hi):.3f} deg")
+    lines.append(f"  {p} path: x {f[f'x{p}_range'][0]:.6g} .. {f[f'x{p}_range'][1]:.6g} m, "
+                 f"y {f[f'y{p}_range'][0]:.6g} .. {f[f'y{p}_range'][1]:.6g} m; |v{p}| "
+                 f"{f[f'v{p}_min']:.6g} .. {f[f'v{p}_max']:.6g} m/s")
+    return lines
