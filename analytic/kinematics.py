@@ -17,9 +17,17 @@ assembled at a sample leaves NaN there, and :class:`Solution` records which grou
 
 Per point ``P`` the arrays are ``(x, y, vx, vy, ax, ay)``; per link ``(cos, sin, omega, alpha)`` of its
 angle; per prismatic pair ``(s, ds, dds)``.
+
+Speed: :class:`~analytic.mechanism.Mechanism` calls :func:`evaluate` on blocks of a few thousand samples,
+so every numpy call here costs about a microsecond of overhead plus its arithmetic; the RRR group (the
+most common one) is therefore written with as few array operations as possible (see :func:`_rrr`), and
+the transmission angles, the only trigonometry besides the inputs', can be skipped (``mu=False``).
+:mod:`analytic._jit` evaluates the same formulas sample by sample when numba is installed.
 """
 
 from __future__ import annotations
+
+import math
 
 import numpy as np
 
@@ -50,33 +58,86 @@ def _on_frame(O, c, s, w, a, u, v):
 
 
 def _crank(P, r, q, qd, qdd):
+    """The crank tip at radius r about P: ``_on_frame(P, cos q, sin q, qd, qdd, r, 0)`` without the
+    products by the zero ordinate."""
     c, s = np.cos(q), np.sin(q)
-    return _on_frame(P, c, s, qd, qdd, r, 0.0), (c, s, qd, qdd)
+    rx, ry = r * c, r * s
+    w2 = qd * qd
+    ax = P[4] - qdd * ry
+    ax -= w2 * rx
+    ay = P[5] + qdd * rx
+    ay -= w2 * ry
+    point = (P[0] + rx, P[1] + ry, P[2] - qd * ry, P[3] + qd * rx, ax, ay)
+    return point, (c, s, qd, qdd)
 
 
-def _rrr(P, Q, a, b, branch):
-    """C with |C - P| = a, |C - Q| = b, left of P -> Q for branch +1."""
-    dx, dy = Q[0] - P[0], Q[1] - P[1]
-    L2 = dx * dx + dy * dy
-    L = np.sqrt(L2)
-    x = (a * a - b * b + L2) / (2.0 * L)
-    h = branch * np.sqrt(a * a - x * x)          # NaN where the circles do not meet
-    ex, ey = dx / L, dy / L
-    cx, cy = P[0] + x * ex - h * ey, P[1] + x * ey + h * ex
-    r1x, r1y, r2x, r2y = cx - P[0], cy - P[1], cx - Q[0], cy - Q[1]
-    det = _cross(r1x, r1y, r2x, r2y)
-    # (C - P).(vC - vP) = 0 and (C - Q).(vC - vQ) = 0
-    b1 = r1x * P[2] + r1y * P[3]
-    b2 = r2x * Q[2] + r2y * Q[3]
-    vx, vy = (b1 * r2y - b2 * r1y) / det, (r1x * b2 - r2x * b1) / det
-    u1x, u1y, u2x, u2y = vx - P[2], vy - P[3], vx - Q[2], vy - Q[3]
-    b1 = r1x * P[4] + r1y * P[5] - (u1x * u1x + u1y * u1y)
-    b2 = r2x * Q[4] + r2y * Q[5] - (u2x * u2x + u2y * u2y)
-    ax, ay = (b1 * r2y - b2 * r1y) / det, (r1x * b2 - r2x * b1) / det
-    C = (cx, cy, vx, vy, ax, ay)
-    links = (_link_from(P, C, a), _link_from(Q, C, b))
-    mu = np.arctan2(np.abs(det), np.abs(r1x * r2x + r1y * r2y))
-    return C, links, mu
+def _rrr(P, Q, a, b, branch, mu=True):
+    """C with |C - P| = a, |C - Q| = b, left of P -> Q for branch +1.
+
+    With d = Q - P, r1 = C - P = k1 d + k2 perp(d), where k1 = x / |d| and k2 = +-h / |d| (x along
+    P -> Q, h the height of C over it), so no square root of |d|^2 is needed; r2 = C - Q = r1 - d and
+    det = cross(r1, r2) = k2 |d|^2. The rates are the links' own: C = P + a e1 = Q + b e2 gives, dotted
+    with r2 and r1, w1 = r2.(vQ - vP) / det, w2 = r1.(vQ - vP) / det, and with
+    R = (aQ - aP) + w1^2 r1 - w2^2 r2: alpha1 = R.r2 / det, alpha2 = R.r1 / det.
+    """
+    px, py, pvx, pvy, pax, pay = P
+    dx = Q[0] - px
+    dy = Q[1] - py
+    L2 = dx * dx
+    L2 += dy * dy
+    inv = 1.0 / L2
+    k1 = inv * (0.5 * (a * a - b * b))
+    k1 += 0.5
+    k2 = inv * (a * a)
+    k2 -= k1 * k1
+    np.sqrt(k2, out=k2)                              # NaN where the circles do not meet
+    if branch < 0:
+        np.negative(k2, out=k2)
+    r1x = k1 * dx
+    r1x -= k2 * dy
+    r1y = k1 * dy
+    r1y += k2 * dx
+    r2x = r1x - dx
+    r2y = r1y - dy
+    idet = inv / k2                                  # 1 / cross(r1, r2)
+    # velocities: the angular velocities w1 (P->C) and w2 (Q->C)
+    dvx = Q[2] - pvx
+    dvy = Q[3] - pvy
+    w1 = r2x * dvx
+    w1 += r2y * dvy
+    w1 *= idet
+    w2 = r1x * dvx
+    w2 += r1y * dvy
+    w2 *= idet
+    vx = pvx - w1 * r1y
+    vy = pvy + w1 * r1x
+    # accelerations
+    w1s = w1 * w1
+    w2s = w2 * w2
+    Rx = Q[4] - pax
+    Rx += w1s * r1x
+    Rx -= w2s * r2x
+    Ry = Q[5] - pay
+    Ry += w1s * r1y
+    Ry -= w2s * r2y
+    al1 = Rx * r2x
+    al1 += Ry * r2y
+    al1 *= idet
+    al2 = Rx * r1x
+    al2 += Ry * r1y
+    al2 *= idet
+    ax = pax - al1 * r1y
+    ax -= w1s * r1x
+    ay = pay + al1 * r1x
+    ay -= w1s * r1y
+    C = (px + r1x, py + r1y, vx, vy, ax, ay)
+    links = ((r1x / a, r1y / a, w1, al1), (r2x / b, r2y / b, w2, al2))
+    if not mu:
+        return C, links, None
+    dot = r1x * r2x
+    dot += r1y * r2y
+    det = k2 * L2
+    return C, links, np.arctan2(np.abs(det, out=det), np.abs(dot, out=dot))
 
 
 def _link_from(P, C, length):
@@ -142,18 +203,20 @@ def _point(P, Q, u, v):
     return _on_frame(O, c, s, w, a, u, v)
 
 
-def evaluate(geometry: Geometry, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray):
+def evaluate(geometry: Geometry, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray, *, mu: bool = True):
     """Solve every element on 1-D arrays; ``q``, ``qd``, ``qdd`` have shape (n_inputs, N).
 
     Returns ``(points, links, slides, mus, failed)``: dicts keyed by name as in the module docstring,
     ``mus`` keyed by the RRR group's point, and ``failed`` the index (in solving order) of the first
-    element that could not be assembled at each sample, -1 where all did.
+    element that could not be assembled at each sample, -1 where all did. With ``mu=False`` the
+    transmission angles (an arctan2 per RRR group, a good part of the cost) are skipped: ``mus`` is empty.
     """
     n = q.shape[1]
     zero = np.zeros(n)
     points = {g: (zero + x, zero + y, zero, zero, zero, zero) for g, (x, y) in geometry.ground.items()}
     links, slides, mus = {}, {}, {}
     failed = np.full(n, -1, dtype=np.int64)
+    any_failed = False
     i_input = 0
     for index, e in enumerate(geometry.elements):
         kind = e["kind"]
@@ -172,8 +235,10 @@ def evaluate(geometry: Geometry, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray)
         elif kind == "RRR":
             p, qn = e["from"]
             a, b = e["lengths"]
-            point, (lm, ln), mus[e["point"]] = _rrr(points[p], points[qn], a, b, e["branch"])
+            point, (lm, ln), m = _rrr(points[p], points[qn], a, b, e["branch"], mu)
             links[e["links"][0]], links[e["links"][1]] = lm, ln
+            if mu:
+                mus[e["point"]] = m
         elif kind == "RRP":
             guide = _guide(e["guide"], points, geometry.ground)
             point, rod, block, slide = _rrp(points[e["from"]], guide, e["length"], e["offset"], e["branch"])
@@ -189,7 +254,13 @@ def evaluate(geometry: Geometry, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray)
         else:
             p, qn = e["on"]
             point = _point(points[p], points[qn], *e["at"])
-        bad = ~np.isfinite(point[0]) & (failed < 0)
-        failed[bad] = index
+        x = point[0]
+        # One sum tells whether every sample assembled (NaN propagates; a non-finite sum from huge
+        # finite values only sends it down the exact path).
+        if any_failed or not math.isfinite(np.add.reduce(x, axis=None)):
+            bad = ~np.isfinite(x)
+            bad &= failed < 0
+            failed[bad] = index
+            any_failed = True
         points[e["point"]] = point
     return points, links, slides, mus, failed

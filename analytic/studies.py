@@ -167,3 +167,62 @@ def _four(params: list[dict], samples: int):
     values["period"] = (2 * math.pi / np.abs(w))[:, 0]
     paths = [(t[i], st["xE"][i], st["yE"][i], np.hypot(st["vxE"][i], st["vyE"][i])) for i in range(len(params))]
     return values, paths
+
+
+def period_of(mech) -> float:
+    """The shortest time [s] after which every crank input is back where it started (one turn of the
+    first input for a single input)."""
+    cranks = [i.motion.rate for i in mech.inputs if i.kind == "crank" and i.motion.rate != 0]
+    if len(cranks) < 2:
+        return mech.duration(1.0)
+    T = common_period(cranks[0], cranks[1])[0]
+    for w in cranks[2:]:
+        T = common_period(2 * math.pi / T, w)[0]
+    return T
+
+
+def sweep_mechanism(base, vary: dict[str, list[float]], samples: int = 360, keep_paths: int = 0,
+                    progress=None):
+    """Evaluate every combination of ``vary`` on top of mechanism ``base`` (any :class:`Mechanism`):
+    its output point over the common period of its cranks. Returns (rows, paths) as :func:`sweep`, with
+    ``mu_min`` (smallest transmission angle, rad) and ``period`` added to each row's values."""
+    if not (isinstance(samples, int) and 8 <= samples <= 100_000):
+        raise ParameterError(f"samples={samples!r} must be an integer in 8..100000")
+    for name, values in vary.items():
+        if name not in base.definition.parameters:
+            raise ParameterError(f"{name!r} is not a parameter of {base.name}; parameters: "
+                                 f"{', '.join(base.definition.parameter_order)}")
+        if not values:
+            raise ParameterError(f"{name}: no values to vary")
+    keys = list(vary)
+    rows, paths = [], []
+    combos = itertools.product(*(vary[k] for k in keys))
+    total = math.prod(len(vary[k]) for k in keys)
+    for n, combo in enumerate(combos):
+        params = dict(zip(keys, map(float, combo)))
+        if progress is not None:
+            progress(n, total)
+        try:
+            mech = base.with_values(**params)
+            T = period_of(mech)
+            t = np.linspace(0.0, T, samples + 1)
+            sol = mech.solve(*mech.drive(t))
+            bad = sol.first_failure()
+            if bad is not None:
+                k, label = bad
+                raise ParameterError(f"{label} cannot close at t={t[k]:.4g} s")
+        except ParameterError as exc:
+            rows.append(Row(params, False, str(exc), {k: float("nan") for k in STATS + ("mu_min", "period")}))
+            continue
+        p = mech.output_point
+        x, y, vx, vy = (np.asarray(sol[k + p]) for k in ("x", "y", "vx", "vy"))
+        values = {k: float(v) for k, v in _stats(x, y, vx, vy).items()}
+        mus = [np.nanmin(sol["mu" + e["point"]]) for e in mech.geometry.elements if e["kind"] == "RRR"]
+        values["mu_min"] = float(min(mus)) if mus else float("nan")
+        values["period"] = T
+        rows.append(Row(params, True, "", values))
+        if len(paths) < keep_paths:
+            paths.append((params, t, x, y, np.hypot(vx, vy)))
+    if progress is not None:
+        progress(total, total)
+    return rows, paths

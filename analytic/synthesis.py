@@ -217,3 +217,12 @@ def optimum(task: Task, lo: float = math.radians(-90.0), hi: float = math.radian
     if feasibility(task, best) is not None or best.total > totals[k]:
         best = design(task, float(grid[k]))
     return Search(best, tuple(grid), tuple(excluded))
+
+
+def mechanism(task: Task, dsg: Design, scale: float = 1.0, omega1: float = 1.0):
+    """The designed four-bar as a :class:`~analytic.mechanism.Mechanism` (lengths times ``scale``, e.g.
+    1e-3 for a task in mm), its crank turning at ``omega1`` [rad/s]."""
+    from .registry import load
+    p = linkage(task, dsg, omega1)
+    return load("fourbar", l1=p.l1 * scale, l2=p.l2 * scale, l3=p.l3 * scale, l4=p.l4 * scale, ex=p.ex * scale,
+                ey=p.ey * scale, branch=p.branch, phi1_0=p.phi1_0, omega1=omega1)

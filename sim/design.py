@@ -6,8 +6,9 @@ import math
 
 import numpy as np
 
-from analytic import ParameterError, fourbar, studies, synthesis
-from . import params
+from analytic import ParameterError, expr, fourbar, studies, synthesis
+from . import service
+from .jsonout import dumps
 from .io import check_writable, write_csv
 
 UNIT_TO_M = {"mm": 1e-3, "cm": 1e-2, "m": 1.0}
@@ -18,14 +19,14 @@ def _point(option: str, text: str) -> tuple[float, float]:
     parts = text.split(",")
     if len(parts) != 2:
         raise ParameterError(f"{option} {text!r} is not x,y (e.g. {option} 30,31)")
-    return params.parse_value(option, parts[0]), params.parse_value(option, parts[1])
+    return expr.parse_value(option, parts[0]), expr.parse_value(option, parts[1])
 
 
 def _angle_range(option: str, text: str) -> tuple[float, float]:
     if ":" not in text:
         raise ParameterError(f"{option} {text!r} is not LO:HI (e.g. {option} -90deg:90deg)")
     lo, hi = text.split(":", 1)
-    return params.parse_value(option, lo), params.parse_value(option, hi)
+    return expr.parse_value(option, lo), expr.parse_value(option, hi)
 
 
 def row(task: synthesis.Task, dsg: synthesis.Design) -> dict:
@@ -39,7 +40,6 @@ def row(task: synthesis.Task, dsg: synthesis.Design) -> dict:
 
 
 def cmd_synthesize(args) -> int:
-    from .cli import dumps
     if args.problem != "two-position":
         raise ParameterError(f"unknown synthesis problem {args.problem!r}: use two-position")
     if args.render:
@@ -49,8 +49,8 @@ def cmd_synthesize(args) -> int:
         check_writable(args.plot, (".png", ".svg", ".pdf"))
     task = synthesis.Task(E1=_point("--E1", args.E1), E2=_point("--E2", args.E2), A=_point("--A", args.A),
                           D=_point("--D", args.D),
-                          phi12=params.parse_value("--crank-rotation", args.crank_rotation),
-                          psi12=params.parse_value("--rocker-rotation", args.rocker_rotation))
+                          phi12=expr.parse_value("--crank-rotation", args.crank_rotation),
+                          psi12=expr.parse_value("--rocker-rotation", args.rocker_rotation))
     lo, hi = _angle_range("--theta-range", args.theta_range)
     search = synthesis.optimum(task, lo, hi)
     thetas = [math.radians(t) for t in synthesis.SEED_THETAS if lo <= math.radians(t) <= hi]
@@ -125,39 +125,45 @@ def _plot_total(task, search, lo, hi, out, unit) -> None:
 
 def _render_design(task, dsg, args) -> None:
     """Animate the optimum moving E from E1 to E2 in MuJoCo, with E1 and E2 marked (SI scale)."""
-    from dataclasses import replace
-    from .model import build
     from .render import parse_size, render
-    from .simulate import simulate
     k = UNIT_TO_M[args.unit]
-    mech = synthesis.linkage(task, dsg)
     duration = 2.0                                                 # seconds for the motion E1 -> E2
-    mech = replace(mech, l1=mech.l1 * k, l2=mech.l2 * k, l3=mech.l3 * k, l4=mech.l4 * k,
-                   ex=mech.ex * k, ey=mech.ey * k, omega1=task.phi12 / duration)
-    built = build(mech)
-    tr = simulate(built, abs(task.phi12) / (2 * math.pi))
-    marks = tuple(tuple(task.local(p) * k) for p in (task.E1, task.E2))
+    mech = synthesis.mechanism(task, dsg, scale=k, omega1=task.phi12 / duration)
+    built, tr = _simulate_partial(mech, abs(task.phi12) / (2 * math.pi))
+    marks = tuple(tuple(task.local(q) * k) for q in (task.E1, task.E2))
     stats = render(built, tr, args.render, args.fps, parse_size(args.size), markers=marks)
     print(f"wrote {stats.path}: {stats.frames} frames (E1 and E2 marked with crosses)")
 
 
+def _simulate_partial(mech, revolutions):
+    """Simulate part of a turn (the crank need not turn fully: it only goes from position 1 to 2)."""
+    from .model import build
+    from .simulate import simulate
+    built = build(mech, revolutions=revolutions)
+    return built, simulate(built, revolutions)
+
+
 # ------------------------------------------------------------------------------------------- sweep
-def parse_vary(items: list[str]) -> dict[str, list[float]]:
+def parse_vary(items: list[str], mech=None) -> dict[str, list[float]]:
     """``NAME=V1,V2,...`` or ``NAME=start:stop:count`` (count evenly spaced values, ends included)."""
     out: dict[str, list[float]] = {}
     for item in items:
         if "=" not in item:
             raise ParameterError(f"--vary {item!r} is not NAME=V1,V2,... or NAME=start:stop:count")
         name, text = (x.strip() for x in item.split("=", 1))
+        if name in out:
+            raise ParameterError(f"--vary {name} is given twice; give it once")
+        if mech is not None:
+            service.parameter_value(mech, name, mech.values.get(name, 0.0))       # a known parameter
         if text.count(":") == 2:
             a, b, n = text.split(":")
-            start, stop = params.parse_value(name, a), params.parse_value(name, b)
+            start, stop = expr.parse_value(name, a), expr.parse_value(name, b)
             try:
                 count = int(n)
             except ValueError:
                 raise ParameterError(f"--vary {name}: count {n!r} must be an integer >= 1") from None
-            if count < 1:
-                raise ParameterError(f"--vary {name}: count {count} must be >= 1")
+            if not 1 <= count <= 1_000_000:
+                raise ParameterError(f"--vary {name}: count {count} must be in 1..1000000")
             if count > 1 and not stop > start:
                 raise ParameterError(f"--vary {name}={text}: the range is empty or inverted (stop must exceed start)")
             out[name] = [float(v) for v in np.linspace(start, stop, count)]
@@ -165,31 +171,34 @@ def parse_vary(items: list[str]) -> dict[str, list[float]]:
             vals = [v for v in text.split(",") if v.strip()]
             if not vals:
                 raise ParameterError(f"--vary {name}: no values given")
-            out[name] = [params.parse_value(name, v) for v in vals]
+            out[name] = [expr.parse_value(name, v) for v in vals]
     return out
 
 
-MAX_COMBOS = 10_000_000
+MAX_COMBOS = 100_000
+SECONDS_PER_COMBO = 3e-4
+"""Measured cost of one combination at 360 samples (a five-bar, this machine): sets the estimate shown."""
 
 
 def cmd_sweep(args) -> int:
-    if args.csv:
-        check_writable(args.csv, (".csv",))
-    if args.plot:
-        check_writable(args.plot, (".png", ".svg", ".pdf"))
-    base = params.build(args.mechanism, args.sets)
-    if args.mechanism == "sixbar":
-        raise ParameterError("sweep supports fivebar (output path of P) and fourbar (coupler curves)")
+    from .cli import check_outputs, mechanism_from
+    check_outputs(args, {"csv": (".csv",), "plot": (".png", ".svg", ".pdf")})
+    base = mechanism_from(args)
     if not args.vary:
         raise ParameterError("give at least one --vary NAME=V1,V2,... (or NAME=start:stop:count)")
-    vary = parse_vary(args.vary)
+    vary = parse_vary(args.vary, base)
     n = math.prod(len(v) for v in vary.values())
     if n > MAX_COMBOS and not args.yes:
-        raise ParameterError(f"the grid has {n:,} combinations (over {MAX_COMBOS:,}): narrow it, or add --yes")
-    rows, paths = studies.sweep(base, vary, args.samples, keep_paths=12 if args.plot else 0)
+        raise ParameterError(f"the grid has {n:,} combinations (over {MAX_COMBOS:,}; about "
+                             f"{n * SECONDS_PER_COMBO:,.0f} s): narrow it, or add --yes")
+    if args.show < 0:
+        raise ParameterError(f"--show {args.show} must be >= 0")
+    from .progress import Progress
+    bar = Progress(n, "sweep")
+    rows, paths = studies.sweep_mechanism(base, vary, args.samples, keep_paths=12 if args.plot else 0,
+                                          progress=bar.update)
     keys = list(vary)
-    extra = ["S_min", "period"] if args.mechanism == "fivebar" else ["mu_min", "period"]
-    stat_names = list(studies.STATS) + extra
+    stat_names = list(studies.STATS) + ["mu_min", "period"]
     if args.csv:
         cols = {k: np.array([r.params[k] for r in rows]) for k in keys}
         cols.update({s: np.array([r.values.get(s, np.nan) for r in rows]) for s in stat_names})
@@ -202,7 +211,7 @@ def cmd_sweep(args) -> int:
     if args.csv:
         print(f"wrote {args.csv}")
     if args.plot:
-        _plot_family(paths, args.mechanism, args.plot, len(rows))
+        _plot_family(paths, base.output_point, args.plot, len(rows))
         print(f"wrote {args.plot}")
     return 0
 
@@ -226,12 +235,11 @@ def _sweep_table(rows, keys, limit: int) -> str:
     return "\n".join(lines)
 
 
-def _plot_family(paths, mechanism, out, total) -> None:
+def _plot_family(paths, point, out, total) -> None:
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     from .io import atomic_path
-    point = "P" if mechanism == "fivebar" else "E"
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(13, 5.5), constrained_layout=True)
     for params_, t, x, y, speed in paths:
         label = ", ".join(f"{k}={v:.4g}" for k, v in params_.items())
@@ -250,8 +258,7 @@ def _plot_family(paths, mechanism, out, total) -> None:
     plt.close(fig)
 
 
-def register(sub, add_common) -> None:
-    from .commands import add_video_options
+def register(sub, add_common, add_video_options) -> None:
     p = sub.add_parser("synthesize", help="seed 001: two-position four-bar synthesis with minimum total length")
     p.add_argument("problem", choices=("two-position",))
     p.add_argument("--E1", default="30,31", help="coupler point E in position 1 (default 30,31)")
@@ -269,10 +276,8 @@ def register(sub, add_common) -> None:
     add_video_options(p, out_required=False)
     p.set_defaults(func=cmd_synthesize)
 
-    p = sub.add_parser("sweep", help="seed 003 parameter studies: five-bar P paths, four-bar coupler curves")
-    p.add_argument("mechanism", choices=("fivebar", "fourbar", "sixbar"))
-    p.add_argument("--set", dest="sets", action="append", default=[], metavar="NAME=VALUE",
-                   help="fixed parameters")
+    p = sub.add_parser("sweep", help="seed 003 parameter studies: families of output paths and speeds")
+    add_common(p)
     p.add_argument("--vary", action="append", default=[], metavar="NAME=V1,V2,...|start:stop:count",
                    help="a varied parameter (repeatable: every combination is evaluated)")
     p.add_argument("--samples", type=int, default=360, help="samples per period (default 360)")
@@ -280,4 +285,5 @@ def register(sub, add_common) -> None:
     p.add_argument("--plot", metavar="PATH", help="families of paths and speed curves (.png/.svg/.pdf)")
     p.add_argument("--show", type=int, default=20, metavar="N", help="rows to print (default 20)")
     p.add_argument("--yes", action="store_true", help=f"allow grids over {MAX_COMBOS:,} combinations")
+    p.set_defaults(revolutions=1.0)
     p.set_defaults(func=cmd_sweep)

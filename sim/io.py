@@ -15,16 +15,22 @@ from analytic import ParameterError
 def check_writable(path: str | os.PathLike, suffixes: tuple[str, ...] | None = None) -> Path:
     """Fail early, with one line, on an output path that cannot be written or has the wrong extension."""
     p = Path(path)
+    if p.is_dir():
+        raise ParameterError(f"{p} is a folder; give a file name")
     if suffixes is not None and p.suffix.lower() not in suffixes:
-        raise ParameterError(f"{p}: unsupported output type {p.suffix or '(none)'!r}; use one of "
+        raise ParameterError(f"{p}: unsupported output type {p.suffix or '(no extension)'!r}; use one of "
                              f"{', '.join(suffixes)}")
     parent = p.parent if str(p.parent) else Path(".")
     if not parent.is_dir():
         raise ParameterError(f"{p}: folder {parent} does not exist; create it or choose another path")
-    if not os.access(parent, os.W_OK):
-        raise ParameterError(f"{p}: folder {parent} is not writable; choose another path")
     if p.is_dir():
         raise ParameterError(f"{p} is a folder; give a file name")
+    try:                                          # the only sure test: make a file there, then remove it
+        fd, probe = tempfile.mkstemp(prefix=f".{p.name}.", dir=parent)
+        os.close(fd)
+        os.remove(probe)
+    except OSError as exc:
+        raise ParameterError(f"{p}: cannot write in folder {parent} ({exc.strerror or exc}); choose another path") from None
     return p
 
 

@@ -19,7 +19,6 @@ import numpy as np
 
 from analytic import ParameterError
 from .io import atomic_path, check_writable
-from .params import OUTPUT_POINT
 
 VIDEO_SUFFIXES = (".mp4", ".gif")
 PATH_RGBA = np.array([0.89, 0.10, 0.11, 1.0], np.float32)
@@ -50,12 +49,24 @@ def parse_size(text: str) -> tuple[int, int]:
     return w, h
 
 
+MAX_FPS = 240
+GIF_MAX_FPS = 50
+"""GIF frame delays are whole centiseconds and players clamp delays under 2 cs: 50 fps is the most a GIF
+stores faithfully; a higher rate is stored at 50 fps (said in the output)."""
+MAX_FRAMES = 100_000
+
+
 def check_video_args(out: str, fps: float, size: str) -> tuple[Path, tuple[int, int]]:
     """Validate the output path, frame rate and size before any simulation starts."""
     path = check_writable(out, VIDEO_SUFFIXES)
-    if not (math.isfinite(fps) and fps > 0):
-        raise ParameterError(f"--fps {fps!r} must be a number > 0 (e.g. --fps 30)")
+    if not (math.isfinite(fps) and 0 < fps <= MAX_FPS):
+        raise ParameterError(f"--fps {fps!r} must be a number in (0, {MAX_FPS}] (e.g. --fps 30)")
     return path, parse_size(size)
+
+
+def stored_fps(out: str, fps: float) -> float:
+    """The frame rate the file will carry (GIF: at most GIF_MAX_FPS)."""
+    return min(fps, GIF_MAX_FPS) if str(out).lower().endswith(".gif") else fps
 
 
 @dataclass(frozen=True)
@@ -63,6 +74,7 @@ class RenderStats:
     frames: int
     seconds: float
     path: str
+    stored_fps: float
 
     @property
     def fps(self) -> float:
@@ -77,9 +89,8 @@ def frame_indices(t: np.ndarray, fps: float) -> np.ndarray:
 
 def output_path(tr, mech) -> np.ndarray:
     """The output point's recorded path, shape (steps, 3) [m] (z = 0)."""
-    xk, yk = OUTPUT_POINT[tr.name]
-    x = tr.outputs[xk]
-    y = tr.outputs[yk] if yk else np.full_like(x, mech.h)
+    p = mech.output_point
+    x, y = tr.outputs["x" + p], tr.outputs["y" + p]
     return np.column_stack([x, y, np.zeros_like(x)])
 
 
@@ -162,6 +173,7 @@ def render(built, tr, out: str, fps: float = 30.0, size: tuple[int, int] = (640,
     from .model import frame_extent
 
     w, h = size
+    fps = stored_fps(out, fps)
     model = built.model
     model.vis.global_.offwidth = max(model.vis.global_.offwidth, w)
     model.vis.global_.offheight = max(model.vis.global_.offheight, h)
@@ -169,6 +181,9 @@ def render(built, tr, out: str, fps: float = 30.0, size: tuple[int, int] = (640,
     model.cam_fovy[cam] = frame_extent(built.mech, w / h)
     data = mujoco.MjData(model)
     frames = frame_indices(tr.t, fps)
+    if len(frames) > MAX_FRAMES:
+        raise ParameterError(f"the video would have {len(frames):,} frames (over {MAX_FRAMES:,}): lower --fps or "
+                             f"--revolutions")
     path = output_path(tr, built.mech)
     progress = _Progress(len(frames), f"rendering {Path(out).name}")
     opt = mujoco.MjvOption()
@@ -194,7 +209,7 @@ def render(built, tr, out: str, fps: float = 30.0, size: tuple[int, int] = (640,
                 progress(i + 1)
         finally:
             writer.close()
-    return RenderStats(len(frames), time.perf_counter() - t0, str(out))
+    return RenderStats(len(frames), time.perf_counter() - t0, str(out), fps)
 
 
 def _add_cross(scene, x: float, y: float, r: float) -> None:

@@ -1,0 +1,291 @@
+"""The service layer: what every front end (the ``linkage`` command, the web app) calls. Plain
+functions on :class:`analytic.Mechanism`, no argparse; errors are :class:`analytic.ParameterError`
+with one-line messages that speak of parameters, not of command-line flags.
+
+MuJoCo and matplotlib are imported only by the functions that need them, so analysis stays fast.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+import analytic
+from analytic import ParameterError, expr
+from analytic.mechanism import Mechanism
+
+MAX_SAMPLES = 10_000_000
+"""Largest analysis accepted (~1.5 GB of outputs for a four-bar)."""
+MAX_REVOLUTIONS = 10_000
+
+
+# ---------------------------------------------------------------------------------------- mechanisms
+def list_mechanisms() -> list[dict]:
+    """Every mechanism addressable by name: name, description, number of inputs, built-in or not."""
+    out = []
+    for name in analytic.names():
+        d = analytic.definition(name)
+        out.append({"name": name, "description": d.description, "inputs": len(d.inputs),
+                    "builtin": name in analytic.BUILTINS})
+    return out
+
+
+def parameter_value(mech_or_def, name: str, value) -> float:
+    """A parameter value from text or a number: ``"30deg"`` for an angle, refused on a length."""
+    d = mech_or_def.definition if isinstance(mech_or_def, Mechanism) else mech_or_def
+    if name not in d.parameters:
+        raise ParameterError(f"{name!r} is not a parameter of {d.name}; parameters: "
+                             f"{', '.join(d.parameter_order) or '(none)'}")
+    kind = d.parameter_kind[name]
+    if isinstance(value, bool):
+        raise ParameterError(f"{name}={value!r} is not a number")
+    if isinstance(value, (int, float)):
+        v = float(value)
+        if not math.isfinite(v) or abs(v) > 1e12:
+            raise ParameterError(f"{name}={value!r} is out of range: give a finite value of magnitude <= 1e12")
+    else:
+        v = expr.parse_value(name, str(value), angle=False if kind == "length" else None)
+    if kind == "branch" and v not in (1.0, -1.0):
+        raise ParameterError(f"{name}={value} is not a valid branch: use +1 or -1")
+    return v
+
+
+def load(mechanism: str, values: dict | None = None, text: str | None = None) -> Mechanism:
+    """A mechanism by name or path (or from a file's ``text``), with parameter ``values`` (numbers or
+    strings such as ``"30deg"``, file units)."""
+    d = analytic.linkfile.parse(text, "<upload>") if text is not None else analytic.definition(mechanism)
+    overrides = {k: parameter_value(d, k, v) for k, v in (values or {}).items()}
+    builtin = analytic.BUILTINS.get(mechanism) if text is None else None
+    return Mechanism.from_definition(d, overrides, builtin)
+
+
+def parameter_table(mech: Mechanism) -> list[dict]:
+    """Each parameter with its value, kind, unit and a slider range for front ends."""
+    out = []
+    d = mech.definition
+    for name in d.parameter_order:
+        kind = d.parameter_kind[name]
+        v = mech.values[name]
+        derived = isinstance(d.parameters[name], str) and expr.quantity(d.parameters[name]) is None
+        if kind == "length":
+            unit, lo, hi, step = d.units, min(0.0, 2 * v), max(2.0 * abs(v), 1e-9), abs(v) / 200 or 0.001
+            if v > 0:
+                lo = v / 5
+        elif kind == "angle":
+            unit, lo, hi, step = "rad", min(-2 * math.pi, -2 * abs(v)), max(2 * math.pi, 2 * abs(v)), 0.001
+        elif kind == "branch":
+            unit, lo, hi, step = "", -1.0, 1.0, 2.0
+        else:
+            unit, lo, hi, step = "", -2 * abs(v) - 1, 2 * abs(v) + 1, (abs(v) or 1) / 200
+        out.append({"name": name, "value": v, "kind": kind, "unit": unit, "min": lo, "max": hi, "step": step,
+                    "derived": derived})
+    return out
+
+
+def describe(mech: Mechanism) -> dict:
+    """A JSON-ready description: parameters, inputs, points, links, slides, outputs."""
+    return {"name": mech.name, "description": mech.description, "units": mech.units,
+            "parameters": parameter_table(mech),
+            "inputs": [{"kind": i.kind, "link": i.link, "q": i.q, "qd": i.qd, "qdd": i.qdd, "unit": i.unit,
+                        "point": i.point, "pivot": i.joint} for i in mech.inputs],
+            "points": list(mech.points), "ground": list(mech.ground_points), "links": link_drawing(mech),
+            "slides": list(mech.slides), "output_point": mech.output_point, "outputs": list(mech.outputs),
+            "size": mech.size}
+
+
+def link_drawing(mech: Mechanism) -> list[dict]:
+    """Each link with the points to draw it through (origin first), for front ends."""
+    from analytic.linkfile import link_members
+    members = link_members(mech.definition)
+    origins = mech.link_origins
+    return [{"name": ln, "points": [origins[ln]] + sorted(members.get(ln, set()) - {origins[ln]}),
+             "block": ln in mech.slides} for ln in mech.links]
+
+
+# ------------------------------------------------------------------------------------------ analysis
+@dataclass(frozen=True)
+class Analysis:
+    """One analysed run: time [s], the inputs' motion (columns named phi1, omega1, ...), the solution."""
+
+    t: np.ndarray
+    inputs: dict[str, np.ndarray]
+    solution: analytic.Solution
+    figures: dict
+
+
+def check_samples(samples) -> int:
+    if isinstance(samples, bool) or not isinstance(samples, int) or not 2 <= samples <= MAX_SAMPLES:
+        raise ParameterError(f"samples={samples!r} must be an integer in 2..{MAX_SAMPLES:,}")
+    return samples
+
+
+def check_revolutions(revolutions) -> float:
+    if isinstance(revolutions, bool) or not isinstance(revolutions, (int, float)) or not (
+            math.isfinite(revolutions) and 0 < revolutions <= MAX_REVOLUTIONS):
+        raise ParameterError(f"revolutions={revolutions!r} must be a number in (0, {MAX_REVOLUTIONS}]")
+    return float(revolutions)
+
+
+def check_range(mech: Mechanism, lo: float, hi: float) -> tuple[float, float]:
+    first = mech.inputs[0]
+    fmt = (lambda v: f"{math.degrees(v):.2f}deg") if first.kind == "crank" else (lambda v: f"{v:.6g}")
+    if not (math.isfinite(lo) and math.isfinite(hi)):
+        raise ParameterError(f"input range {lo}:{hi} must be finite")
+    if not hi > lo:
+        raise ParameterError(f"input range {fmt(lo)}:{fmt(hi)}: the end must exceed the start")
+    if first.kind == "crank" and hi - lo > 2 * math.pi * MAX_REVOLUTIONS:
+        raise ParameterError(f"input range {fmt(lo)}:{fmt(hi)} spans more than {MAX_REVOLUTIONS} turns")
+    return lo, hi
+
+
+def analyze(mech: Mechanism, samples: int = 361, revolutions: float = 1.0,
+            input_range: tuple[float, float] | None = None) -> Analysis:
+    """Closed-form kinematics over one run: ``samples`` instants over ``revolutions`` of the first input,
+    or values of the first input evenly spaced over ``input_range`` (other inputs at their motion law)."""
+    check_samples(samples)
+    check_revolutions(revolutions)
+    if input_range is not None:
+        lo, hi = check_range(mech, *input_range)
+        first = mech.inputs[0]
+        q1 = np.linspace(lo, hi, samples)
+        rate = first.motion.rate if first.motion.rate != 0 else 1.0
+        t = (q1 - lo) / abs(rate)
+        q, qd, qdd = mech.drive(t)
+        q[:, 0], qd[:, 0], qdd[:, 0] = q1, first.motion.rate, 0.0
+        mech.check_assembles(q)
+    else:
+        check_turns_fully(mech)
+        t = np.linspace(0.0, mech.duration(revolutions), samples)
+        q, qd, qdd = mech.drive(t)
+        mech.check_assembles(q)
+    sol = mech.solve(q, qd, qdd)
+    cols = {}
+    for k, inp in enumerate(mech.inputs):
+        cols[inp.q], cols[inp.qd], cols[inp.qdd] = q[:, k], qd[:, k], qdd[:, k]
+    return Analysis(t, cols, sol, mech.figures(sol))
+
+
+def check_turns_fully(mech: Mechanism) -> None:
+    """A single-input mechanism whose first input cannot make a full turn is refused with its limits
+    (a rocking drive, ``input_range``, is the way to run it)."""
+    if len(mech.inputs) != 1 or mech.rock is not None or mech.inputs[0].kind != "crank":
+        return
+    from analytic import figures
+    ranges = figures.assembly_ranges(mech)
+    if not figures.turns_fully(mech, ranges):
+        first = mech.inputs[0]
+        ends = ", ".join(f"{math.degrees(a):.2f}deg" for r in ranges for a in r)
+        reach = figures.describe_ranges(first, ranges) if ranges else "nowhere"
+        raise ParameterError(f"the input {first.q} of the {mech.name} cannot turn fully (limit angles {ends}; "
+                             f"reachable {reach}): run it between the limits with an input range LO:HI")
+
+
+def analysis_record(mech: Mechanism, a: Analysis, samples: int, revolutions: float) -> dict:
+    """The JSON of ``linkage analyze --json``."""
+    outs = mech.outputs
+    return {"mechanism": mech.name, "units": mech.units, "parameters": mech.parameters,
+            "samples": samples, "revolutions": revolutions, "figures": a.figures,
+            "ranges": {k: _span(a.solution[k]) for k in outs}}
+
+
+def _span(x) -> list[float]:
+    x = np.asarray(x)
+    return [float(np.nanmin(x)), float(np.nanmax(x))] if np.any(np.isfinite(x)) else [math.nan, math.nan]
+
+
+def analysis_columns(mech: Mechanism, a: Analysis) -> dict[str, np.ndarray]:
+    """CSV columns of an analysis: t, the inputs, the reported outputs."""
+    return {"t": a.t, **a.inputs, **{k: np.asarray(a.solution[k]) for k in mech.outputs}}
+
+
+def units_of(mech: Mechanism, columns) -> dict[str, str]:
+    """The unit of each CSV column (for the header's units line / sidecar)."""
+    from .units import column_unit
+    return {c: column_unit(mech, c) for c in columns}
+
+
+# --------------------------------------------------------------------------------------- simulation
+def check_singular(mech: Mechanism) -> None:
+    """Refuse a run whose first input would carry a group through a singular (change-point) pose,
+    naming the input value: the simulation cannot tell the branches apart there."""
+    if len(mech.inputs) != 1:
+        from analytic import figures
+        t = np.linspace(0.0, mech.duration(1.0), 2001)
+        sol = mech.solve(*mech.drive(t))
+        m, where = figures.min_singularity(mech, sol)
+        if m < figures.SINGULAR:
+            raise ParameterError(f"the {mech.name} passes through a singular pose ({where} folds): its motion is "
+                                 f"undefined there; change a length or a phase")
+        return
+    from analytic import figures
+    poses = figures.singular_poses(mech)
+    if poses:
+        first = mech.inputs[0]
+        x, label, _ = poses[0]
+        at = f"{math.degrees(x) % 360:.2f}deg" if first.kind == "crank" else f"{x:.6g} m"
+        raise ParameterError(f"the {mech.name} passes through a singular pose at {first.q}={at} ({label} folds: "
+                             f"a change point, where it may switch branch); the simulation cannot follow it: "
+                             f"change a length by a little, or run between two such angles with an input range")
+
+
+def prepare(mech: Mechanism, revolutions: float, input_range=None) -> Mechanism:
+    """Checks before any simulation: revolutions, full turn or rocking range, singular poses."""
+    check_revolutions(revolutions)
+    if input_range is not None:
+        lo, hi = check_range(mech, *input_range)
+        mech = mech.rocking(lo, hi)
+        q = np.linspace(lo, hi, 721)
+        if len(mech.inputs) > 1:
+            q = np.column_stack([q] + [np.full_like(q, i.motion.q0) for i in mech.inputs[1:]])
+        mech.check_assembles(q)
+        return mech
+    check_turns_fully(mech)
+    t = np.linspace(0.0, mech.duration(min(revolutions, 1.0) if len(mech.inputs) == 1 else revolutions), 2001)
+    mech.check_assembles(mech.drive(t)[0])
+    check_singular(mech)
+    return mech
+
+
+def simulate(mech: Mechanism, revolutions: float = 1.0, settings=None, loads=None, input_range=None):
+    """Build and run the MuJoCo model: returns (Built, Trajectory)."""
+    from .model import Loads, Settings, build
+    from .simulate import simulate as run
+    mech = prepare(mech, revolutions, input_range)
+    built = build(mech, settings or Settings(), loads or Loads(), revolutions)
+    return built, run(built, revolutions)
+
+
+def compare(mech: Mechanism, revolutions: float = 1.0, settings=None, loads=None, input_range=None):
+    """Simulate and cross-validate: returns (Built, Comparison)."""
+    from .compare import compare as cmp
+    built, tr = simulate(mech, revolutions, settings, loads, input_range)
+    return built, cmp(tr, built, revolutions)
+
+
+def comparison_record(built, c) -> dict:
+    """The JSON of ``linkage compare --json`` (and the app's simulate)."""
+    return c.as_dict(built)
+
+
+def trajectory_columns(tr) -> dict:
+    """CSV columns of a trajectory: t, inputs, every output, loop violation, drive forces, commanded
+    inputs (``cmd_phi1``) and every joint's coordinate and rate (``q_NAME``, ``v_NAME``)."""
+    joints = {f"q_{n}": tr.qpos[:, i] for i, n in enumerate(tr.joint_names)}
+    joints.update({f"v_{n}": tr.qvel[:, i] for i, n in enumerate(tr.joint_names)})
+    outs = {k: np.asarray(v) for k, v in tr.outputs.items() if not k.startswith(("cos", "sin"))}
+    return {"t": tr.t, **tr.inputs, **outs, "loop_violation": tr.loop_violation, **tr.forces,
+            **{f"cmd_{k}": v for k, v in tr.commanded.items()}, **joints}
+
+
+def export_mjcf(mech: Mechanism, settings=None) -> str:
+    """The generated MJCF of ``mech`` as a standalone document."""
+    from .model import Settings, build, export_xml
+    return export_xml(build(mech, settings or Settings()))
+
+
+def mechanism_text(mech: Mechanism) -> str:
+    """The mechanism's file (TOML) with its current parameter values written in."""
+    from .tomlout import dump
+    return dump(mech)

@@ -1,0 +1,319 @@
+"""An independent oracle for any ``linkage/1`` mechanism: Newton's method on the whole constraint system.
+
+It shares nothing with ``analytic/kinematics.py`` or its group formulas. It reads only the resolved data
+of a file (``Mechanism.geometry``: ground points and the elements' numeric fields, SI units) and writes
+two scalar constraint equations per element, in the element's own point (x, y):
+
+* ``crank``   P = pivot + r (cos q, sin q)
+* ``slider``  P = O + q u                              (u: unit direction of the ground guide)
+* ``RRR``     |C - P|^2 = a^2,  |C - Q|^2 = b^2
+* ``RRP``     |C - P|^2 = l^2,  cross(u, C - O) = offset   (O, u: the guide line, possibly moving)
+* ``RPR``     |R - P|^2 = l^2,  cross(R - P, Q - P) = l * offset
+              (Q - P = s u + offset u_perp with u = (R - P)/l, so cross(u, Q - P) = offset)
+* ``point``   R = P + u e + v e_perp                   (e: unit vector P -> Q)
+
+All unknowns are solved together: ``F(x; q) = 0`` for all samples at once (batched 2n x 2n systems).
+
+Derivatives are exact, with no finite differences: every equation is evaluated on truncated Taylor
+series in time (:class:`Jet`, coefficients of 1, t, t^2). Along a motion x(t) = x + xd t + xdd t^2/2,
+q(t) = q + qd t + qdd t^2/2 the constraint's coefficients are
+
+    F1 = J xd + F_q qd                 = 0   ->  xd  = -J^-1 (F_q qd)
+    F2 = (J xdd + F_q qdd + D2F[w, w])/2 = 0  ->  xdd = -2 J^-1 F2|_(xdd = 0)
+
+and the Jacobian J itself is F1 with unit seeds (forward-mode differentiation). Newton starts from a
+given guess (the caller perturbs the analytic solution) and the branch it lands on is then checked
+against the file's conventions independently of the solver: RRR branch +1 puts C left of P->Q
+(cross(Q - P, C - P) > 0); RRP branch +1 takes the intersection farther along the guide
+(dot(C - P, u) > 0); RPR branch +1 puts R on the side of Q (dot(R - P, Q - P) > 0).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+
+# ----------------------------------------------------------------------------------------------- jets
+class Jet:
+    """A truncated Taylor series c0 + c1 t + c2 t^2 with array coefficients (one per sample)."""
+
+    __slots__ = ("c0", "c1", "c2")
+
+    def __init__(self, c0, c1=0.0, c2=0.0):
+        self.c0, self.c1, self.c2 = c0, c1, c2
+
+    @staticmethod
+    def lift(x):
+        return x if isinstance(x, Jet) else Jet(x)
+
+    def __add__(self, o):
+        o = Jet.lift(o)
+        return Jet(self.c0 + o.c0, self.c1 + o.c1, self.c2 + o.c2)
+
+    __radd__ = __add__
+
+    def __sub__(self, o):
+        o = Jet.lift(o)
+        return Jet(self.c0 - o.c0, self.c1 - o.c1, self.c2 - o.c2)
+
+    def __rsub__(self, o):
+        return Jet.lift(o) - self
+
+    def __neg__(self):
+        return Jet(-self.c0, -self.c1, -self.c2)
+
+    def __mul__(self, o):
+        o = Jet.lift(o)
+        return Jet(self.c0 * o.c0, self.c0 * o.c1 + self.c1 * o.c0,
+                   self.c0 * o.c2 + self.c1 * o.c1 + self.c2 * o.c0)
+
+    __rmul__ = __mul__
+
+    def __truediv__(self, o):
+        o = Jet.lift(o)
+        q0 = self.c0 / o.c0
+        q1 = (self.c1 - q0 * o.c1) / o.c0
+        q2 = (self.c2 - q0 * o.c2 - q1 * o.c1) / o.c0
+        return Jet(q0, q1, q2)
+
+
+def jsqrt(a: Jet) -> Jet:
+    s0 = np.sqrt(a.c0)
+    s1 = a.c1 / (2.0 * s0)
+    return Jet(s0, s1, (a.c2 - s1 * s1) / (2.0 * s0))
+
+
+def jcos(a: Jet) -> Jet:
+    c, s = np.cos(a.c0), np.sin(a.c0)
+    return Jet(c, -s * a.c1, -s * a.c2 - 0.5 * c * a.c1 * a.c1)
+
+
+def jsin(a: Jet) -> Jet:
+    c, s = np.cos(a.c0), np.sin(a.c0)
+    return Jet(s, c * a.c1, c * a.c2 - 0.5 * s * a.c1 * a.c1)
+
+
+def _cross(ax, ay, bx, by):
+    return ax * by - ay * bx
+
+
+def _dot(ax, ay, bx, by):
+    return ax * bx + ay * by
+
+
+def _unit(P, Q):
+    dx, dy = Q[0] - P[0], Q[1] - P[1]
+    n = jsqrt(Jet.lift(dx * dx + dy * dy))
+    return dx / n, dy / n
+
+
+# ---------------------------------------------------------------------------------------- equations
+def _guide(G, pts):
+    """(origin, unit direction) of a guide: the line P->Q of two points, or a ground line."""
+    if "points" in G:
+        p, q = G["points"]
+        return pts[p], _unit(pts[p], pts[q])
+    through = G["through"]
+    O = pts[through] if isinstance(through, str) else (Jet(float(through[0])), Jet(float(through[1])))
+    return O, (Jet(math.cos(G["angle"])), Jet(math.sin(G["angle"])))
+
+
+def residual(geometry, X, Q):
+    """The constraint residuals (list of Jets, two per element) at unknown points ``X`` {name: (Jet, Jet)}
+    and inputs ``Q`` (list of Jets, in input order)."""
+    pts = {g: (Jet(float(x)), Jet(float(y))) for g, (x, y) in geometry.ground.items()}
+    pts.update(X)
+    rows = []
+    k = 0
+    for e in geometry.elements:
+        kind, R = e["kind"], pts[e["point"]]
+        if kind == "crank":
+            P, q = pts[e["pivot"]], Q[k]
+            k += 1
+            rows += [R[0] - P[0] - e["length"] * jcos(q), R[1] - P[1] - e["length"] * jsin(q)]
+        elif kind == "slider":
+            O, (ux, uy) = _guide(e["guide"], pts)
+            q = Q[k]
+            k += 1
+            rows += [R[0] - O[0] - q * ux, R[1] - O[1] - q * uy]
+        elif kind == "RRR":
+            (P, Qp), (a, b) = (pts[n] for n in e["from"]), e["lengths"]
+            rows += [_dot(R[0] - P[0], R[1] - P[1], R[0] - P[0], R[1] - P[1]) - a * a,
+                     _dot(R[0] - Qp[0], R[1] - Qp[1], R[0] - Qp[0], R[1] - Qp[1]) - b * b]
+        elif kind == "RRP":
+            P, l = pts[e["from"]], e["length"]
+            O, (ux, uy) = _guide(e["guide"], pts)
+            rows += [_dot(R[0] - P[0], R[1] - P[1], R[0] - P[0], R[1] - P[1]) - l * l,
+                     _cross(ux, uy, R[0] - O[0], R[1] - O[1]) - e["offset"]]
+        elif kind == "RPR":
+            P, Qp, l = pts[e["pivot"]], pts[e["through"]], e["length"]
+            rows += [_dot(R[0] - P[0], R[1] - P[1], R[0] - P[0], R[1] - P[1]) - l * l,
+                     _cross(R[0] - P[0], R[1] - P[1], Qp[0] - P[0], Qp[1] - P[1]) - l * e["offset"]]
+        elif kind == "point":
+            P, Qp = (pts[n] for n in e["on"])
+            ex, ey = _unit(P, Qp)
+            u, v = e["at"]
+            rows += [R[0] - P[0] - (u * ex - v * ey), R[1] - P[1] - (u * ey + v * ex)]
+        else:
+            raise ValueError(f"unknown element kind {kind!r}")
+    return rows
+
+
+# ------------------------------------------------------------------------------------------- solving
+def _names(geometry):
+    return [e["point"] for e in geometry.elements]
+
+
+def _pack(names, x, xd=None, xdd2=None):
+    """{name: (Jet, Jet)} from arrays of shape (N, 2 n)."""
+    zero = 0.0
+    out = {}
+    for i, n in enumerate(names):
+        cols = []
+        for c in (2 * i, 2 * i + 1):
+            cols.append(Jet(x[:, c], zero if xd is None else xd[:, c], zero if xdd2 is None else xdd2[:, c]))
+        out[n] = tuple(cols)
+    return out
+
+
+def jacobian(geometry, x, q):
+    """dF/dx, shape (N, 2n, 2n), by forward-mode differentiation (one unit seed per unknown)."""
+    names = _names(geometry)
+    N, n2 = x.shape
+    Q = [Jet(q[:, j]) for j in range(q.shape[1])]
+    cols = []
+    for c in range(n2):
+        seed = np.zeros((N, n2))
+        seed[:, c] = 1.0
+        rows = residual(geometry, _pack(names, x, seed), Q)
+        cols.append(np.stack([np.broadcast_to(r.c1, (N,)) for r in rows], -1))
+    return np.stack(cols, -1)
+
+
+def solve(geometry, q, qd, qdd, guess, iterations=60):
+    """Positions, velocities and accelerations of every point.
+
+    ``q, qd, qdd``: arrays (N, n_inputs); ``guess``: {point: (x, y)} arrays (N,) for every element's
+    point. Returns ({point: (x, y, vx, vy, ax, ay)} for every point, ground included; the final
+    Newton step size [m]).
+    """
+    names = _names(geometry)
+    q, qd, qdd = (np.asarray(a, float) for a in (q, qd, qdd))
+    N = q.shape[0]
+    x = np.stack([np.asarray(guess[n][c], float) * np.ones(N) for n in names for c in (0, 1)], -1)
+    Q0 = [Jet(q[:, j]) for j in range(q.shape[1])]
+    scale = float(np.max(np.abs(x))) or 1.0
+    step, converged = np.inf, False
+    for _ in range(iterations):
+        F = np.stack([np.broadcast_to(r.c0, (N,)) for r in residual(geometry, _pack(names, x), Q0)], -1)
+        dx = np.linalg.solve(jacobian(geometry, x, q), F[..., None])[..., 0]
+        x = x - dx
+        step = float(np.max(np.abs(dx)))
+        if converged:             # one more step once converged: what is left is rounding
+            break
+        converged = step < 1e-13 * scale
+    J = jacobian(geometry, x, q)
+    # velocities: F1 with xd = 0 is F_q qd
+    Qv = [Jet(q[:, j], qd[:, j]) for j in range(q.shape[1])]
+    rhs = np.stack([np.broadcast_to(r.c1, (N,)) for r in residual(geometry, _pack(names, x), Qv)], -1)
+    xd = -np.linalg.solve(J, rhs[..., None])[..., 0]
+    # accelerations: F2 with xdd = 0 is (F_q qdd + D2F[w, w]) / 2
+    Qa = [Jet(q[:, j], qd[:, j], 0.5 * qdd[:, j]) for j in range(q.shape[1])]
+    rhs = np.stack([np.broadcast_to(r.c2, (N,)) for r in residual(geometry, _pack(names, x, xd), Qa)], -1)
+    xdd = -2.0 * np.linalg.solve(J, rhs[..., None])[..., 0]
+    zero = np.zeros(N)
+    out = {g: (zero + gx, zero + gy, zero, zero, zero, zero) for g, (gx, gy) in geometry.ground.items()}
+    for i, n in enumerate(names):
+        a, b = 2 * i, 2 * i + 1
+        out[n] = (x[:, a], x[:, b], xd[:, a], xd[:, b], xdd[:, a], xdd[:, b])
+    return out, step
+
+
+def residual_norm(geometry, points, q):
+    """max |F| at a solution (positions only) [m^2 or m]: how well the oracle satisfies its equations."""
+    names = _names(geometry)
+    x = np.stack([points[n][c] for n in names for c in (0, 1)], -1)
+    rows = residual(geometry, _pack(names, x), [Jet(q[:, j]) for j in range(q.shape[1])])
+    return max(float(np.max(np.abs(r.c0))) for r in rows)
+
+
+def branch_violations(geometry, points):
+    """Per element with a branch, the number of samples whose root is not the one the file's branch
+    names (by the conventions in the module docstring)."""
+    P = {n: (v[0], v[1]) for n, v in points.items()}
+    bad = {}
+    for e in geometry.elements:
+        R = P[e["point"]]
+        if e["kind"] == "RRR":
+            A, B = (P[n] for n in e["from"])
+            side = _cross(B[0] - A[0], B[1] - A[1], R[0] - A[0], R[1] - A[1])
+        elif e["kind"] == "RRP":
+            A = P[e["from"]]
+            G = e["guide"]
+            if "points" in G:
+                g0, g1 = (P[n] for n in G["points"])
+                ux, uy = g1[0] - g0[0], g1[1] - g0[1]
+            else:
+                ux, uy = math.cos(G["angle"]), math.sin(G["angle"])
+            side = _dot(R[0] - A[0], R[1] - A[1], ux, uy)
+        elif e["kind"] == "RPR":
+            A, B = P[e["pivot"]], P[e["through"]]
+            side = _dot(R[0] - A[0], R[1] - A[1], B[0] - A[0], B[1] - A[1])
+        else:
+            continue
+        bad[e["label"]] = int(np.sum(e["branch"] * side <= 0))
+    return bad
+
+
+def slides(geometry, points):
+    """(s, ds, dds) of every prismatic pair, named after its block link, from the oracle's points:
+    RRP: distance of C from the guide's origin along the guide; RPR: Q - P along the slot; slider: its
+    input, recovered from the point."""
+    J = {n: (Jet(v[0], v[2], 0.5 * v[4]), Jet(v[1], v[3], 0.5 * v[5])) for n, v in points.items()}
+    out = {}
+    for e in geometry.elements:
+        R = J[e["point"]]
+        if e["kind"] in ("RRP", "slider"):
+            O, (ux, uy) = _guide(e["guide"], J)
+            s = _dot(R[0] - O[0], R[1] - O[1], ux, uy)
+            name = e["links"][1] if e["kind"] == "RRP" else e["link"]
+        elif e["kind"] == "RPR":
+            P, Qp = J[e["pivot"]], J[e["through"]]
+            ux, uy = _unit(P, R)
+            s = _dot(Qp[0] - P[0], Qp[1] - P[1], ux, uy)
+            name = e["links"][1]
+        else:
+            continue
+        out[name] = (s.c0, s.c1, 2.0 * s.c2)
+    return out
+
+
+def link_rates(geometry, points):
+    """(omega, alpha) of every link, from the motion of two of its points (or 0 for a ground guide)."""
+    J = {n: (Jet(v[0], v[2], 0.5 * v[4]), Jet(v[1], v[3], 0.5 * v[5])) for n, v in points.items()}
+
+    def rates(p, q):
+        ex, ey = _unit(J[p], J[q])
+        # e(t) = (cos th, sin th): e1 = th' e_perp, e2 = (th'' e_perp - th'^2 e) / 2
+        return (_cross(ex.c0, ey.c0, ex.c1, ey.c1), 2.0 * _cross(ex.c0, ey.c0, ex.c2, ey.c2))
+
+    out = {}
+    for e in geometry.elements:
+        k, pt = e["kind"], e["point"]
+        if k == "crank":
+            out[e["link"]] = rates(e["pivot"], pt)
+        elif k == "slider":
+            G = e["guide"]
+            out[e["link"]] = rates(*G["points"]) if "points" in G else (0.0, 0.0)
+        elif k == "RRR":
+            out[e["links"][0]] = rates(e["from"][0], pt)
+            out[e["links"][1]] = rates(e["from"][1], pt)
+        elif k == "RRP":
+            out[e["links"][0]] = rates(e["from"], pt)
+            G = e["guide"]
+            out[e["links"][1]] = rates(*G["points"]) if "points" in G else (0.0, 0.0)
+        elif k == "RPR":
+            out[e["links"][0]] = out[e["links"][1]] = rates(e["pivot"], pt)
+    return out
