@@ -416,7 +416,7 @@ class Mechanism:
         first = self.inputs[0]
         return first.motion.duration(revolutions, first.turn)
 
-    def solve(self, q, qd=0.0, qdd=0.0) -> Solution:
+    def solve(self, q, qd=0.0, qdd=0.0, outputs=None) -> Solution:
         """Every point, link, prismatic pair and transmission angle at the given inputs.
 
         Parameters
@@ -424,12 +424,18 @@ class Mechanism:
         q, qd, qdd : array_like
             Input positions [rad or m], rates and accelerations: shape (N,) with one input, or
             (N, n_inputs); broadcast together.
+        outputs : iterable of str, optional
+            Only these outputs (general names or a built-in's aliases; others are ignored); None: all.
+            Link angles ``phi`` and transmission angles ``mu`` cost an arctan2 each, so leaving them out
+            saves much of the time; ``outputs=()`` still gives ``valid`` and ``first_failure()``.
 
         Returns
         -------
         Solution
             Arrays of shape (N,); NaN where a group cannot be assembled (``Solution.failed``).
+            The arrays are rows of one (n_outputs, N) array.
         """
+        from . import _jit                                  # numba, when installed (analytic/_jit.py)
         k = len(self.inputs)
         arrays = [np.asarray(x, dtype=float) for x in (q, qd, qdd)]
         if k == 1:
@@ -440,38 +446,47 @@ class Mechanism:
         shape = q.shape[:-1]
         flat = [a.reshape(-1, k).T for a in (q, qd, qdd)]
         n = flat[0].shape[1]
-        if n > BLOCK:
-            keep_freed_memory()
-        parts = []
-        for start in range(0, max(n, 1), BLOCK):
-            sl = slice(start, start + BLOCK)
-            with np.errstate(invalid="ignore", divide="ignore"):
-                parts.append(self._block(flat[0][:, sl], flat[1][:, sl], flat[2][:, sl]))
-        if len(parts) == 1:
-            arrays, failed = parts[0]
+        want = None if outputs is None else {self.aliases.get(o, o) for o in outputs}
+        if _jit.enabled():
+            arrays, failed = _jit.solve(self.geometry, *flat, want)
         else:
-            arrays = {key: np.concatenate([p[0][key] for p in parts]) for key in parts[0][0]}
-            failed = np.concatenate([p[1] for p in parts])
+            if n > BLOCK:
+                keep_freed_memory()
+            arrays, failed = None, np.empty(n, dtype=np.int64)
+            for start in range(0, max(n, 1), BLOCK):
+                sl = slice(start, start + BLOCK)
+                with np.errstate(invalid="ignore", divide="ignore"):
+                    part, failed[sl] = self._block(flat[0][:, sl], flat[1][:, sl], flat[2][:, sl], want)
+                if arrays is None:                          # the outputs are the rows of one array
+                    arrays = dict(zip(part, np.empty((len(part), n))))
+                for key, v in part.items():
+                    arrays[key][sl] = v
         arrays = {key: v.reshape(shape) for key, v in arrays.items()}
         labels = tuple(e["label"] for e in self.geometry.elements)
-        return Solution(arrays, failed.reshape(shape), labels, self.aliases)
+        aliases = self.aliases if want is None else {a: t for a, t in self.aliases.items() if t in arrays}
+        return Solution(arrays, failed.reshape(shape), labels, aliases)
 
-    def _block(self, q, qd, qdd):
-        points, links, slides, mus, failed = kinematics.evaluate(self.geometry, q, qd, qdd)
+    def _block(self, q, qd, qdd, want=None):
+        """One block of samples: ({output name: array or scalar}, failed), the outputs in ``want`` (a set
+        of names; None: all)."""
+        mu = want is None or any(name.startswith("mu") for name in want)
+        points, links, slides, mus, failed = kinematics.evaluate(self.geometry, q, qd, qdd, mu=mu)
         out: dict[str, np.ndarray] = {}
-        n = q.shape[1]
         for p, v in points.items():
             for prefix, arr in zip(("x", "y", "vx", "vy", "ax", "ay"), v):
-                out[prefix + p] = np.broadcast_to(arr, (n,))
+                if want is None or prefix + p in want:
+                    out[prefix + p] = arr
         for ln, (c, s, w, a) in links.items():
-            out["phi" + ln] = np.broadcast_to(np.arctan2(s, c), (n,))
-            out["omega" + ln] = np.broadcast_to(w, (n,))
-            out["alpha" + ln] = np.broadcast_to(a, (n,))
-            out["cos" + ln], out["sin" + ln] = np.broadcast_to(c, (n,)), np.broadcast_to(s, (n,))
-        for j, (s, ds, dds) in slides.items():
-            out["s" + j], out["ds" + j], out["dds" + j] = s, ds, dds
-        for p, mu in mus.items():
-            out["mu" + p] = mu
+            for prefix, arr in (("phi", None), ("omega", w), ("alpha", a), ("cos", c), ("sin", s)):
+                if want is None or prefix + ln in want:
+                    out[prefix + ln] = np.arctan2(s, c) if arr is None else arr
+        for j, v in slides.items():
+            for prefix, arr in zip(("s", "ds", "dds"), v):
+                if want is None or prefix + j in want:
+                    out[prefix + j] = arr
+        for p, m in mus.items():
+            if want is None or "mu" + p in want:
+                out["mu" + p] = m
         return out, failed
 
     def solve_at(self, t) -> tuple[tuple[np.ndarray, np.ndarray, np.ndarray], Solution]:

@@ -1,0 +1,315 @@
+"""Every named mechanism (built-ins and the shipped library) against an independent Newton oracle.
+
+The general solver (``analytic/kinematics.py``, closed form group by group) and ``oracle_linkage``
+(Newton on the whole constraint system, exact derivatives by Taylor jets) share only the file's
+resolved numbers. Over one full period of the inputs, at 180 samples, with random (seeded) input
+accelerations, they must agree on every point's position, velocity and acceleration, every prismatic
+pair's slide and every link's angular rates. Two tests perturb the oracle's data slightly and check that
+the comparison then fails, so the tolerances are known to bite.
+
+The library files must also be usable as shipped: a one-line description, a moving output point,
+assembly over a full turn, transmission angles clear of dead centres, and velocities and accelerations
+that match finite differences of the motion.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import zlib
+from fractions import Fraction
+
+import numpy as np
+import pytest
+
+import analytic
+import oracle_linkage as oracle
+
+NAMES = analytic.names()
+SAMPLES = 180
+
+POS_TOL = 1e-12
+"""Positions: closed form vs converged Newton, both at rounding level; relative to the mechanism's size."""
+RATE_TOL = 1e-9
+"""Velocities, accelerations, angular rates: rounding amplified by 1/sin(transmission angle) (>= 8 deg
+here); relative to the peak of that output over the period."""
+GUESS = 1e-3
+"""Newton's start: the analytic solution perturbed by this fraction of the size (the branch is then
+checked against the file's conventions independently)."""
+NEWTON_STEP_TOL = 1e-14
+"""Newton's last step, relative to the size: it has converged to rounding level."""
+FD_STEPS = 4000
+"""Finite-difference step h = period / FD_STEPS."""
+FD_TOL = 1e-7
+"""Five-point central differences: truncation ~ (omega h)^4 / 30 ~ 2e-13 times the growth of the motion's
+harmonics (Jansen's near-toggle at D: worst 5e-9), rounding ~ 1e-16 size / h; relative to the peak rate."""
+MIN_MU_DEG = 8.0
+"""Smallest transmission angle allowed in a shipped file: Jansen's holy numbers come to 8.6 deg at D (a
+property of his design); every other file stays above 23 deg."""
+MAX_DENOMINATOR = 64
+"""Two cranks: their speed ratio as a fraction p/q (q <= 64) gives the common period."""
+
+
+# ------------------------------------------------------------------------------------------ helpers
+def _rng(name: str, salt: int = 0) -> np.random.Generator:
+    return np.random.default_rng(zlib.crc32(name.encode()) + salt)
+
+
+def _laws(m):
+    """Each input's (q0, rate) as written in the file (crank: phi0, omega; slider: s0, v)."""
+    return [(e["phi0"], e["omega"]) if e["kind"] == "crank" else (e["s0"], e["v"])
+            for e in m.geometry.elements if e["kind"] in ("crank", "slider")]
+
+
+def period(m) -> float:
+    """The time after which every input is back where it started (a slider: one second)."""
+    laws = _laws(m)
+    kinds = [e["kind"] for e in m.geometry.elements if e["kind"] in ("crank", "slider")]
+    if any(k == "slider" for k in kinds):
+        return 1.0
+    turns = [2 * math.pi / abs(w) for _, w in laws]
+    if len(turns) == 1:
+        return turns[0]
+    ratio = Fraction(turns[1] / turns[0]).limit_denominator(MAX_DENOMINATOR)  # T1 / T0 = p / q
+    return ratio.denominator * turns[1]  # q T1 = p T0
+
+
+def drive(m, n: int, rng: np.random.Generator | None = None, endpoint: bool = False):
+    """Inputs over one period at n samples: (t, q, qd, qdd) with q, qd, qdd of shape (n, n_inputs);
+    random accelerations (up to 3 rate^2 / rad, or 3 v^2 / size for a slider) when ``rng`` is given."""
+    T = period(m)
+    t = np.linspace(0.0, T, n, endpoint=endpoint)
+    laws = _laws(m)
+    q = np.stack([q0 + w * t for q0, w in laws], -1)
+    qd = np.stack([np.full(n, w) for _, w in laws], -1)
+    qdd = np.zeros_like(q)
+    if rng is not None:
+        qdd = np.stack([rng.uniform(-3, 3, n) * w * w for _, w in laws], -1)
+    return t, q, qd, qdd
+
+
+def compare(m, rng, geometry=None, qdd_scale=1.0) -> dict[str, float]:
+    """Worst errors of the solver against the oracle (run on ``geometry``, default the mechanism's own,
+    with the input accelerations times ``qdd_scale``), each relative to what its tolerance is relative to."""
+    geometry = geometry or m.geometry
+    _, q, qd, qdd = drive(m, SAMPLES, rng)
+    sol = m.solve(q, qd, qdd)
+    assert sol.valid.all(), f"{m.name}: does not assemble at {sol.first_failure()}"
+    size = m.size
+    moving = [e["point"] for e in m.geometry.elements]
+    guess = {p: (sol["x" + p] + rng.uniform(-1, 1, SAMPLES) * GUESS * size,
+                 sol["y" + p] + rng.uniform(-1, 1, SAMPLES) * GUESS * size) for p in moving}
+    pts, step = oracle.solve(geometry, q, qd, qdd * qdd_scale, guess)
+    worst = {"newton_step": step / size,
+             "residual": oracle.residual_norm(geometry, pts, q) / size,
+             "branch": sum(oracle.branch_violations(geometry, pts).values())}
+    pos = vel = acc = 0.0
+    for p in m.points:
+        x, y, vx, vy, ax, ay = pts[p]
+        pos = max(pos, np.max(np.hypot(sol["x" + p] - x, sol["y" + p] - y)) / size)
+        if p in moving:
+            vpeak, apeak = np.max(np.hypot(vx, vy)), np.max(np.hypot(ax, ay))
+            vel = max(vel, np.max(np.hypot(sol["vx" + p] - vx, sol["vy" + p] - vy)) / vpeak)
+            acc = max(acc, np.max(np.hypot(sol["ax" + p] - ax, sol["ay" + p] - ay)) / apeak)
+    worst.update(position=pos, velocity=vel, acceleration=acc)
+    slide = 0.0
+    for j, (s, ds, dds) in oracle.slides(geometry, pts).items():
+        slide = max(slide, np.max(np.abs(sol["s" + j] - s)) / size,
+                    np.max(np.abs(sol["ds" + j] - ds)) / max(np.max(np.abs(ds)), 1e-300),
+                    np.max(np.abs(sol["dds" + j] - dds)) / max(np.max(np.abs(dds)), 1e-300))
+    worst["slide"] = slide
+    rates = oracle.link_rates(geometry, pts)
+    wpeak = max(np.max(np.abs(w)) for w, _ in rates.values())
+    apeak = max(np.max(np.abs(a)) for _, a in rates.values())
+    rate = 0.0
+    for ln, (w, a) in rates.items():
+        rate = max(rate, np.max(np.abs(sol["omega" + ln] - w)) / max(np.max(np.abs(w)), 1e-3 * wpeak),
+                   np.max(np.abs(sol["alpha" + ln] - a)) / max(np.max(np.abs(a)), 1e-3 * apeak))
+    worst["link_rates"] = rate
+    return worst
+
+
+def _assert_agree(name, worst):
+    assert worst["newton_step"] <= NEWTON_STEP_TOL, (name, worst)
+    assert worst["branch"] == 0, (name, worst)
+    assert worst["position"] <= POS_TOL, (name, worst)
+    assert worst["slide"] <= RATE_TOL, (name, worst)        # s relative to size, rates to their peaks
+    assert worst["velocity"] <= RATE_TOL, (name, worst)
+    assert worst["acceleration"] <= RATE_TOL, (name, worst)
+    assert worst["link_rates"] <= RATE_TOL, (name, worst)
+
+
+# ------------------------------------------------------------------------------------- vs the oracle
+@pytest.mark.parametrize("name", NAMES)
+def test_solver_matches_newton_oracle(name):
+    m = analytic.load(name)
+    _assert_agree(name, compare(m, _rng(name)))
+
+
+@pytest.mark.parametrize("name, overrides", [
+    ("two_crank_five_bar", {"ratio": 2.0}),                  # common period: 2 turns of crank 4
+    ("two_crank_five_bar", {"ratio": -1.5, "branch": -1}),   # opposite senses, 3 half-turns; other branch
+    ("slider_crank", {"e": 0.03, "branch": -1}),             # offset guide, piston on the left
+    ("fourbar", {"branch": -1}),
+])
+def test_solver_matches_newton_oracle_off_defaults(name, overrides):
+    m = analytic.load(name, **overrides)
+    _assert_agree(name, compare(m, _rng(name, 1)))
+
+
+OTHER_FORMS = {
+    # an RPR with an offset slot on its other branch, a point on the slotted link, and a block sliding on
+    # that moving slot (RRP guided by two points of a turning link: the Coriolis term); crank turning CW
+    "slot_and_block": """
+format = "linkage/1"
+[ground]
+A = [0, 0]
+P = [0.3, 0]
+G = [0.1, 0.25]
+[[inputs]]
+kind = "crank"
+pivot = "A"
+point = "B"
+length = 0.1
+omega = "-250deg"
+[[groups]]
+kind = "RPR"
+pivot = "P"
+through = "B"
+point = "R"
+length = 0.4
+offset = 0.02
+branch = -1
+[[groups]]
+kind = "point"
+point = "T"
+on = ["P", "R"]
+at = [0.2, -0.05]
+[[groups]]
+kind = "RRP"
+point = "C"
+from = "G"
+length = 0.35
+guide = ["P", "R"]
+offset = 0.01
+""",
+    # a driven slider on an inclined ground line moving an RRR dyad
+    "driven_slider": """
+format = "linkage/1"
+[ground]
+O = [0, 0]
+Q = [0.25, 0.05]
+[[inputs]]
+kind = "slider"
+point = "S"
+guide = { through = "O", angle = "30deg" }
+s0 = 0.02
+v = 0.1
+[[groups]]
+kind = "RRR"
+point = "C"
+from = ["S", "Q"]
+lengths = [0.2, 0.15]
+""",
+}
+
+
+@pytest.mark.parametrize("name", sorted(OTHER_FORMS))
+def test_solver_matches_newton_oracle_on_other_element_forms(name):
+    """Element forms the library does not use: RPR offset and branch -1, a guide on a moving link, a
+    driven slider."""
+    m = analytic.from_text(OTHER_FORMS[name], name)
+    _assert_agree(name, compare(m, _rng(name)))
+
+
+def _perturbed(geometry, index, rel):
+    """A copy of ``geometry`` with the lengths of element ``index`` scaled by (1 + rel)."""
+    elements = [dict(e) for e in geometry.elements]
+    e = elements[index]
+    if "lengths" in e:
+        e["lengths"] = tuple(x * (1 + rel) for x in e["lengths"])
+    elif "at" in e:
+        e["at"] = tuple(x * (1 + rel) for x in e["at"])
+    else:
+        e["length"] *= 1 + rel
+    return dataclasses.replace(geometry, elements=tuple(elements))
+
+
+@pytest.mark.parametrize("name", ["fourbar", "slider_crank", "whitworth", "jansen", "peaucellier"])
+def test_comparison_fails_when_a_length_is_off_by_1e_6(name):
+    """The oracle's copy of one length (of the last element: every error there reaches a point) is
+    1e-6 too long: positions must then disagree far beyond POS_TOL."""
+    m = analytic.load(name)
+    worst = compare(m, _rng(name), geometry=_perturbed(m.geometry, len(m.geometry.elements) - 1, 1e-6))
+    assert worst["position"] > 1e3 * POS_TOL, worst
+
+
+@pytest.mark.parametrize("name", ["fourbar", "whitworth", "two_crank_five_bar"])
+def test_comparison_fails_when_input_accelerations_are_off_by_1e_6(name):
+    """Positions and velocities still agree, accelerations must not: RATE_TOL resolves 1e-6 errors."""
+    m = analytic.load(name)
+    worst = compare(m, _rng(name), qdd_scale=1 + 1e-6)
+    assert worst["position"] <= POS_TOL and worst["velocity"] <= RATE_TOL, worst
+    assert worst["acceleration"] > 10 * RATE_TOL, worst
+
+
+# ------------------------------------------------------------------------------- the files as shipped
+@pytest.mark.parametrize("name", NAMES)
+def test_file_is_described_and_has_a_moving_output(name):
+    m = analytic.load(name)
+    assert m.description and "\n" not in m.description, name
+    assert m.output_point in {e["point"] for e in m.geometry.elements}, name
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_assembles_over_a_full_period_clear_of_dead_centres(name):
+    m = analytic.load(name)
+    t, *_ = drive(m, 721, endpoint=True)
+    _, sol = m.solve_at(t)
+    assert sol.valid.all(), (name, sol.first_failure())
+    for mu in (k for k in m.general_outputs if k.startswith("mu")):
+        assert np.degrees(np.min(sol[mu])) >= MIN_MU_DEG, (name, mu, np.degrees(np.min(sol[mu])))
+
+
+def _five_point(f, h):
+    """d/dt by the five-point stencil on samples f(t + k h), k = -2..2 (rows)."""
+    return (f[0] - 8 * f[1] + 8 * f[3] - f[4]) / (12 * h)
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_rates_match_finite_differences(name):
+    m = analytic.load(name)
+    T = period(m)
+    t, *_ = drive(m, 97)
+    h = T / FD_STEPS
+    sols = [m.solve_at(t + k * h)[1] for k in (-2, -1, 0, 1, 2)]
+    mid = sols[2]
+    for p in (e["point"] for e in m.geometry.elements):
+        for d, dd in (("", "v"), ("v", "a")):
+            fx = _five_point([s[f"{d}x{p}"] for s in sols], h)
+            fy = _five_point([s[f"{d}y{p}"] for s in sols], h)
+            ref_x, ref_y = mid[f"{dd}x{p}"], mid[f"{dd}y{p}"]
+            peak = np.max(np.hypot(ref_x, ref_y))
+            err = np.max(np.hypot(fx - ref_x, fy - ref_y)) / peak
+            assert err <= FD_TOL, (name, p, dd, err)
+
+
+# ------------------------------------------------------------------------- what the files are famous for
+def test_peaucellier_draws_an_exact_straight_line():
+    m = analytic.load("peaucellier")
+    t, *_ = drive(m, 721, endpoint=True)
+    _, sol = m.solve_at(t)
+    v = m.values
+    x_line = (v["arm"] ** 2 - v["side"] ** 2) / (2 * v["r"]) * m.scale
+    assert np.max(np.abs(sol["xP"] - x_line)) <= POS_TOL * m.size      # OC * OP = arm^2 - side^2
+    assert np.max(np.abs(sol["vxP"])) <= RATE_TOL * np.max(np.abs(sol["vyP"]))
+
+
+def test_slider_crank_and_whitworth_strokes():
+    sc = analytic.load("slider_crank")
+    _, sol = sc.solve_at(drive(sc, 721, endpoint=True)[0])
+    assert np.ptp(sol["xC"]) == pytest.approx(2 * sc.values["r"], rel=1e-9)   # in-line: stroke = 2 r
+    w = analytic.load("whitworth")
+    _, sol = w.solve_at(drive(w, 7201, endpoint=True)[0])
+    # the ram line passes through the lever pivot: stroke = 2 CD
+    assert np.ptp(sol["xR"]) == pytest.approx(2 * w.values["arm"] * w.scale, rel=1e-6)
