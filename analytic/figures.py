@@ -72,12 +72,27 @@ def assembly_ranges(mech, samples: int = SCAN) -> list[tuple[float, float]]:
             start = x
     if start is not None:
         ranges.append((start, hi))
+    # a gap narrower than GAP is rounding at a fold that still assembles (a change point): close it
+    merged = []
+    for r in ranges:
+        if merged and r[0] - merged[-1][1] < GAP:
+            merged[-1] = (merged[-1][0], r[1])
+        else:
+            merged.append(r)
+    ranges = merged
+    if len(ranges) == 1 and ranges[0][1] - ranges[0][0] >= hi - lo - GAP:
+        return [(lo, hi)]
     # a range wrapping round the turn's end joins the one at its start (cranks only)
     if mech.inputs[0].kind == "crank" and len(ranges) > 1 and good[0] and good[-1]:
         first = ranges.pop(0)
         last = ranges.pop()
         ranges.append((last[0], first[1] + 2 * math.pi))
     return ranges
+
+
+GAP = 1e-7
+"""[rad or m] Unassembled gaps narrower than this are rounding at a fold that does assemble (a change
+point): near a fold the discriminant is ~ angle^2, so rounding (1e-16) hides ~1e-8 rad of it."""
 
 
 def turns_fully(mech, ranges=None) -> bool:
@@ -87,8 +102,16 @@ def turns_fully(mech, ranges=None) -> bool:
 
 
 def describe_ranges(first, ranges) -> str:
-    fmt = fmt_deg if first.kind == "crank" else (lambda v: f"{v:.6g}")
-    return " or ".join(f"{fmt(a)}..{fmt(b)}" for a, b in ranges)
+    """Ranges in words; a crank's are shifted so each starts in (-180, 180] deg, in increasing order."""
+    if first.kind != "crank":
+        return " or ".join(f"{a:.6g}..{b:.6g}" for a, b in ranges)
+    shifted = []
+    for a, b in ranges:
+        k = math.floor((a + math.pi) / (2 * math.pi))
+        if a - 2 * math.pi * k <= -math.pi:
+            k -= 1
+        shifted.append((a - 2 * math.pi * k, b - 2 * math.pi * k))
+    return " or ".join(f"{fmt_deg(a)}..{fmt_deg(b)}" for a, b in sorted(shifted))
 
 
 def singularity(mech, sol) -> dict[str, np.ndarray]:
