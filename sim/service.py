@@ -243,9 +243,9 @@ def prepare(mech: Mechanism, revolutions: float, input_range=None) -> Mechanism:
         mech.check_assembles(q)
         return mech
     check_turns_fully(mech)
+    check_singular(mech)
     t = np.linspace(0.0, mech.duration(min(revolutions, 1.0) if len(mech.inputs) == 1 else revolutions), 2001)
     mech.check_assembles(mech.drive(t)[0])
-    check_singular(mech)
     return mech
 
 
