@@ -39,19 +39,11 @@ def enabled() -> bool:
     return AVAILABLE and os.environ.get("LINKAGE_JIT", "1") != "0"
 
 
-# ------------------------------------------------------------------------------ per-sample formulas
-# Plain Python here; :func:`_compile` turns them into numba functions. Each mirrors the function of the
-# same name in analytic.kinematics operation for operation, so both paths round alike.
-
-def _line(st, p, q):
-    dx = st[q] - st[p]
-    dy = st[q + 1] - st[p + 1]
-    L2 = dx * dx + dy * dy
-    L = math.sqrt(L2)
-    w = (dx * (st[q + 3] - st[p + 3]) - dy * (st[q + 2] - st[p + 2])) / L2
-    a = (dx * (st[q + 5] - st[p + 5]) - dy * (st[q + 4] - st[p + 4])) / L2
-    return dx / L, dy / L, w, a
-
+# ---------------------------------------------------------------------------------------- the kernel
+# Plain Python here; :func:`_compile` turns these into numba functions. The formulas mirror those of
+# analytic.kinematics operation for operation, so both paths round alike. The work is element-major over
+# chunks of samples: one loop over a chunk per element, whose iterations are independent, so the CPU
+# overlaps the long dependency chains (square roots, divisions) of successive samples.
 
 def _frame(o0, o1, o2, o3, o4, o5, c, s, w, a, u, v):
     rx = u * c - v * s
@@ -60,195 +52,227 @@ def _frame(o0, o1, o2, o3, o4, o5, c, s, w, a, u, v):
     return (o0 + rx, o1 + ry, o2 - w * ry, o3 + w * rx, o4 - a * ry - w2 * rx, o5 + a * rx - w2 * ry)
 
 
-def _put(st, n, x0, x1, x2, x3, x4, x5):
-    st[n] = x0
-    st[n + 1] = x1
-    st[n + 2] = x2
-    st[n + 3] = x3
-    st[n + 4] = x4
-    st[n + 5] = x5
+def _line(st, p, q, i):
+    dx = st[q, i] - st[p, i]
+    dy = st[q + 1, i] - st[p + 1, i]
+    L2 = dx * dx + dy * dy
+    L = math.sqrt(L2)
+    w = (dx * (st[q + 3, i] - st[p + 3, i]) - dy * (st[q + 2, i] - st[p + 2, i])) / L2
+    a = (dx * (st[q + 5, i] - st[p + 5, i]) - dy * (st[q + 4, i] - st[p + 4, i])) / L2
+    return dx / L, dy / L, w, a
 
 
-def _put4(st, n, x0, x1, x2, x3):
-    st[n] = x0
-    st[n + 1] = x1
-    st[n + 2] = x2
-    st[n + 3] = x3
-
-
-def _guide(st, e, ops, par):
-    """(origin slot, c, s, w, a) of an element's guide line."""
-    o = ops[e, 6]
+def _guide(st, e, ops, par, i):
+    """(c, s, w, a) of an element's guide line at sample i (its origin is slot ops[e, 6])."""
     if ops[e, 5] == _G_LINE:
-        c, s, w, a = _line(st, o, ops[e, 7])
-        return o, c, s, w, a
-    return o, par[e, 2], par[e, 3], 0.0, 0.0
+        return _line(st, ops[e, 6], ops[e, 7], i)
+    return par[e, 2], par[e, 3], 0.0, 0.0
 
 
-def _link_from(st, p, n, length, L):
-    rx = st[n] - st[p]
-    ry = st[n + 1] - st[p + 1]
+def _put(st, n, i, x0, x1, x2, x3, x4, x5):
+    st[n, i] = x0
+    st[n + 1, i] = x1
+    st[n + 2, i] = x2
+    st[n + 3, i] = x3
+    st[n + 4, i] = x4
+    st[n + 5, i] = x5
+
+
+def _put4(st, n, i, x0, x1, x2, x3):
+    st[n, i] = x0
+    st[n + 1, i] = x1
+    st[n + 2, i] = x2
+    st[n + 3, i] = x3
+
+
+def _crank(st, m, e, ops, par, need, q, qd, qdd, i0):
+    n, p, L, j = ops[e, 1], ops[e, 2], ops[e, 3], ops[e, 4]
+    r = par[e, 0]
+    keep = need[L]
+    for i in range(m):
+        x, xd, xdd = q[j, i0 + i], qd[j, i0 + i], qdd[j, i0 + i]
+        c = math.cos(x)
+        s = math.sin(x)
+        rx = r * c
+        ry = r * s
+        w2 = xd * xd
+        _put(st, n, i, st[p, i] + rx, st[p + 1, i] + ry, st[p + 2, i] - xd * ry, st[p + 3, i] + xd * rx,
+             st[p + 4, i] - xdd * ry - w2 * rx, st[p + 5, i] + xdd * rx - w2 * ry)
+        if keep:
+            _put4(st, L, i, c, s, xd, xdd)
+
+
+def _slider(st, m, e, ops, par, need, q, qd, qdd, i0):
+    n, o, L, j, sl = ops[e, 1], ops[e, 6], ops[e, 3], ops[e, 4], ops[e, 8]
+    for i in range(m):
+        x, xd, xdd = q[j, i0 + i], qd[j, i0 + i], qdd[j, i0 + i]
+        c, s, w, a = _guide(st, e, ops, par, i)
+        _put(st, n, i, st[o, i] + (x * c - 0.0 * s), st[o + 1, i] + (x * s + 0.0 * c), st[o + 2, i] + xd * c,
+             st[o + 3, i] + xd * s, st[o + 4, i] + xdd * c, st[o + 5, i] + xdd * s)
+        _put4(st, L, i, c, s, 0.0, 0.0)
+        st[sl, i] = x
+        st[sl + 1, i] = xd
+        st[sl + 2, i] = xdd
+
+
+def _rrr(st, m, e, ops, par, need):
+    n, p, pq, L1, L2_, mu = ops[e, 1], ops[e, 2], ops[e, 3], ops[e, 4], ops[e, 5], ops[e, 6]
+    a, b, a2, c1 = par[e, 0], par[e, 1], par[e, 2], par[e, 3]
+    flip = ops[e, 7] < 0
+    keep1, keep2, keepmu = need[L1], need[L2_], need[mu]
+    for i in range(m):
+        px, py, pvx, pvy, pax, pay = st[p, i], st[p + 1, i], st[p + 2, i], st[p + 3, i], st[p + 4, i], st[p + 5, i]
+        dx = st[pq, i] - px
+        dy = st[pq + 1, i] - py
+        L2 = dx * dx + dy * dy
+        inv = 1.0 / L2
+        k1 = inv * c1 + 0.5
+        k2 = math.sqrt(inv * a2 - k1 * k1)
+        if flip:
+            k2 = -k2
+        r1x = k1 * dx - k2 * dy
+        r1y = k1 * dy + k2 * dx
+        r2x = r1x - dx
+        r2y = r1y - dy
+        idet = inv / k2
+        dvx = st[pq + 2, i] - pvx
+        dvy = st[pq + 3, i] - pvy
+        w1 = (r2x * dvx + r2y * dvy) * idet
+        w2 = (r1x * dvx + r1y * dvy) * idet
+        w1s = w1 * w1
+        w2s = w2 * w2
+        Rx = st[pq + 4, i] - pax + w1s * r1x - w2s * r2x
+        Ry = st[pq + 5, i] - pay + w1s * r1y - w2s * r2y
+        al1 = (Rx * r2x + Ry * r2y) * idet
+        _put(st, n, i, px + r1x, py + r1y, pvx - w1 * r1y, pvy + w1 * r1x,
+             pax - al1 * r1y - w1s * r1x, pay + al1 * r1x - w1s * r1y)
+        if keep1:
+            _put4(st, L1, i, r1x / a, r1y / a, w1, al1)
+        if keep2:
+            _put4(st, L2_, i, r2x / b, r2y / b, w2, (Rx * r1x + Ry * r1y) * idet)
+        if keepmu:                               # cross(r1, r2) and r1.r2: mu = atan2(|det|, |dot|)
+            st[mu, i] = k2 * L2
+            st[mu + 1, i] = r1x * r2x + r1y * r2y
+
+
+def _rrp(st, m, e, ops, par, need):
+    n, p, o, Lr, Lb, sl = ops[e, 1], ops[e, 2], ops[e, 6], ops[e, 3], ops[e, 4], ops[e, 8]
+    length, offset, branch = par[e, 0], par[e, 1], par[e, 4]
     l2 = length * length
-    _put4(st, L, rx / length, ry / length, (rx * (st[n + 3] - st[p + 3]) - ry * (st[n + 2] - st[p + 2])) / l2,
-          (rx * (st[n + 5] - st[p + 5]) - ry * (st[n + 4] - st[p + 4])) / l2)
+    for i in range(m):
+        c, s, w, a = _guide(st, e, ops, par, i)
+        oe0, oe1, oe2, oe3, oe4, oe5 = _frame(st[o, i], st[o + 1, i], st[o + 2, i], st[o + 3, i],
+                                              st[o + 4, i], st[o + 5, i], c, s, w, a, 0.0, offset)
+        px, py, pvx, pvy, pax, pay = st[p, i], st[p + 1, i], st[p + 2, i], st[p + 3, i], st[p + 4, i], st[p + 5, i]
+        wx = px - oe0
+        wy = py - oe1
+        wu = wx * c + wy * s
+        disc = wu * wu - (wx * wx + wy * wy) + length * length
+        sd = wu + branch * math.sqrt(disc)
+        c0, c1, c2, c3, c4, c5 = _frame(oe0, oe1, oe2, oe3, oe4, oe5, c, s, w, a, sd, 0.0)
+        rx = c0 - px
+        ry = c1 - py
+        ru = rx * c + ry * s
+        ds = -(rx * (c2 - pvx) + ry * (c3 - pvy)) / ru
+        vx = c2 + ds * c
+        vy = c3 + ds * s
+        ax0 = c4 - 2.0 * ds * w * s
+        ay0 = c5 + 2.0 * ds * w * c
+        ux = vx - pvx
+        uy = vy - pvy
+        dds = -(rx * (ax0 - pax) + ry * (ay0 - pay) + ux * ux + uy * uy) / ru
+        ax = ax0 + dds * c
+        ay = ay0 + dds * s
+        _put(st, n, i, c0, c1, vx, vy, ax, ay)
+        _put4(st, Lr, i, rx / length, ry / length, (rx * (vy - pvy) - ry * (vx - pvx)) / l2,
+              (rx * (ay - pay) - ry * (ax - pax)) / l2)
+        _put4(st, Lb, i, c, s, w, a)
+        st[sl, i] = sd
+        st[sl + 1, i] = ds
+        st[sl + 2, i] = dds
 
 
-def _sample(st, ops, par, qi, qdi, qddi):
-    """Solve every element at one sample into the state vector; the index of the first element whose
-    point is not finite, -1 if none."""
-    fail = -1
-    for e in range(ops.shape[0]):
-        kind = ops[e, 0]
-        n = ops[e, 1]
-        if kind == _CRANK:
-            p, j = ops[e, 2], ops[e, 4]
-            r = par[e, 0]
-            x, xd, xdd = qi[j], qdi[j], qddi[j]
-            c = math.cos(x)
-            s = math.sin(x)
-            rx = r * c
-            ry = r * s
-            w2 = xd * xd
-            _put(st, n, st[p] + rx, st[p + 1] + ry, st[p + 2] - xd * ry, st[p + 3] + xd * rx,
-                 st[p + 4] - xdd * ry - w2 * rx, st[p + 5] + xdd * rx - w2 * ry)
-            _put4(st, ops[e, 3], c, s, xd, xdd)
-        elif kind == _SLIDER:
-            j = ops[e, 4]
-            x, xd, xdd = qi[j], qdi[j], qddi[j]
-            o, c, s, w, a = _guide(st, e, ops, par)
-            _put(st, n, st[o] + (x * c - 0.0 * s), st[o + 1] + (x * s + 0.0 * c), st[o + 2] + xd * c,
-                 st[o + 3] + xd * s, st[o + 4] + xdd * c, st[o + 5] + xdd * s)
-            _put4(st, ops[e, 3], c, s, 0.0, 0.0)
-            sl = ops[e, 8]
-            st[sl] = x
-            st[sl + 1] = xd
-            st[sl + 2] = xdd
-        elif kind == _RRR:
-            p, q = ops[e, 2], ops[e, 3]
-            a, b, a2, c1 = par[e, 0], par[e, 1], par[e, 2], par[e, 3]
-            px, py, pvx, pvy, pax, pay = st[p], st[p + 1], st[p + 2], st[p + 3], st[p + 4], st[p + 5]
-            dx = st[q] - px
-            dy = st[q + 1] - py
-            L2 = dx * dx + dy * dy
-            inv = 1.0 / L2
-            k1 = inv * c1 + 0.5
-            k2 = math.sqrt(inv * a2 - k1 * k1)
-            if ops[e, 7] < 0:
-                k2 = -k2
-            r1x = k1 * dx - k2 * dy
-            r1y = k1 * dy + k2 * dx
-            r2x = r1x - dx
-            r2y = r1y - dy
-            idet = inv / k2
-            dvx = st[q + 2] - pvx
-            dvy = st[q + 3] - pvy
-            w1 = (r2x * dvx + r2y * dvy) * idet
-            w2 = (r1x * dvx + r1y * dvy) * idet
-            w1s = w1 * w1
-            w2s = w2 * w2
-            Rx = st[q + 4] - pax + w1s * r1x - w2s * r2x
-            Ry = st[q + 5] - pay + w1s * r1y - w2s * r2y
-            al1 = (Rx * r2x + Ry * r2y) * idet
-            al2 = (Rx * r1x + Ry * r1y) * idet
-            _put(st, n, px + r1x, py + r1y, pvx - w1 * r1y, pvy + w1 * r1x,
-                 pax - al1 * r1y - w1s * r1x, pay + al1 * r1x - w1s * r1y)
-            _put4(st, ops[e, 4], r1x / a, r1y / a, w1, al1)
-            _put4(st, ops[e, 5], r2x / b, r2y / b, w2, al2)
-            m = ops[e, 6]
-            st[m] = k2 * L2                      # cross(r1, r2) and r1.r2: mu = atan2(|det|, |dot|)
-            st[m + 1] = r1x * r2x + r1y * r2y
-        elif kind == _RRP:
-            p = ops[e, 2]
-            length, offset, branch = par[e, 0], par[e, 1], par[e, 4]
-            o, c, s, w, a = _guide(st, e, ops, par)
-            oe0, oe1, oe2, oe3, oe4, oe5 = _frame(st[o], st[o + 1], st[o + 2], st[o + 3], st[o + 4], st[o + 5],
-                                                  c, s, w, a, 0.0, offset)
-            wx = st[p] - oe0
-            wy = st[p + 1] - oe1
-            wu = wx * c + wy * s
-            disc = wu * wu - (wx * wx + wy * wy) + length * length
-            sd = wu + branch * math.sqrt(disc)
-            c0, c1, c2, c3, c4, c5 = _frame(oe0, oe1, oe2, oe3, oe4, oe5, c, s, w, a, sd, 0.0)
-            rx = c0 - st[p]
-            ry = c1 - st[p + 1]
-            ru = rx * c + ry * s
-            ds = -(rx * (c2 - st[p + 2]) + ry * (c3 - st[p + 3])) / ru
-            vx = c2 + ds * c
-            vy = c3 + ds * s
-            ax0 = c4 - 2.0 * ds * w * s
-            ay0 = c5 + 2.0 * ds * w * c
-            ux = vx - st[p + 2]
-            uy = vy - st[p + 3]
-            dds = -(rx * (ax0 - st[p + 4]) + ry * (ay0 - st[p + 5]) + ux * ux + uy * uy) / ru
-            _put(st, n, c0, c1, vx, vy, ax0 + dds * c, ay0 + dds * s)
-            _link_from(st, p, n, length, ops[e, 3])
-            _put4(st, ops[e, 4], c, s, w, a)
-            sl = ops[e, 8]
-            st[sl] = sd
-            st[sl + 1] = ds
-            st[sl + 2] = dds
-        elif kind == _RPR:
-            p, q = ops[e, 2], ops[e, 3]
-            length, offset, branch = par[e, 0], par[e, 1], par[e, 4]
-            dx = st[q] - st[p]
-            dy = st[q + 1] - st[p + 1]
-            d2 = dx * dx + dy * dy
-            s = branch * math.sqrt(d2 - offset * offset)
-            c = (s * dx + offset * dy) / d2
-            sn = (s * dy - offset * dx) / d2
-            vdx = st[q + 2] - st[p + 2]
-            vdy = st[q + 3] - st[p + 3]
-            w = (-vdx * sn + vdy * c) / s
-            ds = vdx * c + vdy * sn + offset * w
-            adx = st[q + 4] - st[p + 4]
-            ady = st[q + 5] - st[p + 5]
-            a = (-adx * sn + ady * c - 2.0 * ds * w + offset * w * w) / s
-            dds = adx * c + ady * sn + s * w * w + offset * a
-            x0, x1, x2, x3, x4, x5 = _frame(st[p], st[p + 1], st[p + 2], st[p + 3], st[p + 4], st[p + 5],
-                                            c, sn, w, a, length, 0.0)
-            _put(st, n, x0, x1, x2, x3, x4, x5)
-            _put4(st, ops[e, 4], c, sn, w, a)
-            sl = ops[e, 8]
-            st[sl] = s
-            st[sl + 1] = ds
-            st[sl + 2] = dds
-        else:
-            p, q = ops[e, 2], ops[e, 3]
-            c, s, w, a = _line(st, p, q)
-            x0, x1, x2, x3, x4, x5 = _frame(st[p], st[p + 1], st[p + 2], st[p + 3], st[p + 4], st[p + 5],
-                                            c, s, w, a, par[e, 0], par[e, 1])
-            _put(st, n, x0, x1, x2, x3, x4, x5)
-        if fail < 0 and not math.isfinite(st[n]):
-            fail = e
-    return fail
+def _rpr(st, m, e, ops, par, need):
+    n, p, pq, L, sl = ops[e, 1], ops[e, 2], ops[e, 3], ops[e, 4], ops[e, 8]
+    length, offset, branch = par[e, 0], par[e, 1], par[e, 4]
+    for i in range(m):
+        dx = st[pq, i] - st[p, i]
+        dy = st[pq + 1, i] - st[p + 1, i]
+        d2 = dx * dx + dy * dy
+        s = branch * math.sqrt(d2 - offset * offset)
+        c = (s * dx + offset * dy) / d2
+        sn = (s * dy - offset * dx) / d2
+        vdx = st[pq + 2, i] - st[p + 2, i]
+        vdy = st[pq + 3, i] - st[p + 3, i]
+        w = (-vdx * sn + vdy * c) / s
+        ds = vdx * c + vdy * sn + offset * w
+        adx = st[pq + 4, i] - st[p + 4, i]
+        ady = st[pq + 5, i] - st[p + 5, i]
+        a = (-adx * sn + ady * c - 2.0 * ds * w + offset * w * w) / s
+        dds = adx * c + ady * sn + s * w * w + offset * a
+        x0, x1, x2, x3, x4, x5 = _frame(st[p, i], st[p + 1, i], st[p + 2, i], st[p + 3, i], st[p + 4, i],
+                                        st[p + 5, i], c, sn, w, a, length, 0.0)
+        _put(st, n, i, x0, x1, x2, x3, x4, x5)
+        _put4(st, L, i, c, sn, w, a)
+        st[sl, i] = s
+        st[sl + 1, i] = ds
+        st[sl + 2, i] = dds
 
 
-def _kernel(ops, par, init, q, qd, qdd, rows, out, failed):
+def _point(st, m, e, ops, par, need):
+    n, p, pq = ops[e, 1], ops[e, 2], ops[e, 3]
+    u, v = par[e, 0], par[e, 1]
+    for i in range(m):
+        c, s, w, a = _line(st, p, pq, i)
+        x0, x1, x2, x3, x4, x5 = _frame(st[p, i], st[p + 1, i], st[p + 2, i], st[p + 3, i], st[p + 4, i],
+                                        st[p + 5, i], c, s, w, a, u, v)
+        _put(st, n, i, x0, x1, x2, x3, x4, x5)
+
+
+def _kernel(ops, par, init, ground, need, q, qd, qdd, rows, out, failed):
     """Every sample of q, qd, qdd (n_inputs, N): ``failed`` (N,) and the rows of ``out`` (n_rows, N) as
-    ``rows`` (n_rows, 2: output kind, state slot) says."""
+    ``rows`` (n_rows, 2: output kind, state slot) says. ``init`` holds the state's constant slots (those
+    listed in ``ground``); ``need`` marks the slots that outputs read."""
     n = q.shape[1]
-    k = q.shape[0]
-    nr = rows.shape[0]
     for chunk in prange((n + CHUNK - 1) // CHUNK):
-        st = init.copy()
-        qi = np.empty(k)
-        qdi = np.empty(k)
-        qddi = np.empty(k)
-        for i in range(chunk * CHUNK, min(n, (chunk + 1) * CHUNK)):
-            for j in range(k):
-                qi[j] = q[j, i]
-                qdi[j] = qd[j, i]
-                qddi[j] = qdd[j, i]
-            failed[i] = _sample(st, ops, par, qi, qdi, qddi)
-            for r in range(nr):
-                kind = rows[r, 0]
-                src = rows[r, 1]
-                if kind == _OUT_COPY:
-                    out[r, i] = st[src]
-                elif kind == _OUT_PHI:
-                    out[r, i] = math.atan2(st[src + 1], st[src])
-                else:
-                    out[r, i] = math.atan2(abs(st[src]), abs(st[src + 1]))
+        i0 = chunk * CHUNK
+        m = min(n - i0, CHUNK)
+        st = np.empty((init.shape[0], CHUNK + 8))   # rows 4 KiB + 64 B apart: no cache-set aliasing
+        for g in ground:
+            st[g, :] = init[g]
+        for e in range(ops.shape[0]):
+            kind = ops[e, 0]
+            if kind == _CRANK:
+                _crank(st, m, e, ops, par, need, q, qd, qdd, i0)
+            elif kind == _SLIDER:
+                _slider(st, m, e, ops, par, need, q, qd, qdd, i0)
+            elif kind == _RRR:
+                _rrr(st, m, e, ops, par, need)
+            elif kind == _RRP:
+                _rrp(st, m, e, ops, par, need)
+            elif kind == _RPR:
+                _rpr(st, m, e, ops, par, need)
+            else:
+                _point(st, m, e, ops, par, need)
+        for i in range(m):                           # the first element whose point is not finite
+            f = -1
+            for e in range(ops.shape[0]):
+                if not math.isfinite(st[ops[e, 1], i]):
+                    f = e
+                    break
+            failed[i0 + i] = f
+        for r in range(rows.shape[0]):
+            kind = rows[r, 0]
+            src = rows[r, 1]
+            if kind == _OUT_COPY:
+                for i in range(m):
+                    out[r, i0 + i] = st[src, i]
+            elif kind == _OUT_PHI:
+                for i in range(m):
+                    out[r, i0 + i] = math.atan2(st[src + 1, i], st[src, i])
+            else:
+                for i in range(m):
+                    out[r, i0 + i] = math.atan2(abs(st[src, i]), abs(st[src + 1, i]))
 
 
 prange = range
@@ -256,14 +280,15 @@ _compiled = None
 
 
 def _compile():
-    """Import numba and compile (or load from its cache) the kernel, once per process."""
+    """Import numba and compile the kernel (or load it from numba's cache), once per process."""
     global _compiled, prange
     if _compiled is None:
         import numba
         prange = numba.prange
         g = globals()
-        for name in ("_line", "_frame", "_put", "_put4", "_guide", "_link_from", "_sample"):
-            g[name] = numba.njit(cache=True, inline="always", error_model="numpy")(g[name])
+        for name in ("_frame", "_line", "_guide", "_put", "_put4", "_crank", "_slider", "_rrr", "_rrp", "_rpr",
+                     "_point"):
+            g[name] = numba.njit(cache=True, error_model="numpy")(g[name])
         _compiled = numba.njit(cache=True, parallel=True, error_model="numpy")(_kernel)
     return _compiled
 
@@ -274,9 +299,11 @@ class _Layout:
 
     def __init__(self, geometry):
         slots = 0
+        base = []                                    # slot -> first slot of its point, link, pair, mu
 
         def alloc(size):
             nonlocal slots
+            base.extend([slots] * size)
             slots += size
             return slots - size
 
@@ -343,6 +370,8 @@ class _Layout:
         state = np.zeros(slots)
         for o, x, y in init:
             state[o], state[o + 1] = x, y
+        self.base = np.array(base, dtype=np.int64)
+        self.ground = np.array([o + i for o, _, _ in init for i in range(6)], dtype=np.int64)
         names, rows = [], []
         for p, o in point.items():
             for i, prefix in enumerate(("x", "y", "vx", "vy", "ax", "ay")):
@@ -391,9 +420,11 @@ def solve(geometry, q, qd, qdd, want=None):
     else:
         pick = [i for i, name in enumerate(layout.names) if name in want]
         names, rows = tuple(layout.names[i] for i in pick), layout.rows[pick]
+    need = np.zeros(layout.init.shape[0], dtype=np.bool_)     # links and mu: only when asked for
+    need[layout.base[rows[:, 1]]] = True
     q, qd, qdd = (np.ascontiguousarray(a, dtype=np.float64) for a in (q, qd, qdd))
     n = q.shape[1]
     out = np.empty((len(names), n))
     failed = np.empty(n, dtype=np.int64)
-    kernel(layout.ops, layout.par, layout.init, q, qd, qdd, rows, out, failed)
+    kernel(layout.ops, layout.par, layout.init, layout.ground, need, q, qd, qdd, rows, out, failed)
     return dict(zip(names, out)), failed

@@ -162,8 +162,9 @@ def analyze(mech: Mechanism, samples: int = 361, revolutions: float = 1.0,
         mech.check_assembles(q)
     sol = mech.solve(q, qd, qdd)
     cols = {}
-    for k, inp in enumerate(mech.inputs):
-        cols[inp.q], cols[inp.qd], cols[inp.qdd] = q[:, k], qd[:, k], qdd[:, k]
+    for attr, arr in (("q", q), ("qd", qd), ("qdd", qdd)):          # phi2 phi4 omega2 omega4 alpha2 alpha4
+        for k, inp in enumerate(mech.inputs):
+            cols[getattr(inp, attr)] = arr[:, k]
     return Analysis(t, cols, sol, mech.figures(sol))
 
 

@@ -231,14 +231,6 @@ def solve(geometry, q, qd, qdd, guess, iterations=60):
     return out, step
 
 
-def residual_norm(geometry, points, q):
-    """max |F| at a solution (positions only) [m^2 or m]: how well the oracle satisfies its equations."""
-    names = _names(geometry)
-    x = np.stack([points[n][c] for n in names for c in (0, 1)], -1)
-    rows = residual(geometry, _pack(names, x), [Jet(q[:, j]) for j in range(q.shape[1])])
-    return max(float(np.max(np.abs(r.c0))) for r in rows)
-
-
 def branch_violations(geometry, points):
     """Per element with a branch, the number of samples whose root is not the one the file's branch
     names (by the conventions in the module docstring)."""

@@ -50,14 +50,14 @@ def test_fourbar_json_has_grashof_and_transmission_angle():
 
 
 @pytest.mark.parametrize("args,pattern", [
-    (["fourbar", "--set", "l1=-1"], "l1=-1.0 is not a valid length"),
-    (["fourbar", "--set", "bogus=1"], "valid names: l1, l2"),
+    (["fourbar", "--set", "l1=-1"], r"l1=-1(\.0)? is not a valid length"),
+    (["fourbar", "--set", "bogus=1"], "parameters: l1, l2"),
     (["fourbar", "--set", "l1=abc"], "is not a number"),
     (["fourbar", "--set", "l1=0.2", "--set", "l3=0.1"], "cannot turn fully .*limit angles"),
     (["fivebar", "--set", "l1=0.1"], "B and C can meet"),
     (["sixbar", "--set", "l3=0.3"], "run off the guide bar"),
     (["sixbar", "--set", "l4=0.001"], "cannot reach the ram line"),
-    (["fourbar", "--samples", "1"], "--samples"),
+    (["fourbar", "--samples", "1"], "samples=1 must be an integer"),
     (["fourbar", "--csv", "/nonexistent/x.csv"], "does not exist"),
 ])
 def test_bad_input_is_one_line_exit_2(args, pattern):

@@ -24,30 +24,21 @@ import pytest
 
 import analytic
 import oracle_linkage as oracle
+from analytic import _jit
 
 NAMES = analytic.names()
 SAMPLES = 180
 
-POS_TOL = 1e-12
-"""Positions: closed form vs converged Newton, both at rounding level; relative to the mechanism's size."""
-RATE_TOL = 1e-9
-"""Velocities, accelerations, angular rates: rounding amplified by 1/sin(transmission angle) (>= 8 deg
-here); relative to the peak of that output over the period."""
-GUESS = 1e-3
-"""Newton's start: the analytic solution perturbed by this fraction of the size (the branch is then
-checked against the file's conventions independently)."""
-NEWTON_STEP_TOL = 1e-14
-"""Newton's last step, relative to the size: it has converged to rounding level."""
-FD_STEPS = 4000
-"""Finite-difference step h = period / FD_STEPS."""
-FD_TOL = 1e-7
-"""Five-point central differences: truncation ~ (omega h)^4 / 30 ~ 2e-13 times the growth of the motion's
-harmonics (Jansen's near-toggle at D: worst 5e-9), rounding ~ 1e-16 size / h; relative to the peak rate."""
-MIN_MU_DEG = 8.0
-"""Smallest transmission angle allowed in a shipped file: Jansen's holy numbers come to 8.6 deg at D (a
-property of his design); every other file stays above 23 deg."""
-MAX_DENOMINATOR = 64
-"""Two cranks: their speed ratio as a fraction p/q (q <= 64) gives the common period."""
+# Tolerances (each bounds one error; all relative, as stated)
+POS_TOL = 1e-12          # positions, / size: rounding of a closed form vs a Newton solution converged to rounding
+RATE_TOL = 1e-9          # velocities, accelerations, slides' and links' rates, / their peak: rounding x 1/sin(mu >= 8 deg)
+NEWTON_STEP_TOL = 1e-14  # Newton's last step, / size: the oracle has converged (quadratically) to rounding level
+GUESS = 1e-3             # not a tolerance: Newton starts this fraction of the size off the solver's answer
+FD_STEPS = 4000          # finite-difference step h = period / FD_STEPS
+FD_TOL = 1e-7            # five-point differences, / peak rate: truncation (omega h)^4/30 x harmonics (Jansen 5e-9) + eps size/h
+MIN_MU_DEG = 8.0         # dead-centre clearance of a shipped file: Jansen's holy numbers reach 8.6 deg at D, others >= 23
+MIN_SLIDE = 0.05         # |s| / size of a slotted link (its rates grow like 1/s): Whitworth's block comes to 0.1
+MAX_DENOMINATOR = 64     # two cranks: speed ratio taken as p/q with q <= 64 to find the common period
 
 
 # ------------------------------------------------------------------------------------------ helpers
@@ -56,18 +47,17 @@ def _rng(name: str, salt: int = 0) -> np.random.Generator:
 
 
 def _laws(m):
-    """Each input's (q0, rate) as written in the file (crank: phi0, omega; slider: s0, v)."""
-    return [(e["phi0"], e["omega"]) if e["kind"] == "crank" else (e["s0"], e["v"])
+    """Each input's (kind, q0, rate) as written in the file (crank: phi0, omega; slider: s0, v)."""
+    return [(e["kind"], e["phi0"], e["omega"]) if e["kind"] == "crank" else (e["kind"], e["s0"], e["v"])
             for e in m.geometry.elements if e["kind"] in ("crank", "slider")]
 
 
 def period(m) -> float:
     """The time after which every input is back where it started (a slider: one second)."""
     laws = _laws(m)
-    kinds = [e["kind"] for e in m.geometry.elements if e["kind"] in ("crank", "slider")]
-    if any(k == "slider" for k in kinds):
+    if any(k == "slider" for k, _, _ in laws):
         return 1.0
-    turns = [2 * math.pi / abs(w) for _, w in laws]
+    turns = [2 * math.pi / abs(w) for _, _, w in laws]
     if len(turns) == 1:
         return turns[0]
     ratio = Fraction(turns[1] / turns[0]).limit_denominator(MAX_DENOMINATOR)  # T1 / T0 = p / q
@@ -80,11 +70,11 @@ def drive(m, n: int, rng: np.random.Generator | None = None, endpoint: bool = Fa
     T = period(m)
     t = np.linspace(0.0, T, n, endpoint=endpoint)
     laws = _laws(m)
-    q = np.stack([q0 + w * t for q0, w in laws], -1)
-    qd = np.stack([np.full(n, w) for _, w in laws], -1)
+    q = np.stack([q0 + w * t for _, q0, w in laws], -1)
+    qd = np.stack([np.full(n, w) for _, _, w in laws], -1)
     qdd = np.zeros_like(q)
     if rng is not None:
-        qdd = np.stack([rng.uniform(-3, 3, n) * w * w for _, w in laws], -1)
+        qdd = np.stack([rng.uniform(-3, 3, n) * w * w / (1.0 if k == "crank" else m.size) for k, _, w in laws], -1)
     return t, q, qd, qdd
 
 
@@ -100,9 +90,7 @@ def compare(m, rng, geometry=None, qdd_scale=1.0) -> dict[str, float]:
     guess = {p: (sol["x" + p] + rng.uniform(-1, 1, SAMPLES) * GUESS * size,
                  sol["y" + p] + rng.uniform(-1, 1, SAMPLES) * GUESS * size) for p in moving}
     pts, step = oracle.solve(geometry, q, qd, qdd * qdd_scale, guess)
-    worst = {"newton_step": step / size,
-             "residual": oracle.residual_norm(geometry, pts, q) / size,
-             "branch": sum(oracle.branch_violations(geometry, pts).values())}
+    worst = {"newton_step": step / size, "branch": sum(oracle.branch_violations(geometry, pts).values())}
     pos = vel = acc = 0.0
     for p in m.points:
         x, y, vx, vy, ax, ay = pts[p]
@@ -118,7 +106,7 @@ def compare(m, rng, geometry=None, qdd_scale=1.0) -> dict[str, float]:
                     np.max(np.abs(sol["ds" + j] - ds)) / max(np.max(np.abs(ds)), 1e-300),
                     np.max(np.abs(sol["dds" + j] - dds)) / max(np.max(np.abs(dds)), 1e-300))
     worst["slide"] = slide
-    rates = oracle.link_rates(geometry, pts)
+    rates = oracle.link_rates(geometry, pts)     # a link that does not turn: error / 1e-3 of the fastest link's
     wpeak = max(np.max(np.abs(w)) for w, _ in rates.values())
     apeak = max(np.max(np.abs(a)) for _, a in rates.values())
     rate = 0.0
@@ -140,8 +128,17 @@ def _assert_agree(name, worst):
 
 
 # ------------------------------------------------------------------------------------- vs the oracle
+@pytest.fixture(params=["numpy", "compiled"])
+def solver_path(request, monkeypatch):
+    """Mechanism.solve through analytic/kinematics.py (numpy) or its numba twin (analytic/_jit.py)."""
+    if request.param == "compiled" and not _jit.AVAILABLE:
+        pytest.skip("numba is not installed")
+    monkeypatch.setenv("LINKAGE_JIT", "1" if request.param == "compiled" else "0")
+    return request.param
+
+
 @pytest.mark.parametrize("name", NAMES)
-def test_solver_matches_newton_oracle(name):
+def test_solver_matches_newton_oracle(name, solver_path):
     m = analytic.load(name)
     _assert_agree(name, compare(m, _rng(name)))
 
@@ -152,7 +149,7 @@ def test_solver_matches_newton_oracle(name):
     ("slider_crank", {"e": 0.03, "branch": -1}),             # offset guide, piston on the left
     ("fourbar", {"branch": -1}),
 ])
-def test_solver_matches_newton_oracle_off_defaults(name, overrides):
+def test_solver_matches_newton_oracle_off_defaults(name, overrides, solver_path):
     m = analytic.load(name, **overrides)
     _assert_agree(name, compare(m, _rng(name, 1)))
 
@@ -215,7 +212,7 @@ lengths = [0.2, 0.15]
 
 
 @pytest.mark.parametrize("name", sorted(OTHER_FORMS))
-def test_solver_matches_newton_oracle_on_other_element_forms(name):
+def test_solver_matches_newton_oracle_on_other_element_forms(name, solver_path):
     """Element forms the library does not use: RPR offset and branch -1, a guide on a moving link, a
     driven slider."""
     m = analytic.from_text(OTHER_FORMS[name], name)
@@ -241,7 +238,7 @@ def test_comparison_fails_when_a_length_is_off_by_1e_6(name):
     1e-6 too long: positions must then disagree far beyond POS_TOL."""
     m = analytic.load(name)
     worst = compare(m, _rng(name), geometry=_perturbed(m.geometry, len(m.geometry.elements) - 1, 1e-6))
-    assert worst["position"] > 1e3 * POS_TOL, worst
+    assert worst["position"] > 1e3 * POS_TOL, worst      # ~1e-7 size expected: far outside POS_TOL
 
 
 @pytest.mark.parametrize("name", ["fourbar", "whitworth", "two_crank_five_bar"])
@@ -250,7 +247,7 @@ def test_comparison_fails_when_input_accelerations_are_off_by_1e_6(name):
     m = analytic.load(name)
     worst = compare(m, _rng(name), qdd_scale=1 + 1e-6)
     assert worst["position"] <= POS_TOL and worst["velocity"] <= RATE_TOL, worst
-    assert worst["acceleration"] > 10 * RATE_TOL, worst
+    assert worst["acceleration"] > 10 * RATE_TOL, worst  # ~1e-6 expected: RATE_TOL resolves it
 
 
 # ------------------------------------------------------------------------------- the files as shipped
@@ -269,6 +266,14 @@ def test_assembles_over_a_full_period_clear_of_dead_centres(name):
     assert sol.valid.all(), (name, sol.first_failure())
     for mu in (k for k in m.general_outputs if k.startswith("mu")):
         assert np.degrees(np.min(sol[mu])) >= MIN_MU_DEG, (name, mu, np.degrees(np.min(sol[mu])))
+    for e in m.geometry.elements:
+        if e["kind"] == "RRP":       # singular when the rod stands square to the guide
+            rod, block = e["links"]
+            mu = np.degrees(np.arcsin(np.min(np.abs(np.cos(sol["phi" + rod] - sol["phi" + block])))))
+            assert mu >= MIN_MU_DEG, (name, e["label"], mu)
+        elif e["kind"] == "RPR":     # singular when the block reaches the pivot (the slot's rate ~ v / s)
+            s = np.min(np.abs(sol["s" + e["links"][1]]))
+            assert s >= MIN_SLIDE * m.size, (name, e["label"], s / m.size)
 
 
 def _five_point(f, h):
@@ -301,15 +306,23 @@ def test_peaucellier_draws_an_exact_straight_line():
     _, sol = m.solve_at(t)
     v = m.values
     x_line = (v["arm"] ** 2 - v["side"] ** 2) / (2 * v["r"]) * m.scale
-    assert np.max(np.abs(sol["xP"] - x_line)) <= POS_TOL * m.size      # OC * OP = arm^2 - side^2
-    assert np.max(np.abs(sol["vxP"])) <= RATE_TOL * np.max(np.abs(sol["vyP"]))
+    assert np.max(np.abs(sol["xP"] - x_line)) <= POS_TOL * m.size      # OC * OP = arm^2 - side^2: rounding only
+    assert np.max(np.abs(sol["vxP"])) <= RATE_TOL * np.max(np.abs(sol["vyP"]))   # no sideways motion, to rounding
+    assert np.max(np.abs(sol["axP"])) <= RATE_TOL * np.max(np.abs(sol["ayP"]))
 
 
 def test_slider_crank_and_whitworth_strokes():
+    """Dead centres where theory puts them: the ram at rest there, at the stroke's ends."""
     sc = analytic.load("slider_crank")
-    _, sol = sc.solve_at(drive(sc, 721, endpoint=True)[0])
-    assert np.ptp(sol["xC"]) == pytest.approx(2 * sc.values["r"], rel=1e-9)   # in-line: stroke = 2 r
+    r, l = sc.values["r"], sc.values["l"]
+    sol = sc.solve([0.0, math.pi], 2 * math.pi)             # in-line: dead centres at 0 and 180 deg
+    assert np.allclose(sol["xC"], [l + r, l - r], rtol=0, atol=POS_TOL * sc.size)
+    assert np.max(np.abs(sol["vxC"])) <= RATE_TOL * 2 * math.pi * r     # / the crank pin's speed
     w = analytic.load("whitworth")
-    _, sol = w.solve_at(drive(w, 7201, endpoint=True)[0])
-    # the ram line passes through the lever pivot: stroke = 2 CD
-    assert np.ptp(sol["xR"]) == pytest.approx(2 * w.values["arm"] * w.scale, rel=1e-6)
+    v, k = w.values, w.scale
+    a = math.asin(v["c"] / v["r"])                           # the lever is horizontal: crank pin at C's height
+    sol = w.solve([-a, a - math.pi], 2 * math.pi)
+    assert np.allclose(sol["xR"], [(v["rod"] - v["arm"]) * k, (v["rod"] + v["arm"]) * k], rtol=0,
+                       atol=POS_TOL * w.size)                # stroke 2 CD: the ram line runs through C
+    assert np.max(np.abs(sol["vxR"])) <= RATE_TOL * 2 * math.pi * v["r"] * k
+    assert (math.pi + 2 * a) / (math.pi - 2 * a) == pytest.approx(2.735, abs=5e-4)   # quick-return ratio

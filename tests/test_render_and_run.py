@@ -9,8 +9,7 @@ import pytest
 import sim  # noqa: F401  (chooses the offscreen GL backend before mujoco is imported)
 import imageio.v3 as iio
 
-from analytic import FourBar
-from sim import model, render, simulate
+from sim import render, service
 
 
 def run(*args, cwd=None):
@@ -20,8 +19,7 @@ def run(*args, cwd=None):
 @pytest.mark.parametrize("ext", ["mp4", "gif"])
 def test_render_decodes_with_expected_frames_and_content(tmp_path, ext):
     out = tmp_path / f"fourbar.{ext}"
-    built = model.build(FourBar())
-    tr = simulate.simulate(built, 0.5)
+    built, tr = service.simulate(service.load("fourbar"), 0.5)
     stats = render.render(built, tr, str(out), fps=20, size=(160, 120))
     frames = iio.imread(out, index=None)
     # 0.5 s at 20 fps: frames at 0, 0.05, ..., 0.5 s.

@@ -66,7 +66,7 @@ def test_area_of_a_circle_path():
 
 
 @pytest.mark.parametrize("args,pattern", [
-    (["--vary", "bogus=1,2"], "not a FiveBar parameter"),
+    (["--vary", "bogus=1,2"], "'bogus' is not a parameter of fivebar"),
     (["--vary", "l1=0.3:0.2:5"], "empty or inverted"),
     (["--vary", "l1="], "no values"),
     (["--vary", "l1=0.2:0.3:100000", "--vary", "l2=0.01:0.02:101"], "add --yes"),
