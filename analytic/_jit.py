@@ -88,7 +88,6 @@ def _put4(st, n, i, x0, x1, x2, x3):
 def _crank(st, m, e, ops, par, need, q, qd, qdd, i0):
     n, p, L, j = ops[e, 1], ops[e, 2], ops[e, 3], ops[e, 4]
     r = par[e, 0]
-    keep = need[L]
     for i in range(m):
         x, xd, xdd = q[j, i0 + i], qd[j, i0 + i], qdd[j, i0 + i]
         c = math.cos(x)
@@ -98,8 +97,7 @@ def _crank(st, m, e, ops, par, need, q, qd, qdd, i0):
         w2 = xd * xd
         _put(st, n, i, st[p, i] + rx, st[p + 1, i] + ry, st[p + 2, i] - xd * ry, st[p + 3, i] + xd * rx,
              st[p + 4, i] - xdd * ry - w2 * rx, st[p + 5, i] + xdd * rx - w2 * ry)
-        if keep:
-            _put4(st, L, i, c, s, xd, xdd)
+        _put4(st, L, i, c, s, xd, xdd)
 
 
 def _slider(st, m, e, ops, par, need, q, qd, qdd, i0):
@@ -115,44 +113,51 @@ def _slider(st, m, e, ops, par, need, q, qd, qdd, i0):
         st[sl + 2, i] = xdd
 
 
+def _rrr_at(st, i, p, pq, a2, c1, flip):
+    px, py, pvx, pvy, pax, pay = st[p, i], st[p + 1, i], st[p + 2, i], st[p + 3, i], st[p + 4, i], st[p + 5, i]
+    dx = st[pq, i] - px
+    dy = st[pq + 1, i] - py
+    L2 = dx * dx + dy * dy
+    inv = 1.0 / L2
+    k1 = inv * c1 + 0.5
+    k2 = math.sqrt(inv * a2 - k1 * k1)
+    if flip:
+        k2 = -k2
+    r1x = k1 * dx - k2 * dy
+    r1y = k1 * dy + k2 * dx
+    r2x = r1x - dx
+    r2y = r1y - dy
+    idet = inv / k2
+    dvx = st[pq + 2, i] - pvx
+    dvy = st[pq + 3, i] - pvy
+    w1 = (r2x * dvx + r2y * dvy) * idet
+    w2 = (r1x * dvx + r1y * dvy) * idet
+    w1s = w1 * w1
+    w2s = w2 * w2
+    Rx = st[pq + 4, i] - pax + w1s * r1x - w2s * r2x
+    Ry = st[pq + 5, i] - pay + w1s * r1y - w2s * r2y
+    al1 = (Rx * r2x + Ry * r2y) * idet
+    C = (px + r1x, py + r1y, pvx - w1 * r1y, pvy + w1 * r1x, pax - al1 * r1y - w1s * r1x,
+         pay + al1 * r1x - w1s * r1y)
+    return C, r1x, r1y, r2x, r2y, w1, w2, al1, (Rx * r1x + Ry * r1y) * idet, k2 * L2
+
+
 def _rrr(st, m, e, ops, par, need):
-    n, p, pq, L1, L2_, mu = ops[e, 1], ops[e, 2], ops[e, 3], ops[e, 4], ops[e, 5], ops[e, 6]
+    n, p, pq, L1, L2, mu = ops[e, 1], ops[e, 2], ops[e, 3], ops[e, 4], ops[e, 5], ops[e, 6]
     a, b, a2, c1 = par[e, 0], par[e, 1], par[e, 2], par[e, 3]
     flip = ops[e, 7] < 0
-    keep1, keep2, keepmu = need[L1], need[L2_], need[mu]
-    for i in range(m):
-        px, py, pvx, pvy, pax, pay = st[p, i], st[p + 1, i], st[p + 2, i], st[p + 3, i], st[p + 4, i], st[p + 5, i]
-        dx = st[pq, i] - px
-        dy = st[pq + 1, i] - py
-        L2 = dx * dx + dy * dy
-        inv = 1.0 / L2
-        k1 = inv * c1 + 0.5
-        k2 = math.sqrt(inv * a2 - k1 * k1)
-        if flip:
-            k2 = -k2
-        r1x = k1 * dx - k2 * dy
-        r1y = k1 * dy + k2 * dx
-        r2x = r1x - dx
-        r2y = r1y - dy
-        idet = inv / k2
-        dvx = st[pq + 2, i] - pvx
-        dvy = st[pq + 3, i] - pvy
-        w1 = (r2x * dvx + r2y * dvy) * idet
-        w2 = (r1x * dvx + r1y * dvy) * idet
-        w1s = w1 * w1
-        w2s = w2 * w2
-        Rx = st[pq + 4, i] - pax + w1s * r1x - w2s * r2x
-        Ry = st[pq + 5, i] - pay + w1s * r1y - w2s * r2y
-        al1 = (Rx * r2x + Ry * r2y) * idet
-        _put(st, n, i, px + r1x, py + r1y, pvx - w1 * r1y, pvy + w1 * r1x,
-             pax - al1 * r1y - w1s * r1x, pay + al1 * r1x - w1s * r1y)
-        if keep1:
+    if need[L1] or need[L2] or need[mu]:         # two loops rather than tests inside one: 3x faster
+        for i in range(m):
+            C, r1x, r1y, r2x, r2y, w1, w2, al1, al2, det = _rrr_at(st, i, p, pq, a2, c1, flip)
+            _put(st, n, i, C[0], C[1], C[2], C[3], C[4], C[5])
             _put4(st, L1, i, r1x / a, r1y / a, w1, al1)
-        if keep2:
-            _put4(st, L2_, i, r2x / b, r2y / b, w2, (Rx * r1x + Ry * r1y) * idet)
-        if keepmu:                               # cross(r1, r2) and r1.r2: mu = atan2(|det|, |dot|)
-            st[mu, i] = k2 * L2
+            _put4(st, L2, i, r2x / b, r2y / b, w2, al2)
+            st[mu, i] = det                      # cross(r1, r2) and r1.r2: mu = atan2(|det|, |dot|)
             st[mu + 1, i] = r1x * r2x + r1y * r2y
+    else:
+        for i in range(m):
+            C = _rrr_at(st, i, p, pq, a2, c1, flip)[0]
+            _put(st, n, i, C[0], C[1], C[2], C[3], C[4], C[5])
 
 
 def _rrp(st, m, e, ops, par, need):
@@ -229,15 +234,15 @@ def _point(st, m, e, ops, par, need):
         _put(st, n, i, x0, x1, x2, x3, x4, x5)
 
 
-def _kernel(ops, par, init, ground, need, q, qd, qdd, rows, out, failed):
+def _kernel(ops, par, init, ground, need, q, qd, qdd, rows, out, failed, size):
     """Every sample of q, qd, qdd (n_inputs, N): ``failed`` (N,) and the rows of ``out`` (n_rows, N) as
     ``rows`` (n_rows, 2: output kind, state slot) says. ``init`` holds the state's constant slots (those
-    listed in ``ground``); ``need`` marks the slots that outputs read."""
+    listed in ``ground``); ``need`` marks the slots that outputs read; ``size``: samples per work item."""
     n = q.shape[1]
-    for chunk in prange((n + CHUNK - 1) // CHUNK):
-        i0 = chunk * CHUNK
-        m = min(n - i0, CHUNK)
-        st = np.empty((init.shape[0], CHUNK + 8))   # rows 4 KiB + 64 B apart: no cache-set aliasing
+    for chunk in prange((n + size - 1) // size):
+        i0 = chunk * size
+        m = min(n - i0, size)
+        st = np.empty((init.shape[0], size + 8))   # rows 4 KiB + 64 B apart: no cache-set aliasing
         for g in ground:
             st[g, :] = init[g]
         for e in range(ops.shape[0]):
@@ -286,8 +291,9 @@ def _compile():
         import numba
         prange = numba.prange
         g = globals()
-        for name in ("_frame", "_line", "_guide", "_put", "_put4", "_crank", "_slider", "_rrr", "_rrp", "_rpr",
-                     "_point"):
+        for name in ("_frame", "_line", "_guide", "_put", "_put4", "_rrr_at"):
+            g[name] = numba.njit(cache=True, error_model="numpy", inline="always")(g[name])
+        for name in ("_crank", "_slider", "_rrr", "_rrp", "_rpr", "_point"):
             g[name] = numba.njit(cache=True, error_model="numpy")(g[name])
         _compiled = numba.njit(cache=True, parallel=True, error_model="numpy")(_kernel)
     return _compiled
@@ -426,5 +432,5 @@ def solve(geometry, q, qd, qdd, want=None):
     n = q.shape[1]
     out = np.empty((len(names), n))
     failed = np.empty(n, dtype=np.int64)
-    kernel(layout.ops, layout.par, layout.init, layout.ground, need, q, qd, qdd, rows, out, failed)
+    kernel(layout.ops, layout.par, layout.init, layout.ground, need, q, qd, qdd, rows, out, failed, CHUNK)
     return dict(zip(names, out)), failed

@@ -215,9 +215,6 @@ def _check(data: dict, source: str, default_name: str) -> Definition:
             elements.append(_element(item, f"{section}[{i}]", section, source))
     inputs = tuple(e for e in elements if e.kind in INPUT_KINDS)
     groups = tuple(e for e in elements if e.kind in GROUP_KINDS)
-    if not inputs:
-        raise _fail(source, "inputs", "no input: add an [[inputs]] crank or slider")
-
     _check_names(source, params, ground, elements)
     order = _solve_order(source, ground, elements)
     kinds = _parameter_kinds(source, params, ground, elements)
@@ -476,6 +473,9 @@ def _check_mobility(d: Definition) -> None:
     """Gruebler's count M = 3 (n - 1) - 2 j must equal the number of inputs."""
     n, j = structure_counts(d)
     mobility = 3 * (n - 1) - 2 * j
+    if not d.inputs:
+        raise _fail(d.source, "inputs", f"no input: the mechanism has mobility {mobility} (Gruebler: 3 x ({n} - 1) - "
+                                        f"2 x {j} = {mobility}); add an [[inputs]] crank or slider")
     if mobility != len(d.inputs):
         raise _fail(d.source, "inputs", f"the mechanism has mobility {mobility} (Gruebler: 3 x ({n} - 1) - 2 x {j}"
                                         f" = {mobility}) but {len(d.inputs)} input(s); give one input per "

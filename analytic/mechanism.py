@@ -206,8 +206,9 @@ class Mechanism:
         values = linkfile.parameter_values(definition, overrides)
         for name, kind in definition.parameter_kind.items():
             if kind == "length" and values[name] <= 0 and _is_size(definition, name):
+                where = "" if name in (overrides or {}) else f" (parameters.{name} in {definition.source})"
                 raise ParameterError(f"{name}={values[name]:g} is not a valid length: it must be > 0 "
-                                     f"[{definition.units}]")
+                                     f"[{definition.units}]{where}")
         geometry = linkfile.resolve(definition, values)
         mech = cls(definition, values, geometry, builtin, definition.description, None, dict(overrides or {}))
         if builtin is not None:
@@ -395,8 +396,8 @@ class Mechanism:
 
     @property
     def size(self) -> float:
-        """The mechanism's size [m]: the largest distance between two of its points over a run, bounded
-        below by its longest link; sets scale-relative tolerances and drawing sizes."""
+        """The mechanism's size [m]: its longest link or the spread of its ground points, whichever is
+        larger; sets scale-relative tolerances and drawing sizes."""
         lengths = [abs(v) for e in self.geometry.elements for k, v in e.items()
                    if k in ("length",) and isinstance(v, float)]
         lengths += [abs(x) for e in self.geometry.elements if e["kind"] == "RRR" for x in e["lengths"]]
