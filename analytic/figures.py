@@ -53,23 +53,22 @@ def assembly_ranges(mech, samples: int = SCAN) -> list[tuple[float, float]]:
     if good.all():
         return [(lo, hi)]
     edges = np.flatnonzero(np.diff(good.astype(np.int8)))
+    # bisect every edge at once: one solve per halving
+    a, b = q[edges].copy(), q[edges + 1].copy()
+    side = good[edges]
+    for _ in range(60):
+        m = 0.5 * (a + b)
+        same = ok(m) == side
+        a, b = np.where(same, m, a), np.where(same, b, m)
+        if np.max(b - a) < 1e-13:
+            break
     ranges, start = [], (lo if good[0] else None)
-    for k in edges:
-        a, b = q[k], q[k + 1]
-        for _ in range(60):
-            m = 0.5 * (a + b)
-            if ok(m)[0] == good[k]:
-                a = m
-            else:
-                b = m
-            if b - a < 1e-13:
-                break
-        x = a if good[k] else b
-        if good[k]:
-            ranges.append((start, x))
+    for i in range(len(edges)):
+        if side[i]:
+            ranges.append((start, float(a[i])))
             start = None
         else:
-            start = x
+            start = float(b[i])
     if start is not None:
         ranges.append((start, hi))
     # a gap narrower than GAP is rounding at a fold that still assembles (a change point): close it
@@ -153,25 +152,29 @@ def singular_poses(mech, samples: int = SCAN) -> list[tuple[float, str, float]]:
         n = max(int(samples * (b0 - a0) / (2 * math.pi)), 16)
         pad = (b0 - a0) / n if full else 0.0          # a full turn is periodic: look past its ends
         q = np.linspace(a0 - pad, b0 + pad, n + 3 if full else n + 1)
+        nan_as = 0.0 if full else np.inf           # inside a full turn a NaN is rounding at a fold: singular
         for label, m in measures(q).items():
-            m = np.where(np.isfinite(m), m, np.inf)
-            for k in np.flatnonzero((m[1:-1] <= m[:-2]) & (m[1:-1] <= m[2:])) + 1:
-                a, b = q[k - 1], q[k + 1]
-                g = (math.sqrt(5) - 1) / 2
-                for _ in range(80):
-                    c, d = b - g * (b - a), a + g * (b - a)
-                    if measures([c])[label][0] < measures([d])[label][0]:
-                        b = d
-                    else:
-                        a = c
-                x = 0.5 * (a + b)
-                value = float(measures([x])[label][0])
+            m = np.where(np.isfinite(m), m, nan_as)
+            k = np.flatnonzero((m[1:-1] <= m[:-2]) & (m[1:-1] <= m[2:]) & (m[1:-1] < 100 * SINGULAR + 1e-3)) + 1
+            if k.size == 0:
+                continue
+            a, b = q[k - 1].copy(), q[k + 1].copy()
+            g = (math.sqrt(5) - 1) / 2
+            for _ in range(80):                       # golden section on every candidate at once
+                c, d = b - g * (b - a), a + g * (b - a)
+                fc, fd = np.nan_to_num(measures(np.concatenate([c, d]))[label], nan=nan_as).reshape(2, -1)
+                left = fc < fd
+                a, b = np.where(left, a, c), np.where(left, d, b)
+            x = 0.5 * (a + b)
+            values = np.nan_to_num(measures(x)[label], nan=nan_as)
+            for xi, value in zip(x, values):
+                xi = float(xi)
                 if full:
-                    x = a0 + (x - a0) % (2 * math.pi)
-                elif min(abs(x - a0), abs(x - b0)) < 1e-6:
+                    xi = a0 + (xi - a0) % (2 * math.pi)
+                elif min(abs(xi - a0), abs(xi - b0)) < 1e-6:
                     continue                               # a dead point, reported as a range end
-                if value < SINGULAR and not any(abs(x - f[0]) < 1e-6 and f[1] == label for f in found):
-                    found.append((x, label, value))
+                if value < SINGULAR and not any(abs(xi - f[0]) < 1e-6 and f[1] == label for f in found):
+                    found.append((xi, label, float(value)))
     return sorted(found)
 
 

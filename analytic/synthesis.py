@@ -226,3 +226,8 @@ def mechanism(task: Task, dsg: Design, scale: float = 1.0, omega1: float = 1.0):
     p = linkage(task, dsg, omega1)
     return load("fourbar", l1=p.l1 * scale, l2=p.l2 * scale, l3=p.l3 * scale, l4=p.l4 * scale, ex=p.ex * scale,
                 ey=p.ey * scale, branch=p.branch, phi1_0=p.phi1_0, omega1=omega1)
+
+
+def grashof_chain(task: Task, dsg: Design) -> str:
+    """The designed four-bar's Grashof type (grashof, change-point or non-grashof)."""
+    return fourbar.grashof(linkage(task, dsg)).chain

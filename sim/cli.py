@@ -14,6 +14,7 @@ import sys
 
 import numpy as np
 
+import analytic
 from analytic import ParameterError, expr
 from . import service
 from .io import check_writable, write_csv
@@ -292,7 +293,7 @@ def cmd_run(args) -> int:
     from .compare import table
     from .plot import sheet
     from .render import check_video_args, parse_size, render
-    names = args.mechanisms or ["fourbar", "sixbar", "fivebar"]
+    names = args.mechanisms or list(analytic.BUILTINS)
     if len(set(names)) != len(names):
         raise ParameterError("a mechanism is named twice; name each once")
     if (args.sets or args.inertia or args.cutting_force is not None or args.input_range) and len(names) != 1:
@@ -428,7 +429,7 @@ def make_parser() -> argparse.ArgumentParser:
     p.set_defaults(func=cmd_export)
 
     p = sub.add_parser("run", help="the main job: simulate, cross-validate, render, plot and save")
-    p.add_argument("mechanisms", nargs="*", metavar="MECH", help="mechanisms (default: fourbar sixbar fivebar)")
+    p.add_argument("mechanisms", nargs="*", metavar="MECH", help="mechanisms (default: the three built-ins)")
     p.add_argument("--set", dest="sets", action="append", default=[], metavar="NAME=VALUE",
                    help="override a parameter (only with a single mechanism)")
     p.add_argument("--revolutions", type=float, default=1.0, metavar="R", help="revolutions (default 1)")

@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 
-from analytic import ParameterError, expr, fourbar, studies, synthesis
+from analytic import ParameterError, expr, studies, synthesis
 from . import service
 from .jsonout import dumps
 from .io import check_writable, write_csv
@@ -33,7 +33,7 @@ def row(task: synthesis.Task, dsg: synthesis.Design) -> dict:
     """A paper-style row: angles in degrees, lengths in the task's unit."""
     g = "-"
     if synthesis.feasibility(task, dsg) is None:
-        g = fourbar.grashof(synthesis.linkage(task, dsg)).chain
+        g = synthesis.grashof_chain(task, dsg)
     return {"theta_deg": math.degrees(dsg.theta), "phi0_deg": math.degrees(dsg.phi0),
             "psi0_deg": math.degrees(dsg.psi0), "l1": dsg.l1, "l2": dsg.l2, "l3": dsg.l3, "l4": dsg.l4,
             "total": dsg.total, "grashof": g}

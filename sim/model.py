@@ -362,7 +362,7 @@ def _build(mech, settings, loads, h, sol, points, q_start, revolutions) -> Built
     model.body_invweight0[:] *= REGULARIZATION_SCALE
     drives = _size_drives(model, mech, drives, loads, h)
     qpos0, qvel0 = _initial_state(model, mech, order, frames, sol)
-    act0, ctrl0 = _initial_controls(model, mech, drives, q_start)
+    act0, ctrl0 = _initial_controls(model, mech, drives, q_start, loads)
     built = Built(mech, model, settings, loads, tuple(drives), tuple(loops), tuple(mech.links),
                   qpos0, qvel0, act0, ctrl0, _slow_stroke(mech) if loads.slow_stroke_only else None, xml)
     return built
@@ -605,14 +605,24 @@ def _initial_state(model, mech, order, frames, sol):
     return qpos, qvel
 
 
-def _initial_controls(model, mech, drives, q_start):
+def _initial_controls(model, mech, drives, q_start, loads):
+    """The drives' activations at t = 0: the commanded motion's lead plus the deflection that the
+    mechanism's reaction needs (kp a = tau), so the servo starts already carrying its load and the
+    torque curve has no start-up transient."""
+    from analytic import torque
     q0, qd0, qdd0 = q_start
     act = np.zeros(model.na)
     ctrl = np.zeros(model.nu)
     jerk = _jerk(mech, np.array([0.0]))
+    on = 1.0
+    if loads.slow_stroke_only:
+        lo, hi = _slow_stroke(mech)
+        on = float(lo <= 0.0 <= hi or lo <= 2 * math.pi <= hi)
+    reaction = torque.drive_forces(mech, q0[None], qd0[None], qdd0[None], body_inertias(model, mech.links), None,
+                                   tuple(model.opt.gravity[:2]), tuple(model.actuator("load").gear[:2]), on)
     for k, d in enumerate(drives):
         a, c = drive_command(d, q0[k], qd0[k], qdd0[k], jerk[0, k])
-        act[model.actuator(d.actuator).actadr[0]] = a
+        act[model.actuator(d.actuator).actadr[0]] = a + float(reaction[d.input.link][0]) / d.kp
         ctrl[model.actuator(d.actuator).id] = c
     return act, ctrl
 

@@ -1,0 +1,89 @@
+"""The two paths of the general solver give the same numbers: numpy (analytic/kinematics.py, always there)
+and the compiled one (analytic/_jit.py, with numba; LINKAGE_JIT=0 turns it off). Every output of every
+named mechanism, NaN included where a group cannot assemble; and ``solve(..., outputs=...)`` returns the
+same values as the full solve on either path."""
+
+import math
+
+import numpy as np
+import pytest
+
+import analytic
+from analytic import _jit
+
+CASES = [(name, {}) for name in analytic.names()] + [
+    ("fourbar", {"l1": 0.2, "l3": 0.1}),          # a crank that cannot turn fully: NaN over part of the turn
+    ("fourbar", {"branch": -1}),
+]
+N = 3001                                          # not a multiple of a block or chunk: the tails are exercised
+
+
+def _inputs(mech, seed=11):
+    rng = np.random.default_rng(seed)
+    k = len(mech.inputs)
+    return (rng.uniform(-math.pi, math.pi, (N, k)), rng.normal(0.0, 5.0, (N, k)),
+            rng.normal(0.0, 30.0, (N, k)))
+
+
+def _solve(mech, monkeypatch, jit, *args, **kw):
+    monkeypatch.setenv("LINKAGE_JIT", "1" if jit else "0")
+    assert _jit.enabled() == jit
+    return mech.solve(*args, **kw)
+
+
+def _assert_same(a, b, rtol):
+    """Same outputs in the same order, NaN at the same samples, the rest within rtol of each output's
+    largest magnitude (angles: of pi, and compared modulo 2 pi)."""
+    assert list(a) == list(b)
+    assert np.array_equal(a.failed_index, b.failed_index)
+    for name in a:
+        x, y = np.asarray(a[name]), np.asarray(b[name])
+        assert x.shape == y.shape, name
+        assert np.array_equal(np.isnan(x), np.isnan(y)), name
+        ok = ~np.isnan(x)
+        if not ok.any():
+            continue
+        d = x[ok] - y[ok]
+        if name.startswith("phi"):
+            d, scale = np.pi - np.mod(np.pi - d, 2 * np.pi), np.pi
+        else:
+            scale = max(np.abs(x[ok]).max(), 1e-300)
+        assert np.abs(d).max() <= rtol * scale, (name, np.abs(d).max() / scale)
+
+
+@pytest.mark.parametrize("name,values", CASES, ids=[f"{n}-{v}" if v else n for n, v in CASES])
+def test_the_compiled_path_equals_numpy(name, values, monkeypatch):
+    pytest.importorskip("numba")
+    mech = analytic.load(name, **values)
+    q, qd, qdd = _inputs(mech)
+    ref = _solve(mech, monkeypatch, False, q, qd, qdd)
+    jit = _solve(mech, monkeypatch, True, q, qd, qdd)
+    _assert_same(ref, jit, 1e-12)
+    if values.get("l3") == 0.1:
+        assert 0 < (~ref.valid).sum() < N                       # the NaN case is really exercised
+        assert ref.first_failure() == jit.first_failure()
+
+
+@pytest.mark.parametrize("jit", [False, True], ids=["numpy", "jit"])
+@pytest.mark.parametrize("name", ["fourbar", "sixbar", "fivebar"])
+def test_a_subset_of_outputs_equals_the_full_solve(name, jit, monkeypatch):
+    if jit:
+        pytest.importorskip("numba")
+    mech = analytic.load(name)
+    q, qd, qdd = _inputs(mech, seed=3)
+    full = _solve(mech, monkeypatch, jit, q, qd, qdd)
+    pick = [o for o in full if o.startswith(("x", "ay", "omega", "mu", "s"))][::2] + [mech.outputs[0]]
+    part = _solve(mech, monkeypatch, jit, q, qd, qdd, outputs=pick)
+    assert set(part) >= {o for o in pick if o in full}
+    for o in pick:
+        assert np.array_equal(part[o], full[o], equal_nan=True), o
+    assert np.array_equal(part.failed_index, full.failed_index)
+    none = _solve(mech, monkeypatch, jit, q, qd, qdd, outputs=())
+    assert len(none) == 0 and np.array_equal(none.valid, full.valid)
+
+
+def test_the_jit_switch(monkeypatch):
+    monkeypatch.setenv("LINKAGE_JIT", "0")
+    assert not _jit.enabled()
+    monkeypatch.delenv("LINKAGE_JIT")
+    assert _jit.enabled() == _jit.AVAILABLE
