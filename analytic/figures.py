@@ -214,9 +214,29 @@ def general(mech, sol) -> dict:
         out["input_ranges"] = [list(r) for r in ranges]
         out["dead_points"] = [] if full else [x for r in ranges for x in r]
         out["singular_points"] = [{"at": x, "group": g} for x, g, _ in singular_poses(mech)]
+    out["slides"] = {j: {"range": _span(sol["s" + j]), "stroke": float(np.nanmax(sol["s" + j]) - np.nanmin(sol["s" + j]))}
+                     for j in mech.slides if j not in {i.link for i in mech.inputs}}
+    out["time_ratio"] = time_ratio(mech, sol)
     m, label = min_singularity(mech, sol)
     out["min_singularity"] = {"value": m, "group": label}
     return out
+
+
+def time_ratio(mech, sol) -> float:
+    """Quick-return ratio K of the output point over one run: the slower of its two strokes along x (from
+    one x-extreme to the other) over the faster, >= 1. The extremes are where vx changes sign, located by
+    linear interpolation between samples (NaN if the run does not show exactly one of each)."""
+    x, vx = np.asarray(sol["x" + mech.output_point]), np.asarray(sol["vx" + mech.output_point])
+    if len(x) < 8 or not np.all(np.isfinite(vx)) or np.ptp(x) <= 1e-12 * mech.size:
+        return math.nan
+    n = len(vx) - 1
+    k = np.flatnonzero(np.sign(vx[:-1]) * np.sign(vx[1:]) < 0)
+    if len(k) != 2:
+        return math.nan
+    at = k + vx[k] / (vx[k] - vx[k + 1])             # fractional sample index of each extreme
+    one = at[1] - at[0]
+    other = n - one
+    return float(max(one, other) / min(one, other))
 
 
 # ------------------------------------------------------------------------------ the built-ins' own
@@ -294,6 +314,10 @@ def general_summary(mech, f: dict) -> list[str]:
             lines.append(f"  singular pose at {first.q}={where}: {s['group']} folds (change point)")
     for point, (lo, hi) in f["transmission"].items():
         lines.append(f"  transmission angle at {point}: {deg(lo):.3f} .. {deg(hi):.3f} deg")
+    for j, v in f.get("slides", {}).items():
+        lines.append(f"  slide s{j}: {v['range'][0]:.6g} .. {v['range'][1]:.6g} m (stroke {v['stroke']:.6g} m)")
+    if f.get("time_ratio") == f.get("time_ratio"):
+        lines.append(f"  time ratio of {p}'s strokes along x: K = {f['time_ratio']:.4f}")
     lines.append(f"  {p} path: x {f[f'x{p}_range'][0]:.6g} .. {f[f'x{p}_range'][1]:.6g} m, "
                  f"y {f[f'y{p}_range'][0]:.6g} .. {f[f'y{p}_range'][1]:.6g} m; |v{p}| "
                  f"{f[f'v{p}_min']:.6g} .. {f[f'v{p}_max']:.6g} m/s")

@@ -1,0 +1,472 @@
+"""Is the simulation trustworthy for any design? Random valid designs of every mechanism, cross-validated.
+
+Run:  python benchmarks/trust.py [--count N] [--seed S] [--long] [--verbose]
+
+Draws random designs (seeded) across every mechanism of ``analytic.names()``: every length scaled so the
+mechanism's size spans 5 mm .. 5 m (log-uniform), lengths perturbed by +-20 %, crank speed 0.2 .. 20 rev/s
+(log-uniform, random sign), random phases and branches, sometimes an accelerating crank (speed changing
+by up to +-50 % over the run), the five-bars' second crank at a speed ratio in -2 .. 3. A design is
+valid when ``service.prepare`` (full turn, singular pose, assembly) and the time-step choice accept it;
+refusals are counted by reason. Each valid design is simulated for one revolution with
+``service.compare`` and judged here against the issue's targets, written independently of
+sim/compare.py (its own verdict ``passed`` is reported alongside):
+
+    angles          <= 1e-6 rad
+    positions       <= 1e-6 of the size L
+    velocities      <= 1e-5 of max(peak, L Omega)      (angular: max(peak, Omega))
+    accelerations   <= 1e-3 of max(peak, L Omega^2)    (angular: max(peak, Omega^2))
+    loops           <= 1e-6 of L
+    drive error     <= 1e-4 rad (of L for a slider)
+
+with Omega = sim.compare.motion_scale(mech). Prints the pass rate (overall and per mechanism, target
+>= 99 %), the worst error/target per output kind, the failing designs with a reproduction command, the
+CPU cost per simulated revolution (target median <= 15 ms) and the chosen time steps.
+
+``--long``: a handful of designs run for 50 revolutions: the worst error/target in the last revolution
+against the first (errors must stay flat) and the work balance per revolution (<= 1e-3).
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import sys
+import time
+import traceback
+from collections import Counter, defaultdict
+from pathlib import Path
+
+import numpy as np
+
+# benchmarks/analytic.py would shadow the package of that name: keep this folder off the import path.
+sys.path[:] = [p for p in sys.path if Path(p or ".").resolve() != Path(__file__).resolve().parent]
+import analytic  # noqa: E402
+from analytic import ParameterError, expr  # noqa: E402
+from sim import compare as sim_compare  # noqa: E402
+from sim import model as sim_model  # noqa: E402
+from sim import service  # noqa: E402
+
+# ------------------------------------------------------------------------------------ the issue's targets
+ANGLE = 1e-6          # rad
+POSITION = 1e-6       # of the size
+VELOCITY = 1e-5       # of max(peak, motion scale)
+ACCELERATION = 1e-3   # of max(peak, motion scale squared)
+LOOP = 1e-6           # of the size
+DRIVE = 1e-4          # rad, or of the size for a slider
+WORK = 1e-3           # of the kinetic-energy swing per revolution (--long)
+PASS_RATE = 0.99
+CPU_MS_PER_REV = 15.0
+
+SIZE_RANGE = (0.005, 5.0)        # m
+SPEED_RANGE = (0.2, 20.0)        # rev/s
+RATIO_RANGE = (-2.0, 3.0)        # five-bars: omega of the second crank / the first
+PERTURB = 0.20                   # relative, on every (non-derived) length
+ACCEL_PROB = 0.3                 # share of designs with an accelerating crank
+ACCEL_CHANGE = 0.5               # the speed changes by up to this fraction over the run
+TWO_CRANK_RATIO_PARAM = "ratio"  # two_crank_five_bar's speed-ratio parameter
+
+
+# ------------------------------------------------------------------------------------------ output kinds
+def kind_of(mech, name: str) -> str:
+    """angle, position, ang_velocity, velocity, ang_acceleration, acceleration (own classifier)."""
+    g = mech.aliases.get(name, name)
+    points, links, slides = set(mech.points), set(mech.links), set(mech.slides)
+    table = [("phi", links, "angle"), ("mu", points, "angle"), ("omega", links, "ang_velocity"),
+             ("alpha", links, "ang_acceleration"), ("vx", points, "velocity"), ("vy", points, "velocity"),
+             ("ax", points, "acceleration"), ("ay", points, "acceleration"), ("x", points, "position"),
+             ("y", points, "position"), ("dds", slides, "acceleration"), ("ds", slides, "velocity"),
+             ("s", slides, "position")]
+    for prefix, pool, kind in table:
+        if g.startswith(prefix) and g[len(prefix):] in pool:
+            return kind
+    raise KeyError(f"{mech.name}: cannot classify output {name!r}")
+
+
+def target(kind: str, L: float, omega: float, peak: float) -> float:
+    if kind == "angle":
+        return ANGLE
+    if kind == "position":
+        return POSITION * L
+    if kind == "ang_velocity":
+        return VELOCITY * max(peak, omega)
+    if kind == "velocity":
+        return VELOCITY * max(peak, L * omega)
+    if kind == "ang_acceleration":
+        return ACCELERATION * max(peak, omega ** 2)
+    if kind == "acceleration":
+        return ACCELERATION * max(peak, L * omega ** 2)
+    raise KeyError(kind)
+
+
+def judge(mech, tr, window: slice | None = None) -> dict:
+    """Error/target ratios of one trajectory (optionally of the samples in ``window``): per output,
+    'loop' and 'drive'; computed from the trajectory itself (analytic solution at the simulated inputs)."""
+    L = mech.size
+    omega = sim_compare.motion_scale(mech)
+    sl = window or slice(None)
+    cols = [np.column_stack([tr.inputs[getattr(i, a)] for i in mech.inputs]) for a in ("q", "qd", "qdd")]
+    ref = mech.solve(*cols)
+    ratios, detail = {}, {}
+    for name in mech.outputs:
+        kind = kind_of(mech, name)
+        a = np.asarray(ref[name])
+        s = np.asarray(tr.outputs[name])
+        diff = s - a
+        if kind == "angle":
+            diff = np.pi - np.mod(np.pi - diff, 2 * np.pi)
+        peak = float(np.nanmax(np.abs(a)))                      # over the whole run, as the tolerance
+        tol = target(kind, L, omega, peak)
+        d = diff[sl]
+        err = float(np.max(np.abs(d))) if np.all(np.isfinite(d)) else math.inf
+        ratios[name] = err / tol
+        detail[name] = (kind, err, tol)
+    ratios["loop"] = float(np.max(tr.loop_violation[sl])) / (LOOP * L)
+    drive = 0.0
+    for i in mech.inputs:
+        e = float(np.max(np.abs(tr.inputs[i.q][sl] - tr.commanded[i.q][sl])))
+        drive = max(drive, e / (1.0 if i.kind == "crank" else L))
+    ratios["drive"] = drive / DRIVE
+    detail["loop"] = ("loop", ratios["loop"] * LOOP * L, LOOP * L)
+    detail["drive"] = ("drive", drive, DRIVE)
+    return {"ratios": ratios, "detail": detail}
+
+
+# ------------------------------------------------------------------------------------------ random designs
+def base_lengths(d) -> list[str]:
+    """Length parameters given as numbers (derived ones follow the others)."""
+    out = []
+    for name in d.parameter_order:
+        if d.parameter_kind[name] != "length":
+            continue
+        v = d.parameters[name]
+        if isinstance(v, (int, float)) or (isinstance(v, str) and expr.quantity(v) is not None):
+            out.append(name)
+    return out
+
+
+def draw(rng: np.random.Generator, name: str) -> tuple[dict, dict]:
+    """Random parameter overrides for mechanism ``name`` (file units, angles in rad) and a description
+    of the draw (scale, speed, ratio, acceleration)."""
+    d = analytic.definition(name)
+    mech0 = service.load(name)
+    vals = mech0.parameters
+    size_file = mech0.size / mech0.scale
+    over: dict[str, float] = {}
+    for p in base_lengths(d):
+        v = vals[p]
+        if v != 0.0:
+            over[p] = v * (1.0 + rng.uniform(-PERTURB, PERTURB))
+        elif rng.random() < 0.5:                                  # an offset that is zero by default
+            over[p] = rng.uniform(-0.1, 0.1) * size_file
+    # scale to a size drawn log-uniformly in SIZE_RANGE
+    try:
+        size1 = service.load(name, over).size
+    except ParameterError:
+        size1 = mech0.size
+    s = 10 ** rng.uniform(math.log10(SIZE_RANGE[0] / size1), math.log10(SIZE_RANGE[1] / size1))
+    over = {k: v * s for k, v in over.items()}
+    for p in base_lengths(d):                                      # unperturbed lengths scale too
+        if p not in over and vals[p] != 0.0:
+            over[p] = vals[p] * s
+    for p in d.parameter_order:
+        if d.parameter_kind[p] == "branch":
+            over[p] = float(rng.choice([-1.0, 1.0]))
+    inputs = mech0.inputs
+    rev_s = 10 ** rng.uniform(math.log10(SPEED_RANGE[0]), math.log10(SPEED_RANGE[1]))
+    w1 = float(rng.choice([-1.0, 1.0])) * 2 * math.pi * rev_s
+    accel = rng.random() < ACCEL_PROB
+    f = rng.uniform(-ACCEL_CHANGE, ACCEL_CHANGE) if accel else 0.0
+    a1 = math.copysign(1.0, w1) * w1 * w1 * ((1 + f) ** 2 - 1) / (4 * math.pi)
+    info = {"scale": s, "rev_s": rev_s * math.copysign(1.0, w1), "speed_change": f}
+    for k, inp in enumerate(inputs):
+        phi0, om, al = inp.parameters
+        if phi0:
+            over[phi0] = rng.uniform(0.0, 2 * math.pi)
+        if k == 0:
+            if om:
+                over[om] = w1
+            if al:
+                over[al] = a1
+    if len(inputs) > 1:
+        ratio = rng.uniform(*RATIO_RANGE)
+        info["ratio"] = ratio
+        for inp in inputs[1:]:
+            _, om, al = inp.parameters
+            if TWO_CRANK_RATIO_PARAM in d.parameters and d.parameter_kind.get(TWO_CRANK_RATIO_PARAM) == "number" \
+                    and isinstance(d.parameters.get(om), str) and expr.quantity(d.parameters[om]) is None:
+                over[TWO_CRANK_RATIO_PARAM] = ratio          # omega4 = ratio*omega1 in the file
+            elif om:
+                over[om] = ratio * w1
+            if al:
+                over[al] = ratio * a1
+    return over, info
+
+
+REASONS = [("cannot turn fully", "cannot turn fully"), ("singular pose", "singular pose"),
+           ("cannot be assembled", "cannot be assembled"), ("moves too fast", "moves too fast"),
+           ("not a valid length", "invalid length"), ("stops it before", "crank stops"),
+           ("does not move", "input does not move")]
+
+
+def reason_of(msg: str) -> str:
+    for key, label in REASONS:
+        if key in msg:
+            return label
+    return "other: " + msg[:70]
+
+
+def validate(mech) -> float:
+    """Refuse up front (ParameterError) as the service does; returns the time step it will use."""
+    service.prepare(mech, 1.0)
+    return sim_model.choose_timestep(mech, 1.0)
+
+
+def repro(name: str, over: dict, revolutions: float = 1.0) -> str:
+    sets = " ".join(f"--set {k}={v!r}" for k, v in over.items())
+    rev = "" if revolutions == 1.0 else f" --revolutions {revolutions:g}"
+    return f"linkage compare {name} {sets}{rev}"
+
+
+def pct(x, q):
+    return float(np.percentile(np.asarray(x), q))
+
+
+# ---------------------------------------------------------------------------------------------- the run
+def run(args) -> int:
+    rng = np.random.default_rng(args.seed)
+    names = list(analytic.names())
+    t_wall0, t_cpu0 = time.time(), time.process_time()
+    refusals: Counter = Counter()
+    refusals_by_mech: dict[str, Counter] = defaultdict(Counter)
+    results, crashes = [], []
+    attempts = 0
+    cap = args.count * args.max_attempts_factor
+    while len(results) < args.count and attempts < cap:
+        attempts += 1
+        name = names[(attempts - 1) % len(names)] if args.round_robin else str(rng.choice(names))
+        over, info = draw(rng, name)
+        try:
+            mech = service.load(name, over)
+            validate(mech)
+        except ParameterError as exc:
+            r = reason_of(str(exc))
+            refusals[r] += 1
+            refusals_by_mech[name][r] += 1
+            continue
+        except Exception as exc:                                      # noqa: BLE001 - a bug, reported
+            r = f"CRASH {type(exc).__name__}: {str(exc)[:60]}"
+            refusals[r] += 1
+            refusals_by_mech[name][r] += 1
+            where = traceback.extract_tb(exc.__traceback__)[-1]
+            crashes.append((name, over, f"{type(exc).__name__}: {exc} "
+                                        f"({Path(where.filename).name}:{where.lineno} in {where.name})"))
+            continue
+        rec = {"name": name, "over": over, "info": info, "size": mech.size}
+        c0 = time.process_time()
+        try:
+            built, c = service.compare(mech, 1.0)
+        except Exception as exc:                                      # noqa: BLE001 - a failure, reported
+            rec.update(ok=False, error=f"{type(exc).__name__}: {exc}", cpu_total=time.process_time() - c0)
+            if args.verbose:
+                traceback.print_exc()
+            results.append(rec)
+            print(f"[{len(results):4d}] {name:<22s} ERROR {rec['error'][:100]}", flush=True)
+            continue
+        tr = c.trajectory
+        j = judge(mech, tr)
+        worst = max(j["ratios"], key=j["ratios"].get)
+        rec.update(ok=max(j["ratios"].values()) <= 1.0, ratios=j["ratios"], detail=j["detail"],
+                   kinds={n: kind_of(mech, n) for n in mech.outputs}, own_verdict=c.passed,
+                   torque={n: e["max"] / e["tol"] for n, e in c.errors.items() if n.startswith("tau")},
+                   work=c.work_balance, h=tr.timestep, steps=tr.steps, cpu=tr.cpu_seconds,
+                   cpu_total=time.process_time() - c0, worst=(worst, j["ratios"][worst]),
+                   duration=mech.duration(1.0))
+        results.append(rec)
+        if args.verbose or not rec["ok"]:
+            print(f"[{len(results):4d}] {name:<22s} size {mech.size:9.4g} m  {info['rev_s']:+7.2f} rev/s  "
+                  f"h {tr.timestep:.3g}  worst {worst} {j['ratios'][worst]:.3g}  "
+                  f"{'ok' if rec['ok'] else 'FAIL'}  (compare.passed={c.passed})", flush=True)
+    report(args, names, results, refusals, refusals_by_mech, attempts, cap,
+           time.time() - t_wall0, time.process_time() - t_cpu0)
+    if crashes:
+        print(f"\ncrashes while validating (not a ParameterError): {len(crashes)}; the first of each mechanism:")
+        seen = set()
+        for name, over, msg in crashes:
+            if name in seen:
+                continue
+            seen.add(name)
+            print(f"  {name}: {msg}")
+            print(f"    {repro(name, over)}")
+    if args.long:
+        long_runs(args, rng, names)
+    return 0
+
+
+def report(args, names, results, refusals, refusals_by_mech, attempts, cap, wall, cpu) -> None:
+    n = len(results)
+    print()
+    print(f"== trust: {n} valid designs (seed {args.seed}) from {attempts} attempts"
+          f"{' (attempt cap reached)' if attempts >= cap and n < args.count else ''}")
+    print(f"refused up front: {sum(refusals.values())}")
+    for r, k in refusals.most_common():
+        print(f"  {k:5d}  {r}")
+    if not n:
+        return
+    ok = [r for r in results if r["ok"]]
+    rate = len(ok) / n
+    print(f"\npass rate (issue targets): {len(ok)}/{n} = {100 * rate:.1f} %  "
+          f"(target >= {100 * PASS_RATE:.0f} %: {'MET' if rate >= PASS_RATE else 'NOT MET'})")
+    own = [r for r in results if r.get("own_verdict")]
+    print(f"sim.compare's own verdict passed: {len(own)}/{n}; disagreements with the issue targets: "
+          f"{sum(1 for r in results if 'own_verdict' in r and r['own_verdict'] != r['ok'])}")
+    print(f"\n{'mechanism':<22s} {'valid':>5s} {'pass':>5s} {'rate':>7s} {'refused':>7s}  worst error/target (output)")
+    for name in names:
+        rs = [r for r in results if r["name"] == name]
+        refused = sum(refusals_by_mech[name].values())
+        if not rs:
+            print(f"{name:<22s} {0:5d} {0:5d} {'-':>7s} {refused:7d}")
+            continue
+        p = sum(r["ok"] for r in rs)
+        w = max((r for r in rs if "worst" in r), key=lambda r: r["worst"][1], default=None)
+        ws = f"{w['worst'][1]:.3g} ({w['worst'][0]})" if w else "-"
+        print(f"{name:<22s} {len(rs):5d} {p:5d} {100 * p / len(rs):6.1f}% {refused:7d}  {ws}")
+    print("\nrefusals by mechanism:")
+    for name in names:
+        if refusals_by_mech[name]:
+            print(f"  {name:<22s} " + ", ".join(f"{r} {k}" for r, k in refusals_by_mech[name].most_common()))
+
+    # worst ratio per output kind
+    per_kind: dict[str, tuple[float, dict, str]] = {}
+    for r in results:
+        if "ratios" not in r:
+            continue
+        for out, ratio in r["ratios"].items():
+            kind = r["kinds"].get(out, out)
+            if kind not in per_kind or ratio > per_kind[kind][0]:
+                per_kind[kind] = (ratio, r, out)
+    print(f"\nworst error/target per output kind (<= 1 passes):")
+    print(f"  {'kind':<18s} {'ratio':>10s} {'median':>10s}  where")
+    for kind in ("angle", "position", "ang_velocity", "velocity", "ang_acceleration", "acceleration", "loop",
+                 "drive"):
+        if kind not in per_kind:
+            continue
+        ratio, r, out = per_kind[kind]
+        allk = [max(v for o, v in x["ratios"].items() if x["kinds"].get(o, o) == kind)
+                for x in results if "ratios" in x and any(x["kinds"].get(o, o) == kind for o in x["ratios"])]
+        print(f"  {kind:<18s} {ratio:10.3g} {np.median(allk):10.3g}  {r['name']} {out} "
+              f"(size {r['size']:.3g} m, {r['info']['rev_s']:+.2f} rev/s)")
+    tq = [max(r["torque"].values()) for r in results if r.get("torque")]
+    wk = [r["work"] for r in results if "work" in r]
+    if tq:
+        print(f"  (info) torque vs inverse dynamics, error/TORQUE_TOL: median {np.median(tq):.3g}, max {max(tq):.3g}")
+    if wk:
+        print(f"  (info) work balance per revolution / {WORK:g}: median {np.median(wk) / WORK:.3g}, "
+              f"max {max(wk) / WORK:.3g}")
+
+    fails = [r for r in results if not r["ok"]]
+    print(f"\nfailing designs: {len(fails)}")
+    for r in fails:
+        info = r["info"]
+        head = (f"  {r['name']}: size {r['size']:.4g} m, {info['rev_s']:+.3f} rev/s, speed change "
+                f"{100 * info['speed_change']:+.0f} %" + (f", ratio {info['ratio']:.3f}" if "ratio" in info else ""))
+        print(head)
+        if "error" in r:
+            print(f"    {r['error']}")
+        else:
+            bad = sorted(((v, o) for o, v in r["ratios"].items() if v > 1.0), reverse=True)
+            for v, o in bad[:8]:
+                kind, err, tol = r["detail"][o]
+                print(f"    {o:<10s} {kind:<16s} error {err:.3e} target {tol:.3e}  ratio {v:.3g}")
+            print(f"    h {r['h']:.4g} s, {r['steps']} steps; sim.compare passed={r['own_verdict']}")
+        print(f"    {repro(r['name'], r['over'])}")
+
+    sims = [r for r in results if "cpu" in r]
+    if sims:
+        ms = [1e3 * r["cpu"] for r in sims]                 # rollout CPU per 1 simulated revolution
+        tot = [1e3 * r["cpu_total"] for r in sims]
+        hs = [r["h"] for r in sims]
+        steps = [r["steps"] for r in sims]
+        print(f"\nCPU ms per simulated revolution (rollout, time.process_time): min {min(ms):.1f}, median "
+              f"{np.median(ms):.1f}, p90 {pct(ms, 90):.1f}, max {max(ms):.1f}  (target median <= "
+              f"{CPU_MS_PER_REV:g}: {'MET' if np.median(ms) <= CPU_MS_PER_REV else 'NOT MET'})")
+        print(f"CPU ms per design, build + simulate + compare:     min {min(tot):.1f}, median {np.median(tot):.1f}, "
+              f"p90 {pct(tot, 90):.1f}, max {max(tot):.1f}")
+        print(f"time step [s]: min {min(hs):.3g}, median {np.median(hs):.3g}, p90 {pct(hs, 90):.3g}, "
+              f"max {max(hs):.3g}; at MAX_TIMESTEP {sum(h >= sim_model.MAX_TIMESTEP * (1 - 1e-12) for h in hs)}")
+        print(f"steps per revolution: min {min(steps)}, median {np.median(steps):.0f}, p90 {pct(steps, 90):.0f}, "
+              f"max {max(steps)}")
+        us = [1e6 * r["cpu"] / r["steps"] for r in sims]
+        print(f"CPU us per step: min {min(us):.1f}, median {np.median(us):.1f}, max {max(us):.1f}")
+        print("median CPU ms per revolution by mechanism: " + ", ".join(
+            f"{nm} {np.median([1e3 * r['cpu'] for r in sims if r['name'] == nm]):.1f}"
+            for nm in names if any(r["name"] == nm for r in sims)))
+    print(f"\ntotal: {wall:.1f} s wall, {cpu:.1f} s CPU")
+
+
+# ---------------------------------------------------------------------------------------------- --long
+def long_runs(args, rng, names) -> None:
+    revs = args.long_revolutions
+    print(f"\n== long runs: {args.long_count} designs x {revs:g} revolutions")
+    print(f"  {'mechanism':<22s} {'size':>8s} {'rev/s':>7s} {'first':>9s} {'last':>9s} {'last/first':>10s} "
+          f"{'work/rev':>9s} {'cpu s':>6s}  verdict")
+    done, tries = 0, 0
+    picks = [names[k % len(names)] for k in rng.permutation(len(names))]
+    while done < args.long_count and tries < 50 * args.long_count:
+        name = picks[tries % len(picks)]
+        tries += 1
+        over, info = draw(rng, name)
+        if info["speed_change"] != 0.0:                  # a steady crank: an accelerating one would run away
+            continue
+        try:
+            mech = service.load(name, over)
+            service.prepare(mech, revs)
+            sim_model.choose_timestep(mech, revs)
+            if sim_model.choose_timestep(mech, revs) < 1e-5:
+                continue
+        except ParameterError:
+            continue
+        c0 = time.process_time()
+        try:
+            built, c = service.compare(mech, revs)
+        except Exception as exc:                               # noqa: BLE001
+            print(f"  {name:<22s} ERROR {type(exc).__name__}: {exc}")
+            print(f"    {repro(name, over, revs)}")
+            done += 1
+            continue
+        tr = c.trajectory
+        T = mech.duration(1.0)
+        first = judge(mech, tr, slice(0, int(np.searchsorted(tr.t, T))))
+        last = judge(mech, tr, slice(int(np.searchsorted(tr.t, mech.duration(revs - 1.0))), None))
+        # the worst output over the run, compared between its first and last revolution
+        keys = [k for k in first["ratios"] if k != "drive"]
+        f = max(first["ratios"][k] for k in keys)
+        lst = max(last["ratios"][k] for k in keys)
+        growth = lst / f if f > 0 else math.inf
+        ok = lst <= 1.0 and c.work_balance <= WORK and growth <= args.max_growth
+        print(f"  {name:<22s} {mech.size:8.3g} {info['rev_s']:+7.2f} {f:9.3g} {lst:9.3g} {growth:10.3g} "
+              f"{c.work_balance:9.2e} {time.process_time() - c0:6.1f}  {'ok' if ok else 'FAIL'}", flush=True)
+        if not ok:
+            worst_last = max(keys, key=lambda k: last["ratios"][k])
+            print(f"    worst in the last revolution: {worst_last} {last['ratios'][worst_last]:.3g}")
+            print(f"    {repro(name, over, revs)}")
+        done += 1
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--count", type=int, default=200, help="valid designs to simulate (default 200)")
+    ap.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
+    ap.add_argument("--max-attempts-factor", type=int, default=20, help="draw at most FACTOR * count designs")
+    ap.add_argument("--round-robin", action="store_true", help="cycle through the mechanisms instead of drawing")
+    ap.add_argument("--long", action="store_true", help="also run a few designs for many revolutions")
+    ap.add_argument("--long-count", type=int, default=5)
+    ap.add_argument("--long-revolutions", type=float, default=50.0)
+    ap.add_argument("--max-growth", type=float, default=10.0,
+                    help="--long: largest accepted last/first revolution error ratio (default 10)")
+    ap.add_argument("--verbose", action="store_true")
+    args = ap.parse_args(argv)
+    return run(args)
+
+
+if __name__ == "__main__":
+    sys.exit(main())
