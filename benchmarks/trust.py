@@ -144,7 +144,7 @@ def base_lengths(d) -> list[str]:
     return out
 
 
-def draw(rng: np.random.Generator, name: str) -> tuple[dict, dict]:
+def draw(rng: np.random.Generator, name: str, perturb: float = PERTURB) -> tuple[dict, dict]:
     """Random parameter overrides for mechanism ``name`` (file units, angles in rad) and a description
     of the draw (scale, speed, ratio, acceleration)."""
     d = analytic.definition(name)
@@ -155,7 +155,7 @@ def draw(rng: np.random.Generator, name: str) -> tuple[dict, dict]:
     for p in base_lengths(d):
         v = vals[p]
         if v != 0.0:
-            over[p] = v * (1.0 + rng.uniform(-PERTURB, PERTURB))
+            over[p] = v * (1.0 + rng.uniform(-perturb, perturb))
         elif rng.random() < 0.5:                                  # an offset that is zero by default
             over[p] = rng.uniform(-0.1, 0.1) * size_file
     # scale to a size drawn log-uniformly in SIZE_RANGE
@@ -177,7 +177,7 @@ def draw(rng: np.random.Generator, name: str) -> tuple[dict, dict]:
     accel = rng.random() < ACCEL_PROB
     f = rng.uniform(-ACCEL_CHANGE, ACCEL_CHANGE) if accel else 0.0
     a1 = math.copysign(1.0, w1) * w1 * w1 * ((1 + f) ** 2 - 1) / (4 * math.pi)
-    info = {"scale": s, "rev_s": rev_s * math.copysign(1.0, w1), "speed_change": f}
+    info = {"perturb": perturb, "scale": s, "rev_s": rev_s * math.copysign(1.0, w1), "speed_change": f}
     for k, inp in enumerate(inputs):
         phi0, om, al = inp.parameters
         if phi0:
@@ -205,7 +205,9 @@ def draw(rng: np.random.Generator, name: str) -> tuple[dict, dict]:
 REASONS = [("cannot turn fully", "cannot turn fully"), ("singular pose", "singular pose"),
            ("cannot be assembled", "cannot be assembled"), ("moves too fast", "moves too fast"),
            ("not a valid length", "invalid length"), ("stops it before", "crank stops"),
-           ("does not move", "input does not move")]
+           ("does not move", "input does not move"), ("run off", "block runs off its link"),
+           ("field 'at'", "file expression undefined (a triangle cannot close)"),
+           ("cannot compile", "MuJoCo cannot compile")]
 
 
 def reason_of(msg: str) -> str:
@@ -239,27 +241,35 @@ def run(args) -> int:
     refusals: Counter = Counter()
     refusals_by_mech: dict[str, Counter] = defaultdict(Counter)
     results, crashes = [], []
-    attempts = 0
+    attempts, slot = 0, 0
     cap = args.count * args.max_attempts_factor
+    gave_up: Counter = Counter()
     while len(results) < args.count and attempts < cap:
-        attempts += 1
-        name = names[(attempts - 1) % len(names)] if args.round_robin else str(rng.choice(names))
-        over, info = draw(rng, name)
-        try:
-            mech = service.load(name, over)
-            validate(mech)
-        except ParameterError as exc:
-            r = reason_of(str(exc))
-            refusals[r] += 1
-            refusals_by_mech[name][r] += 1
-            continue
-        except Exception as exc:                                      # noqa: BLE001 - a bug, reported
-            r = f"CRASH {type(exc).__name__}: {str(exc)[:60]}"
-            refusals[r] += 1
-            refusals_by_mech[name][r] += 1
-            where = traceback.extract_tb(exc.__traceback__)[-1]
-            crashes.append((name, over, f"{type(exc).__name__}: {exc} "
-                                        f"({Path(where.filename).name}:{where.lineno} in {where.name})"))
+        name = str(rng.choice(names)) if args.random_mechanism else names[slot % len(names)]
+        slot += 1
+        for j in range(args.tries_per_design):
+            attempts += 1
+            # +-PERTURB at first; halved every 10 refusals (tightly constrained files, e.g. Klann's triangles)
+            over, info = draw(rng, name, PERTURB * 0.5 ** (j // 10))
+            try:
+                mech = service.load(name, over)
+                validate(mech)
+                break
+            except ParameterError as exc:
+                r = reason_of(str(exc))
+                refusals[r] += 1
+                refusals_by_mech[name][r] += 1
+            except Exception as exc:                                      # noqa: BLE001 - a bug, reported
+                r = f"CRASH {type(exc).__name__}: {str(exc)[:60]}"
+                refusals[r] += 1
+                refusals_by_mech[name][r] += 1
+                frames = traceback.extract_tb(exc.__traceback__)
+                where = next((f for f in reversed(frames) if ".venv" not in f.filename
+                              and "site-packages" not in f.filename), frames[-1])
+                crashes.append((name, over, f"{type(exc).__name__}: {exc} "
+                                            f"({Path(where.filename).name}:{where.lineno} in {where.name})"))
+        else:
+            gave_up[name] += 1
             continue
         rec = {"name": name, "over": over, "info": info, "size": mech.size}
         c0 = time.process_time()
@@ -280,6 +290,9 @@ def run(args) -> int:
                    torque={n: e["max"] / e["tol"] for n, e in c.errors.items() if n.startswith("tau")},
                    work=c.work_balance, h=tr.timestep, steps=tr.steps, cpu=tr.cpu_seconds,
                    cpu_total=time.process_time() - c0, worst=(worst, j["ratios"][worst]),
+                   # own error computation against sim.compare's (same data: should agree to rounding)
+                   agree=max((abs(j["detail"][n][1] - e["max"]) / max(e["max"], 1e-300)
+                              for n, e in c.errors.items() if n in j["detail"]), default=0.0),
                    duration=mech.duration(1.0))
         results.append(rec)
         if args.verbose or not rec["ok"]:
@@ -288,6 +301,8 @@ def run(args) -> int:
                   f"{'ok' if rec['ok'] else 'FAIL'}  (compare.passed={c.passed})", flush=True)
     report(args, names, results, refusals, refusals_by_mech, attempts, cap,
            time.time() - t_wall0, time.process_time() - t_cpu0)
+    if gave_up:
+        print("no valid design within --tries-per-design draws: " + ", ".join(f"{k} {v}x" for k, v in gave_up.items()))
     if crashes:
         print(f"\ncrashes while validating (not a ParameterError): {len(crashes)}; the first of each mechanism:")
         seen = set()
@@ -330,6 +345,10 @@ def report(args, names, results, refusals, refusals_by_mech, attempts, cap, wall
         w = max((r for r in rs if "worst" in r), key=lambda r: r["worst"][1], default=None)
         ws = f"{w['worst'][1]:.3g} ({w['worst'][0]})" if w else "-"
         print(f"{name:<22s} {len(rs):5d} {p:5d} {100 * p / len(rs):6.1f}% {refused:7d}  {ws}")
+    reduced = Counter(r["name"] for r in results if r["info"]["perturb"] < PERTURB)
+    if reduced:
+        print("\ndesigns drawn with a reduced length perturbation (after 10+ refusals): "
+              + ", ".join(f"{k} {v}" for k, v in reduced.most_common()))
     print("\nrefusals by mechanism:")
     for name in names:
         if refusals_by_mech[name]:
@@ -355,6 +374,10 @@ def report(args, names, results, refusals, refusals_by_mech, attempts, cap, wall
                 for x in results if "ratios" in x and any(x["kinds"].get(o, o) == kind for o in x["ratios"])]
         print(f"  {kind:<18s} {ratio:10.3g} {np.median(allk):10.3g}  {r['name']} {out} "
               f"(size {r['size']:.3g} m, {r['info']['rev_s']:+.2f} rev/s)")
+    agree = [r["agree"] for r in results if "agree" in r]
+    if agree:
+        print(f"  (check) own max errors vs sim.compare's errors[...]['max']: largest relative difference "
+              f"{max(agree):.2g}")
     tq = [max(r["torque"].values()) for r in results if r.get("torque")]
     wk = [r["work"] for r in results if "work" in r]
     if tq:
@@ -368,7 +391,7 @@ def report(args, names, results, refusals, refusals_by_mech, attempts, cap, wall
     for r in fails:
         info = r["info"]
         head = (f"  {r['name']}: size {r['size']:.4g} m, {info['rev_s']:+.3f} rev/s, speed change "
-                f"{100 * info['speed_change']:+.0f} %" + (f", ratio {info['ratio']:.3f}" if "ratio" in info else ""))
+                f"{100 * info['speed_change']:+.0f} %, lengths +-{100 * info['perturb']:.0f} %" + (f", ratio {info['ratio']:.3f}" if "ratio" in info else ""))
         print(head)
         if "error" in r:
             print(f"    {r['error']}")
@@ -457,7 +480,10 @@ def main(argv=None) -> int:
     ap.add_argument("--count", type=int, default=200, help="valid designs to simulate (default 200)")
     ap.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
     ap.add_argument("--max-attempts-factor", type=int, default=20, help="draw at most FACTOR * count designs")
-    ap.add_argument("--round-robin", action="store_true", help="cycle through the mechanisms instead of drawing")
+    ap.add_argument("--random-mechanism", action="store_true",
+                    help="draw the mechanism at random (default: cycle through them, equal shares)")
+    ap.add_argument("--tries-per-design", type=int, default=40,
+                    help="draws of one mechanism before giving up on that slot (default 40)")
     ap.add_argument("--long", action="store_true", help="also run a few designs for many revolutions")
     ap.add_argument("--long-count", type=int, default=5)
     ap.add_argument("--long-revolutions", type=float, default=50.0)

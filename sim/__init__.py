@@ -4,6 +4,6 @@ MuJoCo fixes its OpenGL backend when it is imported, so the offscreen backend is
 any submodule imports mujoco: the user's ``MUJOCO_GL`` if set, else EGL (OSMesa where EGL is missing).
 """
 
-from .render import ensure_gl_backend
+from .gl import ensure_gl_backend
 
 ensure_gl_backend()

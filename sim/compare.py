@@ -10,7 +10,6 @@ parallelogram's coupler) is not judged against zero. Each constant says which er
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np

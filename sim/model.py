@@ -27,6 +27,18 @@ from analytic import ParameterError
 from analytic.linkfile import GROUND
 
 MJCF_DIR = Path(mjcf.__file__).resolve().parent
+
+WARNINGS: list[str] = []
+"""MuJoCo's warnings, kept here instead of printed to the terminal and written to MUJOCO_LOG.TXT in the
+user's folder: a failed run is reported by SimulationError in one line."""
+
+
+def _keep_warning(message: str) -> None:
+    WARNINGS.append(str(message).strip())
+    del WARNINGS[:-20]
+
+
+mujoco.set_mju_user_warning(_keep_warning)
 TEMPLATE = MJCF_DIR / "template.xml"
 
 INTEGRATORS = {"euler": mujoco.mjtIntegrator.mjINT_EULER, "rk4": mujoco.mjtIntegrator.mjINT_RK4,

@@ -7,7 +7,6 @@ camera (orthographic, looking straight down on the plane), with the output point
 
 from __future__ import annotations
 
-import ctypes.util
 import math
 import os
 import sys
@@ -18,23 +17,12 @@ from pathlib import Path
 import numpy as np
 
 from analytic import ParameterError
+from .gl import ensure_gl_backend
 from .io import atomic_path, check_writable
 
 VIDEO_SUFFIXES = (".mp4", ".gif")
 PATH_RGBA = np.array([0.89, 0.10, 0.11, 1.0], np.float32)
 MAX_PATH_SEGMENTS = 250
-
-
-def ensure_gl_backend() -> str:
-    """Choose MuJoCo's offscreen GL backend before mujoco is imported: the user's ``MUJOCO_GL`` if set,
-    else EGL, else OSMesa where no EGL library is installed."""
-    if "MUJOCO_GL" not in os.environ:
-        have_egl = ctypes.util.find_library("EGL") is not None
-        have_osmesa = ctypes.util.find_library("OSMesa") is not None
-        os.environ["MUJOCO_GL"] = "egl" if have_egl or not have_osmesa else "osmesa"
-        if "PYOPENGL_PLATFORM" not in os.environ:
-            os.environ["PYOPENGL_PLATFORM"] = os.environ["MUJOCO_GL"]
-    return os.environ["MUJOCO_GL"]
 
 
 def parse_size(text: str) -> tuple[int, int]:

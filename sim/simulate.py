@@ -209,5 +209,11 @@ def _check_run(built: Built, sens: np.ndarray, inputs: dict, viol: np.ndarray, h
         where = (f"{first.q}={math.degrees(value):.2f}deg" if first.kind == "crank" else f"{first.q}={value:.6g} m") \
             if np.isfinite(value) else "an undefined input"
         what = "diverged" if not np.all(np.isfinite(sens[k])) else f"opened a loop by {viol[k]:.3g} m"
+        from .model import choose_timestep
+        needed = choose_timestep(built.mech)
+        if h > 1.5 * needed:
+            raise SimulationError(f"the {built.name} simulation {what} at t={k * h:.4f} s ({where}): the time step "
+                                  f"{h:g} s is too large for this design, which needs about {needed:.3g} s; leave "
+                                  f"the time step to be chosen from the design")
         raise SimulationError(f"the {built.name} simulation {what} at t={k * h:.4f} s ({where}): the design is "
                               f"too close to a singular pose there to simulate; move it away or lower the speed")
