@@ -2,8 +2,9 @@
 sample, compiled with numba and run in parallel over the samples.
 
 It is used by :meth:`analytic.mechanism.Mechanism.solve` when numba is installed (``pip install
-linkage[jit]``) and the environment variable ``LINKAGE_JIT`` is not ``"0"``; without numba, numpy stays
-the solver. Both give the same numbers to rounding (tests/test_solver_paths.py).
+linkage[jit]``) and the environment variable ``LINKAGE_JIT`` is not ``"0"``, for solves of at least
+:data:`MIN_SAMPLES` samples (``LINKAGE_JIT=1``: for all); without numba, numpy stays the solver. Both give
+the same numbers to rounding (tests/test_solver_paths.py).
 
 How it works: a mechanism's elements become a table of integer codes (kind, state slots of the points,
 links and prismatic pairs each one reads and writes) and one of numbers (lengths, offsets, branches);
@@ -34,9 +35,22 @@ _G_LINE, _G_ORIGIN = 0, 1
 _OUT_COPY, _OUT_PHI, _OUT_MU = 0, 1, 2
 
 
-def enabled() -> bool:
-    """True when solves go through the compiled path: numba importable and LINKAGE_JIT != "0"."""
-    return AVAILABLE and os.environ.get("LINKAGE_JIT", "1") != "0"
+MIN_SAMPLES = 100_000
+"""Below this many samples a solve stays on numpy unless LINKAGE_JIT=1: the first compiled solve of a
+process costs about half a second (importing numba, loading the kernel from its cache), as much as
+numpy takes for several hundred thousand samples; short runs (the CLI's) need not pay it."""
+
+
+def enabled(n: int | None = None) -> bool:
+    """Whether a solve of ``n`` samples goes through the compiled path: numba importable, and the
+    environment variable LINKAGE_JIT is "1", or unset (any value but "0") and n >= MIN_SAMPLES (or n is
+    None). LINKAGE_JIT=0 keeps every solve on numpy."""
+    if not AVAILABLE:
+        return False
+    flag = os.environ.get("LINKAGE_JIT", "")
+    if flag == "0":
+        return False
+    return flag == "1" or n is None or n >= MIN_SAMPLES
 
 
 # ---------------------------------------------------------------------------------------- the kernel

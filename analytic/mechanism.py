@@ -448,7 +448,7 @@ class Mechanism:
         flat = [a.reshape(-1, k).T for a in (q, qd, qdd)]
         n = flat[0].shape[1]
         want = None if outputs is None else {self.aliases.get(o, o) for o in outputs}
-        if _jit.enabled():
+        if _jit.enabled(n):
             arrays, failed = _jit.solve(self.geometry, *flat, want)
         else:
             if n > BLOCK:

@@ -418,6 +418,12 @@ def report(args, names, results, refusals, refusals_by_mech, attempts, cap, wall
               f"max {max(hs):.3g}; at MAX_TIMESTEP {sum(h >= sim_model.MAX_TIMESTEP * (1 - 1e-12) for h in hs)}")
         print(f"steps per revolution: min {min(steps)}, median {np.median(steps):.0f}, p90 {pct(steps, 90):.0f}, "
               f"max {max(steps)}")
+        print("costliest designs:")
+        for r in sorted(sims, key=lambda r: -r["cpu"])[:3]:
+            print(f"  {1e3 * r['cpu']:.0f} ms: {r['name']} size {r['size']:.3g} m, {r['info']['rev_s']:+.2f} rev/s, "
+                  f"{r['steps']} steps of {r['h']:.3g} s (crank turns {2 * math.pi / r['steps']:.2g} rad/step on "
+                  f"average)")
+            print(f"    {repro(r['name'], r['over'])}")
         us = [1e6 * r["cpu"] / r["steps"] for r in sims]
         print(f"CPU us per step: min {min(us):.1f}, median {np.median(us):.1f}, max {max(us):.1f}")
         print("median CPU ms per revolution by mechanism: " + ", ".join(

@@ -1,5 +1,5 @@
 """The two paths of the general solver give the same numbers: numpy (analytic/kinematics.py, always there)
-and the compiled one (analytic/_jit.py, with numba; LINKAGE_JIT=0 turns it off). Every output of every
+and the compiled one (analytic/_jit.py, with numba; LINKAGE_JIT=1 forces it, 0 turns it off). Every output of every
 named mechanism, NaN included where a group cannot assemble; and ``solve(..., outputs=...)`` returns the
 same values as the full solve on either path."""
 
@@ -27,7 +27,7 @@ def _inputs(mech, seed=11):
 
 def _solve(mech, monkeypatch, jit, *args, **kw):
     monkeypatch.setenv("LINKAGE_JIT", "1" if jit else "0")
-    assert _jit.enabled() == jit
+    assert _jit.enabled(N) == jit
     return mech.solve(*args, **kw)
 
 
@@ -84,6 +84,9 @@ def test_a_subset_of_outputs_equals_the_full_solve(name, jit, monkeypatch):
 
 def test_the_jit_switch(monkeypatch):
     monkeypatch.setenv("LINKAGE_JIT", "0")
-    assert not _jit.enabled()
-    monkeypatch.delenv("LINKAGE_JIT")
-    assert _jit.enabled() == _jit.AVAILABLE
+    assert not _jit.enabled(10**7)
+    monkeypatch.setenv("LINKAGE_JIT", "1")
+    assert _jit.enabled(1) == _jit.AVAILABLE
+    monkeypatch.delenv("LINKAGE_JIT")                   # by default only large solves are compiled
+    assert not _jit.enabled(_jit.MIN_SAMPLES - 1)
+    assert _jit.enabled(_jit.MIN_SAMPLES) == _jit.AVAILABLE

@@ -1,0 +1,163 @@
+"""Every class of bad input a new user produces ends in one clear line and exit code 2 (or a correct
+result), never a traceback, a hang, exit 0 with nonsense, or a lost file.
+
+Each case runs the real command in a folder holding files the user already had; afterwards those files
+must be byte-identical and no MUJOCO_LOG.TXT may appear.
+"""
+
+import json
+import os
+import re
+import signal
+import subprocess
+import sys
+import time
+
+import pytest
+
+PREEXISTING = {"in.csv": b"t,x\n0,1\n", "inertia.json": json.dumps({"2": {"m": 1, "cx": 0, "cy": 0, "I": 0.01}}).encode(),
+               "notes.txt": b"my notes\n", "mech.toml": None}
+
+
+def _setup(folder):
+    from analytic.registry import LIBRARY
+    for name, data in PREEXISTING.items():
+        (folder / name).write_bytes(data if data is not None else (LIBRARY / "fourbar.toml").read_bytes())
+    (folder / "afile").write_bytes(b"not a folder")
+    return {p.name: p.read_bytes() for p in folder.iterdir()}
+
+
+def run(folder, *args, timeout=120):
+    return subprocess.run([sys.executable, "-m", "sim", *args], capture_output=True, text=True, cwd=folder,
+                          timeout=timeout)
+
+
+CASES = [
+    # (class, args, pattern in the one line)
+    ("deg on a length", ["analyze", "fourbar", "--set", "l1=5deg"], r"l1=.*is a length, not an angle"),
+    ("huge speed", ["analyze", "fourbar", "--set", "omega1=1e308"], r"omega1=.*out of range"),
+    ("huge offset", ["analyze", "fourbar", "--set", "ex=1e308"], r"ex=.*out of range"),
+    ("huge acceleration", ["analyze", "fourbar", "--set", "alpha1=1e308"], r"alpha1=.*out of range"),
+    ("huge phase", ["analyze", "fourbar", "--set", "phi1_0=1e308"], r"phi1_0=.*out of range"),
+    ("huge revolutions", ["analyze", "fourbar", "--revolutions", "1e308"], r"revolutions=.*must be a number in"),
+    ("huge input range", ["analyze", "fourbar", "--input-range", "0:1e308"], r"input-range.*out of range"),
+    ("inverted range", ["analyze", "fourbar", "--set", "l1=0.2", "--set", "l3=0.1", "--input-range", "100deg:45deg"],
+     r"input range 100\.00deg:45\.00deg: the end must exceed the start"),
+    ("inverted range, simulate", ["compare", "fourbar", "--set", "l1=0.2", "--set", "l3=0.1", "--input-range",
+                                  "100deg:45deg"], r"input range 100\.00deg:45\.00deg: the end must exceed the start"),
+    ("too many samples", ["analyze", "fourbar", "--samples", "1000000000"], r"samples=1000000000 must be an integer in"),
+    ("too many revolutions to simulate", ["simulate", "fourbar", "--revolutions", "1e9"], r"revolutions=.*must be a number in"),
+    ("sweep samples", ["sweep", "fivebar", "--vary", "l2=0.05,0.06", "--samples", "100000000"], r"samples=100000000 must be"),
+    ("a huge sweep without --yes", ["sweep", "fivebar", "--vary", "l2=0.04:0.06:5000", "--vary", "l4=0.06:0.08:2000"],
+     r"10,000,000 combinations .*add --yes"),
+    ("render fps", ["render", "fourbar", "--out", "v.mp4", "--fps", "1e6"], r"--fps .* must be a number in"),
+    ("repeated --set", ["analyze", "fourbar", "--set", "l1=0.1", "--set", "l1=0.12"], r"--set l1 is given twice"),
+    ("repeated --vary", ["sweep", "fourbar", "--vary", "l1=0.1,0.12", "--vary", "l1=0.13"], r"--vary l1 is given twice"),
+    ("--show -1", ["sweep", "fourbar", "--vary", "l1=0.1,0.12", "--show", "-1"], r"--show -1 must be >= 0"),
+    ("output is a folder", ["analyze", "fourbar", "--csv", "."], r"is a folder; give a file name"),
+    ("output folder missing", ["analyze", "fourbar", "--csv", "nowhere/x.csv"], r"folder nowhere does not exist"),
+    ("output not writable", ["render", "fourbar", "--out", "/proc/v.mp4"], r"cannot write in folder /proc"),
+    ("out-dir is a file", ["run", "fourbar", "--out-dir", "afile", "--no-video"], r"--out-dir afile is a file"),
+    ("out-dir cannot be made", ["run", "fourbar", "--out-dir", "/proc/x", "--no-video"], r"--out-dir /proc/x"),
+    ("an input overwritten", ["simulate", "fourbar", "--inertia", "in.csv", "--csv", "in.csv"],
+     r"in\.csv is an input of this command and would be overwritten"),
+    ("a mechanism file overwritten", ["export", "mech.toml", "--toml", "mech.toml"],
+     r"mech\.toml is an input of this command and would be overwritten"),
+    ("unknown mechanism", ["analyze", "fourbaar"], r"'fourbaar' is not a mechanism: use one of fourbar"),
+    ("missing file", ["analyze", "mine.toml"], r"mine\.toml: no such file"),
+    ("unknown parameter", ["analyze", "slider_crank", "--set", "l1=0.1"], r"'l1' is not a parameter of slider_crank"),
+    ("unsupported output type", ["plot", "fourbar", "--out", "x.bmp"], r"unsupported output type '\.bmp'"),
+    ("no extension", ["analyze", "fourbar", "--csv", "x"], r"unsupported output type '\(no extension\)'"),
+    ("a change point", ["simulate", "fourbar", "--set", "l1=0.25"], r"singular pose at phi1=0\.00deg"),
+    ("a rocking range past a dead point", ["compare", "fourbar", "--set", "l1=0.2", "--set", "l3=0.1",
+                                           "--input-range", "40deg:100deg"], r"cannot be assembled at phi1=40\.00deg"),
+    ("a timestep far too large", ["compare", "fivebar", "--timestep", "0.05", "--set", "omega2=50", "--set", "omega4=50"],
+     r"the time step 0\.05 s is too large for this design"),
+    ("a negative cutting force", ["compare", "sixbar", "--cutting-force", "-5"], r"--cutting-force -5 must be >= 0"),
+    ("a bad gravity", ["compare", "fourbar", "--gravity", "1"], r"--gravity '1' is not two numbers"),
+    ("a bad inertia entry", ["compare", "fourbar", "--inertia", "notes.txt"], r"--inertia notes\.txt: cannot read it as JSON"),
+]
+
+
+@pytest.mark.parametrize("case", CASES, ids=[c[0] for c in CASES])
+def test_bad_input_is_one_line_exit_2_and_loses_nothing(tmp_path, case):
+    _, args, pattern = case
+    before = _setup(tmp_path)
+    r = run(tmp_path, *args)
+    assert r.returncode == 2, (r.returncode, r.stdout[-500:], r.stderr[-500:])
+    assert "Traceback" not in r.stderr and "WARNING" not in r.stderr
+    lines = r.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("linkage: error: "), r.stderr
+    assert re.search(pattern, lines[0]), lines[0]
+    after = {p.name: p.read_bytes() for p in tmp_path.iterdir() if p.name in before}
+    assert after == before                                   # the user's files are untouched
+    assert not (tmp_path / "MUJOCO_LOG.TXT").exists()
+    assert not any(p.name.startswith(".") for p in tmp_path.iterdir())   # no temporary file left behind
+
+
+@pytest.mark.parametrize("args", [
+    ["analyze", "fourbar", "--set", "l1=0.2", "--set", "l3=0.1", "--input-range", "-104deg:-42deg"],
+    ["compare", "fourbar", "--force", "-10,0", "--revolutions", "0.25"],
+    ["compare", "fourbar", "--gravity", "-9.81,0", "--revolutions", "0.25"],
+    ["synthesize", "two-position", "--E1", "-5,3", "--E2", "10,35"],
+])
+def test_negative_values_work_as_written(tmp_path, args):
+    r = run(tmp_path, *args)
+    assert "expected one argument" not in r.stderr and "Traceback" not in r.stderr
+    assert r.returncode in (0, 2), r.stderr
+    if r.returncode == 2:                                        # a real error about the values, not the parser
+        assert "linkage: error:" in r.stderr
+
+
+def test_a_failing_run_creates_no_output_folder(tmp_path):
+    r = run(tmp_path, "run", "fourbar", "--set", "l1=0.25", "--out-dir", "out", "--no-video")
+    assert r.returncode == 2 and not (tmp_path / "out").exists()
+
+
+def test_the_readme_rocking_example_is_accepted_by_analyze_and_compare(tmp_path):
+    for cmd in ("analyze", "compare"):
+        r = run(tmp_path, cmd, "fourbar", "--set", "l1=0.2", "--set", "l3=0.1", "--input-range", "42deg:104deg")
+        assert r.returncode == 0, (cmd, r.stderr)
+
+
+def test_a_gif_says_the_rate_it_stores(tmp_path):
+    r = run(tmp_path, "render", "fourbar", "--out", "v.gif", "--fps", "200", "--size", "64x48", "--revolutions", "0.1")
+    assert r.returncode == 0, r.stderr
+    assert "at 50 fps" in r.stdout                               # GIF delays are whole centiseconds
+
+
+def test_output_piped_into_head_ends_quietly(tmp_path):
+    r = subprocess.run(f"{sys.executable} -m sim analyze fivebar --json | head -1", shell=True, capture_output=True,
+                       text=True, cwd=tmp_path)
+    assert r.stdout.strip() == "{" and "Traceback" not in r.stderr and "BrokenPipe" not in r.stderr
+
+
+def test_ctrl_c_ends_in_one_line(tmp_path):
+    p = subprocess.Popen([sys.executable, "-m", "sim", "compare", "fivebar", "--revolutions", "200"],
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=tmp_path)
+    time.sleep(1.5)
+    p.send_signal(signal.SIGINT)
+    out, err = p.communicate(timeout=60)
+    assert p.returncode == 130 and err.strip().splitlines() == ["linkage: interrupted"], err
+
+
+def test_csv_carries_its_units_and_compare_json_its_context(tmp_path):
+    r = run(tmp_path, "analyze", "fivebar", "--csv", "a.csv")
+    assert r.returncode == 0
+    units = json.loads((tmp_path / "a.csv.units.json").read_text())["units"]
+    assert units["S"] == "m" and units["theta3"] == "rad" and units["ddS"] == "m/s^2" and units["t"] == "s"
+    r = run(tmp_path, "compare", "sixbar", "--cutting-force", "100", "--gravity", "0,-9.81", "--json")
+    out = json.loads(r.stdout)
+    assert out["parameters"]["l6"] == 0.38 and out["loads"]["gravity"] == [0.0, -9.81]
+    # the ram's cutting (slow) stroke runs towards -x with the crank turning counter-clockwise: it is resisted
+    assert out["loads"]["slow_stroke_only"] is True and out["loads"]["force"][0] == pytest.approx(100.0)
+
+
+def test_help_starts_without_mujoco_or_matplotlib():
+    code = ("import sys, runpy; sys.argv = ['linkage', 'analyze', 'fourbar'];\n"
+            "from sim.cli import main; main();\n"
+            "assert 'mujoco' not in sys.modules and 'matplotlib' not in sys.modules, "
+            "[m for m in ('mujoco', 'matplotlib') if m in sys.modules]")
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                       env={**os.environ, "LINKAGE_JIT": "0"})
+    assert r.returncode == 0, r.stderr
