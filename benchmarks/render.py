@@ -16,8 +16,7 @@ sys.path[:] = [p for p in sys.path if Path(p or ".").resolve() != Path(__file__)
 import sim  # noqa: E402,F401  (chooses the offscreen GL backend before mujoco is imported)
 import mujoco  # noqa: E402
 
-from analytic import FiveBar, FourBar, SixBar  # noqa: E402
-from sim import model, render, simulate  # noqa: E402
+from sim import model, render, service, simulate  # noqa: E402
 
 W, H, FPS = 640, 480, 30.0
 
@@ -37,7 +36,7 @@ def bare(mech, frames: int) -> float:
     m.vis.quality.offsamples = 4
     m.vis.quality.shadowsize = 4096
     d = mujoco.MjData(m)
-    mujoco.mj_resetDataKeyframe(m, d, 0)
+    d.qpos[:], d.qvel[:], d.act[:], d.ctrl[:] = built.qpos0, built.qvel0, built.act0, built.ctrl0
     steps_per_frame = max(1, round(1.0 / FPS / m.opt.timestep))
     t0 = time.perf_counter()
     with mujoco.Renderer(m, H, W) as r:
@@ -54,7 +53,8 @@ def main() -> None:
     print(f"{W}x{H} at {FPS:g} fps, {revolutions:g} revolutions; MUJOCO_GL={__import__('os').environ['MUJOCO_GL']}")
     print(f"{'mechanism':<10s} {'frames':>6s} {'ours: sim+render+encode':>24s} {'bare Renderer (defaults)':>25s}")
     with tempfile.TemporaryDirectory() as tmp:
-        for name, mech in (("fourbar", FourBar()), ("sixbar", SixBar()), ("fivebar", FiveBar())):
+        for name in ("fourbar", "sixbar", "fivebar", "jansen"):
+            mech = service.load(name)
             frames, seconds = ours(mech, revolutions, f"{tmp}/{name}.mp4")
             print(f"{name:<10s} {frames:6d} {frames / seconds:18.1f} fps {bare(mech, frames):19.1f} fps")
 
