@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import math
 import os
-import sys
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -19,6 +18,7 @@ import numpy as np
 from analytic import ParameterError
 from .gl import ensure_gl_backend
 from .io import atomic_path, check_writable
+from .progress import Progress
 
 VIDEO_SUFFIXES = (".mp4", ".gif")
 PATH_RGBA = np.array([0.89, 0.10, 0.11, 1.0], np.float32)
@@ -109,22 +109,6 @@ class _Writer:
         self._gen.close()
 
 
-class _Progress:
-    """A one-line progress bar on a terminal; silent otherwise."""
-
-    def __init__(self, total: int, label: str):
-        self.total, self.label = total, label
-        self.on = sys.stderr.isatty()
-
-    def __call__(self, done: int) -> None:
-        if self.on and (done == self.total or done % 5 == 0):
-            bar = "#" * int(30 * done / self.total)
-            sys.stderr.write(f"\r{self.label} [{bar:<30s}] {done}/{self.total} frames")
-            if done == self.total:
-                sys.stderr.write("\n")
-            sys.stderr.flush()
-
-
 def _line(scene, a, b, width_px: float, rgba) -> None:
     """Append a line segment from a to b [m, world] to the scene (width in pixels), if there is room."""
     import mujoco
@@ -173,7 +157,7 @@ def render(built, tr, out: str, fps: float = 30.0, size: tuple[int, int] = (640,
         raise ParameterError(f"the video would have {len(frames):,} frames (over {MAX_FRAMES:,}): lower --fps or "
                              f"--revolutions")
     path = output_path(tr, built.mech)
-    progress = _Progress(len(frames), f"rendering {Path(out).name}")
+    progress = Progress(len(frames), f"rendering {Path(out).name}")
     opt = mujoco.MjvOption()
     t0 = time.perf_counter()
     try:
@@ -194,7 +178,7 @@ def render(built, tr, out: str, fps: float = 30.0, size: tuple[int, int] = (640,
                 for mx, my in markers:
                     _add_cross(renderer.scene, mx, my, 0.015 * model.cam_fovy[cam])
                 writer.append(renderer.render())
-                progress(i + 1)
+                progress.update(i + 1)
         finally:
             writer.close()
     return RenderStats(len(frames), time.perf_counter() - t0, str(out), fps)
