@@ -69,8 +69,11 @@ def fmt_deg(angle: float) -> str:
     return f"{math.degrees(angle):.2f}deg"
 
 
-BLOCK = 4096
-"""Samples per block in :func:`blockwise`: small enough that a kernel's temporaries stay in cache."""
+BLOCK = 8192
+"""Samples per block in :func:`blockwise` and the general solver's numpy path: small enough that a
+kernel's temporaries stay in cache, large enough that numpy's per-call overhead (about 1 us per array
+operation) is small against the arithmetic. 8192 measured 5-30 % faster than 4096 for the closed forms and
+the general solver alike (CPU time, 2-core machine; 16384 about the same as 8192)."""
 
 
 def blockwise(kernel, mech, inputs: tuple[np.ndarray, ...]) -> dict[str, np.ndarray]:

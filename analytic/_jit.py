@@ -1,18 +1,23 @@
-"""Optional compiled path of the general solver: the formulas of :mod:`analytic.kinematics`, sample by
-sample, compiled with numba and run in parallel over the samples.
+"""Optional compiled path of the general solver: the formulas of :mod:`analytic.kinematics`, compiled
+with numba and run in parallel over the samples.
 
 It is used by :meth:`analytic.mechanism.Mechanism.solve` when numba is installed (``pip install
-linkage[jit]``) and the environment variable ``LINKAGE_JIT`` is not ``"0"``, for solves of at least
+'linkage[jit]'``) and the environment variable ``LINKAGE_JIT`` is not ``"0"``, for solves of at least
 :data:`MIN_SAMPLES` samples (``LINKAGE_JIT=1``: for all); without numba, numpy stays the solver. Both give
 the same numbers to rounding (tests/test_solver_paths.py).
 
-How it works: a mechanism's elements become a table of integer codes (kind, state slots of the points,
-links and prismatic pairs each one reads and writes) and one of numbers (lengths, offsets, branches);
-one compiled function, the same for every mechanism, walks that table for each sample, keeping the
-sample's state (6 numbers per point, 4 per link, 3 per pair) in a small scratch vector, then writes the
-requested outputs. Link angles and transmission angles (an arctan2 each) are computed only when asked
-for. numba is imported, and the function compiled (or loaded from numba's on-disk cache, ``cache=True``:
-a few seconds the first time on a machine, well under a second after), at the first solve.
+How it works: a mechanism's elements become a table of integer codes (kind, the state slots of the
+points, links and prismatic pairs each one reads and writes) and one of numbers (lengths, offsets,
+branches). One compiled kernel, the same for every mechanism, takes the samples in chunks of
+:data:`CHUNK` (one chunk per thread at a time); for each element in solving order it runs one loop over
+the chunk, reading and writing a (slot, sample) scratch array that stays in the CPU cache, then copies the
+requested outputs out. Loops over independent samples let the CPU overlap the long latencies of square
+roots and divisions (a loop over the elements of one sample at a time ran 3x slower) and vectorise where
+they can. Link angles and transmission angles are computed only when asked for, and sin, cos and atan2
+are polynomial versions that vectorise (the C library's take 25-35 ns a call here, keep loops scalar).
+
+numba is imported and the kernel compiled at the first compiled solve of a process: about 20 s on the
+first run on a machine, then loaded from numba's on-disk cache (``cache=True``) in about half a second.
 """
 
 from __future__ import annotations
@@ -20,6 +25,7 @@ from __future__ import annotations
 import importlib.util
 import math
 import os
+import warnings
 
 import numpy as np
 
@@ -27,7 +33,8 @@ AVAILABLE = importlib.util.find_spec("numba") is not None
 """Whether numba can be imported (it is not imported until the first compiled solve)."""
 
 CHUNK = 512
-"""Samples per parallel work item."""
+"""Samples per work item: its scratch array (a few hundred slots x CHUNK) stays in the L2 cache, and each
+output row is copied out in runs of 4 KiB. 64 to 1024 measured within 20 % of each other."""
 
 # element kinds, guide kinds, output kinds
 _CRANK, _SLIDER, _RRR, _RRP, _RPR, _POINT = range(6)
@@ -54,10 +61,67 @@ def enabled(n: int | None = None) -> bool:
 
 
 # ---------------------------------------------------------------------------------------- the kernel
-# Plain Python here; :func:`_compile` turns these into numba functions. The formulas mirror those of
-# analytic.kinematics operation for operation, so both paths round alike. The work is element-major over
-# chunks of samples: one loop over a chunk per element, whose iterations are independent, so the CPU
-# overlaps the long dependency chains (square roots, divisions) of successive samples.
+# Plain Python here; :func:`_compile` turns these into numba functions. The formulas are those of
+# analytic.kinematics, written per sample in the same order of operations, so both paths round alike
+# (sin, cos, atan2 to within 2 ulp).
+
+# sin, cos and atan2 as vectorisable code: the C library's (what numba calls for math.sin ...) take 25-35 ns
+# each here and keep a loop scalar; these take 3-5 ns in a vectorised loop. Coefficients and range
+# reduction of Cephes (S. L. Moshier, sin.c, atan.c); within 2 ulp of numpy's (tests/test_solver_paths.py).
+_DP1, _DP2, _DP3 = 7.85398125648498535156e-1, 3.77489470793079817668e-8, 2.69515142907905952645e-15
+_FOPI = 1.27323954473516268615                    # 4 / pi
+_LOSSTH = 1.073741824e9                           # beyond: math.sin / math.cos
+_S0, _S1, _S2, _S3, _S4, _S5 = (1.58962301576546568060e-10, -2.50507477628578072866e-8, 2.75573136213857245213e-6,
+                                -1.98412698295895385996e-4, 8.33333333332211858878e-3, -1.66666666666666307295e-1)
+_C0, _C1, _C2, _C3, _C4, _C5 = (-1.13585365213876817300e-11, 2.08757008419747316778e-9, -2.75573141792967388112e-7,
+                                2.48015872888517045348e-5, -1.38888888888730564116e-3, 4.16666666666665929218e-2)
+_P0, _P1, _P2, _P3, _P4 = (-8.750608600031904122785e-1, -1.615753718733365076637e1, -7.500855792314704667340e1,
+                           -1.228866684490136173410e2, -6.485021904942025371773e1)
+_Q0, _Q1, _Q2, _Q3, _Q4 = (2.485846490142306297962e1, 1.650270098316988542046e2, 4.328810604912902668951e2,
+                           4.853903996359136964868e2, 1.945506571482613964425e2)
+_MOREBITS = 6.123233995736765886130e-17           # pi/2 - float(pi/2)
+_PIO2, _PIO4 = 1.57079632679489661923, 7.85398163397448309616e-1
+
+
+def _sincos(x):
+    """(sin x, cos x) for |x| <= 2^30: Cephes' range reduction modulo pi/4 (three-part pi/4) and
+    polynomials, without branches so that a loop of it vectorises. Larger |x|, inf, NaN: see _crank."""
+    ax = abs(x)
+    j = int(ax * _FOPI)
+    j += j & 1                                    # to the nearest even octant
+    y = float(j)
+    z = ((ax - y * _DP1) - y * _DP2) - y * _DP3   # |z| <= pi/4
+    zz = z * z
+    ps = z + z * (zz * (((((_S0 * zz + _S1) * zz + _S2) * zz + _S3) * zz + _S4) * zz + _S5))
+    pc = 1.0 - 0.5 * zz + zz * zz * (((((_C0 * zz + _C1) * zz + _C2) * zz + _C3) * zz + _C4) * zz + _C5)
+    swap = (j & 2) != 0                           # octants 2, 6: sin and cos exchange
+    s = pc if swap else ps
+    c = ps if swap else pc
+    s = -s if (j & 4) != 0 else s
+    c = -c if ((j + 2) & 4) != 0 else c          # cos negative in octants 2, 4
+    return math.copysign(1.0, x) * s, c
+
+
+def _atan2(y, x):
+    """atan2(y, x) from Cephes' atan on [0, 1] and the octant; signed zeros as IEEE atan2."""
+    ax = abs(x)
+    ay = abs(y)
+    swap = ay > ax
+    big = ay if swap else ax
+    small = ax if swap else ay
+    t = small / big if big != 0.0 else 0.0 * small  # both zero: 0; NaN stays NaN
+    far = t > 0.66
+    u = (t - 1.0) / (t + 1.0) if far else t
+    z = u * u
+    p = z * ((((_P0 * z + _P1) * z + _P2) * z + _P3) * z + _P4) / (((((z + _Q0) * z + _Q1) * z + _Q2) * z + _Q3) * z + _Q4)
+    r = u * p + u
+    r = (_PIO4 + (r + 0.5 * _MOREBITS)) if far else r
+    if swap:
+        r = (_PIO2 - r) + _MOREBITS
+    if math.copysign(1.0, x) < 0.0:
+        r = (2.0 * _PIO2 - r) + 2.0 * _MOREBITS
+    return math.copysign(r, y)
+
 
 def _frame(o0, o1, o2, o3, o4, o5, c, s, w, a, u, v):
     rx = u * c - v * s
@@ -99,25 +163,49 @@ def _put4(st, n, i, x0, x1, x2, x3):
     st[n + 3, i] = x3
 
 
-def _crank(st, m, e, ops, par, need, q, qd, qdd, i0):
+def _sincos_rows(x, s, c):
+    """s, c = sin x, cos x over 1-D arrays (separate arrays: the loop vectorises)."""
+    for i in range(x.shape[0]):
+        s[i], c[i] = _sincos(x[i])
+
+
+def _crank(st, m, e, ops, par, q, qd, qdd, step, i0):
     n, p, L, j = ops[e, 1], ops[e, 2], ops[e, 3], ops[e, 4]
     r = par[e, 0]
+    if step[0] == 0:                                # the same angle at every sample
+        x = q[j, 0]
+        s, c = _sincos(x) if abs(x) <= _LOSSTH else (math.sin(x), math.cos(x))
+        for i in range(m):
+            st[L, i] = c
+            st[L + 1, i] = s
+    else:
+        fast = True
+        for i in range(m):
+            if not abs(q[j, i0 + i]) <= _LOSSTH:    # beyond 2^30 rad, inf, NaN: the C library's
+                fast = False
+        if fast:
+            _sincos_rows(q[j, i0:i0 + m], st[L + 1, :m], st[L, :m])
+        else:
+            for i in range(m):
+                st[L, i] = math.cos(q[j, i0 + i])
+                st[L + 1, i] = math.sin(q[j, i0 + i])
+    s1, s2 = step[1], step[2]
     for i in range(m):
-        x, xd, xdd = q[j, i0 + i], qd[j, i0 + i], qdd[j, i0 + i]
-        c = math.cos(x)
-        s = math.sin(x)
+        c, s, xd, xdd = st[L, i], st[L + 1, i], qd[j, (i0 + i) * s1], qdd[j, (i0 + i) * s2]
         rx = r * c
         ry = r * s
         w2 = xd * xd
         _put(st, n, i, st[p, i] + rx, st[p + 1, i] + ry, st[p + 2, i] - xd * ry, st[p + 3, i] + xd * rx,
              st[p + 4, i] - xdd * ry - w2 * rx, st[p + 5, i] + xdd * rx - w2 * ry)
-        _put4(st, L, i, c, s, xd, xdd)
+        st[L + 2, i] = xd
+        st[L + 3, i] = xdd
 
 
-def _slider(st, m, e, ops, par, need, q, qd, qdd, i0):
+def _slider(st, m, e, ops, par, q, qd, qdd, step, i0):
     n, o, L, j, sl = ops[e, 1], ops[e, 6], ops[e, 3], ops[e, 4], ops[e, 8]
+    s0, s1, s2 = step[0], step[1], step[2]
     for i in range(m):
-        x, xd, xdd = q[j, i0 + i], qd[j, i0 + i], qdd[j, i0 + i]
+        x, xd, xdd = q[j, (i0 + i) * s0], qd[j, (i0 + i) * s1], qdd[j, (i0 + i) * s2]
         c, s, w, a = _guide(st, e, ops, par, i)
         _put(st, n, i, st[o, i] + (x * c - 0.0 * s), st[o + 1, i] + (x * s + 0.0 * c), st[o + 2, i] + xd * c,
              st[o + 3, i] + xd * s, st[o + 4, i] + xdd * c, st[o + 5, i] + xdd * s)
@@ -174,7 +262,7 @@ def _rrr(st, m, e, ops, par, need):
             _put(st, n, i, C[0], C[1], C[2], C[3], C[4], C[5])
 
 
-def _rrp(st, m, e, ops, par, need):
+def _rrp(st, m, e, ops, par):
     n, p, o, Lr, Lb, sl = ops[e, 1], ops[e, 2], ops[e, 6], ops[e, 3], ops[e, 4], ops[e, 8]
     length, offset, branch = par[e, 0], par[e, 1], par[e, 4]
     l2 = length * length
@@ -211,7 +299,7 @@ def _rrp(st, m, e, ops, par, need):
         st[sl + 2, i] = dds
 
 
-def _rpr(st, m, e, ops, par, need):
+def _rpr(st, m, e, ops, par):
     n, p, pq, L, sl = ops[e, 1], ops[e, 2], ops[e, 3], ops[e, 4], ops[e, 8]
     length, offset, branch = par[e, 0], par[e, 1], par[e, 4]
     for i in range(m):
@@ -238,7 +326,7 @@ def _rpr(st, m, e, ops, par, need):
         st[sl + 2, i] = dds
 
 
-def _point(st, m, e, ops, par, need):
+def _point(st, m, e, ops, par):
     n, p, pq = ops[e, 1], ops[e, 2], ops[e, 3]
     u, v = par[e, 0], par[e, 1]
     for i in range(m):
@@ -248,11 +336,12 @@ def _point(st, m, e, ops, par, need):
         _put(st, n, i, x0, x1, x2, x3, x4, x5)
 
 
-def _kernel(ops, par, init, ground, need, q, qd, qdd, rows, out, failed, size):
-    """Every sample of q, qd, qdd (n_inputs, N): ``failed`` (N,) and the rows of ``out`` (n_rows, N) as
-    ``rows`` (n_rows, 2: output kind, state slot) says. ``init`` holds the state's constant slots (those
-    listed in ``ground``); ``need`` marks the slots that outputs read; ``size``: samples per work item."""
-    n = q.shape[1]
+def _kernel(ops, par, init, ground, need, q, qd, qdd, step, rows, out, failed, size):
+    """Every sample: ``failed`` (N,) and the rows of ``out`` (n_rows, N) as ``rows`` (n_rows, 2: output
+    kind, state slot) says. q, qd, qdd are (n_inputs, N) or, where ``step`` is 0, (n_inputs, 1): the same
+    at every sample. ``init`` holds the state's constant slots (those listed in ``ground``); ``need``
+    marks the link and mu slots that outputs read; ``size``: samples per work item."""
+    n = failed.shape[0]
     for chunk in prange((n + size - 1) // size):
         i0 = chunk * size
         m = min(n - i0, size)
@@ -262,17 +351,17 @@ def _kernel(ops, par, init, ground, need, q, qd, qdd, rows, out, failed, size):
         for e in range(ops.shape[0]):
             kind = ops[e, 0]
             if kind == _CRANK:
-                _crank(st, m, e, ops, par, need, q, qd, qdd, i0)
+                _crank(st, m, e, ops, par, q, qd, qdd, step, i0)
             elif kind == _SLIDER:
-                _slider(st, m, e, ops, par, need, q, qd, qdd, i0)
+                _slider(st, m, e, ops, par, q, qd, qdd, step, i0)
             elif kind == _RRR:
                 _rrr(st, m, e, ops, par, need)
             elif kind == _RRP:
-                _rrp(st, m, e, ops, par, need)
+                _rrp(st, m, e, ops, par)
             elif kind == _RPR:
-                _rpr(st, m, e, ops, par, need)
+                _rpr(st, m, e, ops, par)
             else:
-                _point(st, m, e, ops, par, need)
+                _point(st, m, e, ops, par)
         for i in range(m):                           # the first element whose point is not finite
             f = -1
             for e in range(ops.shape[0]):
@@ -288,10 +377,10 @@ def _kernel(ops, par, init, ground, need, q, qd, qdd, rows, out, failed, size):
                     out[r, i0 + i] = st[src, i]
             elif kind == _OUT_PHI:
                 for i in range(m):
-                    out[r, i0 + i] = math.atan2(st[src + 1, i], st[src, i])
+                    out[r, i0 + i] = _atan2(st[src + 1, i], st[src, i])
             else:
                 for i in range(m):
-                    out[r, i0 + i] = math.atan2(abs(st[src, i]), abs(st[src + 1, i]))
+                    out[r, i0 + i] = _atan2(abs(st[src, i]), abs(st[src + 1, i]))
 
 
 prange = range
@@ -305,9 +394,9 @@ def _compile():
         import numba
         prange = numba.prange
         g = globals()
-        for name in ("_frame", "_line", "_guide", "_put", "_put4", "_rrr_at"):
+        for name in ("_sincos", "_atan2", "_frame", "_line", "_guide", "_put", "_put4", "_rrr_at"):
             g[name] = numba.njit(cache=True, error_model="numpy", inline="always")(g[name])
-        for name in ("_crank", "_slider", "_rrr", "_rrp", "_rpr", "_point"):
+        for name in ("_sincos_rows", "_crank", "_slider", "_rrr", "_rrp", "_rpr", "_point"):
             g[name] = numba.njit(cache=True, error_model="numpy")(g[name])
         _compiled = numba.njit(cache=True, parallel=True, error_model="numpy")(_kernel)
     return _compiled
@@ -442,9 +531,15 @@ def solve(geometry, q, qd, qdd, want=None):
         names, rows = tuple(layout.names[i] for i in pick), layout.rows[pick]
     need = np.zeros(layout.init.shape[0], dtype=np.bool_)     # links and mu: only when asked for
     need[layout.base[rows[:, 1]]] = True
-    q, qd, qdd = (np.ascontiguousarray(a, dtype=np.float64) for a in (q, qd, qdd))
     n = q.shape[1]
+    inputs, step = [], np.ones(3, dtype=np.int64)
+    for k, a in enumerate((q, qd, qdd)):
+        if n > 1 and a.strides[1] == 0:              # broadcast (a constant speed ...): not copied out
+            a, step[k] = a[:, :1], 0
+        inputs.append(np.ascontiguousarray(a, dtype=np.float64))
     out = np.empty((len(names), n))
     failed = np.empty(n, dtype=np.int64)
-    kernel(layout.ops, layout.par, layout.init, layout.ground, need, q, qd, qdd, rows, out, failed, CHUNK)
+    with warnings.catch_warnings():                  # numba reads .flags.writeable, which warns for views
+        warnings.simplefilter("ignore", FutureWarning)  # of np.broadcast_to arrays; only read here
+        kernel(layout.ops, layout.par, layout.init, layout.ground, need, *inputs, step, rows, out, failed, CHUNK)
     return dict(zip(names, out)), failed

@@ -52,6 +52,8 @@ def assembly_ranges(mech, samples: int = SCAN) -> list[tuple[float, float]]:
     good = ok(q)
     if good.all():
         return [(lo, hi)]
+    if not good.any():
+        return []                                    # it assembles nowhere on the scan
     edges = np.flatnonzero(np.diff(good.astype(np.int8)))
     # bisect every edge at once: one solve per halving
     a, b = q[edges].copy(), q[edges + 1].copy()

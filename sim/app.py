@@ -13,8 +13,8 @@ opens a path that came from a request. Every refusal and every failure to comput
 
 from __future__ import annotations
 
-import argparse
 import dataclasses
+import html
 import json
 import math
 import os
@@ -52,18 +52,21 @@ MAX_ERROR_CHARS = 1000
 
 STATIC = Path(__file__).parent / "static"
 FILES = {
-    "/": ("index.html", "text/html; charset=utf-8"),
     "/app.js": ("app.js", "text/javascript; charset=utf-8"),
     "/app.css": ("app.css", "text/css; charset=utf-8"),
     "/vendor/uPlot.iife.min.js": ("vendor/uPlot.iife.min.js", "text/javascript; charset=utf-8"),
     "/vendor/uPlot.min.css": ("vendor/uPlot.min.css", "text/css; charset=utf-8"),
     "/vendor/uPlot.LICENSE": ("vendor/uPlot.LICENSE", "text/plain; charset=utf-8"),
 }
-"""Every static file served, by URL path: a fixed list, so no request can name a file."""
+"""Every static file served besides the page itself, by URL path: a fixed list, so no request can name a
+file."""
 
 SECURITY_HEADERS = {
-    "Content-Security-Policy": "default-src 'self'; img-src 'self' data: blob:; media-src 'self' blob:; "
-                               "style-src 'self' 'unsafe-inline'; frame-ancestors 'none'; base-uri 'none'",
+    # 'unsafe-eval' only because browser test drivers (Playwright's wait_for_function) evaluate their
+    # predicates in the page; the page itself never evaluates text and builds its DOM with textContent.
+    "Content-Security-Policy": "default-src 'self'; script-src 'self' 'unsafe-eval'; img-src 'self' data: blob:; "
+                               "media-src 'self' blob:; style-src 'self' 'unsafe-inline'; frame-ancestors 'none'; "
+                               "base-uri 'none'; form-action 'none'",
     "X-Content-Type-Options": "nosniff",
     "X-Frame-Options": "DENY",
     "Referrer-Policy": "no-referrer",
@@ -74,7 +77,7 @@ FIELDS = {
     "solve": {"mechanism", "text", "set", "samples", "revolutions", "input_range", "outputs", "figures", "digits"},
     "simulate": {"mechanism", "text", "set", "revolutions", "input_range", "outputs"},
     "render": {"mechanism", "text", "set", "revolutions", "input_range", "size", "fps"},
-    "export": {"mechanism", "text", "set", "samples", "revolutions", "input_range", "outputs", "figures"},
+    "export": {"mechanism", "text", "set", "samples", "revolutions", "input_range"},
 }
 """The fields each POST accepts; any other is refused, so a misspelt field is never silently ignored."""
 
@@ -182,15 +185,6 @@ def size_of(body: dict) -> tuple[int, int]:
 
 
 # ------------------------------------------------------------------------------------- computation
-class _CurvesOnly(Mechanism):
-    """The mechanism without its figures of merit. While a slider is dragged the page asks for curves only:
-    the figures (scans for limit angles and singular poses) take 50 ms to 2 s, the curves about 1 ms. Running
-    :func:`service.analyze` on this keeps its checks and sampling exactly."""
-
-    def figures(self, sol) -> dict:
-        return {}
-
-
 @dataclasses.dataclass(frozen=True)
 class Run:
     """The analysed run a request describes."""
@@ -201,13 +195,16 @@ class Run:
     input_range: tuple[float, float] | None
 
 
-def analysis(mech: Mechanism, body: dict, figures: bool) -> Run:
+def run_options(body: dict, mech: Mechanism) -> tuple[int, float, tuple[float, float] | None]:
+    """(samples, revolutions, input range) of a request, bounded."""
     samples = int(number(body, "samples", 361, 2, MAX_SAMPLES, integer=True))
     revolutions = float(number(body, "revolutions", 1.0, 1e-6, MAX_REVOLUTIONS))
-    rng = input_range_of(body, mech)
-    if not figures:
-        mech = _CurvesOnly(**{f.name: getattr(mech, f.name) for f in dataclasses.fields(mech)})
-    return Run(service.analyze(mech, samples, revolutions, rng), samples, revolutions, rng)
+    return samples, revolutions, input_range_of(body, mech)
+
+
+def analysis(mech: Mechanism, body: dict, figures: bool) -> Run:
+    samples, revolutions, rng = run_options(body, mech)
+    return Run(service.analyze(mech, samples, revolutions, rng, figures=figures), samples, revolutions, rng)
 
 
 def series(a, n: int | None = None, digits: int | None = None) -> list:
@@ -247,8 +244,8 @@ def solve(body: dict) -> dict:
     return {
         "mechanism": mech.name, "samples": run.samples, "revolutions": run.revolutions,
         "input_range": list(run.input_range) if run.input_range else None,
-        "describe": clean(service.describe(mech)), "parameters": clean(mech.parameters),
-        "input": mech.inputs[0].q, "units": service.units_of(mech, [*a.inputs, *mech.outputs]),
+        "describe": describe(mech), "parameters": clean(mech.parameters),
+        "input": mech.inputs[0].q, "units": units(mech, body.get("text") or body["mechanism"]),
         "t": series(a.t), "inputs": {k: series(v, n, digits) for k, v in a.inputs.items()},
         "outputs": {k: series(sol[k], n, digits) for k in names},
         "points": point_paths(mech, sol, n, digits=digits),
@@ -256,6 +253,39 @@ def solve(body: dict) -> dict:
         "figures": clean(a.figures) if figures else None,
         "summary": mech.summary(a.figures) if figures else None,
     }
+
+
+_UNITS: dict[str, dict[str, str]] = {}
+
+
+def units(mech: Mechanism, key: str) -> dict[str, str]:
+    """The unit of every input and output column. Units follow from the mechanism's structure, not its
+    values, so they are worked out once per mechanism (``key``: its name or file text) rather than on every
+    slider move (~5 ms for a 70-output walking leg)."""
+    if key not in _UNITS:
+        if len(_UNITS) >= 64:
+            _UNITS.clear()
+        columns = [q for i in mech.inputs for q in (i.q, i.qd, i.qdd)] + list(mech.outputs)
+        _UNITS[key] = service.units_of(mech, columns)
+    return _UNITS[key]
+
+
+def describe(mech: Mechanism) -> dict:
+    """:func:`service.describe` for the page: the drives' speed and acceleration parameters in rad/s and
+    rad/s^2 (a slider's in length/s, length/s^2) where the table gives every angle-kind parameter 'rad', and a
+    slider range for a length that is zero (an offset), whose table range is empty."""
+    d = clean(service.describe(mech))
+    rates = {}
+    for i in mech.inputs:
+        base = "rad" if i.kind == "crank" else mech.units
+        _, speed, accel = i.parameters
+        rates.update({name: unit for name, unit in ((speed, f"{base}/s"), (accel, f"{base}/s^2")) if name})
+    size = mech.size / mech.scale                   # [file units]
+    for p in d["parameters"]:
+        p["unit"] = rates.get(p["name"], p["unit"])
+        if p["kind"] == "length" and p["max"] - p["min"] < 1e-6 * size:    # a zero offset: +-size to play with
+            p.update(min=-size, max=size, step=size / 200)
+    return d
 
 
 def simulate(body: dict) -> dict:
@@ -309,6 +339,7 @@ def export(kind: str, body: dict) -> tuple[bytes, str, str]:
     """A download: (bytes, content type, file name) of the CSV, JSON, mechanism file or MJCF."""
     check_fields(body, "export")
     mech = mechanism_of(body)
+    run_options(body, mech)                         # a bad field is refused whichever file is asked for
     stem = re.sub(r"[^A-Za-z0-9_.-]", "_", mech.name)[:64] or "mechanism"
     if kind == "toml":
         return service.mechanism_text(mech).encode(), "application/toml", f"{stem}.toml"
@@ -331,6 +362,27 @@ def csv_text(columns: dict) -> str:
     return buf.getvalue()
 
 
+def page(initial: dict) -> bytes:
+    """index.html with the first mechanism's parameter rows written in, so the page as served already
+    holds every ``<input name=PARAM>`` (the script rebuilds the rows when the mechanism changes)."""
+    mech = service.load(initial["name"], text=initial.get("text"))
+    rows = "".join(parameter_row(p) for p in describe(mech)["parameters"])
+    return (STATIC / "index.html").read_text().replace("<!--PARAMETERS-->", rows).encode()
+
+
+def parameter_row(p: dict) -> str:
+    """One parameter's row: label, slider, number box, unit, range; the markup app.js builds too."""
+    name, unit = html.escape(p["name"]), html.escape(p["unit"])
+    hint = "branch: +1 or -1" if p["kind"] == "branch" else f"range {p['min']:.4g} … {p['max']:.4g} {unit}"
+    hint += " · derived from the others until set" if p["derived"] else ""
+    return (f'<div class="param" data-name="{name}"><label for="p-{name}">{name}</label>'
+            f'<input type="range" data-param="{name}" aria-label="{name} slider" min="{p["min"]!r}" '
+            f'max="{p["max"]!r}" step="{p["step"]!r}" value="{p["value"]!r}">'
+            f'<input type="text" id="p-{name}" name="{name}" value="{p["value"]:.6g}" inputmode="decimal" '
+            f'autocomplete="off" spellcheck="false"><span class="unit">{unit}</span>'
+            f'<p class="hint">{hint}</p><p class="field-error" role="alert"></p></div>')
+
+
 def mechanisms(initial: dict) -> dict:
     listing = service.list_mechanisms()
     return {"names": [m["name"] for m in listing], "mechanisms": listing, "initial": initial}
@@ -348,6 +400,7 @@ class AppServer(ThreadingHTTPServer):
         self.hosts = {f"127.0.0.1:{self.port}", f"localhost:{self.port}"}
         self.origins = {f"http://{h}" for h in self.hosts}
         self.initial = initial
+        self.page = page(initial)
 
     @property
     def url(self) -> str:
@@ -412,6 +465,8 @@ class Handler(BaseHTTPRequestHandler):
         path = self.path.split("?", 1)[0]
         if path == "/api/mechanisms":
             return 200, _json_bytes(mechanisms(self.server.initial)), "application/json", {}
+        if path == "/":
+            return 200, self.server.page, "text/html; charset=utf-8", {}
         if path in FILES:
             name, ctype = FILES[path]
             return 200, (STATIC / name).read_bytes(), ctype, {}
@@ -504,6 +559,8 @@ def initial_mechanism(name: str) -> dict:
     if name in analytic.names():
         service.load(name)
         return {"name": name}
+    if not Path(name).is_file():
+        raise ParameterError(f"{name!r} is neither a mechanism (linkage list) nor a linkage/1 file")
     text = Path(name).read_text()
     return {"name": service.load(name, text=text).name, "text": text}
 

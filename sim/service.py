@@ -141,9 +141,11 @@ def check_range(mech: Mechanism, lo: float, hi: float) -> tuple[float, float]:
 
 
 def analyze(mech: Mechanism, samples: int = 361, revolutions: float = 1.0,
-            input_range: tuple[float, float] | None = None) -> Analysis:
+            input_range: tuple[float, float] | None = None, figures: bool = True) -> Analysis:
     """Closed-form kinematics over one run: ``samples`` instants over ``revolutions`` of the first input,
-    or values of the first input evenly spaced over ``input_range`` (other inputs at their motion law)."""
+    or values of the first input evenly spaced over ``input_range`` (other inputs at their motion law).
+    ``figures=False`` skips the figures of merit (their scans take 50 ms to 2 s; the curves ~1 ms), as a
+    front end does while a value is being dragged."""
     check_samples(samples)
     check_revolutions(revolutions)
     if input_range is not None:
@@ -165,7 +167,7 @@ def analyze(mech: Mechanism, samples: int = 361, revolutions: float = 1.0,
     for attr, arr in (("q", q), ("qd", qd), ("qdd", qdd)):          # phi2 phi4 omega2 omega4 alpha2 alpha4
         for k, inp in enumerate(mech.inputs):
             cols[getattr(inp, attr)] = arr[:, k]
-    return Analysis(t, cols, sol, mech.figures(sol))
+    return Analysis(t, cols, sol, mech.figures(sol) if figures else {})
 
 
 def check_turns_fully(mech: Mechanism) -> None:

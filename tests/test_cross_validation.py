@@ -20,6 +20,7 @@ VELOCITY = 1e-5     # [of the output's scale] velocity stabilisation of the loop
 ACCEL = 1e-3        # [of the output's scale] constraint residual and regulariser leak (measured ~1e-6)
 LOOP = 1e-6         # [of the size] loop drift under the drift correction (measured ~1e-9)
 DRIVE = 1e-4        # [rad] servo deflection under the peak reaction, sized to 1e-6
+WORK = 1e-3         # [of the KE swing per revolution] RK4's energy error (measured ~1e-5)
 
 CASES = {
     "fourbar default": ("fourbar", {}),
@@ -66,6 +67,10 @@ def test_simulation_matches_analytic(case):
     assert c.max_loop_violation <= LOOP * mech.size
     assert c.drive_error <= DRIVE
     assert c.passed
+    # the code's own loop, drive and work tolerances are not looser than the pinned ones
+    record = c.as_dict(built)
+    assert record["loop_tol"] <= LOOP * mech.size * (1 + 1e-12) and record["drive_tol"] <= DRIVE
+    assert record["work_tol"] <= WORK
     # every reported output was compared, and the code's tolerance is not looser than the pinned one
     assert set(mech.outputs) <= set(c.errors)
     assert all(c.errors[k]["tol"] <= e["max"] / r * (1 + 1e-12) for k, r in ratios.items()

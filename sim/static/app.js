@@ -1,6 +1,7 @@
 // linkage app: the page over the JSON API of sim/app.py. No build step, no framework: uPlot draws the
-// curves, a canvas draws the linkage. The last solve is kept in window.linkageState and every redraw
-// increments document.body.dataset.revision (tests and the latency benchmark wait on it).
+// curves, a canvas draws the linkage. The last solve is kept in window.linkageState (the last simulation in
+// window.linkageSimulation) and every redraw increments document.body.dataset.revision: tests and the
+// latency benchmark wait on it.
 "use strict";
 
 (() => {
@@ -8,10 +9,13 @@
   const SAMPLES = 361;
   const DRAG_DIGITS = 7;          // significant digits asked for while dragging: half the bytes to move
   const FIGURES_DELAY_MS = 250;   // figures of merit (50 ms - 2 s on the server) once the input settles
+  const HOLD_MS = 300;            // the animation pauses this long after each edit
   const MAX_UPLOAD = 900000;
-  const MAX_SIM_OUTPUTS = 24;     // above this, simulate sends back only the plotted outputs
+  const FEW_OUTPUTS = 24;         // up to this many outputs all are fetched; above, only the plotted ones
   const COLORS = ["#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#17becf", "#8c564b", "#e377c2"];
   const SIM_COLOR = "#111";
+  const CHART_HEIGHT = 175;
+  const ERROR_HEIGHT = 130;
 
   const $ = (sel) => document.querySelector(sel);
   const state = {
@@ -31,8 +35,10 @@
     speed: 1,
     version: 0,                         // bumped by every edit; answers to older versions are dropped
     applied: -1,
-    rebuild: true,
+    opened: 0,                          // the version at which the current mechanism was opened
+    built: -1,                          // the `opened` the panels were built for
     geometry: null,
+    holdUntil: 0,
   };
 
   // ------------------------------------------------------------------------------------------ api
@@ -69,7 +75,10 @@
 
   function edited() {
     state.version += 1;
+    state.holdUntil = performance.now() + HOLD_MS;
     clearSimulation();
+    $("#video").hidden = true;             // a video of other values
+    $("#figures").classList.add("pending");
     send("curves");
     const full = channels.full;
     clearTimeout(full.timer);
@@ -83,29 +92,37 @@
     ch.queued = false;
     const version = state.version;
     const extra = kind === "full"
-      ? { samples: SAMPLES, figures: true }
-      : { samples: SAMPLES, figures: false, digits: DRAG_DIGITS, outputs: state.rebuild ? undefined : state.selected };
+      ? { samples: SAMPLES, figures: true, outputs: wantedOutputs() }
+      : { samples: SAMPLES, figures: false, digits: DRAG_DIGITS, outputs: wantedOutputs() };
+    const current = () => version >= state.opened && version >= state.applied;
     try {
       const started = performance.now();
       const res = await api("/api/solve", requestBody(extra));
       const data = await res.json();
-      if (version >= state.applied && !(kind === "curves" && version === state.applied)) {
+      const received = performance.now();
+      if (current() && !(kind === "curves" && version === state.applied)) {
         applySolve(data, version, kind === "full");
-        status(`${data.mechanism}: solved in ${Math.round(performance.now() - started)} ms`);
+        const drawn = performance.now();
+        window.linkageTiming = { kind, request_ms: received - started, draw_ms: drawn - received };
+        status(`${data.mechanism}: solved and drawn in ${Math.round(drawn - started)} ms`);
       }
     } catch (err) {
-      if (version >= state.applied) showError(err, version);
+      if (current()) showError(err, version);
     } finally {
       ch.busy = false;
       if (ch.queued) send(kind);
     }
   }
 
+  function wantedOutputs() {
+    const many = state.built === state.opened && state.describe.outputs.length > FEW_OUTPUTS;
+    return many ? state.selected : undefined;
+  }
+
   // ------------------------------------------------------------------------------------ redraw
   function applySolve(data, version, full) {
     state.applied = version;
-    const rebuild = state.rebuild || !state.describe || data.describe.name !== state.describe.name
-      || data.describe.parameters.length !== state.describe.parameters.length;
+    const rebuild = state.built !== state.opened;
     state.describe = data.describe;
     if (full || !state.solve || rebuild) {
       state.solve = data;
@@ -114,9 +131,10 @@
     }
     window.linkageState = state.solve;
     if (rebuild) {
-      state.rebuild = false;
+      state.built = state.opened;
+      $("#description").textContent = data.describe.description;
       buildParameters(data.describe);
-      state.selected = defaultOutputs(data.describe, data.units);
+      state.selected = defaultOutputs(data);
       buildOutputPicker();
       buildCharts();
       setFrame(0);
@@ -190,21 +208,23 @@
     const row = document.createElement("div");
     row.className = "param";
     row.dataset.name = p.name;
-    const id = `p-${p.name}`;
     const unit = p.unit ? ` ${p.unit}` : "";
     row.innerHTML = `
-      <label for="${id}"></label>
-      <input type="range" data-param="" aria-label="">
-      <input type="text" id="${id}" name="" inputmode="decimal" autocomplete="off" spellcheck="false">
+      <label></label>
+      <input type="range">
+      <input type="text" inputmode="decimal" autocomplete="off" spellcheck="false">
       <span class="unit"></span>
       <p class="hint"></p>
       <p class="field-error" role="alert"></p>`;
-    row.querySelector("label").textContent = p.name;
+    const label = row.querySelector("label");
+    label.textContent = p.name;
+    label.htmlFor = `p-${p.name}`;
     const slider = row.querySelector("input[type=range]");
     slider.dataset.param = p.name;
     slider.setAttribute("aria-label", `${p.name} slider`);
     slider.min = p.min; slider.max = p.max; slider.step = p.step; slider.value = p.value;
     const box = row.querySelector("input[type=text]");
+    box.id = `p-${p.name}`;
     box.name = p.name;
     box.value = fmt(p.value);
     row.querySelector(".unit").textContent = p.unit || "";
@@ -247,15 +267,21 @@
   }
 
   // --------------------------------------------------------------------------------- outputs
-  function angleLike(name, units) { return units[name] === "rad" || units[name] === "rad/s" || units[name] === "rad/s^2"; }
-
   function displayUnit(name, units) {
     const u = units[name] || "";
     return u === "rad" ? "deg" : u;
   }
 
-  function defaultOutputs(describe, units) {
-    const outs = describe.outputs;
+  // A first choice of curves: link angles, a slide, a transmission angle, the output point's path; outputs
+  // that stay constant (a block's angle on a fixed guide) are left out.
+  function defaultOutputs(data) {
+    const describe = data.describe;
+    const units = data.units;
+    const varies = (n) => {
+      const v = (data.outputs[n] || []).filter((x) => x !== null);
+      return v.length > 0 && Math.max(...v) - Math.min(...v) > 1e-9 * (1 + Math.abs(v[0]));
+    };
+    const outs = describe.outputs.filter(varies);
     const p = describe.output_point;
     const inputs = new Set(describe.inputs.flatMap((i) => [i.q, i.qd, i.qdd]));
     const angles = outs.filter((n) => units[n] === "rad" && !n.startsWith("mu") && !inputs.has(n)).slice(0, 2);
@@ -263,7 +289,7 @@
     const mus = outs.filter((n) => n.startsWith("mu")).slice(0, 1);
     const path = [`x${p}`, `y${p}`].filter((n) => outs.includes(n));
     const picked = [...new Set([...angles, ...slides, ...mus, ...path])].slice(0, 4);
-    return picked.length ? picked : outs.slice(0, 4);
+    return picked.length ? picked : describe.outputs.slice(0, 4);
   }
 
   function buildOutputPicker() {
@@ -328,7 +354,7 @@
       box.appendChild(card);
       const unit = displayUnit(name, state.solve.units);
       const plot = new uPlot({
-        width, height: 190, title: `${name} [${unit}]`,
+        width, height: CHART_HEIGHT, title: `${name} [${unit}]`,
         scales: { x: { time: false } },
         legend: { show: true, live: false },
         cursor: { drag: { x: false, y: false } },
@@ -348,14 +374,14 @@
       errBox.hidden = true;
       card.appendChild(errBox);
       const err = new uPlot({
-        width, height: 120, title: `error ${name} (MuJoCo − analytic) [${state.solve.units[name] || ""}]`,
-        scales: { x: { time: false } },
+        width, height: ERROR_HEIGHT, title: `${name}: MuJoCo − analytic, in tolerances`,
+        scales: { x: { time: false }, y: { range: (u, lo, hi) => [Math.min(-1.5, lo), Math.max(1.5, hi)] } },
         legend: { show: false },
         cursor: { drag: { x: false, y: false } },
-        axes: [axisOptions(axis.label), axisOptions("", 72, true)],
+        axes: [axisOptions(null), { ...axisOptions("error / tol", 64), space: 14 }],
         series: [
           {},
-          { label: "error", stroke: color, width: 1.2 },
+          { label: "error / tol", stroke: color, width: 1.4 },
           { label: "+tol", stroke: "#c33", width: 1, dash: [4, 4] },
           { label: "-tol", stroke: "#c33", width: 1, dash: [4, 4] },
         ],
@@ -364,11 +390,11 @@
     });
   }
 
-  function axisOptions(label, size, exp) {
-    const o = { label, labelSize: 16, labelFont: "12px system-ui, sans-serif", font: "11px system-ui, sans-serif",
+  function axisOptions(label, size) {
+    const o = { labelSize: 16, labelFont: "12px system-ui, sans-serif", font: "11px system-ui, sans-serif",
       stroke: "#333", grid: { stroke: "#e6e6e6", width: 1 }, ticks: { stroke: "#ccc", width: 1 } };
+    if (label) o.label = label;
     if (size) o.size = size;
-    if (exp) o.values = (u, vals) => vals.map((v) => (v === 0 ? "0" : v.toExponential(1)));
     return o;
   }
 
@@ -423,10 +449,11 @@
         const xm = xs.filter((_, i) => i % every === 0);
         const ym = toDisplay(c.name, simY, data.units).filter((_, i) => i % every === 0);
         c.plot.setData(uPlot.join([analytic, sortedBy(xm, ym)]));
-        const [xe, ye] = sortedBy(xs, sim.simulated.errors[c.name]);
-        const tol = (sim.errors[c.name] || {}).tol;
-        c.err.setData([xe, ye, xe.map(() => tol ?? null), xe.map(() => (tol == null ? null : -tol))]);
+        const tol = (sim.errors[c.name] || {}).tol || 1;
+        const [xe, ye] = sortedBy(xs, sim.simulated.errors[c.name].map((e) => (e === null ? null : e / tol)));
+        c.err.setData([xe, ye, xe.map(() => 1), xe.map(() => -1)]);
         c.errBox.hidden = false;
+        c.errBox.title = `tolerance ${fmt(tol, 2)} ${data.units[c.name] || ""}`;
       } else {
         c.plot.setData([analytic[0], analytic[1], analytic[0].map(() => null)]);
         c.errBox.hidden = true;
@@ -457,12 +484,14 @@
       li.textContent = line.trim();
       list.appendChild(li);
     }
+    list.classList.remove("pending");
     $("#all-figures pre").textContent = JSON.stringify(data.figures, null, 1);
   }
 
   function clearSimulation() {
     if (!state.sim) return;
     state.sim = null;
+    window.linkageSimulation = null;
     $("#verdict").hidden = true;
     $("#errors").hidden = true;
     $("#sim-status").textContent = "parameters changed: simulate again";
@@ -471,14 +500,15 @@
   async function simulate() {
     const button = $("#simulate");
     button.disabled = true;
+    $("#sim-status").classList.remove("bad");
     $("#sim-status").textContent = "simulating…";
     const version = state.version;
     try {
-      const outs = state.describe.outputs.length <= MAX_SIM_OUTPUTS ? undefined : state.selected;
-      const res = await api("/api/simulate", requestBody({ outputs: outs }));
+      const res = await api("/api/simulate", requestBody({ outputs: wantedOutputs() }));
       const sim = await res.json();
       if (version !== state.version) return;           // the parameters moved on meanwhile
       state.sim = sim;
+      window.linkageSimulation = sim;
       showVerdict(sim);
       updateCharts();
       drawFrame();
@@ -486,11 +516,19 @@
         + `${fmt(sim.cpu_seconds * 1e3, 3)} ms CPU`;
       bumpRevision();
     } catch (err) {
-      $("#sim-status").textContent = "";
-      showError(err, version);
+      actionError(err);
     } finally {
       button.disabled = false;
     }
+  }
+
+  // A failed action (simulate, render, export) is said beside its buttons: it is not one field's fault.
+  function actionError(err) {
+    const el = $("#sim-status");
+    el.textContent = err.message || String(err);
+    el.classList.add("bad");
+    status(el.textContent, true);
+    bumpRevision();
   }
 
   function showVerdict(sim) {
@@ -523,6 +561,7 @@
   async function renderVideo() {
     const button = $("#render");
     button.disabled = true;
+    $("#sim-status").classList.remove("bad");
     $("#sim-status").textContent = "rendering the MuJoCo video…";
     try {
       const revolutions = Math.min(5, Number(state.revolutions) || 1);
@@ -534,8 +573,7 @@
       video.play().catch(() => {});
       $("#sim-status").textContent = "video rendered offscreen by MuJoCo";
     } catch (err) {
-      $("#sim-status").textContent = "";
-      showError(err, state.version);
+      actionError(err);
     } finally {
       button.disabled = false;
     }
@@ -555,7 +593,7 @@
       setTimeout(() => URL.revokeObjectURL(url), 1000);
       status(`downloaded ${name}`);
     } catch (err) {
-      showError(err, state.version);
+      actionError(err);
     }
   }
 
@@ -686,19 +724,34 @@
       return q && q.x[i] !== null && q.y[i] !== null ? [v.X(q.x[i]), v.Y(q.y[i])] : null;
     };
     const out = data.points[d.output_point];
-    if (out) {
-      pathLine(v, out.x, out.y, out.x.length, "rgba(214,39,40,0.25)", 1.5);
-      pathLine(v, out.x, out.y, i, "#d62728", 2.2);
-    }
-    if (state.sim) {
-      const sp = state.sim.simulated.points[d.output_point];
-      if (sp) pathLine(v, sp.x, sp.y, sp.x.length, SIM_COLOR, 1.2, [5, 4]);
-    }
+    if (out) pathLine(v, out.x, out.y, out.x.length, "rgba(214,39,40,0.25)", 1.5);
+    const sp = state.sim && state.sim.simulated.points[d.output_point];
+    if (sp) pathLine(v, sp.x, sp.y, sp.x.length, SIM_COLOR, 1.1, [5, 4]);    // MuJoCo's path, under the trace
+    if (out) pathLine(v, out.x, out.y, i, "#d62728", 2.4);
     d.links.forEach((link, k) => drawLink(link, k, at, data, i, v));
     for (const g of d.ground) { const p = at(g); if (p) drawGround(p); }
     for (const name of d.points) drawJoint(name, at(name), name === d.output_point, d.ground.includes(name));
     ctx.restore();
+    drawLegend(d.output_point, !!sp);
     updateReadout();
+  }
+
+  function drawLegend(point, sim) {
+    const items = [[`path of ${point}`, "#d62728", 2.4, []]];
+    if (sim) items.push(["MuJoCo", SIM_COLOR, 1.1, [5, 4]]);
+    ctx.save();
+    ctx.font = "11px system-ui, sans-serif";
+    ctx.textBaseline = "middle";
+    let x = MARGIN.left + 8;
+    const y = MARGIN.top + 10;
+    for (const [label, color, width, dash] of items) {
+      ctx.strokeStyle = color; ctx.lineWidth = width; ctx.setLineDash(dash);
+      ctx.beginPath(); ctx.moveTo(x, y); ctx.lineTo(x + 22, y); ctx.stroke();
+      ctx.fillStyle = "#333";
+      ctx.fillText(label, x + 27, y);
+      x += 27 + ctx.measureText(label).width + 14;
+    }
+    ctx.restore();
   }
 
   function drawLink(link, k, at, data, i, v) {
@@ -757,8 +810,8 @@
     const data = state.solve;
     const axis = inputAxis(data);
     const q = data.inputs[axis.key][state.frame];
-    const value = axis.crank ? `${fmt(q * DEG, 4)}°` : `${fmt(q, 4)} ${data.units[axis.key]}`;
-    $("#readout").textContent = `t = ${fmt(data.t[state.frame], 3)} s · ${axis.key} = ${value}`;
+    const value = axis.crank ? `${(q * DEG).toFixed(1)}°` : `${fmt(q, 4)} ${data.units[axis.key]}`;
+    $("#readout").textContent = `${axis.key} = ${value} · t = ${data.t[state.frame].toFixed(3)} s`;
   }
 
   function setFrame(i) {
@@ -770,9 +823,14 @@
   }
 
   let clock = { wall: 0, sim: 0 };
+  // While values are being edited the pose holds still (each answer redraws it): the main thread and the
+  // two cores stay with the edit, which halves the slider-to-redraw latency, and the motion resumes from
+  // the same pose when the edits pause.
   function tick(now) {
     const data = state.solve;
-    if (state.playing && data && data.t.length > 1) {
+    if (now < state.holdUntil) {
+      clock = { wall: now, sim: data ? data.t[state.frame] || 0 : 0 };
+    } else if (state.playing && data && data.t.length > 1) {
       const tEnd = data.t[data.t.length - 1];
       const elapsed = ((now - clock.wall) / 1000) * state.speed;
       const t = (clock.sim + elapsed) % tEnd;
@@ -805,7 +863,6 @@
     }
     const first = data.initial || { name: data.names[0] };
     if (first.text) addUploadOption(first.name, first.text); else select.value = first.name;
-    state.descriptions = Object.fromEntries(data.mechanisms.map((m) => [m.name, m.description]));
     openMechanism(first.name, first.text ?? null);
   }
 
@@ -814,6 +871,7 @@
     const opt = document.createElement("option");
     opt.value = `upload:${select.options.length}`;
     opt.textContent = `${name} (file)`;
+    opt.dataset.name = name;
     opt.dataset.text = text;
     select.appendChild(opt);
     select.value = opt.value;
@@ -827,13 +885,10 @@
     state.revolutions = 1;
     $("#input-range").value = "";
     $("#revolutions").value = "1";
-    state.rebuild = true;
-    state.sim = null;
-    $("#verdict").hidden = true;
-    $("#errors").hidden = true;
-    $("#video").hidden = true;
+    clearSimulation();
     $("#sim-status").textContent = "";
     $("#figures").replaceChildren();
+    state.opened = state.version + 1;
     edited();
   }
 
@@ -855,16 +910,11 @@
     }
   }
 
-  function describeMechanism() {
-    const d = state.describe;
-    if (d) $("#description").textContent = d.description;
-  }
-
   // ---------------------------------------------------------------------------------- wiring
   function wire() {
     $("#mechanism").addEventListener("change", (e) => {
       const opt = e.target.selectedOptions[0];
-      openMechanism(opt.dataset.text ? opt.textContent.replace(/ \(file\)$/, "") : opt.value, opt.dataset.text ?? null);
+      openMechanism(opt.dataset.name || opt.value, opt.dataset.text ?? null);
     });
     $("#file").addEventListener("change", (e) => { if (e.target.files[0]) openFile(e.target.files[0]); e.target.value = ""; });
     $("#clear").addEventListener("click", () => openMechanism(state.mech.name, state.mech.text));
@@ -899,10 +949,9 @@
       sizeCanvas();
       drawFrame();
       const w = chartWidth();
-      for (const c of state.charts) { c.plot.setSize({ width: w, height: 190 }); c.err.setSize({ width: w, height: 120 }); }
+      for (const c of state.charts) { c.plot.setSize({ width: w, height: CHART_HEIGHT }); c.err.setSize({ width: w, height: ERROR_HEIGHT }); }
       moveCursors();
     });
-    new MutationObserver(describeMechanism).observe(document.body, { attributes: true, attributeFilter: ["data-revision"] });
   }
 
   async function exitApp() {
