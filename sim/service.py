@@ -177,6 +177,9 @@ def check_turns_fully(mech: Mechanism) -> None:
         return
     from analytic import figures
     ranges = figures.assembly_ranges(mech)
+    if not ranges:
+        raise ParameterError(f"the {mech.name} cannot be assembled at any value of {mech.inputs[0].q}: change its "
+                             f"lengths")
     if not figures.turns_fully(mech, ranges):
         first = mech.inputs[0]
         ends = ", ".join(sorted({f"{(math.degrees(a) + 180) % 360 - 180:.2f}deg" for r in ranges for a in r},
