@@ -16,8 +16,9 @@ roots and divisions (a loop over the elements of one sample at a time ran 3x slo
 they can. Link angles and transmission angles are computed only when asked for, and sin, cos and atan2
 are polynomial versions that vectorise (the C library's take 25-35 ns a call here, keep loops scalar).
 
-numba is imported and the kernel compiled at the first compiled solve of a process: about 20 s on the
-first run on a machine, then loaded from numba's on-disk cache (``cache=True``) in about half a second.
+numba is imported and the kernel compiled at the first compiled solve of a process: 15-20 s the first
+time on a machine, then loaded from numba's on-disk cache (``cache=True``, in ``analytic/__pycache__``) in
+0.3-1 s, import of numba included.
 """
 
 from __future__ import annotations
@@ -113,7 +114,8 @@ def _atan2(y, x):
     far = t > 0.66
     u = (t - 1.0) / (t + 1.0) if far else t
     z = u * u
-    p = z * ((((_P0 * z + _P1) * z + _P2) * z + _P3) * z + _P4) / (((((z + _Q0) * z + _Q1) * z + _Q2) * z + _Q3) * z + _Q4)
+    p = (z * ((((_P0 * z + _P1) * z + _P2) * z + _P3) * z + _P4)
+         / (((((z + _Q0) * z + _Q1) * z + _Q2) * z + _Q3) * z + _Q4))
     r = u * p + u
     r = (_PIO4 + (r + 0.5 * _MOREBITS)) if far else r
     if swap:

@@ -122,6 +122,5 @@ def test_the_compiled_sin_cos_atan2_are_within_2_ulp_of_numpy():
     ref = np.arctan2(y, x)
     assert np.array_equal(np.signbit(a), np.signbit(ref))      # signed zeros and the +-pi cut as IEEE
     assert np.all(np.abs(a - ref) <= 2 * np.spacing(np.abs(ref)))
-    nan = np.array([np.nan, 1.0, np.nan])
-    run(nan, nan[::-1].copy(), s[:3], c[:3], a[:3])
-    assert np.isnan(a[:3]).all()
+    run(np.array([np.nan, 1.0, np.nan]), np.array([1.0, np.nan, np.nan]), s[:3], c[:3], a[:3])
+    assert np.isnan(a[:3]).all()                               # NaN in either argument: NaN
