@@ -47,7 +47,7 @@ def assembly_ranges(mech, samples: int = SCAN) -> list[tuple[float, float]]:
         x = np.atleast_1d(x)
         if others:
             x = np.column_stack([x] + [np.full_like(x, o) for o in others])
-        return mech.solve(x).valid
+        return mech.solve(x, outputs=()).valid
 
     good = ok(q)
     if good.all():

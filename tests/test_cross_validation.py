@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from analytic import ParameterError
-from sim import compare, model, service, simulate
+from sim import compare, model, service
 from sim.simulate import SimulationError
 
 ANGLE = 1e-6        # [rad] RK4 truncation at 0.01 rad per step plus loop drift (measured ~1e-8)

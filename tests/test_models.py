@@ -11,7 +11,7 @@ import pytest
 
 import analytic
 from mjcf import keyframes
-from sim import model, service, simulate
+from sim import model, service
 
 NAMES = list(analytic.names())
 OBJECTS = [(mujoco.mjtObj.mjOBJ_BODY, "nbody"), (mujoco.mjtObj.mjOBJ_JOINT, "njnt"),
