@@ -315,7 +315,6 @@ class Mechanism:
     def joints(self) -> tuple[Joint, ...]:
         """Every lower pair: revolutes (one per extra link pinned at a point) and prismatic pairs, with
         the inputs' pairs marked driven. Links are named as in the file; the ground is ``ground``."""
-        carriers = linkfile.carrier_links(self.definition)
         members = linkfile.link_members(self.definition)
         out: list[Joint] = []
         driven_points = {}
@@ -344,7 +343,6 @@ class Mechanism:
                             {links[0], other} == {linkfile.GROUND, i.link}), None)
                 name = point if len(links) == 2 else f"{point}_{other}"
                 out.append(Joint("revolute", name, links[0], other, point, inp, None))
-        del carriers
         return tuple(out)
 
     @property

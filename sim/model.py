@@ -254,14 +254,14 @@ def spanning_tree(mech):
     return order, cuts
 
 
-def default_inertia(mech, frames, link: str):
+def default_inertia(mech, points, frames, link: str):
     """Slender-bar inertia of a link (see LINEAR_DENSITY), in its frame: (m, cx, cy, Izz about COM)."""
     from analytic.dynamics import Inertia
     size = mech.size
     members = [p for p in _members(mech)[link] if p != mech.link_origins[link]]
     segs = []
     for p in members:
-        x, y = _point_local(mech, frames, link, p)
+        x, y = _point_local(points, frames, link, p)
         segs.append((math.hypot(x, y), x / 2, y / 2))
     if link in mech.slides or not segs or all(L < 1e-12 * size for L, _, _ in segs):
         m = LINEAR_DENSITY * 0.1 * size
@@ -273,11 +273,9 @@ def default_inertia(mech, frames, link: str):
     return Inertia(m=mass, cx=cx, cy=cy, I=max(inertia, mass * (0.01 * size) ** 2))
 
 
-_POINTS_AT_START: dict = {}
-
-
-def _point_local(mech, frames, link, p):
-    x, y = _POINTS_AT_START[id(mech)][p]
+def _point_local(points, frames, link, p):
+    """Point ``p`` (world position at t = 0 in ``points``) in the frame of ``link``."""
+    x, y = points[p]
     return _local(frames[link], x, y)
 
 
@@ -298,11 +296,7 @@ def build(mech, settings: Settings = Settings(), loads: Loads = Loads(), revolut
     if not sol.valid.all():
         mech.check_assembles(q0)
     points = {p: (float(sol["x" + p][0]), float(sol["y" + p][0])) for p in mech.points}
-    _POINTS_AT_START[id(mech)] = points
-    try:
-        return _build(mech, settings, loads, h, sol, points, (q0[0], qd0[0], qdd0[0]), revolutions)
-    finally:
-        _POINTS_AT_START.pop(id(mech), None)
+    return _build(mech, settings, loads, h, sol, points, (q0[0], qd0[0], qdd0[0]), revolutions)
 
 
 def _build(mech, settings, loads, h, sol, points, q_start, revolutions) -> Built:
@@ -321,14 +315,14 @@ def _build(mech, settings, loads, h, sol, points, q_start, revolutions) -> Built
         px, py = _local(pf, cf[0], cf[1])
         body = bodies[parent].add_body(name=child, pos=[px, py, 0.0], quat=_quat(cf[2] - pf[2]))
         bodies[child] = body
-        jx, jy = _point_local(mech, frames, child, j.point)
+        jx, jy = _point_local(points, frames, child, j.point)
         if j.kind == "revolute":
             body.add_joint(name=j.name, type=mujoco.mjtJoint.mjJNT_HINGE, axis=[0, 0, 1], pos=[jx, jy, 0])
         else:
             u = frames[j.slide][2]                         # the block's angle is the slide direction
             ax, ay = math.cos(u - cf[2]), math.sin(u - cf[2])
             body.add_joint(name=j.name, type=mujoco.mjtJoint.mjJNT_SLIDE, axis=[ax, ay, 0], pos=[jx, jy, 0])
-        _draw_link(spec, body, mech, frames, child, members, radius, _COLORS[n % 4])
+        _draw_link(spec, body, mech, points, frames, child, members, radius, _COLORS[n % 4])
     _draw_ground(spec, mech, points, radius)
 
     # Sites: every point on its carrier body; loop closures get a second site on the other body.
@@ -357,7 +351,7 @@ def _build(mech, settings, loads, h, sol, points, q_start, revolutions) -> Built
         eq.solimp = [0.9999, 0.9999, 0.001, 0.5, 2]
         loops.append(Loop(eq.name, j.point, site1, name2))
 
-    _add_inertias(spec, mech, frames, loads)
+    _add_inertias(spec, mech, points, frames, loads)
     drives = _add_drives(spec, mech, order, q_start, h)
     _add_load(spec, mech, loads)
     _add_sensors(spec, mech, drives, loops)
@@ -385,7 +379,7 @@ def _carriers(mech) -> dict[str, str]:
     return carrier_links(mech.definition)
 
 
-def _draw_link(spec, body, mech, frames, link, members, radius, material):
+def _draw_link(spec, body, mech, points, frames, link, members, radius, material):
     origin = mech.link_origins[link]
     if link in mech.slides:
         s = 0.04 * mech.size
@@ -394,7 +388,7 @@ def _draw_link(spec, body, mech, frames, link, members, radius, material):
         return
     z = 2.0 * radius * (len(spec.geoms) % 3)
     for k, p in enumerate(sorted(members[link] - {origin})):
-        x, y = _point_local(mech, frames, link, p)
+        x, y = _point_local(points, frames, link, p)
         body.add_geom(name=f"{link}_{p}", type=mujoco.mjtGeom.mjGEOM_CAPSULE, size=[radius, 0, 0],
                       fromto=[0, 0, z, x, y, z], material=material, contype=0, conaffinity=0, density=0)
         body.add_geom(name=f"pin_{link}_{p}", type=mujoco.mjtGeom.mjGEOM_CYLINDER,
@@ -431,7 +425,7 @@ def _draw_ground(spec, mech, points, radius):
                            quat=_quat(g["angle"]), material="ground", contype=0, conaffinity=0)
 
 
-def _add_inertias(spec, mech, frames, loads):
+def _add_inertias(spec, mech, points, frames, loads):
     given = dict(mech.definition.inertia)
     from analytic.dynamics import Inertia
     user = {k: Inertia(m=float(v["m"]), cx=float(v.get("cx", 0.0)) * mech.scale,
@@ -444,7 +438,7 @@ def _add_inertias(spec, mech, frames, loads):
                              f"{', '.join(mech.links)}")
     for ln in mech.links:
         b = spec.body(ln)
-        inertia = user.get(ln) or default_inertia(mech, frames, ln)
+        inertia = user.get(ln) or default_inertia(mech, points, frames, ln)
         b.explicitinertial = True
         b.mass = inertia.m
         b.ipos = [inertia.cx, inertia.cy, 0.0]
@@ -456,7 +450,7 @@ def _add_drives(spec, mech, order, q_start, h) -> list[Drive]:
     drives = []
     q0, _, _ = q_start
     for k, inp in enumerate(mech.inputs):
-        j = next(jt for _, _, jt in order if jt.input is inp or (jt.input is not None and jt.input.link == inp.link))
+        j = next(jt for _, _, jt in order if jt.input is not None and jt.input.link == inp.link)
         name = f"drive_{inp.link}"
         act = spec.add_actuator(name=name, target=j.name, trntype=mujoco.mjtTrn.mjTRN_JOINT)
         act.dyntype = mujoco.mjtDyn.mjDYN_INTEGRATOR
