@@ -144,9 +144,22 @@ MUTATIONS = [
     Mutation("servo-budget-1000x", "sim/model.py DRIVE_ERROR_BUDGET 1000x larger (a soft servo)", "sim/model.py",
              "DRIVE_ERROR_BUDGET = 1e-6\n", "DRIVE_ERROR_BUDGET = 1e-3\n", [CV, MOD, DYN],
              "tests/test_cross_validation.py (drive error against DRIVE)"),
-    Mutation("step-angle-10x", "sim/model.py STEP_ANGLE 10x larger (0.01 -> 0.1 rad per step)", "sim/model.py",
-             "STEP_ANGLE = 0.01\n", "STEP_ANGLE = 0.1\n", [CV, MOD],
-             "tests/test_cross_validation.py::test_the_simulation_records_what_happened (h <= 0.01 / Omega)"),
+    Mutation("step-angle-10x", "sim/model.py STEP_ANGLE 10x larger (0.03 -> 0.3 rad per step)", "sim/model.py",
+             "STEP_ANGLE = 0.03\n", "STEP_ANGLE = 0.3\n", [CV, MOD],
+             "tests/test_cross_validation.py::test_the_simulation_records_what_happened (h <= 0.03 / Omega)"),
+    Mutation("rate-no-zoom", "sim/model.py: the fastest rate from the 720-sample scan only (RATE_ZOOMS 0)",
+             "sim/model.py", "RATE_ZOOMS = 8\n", "RATE_ZOOMS = 0\n", [CV],
+             "tests/test_cross_validation.py::test_the_step_follows_a_peak_that_falls_between_samples"),
+    Mutation("rate-first-turn", "sim/model.py: the step chosen from the first revolution of the run only",
+             "sim/model.py", "omega = rate_scale(mech, revolutions)\n", "omega = rate_scale(mech, min(revolutions, 1.0))\n",
+             [CV], "tests/test_cross_validation.py::test_the_step_follows_the_fastest_revolution_of_an_accelerating_run"),
+    Mutation("regulariser-100x", "sim/model.py REGULARIZATION_SCALE 100x larger (1e-6 -> 1e-4, the old value)",
+             "sim/model.py", "REGULARIZATION_SCALE = 1e-6\n", "REGULARIZATION_SCALE = 1e-4\n", [CV],
+             "tests/test_cross_validation.py (the near-singular Whitworth case)"),
+    Mutation("loop-timeconst-16x", "sim/model.py LOOP_TIMECONST 16x shorter (32 -> 2 steps: a drift correction "
+             "RK4 cannot follow; 8 steps only triples the errors, all within tolerance)", "sim/model.py",
+             "LOOP_TIMECONST = 32.0\n", "LOOP_TIMECONST = 2.0\n", [CV, MOD],
+             "tests/test_cross_validation.py"),
 ]
 
 
