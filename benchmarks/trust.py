@@ -5,7 +5,11 @@ Run:  python benchmarks/trust.py [--count N] [--seed S] [--long] [--verbose]
 Draws random designs (seeded) across every mechanism of ``analytic.names()``: every length scaled so the
 mechanism's size spans 5 mm .. 5 m (log-uniform), lengths perturbed by +-20 %, crank speed 0.2 .. 20 rev/s
 (log-uniform, random sign), random phases and branches, sometimes an accelerating crank (speed changing
-by up to +-50 % over the run), the five-bars' second crank at a speed ratio in -2 .. 3. A design is
+by up to +-50 % over the run), the five-bars' second crank at a speed ratio in -2 .. 3; 30 % of the
+designs carry loads (from their own random stream, so the designs are those of earlier versions): an
+external force on the output point of 0.1 .. 1000 x L^2 Omega^2 [N] (log-uniform, any direction; the
+inertial force of a 1 kg/m bar of the size L), with gravity in a random in-plane direction in half of
+them. A design is
 valid when ``service.prepare`` (full turn, singular pose, assembly) and the time-step choice accept it;
 refusals are counted by reason. Each valid design is simulated for one revolution with
 ``service.compare`` and judged here against the issue's targets, written independently of
@@ -64,6 +68,9 @@ PERTURB = 0.20                   # relative, on every (non-derived) length
 ACCEL_PROB = 0.3                 # share of designs with an accelerating crank
 ACCEL_CHANGE = 0.5               # the speed changes by up to this fraction over the run
 TWO_CRANK_RATIO_PARAM = "ratio"  # two_crank_five_bar's speed-ratio parameter
+LOAD_PROB = 0.3                  # share of designs with an external force (and gravity in half of them)
+FORCE_RANGE = (0.1, 1000.0)      # x L^2 Omega^2 [N]
+GRAVITY = 9.81                   # m/s^2
 
 
 # ------------------------------------------------------------------------------------------ output kinds
@@ -209,6 +216,18 @@ def draw(rng: np.random.Generator, name: str, perturb: float = PERTURB, ratio: f
     return over, info
 
 
+def draw_loads(rng: np.random.Generator, mech) -> sim_model.Loads | None:
+    """None, or an external force on the output point (and, half the time, gravity) in random directions."""
+    if rng.random() >= LOAD_PROB:
+        return None
+    L, omega = mech.size, sim_compare.motion_scale(mech)
+    f = L * L * omega * omega * 10 ** rng.uniform(*np.log10(FORCE_RANGE))
+    a = rng.uniform(0.0, 2 * math.pi)
+    g = rng.uniform(0.0, 2 * math.pi)
+    gravity = (GRAVITY * math.cos(g), GRAVITY * math.sin(g)) if rng.random() < 0.5 else None
+    return sim_model.Loads(gravity=gravity, force=(f * math.cos(a), f * math.sin(a)))
+
+
 REASONS = [("cannot turn fully", "cannot turn fully"), ("singular pose", "singular pose"),
            ("cannot be assembled", "cannot be assembled"), ("moves too fast", "moves too fast"),
            ("not a valid length", "invalid length"), ("stops it before", "crank stops"),
@@ -230,9 +249,13 @@ def validate(mech) -> float:
     return sim_model.choose_timestep(mech, 1.0)
 
 
-def repro(name: str, over: dict, revolutions: float = 1.0) -> str:
+def repro(name: str, over: dict, revolutions: float = 1.0, loads=None) -> str:
     sets = " ".join(f"--set {k}={v!r}" for k, v in over.items())
     rev = "" if revolutions == 1.0 else f" --revolutions {revolutions:g}"
+    if loads is not None:
+        if loads.gravity is not None:
+            rev += f" --gravity {loads.gravity[0]!r},{loads.gravity[1]!r}"
+        rev += f" --force {loads.force[0]!r},{loads.force[1]!r}"
     return f"linkage compare {name} {sets}{rev}"
 
 
@@ -243,6 +266,7 @@ def pct(x, q):
 # ---------------------------------------------------------------------------------------------- the run
 def run(args) -> int:
     rng = np.random.default_rng(args.seed)
+    rng_loads = np.random.default_rng([args.seed, 1])
     names = list(analytic.names())
     t_wall0, t_cpu0 = time.time(), time.process_time()
     refusals: Counter = Counter()
@@ -278,10 +302,11 @@ def run(args) -> int:
         else:
             gave_up[name] += 1
             continue
-        rec = {"name": name, "over": over, "info": info, "size": mech.size}
+        loads = draw_loads(rng_loads, mech)
+        rec = {"name": name, "over": over, "info": info, "size": mech.size, "loads": loads}
         c0 = time.process_time()
         try:
-            built, c = service.compare(mech, 1.0)
+            built, c = service.compare(mech, 1.0, loads=loads)
         except Exception as exc:                                      # noqa: BLE001 - a failure, reported
             rec.update(ok=False, error=f"{type(exc).__name__}: {exc}", cpu_total=time.process_time() - c0)
             if args.verbose:
@@ -338,6 +363,11 @@ def report(args, names, results, refusals, refusals_by_mech, attempts, cap, wall
     rate = len(ok) / n
     print(f"\npass rate (issue targets): {len(ok)}/{n} = {100 * rate:.1f} %  "
           f"(target >= {100 * PASS_RATE:.0f} %: {'MET' if rate >= PASS_RATE else 'NOT MET'})")
+    loaded = [r for r in results if r.get("loads") is not None]
+    if loaded:
+        g = sum(r["loads"].gravity is not None for r in loaded)
+        print(f"  with loads (force on the output point, {g} also with gravity): "
+              f"{sum(r['ok'] for r in loaded)}/{len(loaded)} pass")
     own = [r for r in results if r.get("own_verdict")]
     print(f"sim.compare's own verdict passed: {len(own)}/{n}; disagreements with the issue targets: "
           f"{sum(1 for r in results if 'own_verdict' in r and r['own_verdict'] != r['ok'])}")
@@ -408,7 +438,7 @@ def report(args, names, results, refusals, refusals_by_mech, attempts, cap, wall
                 kind, err, tol = r["detail"][o]
                 print(f"    {o:<10s} {kind:<16s} error {err:.3e} target {tol:.3e}  ratio {v:.3g}")
             print(f"    h {r['h']:.4g} s, {r['steps']} steps; sim.compare passed={r['own_verdict']}")
-        print(f"    {repro(r['name'], r['over'])}")
+        print(f"    {repro(r['name'], r['over'], loads=r['loads'])}")
 
     sims = [r for r in results if "cpu" in r]
     if sims:
@@ -430,7 +460,7 @@ def report(args, names, results, refusals, refusals_by_mech, attempts, cap, wall
             print(f"  {1e3 * r['cpu']:.0f} ms: {r['name']} size {r['size']:.3g} m, {r['info']['rev_s']:+.2f} rev/s, "
                   f"{r['steps']} steps of {r['h']:.3g} s (crank turns {2 * math.pi / r['steps']:.2g} rad/step on "
                   f"average)")
-            print(f"    {repro(r['name'], r['over'])}")
+            print(f"    {repro(r['name'], r['over'], loads=r['loads'])}")
         us = [1e6 * r["cpu"] / r["steps"] for r in sims]
         print(f"CPU us per step: min {min(us):.1f}, median {np.median(us):.1f}, max {max(us):.1f}")
         print("median CPU ms per revolution by mechanism: " + ", ".join(

@@ -14,6 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .model import motion_scale
 from .simulate import Trajectory, energies
 from .units import output_kind
 
@@ -36,14 +37,6 @@ constraint solver's residual (~1e-8 of the constraint force) is all that separat
 WORK_TOL = 1e-3
 """[of the kinetic-energy swing, per revolution] 4-point Gauss quadrature of the drive power over each
 step (exact for the interpolated motion) against MuJoCo's energy; what is left is RK4's energy error."""
-
-
-def motion_scale(mech) -> float:
-    """Omega [1/s]: the fastest commanded input speed (a slider's over the size)."""
-    t = np.linspace(0.0, mech.duration(1.0), 181)
-    qd = mech.drive(t)[1]
-    scales = [np.max(np.abs(qd[:, k])) / (1.0 if i.kind == "crank" else mech.size) for k, i in enumerate(mech.inputs)]
-    return float(max(scales))
 
 
 def tolerance(mech, name: str, peak: float, omega: float) -> float:

@@ -68,7 +68,10 @@ R = (1 - d) / d * invweight with the impedance d capped at 0.9999, so a share of
 of the constraint force leaks into loop violation. invweight0 is computed at the initial pose and serves
 only that purpose in a model without contacts; near a singular pose J M^-1 J' becomes small and the leak
 grows: a near-singular Whitworth design had 1e-6 rad of error from it at 1e-4, none visible at 1e-6
-(loop violation 9e-9 -> 1.4e-9 of the size); 1e-8 changed nothing further."""
+(loop violation 9e-9 -> 1.4e-9 of the size). Smaller is not better: the constraint force is the
+solver's residual over R, and the drive torques' error grows as 1/R (400 random designs, worst torque
+error/tolerance: 0.004 at 1e-6, 0.02 at 1e-7, 0.5 at 1e-8, 18 at 1e-10). External loads add constraint
+force that inertia does not, so the scale is divided by 1 + (load / inertial force): see regularization."""
 DRIVE_ERROR_BUDGET = 1e-6
 """[rad, or of the size for a slider] The drives' stiffness kp is sized so that the peak reaction
 torque deflects the drive by at most this much (kp = peak / budget)."""
@@ -253,6 +256,26 @@ def choose_timestep(mech, revolutions: float = 1.0) -> float:
     return h
 
 
+def motion_scale(mech) -> float:
+    """Omega [1/s]: the fastest commanded input speed (a slider's over the size)."""
+    t = np.linspace(0.0, mech.duration(1.0), 181)
+    qd = mech.drive(t)[1]
+    scales = [np.max(np.abs(qd[:, k])) / (1.0 if i.kind == "crank" else mech.size) for k, i in enumerate(mech.inputs)]
+    return float(max(scales))
+
+
+def regularization(model, mech, loads) -> float:
+    """REGULARIZATION_SCALE / (1 + load / inertial force), with the load |F| + m |g| and the inertial force
+    m L Omega^2 (m the links' mass, L the size, Omega the fastest input speed). The leak into the loops
+    grows with the constraint force (R lambda) and the torque error with the inertial forces over R, so
+    scaling R by their ratio keeps both at their unloaded level: a 6.6 mm Peaucellier cell pushed by 24 N
+    (140x its inertial force) had 4e-6 rad of angle error at 1e-6, 1.4e-7 at 1e-8."""
+    m = float(model.body_mass.sum())
+    inertial = m * mech.size * motion_scale(mech) ** 2
+    load = math.hypot(*loads.force) + (m * math.hypot(*loads.gravity) if loads.gravity is not None else 0.0)
+    return REGULARIZATION_SCALE / (1.0 + load / inertial) if inertial > 0 else REGULARIZATION_SCALE
+
+
 # --------------------------------------------------------------------------------------- building
 def _frames(mech, sol) -> dict[str, tuple[float, float, float]]:
     """World pose (x, y, angle) of every body at the solution's first sample."""
@@ -426,7 +449,7 @@ def _build(mech, settings, loads, h, sol, points, q_start, revolutions) -> Built
         model = spec.compile()
     except ValueError as exc:
         raise ParameterError(f"MuJoCo cannot compile the {mech.name}: {str(exc).splitlines()[0]}") from None
-    model.body_invweight0[:] *= REGULARIZATION_SCALE
+    model.body_invweight0[:] *= regularization(model, mech, loads)
     drives = _size_drives(model, mech, drives, loads, h)
     qpos0, qvel0 = _initial_state(model, mech, order, frames, sol)
     act0, ctrl0 = _initial_controls(model, mech, drives, q_start, loads)

@@ -33,11 +33,17 @@ def test_render_decodes_with_expected_frames_and_content(tmp_path, ext):
     assert red(frames[-1]) > red(frames[0]) + 20
 
 
-def test_frames_are_sampled_from_simulation_time():
-    t = np.arange(0, 501) * 0.002                      # 1 s at 2 ms
-    idx = render.frame_indices(t, 30.0)
-    assert len(idx) == 31
-    assert np.abs(t[idx] - np.arange(31) / 30).max() <= 0.001 + 1e-12   # nearest step: half a step off
+def test_frames_are_posed_at_their_own_instants():
+    # 1 s recorded every 7 ms (frames fall between steps); a joint turning 3 rad/s and one moving at
+    # 0.5 m/s, recorded exactly: each frame must show the pose at k/30 s, to rounding (a linear motion
+    # is blended exactly), not the nearest step's (up to 3.5 ms = 0.0105 rad off).
+    t = np.arange(0, 144) * 0.007
+    qpos = np.column_stack([3.0 * t, 0.5 * t])
+    poses, last = render.frame_poses(t, qpos, render.frame_instants(t, 30.0))
+    instants = np.arange(31) / 30.0                                  # t[-1] = 1.001 s: 0 .. 1 s
+    assert len(poses) == 31
+    assert np.abs(poses - np.column_stack([3.0 * instants, 0.5 * instants])).max() < 1e-12
+    assert np.all(t[last] <= instants + 1e-12) and np.all(t[np.minimum(last + 1, len(t) - 1)] > instants - 1e-12)
 
 
 @pytest.mark.parametrize("args,pattern", [
