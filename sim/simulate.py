@@ -18,7 +18,7 @@ from mujoco import rollout
 
 from analytic import ParameterError
 from analytic.mechanism import Solution
-from .model import INTEGRATORS, Built, _jerk, drive_command
+from .model import DEFAULT_INTEGRATOR, INTEGRATORS, Built, _jerk, drive_command
 
 MAX_STEPS = 20_000_000
 """Longest run accepted [steps] (~2 GB of recorded sensors for a four-bar); more is refused up front."""
@@ -215,5 +215,9 @@ def _check_run(built: Built, sens: np.ndarray, inputs: dict, viol: np.ndarray, h
             raise SimulationError(f"the {built.name} simulation {what} at t={k * h:.4f} s ({where}): the time step "
                                   f"{h:g} s is too large for this design, which needs about {needed:.3g} s; leave "
                                   f"the time step to be chosen from the design")
+        if built.settings.integrator != DEFAULT_INTEGRATOR:
+            raise SimulationError(f"the {built.name} simulation {what} at t={k * h:.4f} s ({where}): the "
+                                  f"{built.settings.integrator} integrator cannot hold the loops at a step of {h:.3g} s; "
+                                  f"use --integrator {DEFAULT_INTEGRATOR} (the default) or a smaller --timestep")
         raise SimulationError(f"the {built.name} simulation {what} at t={k * h:.4f} s ({where}): the design is "
                               f"too close to a singular pose there to simulate; move it away or lower the speed")

@@ -73,6 +73,8 @@ CASES = [
                                            "--input-range", "40deg:100deg"], r"cannot be assembled at phi1=40\.00deg"),
     ("a timestep far too large", ["compare", "fivebar", "--timestep", "0.05", "--set", "omega2=50", "--set", "omega4=50"],
      r"the time step 0\.05 s is too large for this design"),
+    ("a first-order integrator at the chosen step", ["compare", "fivebar", "--integrator", "implicitfast"],
+     r"the implicitfast integrator cannot hold the loops .* use --integrator rk4"),
     ("a negative cutting force", ["compare", "sixbar", "--cutting-force", "-5"], r"--cutting-force -5 must be >= 0"),
     ("a bad gravity", ["compare", "fourbar", "--gravity", "1"], r"--gravity '1' is not two numbers"),
     ("a bad inertia entry", ["compare", "fourbar", "--inertia", "notes.txt"], r"--inertia notes\.txt: cannot read it as JSON"),
