@@ -259,8 +259,9 @@ def _plot_family(paths, point, out, total) -> None:
 
 
 def register(sub, add_common, add_video_options) -> None:
-    p = sub.add_parser("synthesize", help="seed 001: two-position four-bar synthesis with minimum total length")
-    p.add_argument("problem", choices=("two-position",))
+    syn = sub.add_parser("synthesize", help="find a linkage: two-position (seed 001), path, motion, function")
+    problems = syn.add_subparsers(dest="problem", required=True, metavar="PROBLEM", parser_class=type(syn))
+    p = problems.add_parser("two-position", help="seed 001: four-bar carrying E from E1 to E2, minimum total length")
     p.add_argument("--E1", default="30,31", help="coupler point E in position 1 (default 30,31)")
     p.add_argument("--E2", default="10,35", help="coupler point E in position 2 (default 10,35)")
     p.add_argument("--A", default="0,0", help="crank pivot (default 0,0)")
@@ -275,6 +276,7 @@ def register(sub, add_common, add_video_options) -> None:
     p.add_argument("--render", metavar="PATH", help="animate the optimum moving E from E1 to E2 (.mp4/.gif)")
     add_video_options(p, out_required=False)
     p.set_defaults(func=cmd_synthesize)
+    # further synthesis problems, each in its own module: module.register(problems, add_video_options)
 
     p = sub.add_parser("sweep", help="seed 003 parameter studies: families of output paths and speeds")
     add_common(p)
