@@ -443,6 +443,8 @@ def make_parser() -> argparse.ArgumentParser:
     from . import design  # synthesis and sweeps
     design.register(sub, add_common, add_video_options)
     # commands in their own modules: module.register(sub, add_common, add_sim_options, add_video_options)
+    from . import dynamics_cmd  # a motor drives the linkage (issue 18)
+    dynamics_cmd.register(sub, add_common, add_sim_options, add_video_options)
     try:
         from . import app
         app.register(sub)
