@@ -275,8 +275,9 @@ def fivebar_figures(p, sol) -> dict:
             "vP_mean": float(np.nanmean(speed))}
 
 
-def fourbar_summary(f: dict) -> list[str]:
+def fourbar_summary(f: dict, u=None) -> list[str]:
     deg = math.degrees
+    L, V = _shown(u, "length"), _shown(u, "velocity")
     lines = [f"  Grashof: {f['grashof']}, {f['inversion']}; crank turns fully: "
              f"{'yes' if f['crank_turns_fully'] else 'no'}"]
     if f["limit_angles"]:
@@ -284,27 +285,39 @@ def fourbar_summary(f: dict) -> list[str]:
     lo, hi = f["mu_extremes"]
     lines.append(f"  transmission angle mu: {deg(f['mu_min']):.3f} .. {deg(f['mu_max']):.3f} deg over the "
                  f"samples; {deg(lo):.3f} .. {deg(hi):.3f} deg over every crank angle")
-    lines.append(f"  rocker swing: {deg(f['phi3_swing']):.3f} deg;  |vE| max {f['vE_max']:.6g} m/s")
-    lines.append(f"  E path: x {f['xE_range'][0]:.6g} .. {f['xE_range'][1]:.6g} m, "
-                 f"y {f['yE_range'][0]:.6g} .. {f['yE_range'][1]:.6g} m")
+    lines.append(f"  rocker swing: {deg(f['phi3_swing']):.3f} deg;  |vE| max {V(f['vE_max'])}")
+    lines.append(f"  E path: x {L(f['xE_range'][0], 0)} .. {L(f['xE_range'][1])}, "
+                 f"y {L(f['yE_range'][0], 0)} .. {L(f['yE_range'][1])}")
     return lines
 
 
-def sixbar_summary(f: dict) -> list[str]:
-    return [f"  ram line h = {f['h']:.6g} m; stroke H = {f['stroke']:.6g} m",
+def sixbar_summary(f: dict, u=None) -> list[str]:
+    L, V, A = _shown(u, "length"), _shown(u, "velocity"), _shown(u, "acceleration")
+    return [f"  ram line h = {L(f['h'])}; stroke H = {L(f['stroke'])}",
             f"  guide swing theta = {math.degrees(f['swing']):.3f} deg; quick-return ratio K = {f['K']:.4f}",
-            f"  ram velocity {f['vxC_range'][0]:.6g} .. {f['vxC_range'][1]:.6g} m/s; "
-            f"acceleration {f['axC_range'][0]:.6g} .. {f['axC_range'][1]:.6g} m/s^2"]
+            f"  ram velocity {V(f['vxC_range'][0], 0)} .. {V(f['vxC_range'][1])}; "
+            f"acceleration {A(f['axC_range'][0], 0)} .. {A(f['axC_range'][1])}"]
 
 
-def fivebar_summary(f: dict) -> list[str]:
+def fivebar_summary(f: dict, u=None) -> list[str]:
+    L, V = _shown(u, "length"), _shown(u, "velocity")
     return [f"  speed ratio i = omega2/omega4 = {f['speed_ratio']:.6g}",
-            f"  S: {f['S_range'][0]:.6g} .. {f['S_range'][1]:.6g} m (never below {f['S_min_possible']:.6g} m)",
-            f"  |vP|: min {f['vP_min']:.6g}, mean {f['vP_mean']:.6g}, max {f['vP_max']:.6g} m/s"]
+            f"  S: {L(f['S_range'][0], 0)} .. {L(f['S_range'][1])} (never below {L(f['S_min_possible'])})",
+            f"  |vP|: min {V(f['vP_min'], 0)}, mean {V(f['vP_mean'], 0)}, max {V(f['vP_max'])}"]
 
 
-def general_summary(mech, f: dict) -> list[str]:
+def _shown(u, quantity: str):
+    """A formatter of an SI value of ``quantity`` in display units ``u`` (analytic.quantities.Display;
+    None: SI): ``fmt(value)`` gives "1.5 mm", ``fmt(value, 0)`` the number alone."""
+    from .quantities import SI
+    u = u or SI
+    f, unit = u.factor(quantity), u.unit(quantity)
+    return lambda v, with_unit=1: f"{v * f:.6g}" + (f" {unit}" if with_unit else "")
+
+
+def general_summary(mech, f: dict, u=None) -> list[str]:
     deg = math.degrees
+    L, V = _shown(u, "length"), _shown(u, "velocity")
     p = f["output_point"]
     lines = []
     if "turns_fully" in f:
@@ -312,15 +325,15 @@ def general_summary(mech, f: dict) -> list[str]:
         lines.append(f"  {first.q}: " + ("turns fully" if f["turns_fully"] else
                                           "assembles in " + describe_ranges(first, f["input_ranges"])))
         for s in f["singular_points"]:
-            where = fmt_deg(s["at"]) if first.kind == "crank" else f"{s['at']:.6g} m"
+            where = fmt_deg(s["at"]) if first.kind == "crank" else L(s["at"])
             lines.append(f"  singular pose at {first.q}={where}: {s['group']} folds (change point)")
     for point, (lo, hi) in f["transmission"].items():
         lines.append(f"  transmission angle at {point}: {deg(lo):.3f} .. {deg(hi):.3f} deg")
     for j, v in f.get("slides", {}).items():
-        lines.append(f"  slide s{j}: {v['range'][0]:.6g} .. {v['range'][1]:.6g} m (stroke {v['stroke']:.6g} m)")
+        lines.append(f"  slide s{j}: {L(v['range'][0], 0)} .. {L(v['range'][1])} (stroke {L(v['stroke'])})")
     if f.get("time_ratio") == f.get("time_ratio"):
         lines.append(f"  time ratio of {p}'s strokes along x: K = {f['time_ratio']:.4f}")
-    lines.append(f"  {p} path: x {f[f'x{p}_range'][0]:.6g} .. {f[f'x{p}_range'][1]:.6g} m, "
-                 f"y {f[f'y{p}_range'][0]:.6g} .. {f[f'y{p}_range'][1]:.6g} m; |v{p}| "
-                 f"{f[f'v{p}_min']:.6g} .. {f[f'v{p}_max']:.6g} m/s")
+    lines.append(f"  {p} path: x {L(f[f'x{p}_range'][0], 0)} .. {L(f[f'x{p}_range'][1])}, "
+                 f"y {L(f[f'y{p}_range'][0], 0)} .. {L(f[f'y{p}_range'][1])}; |v{p}| "
+                 f"{V(f[f'v{p}_min'], 0)} .. {V(f[f'v{p}_max'])}")
     return lines

@@ -520,12 +520,15 @@ class Mechanism:
             out.update(self.builtin.figures(self.closed_form_parameters(), sol))
         return out
 
-    def summary(self, figs: dict) -> list[str]:
-        """The figures of merit as readable lines."""
+    def summary(self, figs: dict, display=None) -> list[str]:
+        """The figures of merit (SI) as readable lines, in ``display`` units (analytic.quantities.Display;
+        None: the file's length unit)."""
         from . import figures
+        from .quantities import Display
+        display = display or Display(self.units)
         if self.builtin is not None:
-            return self.builtin.summary(figs)
-        return figures.general_summary(self, figs)
+            return self.builtin.summary(figs, display)
+        return figures.general_summary(self, figs, display)
 
     # ------------------------------------------------------------------ the dedicated closed form
     def closed_form_parameters(self):

@@ -19,6 +19,7 @@ from analytic import ParameterError, expr
 from . import service
 from .io import check_writable, write_csv
 from .jsonout import dumps
+from .units import add_unit_options
 
 
 class _Parser(argparse.ArgumentParser):
@@ -102,7 +103,9 @@ def loads_from(args, mech):
             if not isinstance(data, dict):
                 raise ParameterError(f"--inertia {link}: give an object with m, cx, cy and I")
             try:
-                inertias[link] = Inertia(**data)
+                given = Inertia(**data)            # file units, like the file's [inertia]: m kg, cx cy, I kg unit^2
+                s = mech.scale
+                inertias[link] = Inertia(m=given.m, cx=given.cx * s, cy=given.cy * s, I=given.I * s * s)
             except TypeError:
                 raise ParameterError(f"--inertia {link}: give m, cx, cy and I (got {sorted(data)})") from None
             except ParameterError as exc:
@@ -148,12 +151,17 @@ def check_outputs(args, suffixes: dict[str, tuple[str, ...]]) -> None:
                              f"choose another output name")
 
 
-def write_columns(path, mech, columns) -> None:
-    """CSV (SPEC column names in the header) plus a sidecar ``PATH.units.json`` with each column's unit."""
-    write_csv(path, columns)
+def write_columns(path, mech, columns, display=None) -> None:
+    """CSV (SPEC column names in the header) plus a sidecar ``PATH.units.json`` with each column's unit:
+    SI unless ``display`` (from --units/--angles/--speeds) says otherwise."""
     from .io import write_text
+    from .units import SI, convert_columns
+    display = display or SI
+    write_csv(path, convert_columns(mech, columns, display))
     write_text(f"{path}.units.json", json.dumps({"mechanism": mech.name, "parameters": mech.parameters,
-                                                  "units": service.units_of(mech, columns)}, indent=2) + "\n")
+                                                  "file_units": mech.units, "si": display.is_si,
+                                                  "units": service.units_of(mech, columns, display)},
+                                                 indent=2) + "\n")
 
 
 # ----------------------------------------------------------------------------------------- commands
@@ -206,16 +214,17 @@ def cmd_analyze(args) -> int:
     mech = mechanism_from(args)
     check_outputs(args, {"csv": (".csv",)})
     a = service.analyze(mech, args.samples, args.revolutions, parse_range(mech, args.input_range))
+    from .units import machine_units, shown_units
     if args.csv:
-        write_columns(args.csv, mech, service.analysis_columns(mech, a))
+        write_columns(args.csv, mech, service.analysis_columns(mech, a), machine_units(args))
     if args.json:
-        record = service.analysis_record(mech, a, args.samples, args.revolutions)
+        record = service.analysis_record(mech, a, args.samples, args.revolutions, machine_units(args))
         if args.csv:
             record["csv"] = args.csv
         print(dumps(record))
     else:
         p = ", ".join(f"{k}={v:g}" for k, v in mech.parameters.items())
-        print("\n".join([f"{mech.name}: {p}"] + mech.summary(a.figures)))
+        print("\n".join([f"{mech.name}: {p}"] + mech.summary(a.figures, shown_units(args, mech))))
         if args.csv:
             print(f"wrote {args.csv} ({args.samples} rows)")
     return 0
@@ -226,10 +235,12 @@ def cmd_simulate(args) -> int:
     check_outputs(args, {"csv": (".csv",)})
     _, tr = service.simulate(mech, args.revolutions, settings_from(args), loads_from(args, mech),
                              parse_range(mech, args.input_range))
+    from .units import machine_units, shown_units
     if args.csv:
-        write_columns(args.csv, mech, service.trajectory_columns(tr))
+        write_columns(args.csv, mech, service.trajectory_columns(tr), machine_units(args))
+    u = shown_units(args, mech)
     print(f"{tr.name}: {tr.steps} steps of {tr.timestep:.3g} s ({tr.integrator}), {tr.cpu_seconds * 1e3:.1f} ms CPU; "
-          f"max loop violation {tr.loop_violation.max():.3e} m")
+          f"max loop violation {u.convert('length', tr.loop_violation.max()):.3e} {u.unit('length')}")
     if args.csv:
         print(f"wrote {args.csv} ({len(tr.t)} rows)")
     return 0
@@ -240,10 +251,11 @@ def cmd_compare(args) -> int:
     mech = mechanism_from(args)
     built, c = service.compare(mech, args.revolutions, settings_from(args), loads_from(args, mech),
                                parse_range(mech, args.input_range))
+    from .units import machine_units, shown_units
     if args.json:
-        print(dumps(service.comparison_record(built, c)))
+        print(dumps(service.comparison_record(built, c, machine_units(args))))
     else:
-        print(table(c, mech.size))
+        print(table(c, mech.size, shown_units(args, built.mech), built.mech.output_point))
     return 0 if c.passed else 1
 
 
@@ -254,7 +266,8 @@ def cmd_render(args) -> int:
     mech = mechanism_from(args)
     built, tr = service.simulate(mech, args.revolutions, settings_from(args), loads_from(args, mech),
                                  parse_range(mech, args.input_range))
-    stats = render(built, tr, str(path), args.fps, size)
+    from .units import shown_units
+    stats = render(built, tr, str(path), args.fps, size, display=shown_units(args, built.mech))
     print(f"wrote {stats.path}: {stats.frames} frames {size[0]}x{size[1]} at {stats.stored_fps:g} fps "
           f"({stats.fps:.1f} frames/s rendered)")
     return 0
@@ -266,7 +279,8 @@ def cmd_plot(args) -> int:
     mech = mechanism_from(args)
     built, c = service.compare(mech, args.revolutions, settings_from(args), loads_from(args, mech),
                                parse_range(mech, args.input_range))
-    sheet(c, built, args.out)
+    from .units import shown_units
+    sheet(c, built, args.out, shown_units(args, built.mech))
     print(f"wrote {args.out}")
     return 0
 
@@ -323,12 +337,14 @@ def cmd_run(args) -> int:
             sys.stderr.write(f"[{k + 1}/{len(mechs)}] {mech.name}\n")
         built, c = service.compare(mech, args.revolutions, settings_from(args), loads_from(args, mech),
                                    parse_range(mech, args.input_range))
-        print(table(c, mech.size))
+        from .units import machine_units, shown_units
+        shown = shown_units(args, mech)
+        print(table(c, mech.size, shown, mech.output_point))
         files = [out_dir / f"{mech.name}.csv", out_dir / f"{mech.name}.png"]
-        write_columns(files[0], mech, service.trajectory_columns(c.trajectory))
-        sheet(c, built, str(files[1]))
+        write_columns(files[0], mech, service.trajectory_columns(c.trajectory), machine_units(args))
+        sheet(c, built, str(files[1]), shown)
         if not args.no_video:
-            render(built, c.trajectory, str(out_dir / f"{mech.name}{ext}"), args.fps, size)
+            render(built, c.trajectory, str(out_dir / f"{mech.name}{ext}"), args.fps, size, display=shown)
             files.append(out_dir / f"{mech.name}{ext}")
         results.append((mech, c, files))
         print()
@@ -394,30 +410,35 @@ def make_parser() -> argparse.ArgumentParser:
     p.add_argument("--input-range", metavar="LO:HI", help="sample the first input between LO and HI instead")
     p.add_argument("--csv", metavar="PATH", help="write every sample as CSV (units in PATH.units.json)")
     p.add_argument("--json", action="store_true", help="print one JSON object")
+    add_unit_options(p)
     p.set_defaults(func=cmd_analyze)
 
     p = sub.add_parser("simulate", help="simulate in MuJoCo and record the trajectory")
     add_common(p)
     add_sim_options(p)
     p.add_argument("--csv", metavar="PATH", help="write every step as CSV (units in PATH.units.json)")
+    add_unit_options(p)
     p.set_defaults(func=cmd_simulate)
 
     p = sub.add_parser("compare", help="simulate and cross-validate against the analytic solution")
     add_common(p)
     add_sim_options(p)
     p.add_argument("--json", action="store_true", help="print one JSON object")
+    add_unit_options(p)
     p.set_defaults(func=cmd_compare)
 
     p = sub.add_parser("render", help="render the simulation offscreen to MP4 or GIF")
     add_common(p)
     add_sim_options(p)
     add_video_options(p)
+    add_unit_options(p)
     p.set_defaults(func=cmd_render)
 
     p = sub.add_parser("plot", help="analysis sheet: simulated samples over analytic curves, with errors")
     add_common(p)
     add_sim_options(p)
     p.add_argument("--out", required=True, metavar="PATH", help="image file: .png, .svg or .pdf")
+    add_unit_options(p)
     p.set_defaults(func=cmd_plot)
 
     p = sub.add_parser("export", help="write the generated MuJoCo model (MJCF) and/or the mechanism file")
@@ -438,6 +459,7 @@ def make_parser() -> argparse.ArgumentParser:
     p.add_argument("--no-video", action="store_true", help="skip the animations")
     add_sim_options(p)
     add_video_options(p, out_required=False)
+    add_unit_options(p)
     p.set_defaults(func=cmd_run)
 
     from . import design  # synthesis and sweeps

@@ -75,23 +75,27 @@ class Comparison:
     passed: bool
     revolutions: float
 
-    def as_dict(self, built=None) -> dict:
+    def as_dict(self, built=None, display=None) -> dict:
+        """The JSON record: SI unless ``display`` says otherwise (its ``units`` table says which)."""
+        from analytic.quantities import SI
+        display = display or SI
         tr = self.trajectory
         mech = built.mech if built is not None else None
         out = {"mechanism": tr.name}
         if mech is not None:
             out["parameters"] = mech.parameters
-            out["units"] = mech.units
+            out["units"] = {"file": mech.units, "length": display.unit("length"), "angle": display.unit("angle"),
+                            "outputs": {k: e["unit"] for k, e in errors_in(self.errors, display).items()}}
             loads = built.loads
             out["loads"] = {"gravity": list(loads.gravity) if loads.gravity else None, "force": list(loads.force),
                             "slow_stroke_only": loads.slow_stroke_only,
                             "inertias": {k: vars(v) for k, v in (loads.inertias or {}).items()}}
             out["input_range"] = list(mech.rock) if mech.rock else None
         out.update({"timestep": tr.timestep, "integrator": tr.integrator, "revolutions": self.revolutions,
-                    "steps": tr.steps, "cpu_seconds": tr.cpu_seconds, "errors": self.errors,
+                    "steps": tr.steps, "cpu_seconds": tr.cpu_seconds, "errors": errors_in(self.errors, display),
                     "drive_error": self.drive_error, "drive_tol": DRIVE_TOL,
-                    "max_loop_violation": self.max_loop_violation,
-                    "loop_tol": LOOP_TOL * (mech.size if mech is not None else 1.0),
+                    "max_loop_violation": display.convert("length", self.max_loop_violation),
+                    "loop_tol": display.convert("length", LOOP_TOL * (mech.size if mech is not None else 1.0)),
                     "work_balance": self.work_balance, "work_tol": WORK_TOL, "passed": self.passed})
         return out
 
@@ -222,18 +226,57 @@ def compare(tr: Trajectory, built, revolutions: float = 1.0) -> Comparison:
     return Comparison(tr, ref, errors, drive, viol, taus, balance, bool(ok), revolutions)
 
 
-def table(c: Comparison, size: float) -> str:
-    """A readable comparison table."""
+def errors_in(errors: dict, display) -> dict:
+    """Per-output error records (SI, each naming its unit) in ``display`` units: max, rms, peak and
+    tolerance converted by the output's quantity, ``unit`` relabelled."""
+    from analytic.quantities import SI_UNIT
+    by_unit = {u: q for q, u in SI_UNIT.items()}
+    out = {}
+    for name, e in errors.items():
+        q = by_unit.get(e["unit"], "")
+        out[name] = {**e, **{k: display.convert(q, e[k]) for k in ("max", "rms", "peak", "tol")},
+                     "unit": display.unit(q) if q else e["unit"]}
+    return out
+
+
+FIXED = 1e-12
+"""[of the size L, or rad] an output whose analytic value moves less than this over the run is fixed (a
+ground point, a parallel guide's angle): the table folds such rows into one line."""
+
+
+def table(c: Comparison, size: float, display=None, output_point: str | None = None) -> str:
+    """A readable comparison table in ``display`` units (analytic.quantities.Display; None: SI), led by
+    what matters: the output point's coordinates, the other outputs that move, then the drive forces;
+    outputs that stay fixed over the run (ground points) folded into one line unless one of them fails."""
+    from analytic.quantities import SI
+    display = display or SI
     tr = c.trajectory
+    errors = errors_in(c.errors, display)
+    moving, fixed = [], []
+    for name, e in errors.items():
+        ref = np.asarray(c.analytic[name]) if not name.startswith("tau") else None
+        scale = 1.0 if c.errors[name]["unit"].startswith("rad") else size
+        still = ref is not None and np.ptp(np.broadcast_to(ref, np.shape(tr.t))) <= FIXED * scale
+        (fixed if still and e["passed"] else moving).append(name)
+    lead = {f"{k}{output_point}" for k in ("x", "y", "vx", "vy", "ax", "ay")} if output_point else set()
+    moving.sort(key=lambda n: (n.startswith("tau"), n not in lead))     # stable: the file's order within
+    width = max([8] + [len(n) for n in moving])
     lines = [f"{tr.name}: {tr.steps} steps of {tr.timestep:.3g} s ({tr.integrator}), "
              f"{tr.cpu_seconds * 1e3:.1f} ms CPU",
-             f"  {'output':<8s} {'max error':>11s} {'rms error':>11s} {'peak':>11s} {'tolerance':>11s}  unit"]
-    for name, e in c.errors.items():
+             f"  {'output':<{width}s} {'max error':>11s} {'rms error':>11s} {'peak':>11s} {'tolerance':>11s}  unit"]
+    for name in moving:
+        e = errors[name]
         flag = "" if e["passed"] else "  FAIL"
-        lines.append(f"  {name:<8s} {e['max']:11.3e} {e['rms']:11.3e} {e['peak']:11.4g} {e['tol']:11.1e}  "
+        lines.append(f"  {name:<{width}s} {e['max']:11.3e} {e['rms']:11.3e} {e['peak']:11.4g} {e['tol']:11.1e}  "
                      f"{e['unit']}{flag}")
+    if fixed:
+        worst = max(c.errors[n]["max"] / c.errors[n]["tol"] for n in fixed)
+        shown = " ".join(fixed[:8]) + (" ..." if len(fixed) > 8 else "")
+        lines.append(f"  {len(fixed)} fixed outputs ({shown}): within tolerance, worst {worst:.1e} of it")
+    length = display.unit("length")
     lines.append(f"  drive error {c.drive_error:.3e} (tol {DRIVE_TOL:.0e}); loop violation max "
-                 f"{c.max_loop_violation:.3e} m (tol {LOOP_TOL * size:.1e})")
+                 f"{display.convert('length', c.max_loop_violation):.3e} {length} "
+                 f"(tol {display.convert('length', LOOP_TOL * size):.1e})")
     lines.append(f"  work balance {c.work_balance:.3e} of the kinetic-energy swing per revolution (tol {WORK_TOL:.0e})")
     lines.append(f"  {'PASSED' if c.passed else 'FAILED'}")
     return "\n".join(lines)

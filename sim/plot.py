@@ -25,9 +25,17 @@ def check_plot_path(out: str):
     return check_writable(out, PLOT_SUFFIXES)
 
 
-def panels(mech) -> list[tuple[str, list[tuple[str, str, float]], str]]:
+def panels(mech, display=None) -> list[tuple[str, list[tuple[str, str, float]], str]]:
     """The six curve panels of a mechanism, from its reported outputs: link angles, their rates and
-    accelerations, transmission angles (or slides), the output point's velocity and acceleration."""
+    accelerations, transmission angles (or slides), the output point's velocity and acceleration; each
+    line's factor from SI to ``display`` units (angles always in deg), each axis labelled in them."""
+    from analytic import quantities as Q
+    u = display or Q.Display(mech.units)
+    fL, fV, fA = u.factor(Q.LENGTH), u.factor(Q.VELOCITY), u.factor(Q.ACCELERATION)
+    fW, fAl = u.factor(Q.ANGULAR_VELOCITY), u.factor(Q.ANGULAR_ACCELERATION)
+
+    def lab(q):
+        return "[" + u.unit(q).replace("^2", "$^2$") + "]"
     outs = [n for n in mech.outputs]
     kinds = {n: output_kind(mech, n)[1] for n in outs}
     inputs = {i.q for i in mech.inputs} | {i.qd for i in mech.inputs} | {i.qdd for i in mech.inputs}
@@ -41,57 +49,60 @@ def panels(mech) -> list[tuple[str, list[tuple[str, str, float]], str]]:
     vel = [n for n in (f"vx{p}", f"vy{p}") if n in outs or not mech.builtin]
     acc = [n for n in (f"ax{p}", f"ay{p}") if n in outs or not mech.builtin]
     fourth = ("Transmission angle", [(n, f"${n}$", DEG) for n in mus], "angle [deg]") if mus else (
-        "Slides", [(n, f"${n}$", 1) for n in slides], "[m]")
+        "Slides", [(n, f"${n}$", fL) for n in slides], lab(Q.LENGTH))
     return [("Link angles", [(n, f"${n}$", DEG) for n in angles], "angle [deg]"),
-            ("Angular velocities", [(n, f"${n}$", 1) for n in rates], "[rad/s]"),
-            ("Angular accelerations", [(n, f"${n}$", 1) for n in accs], "[rad/s$^2$]"),
+            ("Angular velocities", [(n, f"${n}$", fW) for n in rates], lab(Q.ANGULAR_VELOCITY)),
+            ("Angular accelerations", [(n, f"${n}$", fAl) for n in accs], lab(Q.ANGULAR_ACCELERATION)),
             fourth,
-            (f"Point {p}: velocity", [(n, f"${n}$", 1) for n in vel], "[m/s]"),
-            (f"Point {p}: acceleration", [(n, f"${n}$", 1) for n in acc], "[m/s$^2$]")]
+            (f"Point {p}: velocity", [(n, f"${n}$", fV) for n in vel], lab(Q.VELOCITY)),
+            (f"Point {p}: acceleration", [(n, f"${n}$", fA) for n in acc], lab(Q.ACCELERATION))]
 
 
-def _input_angle(c: Comparison, mech) -> tuple[np.ndarray, str]:
+def _input_angle(c: Comparison, mech, u) -> tuple[np.ndarray, str]:
     first = mech.inputs[0]
     q = c.trajectory.inputs[first.q]
     if first.kind == "crank":
         return np.degrees(np.unwrap(q)), f"input angle ${first.q}$ [deg]"
-    return q, f"input ${first.q}$ [m]"
+    return q * u.factor("length"), f"input ${first.q}$ [{u.unit('length')}]"
 
 
-def _series(ax, x, c: Comparison, lines, colors) -> None:
+def _series(ax, x, c: Comparison, lines, colors, mech) -> None:
     for (name, label, factor), color in zip(lines, colors):
         ref = np.asarray(c.analytic[name]) * factor
         sim = c.trajectory.outputs[name] * factor
-        if factor == DEG and not name.startswith("mu"):                  # continuous curves for turning links
+        if output_kind(mech, name)[1] == "angle" and not name.startswith("mu"):   # turning links
             ref, sim = np.degrees(np.unwrap(ref / DEG)), np.degrees(np.unwrap(sim / DEG))
         ax.plot(x, ref, color=color, lw=1.6, label=f"{label} analytic")
         ax.plot(x[::MARK_EVERY], sim[::MARK_EVERY], "o", ms=3.5, mfc="none", color=color, label=f"{label} MuJoCo")
 
 
-def sheet(c: Comparison, built, out: str):
-    """Draw the analysis sheet of comparison ``c`` and save it atomically to ``out`` (.png/.svg/.pdf)."""
+def sheet(c: Comparison, built, out: str, display=None):
+    """Draw the analysis sheet of comparison ``c`` and save it atomically to ``out`` (.png/.svg/.pdf), in
+    ``display`` units (analytic.quantities.Display; None: the file's length unit)."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    from analytic.quantities import Display
 
     mech = built.mech
-    x, xlabel = _input_angle(c, mech)
+    u = display or Display(mech.units)
+    x, xlabel = _input_angle(c, mech, u)
     colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
     fig, axes = plt.subplots(4, 4, figsize=(17, 14.5), constrained_layout=True)
     slots = [axes[0, 0], axes[0, 1], axes[0, 2], axes[1, 0], axes[1, 1], axes[1, 2]]
-    for ax, (title, lines, ylabel) in zip(slots, panels(mech)):
-        _series(ax, x, c, lines, colors)
+    for ax, (title, lines, ylabel) in zip(slots, panels(mech, u)):
+        _series(ax, x, c, lines, colors, mech)
         ax.set(title=title, xlabel=xlabel, ylabel=ylabel)
         if lines:
             ax.legend(fontsize=7, loc="best")
         ax.grid(alpha=0.3)
     if built.slow_stroke is not None:
         _mark_strokes(axes[1, 1], x, c.trajectory.load)
-    _path_panel(axes[0, 3], c, mech)
+    _path_panel(axes[0, 3], c, mech, u)
     for ax, (title, units) in zip((axes[2, 0], axes[2, 1], axes[2, 2]), ERROR_GROUPS):
-        _error_panel(ax, x, c, units, title, xlabel)
-    _summary_panel(axes[1, 3], c, built)
-    _speed_panel(axes[2, 3], x, c, xlabel, colors, mech)
+        _error_panel(ax, x, c, units, title, xlabel, u)
+    _summary_panel(axes[1, 3], c, built, u)
+    _speed_panel(axes[2, 3], x, c, xlabel, colors, mech, u)
     _torque_panels(axes[3], x, c, xlabel, colors, mech)
     fig.suptitle(f"{mech.name}: MuJoCo simulation (markers) over the analytic solution (lines)", fontsize=14)
     with atomic_path(out) as tmp:
@@ -110,21 +121,24 @@ def _mark_strokes(ax, x, load) -> None:
     ax.legend(fontsize=7)
 
 
-def _path_panel(ax, c: Comparison, mech) -> None:
+def _path_panel(ax, c: Comparison, mech, u) -> None:
     p = mech.output_point
-    xa, ya = np.asarray(c.analytic["x" + p]), np.asarray(c.analytic["y" + p])
+    f, unit = u.factor("length"), u.unit("length")
+    xa, ya = np.asarray(c.analytic["x" + p]) * f, np.asarray(c.analytic["y" + p]) * f
     tr = c.trajectory
     ax.plot(xa, ya, lw=1.6, label="analytic")
-    ax.plot(tr.outputs["x" + p][::MARK_EVERY], tr.outputs["y" + p][::MARK_EVERY], "o", ms=3.5, mfc="none",
+    ax.plot(tr.outputs["x" + p][::MARK_EVERY] * f, tr.outputs["y" + p][::MARK_EVERY] * f, "o", ms=3.5, mfc="none",
             label="MuJoCo")
-    ax.set(title=f"Path of {p} (width {np.ptp(xa):.4g} m, height {np.ptp(ya):.4g} m)", xlabel=f"$x_{{{p}}}$ [m]",
-           ylabel=f"$y_{{{p}}}$ [m]")
+    ax.set(title=f"Path of {p} (width {np.ptp(xa):.4g} {unit}, height {np.ptp(ya):.4g} {unit})",
+           xlabel=f"$x_{{{p}}}$ [{unit}]", ylabel=f"$y_{{{p}}}$ [{unit}]")
     ax.set_aspect("equal", adjustable="datalim")
     ax.legend(fontsize=7, loc="best")
     ax.grid(alpha=0.3)
 
 
-def _error_panel(ax, x, c: Comparison, units, title, xlabel) -> None:
+def _error_panel(ax, x, c: Comparison, units, title, xlabel, u) -> None:
+    from .compare import errors_in
+    shown = errors_in(c.errors, u)
     for name, e in c.errors.items():
         if e["unit"] not in units:
             continue
@@ -133,8 +147,9 @@ def _error_panel(ax, x, c: Comparison, units, title, xlabel) -> None:
         diff = np.abs(c.trajectory.outputs[name] - np.asarray(c.analytic[name]))
         if e["unit"] == "rad":
             diff = np.abs(np.angle(np.exp(1j * (c.trajectory.outputs[name] - np.asarray(c.analytic[name])))))
-        ax.semilogy(x, np.maximum(diff, 1e-18), lw=1.0, label=f"{name} [{e['unit']}]")
-    tols = sorted({e["tol"] for n, e in c.errors.items() if e["unit"] in units and not n.startswith("tau")})
+        f = shown[name]["tol"] / e["tol"] if e["tol"] else 1.0           # SI -> display units
+        ax.semilogy(x, np.maximum(diff * f, 1e-18), lw=1.0, label=f"{name} [{shown[name]['unit']}]")
+    tols = sorted({shown[n]["tol"] for n, e in c.errors.items() if e["unit"] in units and not n.startswith("tau")})
     for tol in tols:
         ax.axhline(tol, color="k", ls="--", lw=0.8)
     ax.set_ylim(bottom=min(tols) * 1e-7)                    # hide the exact zero of the first sample
@@ -143,16 +158,25 @@ def _error_panel(ax, x, c: Comparison, units, title, xlabel) -> None:
     ax.grid(alpha=0.3, which="both")
 
 
-def _summary_panel(ax, c: Comparison, built) -> None:
-    mech = built.mech
+def _summary_panel(ax, c: Comparison, built, u) -> None:
     ax.axis("off")
+    lines = summary_lines(c, built, u)
+    ax.text(0.0, 1.0, "\n".join(textwrap.shorten(x, 60) if len(x) > 60 else x for x in lines), va="top",
+            family="monospace", fontsize=8.5, transform=ax.transAxes)
+
+
+def summary_lines(c: Comparison, built, u) -> list[str]:
+    """The sheet's summary panel: the run, the verdict, the figures of merit as ``analyze`` prints them
+    (in display units ``u``), the parameters and loads."""
+    from . import service
+    mech = built.mech
     tr = c.trajectory
-    figs = mech.figures(c.analytic)
+    figs = service.figures(mech)                 # the figures `analyze` prints, not the simulated samples'
     lines = [f"{tr.steps} steps of {tr.timestep * 1e3:.3g} ms ({tr.integrator}), {tr.cpu_seconds * 1e3:.1f} ms CPU",
-             f"max loop violation {c.max_loop_violation:.2e} m",
+             f"max loop violation {u.convert('length', c.max_loop_violation):.2e} {u.unit('length')}",
              f"drive error {c.drive_error:.2e} (commanded - simulated input)",
              "comparison: " + ("PASSED" if c.passed else "FAILED"), ""]
-    lines += [ln.strip() for ln in mech.summary(figs)]
+    lines += [ln.strip() for ln in mech.summary(figs, u)]
     loads = built.loads
     extra = []
     if loads.gravity:
@@ -167,19 +191,18 @@ def _summary_panel(ax, c: Comparison, built) -> None:
         extra.append(f"{first.q} rocks {math.degrees(mech.rock[0]):.2f}..{math.degrees(mech.rock[1]):.2f} deg"
                      if first.kind == "crank" else f"{first.q} rocks {mech.rock[0]:g}..{mech.rock[1]:g} m")
     params = ", ".join(f"{k}={v:.4g}" for k, v in mech.parameters.items())
-    lines += ["", "parameters:"] + textwrap.wrap(params, 48) + (["", "loads:"] + extra if extra else [])
-    ax.text(0.0, 1.0, "\n".join(textwrap.shorten(x, 60) if len(x) > 60 else x for x in lines), va="top",
-            family="monospace", fontsize=8.5, transform=ax.transAxes)
+    return lines + ["", "parameters:"] + textwrap.wrap(params, 48) + (["", "loads:"] + extra if extra else [])
 
 
-def _speed_panel(ax, x, c: Comparison, xlabel, colors, mech) -> None:
+def _speed_panel(ax, x, c: Comparison, xlabel, colors, mech, u) -> None:
     """Speed of the output point, analytic and simulated."""
     p = mech.output_point
-    ref = np.hypot(np.asarray(c.analytic["vx" + p]), np.asarray(c.analytic["vy" + p]))
-    sim = np.hypot(c.trajectory.outputs["vx" + p], c.trajectory.outputs["vy" + p])
+    f = u.factor("velocity")
+    ref = np.hypot(np.asarray(c.analytic["vx" + p]), np.asarray(c.analytic["vy" + p])) * f
+    sim = np.hypot(c.trajectory.outputs["vx" + p], c.trajectory.outputs["vy" + p]) * f
     ax.plot(x, ref, color=colors[0], lw=1.6, label="analytic")
     ax.plot(x[::MARK_EVERY], sim[::MARK_EVERY], "o", ms=3.5, mfc="none", color=colors[0], label="MuJoCo")
-    ax.set(title=f"speed of {p} $|v_{{{p}}}|$", xlabel=xlabel, ylabel="[m/s]")
+    ax.set(title=f"speed of {p} $|v_{{{p}}}|$", xlabel=xlabel, ylabel=f"[{u.unit('velocity')}]")
     ax.legend(fontsize=7, loc="best")
     ax.grid(alpha=0.3)
 

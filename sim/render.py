@@ -145,7 +145,7 @@ def _add_path(scene, points: np.ndarray, width_px: float) -> None:
 
 
 def render(built, tr, out: str, fps: float = 30.0, size: tuple[int, int] = (640, 480),
-           markers: tuple[tuple[float, float], ...] = ()) -> RenderStats:
+           markers: tuple[tuple[float, float], ...] = (), display=None) -> RenderStats:
     """Render trajectory ``tr`` of model ``built`` to ``out`` (.mp4 or .gif), atomically.
 
     ``markers`` are extra points [m] drawn as small crosses (e.g. a synthesis task's E1 and E2).

@@ -170,6 +170,12 @@ def analyze(mech: Mechanism, samples: int = 361, revolutions: float = 1.0,
     return Analysis(t, cols, sol, mech.figures(sol) if figures else {})
 
 
+def figures(mech: Mechanism) -> dict:
+    """The figures of merit of one cycle, as ``analyze`` computes them (361 samples of one revolution, or
+    of the rocking range): what every front end shows, so a figure reads the same everywhere."""
+    return analyze(mech, 361, 1.0, mech.rock).figures
+
+
 def check_turns_fully(mech: Mechanism) -> None:
     """A single-input mechanism whose first input cannot make a full turn is refused with its limits
     (a rocking drive, ``input_range``, is the way to run it)."""
@@ -189,12 +195,26 @@ def check_turns_fully(mech: Mechanism) -> None:
                              f"reachable {reach}): run it between the limits with an input range LO:HI")
 
 
-def analysis_record(mech: Mechanism, a: Analysis, samples: int, revolutions: float) -> dict:
-    """The JSON of ``linkage analyze --json``."""
+def analysis_record(mech: Mechanism, a: Analysis, samples: int, revolutions: float, display=None) -> dict:
+    """The JSON of ``linkage analyze --json``: figures and ranges in ``display`` units (default SI), and
+    the ``units`` table saying which (analytic.quantities)."""
+    from analytic import quantities as Q
+    display = display or Q.SI
     outs = mech.outputs
-    return {"mechanism": mech.name, "units": mech.units, "parameters": mech.parameters,
-            "samples": samples, "revolutions": revolutions, "figures": a.figures,
-            "ranges": {k: _span(a.solution[k]) for k in outs}}
+    kind = mech.inputs[0].kind
+    ranges = {k: display.convert(Q.quantity(mech, k), _span(a.solution[k])) for k in outs}
+    return {"mechanism": mech.name, "units": units_table(mech, display, outs, a.figures),
+            "parameters": mech.parameters, "samples": samples, "revolutions": revolutions,
+            "figures": Q.convert_figures(a.figures, display, kind), "ranges": ranges}
+
+
+def units_table(mech: Mechanism, display, outputs=(), figures=None) -> dict:
+    """The JSON ``units`` table: the file's length unit, the unit of each quantity in this record, and of
+    each output and figure of merit named."""
+    from analytic import quantities as Q
+    return {"file": mech.units, **{q: display.unit(q) for q in Q.SI_UNIT if q != Q.RATIO},
+            "outputs": {k: display.unit(Q.quantity(mech, k)) for k in outputs},
+            **({"figures": Q.figure_units(figures, display, mech.inputs[0].kind)} if figures else {})}
 
 
 def _span(x) -> list[float]:
@@ -207,10 +227,10 @@ def analysis_columns(mech: Mechanism, a: Analysis) -> dict[str, np.ndarray]:
     return {"t": a.t, **a.inputs, **{k: np.asarray(a.solution[k]) for k in mech.outputs}}
 
 
-def units_of(mech: Mechanism, columns) -> dict[str, str]:
-    """The unit of each CSV column (for the header's units line / sidecar)."""
-    from .units import column_unit
-    return {c: column_unit(mech, c) for c in columns}
+def units_of(mech: Mechanism, columns, display=None) -> dict[str, str]:
+    """The unit of each CSV column (for the sidecar) in ``display`` units (default SI)."""
+    from .units import SI, column_unit
+    return {c: column_unit(mech, c, display or SI) for c in columns}
 
 
 # --------------------------------------------------------------------------------------- simulation
@@ -271,9 +291,9 @@ def compare(mech: Mechanism, revolutions: float = 1.0, settings=None, loads=None
     return built, cmp(tr, built, revolutions)
 
 
-def comparison_record(built, c) -> dict:
-    """The JSON of ``linkage compare --json`` (and the app's simulate)."""
-    return c.as_dict(built)
+def comparison_record(built, c, display=None) -> dict:
+    """The JSON of ``linkage compare --json`` (and the app's simulate): SI unless ``display``."""
+    return c.as_dict(built, display)
 
 
 def trajectory_columns(tr) -> dict:

@@ -1,43 +1,76 @@
-"""Units of outputs and CSV columns (no MuJoCo needed)."""
+"""Units of outputs and CSV columns, and the display units of the command line (no MuJoCo needed).
+
+The table of what each output is lives in :mod:`analytic.quantities`; this module names CSV columns'
+quantities, converts columns and figures for a front end, and reads ``--units/--angles/--speeds``.
+"""
 
 from __future__ import annotations
 
+import numpy as np
+
+from analytic import quantities as Q
+from analytic.quantities import SI, Display, display_for, machine_display
+
+__all__ = ["SI", "Display", "display_for", "machine_display", "output_kind", "column_quantity", "column_unit",
+           "convert_columns", "add_unit_options", "shown_units", "machine_units"]
+
+_KIND = {Q.ANGLE: "angle", Q.LENGTH: "position", Q.ANGULAR_VELOCITY: "ang_velocity", Q.VELOCITY: "velocity",
+         Q.ANGULAR_ACCELERATION: "ang_acceleration", Q.ACCELERATION: "acceleration", Q.FORCE: "force",
+         Q.TORQUE: "force"}
+
 
 def output_kind(mech, name: str) -> tuple[str, str]:
-    """(unit, kind) of an output: kind is angle, position, ang_velocity, velocity, ang_acceleration,
-    acceleration or force. Raises KeyError for a name that is not an output of ``mech``."""
-    g = mech.aliases.get(name, name)
-    if g.startswith("tau"):
-        return ("N m" if any(i.kind == "crank" and i.link == g[3:] for i in mech.inputs) else "N"), "force"
-    for prefix, unit, kind, pool in (("phi", "rad", "angle", mech.links), ("mu", "rad", "angle", mech.points),
-                                     ("omega", "rad/s", "ang_velocity", mech.links),
-                                     ("alpha", "rad/s^2", "ang_acceleration", mech.links),
-                                     ("vx", "m/s", "velocity", mech.points), ("vy", "m/s", "velocity", mech.points),
-                                     ("ax", "m/s^2", "acceleration", mech.points),
-                                     ("ay", "m/s^2", "acceleration", mech.points),
-                                     ("x", "m", "position", mech.points), ("y", "m", "position", mech.points),
-                                     ("dds", "m/s^2", "acceleration", mech.slides),
-                                     ("ds", "m/s", "velocity", mech.slides), ("s", "m", "position", mech.slides)):
-        if g.startswith(prefix) and g[len(prefix):] in pool:
-            return unit, kind
-    raise KeyError(name)
+    """(SI unit, kind) of an output: kind is angle, position, ang_velocity, velocity, ang_acceleration,
+    acceleration or force (a drive's torque or force). Raises KeyError for a name that is not an output
+    of ``mech``."""
+    o = Q.output(mech, name)
+    return o.si_unit, _KIND[o.quantity]
 
 
-def column_unit(mech, column: str) -> str:
-    """The unit of a CSV column of analyze/simulate."""
-    if column in ("t",):
-        return "s"
-    if column == "loop_violation":
-        return "m"
-    for prefix in ("cmd_", "q_", "v_"):
-        if column.startswith(prefix):
-            rest = column[len(prefix):]
-            try:
-                unit = output_kind(mech, rest)[0]
-            except KeyError:
-                return "rad or m" if prefix == "q_" else "rad/s or m/s"
-            return unit
-    try:
-        return output_kind(mech, column)[0]
-    except KeyError:
+def column_quantity(mech, column: str) -> str:
+    """The quantity of a CSV column of analyze/simulate (``cmd_phi1`` is an angle like ``phi1``); ``""``
+    for a joint coordinate ``q_NAME``/``v_NAME`` (rad or m: kept SI) or an unknown column."""
+    if column.startswith("cmd_"):
+        column = column[4:]
+    if column.startswith(("q_", "v_")):
         return ""
+    return Q.quantity(mech, column)
+
+
+def column_unit(mech, column: str, display: Display = SI) -> str:
+    """The unit of a CSV column of analyze/simulate in ``display`` units."""
+    q = column_quantity(mech, column)
+    if q:
+        return display.unit(q)
+    if column.startswith("q_"):
+        return "rad or m"
+    if column.startswith("v_"):
+        return "rad/s or m/s"
+    return ""
+
+
+def convert_columns(mech, columns: dict, display: Display) -> dict[str, np.ndarray]:
+    """Columns (SI) converted to ``display`` units by their quantity (joint coordinates stay SI)."""
+    return {c: display.convert(column_quantity(mech, c), np.asarray(v)) if column_quantity(mech, c) else v
+            for c, v in columns.items()}
+
+
+# ---------------------------------------------------------------------------------- command line
+def add_unit_options(p) -> None:
+    """``--units``, ``--angles``, ``--speeds`` on a command (SPEC "Units of results")."""
+    p.add_argument("--units", choices=tuple(Q.LENGTH_UNITS), default=None,
+                   help="length unit of results (default: the file's for what you read, m for CSV/JSON)")
+    p.add_argument("--angles", choices=("rad", "deg"), default=None, help="angles in rad (default) or deg")
+    p.add_argument("--speeds", choices=("rpm",), default=None,
+                   help="angular speeds in rpm (default: rad/s, or deg/s with --angles deg)")
+
+
+def shown_units(args, mech) -> Display:
+    """What people read: the file's length unit unless ``--units``; angles and speeds as asked."""
+    return display_for(mech.units, getattr(args, "units", None), getattr(args, "angles", None),
+                       getattr(args, "speeds", None))
+
+
+def machine_units(args) -> Display:
+    """What CSV and JSON hold: SI unless ``--units``/``--angles``/``--speeds`` was given."""
+    return machine_display(getattr(args, "units", None), getattr(args, "angles", None), getattr(args, "speeds", None))

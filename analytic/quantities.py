@@ -1,0 +1,227 @@
+"""What each result is: one typed table of the outputs and figures of merit (name, quantity, SI unit,
+owner), and the display units that convert them by quantity (SPEC "Units of results").
+
+Everything the solver and the simulation compute is SI (m, s, rad, N, N m). What people read is converted
+here, once, by quantity: lengths to the file's unit (or ``--units``), angles to deg on request
+(``--angles deg``), angular speeds to rpm on request (``--speeds rpm``). Forces stay N, torques N m.
+Pure Python, no dependencies: front ends and summaries call it alike.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from dataclasses import dataclass
+
+# ------------------------------------------------------------------------------------------ quantities
+LENGTH, VELOCITY, ACCELERATION = "length", "velocity", "acceleration"
+ANGLE, ANGULAR_VELOCITY, ANGULAR_ACCELERATION = "angle", "angular_velocity", "angular_acceleration"
+FORCE, TORQUE, TIME, RATIO = "force", "torque", "time", "ratio"
+
+SI_UNIT = {LENGTH: "m", VELOCITY: "m/s", ACCELERATION: "m/s^2", ANGLE: "rad", ANGULAR_VELOCITY: "rad/s",
+           ANGULAR_ACCELERATION: "rad/s^2", FORCE: "N", TORQUE: "N m", TIME: "s", RATIO: ""}
+"""The SI unit of each quantity (what the solver, the simulation, CSV and JSON use by default)."""
+
+LENGTH_UNITS = {"m": 1.0, "mm": 1e-3, "cm": 1e-2, "in": 0.0254}
+"""Metres per length unit (exact: the inch is 25.4 mm by definition)."""
+
+RPM = 60.0 / (2.0 * math.pi)
+"""rpm per rad/s (a turn is 2 pi rad, a minute 60 s)."""
+
+
+@dataclass(frozen=True)
+class Output:
+    """One reported result: its SPEC name, its quantity, its SI unit and what it belongs to (a point, a
+    link, a prismatic pair, a transmission angle or a drive)."""
+
+    name: str
+    quantity: str
+    si_unit: str
+    owner: str
+
+
+_PREFIXES = (  # (prefix, quantity, pool) in the order names are matched: longer prefixes first
+    ("phi", ANGLE, "links"), ("omega", ANGULAR_VELOCITY, "links"), ("alpha", ANGULAR_ACCELERATION, "links"),
+    ("mu", ANGLE, "points"),
+    ("vx", VELOCITY, "points"), ("vy", VELOCITY, "points"), ("ax", ACCELERATION, "points"),
+    ("ay", ACCELERATION, "points"), ("x", LENGTH, "points"), ("y", LENGTH, "points"),
+    ("dds", ACCELERATION, "slides"), ("ds", VELOCITY, "slides"), ("s", LENGTH, "slides"),
+)
+_OWNER = {"links": "link", "points": "point", "slides": "prismatic pair"}
+
+
+def output(mech, name: str) -> Output:
+    """The table entry of output ``name`` of ``mech`` (a general name, a built-in's alias, or a drive force
+    ``tauL``: a torque for a crank, a force for a slider). Raises KeyError for anything else."""
+    g = mech.aliases.get(name, name)
+    if g.startswith("tau"):
+        link = g[3:]
+        kinds = {i.link: i.kind for i in mech.inputs}
+        if link in kinds:
+            q = TORQUE if kinds[link] == "crank" else FORCE
+            return Output(name, q, SI_UNIT[q], f"drive of link {link}")
+        raise KeyError(name)
+    for prefix, quantity, pool in _PREFIXES:
+        rest = g[len(prefix):]
+        if g.startswith(prefix) and rest in getattr(mech, pool):
+            owner = "transmission angle at " if prefix == "mu" else _OWNER[pool] + " "
+            return Output(name, quantity, SI_UNIT[quantity], owner + rest)
+    raise KeyError(name)
+
+
+def outputs(mech) -> tuple[Output, ...]:
+    """The table of every reported output of ``mech`` (``mech.outputs``) and its drive forces."""
+    names = list(mech.outputs) + [f"tau{i.link}" for i in mech.inputs]
+    return tuple(output(mech, n) for n in names)
+
+
+def quantity(mech, name: str) -> str:
+    """The quantity of an output, an input column (phi1, omega1, s, ...) or a CSV column ``t``; ``""``
+    for a name that is none of these."""
+    if name == "t":
+        return TIME
+    if name == "loop_violation":
+        return LENGTH
+    try:
+        return output(mech, name).quantity
+    except KeyError:
+        return ""
+
+
+# -------------------------------------------------------------------------------- figures of merit
+FIGURES = {
+    # four-bar
+    "limit_angles": ANGLE, "reachable_phi1": ANGLE, "mu_min": ANGLE, "mu_max": ANGLE, "mu_extremes": ANGLE,
+    "phi3_swing": ANGLE,
+    # six-bar (quick-return shaper)
+    "h": LENGTH, "stroke": LENGTH, "swing": ANGLE, "theta": ANGLE, "K": RATIO, "phi1_limits": ANGLE,
+    "xC_limits": LENGTH, "s_range": LENGTH,
+    # five-bar
+    "speed_ratio": RATIO, "S_range": LENGTH, "S_min_possible": LENGTH,
+    # every mechanism
+    "time_ratio": RATIO, "transmission": ANGLE,
+}
+"""Quantity of each figure of merit by key; the pattern rules below cover the keys named after a point."""
+
+_FIGURE_PATTERNS = ((re.compile(r"^v[xy]\w+_range$"), VELOCITY), (re.compile(r"^a[xy]\w+_range$"), ACCELERATION),
+                    (re.compile(r"^[xy]\w+_range$"), LENGTH), (re.compile(r"^v\w+_(min|mean|max)$"), VELOCITY))
+
+
+def figure_quantity(key: str, first_input_kind: str = "crank") -> str:
+    """The quantity of a figure of merit (``""`` for text, flags and counts). The input's ranges and
+    points are angles for a crank, lengths for a slider."""
+    if key in FIGURES:
+        return FIGURES[key]
+    if key in ("input_ranges", "dead_points", "singular_points"):
+        return ANGLE if first_input_kind == "crank" else LENGTH
+    for pattern, q in _FIGURE_PATTERNS:
+        if pattern.match(key):
+            return q
+    return ""
+
+
+# ---------------------------------------------------------------------------------------- display
+@dataclass(frozen=True)
+class Display:
+    """Units results are shown in: ``length`` one of LENGTH_UNITS, ``angle`` "rad" or "deg", ``speed``
+    (angular speeds) "" (the angle unit per second) or "rpm"."""
+
+    length: str = "m"
+    angle: str = "rad"
+    speed: str = ""
+
+    def __post_init__(self):
+        from . import ParameterError
+        if self.length not in LENGTH_UNITS:
+            raise ParameterError(f"units {self.length!r}: use one of {', '.join(LENGTH_UNITS)}")
+        if self.angle not in ("rad", "deg"):
+            raise ParameterError(f"angles {self.angle!r}: use rad or deg")
+        if self.speed not in ("", "rpm"):
+            raise ParameterError(f"speeds {self.speed!r}: use rpm (or leave it out for {self.angle}/s)")
+
+    @property
+    def is_si(self) -> bool:
+        return self.length == "m" and self.angle == "rad" and self.speed == ""
+
+    def unit(self, quantity: str) -> str:
+        """The unit label of ``quantity`` in these display units."""
+        if quantity in (LENGTH, VELOCITY, ACCELERATION):
+            return SI_UNIT[quantity].replace("m", self.length, 1)
+        if quantity == ANGLE:
+            return self.angle
+        if quantity == ANGULAR_VELOCITY:
+            return "rpm" if self.speed == "rpm" else f"{self.angle}/s"
+        if quantity == ANGULAR_ACCELERATION:
+            return f"{self.angle}/s^2"
+        return SI_UNIT.get(quantity, "")
+
+    def factor(self, quantity: str) -> float:
+        """Display value per SI value of ``quantity``."""
+        if quantity in (LENGTH, VELOCITY, ACCELERATION):
+            return 1.0 / LENGTH_UNITS[self.length]
+        deg = 180.0 / math.pi if self.angle == "deg" else 1.0
+        if quantity == ANGLE or quantity == ANGULAR_ACCELERATION:
+            return deg
+        if quantity == ANGULAR_VELOCITY:
+            return RPM if self.speed == "rpm" else deg
+        return 1.0
+
+    def convert(self, quantity: str, value):
+        """``value`` (SI; a number, array or nested list/dict of numbers) in these display units."""
+        f = self.factor(quantity)
+        return value if f == 1.0 else _scale(value, f)
+
+    def table(self, quantities: dict[str, str]) -> dict[str, str]:
+        """{name: unit label} for {name: quantity}."""
+        return {k: self.unit(q) for k, q in quantities.items()}
+
+
+SI = Display()
+
+
+def _scale(value, f: float):
+    if isinstance(value, bool) or isinstance(value, str) or value is None:
+        return value
+    if isinstance(value, dict):
+        return {k: _scale(v, f) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return type(value)(_scale(v, f) for v in value)
+    return value * f
+
+
+def display_for(file_units: str, units: str | None = None, angles: str | None = None,
+                speeds: str | None = None) -> Display:
+    """What people read: lengths in ``units`` or else the file's unit; angles and speeds as asked."""
+    return Display(units or file_units, angles or "rad", speeds or "")
+
+
+def machine_display(units: str | None = None, angles: str | None = None, speeds: str | None = None) -> Display:
+    """What CSV and JSON hold: SI unless an option was given."""
+    return Display(units or "m", angles or "rad", speeds or "")
+
+
+def convert_figures(figs: dict, display: Display, first_input_kind: str = "crank") -> dict:
+    """The figures of merit in ``display`` units, each converted by its quantity (text, flags, counts and
+    ratios unchanged). ``singular_points`` keep their group names; ``min_singularity`` is a ratio."""
+    out = {}
+    for key, v in figs.items():
+        q = figure_quantity(key, first_input_kind)
+        if key == "singular_points":
+            out[key] = [{**s, "at": display.convert(q, s["at"])} for s in v]
+        elif key == "slides":
+            out[key] = {j: {k: display.convert(LENGTH, x) for k, x in s.items()} for j, s in v.items()}
+        elif q:
+            out[key] = display.convert(q, v)
+        else:
+            out[key] = v
+    return out
+
+
+def figure_units(figs: dict, display: Display, first_input_kind: str = "crank") -> dict[str, str]:
+    """{figure key: unit label} for every figure that has a unit."""
+    out = {}
+    for key in figs:
+        q = LENGTH if key == "slides" else figure_quantity(key, first_input_kind)
+        if q and q != RATIO:
+            out[key] = display.unit(q)
+    return out

@@ -1,0 +1,198 @@
+"""Units of results (SPEC "Units of results"): what people read in the file's length unit (or --units),
+angles in deg and speeds in rpm on request; CSV and JSON SI unless asked, their sidecar / units table
+saying which; --inertia read in the file's unit like [inertia]; a figure of merit the same everywhere.
+
+The oracle for a mm file is the same design written in metres (the library file with units = "m" and its
+lengths divided by 1000 by hand): its numbers, times 1000, are what the mm file must show. Neither side's
+expected value comes from the display converter under test."""
+
+import csv
+import json
+import math
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import analytic
+from analytic import quantities as Q
+
+LIB = Path(analytic.__file__).parent / "library"
+HOEKENS_M = ["--set", "crank=0.05", "--set", "ground=0.1", "--set", "coupler=0.125", "--set", "rocker=0.125",
+             "--set", "bp=0.25"]                       # hoekens.toml's lengths (mm) / 1000, typed by hand
+REL = 1e-9
+"""[relative] the mm and m designs are the same SI geometry, up to the rounding of value * 0.001 (1e-16);
+what is left is the printing (6 significant digits: handled by parsing with a relative bound) or float
+noise in the solver (1e-15)."""
+PRINTED = 5e-6
+"""[relative] numbers printed with %.6g differ by at most half a unit in the 6th digit."""
+
+
+def run(*args, ok=(0,)):
+    p = subprocess.run([sys.executable, "-m", "sim", *map(str, args)], capture_output=True, text=True, timeout=300)
+    assert p.returncode in ok, p.stderr
+    return p.stdout
+
+
+@pytest.fixture(scope="module")
+def files(tmp_path_factory):
+    d = tmp_path_factory.mktemp("units")
+    text = (LIB / "hoekens.toml").read_text()
+    assert 'units = "mm"' in text
+    mm = d / "hoekens_mm.toml"
+    m = d / "hoekens_m.toml"
+    mm.write_text(text)
+    m.write_text(text.replace('units = "mm"', 'units = "m"'))
+    return d, mm, m
+
+
+def numbers(line: str) -> list[float]:
+    return [float(x) for x in re.findall(r"-?\d+(?:\.\d+)?(?:e[-+]?\d+)?", line)]
+
+
+def line_with(text: str, start: str) -> str:
+    return next(ln for ln in text.splitlines() if ln.strip().startswith(start))
+
+
+# ------------------------------------------------------------------------------------ summaries
+def test_mm_file_summary_is_the_metre_design_times_1000(files):
+    _, mm, m = files
+    shown_mm, shown_m = run("analyze", mm), run("analyze", m, *HOEKENS_M)
+    path_mm, path_m = line_with(shown_mm, "P path"), line_with(shown_m, "P path")
+    assert path_mm.count(" mm,") == 1 and path_mm.count(" mm;") == 1 and "mm/s" in path_mm and " m," in path_m and "m/s" in path_m
+    a, b = numbers(path_mm), numbers(path_m)
+    assert len(a) == len(b) == 6
+    np.testing.assert_allclose(a, np.array(b) * 1000, rtol=PRINTED, atol=1e-9)
+    # angles and ratios do not depend on the length unit
+    for start in ("transmission angle", "time ratio"):
+        np.testing.assert_allclose(numbers(line_with(shown_mm, start)), numbers(line_with(shown_m, start)),
+                                   rtol=PRINTED)
+    # --units m on the mm file shows the metre design's numbers
+    np.testing.assert_allclose(numbers(line_with(run("analyze", mm, "--units", "m"), "P path")), b, rtol=PRINTED)
+
+
+def test_compare_table_in_mm_and_the_output_point_first(files):
+    _, mm, m = files
+    t_mm, t_m = run("compare", mm), run("compare", m, *HOEKENS_M)
+
+    def rows(text):
+        out = {}
+        for ln in text.splitlines():
+            parts = ln.split()
+            if len(parts) >= 6 and re.fullmatch(r"[a-zA-Z]\w*", parts[0]) and re.fullmatch(r"-?\d.*", parts[1]):
+                out[parts[0]] = (list(map(float, parts[1:5])), " ".join(parts[5:]))
+        return out
+    r_mm, r_m = rows(t_mm), rows(t_m)
+    assert r_mm["xP"][1] == "mm" and r_mm["vxP"][1] == "mm/s" and r_mm["axP"][1] == "mm/s^2"
+    assert r_m["xP"][1] == "m" and r_mm["phi3"][1] == "rad" and r_mm["tau2"][1] == "N m"
+    for name in ("xP", "yP", "vxP", "axP"):
+        # peak printed to 4 digits (%.4g): half a unit in the 4th digit, on both sides
+        np.testing.assert_allclose(r_mm[name][0][2], r_m[name][0][2] * 1000, rtol=1e-3)
+        # tolerance printed to 2 digits (%.1e): a value on a rounding edge can round either way, < 10 %
+        np.testing.assert_allclose(r_mm[name][0][3], r_m[name][0][3] * 1000, rtol=0.1)
+    np.testing.assert_allclose(r_mm["phi3"][0][2], r_m["phi3"][0][2], rtol=5e-4)
+    names = [ln.split()[0] for ln in t_mm.splitlines()[2:] if ln.split() and ln.split()[0] in r_mm]
+    assert names[:2] == ["xP", "yP"]                        # led by the output point
+    assert "xA" not in r_mm and re.search(r"\d+ fixed outputs \(xA yA", t_mm)    # the ground pivot folded
+    assert names[-1] == "tau2"
+
+
+def test_plot_sheet_figures_are_analyze_figures_and_the_hand_value():
+    """Whitworth: the ram's extremes are where the slotted lever is horizontal, the crank pin then on the
+    line through C at c below O: the strokes take 180 +- 2 asin(c/r) degrees of crank."""
+    from sim import plot, service
+    mech = service.load("whitworth")
+    built, c = service.compare(mech)
+    k_plot = numbers(next(ln for ln in plot.summary_lines(c, built, Q.Display("mm")) if "K =" in ln))[-1]
+    k_analyze = numbers(line_with(run("analyze", "whitworth"), "time ratio"))[-1]
+    beta = math.degrees(math.asin(100 / 150))
+    hand = (180 + 2 * beta) / (180 - 2 * beta)
+    assert abs(k_plot - k_analyze) <= 1e-4           # both print %.4f of the same number
+    assert abs(k_analyze - hand) <= 1e-3             # 361 samples, extremes located by linear interpolation
+    # the simulated samples' value (what the sheet printed before) is off by more than that
+    assert abs(mech.figures(c.analytic)["time_ratio"] - hand) > 2e-3
+
+
+# -------------------------------------------------------------------------------- CSV and JSON
+def test_csv_is_si_by_default_and_converted_with_units(files):
+    d, mm, m = files
+    def read(path):
+        with open(path) as f:
+            rows = list(csv.DictReader(f))
+        return {k: np.array([float(r[k]) for r in rows]) for k in rows[0]}
+    run("analyze", mm, "--samples", 37, "--csv", d / "mm.csv")
+    run("analyze", m, *HOEKENS_M, "--samples", 37, "--csv", d / "m.csv")
+    run("analyze", mm, "--samples", 37, "--csv", d / "mm_mm.csv", "--units", "mm", "--speeds", "rpm",
+        "--angles", "deg")
+    si, ref, conv = read(d / "mm.csv"), read(d / "m.csv"), read(d / "mm_mm.csv")
+    for k in ("xP", "yP", "vxP", "axP"):
+        np.testing.assert_allclose(si[k], ref[k], rtol=REL, atol=1e-12)          # SI whatever the file says
+        np.testing.assert_allclose(conv[k], ref[k] * 1000, rtol=REL, atol=1e-9)
+    np.testing.assert_allclose(conv["omega2"], 60.0, rtol=1e-12)      # 360 deg/s is one turn a second: 60 rpm
+    np.testing.assert_allclose(conv["phi2"], np.degrees(ref["phi2"]), rtol=REL, atol=1e-9)
+    np.testing.assert_allclose(conv["alpha3"], np.degrees(ref["alpha3"]), rtol=REL, atol=1e-6)
+    side_si = json.loads((d / "mm.csv.units.json").read_text())
+    side = json.loads((d / "mm_mm.csv.units.json").read_text())
+    assert side_si["si"] is True and side_si["file_units"] == "mm"
+    assert side_si["units"]["xP"] == "m" and side_si["units"]["vxP"] == "m/s" and side_si["units"]["omega2"] == "rad/s"
+    assert side["si"] is False and side["units"]["xP"] == "mm" and side["units"]["axP"] == "mm/s^2"
+    assert side["units"]["omega2"] == "rpm" and side["units"]["phi2"] == "deg" and side["units"]["t"] == "s"
+
+
+def test_json_is_si_by_default_and_its_units_table_says_which(files):
+    _, mm, m = files
+    si = json.loads(run("analyze", mm, "--json"))
+    ref = json.loads(run("analyze", m, *HOEKENS_M, "--json"))
+    conv = json.loads(run("analyze", mm, "--json", "--units", "in"))
+    assert si["units"]["file"] == "mm" and si["units"]["length"] == "m" and si["units"]["outputs"]["vxP"] == "m/s"
+    np.testing.assert_allclose(si["ranges"]["xP"], ref["ranges"]["xP"], rtol=REL)
+    np.testing.assert_allclose(si["figures"]["xP_range"], ref["figures"]["xP_range"], rtol=REL)
+    assert conv["units"]["length"] == "in" and conv["units"]["outputs"]["axP"] == "in/s^2"
+    np.testing.assert_allclose(conv["ranges"]["xP"], np.array(ref["ranges"]["xP"]) / 0.0254, rtol=REL)
+    np.testing.assert_allclose(conv["figures"]["vP_max"], ref["figures"]["vP_max"] / 0.0254, rtol=REL)
+    assert conv["figures"]["time_ratio"] == pytest.approx(ref["figures"]["time_ratio"], rel=REL)  # a ratio: unchanged
+
+
+def test_display_conversions_by_hand():
+    u = Q.Display("cm", "deg", "rpm")
+    assert u.convert(Q.LENGTH, 0.25) == pytest.approx(25.0, rel=1e-15)
+    assert u.convert(Q.ACCELERATION, 9.81) == pytest.approx(981.0, rel=1e-15)
+    assert u.convert(Q.ANGLE, math.pi / 2) == pytest.approx(90.0, rel=1e-15)
+    assert u.convert(Q.ANGULAR_VELOCITY, 2 * math.pi) == pytest.approx(60.0, rel=1e-15)     # 1 rev/s
+    assert u.convert(Q.ANGULAR_ACCELERATION, math.pi) == pytest.approx(180.0, rel=1e-15)
+    assert u.convert(Q.TORQUE, 3.5) == 3.5 and u.unit(Q.TORQUE) == "N m" and u.unit(Q.FORCE) == "N"
+    assert Q.Display("in").convert(Q.VELOCITY, 0.0254) == pytest.approx(1.0, rel=1e-15)
+    assert Q.Display("mm", "deg").unit(Q.ANGULAR_VELOCITY) == "deg/s"
+    with pytest.raises(analytic.ParameterError):
+        Q.Display("furlong")
+
+
+def test_the_table_of_outputs_names_every_output():
+    from sim import service
+    mech = service.load("fourbar")
+    table = {o.name: o for o in Q.outputs(mech)}
+    tau = f"tau{mech.inputs[0].link}"
+    assert set(table) == set(mech.outputs) | {tau}
+    assert table["xE"].quantity == Q.LENGTH and table["vxE"].si_unit == "m/s" and table["mu"].quantity == Q.ANGLE
+    assert table["omega3"].quantity == Q.ANGULAR_VELOCITY and table[tau].quantity == Q.TORQUE
+    assert table["alpha3"].owner == "link 3"
+
+
+# ------------------------------------------------------------------------------------- --inertia
+def test_inertia_file_is_read_in_the_file_unit_like_the_inertia_table(files):
+    d, mm, _ = files
+    entry = {"m": 0.8, "cx": 60.0, "cy": 5.0, "I": 900.0}   # mm and kg mm^2, like [inertia] in a mm file
+    (d / "with_table.toml").write_text(mm.read_text() + '\n[inertia]\n"3" = { m = 0.8, cx = 60.0, cy = 5.0, I = 900.0 }\n')
+    (d / "inertia.json").write_text(json.dumps({"3": entry}))
+    table = json.loads(run("compare", d / "with_table.toml", "--json"))
+    given = json.loads(run("compare", mm, "--inertia", d / "inertia.json", "--json"))
+    plain = json.loads(run("compare", mm, "--json"))
+    assert given["passed"] and table["passed"]
+    assert given["loads"]["inertias"]["3"]["cx"] == pytest.approx(0.060, rel=1e-12)   # 60 mm in SI
+    assert given["loads"]["inertias"]["3"]["I"] == pytest.approx(900e-6, rel=1e-12)   # kg mm^2 -> kg m^2
+    peak_t, peak_g, peak_0 = (r["errors"]["tau2"]["peak"] for r in (table, given, plain))
+    assert peak_g == pytest.approx(peak_t, rel=1e-9)          # same model, same run: float noise only
+    assert abs(peak_g - peak_0) > 1e-3 * peak_0               # and the inertia did change the torque
