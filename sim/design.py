@@ -153,11 +153,16 @@ def parse_vary(items: list[str], mech=None) -> dict[str, list[float]]:
         name, text = (x.strip() for x in item.split("=", 1))
         if name in out:
             raise ParameterError(f"--vary {name} is given twice; give it once")
+        angle = None
         if mech is not None:
             service.parameter_value(mech, name, mech.values.get(name, 0.0))       # a known parameter
+            if name in mech.overrides:
+                raise ParameterError(f"--vary {name} and --set {name} both given: --vary would override "
+                                     f"--set; give only one")
+            angle = False if mech.definition.parameter_kind[name] == "length" else None
         if text.count(":") == 2:
             a, b, n = text.split(":")
-            start, stop = expr.parse_value(name, a), expr.parse_value(name, b)
+            start, stop = expr.parse_value(name, a, angle), expr.parse_value(name, b, angle)
             try:
                 count = int(n)
             except ValueError:
@@ -171,7 +176,7 @@ def parse_vary(items: list[str], mech=None) -> dict[str, list[float]]:
             vals = [v for v in text.split(",") if v.strip()]
             if not vals:
                 raise ParameterError(f"--vary {name}: no values given")
-            out[name] = [expr.parse_value(name, v) for v in vals]
+            out[name] = [expr.parse_value(name, v, angle) for v in vals]
     return out
 
 
@@ -198,59 +203,84 @@ def cmd_sweep(args) -> int:
     rows, paths = studies.sweep_mechanism(base, vary, args.samples, keep_paths=12 if args.plot else 0,
                                           progress=bar.update)
     keys = list(vary)
-    stat_names = list(studies.STATS) + ["mu_min", "period"]
+    stat_names = [s for s in list(studies.STATS) + ["mu_min", "period"] if any(s in r.values for r in rows)]
     if args.csv:
         cols = {k: np.array([r.params[k] for r in rows]) for k in keys}
         cols.update({s: np.array([r.values.get(s, np.nan) for r in rows]) for s in stat_names})
         cols["valid"] = np.array([1.0 if r.valid else 0.0 for r in rows])
         write_csv(args.csv, cols)
-    print(_sweep_table(rows, keys, limit=args.show))
+    from .units import shown_units
+    shown = shown_units(args, base)
+    print(_sweep_table(rows, keys, limit=args.show, display=shown))
     bad = [r for r in rows if not r.valid]
     print(f"{len(rows)} combinations, {len(rows) - len(bad)} valid" +
           (f"; invalid, e.g. {', '.join(f'{k}={v:g}' for k, v in bad[0].params.items())}: {bad[0].reason}" if bad else ""))
     if args.csv:
         print(f"wrote {args.csv}")
     if args.plot:
-        _plot_family(paths, base.output_point, args.plot, len(rows))
+        _plot_family(paths, base.output_point, args.plot, len(rows), display=shown)
         print(f"wrote {args.plot}")
     return 0
 
 
-def _sweep_table(rows, keys, limit: int) -> str:
+def _sweep_table(rows, keys, limit: int, display=None) -> str:
+    """The first ``limit`` rows: the varied values (file units), the path's box, area and speeds in
+    ``display`` units (analytic.quantities.Display; None: SI)."""
+    from analytic.quantities import SI
+    u = display or SI
+    f, L, V = u.factor("length"), u.unit("length"), u.unit("velocity")
     head = " ".join(f"{k:>10s}" for k in keys) + (
-        f" {'x range [m]':>21s} {'y range [m]':>21s} {'area [m^2]':>11s} {'|v| mean':>9s} {'min':>8s} "
-        f"{'max':>8s} {'fluct.':>7s}")
+        f" {f'x range [{L}]':>21s} {f'y range [{L}]':>21s} {f'area [{L}^2]':>12s} {f'|v| mean [{V}]':>16s} "
+        f"{'min':>8s} {'max':>8s} {'fluct.':>7s}")
     lines = [head]
     for r in rows[:limit]:
         p = " ".join(f"{r.params[k]:10.5g}" for k in keys)
         if not r.valid:
             lines.append(f"{p}  invalid: {r.reason}")
             continue
-        v = r.values
-        lines.append(f"{p} {v['x_min']:10.5f}..{v['x_max']:<9.5f} {v['y_min']:10.5f}..{v['y_max']:<9.5f} "
-                     f"{v['area']:11.4e} {v['speed_mean']:9.5f} {v['speed_min']:8.5f} {v['speed_max']:8.5f} "
+        v = {k: x * (f * f if k == "area" else f if k != "fluctuation" else 1.0) for k, x in r.values.items()
+             if k in studies.STATS}                         # lengths, speeds: f; the area f^2
+        lines.append(f"{p} {v['x_min']:10.5g}..{v['x_max']:<9.5g} {v['y_min']:10.5g}..{v['y_max']:<9.5g} "
+                     f"{v['area']:12.4e} {v['speed_mean']:16.5g} {v['speed_min']:8.5g} {v['speed_max']:8.5g} "
                      f"{v['fluctuation']:7.4f}")
     if len(rows) > limit:
         lines.append(f"... {len(rows) - limit} more rows (--csv writes them all, --show N prints more)")
     return "\n".join(lines)
 
 
-def _plot_family(paths, point, out, total) -> None:
+SWEEP_STYLES = ("-", "--", "-.", ":")
+"""Line styles cycled once the distinct colours (matplotlib's tab20, dark shades first) run out."""
+
+
+def family_styles(n: int) -> list[tuple[tuple, str]]:
+    """(colour RGBA, line style) of ``n`` curves, no two alike: tab20's dark shades, then its light ones,
+    each pass of 20 in the next line style."""
+    import matplotlib
+    tab = matplotlib.colormaps["tab20"].colors
+    order = list(tab[0::2]) + list(tab[1::2])
+    return [(order[i % 20], SWEEP_STYLES[(i // 20) % len(SWEEP_STYLES)]) for i in range(n)]
+
+
+def _plot_family(paths, point, out, total, display=None) -> None:
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    from analytic.quantities import SI
     from .io import atomic_path
+    u = display or SI
+    f, L, V = u.factor("length"), u.unit("length"), u.unit("velocity")
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(13, 5.5), constrained_layout=True)
-    for params_, t, x, y, speed in paths:
+    for (params_, t, x, y, speed), (color, ls) in zip(paths, family_styles(len(paths))):
         label = ", ".join(f"{k}={v:.4g}" for k, v in params_.items())
-        line, = ax1.plot(x, y, lw=1.4, label=label)
-        ax2.plot(t / t[-1], speed, lw=1.4, color=line.get_color(), label=label)
-    ax1.set(title=f"Paths of {point}", xlabel="x [m]", ylabel="y [m]")
+        ax1.plot(x * f, y * f, lw=1.4, color=color, ls=ls, label=label)
+        ax2.plot(t / t[-1], speed * f, lw=1.4, color=color, ls=ls, label=label)
+    ax1.set(title=f"Paths of {point}", xlabel=f"x [{L}]", ylabel=f"y [{L}]")
     ax1.set_aspect("equal", adjustable="datalim")
-    ax2.set(title=f"Speed of {point} over one period", xlabel="t / period", ylabel=f"|v{point}| [m/s]")
+    ax2.set(title=f"Speed of {point} over one period (colours as in the paths)", xlabel="t / period",
+            ylabel=f"|v{point}| [{V}]")
     for ax in (ax1, ax2):
         ax.grid(alpha=0.3)
-    ax2.legend(fontsize=8, loc="upper right")
+    ax1.legend(fontsize=8, loc="best")
     if total > len(paths):
         fig.suptitle(f"first {len(paths)} of {total} combinations")
     with atomic_path(out) as tmp:
@@ -287,5 +317,7 @@ def register(sub, add_common, add_video_options) -> None:
     p.add_argument("--plot", metavar="PATH", help="families of paths and speed curves (.png/.svg/.pdf)")
     p.add_argument("--show", type=int, default=20, metavar="N", help="rows to print (default 20)")
     p.add_argument("--yes", action="store_true", help=f"allow grids over {MAX_COMBOS:,} combinations")
+    from .units import add_unit_options
+    add_unit_options(p)
     p.set_defaults(revolutions=1.0)
     p.set_defaults(func=cmd_sweep)

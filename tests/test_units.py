@@ -196,3 +196,23 @@ def test_inertia_file_is_read_in_the_file_unit_like_the_inertia_table(files):
     peak_t, peak_g, peak_0 = (r["errors"]["tau2"]["peak"] for r in (table, given, plain))
     assert peak_g == pytest.approx(peak_t, rel=1e-9)          # same model, same run: float noise only
     assert abs(peak_g - peak_0) > 1e-3 * peak_0               # and the inertia did change the torque
+
+
+# ------------------------------------------------------------------------------------------ sweep
+def test_sweep_table_in_the_file_unit_and_plot_colours_distinct(files):
+    _, mm, m = files
+
+    def rows(text):
+        return [numbers(ln) for ln in text.splitlines()[1:] if ".." in ln]
+    head = run("sweep", mm, "--vary", "crank=40,50", "--show", 2).splitlines()[0]
+    assert "x range [mm]" in head and "area [mm^2]" in head and "mm/s" in head
+    a = rows(run("sweep", mm, "--vary", "crank=40,50", "--show", 2))
+    b = rows(run("sweep", m, *HOEKENS_M[2:], "--vary", "crank=0.04,0.05", "--show", 2))
+    assert len(a) == len(b) == 2
+    for ra, rb in zip(a, b):
+        # columns: crank, x lo, x hi, y lo, y hi, area, |v| mean, min, max, fluctuation; printed to 5 digits
+        factor = np.array([1000] * 5 + [1e6] + [1000] * 3 + [1])
+        np.testing.assert_allclose(ra, np.array(rb) * factor, rtol=1e-4)
+    from sim.design import family_styles
+    styles = family_styles(45)
+    assert len(set(styles)) == 45 and len({c for c, _ in styles[:20]}) == 20
