@@ -44,6 +44,9 @@ STARTUP_FRACTION = 0.95
 INTERP_TOL = 1e-11
 """Largest mismatch of the interpolants of J and Q with the closed form at the grid's midpoints,
 relative to max J and to the loads' scale: far below the 1e-6 the answers are checked to."""
+INTERP_FAIL = 1e-8
+"""Past this mismatch at the finest grid the design is refused (a pose too close to singular, or J' and J
+disagreeing, which would be a bug)."""
 GRID_MIN, GRID_MAX = 512, 65536
 """Grid points per turn of the input: the first try and the most (a design near a singular pose)."""
 RTOL = 1e-12
@@ -323,6 +326,9 @@ def reduce(mech, inertias: dict, flywheel: float = 0.0, gravity=(0.0, 0.0), forc
         if (err <= INTERP_TOL and not full) or n >= GRID_MAX:
             break
         n *= 2
+    if err > INTERP_FAIL:
+        raise ParameterError(f"the {mech.name}'s inertia J(phi) cannot be represented to {INTERP_FAIL:g} over a "
+                             f"turn ({err:.2g} at {n} points): it is too close to a singular pose; move it away")
     return Reduced(mech.name, q0, s, float(flywheel), n, err, window, sJ, sQg, sQF)
 
 

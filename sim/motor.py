@@ -209,18 +209,19 @@ def _extreme(t, w, sel, sign):
 
 
 def kinetic_energy(built, qpos, qvel) -> np.ndarray:
-    """MuJoCo's kinetic energy [J] (armature included) at the given states: 0.5 qvel' M qvel."""
+    """MuJoCo's kinetic energy [J] (armature included) at the given states, by mj_forward on each."""
     model = built.model
     data = mujoco.MjData(model)
-    out = np.empty(len(qpos))
-    M_ = np.empty((model.nv, model.nv))
-    for k in range(len(qpos)):
-        data.qpos[:] = qpos[k]
-        mujoco.mj_kinematics(model, data)
-        mujoco.mj_comPos(model, data)
-        mujoco.mj_crb(model, data)
-        mujoco.mj_fullM(model, M_, data.qM)
-        out[k] = 0.5 * qvel[k] @ M_ @ qvel[k]
+    flags = model.opt.enableflags
+    model.opt.enableflags = flags | mujoco.mjtEnableBit.mjENBL_ENERGY
+    try:
+        out = np.empty(len(qpos))
+        for k in range(len(qpos)):
+            data.qpos[:], data.qvel[:] = qpos[k], qvel[k]
+            mujoco.mj_forward(model, data)
+            out[k] = data.energy[1]
+    finally:
+        model.opt.enableflags = flags
     return out
 
 
