@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import itertools
 import math
-from dataclasses import dataclass, fields
+from dataclasses import dataclass, fields, replace
 from fractions import Fraction
 from types import SimpleNamespace
 
@@ -181,11 +181,55 @@ def period_of(mech) -> float:
     return T
 
 
+def _periods(designs) -> tuple[np.ndarray, list[str]]:
+    """Each design's period [s] (:func:`period_of`), computed once per distinct set of motion laws, and
+    per design why it has none ("" where it has one; NaN period there)."""
+    from . import batch
+    k = designs.count
+    out, why = np.full(k, np.nan), [""] * k
+    table = batch.motion_table(designs).reshape(k, -1)
+    ok = np.flatnonzero(designs.valid)
+    if ok.size == 0:
+        return out, why
+    rows, inverse = np.unique(table[ok], axis=0, return_inverse=True)
+    for r, row in enumerate(rows):
+        try:
+            T = _period_of_motions(designs.base, batch.motions(designs, row.reshape(-1, 3)))
+            reason = ""
+        except ParameterError as exc:
+            T, reason = float("nan"), str(exc)
+        members = ok[inverse.ravel() == r]
+        out[members] = T
+        for i in members:
+            why[i] = reason
+    return out, why
+
+
+def _period_of_motions(base, ms) -> float:
+    """:func:`period_of` for input motion laws ``ms`` of ``base``'s inputs."""
+    cranks = [m.rate for m, i in zip(ms, base.inputs) if i.kind == "crank" and m.rate != 0]
+    if len(cranks) < 2:
+        first = base.inputs[0]
+        turn = 2 * math.pi if first.kind == "crank" else abs(ms[0].rate) or 1.0
+        return float(ms[0].duration(1.0, turn))
+    T = common_period(cranks[0], cranks[1])[0]
+    for w in cranks[2:]:
+        T = common_period(2 * math.pi / T, w)[0]
+    return float(T)
+
+
+DESIGNS_PER_CHUNK = 2048
+"""Designs evaluated per batch call in :func:`sweep_mechanism` (with 361 samples: ~0.7 M samples)."""
+
+
 def sweep_mechanism(base, vary: dict[str, list[float]], samples: int = 360, keep_paths: int = 0,
                     progress=None):
     """Evaluate every combination of ``vary`` on top of mechanism ``base`` (any :class:`Mechanism`):
     its output point over the common period of its cranks. Returns (rows, paths) as :func:`sweep`, with
-    ``mu_min`` (smallest transmission angle, rad) and ``period`` added to each row's values."""
+    ``mu_min`` (smallest transmission angle, rad; only for a mechanism with RRR groups) and ``period``
+    added to each row's values. The designs are solved many at a time (:mod:`analytic.batch`); a row is
+    valid only if every sample assembled and every figure is finite."""
+    from . import batch
     if not (isinstance(samples, int) and 8 <= samples <= 100_000):
         raise ParameterError(f"samples={samples!r} must be an integer in 8..100000")
     for name, values in vary.items():
@@ -195,34 +239,51 @@ def sweep_mechanism(base, vary: dict[str, list[float]], samples: int = 360, keep
         if not values:
             raise ParameterError(f"{name}: no values to vary")
     keys = list(vary)
-    rows, paths = [], []
-    combos = itertools.product(*(vary[k] for k in keys))
     total = math.prod(len(vary[k]) for k in keys)
-    for n, combo in enumerate(combos):
-        params = dict(zip(keys, map(float, combo)))
+    mesh = np.meshgrid(*(np.asarray(vary[k], dtype=float) for k in keys), indexing="ij")
+    columns = {k: m.ravel() for k, m in zip(keys, mesh)}      # the first parameter varies slowest
+    has_mu = any(e["kind"] == "RRR" for e in base.geometry.elements)
+    names = STATS + (("mu_min",) if has_mu else ()) + ("period",)
+    p = base.output_point
+    want = ["x" + p, "y" + p, "vx" + p, "vy" + p] + [
+        "mu" + e["point"] for e in base.geometry.elements if e["kind"] == "RRR"]
+    u = np.linspace(0.0, 1.0, samples + 1)
+    rows, paths = [], []
+    for start in range(0, total, DESIGNS_PER_CHUNK):
         if progress is not None:
-            progress(n, total)
-        try:
-            mech = base.with_values(**params)
-            T = period_of(mech)
-            t = np.linspace(0.0, T, samples + 1)
-            sol = mech.solve(*mech.drive(t))
-            bad = sol.first_failure()
-            if bad is not None:
-                k, label = bad
-                raise ParameterError(f"{label} cannot close at t={t[k]:.4g} s")
-        except ParameterError as exc:
-            rows.append(Row(params, False, str(exc), {k: float("nan") for k in STATS + ("mu_min", "period")}))
-            continue
-        p = mech.output_point
-        x, y, vx, vy = (np.asarray(sol[k + p]) for k in ("x", "y", "vx", "vy"))
-        values = {k: float(v) for k, v in _stats(x, y, vx, vy).items()}
-        mus = [np.nanmin(sol["mu" + e["point"]]) for e in mech.geometry.elements if e["kind"] == "RRR"]
-        values["mu_min"] = float(min(mus)) if mus else float("nan")
-        values["period"] = T
-        rows.append(Row(params, True, "", values))
-        if len(paths) < keep_paths:
-            paths.append((params, t, x, y, np.hypot(vx, vy)))
+            progress(start, total)
+        chunk = {k: c[start:start + DESIGNS_PER_CHUNK] for k, c in columns.items()}
+        designs = batch.resolve(base, chunk)
+        reasons = list(designs.reasons)
+        T, why = _periods(designs)
+        for i in np.flatnonzero(designs.valid & ~np.isfinite(T)):
+            reasons[i] = why[i]
+        t = np.where(np.isfinite(T), T, 1.0)[:, None] * u
+        sol = batch.solve(replace(designs, valid=designs.valid & np.isfinite(T)), *batch.drive(designs, t),
+                          outputs=want)
+        x, y, vx, vy = (sol[k + p] for k in ("x", "y", "vx", "vy"))
+        with np.errstate(invalid="ignore", divide="ignore"):
+            stats = _stats(x, y, vx, vy)
+            if has_mu:
+                stats["mu_min"] = np.min([sol[n] for n in want[4:]], axis=(0, 2))
+        stats["period"] = T
+        table = np.stack([stats[n] for n in names], axis=1)
+        for i in range(designs.count):
+            params = {k: float(c[i]) for k, c in chunk.items()}
+            if not reasons[i]:
+                bad = np.flatnonzero(sol.failed[i] >= 0)
+                if bad.size:
+                    j = int(bad[0])
+                    reasons[i] = f"{sol.labels[int(sol.failed[i, j])]} cannot close at t={t[i, j]:.4g} s"
+                elif not np.all(np.isfinite(table[i])):
+                    what = ", ".join(n for n, v in zip(names, table[i]) if not math.isfinite(v))
+                    reasons[i] = f"{what} not finite (a degenerate path: the output point does not move?)"
+            if reasons[i]:
+                rows.append(Row(params, False, reasons[i], {n: float("nan") for n in names}))
+                continue
+            rows.append(Row(params, True, "", dict(zip(names, map(float, table[i])))))
+            if len(paths) < keep_paths:
+                paths.append((params, t[i], x[i], y[i], np.hypot(vx[i], vy[i])))
     if progress is not None:
         progress(total, total)
     return rows, paths

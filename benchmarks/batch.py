@@ -1,0 +1,79 @@
+"""Batch over designs: a 10,000-design five-bar sweep end to end against one solve with as many samples.
+
+Prints the sweep's time on the batch path (analytic.batch, what ``linkage sweep`` runs) and one at a time
+(``Mechanism.with_values`` + ``solve`` per design, the path ``sweep`` took before), their throughput in
+samples per second, and the ratio to one solve of 10,000 x 361 samples of one design (goal: >= 0.3).
+
+    python benchmarks/batch.py [--designs 10000] [--samples 360] [--skip-old]
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+# benchmarks/analytic.py would shadow the package of that name: keep this folder off the import path.
+sys.path[:] = [p for p in sys.path if Path(p or ".").resolve() != Path(__file__).resolve().parent]
+
+import analytic  # noqa: E402
+from analytic import studies  # noqa: E402
+
+
+def old_sweep(base, vary, samples):
+    """The one-at-a-time path: one Mechanism built and solved per design (the code sweep ran before)."""
+    keys = list(vary)
+    n_ok = 0
+    for combo in np.stack(np.meshgrid(*(vary[k] for k in keys), indexing="ij"), -1).reshape(-1, len(keys)):
+        mech = base.with_values(**dict(zip(keys, map(float, combo))))
+        t = np.linspace(0.0, studies.period_of(mech), samples + 1)
+        sol = mech.solve(*mech.drive(t))
+        n_ok += sol.first_failure() is None
+    return n_ok
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--designs", type=int, default=10_000)
+    ap.add_argument("--samples", type=int, default=360)
+    ap.add_argument("--skip-old", action="store_true", help="do not time the one-at-a-time path")
+    a = ap.parse_args()
+    side = int(round(math.sqrt(a.designs)))
+    base = analytic.load("fivebar")
+    vary = {"l2": list(np.linspace(0.04, 0.07, side)), "l4": list(np.linspace(0.06, 0.09, side))}
+    k = side * side
+    n = k * (a.samples + 1)
+    # one solve of one design with as many samples
+    t = np.linspace(0.0, studies.period_of(base) * k, n)
+    q = base.drive(t)
+    base.solve(*(x[:1000] for x in q))                        # warm-up
+    t0 = time.perf_counter()
+    base.solve(*q)
+    full = time.perf_counter() - t0
+    print(f"one solve of one five-bar, {n:,} samples, every output: {full:.3f} s  ({n / full / 1e6:.2f} M samples/s)")
+    p = base.output_point
+    t0 = time.perf_counter()
+    base.solve(*q, outputs=("x" + p, "y" + p, "vx" + p, "vy" + p))
+    one = time.perf_counter() - t0
+    print(f"one solve of one five-bar, {n:,} samples, the sweep's outputs (x, y, vx, vy of {p}): {one:.3f} s  "
+          f"({n / one / 1e6:.2f} M samples/s): the reference below")
+    t0 = time.perf_counter()
+    rows, _ = studies.sweep_mechanism(base, vary, a.samples)
+    new = time.perf_counter() - t0
+    valid = sum(r.valid for r in rows)
+    print(f"sweep, batch path: {k:,} designs x {a.samples + 1} samples: {new:.3f} s  "
+          f"({n / new / 1e6:.2f} M samples/s, {valid} valid); ratio to one solve: {one / new:.2f} (goal >= 0.3)")
+    if not a.skip_old:
+        t0 = time.perf_counter()
+        ok = old_sweep(base, vary, a.samples)
+        old = time.perf_counter() - t0
+        print(f"sweep, one design at a time (before): {old:.3f} s  ({n / old / 1e6:.2f} M samples/s, {ok} valid); "
+              f"ratio to one solve: {one / old:.3f}; batch speed-up {old / new:.1f}x")
+
+
+if __name__ == "__main__":
+    main()
