@@ -1,14 +1,13 @@
 """Offscreen rendering of a simulated run to MP4 (H.264) or GIF, streamed frame by frame to ffmpeg.
 
-Frames are sampled at the video's frame rate from simulation time (the recorded step nearest each frame
-instant; steps are 2 ms by default, so a frame is at most 1 ms off), drawn from the model's ``top``
-camera (orthographic, looking straight down on the plane), with the output point's path traced so far.
+Frames are sampled at the video's frame rate from simulation time (the recorded steps around each frame
+instant blended), posed by the model's kinematics and drawn in 2-D as the app draws its view
+(sim/drawing.py): pins, plates, labels, a scale bar, the time and the input, the output point's path.
 """
 
 from __future__ import annotations
 
 import math
-import os
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -16,12 +15,10 @@ from pathlib import Path
 import numpy as np
 
 from analytic import ParameterError
-from .gl import ensure_gl_backend
 from .io import atomic_path, check_writable
 from .progress import Progress
 
 VIDEO_SUFFIXES = (".mp4", ".gif")
-PATH_RGBA = np.array([0.89, 0.10, 0.11, 1.0], np.float32)
 MAX_PATH_SEGMENTS = 250
 
 
@@ -119,82 +116,44 @@ class _Writer:
         self._gen.close()
 
 
-def _line(scene, a, b, width_px: float, rgba) -> None:
-    """Append a line segment from a to b [m, world] to the scene (width in pixels), if there is room."""
-    import mujoco
-    if scene.ngeom >= scene.maxgeom:
-        return
-    g = scene.geoms[scene.ngeom]
-    mujoco.mjv_initGeom(g, mujoco.mjtGeom.mjGEOM_LINE, np.zeros(3), np.zeros(3), np.eye(3).ravel(),
-                        np.asarray(rgba, np.float32))
-    mujoco.mjv_connector(g, mujoco.mjtGeom.mjGEOM_LINE, width_px, np.asarray(a, float), np.asarray(b, float))
-    scene.ngeom += 1
-
-
-def _add_path(scene, points: np.ndarray, width_px: float) -> None:
-    """The traced path, at most MAX_PATH_SEGMENTS segments, drawn above every link."""
-    if len(points) < 2:
-        return
-    step = max(1, math.ceil((len(points) - 1) / MAX_PATH_SEGMENTS))
-    pts = points[::step]
-    if not np.array_equal(pts[-1], points[-1]):
-        pts = np.vstack([pts, points[-1]])
-    pts = pts + np.array([0.0, 0.0, 0.03])
-    for a, b in zip(pts[:-1], pts[1:]):
-        _line(scene, a, b, width_px, PATH_RGBA)
+def _trace(path: np.ndarray, k: int) -> np.ndarray:
+    """The output point's path up to step ``k`` [m], at most MAX_PATH_SEGMENTS * 4 segments, ending at k."""
+    step = max(1, math.ceil(len(path) / (4 * MAX_PATH_SEGMENTS)))
+    pts = path[:k + 1:step]
+    return pts if len(pts) and np.array_equal(pts[-1], path[k]) else np.vstack([pts, path[k:k + 1]])
 
 
 def render(built, tr, out: str, fps: float = 30.0, size: tuple[int, int] = (640, 480),
            markers: tuple[tuple[float, float], ...] = (), display=None) -> RenderStats:
-    """Render trajectory ``tr`` of model ``built`` to ``out`` (.mp4 or .gif), atomically.
+    """Render trajectory ``tr`` of model ``built`` to ``out`` (.mp4 or .gif), atomically, drawn as the
+    app draws (sim/drawing.py): lengths in ``display`` units (analytic.quantities.Display; None: the file's).
 
     ``markers`` are extra points [m] drawn as small crosses (e.g. a synthesis task's E1 and E2).
     """
-    ensure_gl_backend()
-    import mujoco
-    from .model import frame_extent
+    from analytic.quantities import Display
+    from .drawing import Painter, poses, scene
 
-    w, h = size
     fps = stored_fps(out, fps)
-    model = built.model
-    model.vis.global_.offwidth = max(model.vis.global_.offwidth, w)
-    model.vis.global_.offheight = max(model.vis.global_.offheight, h)
-    cam = model.camera("top").id
-    model.cam_fovy[cam] = frame_extent(built.mech, w / h)
-    data = mujoco.MjData(model)
-    poses, frames = frame_poses(tr.t, tr.qpos, frame_instants(tr.t, fps))
+    mech = built.mech
+    instants = frame_instants(tr.t, fps)
+    qpos, frames = frame_poses(tr.t, tr.qpos, instants)
     if len(frames) > MAX_FRAMES:
         raise ParameterError(f"the video would have {len(frames):,} frames (over {MAX_FRAMES:,}): lower --fps or "
                              f"--revolutions")
-    path = output_path(tr, built.mech)
+    xy, angles = poses(built, qpos)
+    painter = Painter(scene(built, xy, display or Display(mech.units)), size)
+    path = output_path(tr, mech)[:, :2]
+    whole = _trace(path, len(path) - 1)
+    q = np.interp(instants, tr.t, tr.inputs[mech.inputs[0].q])
     progress = Progress(len(frames), f"rendering {Path(out).name}")
-    opt = mujoco.MjvOption()
     t0 = time.perf_counter()
-    try:
-        renderer = mujoco.Renderer(model, h, w)
-    except Exception as exc:                      # no usable OpenGL: say so in one line
-        raise ParameterError(
-            f"offscreen rendering is unavailable (MUJOCO_GL={os.environ.get('MUJOCO_GL')}): "
-            f"{str(exc).splitlines()[0]}; install Mesa's EGL (Debian: libegl1) or set MUJOCO_GL=osmesa") from None
-    with renderer, atomic_path(out) as tmp:
+    with atomic_path(out) as tmp:
         writer = _Writer(tmp, fps, size)
         try:
-            for i, (k, qpos) in enumerate(zip(frames, poses)):
-                data.qpos[:] = qpos
-                mujoco.mj_kinematics(model, data)
-                mujoco.mj_camlight(model, data)          # the fixed camera's pose
-                renderer.update_scene(data, camera=cam, scene_option=opt)
-                _add_path(renderer.scene, path[:k + 1], width_px=max(2.0, h / 200))
-                for mx, my in markers:
-                    _add_cross(renderer.scene, mx, my, 0.015 * model.cam_fovy[cam])
-                writer.append(renderer.render())
+            for i, k in enumerate(frames):
+                writer.append(painter.frame(xy[i], {ln: a[i] for ln, a in angles.items()}, _trace(path, k), whole,
+                                            float(instants[i]), float(q[i]), markers))
                 progress.update(i + 1)
         finally:
             writer.close()
     return RenderStats(len(frames), time.perf_counter() - t0, str(out), fps)
-
-
-def _add_cross(scene, x: float, y: float, r: float) -> None:
-    """A cross of half-size r [m] centred on (x, y), e.g. a synthesis task's E1 or E2."""
-    for (ax, ay), (bx, by) in (((x - r, y - r), (x + r, y + r)), ((x - r, y + r), (x + r, y - r))):
-        _line(scene, (ax, ay, 0.04), (bx, by, 0.04), 3.0, (0.1, 0.1, 0.1, 1.0))

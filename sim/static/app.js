@@ -12,7 +12,8 @@
   const HOLD_MS = 300;            // the animation pauses this long after each edit
   const MAX_UPLOAD = 900000;
   const FEW_OUTPUTS = 24;         // up to this many outputs all are fetched; above, only the plotted ones
-  const COLORS = ["#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#17becf", "#8c564b", "#e377c2"];
+  // links' and curves' colours; red is the output point's path alone (the videos use the same: sim/drawing.py)
+  const COLORS = ["#1f77b4", "#2ca02c", "#9467bd", "#ff7f0e", "#17becf", "#8c564b", "#e377c2", "#bcbd22"];
   const SIM_COLOR = "#111";
   const CHART_HEIGHT = 175;
   const ERROR_HEIGHT = 130;
