@@ -307,6 +307,8 @@ def register(sub, add_common, add_video_options) -> None:
     add_video_options(p, out_required=False)
     p.set_defaults(func=cmd_synthesize)
     # further synthesis problems, each in its own module: module.register(problems, add_video_options)
+    from . import synth_exact_cmd
+    synth_exact_cmd.register(problems, add_video_options)
 
     p = sub.add_parser("sweep", help="seed 003 parameter studies: families of output paths and speeds")
     add_common(p)
