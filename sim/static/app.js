@@ -31,6 +31,7 @@
     sim: null,
     selected: [],
     charts: [],
+    display: { deg: true, rpm: false },  // angles in deg (else rad), angular speeds in rpm; lengths: the file's
     frame: 0,
     playing: true,
     speed: 1,
@@ -136,6 +137,7 @@
       $("#description").textContent = data.describe.description;
       buildParameters(data.describe);
       state.selected = defaultOutputs(data);
+      unitToggles();
       buildOutputPicker();
       buildCharts();
       setFrame(0);
@@ -268,9 +270,56 @@
   }
 
   // --------------------------------------------------------------------------------- outputs
-  function displayUnit(name, units) {
+  // Units of results (SPEC): the API answers in SI; what is shown is in the file's length unit, angles in
+  // deg or rad and angular speeds in rpm as toggled (analytic/quantities.py does the same for the CLI).
+  const METRES = { m: 1, mm: 1e-3, cm: 1e-2, in: 0.0254 };
+  function lengthUnit() {
+    const u = (state.solve && state.solve.describe.units) || (state.describe && state.describe.units) || "m";
+    return { unit: u, f: 1 / (METRES[u] || 1) };
+  }
+
+  // [display unit, factor from SI] of a column whose SI unit is units[name]
+  function shownAs(name, units) {
     const u = units[name] || "";
-    return u === "rad" ? "deg" : u;
+    const L = lengthUnit();
+    const deg = state.display.deg;
+    const table = {
+      m: [L.unit, L.f], "m/s": [`${L.unit}/s`, L.f], "m/s^2": [`${L.unit}/s^2`, L.f],
+      rad: deg ? ["deg", DEG] : ["rad", 1],
+      "rad/s": state.display.rpm ? ["rpm", 30 / Math.PI] : (deg ? ["deg/s", DEG] : ["rad/s", 1]),
+      "rad/s^2": deg ? ["deg/s^2", DEG] : ["rad/s^2", 1],
+    };
+    return table[u] || [u, 1];
+  }
+
+  function displayUnit(name, units) {
+    return shownAs(name, units)[0];
+  }
+
+  function unitToggles() {
+    if ($("#unit-toggles")) return;
+    const box = document.createElement("span");
+    box.id = "unit-toggles";
+    box.className = "muted";
+    for (const [key, text] of [["deg", "angles in deg"], ["rpm", "speeds in rpm"]]) {
+      const label = document.createElement("label");
+      const check = document.createElement("input");
+      check.type = "checkbox";
+      check.name = `units-${key}`;
+      check.checked = state.display[key];
+      check.addEventListener("change", () => {
+        state.display[key] = check.checked;
+        if (!state.solve) return;
+        buildOutputPicker(); buildCharts(); updateCharts(); drawFrame();
+        if (state.sim) showVerdict(state.sim);
+        bumpRevision();
+      });
+      label.style.whiteSpace = "nowrap";
+      label.style.marginLeft = "0.6em";
+      label.append(check, ` ${text}`);
+      box.appendChild(label);
+    }
+    $("#analysis-panel .panel-head").appendChild(box);
   }
 
   // A first choice of curves: link angles, a slide, a transmission angle, the output point's path; outputs
@@ -302,7 +351,7 @@
       chip.className = "chip";
       chip.style.setProperty("--chip", COLORS[k % COLORS.length]);
       chip.textContent = `${name} ✕`;
-      chip.title = `remove ${name} [${units[name] || ""}]`;
+      chip.title = `remove ${name} [${displayUnit(name, units)}]`;
       chip.addEventListener("click", () => {
         state.selected = state.selected.filter((n) => n !== name);
         selectionChanged();
@@ -316,7 +365,7 @@
       if (state.selected.includes(name)) continue;
       const opt = document.createElement("option");
       opt.value = name;
-      opt.textContent = `${name} [${units[name] || "–"}]`;
+      opt.textContent = `${name} [${displayUnit(name, units) || "–"}]`;
       add.appendChild(opt);
     }
     add.addEventListener("change", () => {
@@ -338,7 +387,8 @@
   function inputAxis(data) {
     const q = data.input;
     const crank = data.units[q] === "rad";
-    return { key: q, crank, label: crank ? `input ${q} [deg]` : `input ${q} [${data.units[q]}]` };
+    const shown = crank ? ["deg", DEG] : shownAs(q, data.units);
+    return { key: q, crank, f: shown[1], label: `input ${q} [${shown[0]}]` };
   }
 
   function buildCharts() {
@@ -406,7 +456,11 @@
   }
 
   function toDisplay(name, values, units) {
-    if (units[name] !== "rad") return values;
+    if (units[name] !== "rad") {
+      const f = shownAs(name, units)[1];
+      return f === 1 ? values : values.map((v) => (v === null ? null : v * f));
+    }
+    const unit = state.display.deg ? DEG : 1;
     const out = new Array(values.length);
     const wrap = !name.startsWith("mu");    // turning links: a continuous curve, not jumps at +-180
     let offset = 0; let prev = null;
@@ -418,7 +472,7 @@
         if (d > Math.PI) offset -= 2 * Math.PI; else if (d < -Math.PI) offset += 2 * Math.PI;
       }
       prev = v + offset;
-      out[i] = prev * DEG;
+      out[i] = prev * unit;
     }
     return out;
   }
@@ -426,7 +480,7 @@
   function inputValues(data, inputs) {
     const axis = inputAxis(data);
     const q = inputs[axis.key];
-    return axis.crank ? q.map((v) => (v === null ? null : v * DEG)) : q;
+    return q.map((v) => (v === null ? null : v * axis.f));
   }
 
   // uPlot wants ascending x; a reversed crank or a rocking run is sorted first.
@@ -454,7 +508,8 @@
         const [xe, ye] = sortedBy(xs, sim.simulated.errors[c.name].map((e) => (e === null ? null : e / tol)));
         c.err.setData([xe, ye, xe.map(() => 1), xe.map(() => -1)]);
         c.errBox.hidden = false;
-        c.errBox.title = `tolerance ${fmt(tol, 2)} ${data.units[c.name] || ""}`;
+        const [eu, ef] = shownAs(c.name, data.units);
+        c.errBox.title = `tolerance ${fmt(tol * ef, 2)} ${eu}`;
       } else {
         c.plot.setData([analytic[0], analytic[1], analytic[0].map(() => null)]);
         c.errBox.hidden = true;
@@ -469,7 +524,7 @@
     const axis = inputAxis(data);
     const q = data.inputs[axis.key][state.frame];
     if (q === null || q === undefined) return;
-    const x = axis.crank ? q * DEG : q;
+    const x = q * axis.f;
     for (const c of state.charts) {
       const left = c.plot.valToPos(x, "x");
       c.line.style.transform = `translateX(${left}px)`;
@@ -539,7 +594,8 @@
     v.textContent = sim.passed ? "PASSED" : "FAILED";
     const small = document.createElement("small");
     small.textContent = ` drive error ${fmt(sim.drive_error, 3)} (tol ${fmt(sim.drive_tol, 2)}) · loop violation `
-      + `${fmt(sim.max_loop_violation, 3)} m (tol ${fmt(sim.loop_tol, 2)}) · work balance ${fmt(sim.work_balance, 3)}`;
+      + `${fmt(sim.max_loop_violation * lengthUnit().f, 3)} ${lengthUnit().unit} `
+      + `(tol ${fmt(sim.loop_tol * lengthUnit().f, 2)}) · work balance ${fmt(sim.work_balance, 3)}`;
     v.appendChild(small);
     const table = $("#errors");
     table.hidden = false;
@@ -549,7 +605,8 @@
     for (const [name, e] of Object.entries(sim.errors)) {
       const tr = document.createElement("tr");
       if (!e.passed) tr.className = "fail";
-      for (const text of [name, fmt(e.max, 3), fmt(e.rms, 3), fmt(e.tol, 2), e.unit, e.passed ? "✓" : "✗"]) {
+      const [u, f] = shownAs(name, { [name]: e.unit });
+      for (const text of [name, fmt(e.max * f, 3), fmt(e.rms * f, 3), fmt(e.tol * f, 2), u, e.passed ? "✓" : "✗"]) {
         const td = document.createElement("td");
         td.textContent = text;
         tr.appendChild(td);
@@ -649,7 +706,8 @@
   function drawAxes(v) {
     const [xa, yb] = v.inv(MARGIN.left, MARGIN.top + v.h);
     const [xb, ya] = v.inv(MARGIN.left + v.w, MARGIN.top);
-    const step = niceStep(Math.max(xb - xa, ya - yb));
+    const L = lengthUnit();                   // ticks round in the file's unit
+    const step = niceStep(Math.max(xb - xa, ya - yb) * L.f) / L.f;
     ctx.save();
     ctx.strokeStyle = "#eceff3";
     ctx.fillStyle = "#555";
@@ -659,23 +717,23 @@
     for (let x = Math.ceil(xa / step) * step; x <= xb; x += step) {
       const px = Math.round(v.X(x)) + 0.5;
       ctx.beginPath(); ctx.moveTo(px, MARGIN.top); ctx.lineTo(px, MARGIN.top + v.h); ctx.stroke();
-      ctx.fillText(fmt(x, 3), px, MARGIN.top + v.h + 14);
+      ctx.fillText(fmt(x * L.f, 3), px, MARGIN.top + v.h + 14);
     }
     ctx.textAlign = "right";
     for (let y = Math.ceil(yb / step) * step; y <= ya; y += step) {
       const py = Math.round(v.Y(y)) + 0.5;
       ctx.beginPath(); ctx.moveTo(MARGIN.left, py); ctx.lineTo(MARGIN.left + v.w, py); ctx.stroke();
-      ctx.fillText(fmt(y, 3), MARGIN.left - 6, py + 4);
+      ctx.fillText(fmt(y * L.f, 3), MARGIN.left - 6, py + 4);
     }
     ctx.strokeStyle = "#bbb";
     ctx.strokeRect(MARGIN.left + 0.5, MARGIN.top + 0.5, v.w, v.h);
     ctx.fillStyle = "#333";
     ctx.font = "12px system-ui, sans-serif";
     ctx.textAlign = "center";
-    ctx.fillText("x [m]", MARGIN.left + v.w / 2, MARGIN.top + v.h + 31);
+    ctx.fillText(`x [${L.unit}]`, MARGIN.left + v.w / 2, MARGIN.top + v.h + 31);
     ctx.translate(13, MARGIN.top + v.h / 2);
     ctx.rotate(-Math.PI / 2);
-    ctx.fillText("y [m]", 0, 0);
+    ctx.fillText(`y [${L.unit}]`, 0, 0);
     ctx.restore();
   }
 
@@ -811,7 +869,7 @@
     const data = state.solve;
     const axis = inputAxis(data);
     const q = data.inputs[axis.key][state.frame];
-    const value = axis.crank ? `${(q * DEG).toFixed(1)}°` : `${fmt(q, 4)} ${data.units[axis.key]}`;
+    const value = axis.crank ? `${(q * DEG).toFixed(1)}°` : `${fmt(q * axis.f, 4)} ${displayUnit(axis.key, data.units)}`;
     $("#readout").textContent = `${axis.key} = ${value} · t = ${data.t[state.frame].toFixed(3)} s`;
   }
 
