@@ -72,6 +72,7 @@ def register(sub, add_common, add_sim_options, add_video_options) -> None:
     p.add_argument("--start-speed", metavar="W", default="0", help="input speed at t = 0 [rad/s or rpm] (default 0)")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.add_argument("--csv", metavar="PATH", help="write the analytic run (t, phi, omega, torque) as CSV")
+    p.add_argument("--plot", metavar="PATH", help="dynamics sheet: .png, .svg or .pdf")
     p.set_defaults(func=cmd_dynamics)
 
 
@@ -82,7 +83,7 @@ def cmd_dynamics(args) -> int:
     from .jsonout import dumps
     if bool(args.motor) == bool(args.motor_table):
         raise ParameterError("give the motor: --motor T0,W0 or --motor-table PATH.csv (one of them)")
-    check_outputs(args, {"csv": (".csv",)})
+    check_outputs(args, {"csv": (".csv",), "plot": (".png", ".svg", ".pdf")})
     if args.motor_table and args.csv and args.motor_table == args.csv:
         raise ParameterError(f"--csv {args.csv} is the motor table; choose another output name")
     mot = parse_motor(args.motor) if args.motor else read_table(args.motor_table)
@@ -103,6 +104,9 @@ def cmd_dynamics(args) -> int:
         import json
         write_text(f"{args.csv}.units.json", json.dumps({"mechanism": mech.name, "units": {
             "t": "s", "phi": "rad", "omega": "rad/s", "torque": "N m"}}, indent=2) + "\n")
+    if args.plot:
+        from .dynamics_plot import sheet
+        sheet(d, args.plot)
     if args.json:
         print(dumps(smotor.record(d)))
     else:

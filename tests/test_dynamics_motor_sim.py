@@ -138,3 +138,15 @@ def test_cli_table_errors(tmp_path, capsys):
     assert rc == 2 and "row 3" in err
     rc = main(["dynamics", "fivebar", "--motor", "phi2=1,20"])
     assert rc == 2 and "five-bar" in capsys.readouterr().err
+
+
+def test_cli_plot_sheet(tmp_path, capsys):
+    out = tmp_path / "dyn.png"
+    rc = main(["dynamics", "fourbar", "--motor", "1,20", "--revolutions", "2", "--plot", str(out)])
+    capsys.readouterr()
+    assert rc == 0
+    import matplotlib.image
+    img = matplotlib.image.imread(str(out))
+    assert img.shape[0] > 500 and img.shape[1] > 500
+    assert np.ptp(img[..., :3]) > 0.5          # not blank: dark curves and text on white
+    assert not list(tmp_path.glob(".dyn.*"))    # no temporary file left behind
