@@ -106,9 +106,9 @@ class Painter:
         self.s = min(self.W / (x1 - x0), self.H / (y1 - y0))
         self.cx = self.W / 2 - self.s * (x0 + x1) / 2
         self.cy = self.H / 2 + self.s * (y0 + y1) / 2
-        self.font = _font(max(8, round(12 * self.u)))
-        self.bold = _font(max(8, round(12 * self.u)), bold=True)
-        self.small = _font(max(7, round(11 * self.u)))
+        self.font = _font(max(8 * k, round(12 * self.u)))       # never under 8 pixels in the video
+        self.bold = _font(max(8 * k, round(12 * self.u)), bold=True)
+        self.small = _font(max(8 * k, round(11 * self.u)))
         self.index = {p: i for i, p in enumerate(sc.points)}
 
     def px(self, xy: np.ndarray) -> np.ndarray:
