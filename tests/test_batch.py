@@ -49,9 +49,11 @@ def test_batch_equals_one_solve_per_design(name):
         for key in ref._arrays:
             a, b = ref._arrays[key], sol[key][i]
             np.testing.assert_array_equal(np.isnan(a), np.isnan(b))
-            # same formulas on the same numbers; 1e-12 of the size bounds rounding of the repeated inputs
-            scale = 1.0 if key.startswith(("phi", "mu", "cos", "sin")) else max(one.size, 1e-3) * 1e3
-            np.testing.assert_allclose(b, a, rtol=0, atol=1e-12 * scale, equal_nan=True, err_msg=f"{name}: {key}")
+            # same formulas on the same numbers: identical on numpy; with numba installed the reference
+            # runs compiled (sin/cos within 2 ulp, amplified near singular poses: 5e-13 of the peak seen)
+            peak = np.nanmax(np.abs(a)) if np.any(np.isfinite(a)) else 0.0
+            np.testing.assert_allclose(b, a, rtol=0, atol=1e-10 * max(peak, 1e-9), equal_nan=True,
+                                       err_msg=f"{name}: {key}")
         checked += 1
     assert checked >= k // 2                              # most scattered designs must assemble
 
