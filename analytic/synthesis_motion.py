@@ -376,6 +376,12 @@ def synthesize(poses, circle_points=None, count: int = 5) -> tuple[list[Design],
     size = ev["l1"] + ev["l2"] + ev["l3"]
     key = np.lexsort((size.ravel(), -np.round(ev["mu_min"].ravel(), 6), np.round(score_err.ravel(), 12),
                       ~ok.ravel(), ~distinct.ravel()))
+    if len(P) > 5:
+        # least squares: rank every distinct pair by its design's own pose error (few dyads: few pairs)
+        pairs = [divmod(int(f), n) for f in key if distinct.ravel()[f]][:400]
+        found = [_design(poses, cand[i], cand[k], ev, i, k) for i, k in pairs]
+        found.sort(key=lambda d: (bool(d.defect), float(np.sqrt(np.mean(d.errors ** 2))), -d.mu_min))
+        return found[:count], cand
     out: list[Design] = []
     for flat in key[: max(count, 1) * 4]:
         i, k = divmod(int(flat), n)

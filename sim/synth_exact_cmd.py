@@ -123,7 +123,19 @@ def cmd_motion(args) -> int:
                              MIN_ROWS["motion"])
     _repeats(args.poses, data, lines, lambda d: np.column_stack([d[:, :2], np.mod(d[:, 2], 2 * math.pi)]),
              "pose")
-    designs, _ = synthesis_motion.synthesize(data, count=args.count)
+    circle = None
+    if args.circle_points:
+        if len(data) != 3:
+            raise ParameterError(f"--circle-points applies to 3 poses ({args.poses} has {len(data)})")
+        parts = args.circle_points.split(",")
+        try:
+            circle = np.array([float(v) for v in parts]).reshape(2, 2)
+        except ValueError:
+            raise ParameterError(f"--circle-points {args.circle_points!r} is not X1,Y1,X2,Y2 (crank and "
+                                 f"rocker circle points at pose 1, in --unit)") from None
+        if not np.all(np.isfinite(circle)):
+            raise ParameterError(f"--circle-points {args.circle_points!r}: give finite numbers")
+    designs, _ = synthesis_motion.synthesize(data, circle_points=circle, count=args.count)
     method = ("Burmester, exact" if len(data) <= 5 else "Burmester dyads by least squares")
     found = []
     for d in designs:
@@ -174,6 +186,8 @@ def register(problems, add_video_options) -> None:
     p.add_argument("--unit", choices=units, default="m", help="length unit of x, y and of the file written")
     p.add_argument("--angles", choices=("deg", "rad"), default="deg", help="unit of theta (default deg)")
     p.add_argument("--count", type=int, default=3, help="designs to return, best first (default 3)")
+    p.add_argument("--circle-points", metavar="X1,Y1,X2,Y2",
+                   help="3 poses: the moving pivots at pose 1 (the free parameters; default: a grid searched)")
     p.add_argument("--out", metavar="FILE.toml", help="write the best design as a linkage/1 file")
     p.add_argument("--json", action="store_true", help="print one JSON object (SPEC: designs)")
     p.set_defaults(func=cmd_motion)

@@ -234,3 +234,23 @@ def test_cli_poses_no_four_bar_reaches(tmp_path):
     p = write(tmp_path / "line.csv", "x,y,theta", rows)
     r = run("synthesize", "motion", p)
     assert r.returncode in (1, 2) and "Traceback" not in r.stderr
+
+
+def test_cli_three_poses_with_chosen_circle_points_give_the_known_pivots(tmp_path):
+    poses = known_poses([0, 70, 150])
+    B1 = (KNOWN["l1"], 0.0)                               # crank at phi = 0
+    m = analytic.load("fourbar", **KNOWN)
+    C1 = (float(m.solve(np.array([0.0]))["xC"][0]), float(m.solve(np.array([0.0]))["yC"][0]))
+    csv = write(tmp_path / "p3.csv", "x,y,theta", np.column_stack([poses[:, :2], np.degrees(poses[:, 2])]))
+    r = run("synthesize", "motion", csv, "--circle-points", f"{B1[0]!r},{B1[1]!r},{C1[0]!r},{C1[1]!r}", "--json")
+    assert r.returncode == 0, r.stderr
+    d = json.loads(r.stdout)["designs"][0]["parameters"]
+    pivots = sorted([(d["ax"], d["ay"]), (d["dx"], d["dy"])])
+    np.testing.assert_allclose(pivots, [(0.0, 0.0), (KNOWN["l4"], 0.0)], atol=TOL)
+
+
+def test_cli_function_pairs_out_of_order_exit_1(tmp_path):
+    phi, psi, _ = known_pairs([30, 140, 75])              # the crank turning one way meets 75 before 140
+    csv = write(tmp_path / "f.csv", "input,output", np.degrees(np.column_stack([phi, psi])))
+    r = run("synthesize", "function", csv)
+    assert r.returncode == 1 and "order defect" in r.stdout and "Traceback" not in r.stderr
