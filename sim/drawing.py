@@ -61,11 +61,13 @@ def poses(built, qpos_frames: np.ndarray) -> tuple[np.ndarray, dict[str, np.ndar
     return xy, angles
 
 
-def scene(built, xy: np.ndarray, display) -> Scene:
-    """The scene of a run whose points move through ``xy`` (frames, points, 2)."""
+def scene(built, xy: np.ndarray, display, path: np.ndarray | None = None) -> Scene:
+    """The scene of a run whose points move through ``xy`` (frames, points, 2), the view holding them
+    and the output point's whole recorded ``path`` (steps, 2) [m] (its tips may fall between frames)."""
     from .service import link_drawing
     mech = built.mech
-    finite = xy[np.all(np.isfinite(xy), axis=-1)]
+    every = xy.reshape(-1, 2) if path is None else np.vstack([xy.reshape(-1, 2), path])
+    finite = every[np.all(np.isfinite(every), axis=-1)]
     lo, hi = (finite.min(axis=0), finite.max(axis=0)) if len(finite) else (np.array([-1.0, -1]), np.array([1.0, 1]))
     pad = PAD * max(float(np.max(hi - lo)), 1e-9)
     first = mech.inputs[0]

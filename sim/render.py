@@ -141,8 +141,8 @@ def render(built, tr, out: str, fps: float = 30.0, size: tuple[int, int] = (640,
         raise ParameterError(f"the video would have {len(frames):,} frames (over {MAX_FRAMES:,}): lower --fps or "
                              f"--revolutions")
     xy, angles = poses(built, qpos)
-    painter = Painter(scene(built, xy, display or Display(mech.units)), size)
     path = output_path(tr, mech)[:, :2]
+    painter = Painter(scene(built, xy, display or Display(mech.units), path), size)
     whole = _trace(path, len(path) - 1)
     q = np.interp(instants, tr.t, tr.inputs[mech.inputs[0].q])
     progress = Progress(len(frames), f"rendering {Path(out).name}")
