@@ -216,3 +216,19 @@ def test_sweep_table_in_the_file_unit_and_plot_colours_distinct(files):
     from sim.design import family_styles
     styles = family_styles(45)
     assert len(set(styles)) == 45 and len({c for c, _ in styles[:20]}) == 20
+
+
+def test_compare_json_is_si_by_default_and_converted_with_units(files):
+    _, mm, _ = files
+    si = json.loads(run("compare", mm, "--json"))
+    conv = json.loads(run("compare", mm, "--json", "--units", "mm", "--speeds", "rpm"))
+    assert si["units"]["length"] == "m" and si["errors"]["xP"]["unit"] == "m" and conv["errors"]["xP"]["unit"] == "mm"
+    assert si["units"]["file"] == "mm" and conv["units"]["outputs"]["omega3"] == "rpm"
+    # the same run twice (deterministic): its SI numbers, times 1000 for lengths, 60 / (2 pi) for speeds;
+    # rel 1e-12 bounds the rounding of one multiplication (1e-16)
+    for key in ("peak", "tol"):
+        assert conv["errors"]["xP"][key] == pytest.approx(si["errors"]["xP"][key] * 1000, rel=1e-12)
+        assert conv["errors"]["omega3"][key] == pytest.approx(si["errors"]["omega3"][key] * 60 / (2 * math.pi),
+                                                              rel=1e-12)
+    assert conv["errors"]["tau2"]["peak"] == pytest.approx(si["errors"]["tau2"]["peak"], rel=1e-12)   # N m stays
+    assert conv["loop_tol"] == pytest.approx(si["loop_tol"] * 1000, rel=1e-12)
