@@ -268,20 +268,26 @@ def sweep_mechanism(base, vary: dict[str, list[float]], samples: int = 360, keep
                 stats["mu_min"] = np.min([sol[n] for n in want[4:]], axis=(0, 2))
         stats["period"] = T
         table = np.stack([stats[n] for n in names], axis=1)
+        bad = sol.failed >= 0
+        first = np.where(bad.any(axis=1), np.argmax(bad, axis=1), -1)     # first sample that failed
+        finite = np.all(np.isfinite(table), axis=1)
+        keys_ = list(chunk)
+        params_rows = np.column_stack([chunk[k] for k in keys_]).tolist()
+        table_rows = table.tolist()
+        nan_values = {n: float("nan") for n in names}
         for i in range(designs.count):
-            params = {k: float(c[i]) for k, c in chunk.items()}
+            params = dict(zip(keys_, params_rows[i]))
             if not reasons[i]:
-                bad = np.flatnonzero(sol.failed[i] >= 0)
-                if bad.size:
-                    j = int(bad[0])
+                if first[i] >= 0:
+                    j = int(first[i])
                     reasons[i] = f"{sol.labels[int(sol.failed[i, j])]} cannot close at t={t[i, j]:.4g} s"
-                elif not np.all(np.isfinite(table[i])):
-                    what = ", ".join(n for n, v in zip(names, table[i]) if not math.isfinite(v))
+                elif not finite[i]:
+                    what = ", ".join(n for n, v in zip(names, table_rows[i]) if not math.isfinite(v))
                     reasons[i] = f"{what} not finite (a degenerate path: the output point does not move?)"
             if reasons[i]:
-                rows.append(Row(params, False, reasons[i], {n: float("nan") for n in names}))
+                rows.append(Row(params, False, reasons[i], dict(nan_values)))
                 continue
-            rows.append(Row(params, True, "", dict(zip(names, map(float, table[i])))))
+            rows.append(Row(params, True, "", dict(zip(names, table_rows[i]))))
             if len(paths) < keep_paths:
                 paths.append((params, t[i], x[i], y[i], np.hypot(vx[i], vy[i])))
     if progress is not None:
