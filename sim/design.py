@@ -181,8 +181,9 @@ def parse_vary(items: list[str], mech=None) -> dict[str, list[float]]:
 
 
 MAX_COMBOS = 100_000
-SECONDS_PER_COMBO = 3e-4
-"""Measured cost of one combination at 360 samples (a five-bar, this machine): sets the estimate shown."""
+SECONDS_PER_COMBO = 1e-4
+"""Measured cost of one combination at 360 samples (a five-bar, this machine, batch path: 10,000 in 0.7-1.3 s,
+benchmarks/batch.py): sets the estimate shown."""
 
 
 def cmd_sweep(args) -> int:
