@@ -233,7 +233,7 @@ def test_cli_poses_no_four_bar_reaches(tmp_path):
     rows = [(float(i), 0.0, 0.0) for i in range(5)]
     p = write(tmp_path / "line.csv", "x,y,theta", rows)
     r = run("synthesize", "motion", p)
-    assert r.returncode in (1, 2) and "Traceback" not in r.stderr
+    assert r.returncode == 2 and "0 real Burmester" in r.stderr and "Traceback" not in r.stderr
 
 
 def test_cli_three_poses_with_chosen_circle_points_give_the_known_pivots(tmp_path):
