@@ -187,6 +187,13 @@ class _Trig:
             out[a:a + 2048] = (e @ coef).real
         return out.reshape(u.shape)
 
+    def grid(self, m: int, nu: int = 0) -> np.ndarray:
+        """Values (nu=0) or derivatives (nu=1) at u_j = 2 pi j / m, j < m (m > 2 len(c)), by one inverse FFT."""
+        a = np.zeros(m // 2 + 1, complex)
+        a[:len(self.c)] = self.c * (1j * self.k) ** nu * m
+        a[1:] *= 0.5
+        return np.fft.irfft(a, n=m)
+
     def scalar(self, u: float, nu: int = 0) -> float:
         e = np.exp(1j * u * self.k)
         return float((e @ (self.c * (1j * self.k) ** nu)).real)
@@ -318,10 +325,12 @@ def reduce(mech, inertias: dict, flywheel: float = 0.0, gravity=(0.0, 0.0), forc
         Jm, _, Qgm, _, QFm, _ = _terms(mech, mid, s, q0, inertias, flywheel, gravity, force)
         qscale = max(float(np.abs(Qg).max() + np.abs(QF).max()), 1e-300)
         jscale = float(J.max())
-        err = max(float(np.max(np.abs(sJ(mid) - Jm)) / jscale),
-                  float(np.max(np.abs(sJ(u, 1) - dJ)) / jscale),
-                  float(np.max(np.abs(sQg(mid) - Qgm) + np.abs(sQF(mid) - QFm)) / qscale),
-                  float(np.max(np.abs(sQg(u, 1) - dQg) + np.abs(sQF(u, 1) - dQF)) / qscale))
+        fine = {k: (f.grid(2 * n), f.grid(2 * n, 1)) for k, f in (("J", sJ), ("Qg", sQg), ("QF", sQF))}
+        err = max(float(np.max(np.abs(fine["J"][0][1::2] - Jm)) / jscale),
+                  float(np.max(np.abs(fine["J"][1][0::2] - dJ[:-1])) / jscale),
+                  float(np.max(np.abs(fine["Qg"][0][1::2] - Qgm) + np.abs(fine["QF"][0][1::2] - QFm)) / qscale),
+                  float(np.max(np.abs(fine["Qg"][1][0::2] - dQg[:-1]) + np.abs(fine["QF"][1][0::2] - dQF[:-1]))
+                        / qscale))
         full = sJ.full or sQg.full or sQF.full
         if (err <= INTERP_TOL and not full) or n >= GRID_MAX:
             break
