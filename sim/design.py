@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import math
 
 import numpy as np
@@ -209,7 +210,11 @@ def cmd_sweep(args) -> int:
         cols = {k: np.array([r.params[k] for r in rows]) for k in keys}
         cols.update({s: np.array([r.values.get(s, np.nan) for r in rows]) for s in stat_names})
         cols["valid"] = np.array([1.0 if r.valid else 0.0 for r in rows])
+        cols, units = _sweep_columns(base, keys, cols, _machine(args))
         write_csv(args.csv, cols)
+        from .io import write_text
+        write_text(f"{args.csv}.units.json", json.dumps({"mechanism": base.name, "file_units": base.units,
+                                                         "si": _machine(args).is_si, "units": units}, indent=2) + "\n")
     from .units import shown_units
     shown = shown_units(args, base)
     print(_sweep_table(rows, keys, limit=args.show, display=shown))
@@ -222,6 +227,37 @@ def cmd_sweep(args) -> int:
         _plot_family(paths, base.output_point, args.plot, len(rows), display=shown)
         print(f"wrote {args.plot}")
     return 0
+
+
+def _machine(args):
+    from .units import machine_units
+    return machine_units(args)
+
+
+_SWEEP_QUANTITY = {"x_min": "length", "x_max": "length", "y_min": "length", "y_max": "length",
+                   "speed_mean": "velocity", "speed_min": "velocity", "speed_max": "velocity", "mu_min": "angle",
+                   "period": "time", "fluctuation": "ratio", "valid": "ratio"}
+
+
+def _sweep_columns(base, keys, cols: dict, display=None) -> tuple[dict, dict]:
+    """The sweep's CSV columns in ``display`` units (None: SI) and the unit of each: the varied values
+    as the file gives them (file units, angles in rad), the path's box and speeds by quantity, the area
+    in the length unit squared."""
+    from analytic.quantities import SI
+    u = display or SI
+    f = u.factor("length")
+    kinds = base.definition.parameter_kind
+    units = {k: (base.units if kinds.get(k) == "length" else "rad" if kinds.get(k) == "angle" else "") for k in keys}
+    out = {k: cols[k] for k in keys}
+    for name, v in cols.items():
+        if name in keys:
+            continue
+        if name == "area":
+            out[name], units[name] = v * f * f, f"{u.unit('length')}^2"
+        else:
+            q = _SWEEP_QUANTITY.get(name, "")
+            out[name], units[name] = (u.convert(q, v), u.unit(q)) if q else (v, "")
+    return out, units
 
 
 def _sweep_table(rows, keys, limit: int, display=None) -> str:

@@ -232,3 +232,22 @@ def test_compare_json_is_si_by_default_and_converted_with_units(files):
                                                               rel=1e-12)
     assert conv["errors"]["tau2"]["peak"] == pytest.approx(si["errors"]["tau2"]["peak"], rel=1e-12)   # N m stays
     assert conv["loop_tol"] == pytest.approx(si["loop_tol"] * 1000, rel=1e-12)
+
+
+def test_sweep_csv_si_by_default_converted_with_units_and_its_sidecar(files):
+    d, mm, _ = files
+
+    def read(path):
+        with open(path) as f:
+            rows = list(csv.DictReader(f))
+        return {k: np.array([float(r[k]) for r in rows]) for k in rows[0]}
+    run("sweep", mm, "--vary", "crank=40,50", "--csv", d / "s.csv")
+    run("sweep", mm, "--vary", "crank=40,50", "--csv", d / "s_mm.csv", "--units", "mm")
+    si, conv = read(d / "s.csv"), read(d / "s_mm.csv")
+    np.testing.assert_allclose(conv["x_max"], si["x_max"] * 1000, rtol=REL)
+    np.testing.assert_allclose(conv["speed_max"], si["speed_max"] * 1000, rtol=REL)
+    np.testing.assert_allclose(conv["area"], si["area"] * 1e6, rtol=REL)
+    assert list(si["crank"]) == [40.0, 50.0]    # the varied values as the file gives them (parsed from "40": exact)
+    side, side_si = (json.loads((d / n).read_text()) for n in ("s_mm.csv.units.json", "s.csv.units.json"))
+    assert side["units"]["x_max"] == "mm" and side["units"]["area"] == "mm^2" and side["si"] is False
+    assert side_si["units"]["speed_mean"] == "m/s" and side_si["units"]["crank"] == "mm" and side_si["si"] is True
