@@ -164,6 +164,19 @@ MUTATIONS = [
              "RK4 cannot follow; 8 steps only triples the errors, all within tolerance)", "sim/model.py",
              "LOOP_TIMECONST = 32.0\n", "LOOP_TIMECONST = 2.0\n", [CV, MOD],
              "tests/test_cross_validation.py"),
+    # --- units of results (SPEC "Units of results")
+    Mutation("display-inch", "analytic/quantities.py: the inch as 25 mm", "analytic/quantities.py",
+             '"in": 0.0254}', '"in": 0.025}', ["tests/test_units.py"], "tests/test_units.py (JSON --units in, by hand)"),
+    Mutation("display-rpm-inverted", "analytic/quantities.py: rpm per rad/s inverted", "analytic/quantities.py",
+             "RPM = 60.0 / (2.0 * math.pi)", "RPM = 2.0 * math.pi / 60.0", ["tests/test_units.py"],
+             "tests/test_units.py (CSV --speeds rpm: 360 deg/s is 60 rpm)"),
+    Mutation("inertia-option-in-si", "sim/cli.py: --inertia read in SI, not in the file's unit", "sim/cli.py",
+             "inertias[link] = Inertia(m=given.m, cx=given.cx * s, cy=given.cy * s, I=given.I * s * s)",
+             "inertias[link] = given", ["tests/test_units.py"],
+             "tests/test_units.py::test_inertia_file_is_read_in_the_file_unit_like_the_inertia_table"),
+    Mutation("sheet-figures-from-samples", "sim/plot.py: the sheet's figures from the simulated samples",
+             "sim/plot.py", "figs = service.figures(mech)", "figs = mech.figures(c.analytic)", ["tests/test_units.py"],
+             "tests/test_units.py::test_plot_sheet_figures_are_analyze_figures_and_the_hand_value"),
 ]
 
 
