@@ -240,7 +240,11 @@ class Reduced:
         """Advances in [0, 2 pi) where the force switches on or off (empty when it never does)."""
         if self.window is None:
             return np.empty(0)
-        return np.unique(np.mod(self.direction * np.asarray(self.window), 2 * math.pi))
+        # on() changes only where the phase passes an end of the window or wraps at 0 (a window that
+        # reaches outside [0, 2 pi) switches there); keep the candidates where it does change
+        c = np.unique(np.mod(self.direction * np.array([self.window[0], self.window[1], 0.0]), 2 * math.pi))
+        eps = 1e-9
+        return c[self.on(c - eps) != self.on(c + eps)]
 
     def quasi_static(self, n: int = 4096) -> tuple[float, float]:
         """(largest torque [N m] the loads oppose over a turn, the advance [rad] where it peaks)."""
