@@ -83,6 +83,9 @@ def cmd_dynamics(args) -> int:
     from .jsonout import dumps
     if bool(args.motor) == bool(args.motor_table):
         raise ParameterError("give the motor: --motor T0,W0 or --motor-table PATH.csv (one of them)")
+    if args.input_range:
+        raise ParameterError("--input-range does not apply to `linkage dynamics`: the motor turns the crank "
+                             "through whole revolutions; leave it out")
     check_outputs(args, {"csv": (".csv",), "plot": (".png", ".svg", ".pdf")})
     if args.motor_table and args.csv and args.motor_table == args.csv:
         raise ParameterError(f"--csv {args.csv} is the motor table; choose another output name")

@@ -133,6 +133,7 @@ def test_cli_disagreement_exits_1(capsys):
     (["--motor", "1,20", "--target-fluctuation", "0"], "--target-fluctuation"),
     (["--motor", "1,20", "--flywheel", "0.1", "--target-fluctuation", "0.1"], "not both"),
     ([], "--motor"),
+    (["--motor", "1,20", "--input-range", "0:1"], "--input-range"),
     (["--motor", "0.05,20", "--force", "0,-50"], "stalls"),
 ])
 def test_cli_bad_inputs(argv, word, capsys):
