@@ -350,10 +350,14 @@ def cmd_run(args) -> int:
         print()
     print(f"summary ({time.perf_counter() - t_start:.1f} s):")
     for mech, c, files in results:
+        from .compare import errors_in
+        from .units import shown_units
+        u = shown_units(args, mech)
         worst = max(c.errors, key=lambda k: c.errors[k]["max"] / c.errors[k]["tol"])
-        e = c.errors[worst]
+        e = errors_in({worst: c.errors[worst]}, u)[worst]
         print(f"  {mech.name:<8s} {'PASSED' if c.passed else 'FAILED'}  worst {worst}: {e['max']:.2e} {e['unit']} "
-              f"(tol {e['tol']:.1e}); loop {c.max_loop_violation:.1e} m; drive {c.drive_error:.1e}")
+              f"(tol {e['tol']:.1e}); loop {u.convert('length', c.max_loop_violation):.1e} {u.unit('length')}; "
+              f"drive {c.drive_error:.1e}")
         for f in files:
             print(f"           {f}")
     return 0 if all(c.passed for _, c, _ in results) else 1
