@@ -1,0 +1,55 @@
+"""One executor helper for synthesis restarts, sweeps and batches of simulations.
+
+``mapper(workers, scheduler)`` is a context manager giving an ordered ``map(fn, items)``: the plain
+built-in for one worker, a process pool on this machine for ``workers > 1``, or a Dask distributed client
+when a scheduler address is given. Results come back in the items' order, so a computation whose items
+carry their own seeds gives the same answer for any number of workers.
+"""
+
+from __future__ import annotations
+
+import contextlib
+from concurrent.futures import ProcessPoolExecutor
+
+from analytic import ParameterError
+
+
+@contextlib.contextmanager
+def mapper(workers: int = 1, scheduler: str | None = None):
+    """Yield ``map(fn, items) -> iterator`` in the items' order.
+
+    Parameters
+    ----------
+    workers : processes on this machine (1: run in this process)
+    scheduler : a Dask scheduler address (``tcp://host:8786``); ``"local"`` starts a
+        ``dask.distributed.LocalCluster`` of ``workers`` processes
+    """
+    if workers < 1:
+        raise ParameterError(f"--workers {workers} must be >= 1")
+    if scheduler:
+        try:
+            from dask.distributed import Client, LocalCluster
+        except ImportError:
+            raise ParameterError("--scheduler needs dask[distributed]; pip install 'dask[distributed]'") from None
+        cluster = None
+        try:
+            if scheduler == "local":
+                cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                                       dashboard_address=None)
+                client = Client(cluster)
+            else:
+                client = Client(scheduler, timeout=10)
+        except OSError as exc:
+            raise ParameterError(f"--scheduler {scheduler}: cannot connect ({exc})") from None
+        try:
+            yield lambda fn, items: iter(client.gather(client.map(fn, list(items), pure=False)))
+        finally:
+            client.close()
+            if cluster is not None:
+                cluster.close()
+        return
+    if workers == 1:
+        yield map
+        return
+    with ProcessPoolExecutor(max_workers=workers) as pool:
+        yield pool.map
