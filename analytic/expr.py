@@ -19,9 +19,15 @@ FUNCTIONS = {"sqrt": math.sqrt, "sin": math.sin, "cos": math.cos, "tan": math.ta
              "abs": abs, "min": min, "max": max, "radians": math.radians, "degrees": math.degrees}
 CONSTANTS = {"pi": math.pi}
 
-_NUMBER = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"
-_QUANTITY = re.compile(rf"^\s*({_NUMBER})\s*(deg)?\s*$")
-_DEG = re.compile(r"((?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*deg\b")
+# Possessive quantifiers and a look-behind: each pattern matches in time linear in the text (the
+# former ``\d+\.?\d*`` split a run of digits in quadratically many ways and re-tried it at each start).
+_UNSIGNED = r"(?:\d++(?:\.\d*+)?+|\.\d++)(?:[eE][-+]?+\d++)?+"
+_NUMBER = rf"[-+]?+{_UNSIGNED}"
+_QUANTITY = re.compile(rf"^\s*+({_NUMBER})\s*+(deg)?+\s*+$")
+_DEG = re.compile(rf"(?<![\w.])({_UNSIGNED})\s*+deg\b")
+MAX_LENGTH = 400         # characters in one expression: a design's formula is far shorter
+MAX_DEPTH = 40           # nested parentheses/operators in one expression
+_DEG_MARK = "_deg_"      # what a ``deg`` suffix becomes while parsing: a call that marks the angle
 NAME = re.compile(r"^[A-Za-z][A-Za-z0-9_]*$")
 
 
@@ -37,24 +43,49 @@ def quantity(text: str) -> tuple[float, bool] | None:
 def names_in(text: str) -> set[str]:
     """The parameter names an expression uses (raises ValueError if it is not a valid expression)."""
     tree = _parse(text)
-    return {n.id for n in ast.walk(tree) if isinstance(n, ast.Name)} - set(FUNCTIONS) - set(CONSTANTS)
+    return {n.id for n in ast.walk(tree) if isinstance(n, ast.Name)} - set(FUNCTIONS) - set(CONSTANTS) - {_DEG_MARK}
+
+
+def _short(text: str, limit: int = 60) -> str:
+    r = repr(text)
+    return r if len(r) <= limit else r[:limit - 5] + "...'" + f" ({len(text)} characters)"
+
+
+def _depth(node, level: int = 0) -> int:
+    """Nesting depth of an expression tree (stops counting past MAX_DEPTH)."""
+    if level > MAX_DEPTH:
+        return level
+    return max((_depth(c, level + 1) for c in ast.iter_child_nodes(node)), default=level)
 
 
 def _parse(text: str) -> ast.Expression:
-    source = _DEG.sub(lambda m: f"({m.group(1)}*pi/180)", text)
+    if len(text) > MAX_LENGTH:
+        raise ValueError(f"{_short(text)} is too long: an expression is at most {MAX_LENGTH} characters")
+    source = _DEG.sub(lambda m: f"{_DEG_MARK}({m.group(1)})", text)
     try:
         tree = ast.parse(source.strip(), mode="eval")
-    except SyntaxError:
-        raise ValueError(f"{text!r} is not a number, a parameter name or an arithmetic expression") from None
+    except (SyntaxError, RecursionError, MemoryError, ValueError):
+        raise ValueError(f"{_short(text)} is not a number, a parameter name or an arithmetic expression") from None
+    if _depth(tree) > MAX_DEPTH:
+        raise ValueError(f"{_short(text)} is nested too deeply (at most {MAX_DEPTH} levels)")
     for node in ast.walk(tree):
+        if isinstance(node, ast.BinOp) and (isinstance(node.op, ast.Pow) or isinstance(node.op, ast.Div)) and any(
+                isinstance(n, ast.Call) and isinstance(n.func, ast.Name) and n.func.id == _DEG_MARK
+                for side in ((node.left, node.right) if isinstance(node.op, ast.Pow) else (node.right,))
+                for n in ast.walk(side)):
+            raise ValueError(f"{_short(text)}: a 'deg' value divides or is raised to a power, which gives no "
+                             f"angle; write the angle whole, e.g. \"2deg\" or \"(1/30)*1deg\"")
+        if isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id == _DEG_MARK:
+            continue
         if not isinstance(node, _ALLOWED):
-            raise ValueError(f"{text!r}: only numbers, parameter names, + - * / ** and "
+            raise ValueError(f"{_short(text)}: only numbers, parameter names, + - * / ** and "
                              f"{', '.join(FUNCTIONS)} are allowed")
         if isinstance(node, ast.Call) and not (isinstance(node.func, ast.Name) and node.func.id in FUNCTIONS
-                                               and not node.keywords):
-            raise ValueError(f"{text!r}: unknown function; use one of {', '.join(FUNCTIONS)}")
+                                               and not node.keywords) and not (
+                isinstance(node.func, ast.Name) and node.func.id == _DEG_MARK):
+            raise ValueError(f"{_short(text)}: unknown function; use one of {', '.join(FUNCTIONS)}")
         if isinstance(node, ast.Constant) and not isinstance(node.value, (int, float)):
-            raise ValueError(f"{text!r}: only numbers are allowed as constants")
+            raise ValueError(f"{_short(text)}: only numbers are allowed as constants")
     return tree
 
 
@@ -75,7 +106,7 @@ def evaluate(text: str, values: dict[str, float]) -> float:
             if node.id in CONSTANTS:
                 return CONSTANTS[node.id]
             if node.id not in values:
-                raise ValueError(f"{text!r} uses {node.id!r}, which is not a parameter")
+                raise ValueError(f"{_short(text)} uses {node.id!r}, which is not a parameter")
             return values[node.id]
         if isinstance(node, ast.UnaryOp):
             v = walk(node.operand)
@@ -84,23 +115,25 @@ def evaluate(text: str, values: dict[str, float]) -> float:
             a, b = walk(node.left), walk(node.right)
             op = type(node.op)
             if op is ast.Pow and abs(b) > 64:
-                raise ValueError(f"{text!r}: exponent {b:g} is too large")
+                raise ValueError(f"{_short(text)}: exponent {b:g} is too large")
             try:
                 return {ast.Add: a + b, ast.Sub: a - b, ast.Mult: a * b}[op] if op in (
                     ast.Add, ast.Sub, ast.Mult) else (a / b if op is ast.Div else a ** b)
             except (ZeroDivisionError, OverflowError):
-                raise ValueError(f"{text!r} divides by zero or overflows") from None
+                raise ValueError(f"{_short(text)} divides by zero or overflows") from None
+        if isinstance(node, ast.Call) and node.func.id == _DEG_MARK:
+            return math.radians(walk(node.args[0]))
         if isinstance(node, ast.Call):
             args = [walk(a) for a in node.args]
             try:
                 return float(FUNCTIONS[node.func.id](*args))
             except (ValueError, TypeError, OverflowError):
-                raise ValueError(f"{text!r}: {node.func.id}({', '.join(f'{a:g}' for a in args)}) is undefined")
-        raise ValueError(f"{text!r} is not a valid expression")
+                raise ValueError(f"{_short(text)}: {node.func.id}({', '.join(f'{a:g}' for a in args)}) is undefined")
+        raise ValueError(f"{_short(text)} is not a valid expression")
 
     result = walk(tree)
     if isinstance(result, complex) or not math.isfinite(result):
-        raise ValueError(f"{text!r} evaluates to {result!r}, not a finite number")
+        raise ValueError(f"{_short(text)} evaluates to {result!r}, not a finite number")
     return float(result)
 
 

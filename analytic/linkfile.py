@@ -13,6 +13,7 @@ from __future__ import annotations
 import json
 import math
 import re
+import stat
 import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -23,6 +24,8 @@ from ._common import ParameterError
 FORMAT = "linkage/1"
 UNITS = {"m": 1.0, "mm": 1e-3, "cm": 1e-2, "in": 0.0254}
 MAX_FILE_BYTES = 1 << 20
+MAX_ITEMS = 500          # parameters, ground points, elements: each at most this many (bounds memory and time)
+MAX_MAGNITUDE = 1e12     # |number| in a file; beyond it a value is a typo, not a design
 LINK_NAME = re.compile(r"^[A-Za-z0-9_]+$")
 """Link names may start with a digit (SPEC's example names the four-bar's links "1", "2", "3")."""
 
@@ -139,12 +142,17 @@ def read(path: str | Path) -> Definition:
     p = Path(path)
     source = str(path)
     try:
-        size = p.stat().st_size
+        st = p.stat()
         if p.is_dir():
             raise FileError(f"{source} is a folder, not a mechanism file")
-        if size > MAX_FILE_BYTES:
-            raise FileError(f"{source} is {size} bytes; a mechanism file is at most {MAX_FILE_BYTES} bytes")
-        raw = p.read_bytes()
+        if not stat.S_ISREG(st.st_mode):
+            raise FileError(f"{source} is not a regular file (a device or a pipe); save the mechanism to a file")
+        if st.st_size > MAX_FILE_BYTES:
+            raise FileError(f"{source} is {st.st_size} bytes; a mechanism file is at most {MAX_FILE_BYTES} bytes")
+        with open(p, "rb") as fh:                      # read at most the cap: the file may grow meanwhile
+            raw = fh.read(MAX_FILE_BYTES + 1)
+        if len(raw) > MAX_FILE_BYTES:
+            raise FileError(f"{source} is over {MAX_FILE_BYTES} bytes; a mechanism file is at most that")
     except FileError:
         raise
     except OSError as exc:
@@ -158,8 +166,12 @@ def parse(raw: bytes | str, source: str = "<text>", json_format: bool | None = N
     text = raw.decode("utf-8", errors="replace") if isinstance(raw, bytes) else raw
     if json_format is None:
         json_format = text.lstrip().startswith("{")
+    if len(text) > MAX_FILE_BYTES:
+        raise FileError(f"{source} is over {MAX_FILE_BYTES} characters; a mechanism file is at most that")
     try:
-        data = json.loads(text) if json_format else tomllib.loads(text)
+        data = json.loads(text, object_pairs_hook=_unique_keys(source)) if json_format else tomllib.loads(text)
+    except RecursionError:
+        raise FileError(f"{source}: nested too deeply; a mechanism file nests tables a few levels only") from None
     except tomllib.TOMLDecodeError as exc:
         raise FileError(f"{source}: not valid TOML: {exc}") from None
     except json.JSONDecodeError as exc:
@@ -169,19 +181,38 @@ def parse(raw: bytes | str, source: str = "<text>", json_format: bool | None = N
     return _check(data, source, default_name)
 
 
+def _unique_keys(source: str):
+    def hook(pairs):
+        seen = {}
+        for k, v in pairs:
+            if k in seen:
+                raise FileError(f"{source}: field {_short(k)} is given twice; keep one")
+            seen[k] = v
+        return seen
+    return hook
+
+
+def _short(value, limit: int = 60) -> str:
+    """``repr(value)`` cut to ``limit`` characters (a message stays one readable line)."""
+    text = repr(value)
+    quote = "'" if isinstance(value, str) else ""
+    return text if len(text) <= limit else text[:limit - 5] + "..." + quote + f" ({len(text)} characters)"
+
+
 def _check(data: dict, source: str, default_name: str) -> Definition:
     fmt = data.get("format")
-    if fmt != FORMAT:
-        raise _fail(source, "format", f"{fmt!r} is not supported; the first line must be format = \"{FORMAT}\"")
+    if not isinstance(fmt, str) or fmt != FORMAT:
+        fmt = _short(fmt)
+        raise _fail(source, "format", f"{fmt} is not supported; the first line must be format = \"{FORMAT}\"")
     unknown = sorted(set(data) - TOP_LEVEL)
     if unknown:
         raise _fail(source, unknown[0], f"unknown field; the top level takes {', '.join(sorted(TOP_LEVEL))}")
     units = data.get("units", "m")
-    if units not in UNITS:
-        raise _fail(source, "units", f"unknown unit {units!r}; use one of {', '.join(UNITS)}")
+    if not isinstance(units, str) or units not in UNITS:
+        raise _fail(source, "units", f"unknown unit {_short(units)}; use one of {', '.join(UNITS)}")
     name = data.get("name", default_name)
     if not (isinstance(name, str) and expr.NAME.match(name)):
-        raise _fail(source, "name", f"{name!r} is not a name (letters, digits and _, starting with a letter)")
+        raise _fail(source, "name", f"{_short(name)} is not a name (letters, digits and _, starting with a letter)")
     description = data.get("description", "")
     if not isinstance(description, str):
         raise _fail(source, "description", "must be a string")
@@ -189,22 +220,27 @@ def _check(data: dict, source: str, default_name: str) -> Definition:
     params = data.get("parameters", {})
     if not isinstance(params, dict):
         raise _fail(source, "parameters", "must be a table NAME = value")
+    for section, table in (("parameters", params), ("ground", data.get("ground", {})),
+                           ("inputs", data.get("inputs", [])), ("groups", data.get("groups", []))):
+        if isinstance(table, (dict, list)) and len(table) > MAX_ITEMS:
+            raise _fail(source, section, f"{len(table)} entries; a mechanism file holds at most {MAX_ITEMS}")
     for pname, value in params.items():
         if not expr.NAME.match(pname):
-            raise _fail(source, f"parameters.{pname}", "not a valid name (letters, digits and _)")
+            raise _fail(source, f"parameters.{_short(pname)}", "not a valid name (letters, digits and _)")
         if isinstance(value, bool) or not isinstance(value, (int, float, str)):
-            raise _fail(source, f"parameters.{pname}", f"{value!r} must be a number or a string such as \"30deg\"")
-        if isinstance(value, float) and not math.isfinite(value):
-            raise _fail(source, f"parameters.{pname}", "must be finite")
+            raise _fail(source, f"parameters.{pname}", f"{_short(value)} must be a number or a string such as \"30deg\"")
+        _scalar(value, f"parameters.{pname}", source)
 
     ground = data.get("ground", {})
     if not isinstance(ground, dict):
         raise _fail(source, "ground", "must be a table NAME = [x, y]")
     for gname, xy in ground.items():
         if not expr.NAME.match(gname):
-            raise _fail(source, f"ground.{gname}", "not a valid name (letters, digits and _)")
+            raise _fail(source, f"ground.{_short(gname)}", "not a valid name (letters, digits and _)")
         if not (isinstance(xy, list) and len(xy) == 2):
-            raise _fail(source, f"ground.{gname}", f"{xy!r} must be [x, y]")
+            raise _fail(source, f"ground.{gname}", f"{_short(xy)} must be [x, y]")
+        for c in xy:
+            _scalar(c, f"ground.{gname}", source)
 
     elements = []
     for section in ("inputs", "groups"):
@@ -215,10 +251,14 @@ def _check(data: dict, source: str, default_name: str) -> Definition:
             elements.append(_element(item, f"{section}[{i}]", section, source))
     inputs = tuple(e for e in elements if e.kind in INPUT_KINDS)
     groups = tuple(e for e in elements if e.kind in GROUP_KINDS)
+    if not elements:
+        raise _fail(source, "inputs", "none given; a mechanism needs at least one [[inputs]] (e.g. kind = \"crank\")")
     _check_names(source, params, ground, elements)
     order = _solve_order(source, ground, elements)
     kinds = _parameter_kinds(source, params, ground, elements)
     output = data.get("output", order[-1].point)
+    if not isinstance(output, str):
+        raise _fail(source, "output", f"{_short(output)} must be one point name such as \"E\"")
     if output not in {e.point for e in elements} and output not in ground:
         raise _fail(source, "output", f"{output!r} is not a point of the mechanism")
     inertia = data.get("inertia", {})
@@ -231,6 +271,11 @@ def _check(data: dict, source: str, default_name: str) -> Definition:
         if not (isinstance(entry, dict) and set(entry) <= {"m", "cx", "cy", "I"} and {"m", "I"} <= set(entry)):
             raise _fail(source, f"inertia.{lname}", "give {m = kg, I = kg m^2 about the centre of mass, "
                                                    "cx, cy = centre of mass in the link frame}")
+        for key, v in entry.items():
+            if isinstance(v, bool) or not isinstance(v, (int, float)) or not abs(v) <= MAX_MAGNITUDE:
+                raise _fail(source, f"inertia.{lname}.{key}", f"{_short(v)} must be a finite number")
+            if key in ("m", "I") and not v > 0:
+                raise _fail(source, f"inertia.{lname}.{key}", f"{v!r} must be > 0")
     definition = Definition(name, source, units, description, dict(params), tuple(params), kinds,
                             {k: tuple(v) for k, v in ground.items()}, inputs, groups, order, output, inertia)
     _check_mobility(definition)
@@ -283,9 +328,11 @@ def _names(item) -> dict:
 
 def _scalar(value, what: str, source: str):
     if isinstance(value, bool) or not isinstance(value, (int, float, str)):
-        raise FileError(f"{source}: {what}: {value!r} must be a number, a parameter name or an expression")
+        raise FileError(f"{source}: {what}: {_short(value)} must be a number, a parameter name or an expression")
     if isinstance(value, float) and not math.isfinite(value):
         raise FileError(f"{source}: {what}: must be finite")
+    if isinstance(value, (int, float)) and not abs(value) <= MAX_MAGNITUDE:
+        raise FileError(f"{source}: {what}: {_short(value)} is out of range; give a magnitude <= {MAX_MAGNITUDE:g}")
     if isinstance(value, str):
         try:
             expr.names_in(value)
@@ -605,35 +652,43 @@ def parameter_values(d: Definition, overrides: dict[str, float] | None = None) -
             raise ParameterError(f"{k!r} is not a parameter of {d.name}; parameters: "
                                  f"{', '.join(d.parameter_order) or '(none)'}")
     values: dict[str, float] = {}
-    visiting: list[str] = []
 
-    def value(p: str) -> float:
-        if p in values:
-            return values[p]
+    def direct(p: str) -> float | None:
         if p in overrides:
-            values[p] = float(overrides[p])
-            return values[p]
-        if p in visiting:
-            raise _fail(d.source, f"parameters.{p}", f"defined in terms of itself ({' -> '.join(visiting + [p])})")
+            return float(overrides[p])
         raw = d.parameters[p]
         if isinstance(raw, (int, float)):
-            values[p] = float(raw)
-            return values[p]
+            return float(raw)
         q = expr.quantity(raw)
-        if q is not None:
-            values[p] = q[0]
-            return q[0]
-        visiting.append(p)
-        deps = {n: value(n) for n in expr.names_in(raw)}
-        visiting.pop()
-        try:
-            values[p] = expr.evaluate(raw, deps)
-        except ValueError as exc:
-            raise ParameterError(f"{d.source}: parameters.{p}: {exc}") from None
-        return values[p]
+        return None if q is None else q[0]
 
-    for p in d.parameter_order:
-        value(p)
+    for first in d.parameter_order:                # depth-first with an explicit stack (no recursion limit)
+        stack: list[str] = [first]
+        while stack:
+            p = stack[-1]
+            if p in values:
+                stack.pop()
+                continue
+            v = direct(p)
+            if v is None:
+                raw = d.parameters[p]
+                missing = [n for n in sorted(expr.names_in(raw)) if n not in values and n in d.parameters]
+                for n in missing:
+                    if n in stack:
+                        cycle = stack[stack.index(n):] + [n]
+                        raise _fail(d.source, f"parameters.{n}", f"defined in terms of itself ({' -> '.join(cycle)})")
+                if missing:
+                    stack.extend(missing[:1])
+                    continue
+                try:
+                    v = expr.evaluate(raw, {n: values[n] for n in expr.names_in(raw) if n in values})
+                except ValueError as exc:
+                    raise ParameterError(f"{d.source}: parameters.{p}: {exc}") from None
+            if not abs(v) <= MAX_MAGNITUDE:
+                raise ParameterError(f"{d.source}: parameters.{p}: {v:g} is out of range; give a magnitude "
+                                     f"<= {MAX_MAGNITUDE:g}")
+            values[p] = v
+            stack.pop()
     return values
 
 

@@ -175,8 +175,12 @@ def cmd_list(args) -> int:
 
 
 def cmd_check(args) -> int:
+    from analytic import figures
     mech = mechanism_from(args)
     print(structure_report(mech))
+    if len(mech.inputs) == 1 and not figures.assembly_ranges(mech):
+        raise ParameterError(f"{mech.definition.source}: the mechanism assembles at no value of "
+                             f"{mech.inputs[0].q}; change the lengths (see the report above)")
     return 0
 
 

@@ -72,6 +72,12 @@ grows: a near-singular Whitworth design had 1e-6 rad of error from it at 1e-4, n
 solver's residual over R, and the drive torques' error grows as 1/R (400 random designs, worst torque
 error/tolerance: 0.004 at 1e-6, 0.02 at 1e-7, 0.5 at 1e-8, 18 at 1e-10). External loads add constraint
 force that inertia does not, so the scale is divided by 1 + (load / inertial force): see regularization."""
+MIN_SIZE = 1e-3
+"""[m] The smallest mechanism simulated: below it the default masses and inertias (LINEAR_DENSITY)
+approach MuJoCo's mjMINVAL (1e-15) and the model does not compile (a slider crank typed in metres
+into a mm file: 0.2 mm, piston inertia 1e-15 kg m^2)."""
+MIN_MASS, MIN_INERTIA = 1e-9, 1e-14
+"""[kg], [kg m^2] The smallest link mass and moment of inertia accepted, a margin above mjMINVAL."""
 DRIVE_ERROR_BUDGET = 1e-6
 """[rad, or of the size for a slider] The drives' stiffness kp is sized so that the peak reaction
 torque deflects the drive by at most this much (kp = peak / budget)."""
@@ -375,6 +381,12 @@ def build(mech, settings: Settings = Settings(), loads: Loads = Loads(), revolut
     """Generate and compile the model of ``mech`` with its initial state from the analytic solver."""
     if settings.timestep is None:
         settings = replace(settings, timestep=choose_timestep(mech, revolutions))
+    if mech.size < MIN_SIZE:
+        raise ParameterError(
+            f"{mech.definition.source}: the {mech.name} spans {mech.size:.3g} m ({mech.size / mech.scale:.3g} "
+            f"{mech.definition.units}); the simulation needs at least {MIN_SIZE:g} m (MuJoCo's minimum masses)"
+            + (": were metres typed into a mm file? give the lengths in mm" if mech.definition.units != "m" else
+               "; scale the lengths up"))
     h = float(settings.timestep)
     (q0, qd0, qdd0), sol = mech.solve_at([0.0])
     if not sol.valid.all():
@@ -473,8 +485,9 @@ def _draw_link(spec, body, mech, points, frames, link, members, radius, material
     z = 2.0 * radius * (len(spec.geoms) % 3)
     for k, p in enumerate(sorted(members[link] - {origin})):
         x, y = _point_local(points, frames, link, p)
-        body.add_geom(name=f"{link}_{p}", type=mujoco.mjtGeom.mjGEOM_CAPSULE, size=[radius, 0, 0],
-                      fromto=[0, 0, z, x, y, z], material=material, contype=0, conaffinity=0, density=0)
+        if math.hypot(x, y) > 1e-6 * mech.size:           # a point on the link's pin gets no bar (MuJoCo refuses it)
+            body.add_geom(name=f"{link}_{p}", type=mujoco.mjtGeom.mjGEOM_CAPSULE, size=[radius, 0, 0],
+                          fromto=[0, 0, z, x, y, z], material=material, contype=0, conaffinity=0, density=0)
         body.add_geom(name=f"pin_{link}_{p}", type=mujoco.mjtGeom.mjGEOM_CYLINDER,
                       size=[1.4 * radius, 0.7 * radius, 0], pos=[x, y, z + radius], material="pin",
                       contype=0, conaffinity=0, density=0)
@@ -523,6 +536,10 @@ def _add_inertias(spec, mech, points, frames, loads):
     for ln in mech.links:
         b = spec.body(ln)
         inertia = user.get(ln) or default_inertia(mech, points, frames, ln)
+        if not (inertia.m >= MIN_MASS and inertia.I >= MIN_INERTIA):
+            raise ParameterError(f"inertia of link {ln}: m = {inertia.m:.3g} kg, I = {inertia.I:.3g} kg m^2; the "
+                                 f"simulation needs m >= {MIN_MASS:g} kg and I >= {MIN_INERTIA:g} kg m^2 "
+                                 f"(MuJoCo's minimum): give a realistic [inertia] or --inertia")
         b.explicitinertial = True
         b.mass = inertia.m
         b.ipos = [inertia.cx, inertia.cy, 0.0]
