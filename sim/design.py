@@ -20,7 +20,19 @@ def _point(option: str, text: str) -> tuple[float, float]:
     parts = text.split(",")
     if len(parts) != 2:
         raise ParameterError(f"{option} {text!r} is not x,y (e.g. {option} 30,31)")
-    return expr.parse_value(option, parts[0]), expr.parse_value(option, parts[1])
+    return expr.parse_value(option, parts[0], angle=False), expr.parse_value(option, parts[1], angle=False)
+
+
+def _check_scale(points: dict, unit: str) -> None:
+    """Refuse points whose distances span over 1000x: a coordinate typed in another unit (metres given
+    with --unit mm) makes a degenerate 'optimum' with links of a few thousandths of the others."""
+    names = list(points)
+    dist = {(a, b): math.dist(points[a], points[b]) for i, a in enumerate(names) for b in names[i + 1:]}
+    (a0, b0), lo = min(dist.items(), key=lambda kv: kv[1])
+    (a1, b1), hi = max(dist.items(), key=lambda kv: kv[1])
+    if lo < 1e-3 * hi:
+        raise ParameterError(f"{a0} and {b0} are {lo:.3g} {unit} apart but {a1} and {b1} {hi:.3g} {unit}: give every "
+                             f"coordinate in {unit} (--unit), with the points distinct")
 
 
 def _angle_range(option: str, text: str) -> tuple[float, float]:
@@ -52,6 +64,7 @@ def cmd_synthesize(args) -> int:
                           D=_point("--D", args.D),
                           phi12=expr.parse_value("--crank-rotation", args.crank_rotation),
                           psi12=expr.parse_value("--rocker-rotation", args.rocker_rotation))
+    _check_scale({"--E1": task.E1, "--E2": task.E2, "--A": task.A, "--D": task.D}, args.unit)
     lo, hi = _angle_range("--theta-range", args.theta_range)
     search = synthesis.optimum(task, lo, hi)
     thetas = [math.radians(t) for t in synthesis.SEED_THETAS if lo <= math.radians(t) <= hi]
@@ -346,6 +359,7 @@ def register(sub, add_common, add_video_options) -> None:
     # further synthesis problems, each in its own module: module.register(problems, add_video_options)
     from . import synth_exact_cmd
     synth_exact_cmd.register(problems, add_video_options)
+    from . import synth_path_cmd; synth_path_cmd.register(problems, add_video_options)  # noqa: E702
 
     p = sub.add_parser("sweep", help="seed 003 parameter studies: families of output paths and speeds")
     add_common(p)
