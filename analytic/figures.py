@@ -27,7 +27,7 @@ def _first_range(mech) -> tuple[float, float]:
     if first.kind == "crank":
         q0 = first.motion.q0
         return q0, q0 + 2 * math.pi
-    span = 4.0 * mech.size / mech.scale if mech.scale else 4.0 * mech.size
+    span = 4.0 * mech.size                           # a slider's q and the size are both in metres
     return first.motion.q0 - span, first.motion.q0 + span
 
 
