@@ -38,7 +38,8 @@ from ._common import ParameterError
 
 NEWTON_STEPS = 12          # most Newton steps per sample: from an interpolated start it takes 2 to 4
 NEWTON_TOL = 1e-13         # converged when the largest step is below this fraction of the group's size
-RESIDUAL_TOL = 1e-10       # a converged sample whose residual exceeds this fraction of size^2 is refused
+RESIDUAL_CONVERGED = 2e-15  # residual at rounding level [fraction of size]: a few eps of the coordinates
+RESIDUAL_TOL = 1e-10       # a converged sample whose residual exceeds this fraction of size is refused
 BLOCK = 32768              # samples per batched block (bounds the (N, n, n) Jacobians' memory)
 
 
@@ -66,6 +67,8 @@ class GeneralGroup:
         The largest distance between two points of the pose [m] (the scale of the tolerances).
     pose : ndarray, shape (n_points, 2)
         The assembled pose, points in the order ``known + unknown`` [m].
+    sel, lin : ndarray
+        The Jacobian's fixed parts (see :func:`_structure`).
     """
 
     known: tuple
@@ -82,6 +85,8 @@ class GeneralGroup:
     branch: int
     size: float
     pose: np.ndarray
+    sel: np.ndarray
+    lin: np.ndarray
 
     @property
     def n(self) -> int:
@@ -162,16 +167,16 @@ def make_group(links: Mapping[str, Sequence[str]], known: Sequence[str], unknown
     size = float(np.sqrt(np.max(np.sum(diff * diff, axis=-1))))
     ia = lambda v: np.asarray(v, dtype=np.intp)  # noqa: E731
     fa = lambda v: np.asarray(v, dtype=float)    # noqa: E731
-    g = GeneralGroup(known, unknown, tuple(link_list), fa(L2), ia(i0), ia(i1), ia(ek), ia(e0), ia(e1),
-                     fa(al), fa(be), 1, size, P)
+    arrays = (fa(L2), ia(i0), ia(i1), ia(ek), ia(e0), ia(e1), fa(al), fa(be))
+    sel, lin = _structure(len(known), 2 * len(unknown), *arrays[1:])
+    g = GeneralGroup(known, unknown, tuple(link_list), *arrays, 1, size, P, sel, lin)
     J = _jac_u(g, P[None])[0]
     det = np.linalg.det(J / size ** (len(i0) / g.n))
     cond = np.linalg.cond(J) if np.isfinite(det) and det != 0.0 else np.inf
     if not np.isfinite(cond) or cond > 1e12:  # 1e12: beyond this a Newton step loses 12 of 16 digits
         raise ParameterError(f"{where}: the pose is singular for links {[n for n, _ in link_list]} "
                              "(a locked or underconstrained group); give another pose or other links")
-    return GeneralGroup(known, unknown, tuple(link_list), fa(L2), ia(i0), ia(i1), ia(ek), ia(e0), ia(e1),
-                        fa(al), fa(be), 1 if det > 0 else -1, size, P)
+    return GeneralGroup(known, unknown, tuple(link_list), *arrays, 1 if det > 0 else -1, size, P, sel, lin)
 
 
 def _perp(d):
@@ -181,7 +186,7 @@ def _perp(d):
 def _residual(g: GeneralGroup, P):
     """The equations at points P, shape (N, n_points, 2) -> (N, n)."""
     d = P[:, g.i1] - P[:, g.i0]
-    quad = 0.5 * (np.einsum("nij,nij->ni", d, d) - g.length2)
+    quad = 0.5 * (d[..., 0] * d[..., 0] + d[..., 1] * d[..., 1] - g.length2)
     de = P[:, g.e1] - P[:, g.e0]
     lin = P[:, g.ek] - P[:, g.e0] - g.alpha[:, None] * de - g.beta[:, None] * _perp(de)
     return np.concatenate((quad, lin.reshape(len(P), -1)), axis=1)
@@ -191,7 +196,7 @@ def _jvp(g: GeneralGroup, P, V):
     """J(P) V: the equations' derivative along point rates V, both (N, n_points, 2) -> (N, n)."""
     d = P[:, g.i1] - P[:, g.i0]
     dv = V[:, g.i1] - V[:, g.i0]
-    quad = np.einsum("nij,nij->ni", d, dv)
+    quad = d[..., 0] * dv[..., 0] + d[..., 1] * dv[..., 1]
     de = V[:, g.e1] - V[:, g.e0]
     lin = V[:, g.ek] - V[:, g.e0] - g.alpha[:, None] * de - g.beta[:, None] * _perp(de)
     return np.concatenate((quad, lin.reshape(len(P), -1)), axis=1)
@@ -201,29 +206,37 @@ def _jdot_v(g: GeneralGroup, V):
     """(dJ/dt) v: |v1 - v0|^2 on the base-length rows, zero on the linear rows, (N, n)."""
     dv = V[:, g.i1] - V[:, g.i0]
     out = np.zeros((len(V), g.n))
-    out[:, :len(g.i0)] = np.einsum("nij,nij->ni", dv, dv)
+    out[:, :len(g.i0)] = dv[..., 0] * dv[..., 0] + dv[..., 1] * dv[..., 1]
     return out
+
+
+def _structure(nk, n, i0, i1, ek, e0, e1, alpha, beta):
+    """The Jacobian's fixed parts in the unknown coordinates: the base-length rows' selector S, shape
+    (L, 2, n) (row l is ``d_l . S_l``), and the linear rows, shape (2 E, n), which are constant."""
+    sel = np.zeros((len(i0), 2, n))
+    for row, (a, b) in enumerate(zip(i0, i1)):
+        for idx, sign in ((b, 1.0), (a, -1.0)):
+            if idx >= nk:
+                sel[row, :, 2 * (idx - nk):2 * (idx - nk) + 2] += sign * np.eye(2)
+    lin = np.zeros((2 * len(ek), n))
+    eye = np.eye(2)
+    perp = np.array([[0.0, -1.0], [1.0, 0.0]])
+    for e, (k, a, b) in enumerate(zip(ek, e0, e1)):
+        M1 = -alpha[e] * eye - beta[e] * perp       # d(row)/d(p1)
+        for idx, M in ((k, eye), (a, -eye - M1), (b, M1)):
+            if idx >= nk:
+                lin[2 * e:2 * e + 2, 2 * (idx - nk):2 * (idx - nk) + 2] += M
+    return sel, lin
 
 
 def _jac_u(g: GeneralGroup, P):
     """J_u: the equations' Jacobian in the unknown coordinates, (N, n, n)."""
-    nk = len(g.known)
     N, nq = len(P), len(g.i0)
-    J = np.zeros((N, g.n, g.n))
+    J = np.empty((N, g.n, g.n))
     d = P[:, g.i1] - P[:, g.i0]
-    for row, (a, b) in enumerate(zip(g.i0, g.i1)):
-        if b >= nk:
-            J[:, row, 2 * (b - nk):2 * (b - nk) + 2] += d[:, row]
-        if a >= nk:
-            J[:, row, 2 * (a - nk):2 * (a - nk) + 2] -= d[:, row]
-    eye = np.eye(2)
-    perp = np.array([[0.0, -1.0], [1.0, 0.0]])
-    for e, (k, a, b) in enumerate(zip(g.ek, g.e0, g.e1)):
-        M1 = -g.alpha[e] * eye - g.beta[e] * perp       # d(row)/d(p1)
-        r = nq + 2 * e
-        for idx, M in ((k, eye), (a, -eye - M1), (b, M1)):
-            if idx >= nk:
-                J[:, r:r + 2, 2 * (idx - nk):2 * (idx - nk) + 2] += M
+    J[:, :nq] = d[:, :, 0, None] * g.sel[:, 0]
+    J[:, :nq] += d[:, :, 1, None] * g.sel[:, 1]
+    J[:, nq:] = g.lin
     return J
 
 
@@ -244,26 +257,31 @@ def _solve(J, rhs):
 def _newton(g: GeneralGroup, Pk, x):
     """Batched Newton on the unknown coordinates x (N, n) with known points Pk (N, nk, 2).
 
-    Returns the solution and a mask of the samples that converged (step and residual within tolerance).
+    A sample has converged when its residual is at rounding level (base-length rows divided by the base
+    length, so every row is in [m]) or its last step is below ``NEWTON_TOL`` of size; only the samples not
+    yet converged are iterated. Returns the solution and a mask of the samples that converged.
     """
     N = len(x)
-    P = np.empty((N, len(g.known) + len(g.unknown), 2))
-    P[:, :len(g.known)] = Pk
-    step_tol = NEWTON_TOL * g.size
+    x = np.array(x, dtype=float)
+    inv_len = 1.0 / np.sqrt(g.length2)
     done = np.zeros(N, dtype=bool)
+    act = np.arange(N)
+    step = np.full(N, np.inf)
     with np.errstate(all="ignore"):
-        for _ in range(NEWTON_STEPS):
-            P[:, len(g.known):] = x.reshape(N, -1, 2)
-            dx = _solve(_jac_u(g, P), -_residual(g, P))
-            x = x + dx
-            step = np.max(np.abs(dx), axis=1)
-            done = step <= step_tol
-            if np.all(done | ~np.isfinite(step)):
+        for it in range(NEWTON_STEPS + 1):
+            P = np.concatenate((Pk[act], x[act].reshape(len(act), -1, 2)), axis=1)
+            F = _residual(g, P)
+            res = np.max(np.abs(np.concatenate((F[:, :len(g.i0)] * inv_len, F[:, len(g.i0):]), axis=1)), axis=1)
+            conv = (res <= RESIDUAL_CONVERGED * g.size) | (step[act] <= NEWTON_TOL * g.size)
+            done[act] = conv & (res <= RESIDUAL_TOL * g.size)
+            keep = ~conv & np.isfinite(res)
+            if it == NEWTON_STEPS or not keep.any():
                 break
-        P[:, len(g.known):] = x.reshape(N, -1, 2)
-        res = np.max(np.abs(_residual(g, P)), axis=1)
-    ok = done & (res <= RESIDUAL_TOL * g.size ** 2)
-    return x, ok
+            act, P, F = act[keep], P[keep], F[keep]
+            dx = _solve(_jac_u(g, P), -F)
+            x[act] += dx
+            step[act] = np.max(np.abs(dx), axis=1)
+    return x, done
 
 
 @dataclass(frozen=True)
