@@ -298,8 +298,8 @@ def reduce(mech, inertias: dict, flywheel: float = 0.0, gravity=(0.0, 0.0), forc
         Phase interval [rad] of q - q0 (as :func:`sim.model._slow_stroke` gives it) where the force acts.
     """
     if len(mech.inputs) != 1:
-        raise ParameterError(f"the {mech.name} has {len(mech.inputs)} inputs; `linkage dynamics` drives "
-                             f"one-input mechanisms only (the two-motor five-bar is not implemented)")
+        raise ParameterError(f"the {mech.name} has {len(mech.inputs)} inputs; the reduced equation of one "
+                             f"coordinate needs one (two cranks: run_two, a motor on each)")
     inp = mech.inputs[0]
     if inp.kind != "crank":
         raise ParameterError(f"the {mech.name}'s input {inp.q} is a slider; a motor drives a crank")
@@ -565,3 +565,119 @@ def size_flywheel(make_reduced, motor, target: float, rtol: float = 1e-10) -> tu
         lo = -60.0
     root = brentq(cs, lo, hi, xtol=1e-10, rtol=1e-10)
     return math.exp(root), cache.get(root) or steady_cycle(make_reduced(math.exp(root)), motor, rtol=rtol)
+
+
+# ------------------------------------------------------------------------------- two inputs, two motors
+@dataclass(frozen=True)
+class Run2:
+    """Two motors on the two inputs (the five-bar): time [s], each input's angle q [rad], speed dq/dt
+    [rad/s] and motor torque along q [N m] (arrays of shape (N, 2)), and per input the mean speed, Cs and
+    start-up time over/against the last full revolution of the first input."""
+
+    t: np.ndarray
+    phi: np.ndarray
+    omega: np.ndarray
+    torque: np.ndarray
+    mean_speed: np.ndarray
+    fluctuation: np.ndarray
+    startup_time: np.ndarray
+    last_revolution: tuple[float, float]
+    revolutions: float
+    q0: np.ndarray
+    direction: np.ndarray
+    dense: OdeSolution = field(repr=False)
+
+
+def mass_matrix(mech, inertias, q, w, direction, armature=(0.0, 0.0), gravity=(0.0, 0.0), force=(0.0, 0.0)):
+    """The two-input reduced terms at one state: M (2x2) [kg m^2], the velocity-product torques h (2,) and
+    the loads' generalized forces Q (2,) [N m], in the inputs' advances u_k = s_k (q_k - q0_k).
+
+    M_ij = sum m dG/du_i . dG/du_j + I dtheta/du_i dtheta/du_j (+ armature on the diagonal);
+    h_i = sum m dG/du_i . a_G|bias + I dtheta/du_i alpha|bias, the bias accelerations at the speeds w with
+    zero input accelerations (``mech.solve(q, qd, 0)``); Q_i = sum m g . dG/du_i + F . dP/du_i."""
+    s = np.asarray(direction, float)
+    qq = np.repeat(np.asarray(q, float)[None, :], 3, axis=0)
+    qd = np.array([[s[0], 0.0], [0.0, s[1]], [s[0] * w[0], s[1] * w[1]]])
+    c = mech.solve(qq, qd, 0.0)
+    origins = mech.link_origins
+    M = np.diag(np.asarray(armature, float))
+    h = np.zeros(2)
+    Q = np.zeros(2)
+    gx, gy = gravity
+    for link, b in inertias.items():
+        vx, vy, ax, ay = _com(c, origins[link], link, b)
+        om, al = c["omega" + link], c["alpha" + link]
+        V = np.array([[vx[0], vy[0]], [vx[1], vy[1]]])
+        M = M + b.m * V @ V.T + b.I * np.outer(om[:2], om[:2])
+        h = h + b.m * V @ np.array([ax[2], ay[2]]) + b.I * om[:2] * al[2]
+        Q = Q + b.m * V @ np.array([gx, gy])
+    p = mech.output_point
+    Q = Q + np.array([force[0] * c["vx" + p][k] + force[1] * c["vy" + p][k] for k in range(2)])
+    return M, h, Q
+
+
+def run_two(mech, inertias: dict, motors, revolutions: float, start_speed=(0.0, 0.0), armature=(0.0, 0.0),
+            gravity=(0.0, 0.0), force=(0.0, 0.0), rtol: float = 1e-11, samples_per_rev: int = 360,
+            stall: bool = True) -> Run2:
+    """Integrate M(u) w' + h(u, w) = tau(w) + Q(u) for two motors on the two inputs of ``mech`` until
+    the first input has turned ``revolutions`` (>= 1). Raises :class:`Stall` if either speed falls to 0
+    after the start (``stall=False``: a speed may pass through zero, e.g. coasting)."""
+    if len(mech.inputs) != 2 or any(i.kind != "crank" for i in mech.inputs):
+        raise ParameterError(f"the {mech.name} is not driven by two cranks; give one --motor")
+    if not (isinstance(revolutions, (int, float)) and math.isfinite(revolutions) and 1 <= revolutions <= 1e4):
+        raise ParameterError(f"--revolutions {revolutions!r} must be a number in [1, 1e4]")
+    s = np.array([1.0 if i.motion.rate >= 0 else -1.0 for i in mech.inputs])
+    q0 = np.array([float(i.motion.q0) for i in mech.inputs])
+    two_pi = 2 * math.pi
+    end, last0 = two_pi * revolutions, two_pi * (revolutions - 1)
+
+    def f(t, y):
+        w = y[2:4]
+        M, h, Q = mass_matrix(mech, inertias, q0 + s * y[:2], w, s, armature, gravity, force)
+        tau = np.array([float(motors[0].torque(w[0])), float(motors[1].torque(w[1]))])
+        acc = np.linalg.solve(M, tau + Q - h)
+        return np.concatenate([w, acc, tau * w])
+
+    def reach(t, y):
+        return y[0] - end
+    reach.terminal, reach.direction = True, 1
+
+    def mark(t, y):
+        return y[0] - last0
+    mark.direction = 1
+
+    def stop0(t, y):
+        return y[2] if t > 0 else 1.0
+    stop0.terminal, stop0.direction = True, -1
+
+    def stop1(t, y):
+        return y[3] if t > 0 else 1.0
+    stop1.terminal, stop1.direction = True, -1
+    W = max(motors[0].free_speed, motors[1].free_speed, max(start_speed), 1.0)
+    atol = [rtol * two_pi] * 2 + [rtol * W] * 2 + [rtol * max(motors[0].stall, motors[1].stall, 1e-300) * two_pi] * 2
+    y0 = [0.0, 0.0, float(start_speed[0]), float(start_speed[1]), 0.0, 0.0]
+    sol = solve_ivp(f, (0.0, 1e3 * end / W + 1e6), y0, method="DOP853", rtol=rtol, atol=atol, dense_output=True,
+                    events=(reach, mark, stop0, stop1) if stall else (reach, mark))
+    for k, ev in ((0, 2), (1, 3)) if stall else ():
+        if sol.t_events[ev].size:
+            u = sol.y_events[ev][0][k]
+            raise Stall(f"the motor on {mech.inputs[k].q} stalls the {mech.name} at "
+                        f"{mech.inputs[k].q}={math.degrees(q0[k] + s[k] * u):.1f}deg (t={sol.t_events[ev][0]:.3g} s): "
+                        f"raise its stall torque")
+    if not sol.t_events[0].size:
+        raise ParameterError(f"the {mech.name} did not complete {revolutions:g} turns ({sol.message})")
+    tb = float(sol.t_events[0][0])
+    ta = float(sol.t_events[1][0]) if last0 > 0 else 0.0
+    n = max(2, int(samples_per_rev * revolutions) + 1)
+    t = np.linspace(0.0, tb, n)
+    Y = sol.sol(t)
+    tt = np.linspace(ta, tb, 4001)
+    Yl = sol.sol(tt)
+    ya, yb = sol.sol(ta), sol.sol(tb)
+    mean = (yb[:2] - ya[:2]) / (tb - ta)
+    cs = (Yl[2:4].max(axis=1) - Yl[2:4].min(axis=1)) / mean
+    up = np.array([float(t[np.argmax(Y[2 + k] >= STARTUP_FRACTION * mean[k])]) for k in range(2)])
+    tau = np.column_stack([motors[0].torque(Y[2]), motors[1].torque(Y[3])])
+    return Run2(t=t, phi=(q0[:, None] + s[:, None] * Y[:2]).T, omega=(s[:, None] * Y[2:4]).T, torque=tau * s,
+                mean_speed=mean, fluctuation=cs, startup_time=up, last_revolution=(ta, tb),
+                revolutions=float(revolutions), q0=q0, direction=s, dense=sol.sol)

@@ -23,9 +23,6 @@ def parse_speed(option: str, text: str) -> float:
 
 def parse_motor(text: str) -> amotor.LinearMotor:
     """``T0,W0``: stall torque [N m], no-load speed [rad/s or rpm]."""
-    if "=" in text:
-        raise ParameterError(f"--motor {text!r}: a motor per input (NAME=T0,W0) is for the two-input five-bar, "
-                             f"which `linkage dynamics` does not drive yet; give --motor T0,W0")
     parts = text.split(",")
     if len(parts) != 2:
         raise ParameterError(f"--motor {text!r} is not T0,W0 (stall torque N m, no-load speed rad/s or rpm; "
@@ -64,10 +61,12 @@ def register(sub, add_common, add_sim_options, add_video_options) -> None:
     p = sub.add_parser("dynamics", help="a motor drives the linkage: speed fluctuation, start-up, flywheel")
     add_common(p, revolutions=10.0)
     add_sim_options(p)
-    p.add_argument("--motor", metavar="T0,W0",
-                   help="linear motor: stall torque [N m], no-load speed [rad/s, or rpm suffix], e.g. 2,150rpm")
+    p.add_argument("--motor", metavar="[NAME=]T0,W0", action="append", default=[],
+                   help="linear motor: stall torque [N m], no-load speed [rad/s, or rpm suffix], e.g. 2,150rpm; "
+                        "a two-crank five-bar takes one per input: --motor phi2=2,150rpm --motor phi4=...")
     p.add_argument("--motor-table", metavar="PATH.csv", help="torque-speed table: header omega,tau (or rpm,tau)")
-    p.add_argument("--flywheel", metavar="J", help="flywheel on the input link [kg m^2] (default 0)")
+    p.add_argument("--flywheel", metavar="[NAME=]J", action="append", default=[],
+                   help="flywheel on the input link [kg m^2] (default 0); per input for two motors")
     p.add_argument("--target-fluctuation", metavar="CS", help="size the flywheel for this Cs, in (0, 1)")
     p.add_argument("--start-speed", metavar="W", default="0", help="input speed at t = 0 [rad/s or rpm] (default 0)")
     p.add_argument("--json", action="store_true", help="print one JSON object")
@@ -89,17 +88,23 @@ def cmd_dynamics(args) -> int:
     check_outputs(args, {"csv": (".csv",), "plot": (".png", ".svg", ".pdf")})
     if args.motor_table and args.csv and args.motor_table == args.csv:
         raise ParameterError(f"--csv {args.csv} is the motor table; choose another output name")
-    mot = parse_motor(args.motor) if args.motor else read_table(args.motor_table)
-    flywheel = expr.parse_value("--flywheel", args.flywheel, angle=False) if args.flywheel is not None else None
-    if flywheel is not None and not flywheel >= 0:
-        raise ParameterError(f"--flywheel {flywheel:g} must be >= 0 [kg m^2] (the flywheel's moment of inertia)")
     target = (expr.parse_value("--target-fluctuation", args.target_fluctuation, angle=False)
               if args.target_fluctuation is not None else None)
-    start = parse_speed("--start-speed", args.start_speed)
     mech = mechanism_from(args)
+    if len(mech.inputs) == 2:
+        return _two_motors(args, mech, target)
     if len(mech.inputs) != 1:
-        raise ParameterError(f"the {mech.name} has {len(mech.inputs)} inputs; `linkage dynamics` drives one-input "
-                             f"mechanisms only (the two-motor five-bar is not implemented)")
+        raise ParameterError(f"the {mech.name} has {len(mech.inputs)} inputs; `linkage dynamics` drives one or two")
+    if len(args.motor) > 1 or len(args.flywheel) > 1:
+        raise ParameterError(f"the {mech.name} has one input: give one --motor and at most one --flywheel")
+    mot = _named(args.motor[0], mech, "--motor")[1] if args.motor else read_table(args.motor_table)
+    mot = parse_motor(mot) if isinstance(mot, str) else mot
+    flywheel = None
+    if args.flywheel:
+        flywheel = expr.parse_value("--flywheel", _named(args.flywheel[0], mech, "--flywheel")[1], angle=False)
+        if not flywheel >= 0:
+            raise ParameterError(f"--flywheel {flywheel:g} must be >= 0 [kg m^2] (the flywheel's moment of inertia)")
+    start = parse_speed("--start-speed", args.start_speed)
     d = smotor.dynamics(mech, loads_from(args, mech), mot, flywheel, target, start, args.revolutions,
                         settings_from(args))
     if args.csv:
@@ -114,6 +119,58 @@ def cmd_dynamics(args) -> int:
         print(dumps(smotor.record(d)))
     else:
         print(summary(d))
+    return 0 if d.passed else 1
+
+
+def _named(text: str, mech, option: str) -> tuple[str, str]:
+    """``NAME=VALUE`` or ``VALUE`` (the first input): (input name, value text); NAME must be an input."""
+    names = [i.q for i in mech.inputs]
+    if "=" not in text:
+        return names[0], text
+    name, value = text.split("=", 1)
+    name = name.strip()
+    if name not in names:
+        raise ParameterError(f"{option} {text!r}: the {mech.name} has no input {name!r}; inputs: {', '.join(names)}")
+    return name, value
+
+
+def _two_motors(args, mech, target) -> int:
+    from . import motor as smotor
+    from .cli import loads_from, settings_from
+    from .jsonout import dumps
+    names = [i.q for i in mech.inputs]
+    if args.motor_table or target is not None or args.plot or args.csv:
+        raise ParameterError(f"the {mech.name} has two inputs: give --motor per input; --motor-table, "
+                             f"--target-fluctuation, --plot and --csv drive one input only")
+    motors = {}
+    for text in args.motor:
+        if "=" not in text:
+            raise ParameterError(f"--motor {text!r}: the {mech.name} has two inputs; name each: "
+                                 f"--motor {names[0]}=T0,W0 --motor {names[1]}=T0,W0")
+        name, value = _named(text, mech, "--motor")
+        motors[name] = parse_motor(value)
+    missing = [n for n in names if n not in motors]
+    if missing:
+        raise ParameterError(f"--motor: no motor for {', '.join(missing)}; give --motor NAME=T0,W0 for each of "
+                             f"{', '.join(names)}")
+    fly = dict.fromkeys(names, 0.0)
+    for text in args.flywheel:
+        if "=" not in text:
+            raise ParameterError(f"--flywheel {text!r}: name the input (--flywheel {names[0]}=J)")
+        name, value = _named(text, mech, "--flywheel")
+        fly[name] = expr.parse_value("--flywheel", value, angle=False)
+    start = parse_speed("--start-speed", args.start_speed)
+    d = smotor.dynamics_two(mech, loads_from(args, mech), tuple(motors[n] for n in names),
+                            tuple(fly[n] for n in names), (start, start), args.revolutions, settings_from(args))
+    if args.json:
+        print(dumps(smotor.record_two(d)))
+    else:
+        r, s = d.run, d.sim
+        print(f"{mech.name} driven by two motors, {r.revolutions:g} revolutions of {names[0]}")
+        for k, n in enumerate(names):
+            print(f"  {n}: mean speed {r.mean_speed[k]:.6g} rad/s (MuJoCo {s['mean_speed'][k]:.6g}), Cs "
+                  f"{r.fluctuation[k]:.6g} (MuJoCo {s['fluctuation'][k]:.6g}), start-up {r.startup_time[k]:.4g} s")
+        print("PASS" if d.passed else "FAIL")
     return 0 if d.passed else 1
 
 

@@ -359,3 +359,171 @@ def record(d: Dynamics) -> dict:
                             "passed": d.agreement.passed}
     out["passed"] = d.passed
     return out
+
+
+# ------------------------------------------------------------------------------- two inputs, two motors
+def build_two(mech, loads, motors, run2, armature=(0.0, 0.0), settings=M.Settings()):
+    """The five-bar's model with both drives made motors (see :func:`build`); the step from the faster
+    input's peak speed."""
+    if settings.timestep is None:
+        rate = max(abs(i.motion.rate) for i in mech.inputs) or 1.0
+        w_max = float(np.max(np.abs(run2.omega)))
+        h = M.choose_timestep(mech) * rate / max(w_max, 1e-9)
+        settings = replace(settings, timestep=min(max(h, M.MIN_TIMESTEP), M.MAX_TIMESTEP))
+    built = M.build(mech, settings, loads)
+    for d, a in zip(built.drives, armature):
+        built.model.dof_armature[built.model.jnt_dofadr[built.model.joint(d.joint).id]] = a
+    return built
+
+
+def simulate_two(built, run2, motors, revolutions: float, start_speed=(0.0, 0.0)) -> dict:
+    """Both motors driving, from the reduced equation's initial state; the first input's last revolution
+    is landed on as in :func:`simulate`. Returns t, phi (N, 2), omega (N, 2), mean_speed (2,), fluctuation (2,)."""
+    model, mech = built.model, built.mech
+    s, q0 = run2.direction, run2.q0
+    drives = built.drives
+    jid = [model.joint(d.joint).id for d in drives]
+    qadr = [model.jnt_qposadr[j] for j in jid]
+    vadr = [model.jnt_dofadr[j] for j in jid]
+    data = mujoco.MjData(model)
+    data.qpos[:] = built.qpos0
+    qvel = _initial_qvel(built, s * np.asarray(start_speed, float))
+    data.qvel[:] = qvel
+    data.act[:] = 0.0
+    for d in drives:
+        data.act[model.actuator(d.actuator).actadr[0]] = 1.0
+    data.ctrl[:] = 0.0
+    data.ctrl[model.actuator("load").id] = 1.0
+    h = built.timestep
+    two_pi = 2 * math.pi
+    end, last0 = two_pi * revolutions, two_pi * (revolutions - 1)
+    marks = [m for m in (last0, end) if m > 0]
+    mi, mark_t = 0, {}
+    T, U, W = [], [], []
+    while mi < len(marks):
+        u = np.array([s[k] * (data.qpos[qadr[k]] + drives[k].q_offset - q0[k]) for k in range(2)])
+        w = np.array([s[k] * data.qvel[vadr[k]] for k in range(2)])
+        for k, d in enumerate(drives):
+            _set_motor(model, d, motors[k], s[k], w[k])
+        mujoco.mj_forward(model, data)
+        T.append(data.time)
+        U.append(u)
+        W.append(w)
+        alpha = s[0] * data.qacc[vadr[0]]
+        gap = marks[mi] - u[0]
+        if gap <= 1e-12 * (1 + abs(u[0])):
+            mark_t[mi] = data.time
+            mi += 1
+            if mi == len(marks):
+                break
+            gap = marks[mi] - u[0]
+        dt = h
+        if w[0] * h + 0.5 * alpha * h * h >= gap:
+            disc = w[0] * w[0] + 2 * alpha * gap
+            dt = (2 * gap / (w[0] + math.sqrt(disc))) if disc >= 0 and w[0] + math.sqrt(max(disc, 0)) > 0 else h
+            dt = min(max(dt, 1e-3 * h), h)
+        model.opt.timestep = dt
+        mujoco.mj_step(model, data)
+        model.opt.timestep = h
+        if len(T) > 20_000_000 or not np.all(np.isfinite(data.qvel)):
+            raise ParameterError(f"the {mech.name} two-motor run diverged at t={data.time:.4g} s")
+    t, u, w = np.array(T), np.array(U), np.array(W)
+    ta = mark_t[0] if len(marks) == 2 else 0.0
+    tb = mark_t[len(marks) - 1]
+    ka, kb = (int(np.argmin(np.abs(t - ta))) if len(marks) == 2 else 0), len(t) - 1
+    ta -= (u[ka, 0] - last0) / w[ka, 0] if len(marks) == 2 else 0.0
+    tb -= (u[kb, 0] - end) / w[kb, 0]
+    # input 2's advance over the same interval, at the corrected ends (first-order by its speed)
+    u2a = u[ka, 1] + w[ka, 1] * (ta - t[ka])
+    u2b = u[kb, 1] + w[kb, 1] * (tb - t[kb])
+    mean = np.array([(end - last0) / (tb - ta), (u2b - u2a) / (tb - ta)])
+    sel = np.flatnonzero((t >= t[ka]) & (t <= t[kb]))
+    cs = np.array([(_extreme(t, w[:, k], sel, 1.0) - _extreme(t, w[:, k], sel, -1.0)) / mean[k] for k in range(2)])
+    return {"t": t, "phi": q0 + s * u, "omega": s * w, "mean_speed": mean, "fluctuation": cs}
+
+
+def _initial_qvel(built, qd):
+    """Joint velocities of the model at its start pose for input speeds ``qd`` (2,): the home state's
+    velocities are those of the motion law's speeds; the loop-closing velocities are linear in the input
+    speeds, so they are solved from the tree's constraint Jacobian with the inputs' joints held at qd."""
+    model = built.model
+    data = mujoco.MjData(model)
+    data.qpos[:] = built.qpos0
+    mujoco.mj_forward(model, data)
+    nv = model.nv
+    drives = built.drives
+    fixed = [model.jnt_dofadr[model.joint(d.joint).id] for d in drives]
+    free = [i for i in range(nv) if i not in fixed]
+    Jc = np.zeros((0, nv))
+    for lp in built.loops:
+        ja, jb = np.zeros((3, nv)), np.zeros((3, nv))
+        mujoco.mj_jacSite(model, data, ja, None, model.site(lp.site1).id)
+        mujoco.mj_jacSite(model, data, jb, None, model.site(lp.site2).id)
+        Jc = np.vstack([Jc, (ja - jb)[:2]])
+    v = np.zeros(nv)
+    v[fixed] = qd
+    if free:
+        rhs = -Jc[:, fixed] @ np.asarray(qd, float)
+        v[free] = np.linalg.lstsq(Jc[:, free], rhs, rcond=None)[0]
+    return v
+
+
+@dataclass(frozen=True)
+class Dynamics2:
+    """Both answers for two motors: the reduced equation's run, MuJoCo's run (a dict) and the verdict
+    (each input's mean speed within SPEED_TOL relative, Cs within CS_TOL, speed against time within
+    TIME_TOL of its mean)."""
+
+    mech: object
+    motors: tuple
+    flywheel: tuple
+    run: amotor.Run2
+    sim: dict
+    differences: dict
+    passed: bool
+
+
+def dynamics_two(mech, loads, motors, flywheel=(0.0, 0.0), start_speed=(0.0, 0.0), revolutions: float = 10.0,
+                 settings=M.Settings()) -> Dynamics2:
+    """Two motors on the five-bar's two cranks: the 2x2 reduced equation and MuJoCo."""
+    if loads.slow_stroke_only:
+        raise ParameterError("--cutting-force acts on the slow stroke of one crank; with two motors give --force")
+    for k, J in enumerate(flywheel):
+        if not (math.isfinite(J) and J >= 0):
+            raise ParameterError(f"--flywheel {mech.inputs[k].q}={J!r} must be a finite number >= 0 [kg m^2]")
+    b0 = M.build(mech, settings, loads)
+    inertias = M.body_inertias(b0.model, mech.links)
+    gravity = tuple(float(x) for x in b0.model.opt.gravity[:2]) if loads.gravity is not None else (0.0, 0.0)
+    force = tuple(float(x) for x in b0.model.actuator("load").gear[:2])
+    r = amotor.run_two(mech, inertias, motors, revolutions, start_speed, flywheel, gravity, force)
+    built = build_two(mech, loads, motors, r, flywheel, settings)
+    s = simulate_two(built, r, motors, revolutions, start_speed)
+    ds = np.abs(s["mean_speed"] / r.mean_speed - 1)
+    dc = np.abs(s["fluctuation"] - r.fluctuation)
+    keep = s["t"] <= r.last_revolution[1]
+    y = r.dense(s["t"][keep])
+    dt = np.max(np.abs(r.direction[:, None] * y[2:4] - s["omega"][keep].T), axis=1) / np.abs(r.mean_speed)
+    diffs = {"mean_speed": ds, "fluctuation": dc, "speed_vs_time": dt}
+    passed = bool(np.all(ds <= SPEED_TOL) and np.all(dc <= CS_TOL) and np.all(dt <= TIME_TOL))
+    return Dynamics2(mech, tuple(motors), tuple(flywheel), r, s, diffs, passed)
+
+
+def record_two(d: Dynamics2) -> dict:
+    """The JSON object for two motors: every per-input field keyed by the input's name (phi2, phi4)."""
+    names = [i.q for i in d.mech.inputs]
+    r, s = d.run, d.sim
+
+    def per(x):
+        x = np.asarray(x)
+        return {n: (float(x[k]) if x.ndim == 1 else x[..., k]) for k, n in enumerate(names)}
+    return {"mechanism": d.mech.name, "inputs": names,
+            "motor": {n: {"T0": m.T0, "W0": m.W0} for n, m in zip(names, d.motors)},
+            "t": r.t, "phi": per(r.phi), "omega": per(r.omega), "torque": per(r.torque),
+            "flywheel": dict(zip(names, d.flywheel)), "mean_speed": per(r.mean_speed),
+            "fluctuation": per(r.fluctuation), "startup_time": per(r.startup_time), "revolutions": r.revolutions,
+            "simulated": {"t": s["t"], "phi": per(s["phi"]), "omega": per(s["omega"]),
+                          "mean_speed": per(s["mean_speed"]), "fluctuation": per(s["fluctuation"]),
+                          "differences": {k: per(v) for k, v in d.differences.items()},
+                          "tolerances": {"mean_speed": SPEED_TOL, "fluctuation": CS_TOL, "speed_vs_time": TIME_TOL},
+                          "passed": d.passed},
+            "passed": d.passed}

@@ -149,7 +149,11 @@ def test_cli_table_errors(tmp_path, capsys):
     err = capsys.readouterr().err
     assert rc == 2 and "row 3" in err
     rc = main(["dynamics", "fivebar", "--motor", "phi2=1,20"])
-    assert rc == 2 and "five-bar" in capsys.readouterr().err
+    assert rc == 2 and "no motor for phi4" in capsys.readouterr().err
+    rc = main(["dynamics", "fivebar", "--motor", "1,20", "--motor", "phi4=1,20"])
+    assert rc == 2 and "name each" in capsys.readouterr().err
+    rc = main(["dynamics", "fivebar", "--motor", "phi2=1,20", "--motor", "phi9=1,20"])
+    assert rc == 2 and "no input 'phi9'" in capsys.readouterr().err
 
 
 def test_cli_plot_sheet(tmp_path, capsys):
@@ -162,3 +166,17 @@ def test_cli_plot_sheet(tmp_path, capsys):
     assert img.shape[0] > 500 and img.shape[1] > 500
     assert np.ptp(img[..., :3]) > 0.5          # not blank: dark curves and text on white
     assert not list(tmp_path.glob(".dyn.*"))    # no temporary file left behind
+
+
+def test_two_motors_on_the_fivebar_both_answers(capsys):
+    rc = main(["dynamics", "fivebar", "--motor", "phi2=1,20", "--motor", "phi4=0.8,15", "--flywheel", "phi2=0.001",
+               "--gravity", "0,-9.81", "--revolutions", "3", "--json"])
+    out = json.loads(capsys.readouterr().out)
+    assert rc == 0 and out["passed"] and out["simulated"]["passed"]
+    for n in ("phi2", "phi4"):
+        # the bounds for each input
+        assert abs(out["simulated"]["mean_speed"][n] / out["mean_speed"][n] - 1) <= sm.SPEED_TOL
+        assert abs(out["simulated"]["fluctuation"][n] - out["fluctuation"][n]) <= sm.CS_TOL
+    assert out["flywheel"] == {"phi2": 0.001, "phi4": 0.0}
+    # two different motors: two different steady speeds, each below its no-load speed on average
+    assert out["mean_speed"]["phi4"] < 15.0 and abs(out["mean_speed"]["phi2"] - out["mean_speed"]["phi4"]) > 0.5
