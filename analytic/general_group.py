@@ -14,7 +14,8 @@ Only the base-length rows are nonlinear. A group has as many equations as unknow
 Positions: a sequential continuation over a coarse grid of the samples (Newton from the previous node, the
 first node from the pose) holds the branch by continuity; then every sample is solved at once by batched
 Newton (``np.linalg.solve`` on ``(N, n, n)`` stacks) from the coarse solution interpolated linearly in the
-sample index. The samples are therefore taken to be a path (a motion in time), as every command produces.
+sample index (for long runs through a batched middle level of every 64th sample first, from which one
+Newton step per sample reaches rounding). The samples are therefore taken to be a path (a motion in time), as every command produces.
 
 Branch: the sign of ``det(J_u)``, the Jacobian of the equations in the unknown coordinates (for a dyad this
 is the side of ``P -> Q`` that ``C`` lies on, the ``branch`` of ``RRR``). It changes only through a singular
@@ -40,6 +41,7 @@ NEWTON_STEPS = 12          # most Newton steps per sample: from an interpolated 
 NEWTON_TOL = 1e-13         # converged when the largest step is below this fraction of the group's size
 RESIDUAL_CONVERGED = 2e-15  # residual at rounding level [fraction of size]: a few eps of the coordinates
 RESIDUAL_TOL = 1e-10       # a converged sample whose residual exceeds this fraction of size is refused
+REFINE = 64                # samples per node of the batched middle level (when N > REFINE * coarse)
 BLOCK = 32768              # samples per batched block (bounds the (N, n, n) Jacobians' memory)
 
 
@@ -67,8 +69,8 @@ class GeneralGroup:
         The largest distance between two points of the pose [m] (the scale of the tolerances).
     pose : ndarray, shape (n_points, 2)
         The assembled pose, points in the order ``known + unknown`` [m].
-    sel, lin : ndarray
-        The Jacobian's fixed parts (see :func:`_structure`).
+    lin : ndarray, shape (2 E, n)
+        The Jacobian's constant rows (see :func:`_structure`).
     """
 
     known: tuple
@@ -85,7 +87,6 @@ class GeneralGroup:
     branch: int
     size: float
     pose: np.ndarray
-    sel: np.ndarray
     lin: np.ndarray
 
     @property
@@ -168,15 +169,15 @@ def make_group(links: Mapping[str, Sequence[str]], known: Sequence[str], unknown
     ia = lambda v: np.asarray(v, dtype=np.intp)  # noqa: E731
     fa = lambda v: np.asarray(v, dtype=float)    # noqa: E731
     arrays = (fa(L2), ia(i0), ia(i1), ia(ek), ia(e0), ia(e1), fa(al), fa(be))
-    sel, lin = _structure(len(known), 2 * len(unknown), *arrays[1:])
-    g = GeneralGroup(known, unknown, tuple(link_list), *arrays, 1, size, P, sel, lin)
+    lin = _structure(len(known), 2 * len(unknown), *arrays[3:])
+    g = GeneralGroup(known, unknown, tuple(link_list), *arrays, 1, size, P, lin)
     J = _jac_u(g, P[None])[0]
     det = np.linalg.det(J / size ** (len(i0) / g.n))
     cond = np.linalg.cond(J) if np.isfinite(det) and det != 0.0 else np.inf
     if not np.isfinite(cond) or cond > 1e12:  # 1e12: beyond this a Newton step loses 12 of 16 digits
         raise ParameterError(f"{where}: the pose is singular for links {[n for n, _ in link_list]} "
                              "(a locked or underconstrained group); give another pose or other links")
-    return GeneralGroup(known, unknown, tuple(link_list), *arrays, 1 if det > 0 else -1, size, P, sel, lin)
+    return GeneralGroup(known, unknown, tuple(link_list), *arrays, 1 if det > 0 else -1, size, P, lin)
 
 
 def _perp(d):
@@ -210,14 +211,8 @@ def _jdot_v(g: GeneralGroup, V):
     return out
 
 
-def _structure(nk, n, i0, i1, ek, e0, e1, alpha, beta):
-    """The Jacobian's fixed parts in the unknown coordinates: the base-length rows' selector S, shape
-    (L, 2, n) (row l is ``d_l . S_l``), and the linear rows, shape (2 E, n), which are constant."""
-    sel = np.zeros((len(i0), 2, n))
-    for row, (a, b) in enumerate(zip(i0, i1)):
-        for idx, sign in ((b, 1.0), (a, -1.0)):
-            if idx >= nk:
-                sel[row, :, 2 * (idx - nk):2 * (idx - nk) + 2] += sign * np.eye(2)
+def _structure(nk, n, ek, e0, e1, alpha, beta):
+    """The Jacobian's linear rows in the unknown coordinates, shape (2 E, n), which are constant."""
     lin = np.zeros((2 * len(ek), n))
     eye = np.eye(2)
     perp = np.array([[0.0, -1.0], [1.0, 0.0]])
@@ -226,18 +221,28 @@ def _structure(nk, n, i0, i1, ek, e0, e1, alpha, beta):
         for idx, M in ((k, eye), (a, -eye - M1), (b, M1)):
             if idx >= nk:
                 lin[2 * e:2 * e + 2, 2 * (idx - nk):2 * (idx - nk) + 2] += M
-    return sel, lin
+    return lin
 
 
 def _jac_u(g: GeneralGroup, P):
-    """J_u: the equations' Jacobian in the unknown coordinates, (N, n, n)."""
-    N, nq = len(P), len(g.i0)
-    J = np.empty((N, g.n, g.n))
-    d = P[:, g.i1] - P[:, g.i0]
-    J[:, :nq] = d[:, :, 0, None] * g.sel[:, 0]
-    J[:, :nq] += d[:, :, 1, None] * g.sel[:, 1]
-    J[:, nq:] = g.lin
-    return J
+    """J_u: the equations' Jacobian in the unknown coordinates, (N, n, n).
+
+    Built entry by entry in an (n, n, N) array (each entry a contiguous run over the samples) and returned
+    as its (N, n, n) view, which ``np.linalg.solve`` reads through its strides.
+    """
+    nk, nq = len(g.known), len(g.i0)
+    J = np.empty((g.n, g.n, len(P)))
+    J[nq:] = g.lin[:, :, None]
+    J[:nq] = 0.0
+    for row, (a, b) in enumerate(zip(g.i0, g.i1)):
+        dx, dy = P[:, b, 0] - P[:, a, 0], P[:, b, 1] - P[:, a, 1]
+        if b >= nk:
+            J[row, 2 * (b - nk)] += dx
+            J[row, 2 * (b - nk) + 1] += dy
+        if a >= nk:
+            J[row, 2 * (a - nk)] -= dx
+            J[row, 2 * (a - nk) + 1] -= dy
+    return J.transpose(2, 0, 1)
 
 
 def _solve(J, rhs):
@@ -323,6 +328,32 @@ def _coarse_path(g: GeneralGroup, Pk, nodes):
     return xs, good
 
 
+def _from_nodes(g: GeneralGroup, Pk, nodes, xs, good, idx):
+    """Batched Newton at the sample indices idx from the solution xs at the nodes (sorted sample indices),
+    interpolated linearly in the sample index; NaN and False where it fails or jumps."""
+    nk = len(g.known)
+    # the largest second difference of the node path next to each interval (zero for fewer than 3 nodes)
+    dd = np.zeros(len(nodes) + 1)
+    if len(nodes) >= 3:
+        dd[1:-2] = np.nan_to_num(np.max(np.abs(xs[2:] - 2 * xs[1:-1] + xs[:-2]), axis=1), nan=0.0)
+    bend = np.maximum.reduce([dd[:-1], dd[1:], np.r_[dd[2:], 0.0]])
+    j = np.clip(np.searchsorted(nodes, idx, side="right") - 1, 0, max(len(nodes) - 2, 0))
+    j1 = np.minimum(j + 1, len(nodes) - 1)
+    span = np.maximum(nodes[j1] - nodes[j], 1)
+    t = ((idx - nodes[j]) / span)[:, None]
+    usable = good[j] & good[j1]
+    with np.errstate(all="ignore"):
+        x0 = (1.0 - t) * xs[j] + t * xs[j1]
+        hop = np.max(np.abs(xs[j1] - xs[j]), axis=1)
+        x, ok = _newton(g, Pk[idx], np.where(usable[:, None], x0, g.pose[nk:].ravel()))
+        # a jump: farther from the interpolated start than the two nodes are apart plus the nodes' second
+        # difference (a smooth path leaves the chord by about 1/8 of it, also where it turns back);
+        # 1e-9 of size: rounding where the nodes coincide
+        ok &= usable & (np.max(np.abs(x - x0), axis=1) <= hop + bend[j] + 1e-9 * g.size)
+    x[~ok] = np.nan
+    return x, ok
+
+
 def solve_group(g: GeneralGroup, known: Mapping[str, Sequence[np.ndarray]], *, coarse: int = 512) -> GroupSolution:
     """Positions, velocities and accelerations of the group's unknown points over N samples.
 
@@ -347,31 +378,18 @@ def solve_group(g: GeneralGroup, known: Mapping[str, Sequence[np.ndarray]], *, c
             K[c // 2, :, j, c % 2] = a[c]
     nodes = np.unique(np.r_[np.linspace(0, N - 1, min(N, coarse)).round().astype(np.intp), N - 1])
     xs, good = _coarse_path(g, K[0], nodes)
+    if N > REFINE * len(nodes):
+        # a batched middle level: from it the interpolation is close enough for one Newton step per sample
+        mid = np.unique(np.r_[np.arange(0, N, REFINE), N - 1])
+        xs, good = _from_nodes(g, K[0], nodes, xs, good, mid)
+        nodes = mid
     nk, nu = len(g.known), len(g.unknown)
     out = np.full((3, N, nu, 2), np.nan)
     assembled = np.zeros(N, dtype=bool)
-    # the largest second difference of the coarse path next to each interval (zero for fewer than 3 nodes)
-    dd = np.zeros(len(nodes) + 1)
-    if len(nodes) >= 3:
-        dd[1:-2] = np.nan_to_num(np.max(np.abs(xs[2:] - 2 * xs[1:-1] + xs[:-2]), axis=1), nan=0.0)
-    bend = np.maximum.reduce([dd[:-1], dd[1:], np.r_[dd[2:], 0.0]])
     for s in range(0, N, BLOCK):
         idx = np.arange(s, min(N, s + BLOCK))
-        # the coarse interval of each sample and the linear interpolation in the sample index
-        j = np.clip(np.searchsorted(nodes, idx, side="right") - 1, 0, max(len(nodes) - 2, 0))
-        j1 = np.minimum(j + 1, len(nodes) - 1)
-        span = np.maximum(nodes[j1] - nodes[j], 1)
-        t = ((idx - nodes[j]) / span)[:, None]
-        x0 = (1.0 - t) * xs[j] + t * xs[j1]
-        hop = np.max(np.abs(xs[j1] - xs[j]), axis=1)
-        usable = good[j] & good[j1]
+        x, ok = _from_nodes(g, K[0], nodes, xs, good, idx)
         with np.errstate(all="ignore"):
-            x, ok = _newton(g, K[0, idx], np.where(usable[:, None], x0, g.pose[nk:].ravel()))
-            # a jump: farther from the interpolated start than the two nodes are apart plus the nodes'
-            # second difference (a smooth path leaves the chord by about 1/8 of it, also where it turns
-            # back); 1e-9 of size: rounding where the nodes coincide
-            ok &= usable & (np.max(np.abs(x - x0), axis=1) <= hop + bend[j] + 1e-9 * g.size)
-            x[~ok] = np.nan
             P = np.concatenate((K[0, idx], x.reshape(-1, nu, 2)), axis=1)
             Ju = _jac_u(g, P)
             V = np.concatenate((K[1, idx], np.zeros((len(idx), nu, 2))), axis=1)
@@ -391,12 +409,16 @@ def solve_group(g: GeneralGroup, known: Mapping[str, Sequence[np.ndarray]], *, c
 
 def _link_rates(g: GeneralGroup, K, out):
     """Each link's (cos, sin, omega, alpha) from its base pair's positions and rates."""
-    allp = np.concatenate((K, out), axis=2)                  # (3, N, n_points, 2)
+    nk = len(g.known)
+
+    def at(i, k):
+        return K[k, :, i] if i < nk else out[k, :, i - nk]
+
     links = {}
     for (name, _), a, b in zip(g.links, g.i0, g.i1):
-        d, dv, da = (allp[k, :, b] - allp[k, :, a] for k in range(3))
-        L2 = np.sum(d * d, axis=1)
+        d, dv, da = (at(b, k) - at(a, k) for k in range(3))
+        dx, dy = d[:, 0], d[:, 1]
+        L2 = dx * dx + dy * dy
         L = np.sqrt(L2)
-        links[name] = (d[:, 0] / L, d[:, 1] / L, (d[:, 0] * dv[:, 1] - d[:, 1] * dv[:, 0]) / L2,
-                       (d[:, 0] * da[:, 1] - d[:, 1] * da[:, 0]) / L2)
+        links[name] = (dx / L, dy / L, (dx * dv[:, 1] - dy * dv[:, 0]) / L2, (dx * da[:, 1] - dy * da[:, 0]) / L2)
     return links

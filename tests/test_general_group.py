@@ -191,3 +191,15 @@ def test_bad_groups_are_refused_with_one_line():
         make_group(LINKS, ("A", "O1", "O2"), ("D", "E", "F"), {k: v for k, v in POSE.items() if k != "F"})
     with pytest.raises(ParameterError, match="singular"):  # a dyad pose with C on the line P -> Q
         make_group({"2": ("P", "C"), "3": ("Q", "C")}, ("P", "Q"), ("C",), dict(P=(0, 0), Q=(3, 0), C=(1, 0)))
+
+
+def test_a_long_run_through_the_middle_level_matches_the_oracle():
+    q = Q0 + np.linspace(0.0, 0.8, 20001)       # 20001 > 64 * 40 samples: the batched middle level runs
+    g = _group(BRANCHES["pose"])
+    sol = solve_group(g, _known(q), coarse=40)
+    assert sol.assembled.all()
+    pick = np.arange(0, len(q), 997)
+    ref = _oracle(q[pick], BRANCHES["pose"])
+    got = np.stack([sol.points[p][k][pick] for p in "DEF" for k in (0, 1)], axis=1)
+    # 1e-12 of size: both converge to rounding (about 1e-15 of size)
+    assert np.max(np.abs(got - ref)) <= 1e-12 * g.size
