@@ -11,6 +11,8 @@ import json
 import math
 import os
 import sys
+import threading
+import warnings
 
 import numpy as np
 
@@ -512,7 +514,30 @@ def _all_actions(parser):
                 yield from _all_actions(sub)
 
 
+class Terminated(BaseException):
+    """SIGTERM, raised in the main thread so that partial outputs are removed on the way out."""
+
+
+def _on_sigterm(signum, frame):
+    raise Terminated()
+
+
 def main(argv: list[str] | None = None) -> int:
+    import signal
+    main_thread = threading.current_thread() is threading.main_thread()
+    previous = signal.signal(signal.SIGTERM, _on_sigterm) if main_thread else None
+    try:
+        with warnings.catch_warnings():
+            # numpy's RuntimeWarnings (sqrt of a negative, 0/0) mark poses where a group does not assemble;
+            # the solver flags those samples itself (Solution.valid) and every command reports them in words
+            warnings.simplefilter("ignore", RuntimeWarning)
+            return _main(argv)
+    finally:
+        if main_thread:
+            signal.signal(signal.SIGTERM, previous)
+
+
+def _main(argv: list[str] | None) -> int:
     try:
         parser = make_parser()
         argv = _join_negative_values(parser, list(sys.argv[1:] if argv is None else argv))
@@ -524,6 +549,9 @@ def main(argv: list[str] | None = None) -> int:
     except KeyboardInterrupt:
         print("linkage: interrupted", file=sys.stderr)
         return 130
+    except Terminated:
+        print("linkage: terminated", file=sys.stderr)
+        return 143
     except BrokenPipeError:
         # the reader went away (e.g. | head): stop quietly, and keep Python from complaining at exit
         devnull = os.open(os.devnull, os.O_WRONLY)
