@@ -311,10 +311,9 @@ class GroupSolution:
     branch: int
 
 
-def _coarse_path(g: GeneralGroup, Pk, nodes):
-    """Sequential continuation over the coarse nodes: x at each node, and whether it holds the branch."""
-    nk = len(g.known)
-    x = g.pose[nk:].reshape(1, -1)
+def _coarse_path(g: GeneralGroup, Pk, nodes, x):
+    """Sequential continuation over the coarse nodes from x (1, n) near the first: x at each node, and
+    whether it holds the branch."""
     xs = np.full((len(nodes), g.n), np.nan)
     good = np.zeros(len(nodes), dtype=bool)
     with np.errstate(all="ignore"):
@@ -354,7 +353,8 @@ def _from_nodes(g: GeneralGroup, Pk, nodes, xs, good, idx):
     return x, ok
 
 
-def solve_group(g: GeneralGroup, known: Mapping[str, Sequence[np.ndarray]], *, coarse: int = 512) -> GroupSolution:
+def solve_group(g: GeneralGroup, known: Mapping[str, Sequence[np.ndarray]], *, coarse: int = 512,
+                start: Mapping[str, Sequence[float]] | None = None) -> GroupSolution:
     """Positions, velocities and accelerations of the group's unknown points over N samples.
 
     Parameters
@@ -365,6 +365,9 @@ def solve_group(g: GeneralGroup, known: Mapping[str, Sequence[np.ndarray]], *, c
         Each known point's arrays, each shape (N,) (or scalars for a fixed point) [m, m/s, m/s^2].
     coarse : int
         The number of nodes of the sequential continuation (every sample when N <= coarse).
+    start : mapping of str to (x, y), optional
+        The unknown points near the first sample [m], on the group's branch: the previous run's last
+        sample when a long motion is solved in blocks (default: the group's pose).
 
     Returns
     -------
@@ -377,7 +380,11 @@ def solve_group(g: GeneralGroup, known: Mapping[str, Sequence[np.ndarray]], *, c
         for c in range(6):
             K[c // 2, :, j, c % 2] = a[c]
     nodes = np.unique(np.r_[np.linspace(0, N - 1, min(N, coarse)).round().astype(np.intp), N - 1])
-    xs, good = _coarse_path(g, K[0], nodes)
+    if start is None:
+        x_first = g.pose[len(g.known):].reshape(1, -1)
+    else:
+        x_first = np.array([[float(c) for p in g.unknown for c in start[p][:2]]])
+    xs, good = _coarse_path(g, K[0], nodes, x_first)
     if N > REFINE * len(nodes):
         # a batched middle level: from it the interpolation is close enough for one Newton step per sample
         mid = np.unique(np.r_[np.arange(0, N, REFINE), N - 1])

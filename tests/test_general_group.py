@@ -203,3 +203,16 @@ def test_a_long_run_through_the_middle_level_matches_the_oracle():
     got = np.stack([sol.points[p][k][pick] for p in "DEF" for k in (0, 1)], axis=1)
     # 1e-12 of size: both converge to rounding (about 1e-15 of size)
     assert np.max(np.abs(got - ref)) <= 1e-12 * g.size
+
+
+def test_a_motion_solved_in_two_blocks_continues_from_the_first_blocks_end():
+    g = _group(BRANCHES["pose"])
+    whole = solve_group(g, _known(Q), coarse=40)
+    first = solve_group(g, _known(Q[:80]), coarse=40)
+    end = {p: (first.points[p][0][-1], first.points[p][1][-1]) for p in "DEF"}
+    second = solve_group(g, _known(Q[79:]), coarse=40, start=end)
+    for p in "DEF":
+        for k in range(6):
+            # 1e-12 of size (and of peak rates): two Newton runs to rounding from different starts
+            scale = g.size if k < 2 else np.max(np.abs(whole.points[p][k]))
+            assert np.max(np.abs(second.points[p][k] - whole.points[p][k][79:])) <= 1e-12 * scale
