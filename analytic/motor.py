@@ -23,6 +23,11 @@ side is smooth for the high-order integrator. The grid is refined until the inte
 form at every midpoint, and J's derivative matches the closed-form J' at every node, to INTERP_TOL. The equation is
 integrated by scipy's ``solve_ivp`` (DOP853, tight tolerances, dense output) in segments that end where
 the load switches, at the start of the last revolution and at the end of the run.
+
+Two cranks with a motor each (the five-bar): M(q) q'' + h(q, q') = tau(q') + Q(q) with the 2x2 reduced
+mass matrix M_ij = sum m dG/du_i . dG/du_j + I dtheta/du_i dtheta/du_j and h the velocity-product
+torques from the solver's accelerations at the current speeds with zero input accelerations
+(:func:`mass_matrix`, :func:`run_two`), evaluated in closed form at every step (no grid on the torus).
 """
 
 from __future__ import annotations
@@ -36,8 +41,8 @@ from scipy.integrate import OdeSolution, solve_ivp
 from ._common import ParameterError
 from .torque import _com
 
-__all__ = ["LinearMotor", "TableMotor", "Coast", "Reduced", "Run", "reduce", "run", "steady_cycle", "size_flywheel",
-           "STARTUP_FRACTION"]
+__all__ = ["LinearMotor", "TableMotor", "Coast", "Reduced", "Run", "Run2", "Stall", "reduce", "run", "steady_cycle",
+           "size_flywheel", "mass_matrix", "run_two", "STARTUP_FRACTION"]
 
 STARTUP_FRACTION = 0.95
 """The start-up time is when the speed first reaches this fraction of the steady mean speed (SPEC)."""

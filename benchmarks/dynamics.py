@@ -1,6 +1,6 @@
 """A motor drives random designs: MuJoCo against the reduced equation of motion (issue 18).
 
-Run:  python benchmarks/dynamics.py [--count N] [--seed S] [--revolutions R] [--energy K]
+Run:  python benchmarks/dynamics.py [--count N] [--seed S] [--revolutions R] [--energy K] [--two K] [--verbose]
 
 Designs are drawn as benchmarks/trust.py draws them (every one-input crank mechanism of the library,
 size 5 mm .. 5 m, lengths +-20 %, random phases and branches; no accelerating crank: the motor sets the
@@ -22,6 +22,7 @@ here independently of sim/motor.py's verdict (reported alongside):
 Prints the worst and median differences (also speed against angle over the last revolution, of the mean
 speed), the pass rate per mechanism and refusals by reason. ``--energy K``: K designs coast (no motor,
 no loads) for 100 revolutions from their drawn speed: the drift of the kinetic energy in each answer.
+``--two K``: K two-crank designs (fivebar, two_crank_five_bar) with a motor on each crank, judged per input.
 """
 
 from __future__ import annotations
@@ -108,6 +109,7 @@ def main(argv=None) -> int:
     ap.add_argument("--revolutions", type=float, default=4.0)
     ap.add_argument("--energy", type=int, default=0, help="designs to coast 100 revolutions (default 0)")
     ap.add_argument("--verbose", action="store_true", help="one line per attempt")
+    ap.add_argument("--two", type=int, default=0, help="two-crank designs with a motor on each (default 0)")
     args = ap.parse_args(argv)
     rng = np.random.default_rng(args.seed)
     rng2 = np.random.default_rng([args.seed, 18])
@@ -168,7 +170,49 @@ def main(argv=None) -> int:
             print(f"FAIL {r['name']} {r['what']} dw/w={r['ds']:.2e} dCs={r['dc']:.2e} over={r['over']}")
     if args.energy:
         energy(args, names)
-    return 0 if all(r["ok"] for r in rows) else 1
+    ok_two = two_motors(args) if args.two else True
+    return 0 if all(r["ok"] for r in rows) and ok_two else 1
+
+
+def two_motors(args) -> bool:
+    """Random two-crank designs (their own stream), a linear motor on each crank (no-load speed 0.8 .. 1.5 x
+    the drawn speed, stall torque 0.3 .. 10 x J W0^2 / 2 pi with J the first input's mean diagonal term),
+    gravity half the time, flywheels 0 .. 10 J: each input's mean speed and Cs in both answers."""
+    rng = np.random.default_rng([args.seed, 2])
+    two = [n for n in analytic.names() if len(service.load(n).inputs) == 2]
+    ds, dc, ok, k = [], [], [], 0
+    while len(ds) < args.two and k < 20 * args.two:
+        k += 1
+        name = two[int(rng.integers(len(two)))]
+        try:
+            over, _ = trust.draw(rng, name, accelerate=False)
+            mech = service.load(name, over)
+            trust.validate(mech)
+            b0 = M.build(mech)
+            ine = M.body_inertias(b0.model, mech.links)
+            q = np.array([i.motion.q0 for i in mech.inputs])
+            J = float(am.mass_matrix(mech, ine, q, np.zeros(2), np.ones(2))[0].diagonal().mean())
+            motors = []
+            for i in mech.inputs:
+                W0 = max(abs(i.motion.rate), 1.0) * rng.uniform(0.8, 1.5)
+                motors.append(am.LinearMotor(J * W0 * W0 / (2 * math.pi) * 10 ** rng.uniform(-0.5, 1), W0))
+            g = rng.uniform(0, 2 * math.pi)
+            loads = M.Loads(gravity=(9.81 * math.cos(g), 9.81 * math.sin(g)) if rng.random() < 0.5 else None)
+            fly = tuple(0.0 if rng.random() < 0.3 else J * 10 ** rng.uniform(-1, 1) for _ in range(2))
+            d = sm.dynamics_two(mech, loads, tuple(motors), fly, (0.0, 0.0), args.revolutions)
+        except ParameterError:
+            continue
+        ds.append(float(d.differences["mean_speed"].max()))
+        dc.append(float(d.differences["fluctuation"].max()))
+        ok.append(ds[-1] <= SPEED and dc[-1] <= CS)
+        if args.verbose:
+            print(f"  two motors {name:22s} dw/w {ds[-1]:.1e} dCs {dc[-1]:.1e}", flush=True)
+    if not ds:
+        print("two motors: no valid design drawn")
+        return False
+    print(f"two motors, {len(ds)} designs (fivebar, two_crank_five_bar): mean speed worst {max(ds):.1e} median "
+          f"{np.median(ds):.1e}, Cs worst {max(dc):.1e} median {np.median(dc):.1e}; passing {sum(ok)}/{len(ok)}")
+    return all(ok)
 
 
 def energy(args, names) -> None:
