@@ -13,7 +13,7 @@ from scipy.optimize import fsolve
 
 from analytic import ParameterError
 from analytic.general_group import make_group, solve_group
-from analytic.kinematics import _rrr
+from analytic.kinematics import _point, _rrr
 
 Q0 = 0.5
 R = 1.0
@@ -164,10 +164,10 @@ def test_a_dyad_as_a_general_group_equals_the_closed_form_rrr(branch):
     g = make_group({"2": ("P", "C"), "3": ("Q", "C")}, ("P", "Q"), ("C",), pose)
     sol = solve_group(g, dict(P=P, Q=Q_), coarse=50)
     assert sol.assembled.all()
-    scale = (3.5, 3.5, 10.0, 10.0, 40.0, 40.0)       # size, peak speed, peak acceleration of this dyad
     for k in range(6):
+        scale = g.size if k < 2 else np.max(np.abs(C[k]))   # size, or the closed form's peak rate
         # 1e-13 of scale: both are exact up to rounding of O(10) operations
-        assert np.max(np.abs(sol.points["C"][k] - C[k])) <= 1e-13 * scale[k], k
+        assert np.max(np.abs(sol.points["C"][k] - C[k])) <= 1e-13 * scale, k
     for k in range(4):
         assert np.max(np.abs(sol.links["2"][k] - links[0][k])) <= 1e-12 * (1, 1, 10, 100)[k]
 
@@ -216,3 +216,22 @@ def test_a_motion_solved_in_two_blocks_continues_from_the_first_blocks_end():
             # 1e-12 of size (and of peak rates): two Newton runs to rounding from different starts
             scale = g.size if k < 2 else np.max(np.abs(whole.points[p][k]))
             assert np.max(np.abs(second.points[p][k] - whole.points[p][k][79:])) <= 1e-12 * scale
+
+
+@pytest.mark.parametrize("branch", [1, -1])
+def test_a_coupler_point_on_a_dyad_link_equals_the_closed_form_point(branch):
+    """A ternary link (P, C, X) pinned at a known point: its rigid-frame rows see the known point's rates."""
+    t = np.linspace(0.0, 2 * np.pi, 300)
+    P = (np.cos(t), np.sin(t), -np.sin(t) * 3, np.cos(t) * 3, -np.cos(t) * 9 - np.sin(t), -np.sin(t) * 9 + np.cos(t))
+    Q_ = (np.full_like(t, 3.0), np.zeros_like(t), 0 * t, 0 * t, 0 * t, 0 * t)
+    C, _, _ = _rrr(P, Q_, 2.5, 2.0, branch)
+    u, v = 1.2, -0.7                                   # X in the frame of P -> C [m]
+    X = _point(P, C, u, v)
+    pose = dict(P=(P[0][0], P[1][0]), Q=(3.0, 0.0), C=(C[0][0], C[1][0]), X=(X[0][0], X[1][0]))
+    g = make_group({"2": ("P", "C", "X"), "3": ("Q", "C")}, ("P", "Q"), ("C", "X"), pose)
+    sol = solve_group(g, dict(P=P, Q=Q_), coarse=50)
+    assert sol.assembled.all()
+    for k in range(6):
+        scale = g.size if k < 2 else np.max(np.abs(X[k]))   # size, or the closed form's peak rate
+        # 1e-13 of scale: both are exact up to rounding of O(10) operations
+        assert np.max(np.abs(sol.points["X"][k] - X[k])) <= 1e-13 * scale, k
