@@ -156,11 +156,16 @@ def failed_constraint(x, cons: Constraints, target: Target) -> str:
 
 
 def _nearest_sample(E: np.ndarray, xy: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Squared distance (K, M) from each target to the nearest curve sample and that sample's index."""
-    d2 = ((E[:, :, None, :] - xy[None, None, :, :]) ** 2).sum(-1)  # (K, N, M)
-    d2 = np.where(np.isnan(d2), np.inf, d2)
-    k = d2.argmin(axis=1)
-    return np.take_along_axis(d2, k[:, None, :], axis=1)[:, 0, :], k
+    """Squared distance (K, M) from each target to the nearest curve sample and that sample's index.
+
+    The search uses |e|^2 - 2 e.t (a matrix product; |t|^2 is the same for every sample), the returned
+    distance is recomputed directly at the chosen sample (no cancellation)."""
+    G = (E * E).sum(-1)[:, :, None] - 2.0 * (E @ xy.T)              # (K, N, M)
+    G = np.nan_to_num(G, nan=np.inf)
+    k = G.argmin(axis=1)
+    P = np.take_along_axis(E, k[:, :, None], axis=1)                  # (K, M, 2)
+    d2 = ((P - xy[None]) ** 2).sum(-1)
+    return np.where(np.isfinite(d2), d2, np.inf), k
 
 
 def batch_error(x: np.ndarray, target: Target, branch, n: int = 192) -> np.ndarray:
@@ -289,25 +294,86 @@ def _objective(u, target, cons, branch, n, aligned=True):
     return np.where(ok, np.minimum(f, 1e6), 1e6 + v)
 
 
+RATIO = 6.0  # free timing: ground, coupler and rocker searched in [1/RATIO, RATIO] crank lengths (log scale)
+ROTATIONS = 8  # starting turns of each shape before the similarity alignment
+
+
+def _shape(u: np.ndarray) -> np.ndarray:
+    """(K, 5) unit-cube points -> designs with A at the origin, D on +x and a unit crank."""
+    x = np.zeros((len(u), 9))
+    x[:, 3:7] = 1.0
+    x[:, [3, 5, 6]] = np.exp((2 * u[:, 0:3] - 1) * math.log(RATIO))
+    x[:, 7:9] = (2 * u[:, 3:5] - 1) * 2 * RATIO ** 0.5
+    return x
+
+
+def _pose(xn: np.ndarray, target: Target, branch, n: int) -> tuple[np.ndarray, np.ndarray]:
+    """Each shape moved, turned and scaled onto the targets: ROTATIONS starts matching the curve's centroid
+    and RMS radius to the targets', each aligned (``align``); the best kept. Returns (x (K, 9), sum_sq (K,))."""
+    K = len(xn)
+    phi = np.linspace(0.0, 2 * math.pi, n, endpoint=False)
+    E, _ = coupler_points(xn, phi, branch)
+    cE = np.nanmean(E, axis=1)
+    rE = np.sqrt(np.nanmean(((E - cE[:, None]) ** 2).sum(-1), axis=1))
+    cT = target.xy.mean(0)
+    rT = math.sqrt(((target.xy - cT) ** 2).sum(-1).mean())
+    psi = 2 * math.pi * np.arange(ROTATIONS) / ROTATIONS
+    z = (rT / rE)[:, None] * np.exp(1j * psi)[None, :]                     # (K, R)
+    t = (cT[0] + 1j * cT[1]) - z * (cE[:, 0] + 1j * cE[:, 1])[:, None]
+    xs = similarity(np.repeat(xn, ROTATIONS, axis=0), z.ravel(), t.ravel())
+    br = np.repeat(np.broadcast_to(np.asarray(branch), (K,)), ROTATIONS)
+    xs = align(xs, target, br, n, steps=3)
+    f = batch_error(xs, target, br, n).reshape(K, ROTATIONS)
+    f = np.where(np.isfinite(f), f, np.inf)
+    j = f.argmin(axis=1)
+    return xs.reshape(K, ROTATIONS, 9)[np.arange(K), j], f[np.arange(K), j]
+
+
+def _shape_objective(u, target, cons, branch, n):
+    """Free timing: Deb's rule on the posed shapes (error / size^2; infeasible above 1e6 by violation)."""
+    xn = _shape(u)
+    loose = Constraints(cons.mu_min, cons.max_ratio, 1e9)
+    v = violation(xn, loose, target)
+    f = 1e6 + v
+    ok = v == 0
+    if ok.any():
+        x, e = _pose(xn[ok], target, branch, n)
+        v2 = violation(x, cons, target)
+        f[ok] = np.where(v2 == 0, np.minimum(e / target.size ** 2, 1e6), 1e6 + v2)
+    return f
+
+
 def restart(job: tuple) -> Design:
     """One seeded restart: an atlas of random feasible designs, differential evolution from its best,
-    a least-squares polish. ``job`` = (target, cons, seed, branch, generations, popsize, deadline, n_polish)."""
+    a least-squares polish of the best distinct members. ``job`` = (target, cons, seed, branch,
+    generations, popsize, deadline, n_polish).
+
+    Free timing searches the 5 shape parameters (crank = 1), each shape posed onto the targets by a
+    similarity alignment; timing searches all 9 parameters and the crank offset."""
     from scipy.optimize import differential_evolution
 
     target, cons, seed, branch, generations, popsize, deadline, n_polish = job
-    dim = 10 if target.phi is not None else 9
+    free = target.phi is None
+    dim = 5 if free else 10
     rng = np.random.default_rng(seed)
-    # atlas: random designs, the feasible ones ranked by error seed the population
-    U = rng.random((20000, dim))
-    v = violation(_denorm(U, target, cons)[:, :9], cons, target)
-    U = U[np.argsort(v, kind="stable")][:max(popsize * 8, 400)]
-    f = _objective(U, target, cons, branch, 96)
+    if free:
+        obj = lambda u, n: _shape_objective(u, target, cons, branch, n)  # noqa: E731
+        to_x = lambda u: _pose(_shape(u[None]), target, branch, 256)[0][0]  # noqa: E731
+        pre = violation(_shape(U := rng.random((20000, dim))), Constraints(cons.mu_min, cons.max_ratio, 1e9),
+                        target)
+    else:
+        obj = lambda u, n: _objective(u, target, cons, branch, n, aligned=False)  # noqa: E731
+        to_x = lambda u: _denorm(u[None], target, cons)[0]  # noqa: E731
+        pre = violation(_denorm(U := rng.random((20000, dim)), target, cons)[:, :9], cons, target)
+    # atlas: random designs, the least constraint-breaking ranked by error seed the population
+    U = U[np.argsort(pre, kind="stable")][:max(popsize * 4, 200)]
+    f = obj(U, 96)
     init = U[np.argsort(f, kind="stable")[:popsize]]
 
     def stop(*_a, **_k):
         return deadline is not None and time.time() > deadline
     res = differential_evolution(
-        lambda u: _objective(u.T, target, cons, branch, 160), [(0.0, 1.0)] * dim, init=init,
+        lambda u: obj(u.T, 128), [(0.0, 1.0)] * dim, init=init,
         maxiter=generations, tol=0, atol=0, seed=int(rng.integers(2 ** 31)), polish=False,
         vectorized=True, updating="deferred", mutation=(0.5, 1.0), recombination=0.9, callback=stop)
     # polish the best distinct members of the final population, keep the best polished one
@@ -318,12 +384,10 @@ def restart(job: tuple) -> Design:
             break
         if all(np.abs(res.population[j] - res.population[p]).max() > 1e-3 for p in picks):
             picks.append(j)
-    cands = [polish(_best_aligned(_denorm(res.population[j][None], target, cons)[0], target, cons, branch),
-                    branch, target, cons) for j in (picks or order[:1])]
+    cands = [polish(to_x(res.population[j]), branch, target, cons) for j in (picks or order[:1])]
     d = min(cands, key=lambda c: (c.violation > 0, c.sum_sq))
-    d = Design(d.x, d.branch, d.phi_offset, d.err, d.phis, d.violation, int(seed), d.failed,
-               {"de_generations": int(res.nit), "de_evaluations": int(res.nfev)})
-    return d
+    return Design(d.x, d.branch, d.phi_offset, d.err, d.phis, d.violation, int(seed), d.failed,
+                  {"de_generations": int(res.nit), "de_evaluations": int(res.nfev)})
 
 
 def _best_aligned(x0, target, cons, branch):
@@ -341,7 +405,6 @@ def polish(x0: np.ndarray, branch: int, target: Target, cons: Constraints) -> De
     """Least squares on (design, each target's crank angle) with the constraints as penalty residuals;
     the polished design is kept only if it stays feasible and improves the (refined) error."""
     from scipy.optimize import least_squares
-    from scipy.sparse import lil_matrix
 
     timing = target.phi is not None
     m = len(target.xy)
@@ -358,16 +421,34 @@ def polish(x0: np.ndarray, branch: int, target: Target, cons: Constraints) -> De
         v = violation(x[None], cons, target)[0]
         return np.concatenate([np.nan_to_num(r, nan=10.0), [1e3 * v]])
 
+    def jac(p):
+        """Forward differences, batched: the 9 design columns (and the offset) in one call, the crank
+        angles' columns (each touches its own target only) in another."""
+        x, off, ph = design(p)
+        nd = 10 if timing else 9
+        h = 1e-7 * np.maximum(1.0, np.abs(p[:nd]))
+        X = np.repeat(x[None], nd, axis=0)
+        X[np.arange(9), np.arange(9)] += h[:9]
+        PH = np.repeat(ph[None], nd, axis=0)
+        if timing:
+            PH[9] += h[9]
+        E0, _ = coupler_points(x[None], ph[None], branch)
+        E, _ = coupler_points(X, PH, branch)
+        J = np.zeros((2 * m + 1, len(p)))
+        J[:2 * m, :nd] = ((E - E0) / s).reshape(nd, -1).T / h
+        v0 = violation(x[None], cons, target)[0]
+        J[2 * m, :9] = 1e3 * (violation(X[:9], cons, target) - v0) / h[:9]
+        if not timing:
+            hp = 1e-7 * np.maximum(1.0, np.abs(ph))
+            E1, _ = coupler_points(x[None], (ph + hp)[None], branch)
+            dE = (E1[0] - E0[0]) / s / hp[:, None]                    # (m, 2)
+            J[2 * np.arange(m), 9 + np.arange(m)] = dE[:, 0]
+            J[2 * np.arange(m) + 1, 9 + np.arange(m)] = dE[:, 1]
+        return np.nan_to_num(J)
+
     p0 = np.concatenate([x0[:9], [x0[9]] if timing else ph0])
-    nv = len(p0)
-    sp = lil_matrix((2 * m + 1, nv), dtype=int)
-    sp[:, :(10 if timing else 9)] = 1
-    if not timing:
-        for i in range(m):
-            sp[2 * i:2 * i + 2, 9 + i] = 1
     try:
-        r = least_squares(resid, p0, jac_sparsity=sp, x_scale="jac", max_nfev=200 * nv // 10 + 200,
-                          ftol=1e-13, xtol=1e-13, gtol=1e-13)
+        r = least_squares(resid, p0, jac=jac, x_scale="jac", max_nfev=300, ftol=1e-13, xtol=1e-13, gtol=1e-13)
         p = r.x
     except (ValueError, np.linalg.LinAlgError):
         p = p0
