@@ -7,3 +7,9 @@ any submodule imports mujoco: the user's ``MUJOCO_GL`` if set, else EGL (OSMesa 
 from .gl import ensure_gl_backend
 
 ensure_gl_backend()
+
+
+def load_exported(path):
+    """(MjModel, MjData) of a ``linkage export --mjcf`` file as validated: see :mod:`sim.exported`."""
+    from .exported import load_exported as load
+    return load(path)

@@ -147,7 +147,13 @@ def check_outputs(args, suffixes: dict[str, tuple[str, ...]]) -> None:
         inputs.add(os.path.abspath(mech))
     if getattr(args, "inertia", None):
         inputs.add(os.path.abspath(args.inertia))
-    clash = inputs & _outputs(args)
+    from analytic.registry import LIBRARY
+    library = os.path.realpath(LIBRARY)
+    for out in sorted(_outputs(args)):
+        if os.path.dirname(os.path.realpath(out)) == library:
+            raise ParameterError(f"{out} is in the shipped mechanism library, which is never written; "
+                                 f"choose an output outside {library}")
+    clash = {os.path.realpath(x) for x in inputs} & {os.path.realpath(x) for x in _outputs(args)}
     if clash:
         raise ParameterError(f"{sorted(clash)[0]} is an input of this command and would be overwritten; "
                              f"choose another output name")
@@ -298,7 +304,7 @@ def cmd_export(args) -> int:
     check_outputs(args, {"mjcf": (".xml",), "toml": (".toml",)})
     mech = mechanism_from(args)
     if args.mjcf:
-        write_text(args.mjcf, service.export_mjcf(mech, settings_from(args)))
+        write_text(args.mjcf, service.export_mjcf(mech, settings_from(args), getattr(args, "revolutions", 1.0)))
         print(f"wrote {args.mjcf}")
     if args.toml:
         write_text(args.toml, service.mechanism_text(mech))

@@ -306,10 +306,10 @@ def trajectory_columns(tr) -> dict:
             **{f"cmd_{k}": v for k, v in tr.commanded.items()}, **joints}
 
 
-def export_mjcf(mech: Mechanism, settings=None) -> str:
-    """The generated MJCF of ``mech`` as a standalone document."""
+def export_mjcf(mech: Mechanism, settings=None, revolutions: float = 1.0) -> str:
+    """The generated MJCF of ``mech`` as a standalone document (its time step chosen for ``revolutions``)."""
     from .model import Settings, build, export_xml
-    return export_xml(build(mech, settings or Settings()))
+    return export_xml(build(mech, settings or Settings(), revolutions=revolutions))
 
 
 def mechanism_text(mech: Mechanism) -> str:
