@@ -235,3 +235,15 @@ def test_a_coupler_point_on_a_dyad_link_equals_the_closed_form_point(branch):
         scale = g.size if k < 2 else np.max(np.abs(X[k]))   # size, or the closed form's peak rate
         # 1e-13 of scale: both are exact up to rounding of O(10) operations
         assert np.max(np.abs(sol.points["X"][k] - X[k])) <= 1e-13 * scale, k
+
+
+def test_samples_off_the_continuous_path_are_flagged_not_solved_on_some_branch():
+    # a dyad whose outer point Q teleports between two coarse nodes: Newton still converges there, but far
+    # from the path interpolated between the nodes (where Q is the same), which the branch cannot vouch for
+    qx = np.r_[3.0, np.full(9, 0.5), 3.0]
+    qy = np.r_[0.0, np.full(9, 4.0), 0.0]
+    z = np.zeros(11)
+    g = make_group({"2": ("P", "C"), "3": ("Q", "C")}, ("P", "Q"), ("C",), dict(P=(0, 0), Q=(3, 0), C=(1.5, 2.0)))
+    sol = solve_group(g, dict(P=(z, z, z, z, z, z), Q=(qx, qy, z, z, z, z)), coarse=2)
+    assert sol.assembled[[0, -1]].all() and not sol.assembled[1:-1].any()
+    assert np.isnan(sol.points["C"][0][1:-1]).all()
