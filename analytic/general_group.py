@@ -39,7 +39,8 @@ from ._common import ParameterError
 
 NEWTON_STEPS = 12          # most Newton steps per sample: from an interpolated start it takes 2 to 4
 NEWTON_TOL = 1e-13         # converged when the largest step is below this fraction of the group's size
-RESIDUAL_CONVERGED = 2e-15  # residual at rounding level [fraction of size]: a few eps of the coordinates
+RESIDUAL_CONVERGED = 2e-15  # residual at rounding level [fraction of size] (a few eps where coordinates
+#                             are of the order of the size; elsewhere the step test ends the iteration)
 RESIDUAL_TOL = 1e-10       # a converged sample whose residual exceeds this fraction of size is refused
 REFINE = 64                # samples per node of the batched middle level (when N > REFINE * coarse)
 BLOCK = 32768              # samples per batched block (bounds the (N, n, n) Jacobians' memory)
