@@ -277,7 +277,7 @@ def _denorm(u: np.ndarray, target: Target, cons: Constraints) -> np.ndarray:
     return x
 
 
-def _objective(u, target, cons, branch, n, aligned=True):
+def _objective(u, target, cons, branch, n):
     """Deb's rule as one number: feasible designs by their error (normalised by size^2), infeasible
     ones above every feasible one by how far they break the constraints."""
     x = _denorm(u, target, cons)
@@ -286,11 +286,6 @@ def _objective(u, target, cons, branch, n, aligned=True):
     ok = v == 0
     if ok.any():
         f[ok] = batch_error(x[ok], target, branch, n) / target.size ** 2
-        if target.phi is None and aligned:
-            xa = align(x[ok], target, branch, n)
-            keep = violation(xa, cons, target) == 0
-            fa = np.where(keep, batch_error(xa, target, branch, n) / target.size ** 2, np.inf)
-            f[ok] = np.minimum(f[ok], fa)
     return np.where(ok, np.minimum(f, 1e6), 1e6 + v)
 
 
@@ -362,7 +357,7 @@ def restart(job: tuple) -> Design:
         pre = violation(_shape(U := rng.random((20000, dim))), Constraints(cons.mu_min, cons.max_ratio, 1e9),
                         target)
     else:
-        obj = lambda u, n: _objective(u, target, cons, branch, n, aligned=False)  # noqa: E731
+        obj = lambda u, n: _objective(u, target, cons, branch, n)  # noqa: E731
         to_x = lambda u: _denorm(u[None], target, cons)[0]  # noqa: E731
         pre = violation(_denorm(U := rng.random((20000, dim)), target, cons)[:, :9], cons, target)
     # atlas: random designs, the least constraint-breaking ranked by error seed the population
@@ -388,17 +383,6 @@ def restart(job: tuple) -> Design:
     d = min(cands, key=lambda c: (c.violation > 0, c.sum_sq))
     return Design(d.x, d.branch, d.phi_offset, d.err, d.phis, d.violation, int(seed), d.failed,
                   {"de_generations": int(res.nit), "de_evaluations": int(res.nfev)})
-
-
-def _best_aligned(x0, target, cons, branch):
-    """x0 or its aligned copy, whichever is feasible and nearer the targets (free timing only)."""
-    if target.phi is not None:
-        return x0
-    xa = align(x0[None], target, branch)[0]
-    if violation(xa[None], cons, target)[0] == 0 and (batch_error(xa[None], target, branch, 160)[0]
-                                                       < batch_error(x0[None], target, branch, 160)[0]):
-        return xa
-    return x0
 
 
 def polish(x0: np.ndarray, branch: int, target: Target, cons: Constraints) -> Design:
@@ -478,8 +462,7 @@ def synthesize(target: Target, cons: Constraints = Constraints(), seed: int = 0,
     """Run ``restarts`` seeded restarts through ``mapper`` (``map`` or an executor's) and return the
     designs best first (feasible first, then by sum of squared distances; ties by restart order)."""
     m = len(target.xy)
-    need = 1 if target.phi is None else 1
-    if m < 3 + need:
+    if m < 4:
         raise ParameterError(f"{m} target points; path synthesis needs at least 4")
     deadline = None if budget is None else time.time() + float(budget)
     out = []
