@@ -163,7 +163,14 @@ def read(path: str | Path) -> Definition:
 def parse(raw: bytes | str, source: str = "<text>", json_format: bool | None = None,
           default_name: str = "mechanism") -> Definition:
     """Parse a file's text (TOML, or JSON when ``json_format``; None: JSON if it starts with '{')."""
-    text = raw.decode("utf-8", errors="replace") if isinstance(raw, bytes) else raw
+    if isinstance(raw, bytes):
+        try:
+            text = raw.decode("utf-8-sig")
+        except UnicodeDecodeError as exc:
+            raise FileError(f"{source}: not UTF-8 text (byte 0x{raw[exc.start]:02x} at offset {exc.start}); "
+                            f"save the file as UTF-8") from None
+    else:
+        text = raw
     if json_format is None:
         json_format = text.lstrip().startswith("{")
     if len(text) > MAX_FILE_BYTES:

@@ -13,6 +13,7 @@ opens a path that came from a request. Every refusal and every failure to comput
 
 from __future__ import annotations
 
+import concurrent.futures
 import dataclasses
 import html
 import json
@@ -38,6 +39,8 @@ from .units import output_kind
 
 DEFAULT_PORT = 8765
 MAX_BODY = 1_000_000
+WORKERS = 16
+"""Requests served at once; more wait in the listen queue (a page uses a few keep-alive connections)."""
 """[bytes] the largest request body: an uploaded mechanism file travels inside it."""
 MAX_SAMPLES = 20_001
 MAX_REVOLUTIONS = 20.0
@@ -389,13 +392,38 @@ def mechanisms(initial: dict) -> dict:
 
 
 # ------------------------------------------------------------------------------------------- HTTP
+def _limit_arenas(n: int = 2) -> None:
+    """At most ``n`` glibc malloc arenas (M_ARENA_MAX = -8): with one per worker thread the heap fragments
+    and the resident size grows over repeated rounds; a no-op where mallopt does not exist."""
+    try:
+        import ctypes
+        ctypes.CDLL(None).mallopt(-8, n)
+    except (OSError, AttributeError):
+        pass
+
+
+def _trim() -> None:
+    """Give freed heap back to the system after a request (glibc keeps large freed arenas otherwise and
+    the resident size creeps up over repeated rounds); a no-op where malloc_trim does not exist."""
+    try:
+        import ctypes
+        ctypes.CDLL(None).malloc_trim(0)
+    except (OSError, AttributeError):
+        pass
+
+
 class AppServer(ThreadingHTTPServer):
     """The HTTP server with what its handlers need: the addresses it answers to and the first mechanism."""
 
     daemon_threads = True
+    request_queue_size = 128            # listen backlog: a burst of simultaneous requests waits, never reset
 
     def __init__(self, port: int, initial: dict):
         super().__init__(("127.0.0.1", port), Handler)
+        # a fixed pool instead of a thread per connection: threads (and their malloc arenas, MuJoCo and
+        # GL contexts) are reused, so memory stays flat over repeated rounds; further requests queue
+        _limit_arenas()
+        self.pool = concurrent.futures.ThreadPoolExecutor(max_workers=WORKERS, thread_name_prefix="linkage-app")
         self.port = self.server_address[1]
         self.hosts = {f"127.0.0.1:{self.port}", f"localhost:{self.port}"}
         self.origins = {f"http://{h}" for h in self.hosts}
@@ -409,6 +437,17 @@ class AppServer(ThreadingHTTPServer):
     def handle_error(self, request, client_address) -> None:
         """A client that went away mid-answer is not worth a traceback on the user's terminal."""
 
+    def process_request(self, request, client_address) -> None:
+        self.pool.submit(self._serve_one, request, client_address)
+
+    def _serve_one(self, request, client_address) -> None:
+        self.process_request_thread(request, client_address)
+        _trim()
+
+    def server_close(self) -> None:
+        super().server_close()
+        self.pool.shutdown(wait=False, cancel_futures=True)
+
 
 class Handler(BaseHTTPRequestHandler):
     """Routes: GET / and the static files, GET /api/mechanisms; POST /api/solve, /api/simulate,
@@ -419,7 +458,7 @@ class Handler(BaseHTTPRequestHandler):
     sys_version = ""
     protocol_version = "HTTP/1.1"                 # keep-alive: a slider drag reuses one connection
     disable_nagle_algorithm = True                # else headers and body wait ~40 ms on a delayed ACK
-    timeout = 60
+    timeout = 10                                  # [s] a slow or stalled client frees its thread after this
     stopping = False
 
     def do_GET(self) -> None:
@@ -559,9 +598,11 @@ def initial_mechanism(name: str) -> dict:
     if name in analytic.names():
         service.load(name)
         return {"name": name}
-    if not Path(name).is_file():
+    if not Path(name).exists():
         raise ParameterError(f"{name!r} is neither a mechanism (linkage list) nor a linkage/1 file")
-    text = Path(name).read_text()
+    from analytic import linkfile
+    linkfile.read(name)                 # a regular UTF-8 file within the size cap, or one line saying why
+    text = Path(name).read_bytes()[:linkfile.MAX_FILE_BYTES].decode("utf-8-sig")
     return {"name": service.load(name, text=text).name, "text": text}
 
 
