@@ -108,12 +108,22 @@ class _Writer:
         self._gen = imageio_ffmpeg.write_frames(path, size, fps=float(fps), macro_block_size=1,
                                                 ffmpeg_log_level="error", **kw)
         self._gen.send(None)                      # start ffmpeg
+        self.frames = 0
 
     def append(self, frame: np.ndarray) -> None:
         self._gen.send(np.ascontiguousarray(frame))
+        self.frames += 1
 
     def close(self) -> None:
-        self._gen.close()
+        import logging
+        quiet = logging.getLogger("imageio_ffmpeg")
+        level = quiet.level
+        if not self.frames:                       # interrupted before the first frame: the file is removed
+            quiet.setLevel(logging.ERROR)         # anyway, so imageio's "no frames" warning says nothing
+        try:
+            self._gen.close()
+        finally:
+            quiet.setLevel(level)
 
 
 def _trace(path: np.ndarray, k: int) -> np.ndarray:

@@ -163,3 +163,147 @@ def test_help_starts_without_mujoco_or_matplotlib():
     r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                        env={**os.environ, "LINKAGE_JIT": "0"})
     assert r.returncode == 0, r.stderr
+
+
+# ------------------------------------------------------------------ issue 20: one case per input class
+def _lib(name):
+    from analytic.registry import LIBRARY
+    return (LIBRARY / f"{name}.toml").read_text()
+
+
+def _fourbar(old, new):
+    text = _lib("fourbar")
+    assert old in text
+    return text.replace(old, new, 1)
+
+
+_REVERSED = "\n".join(f'p{i} = "p{i + 1}"' for i in range(1500)) + "\np1500 = 1\n"
+_TINY = {"l1 = 0.10": "l1 = 1e-7", "l2 = 0.30": "l2 = 3e-7", "l3 = 0.25": "l3 = 2.5e-7", "l4 = 0.30": "l4 = 3e-7",
+         "ex = 0.15": "ex = 1.5e-7", "ey = 0.10": "ey = 1e-7"}
+
+
+def _tiny():
+    text = _lib("fourbar")
+    for a, b in _TINY.items():
+        text = text.replace(a, b, 1)
+    return text
+
+
+FILE_CASES = [
+    # (class, file name, contents (str or bytes), command and options after the file, pattern in the one line)
+    ("only format", "m.toml", 'format = "linkage/1"\n', ["check"], r"inputs: none given"),
+    ("output a list", "m.toml", lambda: _fourbar('output = "E"', 'output = ["C"]'), ["check"],
+     r"output: \['C'\] must be one point name"),
+    ("units a table", "m.toml", lambda: _fourbar('output = "E"', 'output = "E"\nunits = {a = 1}'), ["check"],
+     r"units: unknown unit \{'a': 1\}"),
+    ("an unknown name in a ground coordinate", "m.toml", lambda: _fourbar('D = ["l4", 0]', 'D = ["l4", "zz + 1"]'),
+     ["check"], r"ground\.D: 'zz \+ 1' uses 'zz'|ground\.D: .*zz"),
+    ("an angle in a ground coordinate", "m.toml", lambda: _fourbar('D = ["l4", 0]', 'D = ["l4", "30deg"]'),
+     ["check"], r"ground\.D: '30deg' is an angle where a length is expected"),
+    ("an integer beyond float range", "m.toml", lambda: _fourbar("alpha1 = 0.0", "alpha1 = " + "9" * 400), ["check"],
+     r"parameters\.alpha1: 9{20,}.* is out of range"),
+    ("deep nesting in TOML", "m.toml", 'format = "linkage/1"\nx = ' + "[" * 5000 + "]" * 5000 + "\n", ["check"],
+     r"nested too deeply"),
+    ("deep nesting in JSON", "m.json", '{"format": "linkage/1", "x": ' + "[" * 100000 + "]" * 100000 + "}", ["check"],
+     r"nested too deeply"),
+    ("deep nesting in an expression", "m.toml", lambda: _fourbar("alpha1 = 0.0", 'alpha1 = "' + "-" * 300 + '1"'),
+     ["check"], r"parameters\.alpha1: .* nested too deeply"),
+    ("a long run of digits (was cubic backtracking)", "m.toml",
+     lambda: _fourbar("alpha1 = 0.0", 'alpha1 = "' + "1" * 380 + 'x"'), ["check"],
+     r"parameters\.alpha1: .* is not a number, a parameter name or an arithmetic expression"),
+    ("1,500 parameters in reverse order", "m.toml", lambda: _fourbar("[parameters]", "[parameters]\n" + _REVERSED),
+     ["check"], r"parameters: 1511 entries; a mechanism file holds at most 500"),
+    ("strings in [inertia]", "m.toml", lambda: _lib("fourbar") + '\n[inertia]\n2 = {m = "a", I = "b"}\n', ["check"],
+     r"inertia\.2\.m: 'a' must be a finite number"),
+    ("phi1_0 = 1.8e308", "m.toml", lambda: _fourbar("phi1_0 = 0.0", "phi1_0 = 1.8e308"), ["check"],
+     r"parameters\.phi1_0: must be finite"),
+    ("phi1_0 = 1e300 as text", "m.toml", lambda: _fourbar("phi1_0 = 0.0", 'phi1_0 = "1e300"'), ["check"],
+     r"parameters\.phi1_0: 1e\+300 is out of range"),
+    ("JSON duplicate keys", "m.json", '{"format": "linkage/1", "format": "linkage/1"}', ["check"],
+     r"field 'format' is given twice"),
+    ("a newline in a name", "m.json", '{"format": "linkage/1", "name": "a\\nlinkage: error: forged"}', ["check"],
+     r"name: 'a\\nlinkage: error: forged' is not a name"),
+    ("a design that assembles nowhere", "m.toml", lambda: _fourbar("l4 = 0.30", "l4 = 3.0"), ["check"],
+     r"assembles at no value of phi1; change the lengths"),
+    ("1/30deg", "m.toml", lambda: _fourbar("phi1_0 = 0.0", 'phi1_0 = "1/30deg"'), ["check"],
+     r"parameters\.phi1_0: '1/30deg': a 'deg' value divides"),
+    ("not UTF-8", "m.toml", lambda: _lib("fourbar").encode() + b"# caf\xe9\n", ["check"], r"not UTF-8 text \(byte 0xe9"),
+    ("tiny lengths", "m.toml", _tiny, ["compare"], r"spans 3e-07 m .* needs at least 0\.001 m"),
+    ("metres typed into a mm file", "m.toml", lambda: _fourbar('output = "E"', 'output = "E"\nunits = "mm"'),
+     ["compare"], r"spans 0\.0003 m \(0\.3 mm\).*were metres typed into a mm file"),
+    ("slider_crank with units = mm", "m.toml", lambda: _lib("slider_crank").replace(
+        'format = "linkage/1"', 'format = "linkage/1"\nunits = "mm"', 1), ["render", "--out", "v.mp4"],
+     r"were metres typed into a mm file"),
+]
+
+
+@pytest.mark.parametrize("case", FILE_CASES, ids=[c[0] for c in FILE_CASES])
+def test_a_bad_file_is_one_line_exit_2(tmp_path, case):
+    _, fname, contents, args, pattern = case
+    contents = contents() if callable(contents) else contents
+    path = tmp_path / fname
+    path.write_bytes(contents if isinstance(contents, bytes) else contents.encode())
+    before = path.read_bytes()
+    r = run(tmp_path, args[0], fname, *args[1:], timeout=60)
+    assert r.returncode == 2, (r.returncode, r.stdout[-300:], r.stderr[-500:])
+    lines = r.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("linkage: error: ") and "Traceback" not in r.stderr, r.stderr
+    assert re.search(pattern, lines[0]), lines[0]
+    assert len(lines[0]) < 400                                     # a long value is cut, not echoed whole
+    assert path.read_bytes() == before
+    assert sorted(p.name for p in tmp_path.iterdir()) == [fname]   # nothing written, no temporary left
+
+
+@pytest.mark.parametrize("special", ["/dev/zero", "/dev/urandom", "fifo"])
+def test_a_device_or_pipe_is_refused_before_reading(tmp_path, special):
+    if special == "fifo":
+        os.mkfifo(tmp_path / "fifo")
+    r = run(tmp_path, "check", special, timeout=30)                # a read would block or fill memory
+    assert r.returncode == 2 and re.fullmatch(r"linkage: error: \S+ is not a regular file .*\n", r.stderr), r.stderr
+
+
+@pytest.mark.parametrize("args, pattern", [
+    (["compare", "fourbar", "--set", "ex=0", "--set", "ey=0", "--revolutions", "0.25"], None),
+    (["synthesize", "two-position", "--E1", "30deg,31"], r"--E1='30deg': --E1 is a length, not an angle"),
+    (["synthesize", "two-position", "--E1", "0.030,0.031", "--E2", "0.010,0.035"],
+     r"--E1 and --E2 are 0\.0204 mm apart but --A and --D 36 mm: give every coordinate in mm"),
+    (["export", "fourbar", "--toml", "LIBRARY/fourbar.toml"], r"is in the shipped mechanism library"),
+])
+def test_cli_classes_of_issue_20(tmp_path, args, pattern):
+    from analytic.registry import LIBRARY
+    args = [a.replace("LIBRARY", str(LIBRARY)) for a in args]
+    r = run(tmp_path, *args, timeout=120)
+    assert "Traceback" not in r.stderr and "Warning" not in r.stderr, r.stderr
+    if pattern is None:                                            # a coupler point on its pin simulates
+        assert r.returncode == 0 and "PASSED" in r.stdout, r.stdout[-500:]
+    else:
+        assert r.returncode == 2 and len(r.stderr.strip().splitlines()) == 1, r.stderr
+        assert re.search(pattern, r.stderr), r.stderr
+
+
+def test_a_slider_scan_in_a_mm_file_covers_four_sizes_in_metres():
+    import analytic
+    from analytic import figures
+    mech = analytic.load(str(__import__("pathlib").Path(__file__).parent / "mechanisms" / "slider_driven.toml"))
+    lo, hi = figures._first_range(mech)
+    # s0 = 60 mm, size 100 mm (the rod): the scan is s0 +- 4 x 0.1 m, in metres like the slider's q
+    assert lo == pytest.approx(0.06 - 0.4, abs=1e-12) and hi == pytest.approx(0.06 + 0.4, abs=1e-12)
+
+
+@pytest.mark.parametrize("sig, code, word", [(signal.SIGINT, 130, "interrupted"), (signal.SIGTERM, 143, "terminated")])
+def test_a_signal_during_render_ends_in_one_line_and_leaves_no_file(tmp_path, sig, code, word):
+    p = subprocess.Popen([sys.executable, "-m", "sim", "render", "fourbar", "--out", "v.mp4", "--revolutions", "60"],
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=tmp_path)
+    deadline = time.monotonic() + 60
+    while time.monotonic() < deadline and not any(tmp_path.iterdir()):   # wait until the temporary exists
+        time.sleep(0.1)
+    p.send_signal(sig)
+    _, err = p.communicate(timeout=60)
+    assert p.returncode == code and err.strip().splitlines() == [f"linkage: {word}"], err
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_output_piped_into_head_n_0_ends_quietly(tmp_path):
+    r = subprocess.run(f"{sys.executable} -m sim analyze fivebar --json | head -n 0", shell=True, capture_output=True,
+                       text=True, cwd=tmp_path, timeout=120)
+    assert r.stderr == "", r.stderr
