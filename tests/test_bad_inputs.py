@@ -228,6 +228,8 @@ FILE_CASES = [
     ("1/30deg", "m.toml", lambda: _fourbar("phi1_0 = 0.0", 'phi1_0 = "1/30deg"'), ["check"],
      r"parameters\.phi1_0: '1/30deg': a 'deg' value divides"),
     ("not UTF-8", "m.toml", lambda: _lib("fourbar").encode() + b"# caf\xe9\n", ["check"], r"not UTF-8 text \(byte 0xe9"),
+    ("not UTF-8, opened in the app", "m.toml", lambda: _lib("fourbar").encode() + b"# caf\xe9\n",
+     ["app", "--port", "0", "--no-browser"], r"not UTF-8 text \(byte 0xe9"),
     ("tiny lengths", "m.toml", _tiny, ["compare"], r"spans 3e-07 m .* needs at least 0\.001 m"),
     ("metres typed into a mm file", "m.toml", lambda: _fourbar('output = "E"', 'output = "E"\nunits = "mm"'),
      ["compare"], r"spans 0\.0003 m \(0\.3 mm\).*were metres typed into a mm file"),
