@@ -145,11 +145,11 @@ def parse_value(name: str, text: str, angle: bool | None = None) -> float:
     """
     q = quantity(text)
     if q is None:
-        raise ParameterError(f"{name}={text!r} is not a number (write e.g. {name}=0.25"
+        raise ParameterError(f"{name}={_short(text)} is not a number (write e.g. {name}=0.25"
                              f"{'' if angle is False else f' or {name}=30deg'})")
     value, deg = q
     if deg and angle is False:
-        raise ParameterError(f"{name}={text!r}: {name} is a length, not an angle; drop the 'deg' suffix")
+        raise ParameterError(f"{name}={_short(text)}: {name} is a length, not an angle; drop the 'deg' suffix")
     if not math.isfinite(value) or abs(value) > 1e12:
-        raise ParameterError(f"{name}={text!r} is out of range: give a finite value of magnitude <= 1e12")
+        raise ParameterError(f"{name}={_short(text)} is out of range: give a finite value of magnitude <= 1e12")
     return value
