@@ -268,6 +268,12 @@ def cmd_compare(args) -> int:
         print(dumps(service.comparison_record(built, c, machine_units(args))))
     else:
         print(table(c, mech.size, shown_units(args, built.mech), built.mech.output_point))
+    if not c.passed and getattr(args, "timestep", None) is not None:
+        from .model import choose_timestep
+        chosen = choose_timestep(built.mech, args.revolutions)
+        if args.timestep > chosen:
+            print(f"linkage: the time step {args.timestep:g} s given by --timestep is above the {chosen:.3g} s this "
+                  f"design needs (0.03 rad per step); drop --timestep", file=sys.stderr)
     return 0 if c.passed else 1
 
 
