@@ -148,3 +148,15 @@ def test_hostile_app_requests_get_4xx_never_5xx(server):
             msg = json.loads(data)["error"]
             assert msg and "\n" not in msg, msg
     assert 200 in statuses and any(400 <= s < 500 for s in statuses)
+
+
+def test_twenty_simultaneous_simulate_requests_are_all_answered(server):
+    statuses: list[int] = []
+    body = json.dumps({"mechanism": "fourbar", "revolutions": 0.25}).encode()
+    threads = [threading.Thread(target=lambda: statuses.append(_post(server, "/api/simulate", body)[0]))
+               for _ in range(20)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert statuses == [200] * 20                 # none reset by a short listen queue, none refused
