@@ -257,39 +257,7 @@ def errors(x, branch: int, target: Target, phi_offset: float = 0.0):
 
 # --- normalised design space -------------------------------------------------------------------------
 
-LEN_LO, LEN_HI = 0.03, 3.0  # link lengths searched in [LEN_LO, LEN_HI] x target size (log scale)
-
-
-def _denorm(u: np.ndarray, target: Target, cons: Constraints) -> np.ndarray:
-    """(K, 9 or 10) unit-cube points -> designs (crank offset last with timing)."""
-    s, (cx, cy) = target.size, target.centre
-    R = cons.region * s
-    lg = np.log(LEN_LO), np.log(LEN_HI)
-    x = np.empty_like(u)
-    x[:, 0] = cx + (2 * u[:, 0] - 1) * R
-    x[:, 1] = cy + (2 * u[:, 1] - 1) * R
-    x[:, 2] = (2 * u[:, 2] - 1) * math.pi
-    x[:, 3:7] = s * np.exp(lg[0] + u[:, 3:7] * (lg[1] - lg[0]))
-    x[:, 7] = (2 * u[:, 7] - 1) * R
-    x[:, 8] = (2 * u[:, 8] - 1) * R
-    if u.shape[1] > 9:
-        x[:, 9] = (2 * u[:, 9] - 1) * math.pi
-    return x
-
-
-def _objective(u, target, cons, branch, n):
-    """Deb's rule as one number: feasible designs by their error (normalised by size^2), infeasible
-    ones above every feasible one by how far they break the constraints."""
-    x = _denorm(u, target, cons)
-    v = violation(x[:, :9], cons, target)
-    f = np.full(len(x), np.inf)
-    ok = v == 0
-    if ok.any():
-        f[ok] = batch_error(x[ok], target, branch, n) / target.size ** 2
-    return np.where(ok, np.minimum(f, 1e6), 1e6 + v)
-
-
-RATIO = 6.0  # free timing: ground, coupler and rocker searched in [1/RATIO, RATIO] crank lengths (log scale)
+RATIO = 6.0  # ground, coupler and rocker searched in [1/RATIO, RATIO] crank lengths (log scale)
 ROTATIONS = 8  # starting turns of each shape before the similarity alignment
 
 
@@ -324,16 +292,35 @@ def _pose(xn: np.ndarray, target: Target, branch, n: int) -> tuple[np.ndarray, n
     return xs.reshape(K, ROTATIONS, 9)[np.arange(K), j], f[np.arange(K), j]
 
 
+def _pose_timed(u: np.ndarray, target: Target, branch) -> tuple[np.ndarray, np.ndarray]:
+    """Timing: shapes (first 5 columns) with a crank offset (6th), posed by the exact least-squares
+    similarity onto the timed targets (the correspondences are known). Returns (x (K, 10) with the offset
+    last, sum_sq (K,)); a turn of the design adds its angle to the offset."""
+    xn = _shape(u[:, :5])
+    off = (2 * u[:, 5] - 1) * math.pi
+    E, _ = coupler_points(xn, off[:, None] + target.phi[None, :], branch)
+    p = E[..., 0] + 1j * E[..., 1]
+    q = target.xy[:, 0] + 1j * target.xy[:, 1]
+    pc, qc = p - p.mean(1, keepdims=True), q - q.mean()
+    with np.errstate(divide="ignore", invalid="ignore"):
+        z = (np.conj(pc) * qc[None]).sum(1) / (np.abs(pc) ** 2).sum(1)
+    z = np.where(np.isfinite(z) & (z != 0), z, 1.0)
+    t = q.mean() - z * p.mean(1)
+    x = np.column_stack([similarity(xn, z, t), off + np.angle(z)])
+    e = (np.abs(z[:, None] * p + t[:, None] - q[None]) ** 2).sum(1)
+    return x, np.where(np.isfinite(e), e, np.inf)
+
+
 def _shape_objective(u, target, cons, branch, n):
-    """Free timing: Deb's rule on the posed shapes (error / size^2; infeasible above 1e6 by violation)."""
-    xn = _shape(u)
+    """Deb's rule on the posed shapes (error / size^2; infeasible above 1e6 by violation)."""
+    xn = _shape(u[:, :5])
     loose = Constraints(cons.mu_min, cons.max_ratio, 1e9)
     v = violation(xn, loose, target)
     f = 1e6 + v
     ok = v == 0
     if ok.any():
-        x, e = _pose(xn[ok], target, branch, n)
-        v2 = violation(x, cons, target)
+        x, e = _pose(xn[ok], target, branch, n) if target.phi is None else _pose_timed(u[ok], target, branch)
+        v2 = violation(x[:, :9], cons, target)
         f[ok] = np.where(v2 == 0, np.minimum(e / target.size ** 2, 1e6), 1e6 + v2)
     return f
 
@@ -343,23 +330,21 @@ def restart(job: tuple) -> Design:
     a least-squares polish of the best distinct members. ``job`` = (target, cons, seed, branch,
     generations, popsize, deadline, n_polish).
 
-    Free timing searches the 5 shape parameters (crank = 1), each shape posed onto the targets by a
-    similarity alignment; timing searches all 9 parameters and the crank offset."""
+    Both search the 5 shape parameters (crank = 1), each shape posed onto the targets by a similarity:
+    free timing by nearest-point alignment, timing (plus a crank offset) by the exact least squares."""
     from scipy.optimize import differential_evolution
 
     target, cons, seed, branch, generations, popsize, deadline, n_polish = job
     free = target.phi is None
-    dim = 5 if free else 10
+    dim = 5 if free else 6
     rng = np.random.default_rng(seed)
+    obj = lambda u, n: _shape_objective(u, target, cons, branch, n)  # noqa: E731
     if free:
-        obj = lambda u, n: _shape_objective(u, target, cons, branch, n)  # noqa: E731
         to_x = lambda u: _pose(_shape(u[None]), target, branch, 256)[0][0]  # noqa: E731
-        pre = violation(_shape(U := rng.random((20000, dim))), Constraints(cons.mu_min, cons.max_ratio, 1e9),
-                        target)
     else:
-        obj = lambda u, n: _objective(u, target, cons, branch, n)  # noqa: E731
-        to_x = lambda u: _denorm(u[None], target, cons)[0]  # noqa: E731
-        pre = violation(_denorm(U := rng.random((20000, dim)), target, cons)[:, :9], cons, target)
+        to_x = lambda u: _pose_timed(u[None], target, branch)[0][0]  # noqa: E731
+    U = rng.random((20000, dim))
+    pre = violation(_shape(U[:, :5]), Constraints(cons.mu_min, cons.max_ratio, 1e9), target)
     # atlas: random designs, the least constraint-breaking ranked by error seed the population
     U = U[np.argsort(pre, kind="stable")][:max(popsize * 4, 200)]
     f = obj(U, 96)

@@ -142,3 +142,15 @@ def test_cli_json_and_infeasible(tmp_path):
     # no four-bar keeps the transmission angle above 89.9 deg over a whole turn
     r = run("synthesize", "path", str(f), "--restarts", "1", "--generations", "5", "--min-transmission", "89.9")
     assert r.returncode == 1 and "transmission" in r.stdout
+
+
+def test_recovers_a_random_fourbar_with_timing():
+    x, _ = recovery_target(seed=3)
+    phi = np.linspace(0, 2 * math.pi, 8, endpoint=False) + 0.3
+    E, _ = sp.coupler_points(x[None], phi, 1)
+    t = sp.Target(E[0], phi=phi - 0.3)                      # input angles known up to a common offset
+    d = sp.synthesize(t, seed=0, restarts=2, generations=60, popsize=40, n_polish=3)[0]
+    assert d.violation == 0
+    assert d.err.max() < 1e-3 * t.size                      # the recovery bar
+    # the offset found is the one taken away (mod 2 pi), to the polish's convergence (far below 1e-6 rad)
+    assert abs(np.angle(np.exp(1j * (d.phi_offset - 0.3)))) < 1e-6
