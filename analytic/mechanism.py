@@ -1,6 +1,6 @@
 """One mechanism model behind every command: :class:`Mechanism`.
 
-A mechanism is a :class:`~analytic.linkfile.Definition` (from a ``linkage/1`` file, built-in or the
+A mechanism is a :class:`~analytic.format.linkfile.Definition` (from a ``linkage/1`` file, built-in or the
 user's) together with its parameter values. It knows its inputs and their motion law, its named points,
 links and prismatic pairs, and solves all of them at once::
 
@@ -22,8 +22,9 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from . import kinematics, linkfile
-from ._common import AssemblyError, BLOCK, ParameterError, fmt_deg, keep_freed_memory
+from analytic.solver import kinematics
+from analytic.format import linkfile
+from analytic._common import AssemblyError, BLOCK, ParameterError, fmt_deg, keep_freed_memory
 
 
 # --------------------------------------------------------------------------------------- motion law
@@ -174,7 +175,7 @@ class Builtin:
     """What a built-in mechanism adds to its file: SPEC output names and its dedicated closed form.
 
     ``aliases`` maps a SPEC name to the general output name; ``outputs`` are the SPEC outputs in CSV
-    order; ``module`` is its closed-form module (``analytic.fourbar`` ...) and ``params`` its parameter
+    order; ``module`` is its closed-form module (``analytic.closed_forms.fourbar`` ...) and ``params`` its parameter
     dataclass, used as an independent check and for its own figures of merit."""
 
     outputs: tuple[str, ...]
@@ -434,7 +435,7 @@ class Mechanism:
             Arrays of shape (N,); NaN where a group cannot be assembled (``Solution.failed``).
             The arrays are rows of one (n_outputs, N) array.
         """
-        from . import _jit                                  # numba, when installed (analytic/_jit.py)
+        from analytic.solver import jit as _jit                                  # numba, when installed (analytic/solver/jit.py)
         k = len(self.inputs)
         arrays = [np.asarray(x, dtype=float) for x in (q, qd, qdd)]
         if k == 1:
@@ -506,7 +507,7 @@ class Mechanism:
         at = ", ".join(f"{i.q}={_fmt_q(i, v)}" for i, v in zip(self.inputs, qk))
         hint = ""
         if len(self.inputs) == 1:
-            from .figures import assembly_ranges, describe_ranges
+            from analytic.applications.figures import assembly_ranges, describe_ranges
             ranges = assembly_ranges(self)
             hint = (f"; {first.q} assembles in {describe_ranges(first, ranges)}" if ranges
                     else f"; it assembles at no value of {first.q}")
@@ -514,7 +515,7 @@ class Mechanism:
 
     def figures(self, sol: Solution) -> dict:
         """Figures of merit over a sampled solution: the general ones, and a built-in's own."""
-        from . import figures
+        from analytic.applications import figures
         out = figures.general(self, sol)
         if self.builtin is not None:
             out.update(self.builtin.figures(self.closed_form_parameters(), sol))
@@ -523,8 +524,8 @@ class Mechanism:
     def summary(self, figs: dict, display=None) -> list[str]:
         """The figures of merit (SI) as readable lines, in ``display`` units (analytic.quantities.Display;
         None: the file's length unit)."""
-        from . import figures
-        from .quantities import Display
+        from analytic.applications import figures
+        from analytic.quantities import Display
         display = display or Display(self.units)
         if self.builtin is not None:
             return self.builtin.summary(figs, display)

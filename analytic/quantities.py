@@ -131,7 +131,7 @@ class Display:
     speed: str = ""
 
     def __post_init__(self):
-        from . import ParameterError
+        from analytic import ParameterError
         if self.length not in LENGTH_UNITS:
             raise ParameterError(f"units {self.length!r}: use one of {', '.join(LENGTH_UNITS)}")
         if self.angle not in ("rad", "deg"):

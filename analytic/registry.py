@@ -11,9 +11,13 @@ from __future__ import annotations
 import functools
 from pathlib import Path
 
-from . import fivebar, figures, fourbar, linkfile, sixbar
-from ._common import ParameterError
-from .mechanism import Builtin, Mechanism
+from analytic.closed_forms import fivebar
+from analytic.applications import figures
+from analytic.closed_forms import fourbar
+from analytic.format import linkfile
+from analytic.closed_forms import sixbar
+from analytic._common import ParameterError
+from analytic.mechanism import Builtin, Mechanism
 
 LIBRARY = Path(__file__).resolve().parent / "library"
 

@@ -19,7 +19,9 @@ import numpy as np
 
 # This file is named like the package it measures: keep its own folder off the import path.
 sys.path[:] = [p for p in sys.path if Path(p or ".").resolve() != Path(__file__).resolve().parent]
-from analytic import fivebar, fourbar, sixbar  # noqa: E402
+from analytic.closed_forms import fivebar  # noqa: E402
+from analytic.closed_forms import fourbar  # noqa: E402
+from analytic.closed_forms import sixbar  # noqa: E402
 
 
 def best_rate(fn, n: int, repeats: int) -> float:
@@ -75,7 +77,7 @@ def main() -> None:
         }
         for name, fn in cases.items():
             print(f"N={n:>9,d}  {name:<16s} {best_rate(fn, n, reps) / 1e6:8.2f} M samples/s")
-    from analytic import studies
+    from analytic.applications import studies
     vary = {"l2": [float(v) for v in np.linspace(0.03, 0.09, 100)],
             "l4": [float(v) for v in np.linspace(0.04, 0.10, 100)]}
     t0 = time.perf_counter()

@@ -1,6 +1,6 @@
 """Batch over designs: a 10,000-design five-bar sweep end to end against one solve with as many samples.
 
-Prints the sweep's time on the batch path (analytic.batch, what ``linkage sweep`` runs) and one at a time
+Prints the sweep's time on the batch path (analytic.solver.batch, what ``linkage sweep`` runs) and one at a time
 (``Mechanism.with_values`` + ``solve`` per design, the path ``sweep`` took before), their throughput in
 samples per second, and the ratio to one solve of 10,000 x 361 samples of one design (goal: >= 0.3).
 
@@ -21,7 +21,7 @@ import numpy as np
 sys.path[:] = [p for p in sys.path if Path(p or ".").resolve() != Path(__file__).resolve().parent]
 
 import analytic  # noqa: E402
-from analytic import studies  # noqa: E402
+from analytic.applications import studies  # noqa: E402
 
 
 def old_sweep(base, vary, samples):
@@ -50,7 +50,7 @@ def main() -> None:
     # one solve of one design with as many samples
     t = np.linspace(0.0, studies.period_of(base) * k, n)
     q = base.drive(t)
-    from analytic import _jit
+    from analytic.solver import jit as _jit
     path = "numba" if _jit.enabled(n) else "numpy"
     print(f"single-design solves of {n:,} samples run on {path}; the batch path always runs on numpy")
     p = base.output_point

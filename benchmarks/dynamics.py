@@ -13,8 +13,8 @@ speed). Each gets, from its own seeded stream:
   stroke, with gravity in a random in-plane direction half of the time;
 - a flywheel of 0.1 .. 10 x J_mean (none in 30 %), a start from rest or from 0.2 .. 1 x W0.
 
-Each design runs R revolutions in both answers (sim.motor.dynamics); the targets are the issue's, written
-here independently of sim/motor.py's verdict (reported alongside):
+Each design runs R revolutions in both answers (sim.run.motor.dynamics); the targets are the issue's, written
+here independently of sim/run/motor.py's verdict (reported alongside):
 
     mean speed over the last revolution   <= 1e-4 relative
     Cs over the last revolution           <= 1e-3 absolute
@@ -41,11 +41,11 @@ HERE = Path(__file__).resolve().parent
 sys.path[:] = [p for p in sys.path if Path(p or ".").resolve() != HERE]
 import analytic  # noqa: E402
 from analytic import ParameterError  # noqa: E402
-from analytic import motor as am  # noqa: E402
+from analytic.applications import motor as am  # noqa: E402
 from sim import model as M  # noqa: E402
-from sim import motor as sm  # noqa: E402
+from sim.run import motor as sm  # noqa: E402
 from sim import service  # noqa: E402
-from sim.cli import cutting_direction  # noqa: E402
+from sim.front.cli import cutting_direction  # noqa: E402
 
 _spec = importlib.util.spec_from_file_location("_trust", HERE / "trust.py")
 trust = importlib.util.module_from_spec(_spec)
@@ -161,7 +161,7 @@ def main(argv=None) -> int:
         print(f"{name:24s}{len(rs):4d}{sum(r['ok'] for r in rs):6d}{ds.max():12.1e}{np.median(ds):10.1e}"
               f"{dc.max():11.1e}{np.median(dc):10.1e}{cv.max():13.1e}{cs.min():8.3f}..{cs.max():6.3f}")
     print(f"targets: mean speed <= {SPEED:g} relative, Cs <= {CS:g} absolute; passing {sum(r['ok'] for r in rows)}/{n}"
-          f"; sim.motor's own verdict (adds speed vs angle/time) {sum(r['verdict'] for r in rows)}/{n}")
+          f"; sim.run.motor's own verdict (adds speed vs angle/time) {sum(r['verdict'] for r in rows)}/{n}")
     print(f"loads: {dict(Counter(r['what'] for r in rows))}; with flywheel {sum(r['fly'] for r in rows)}, "
           f"from a speed {sum(r['start'] for r in rows)}; CPU per design median "
           f"{np.median([r['cpu'] for r in rows]):.2f} s")

@@ -2,8 +2,8 @@
 
 The group: the class III triad of ``tests/test_general_group.py`` (a ternary link D E F pinned through three
 binary links to a crank tip A and two ground pivots; 6 unknown coordinates), solved by
-:func:`analytic.general_group.solve_group` (coarse continuation, batched Newton, exact rates). The chain:
-three closed-form RRR dyads (:func:`analytic.kinematics._rrr`) placing three points from the same crank
+:func:`analytic.solver.general_group.solve_group` (coarse continuation, batched Newton, exact rates). The chain:
+three closed-form RRR dyads (:func:`analytic.solver.kinematics._rrr`) placing three points from the same crank
 (6 unknown coordinates). Both give positions, velocities and accelerations of their three points.
 Goal (issue 16): the group costs at most 10x the chain per sample, numpy, N = 1e6.
 
@@ -23,8 +23,8 @@ import numpy as np
 # benchmarks/analytic.py would shadow the package of that name: keep this folder off the import path.
 sys.path[:] = [p for p in sys.path if Path(p or ".").resolve() != Path(__file__).resolve().parent]
 
-from analytic.general_group import make_group, solve_group  # noqa: E402
-from analytic.kinematics import _crank, _rrr  # noqa: E402
+from analytic.solver.general_group import make_group, solve_group  # noqa: E402
+from analytic.solver.kinematics import _crank, _rrr  # noqa: E402
 
 Q0 = 0.5
 O1, O2 = (4.0, 3.5), (3.5, -0.5)

@@ -6,7 +6,7 @@ Position, velocity and acceleration of every point of the leg (analytic/library/
 three RRR dyads and two rigid-triangle points) at N crank angles through ``analytic.load(...).solve``:
 
 * the numpy path (``LINKAGE_JIT=0``; blocks of ``analytic._common.BLOCK`` samples) and the compiled path
-  (analytic/_jit.py, when numba is installed), each for the points only (``outputs=`` the 48 point
+  (analytic/solver/jit.py, when numba is installed), each for the points only (``outputs=`` the 48 point
   columns) and for every output (link angles and transmission angles too: 16 more arctan2 per sample);
 * pylinkage's numba-compiled ``Linkage.step_fast_with_kinematics`` on the same leg, same dimensions,
   same crank angles (it steps the crank by 2 pi / N per sample), with the same omega and alpha;
@@ -36,7 +36,7 @@ sys.path[:] = [p for p in sys.path if Path(p or ".").resolve() != Path(__file__)
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 import analytic  # noqa: E402
-from analytic import _jit  # noqa: E402
+from analytic.solver import jit as _jit  # noqa: E402
 
 OMEGA, ALPHA = 2 * math.pi, 1.5          # crank speed [rad/s] and acceleration [rad/s^2] at every sample
 
@@ -158,7 +158,7 @@ def numpy_chain(mech, q, qd, qdd):
 # ------------------------------------------------------------------------------------ compile time
 def compile_seconds(cold: bool) -> str:
     """Seconds to the first compiled solve in a fresh process: with an empty numba cache (cold) or with
-    the cache analytic/_jit.py keeps next to itself (warm), ``import numba`` included."""
+    the cache analytic/solver/jit.py keeps next to itself (warm), ``import numba`` included."""
     code = ("import time, numpy as np, analytic; m = analytic.load('fourbar'); t = time.perf_counter(); "
             "m.solve(np.zeros(3)); print(f'{time.perf_counter() - t:.2f}')")
     env = {**os.environ, "LINKAGE_JIT": "1", "PYTHONPATH": str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", "")}

@@ -13,7 +13,7 @@ first on the path (the package is installed editable from the real tree: the cop
 is checked once by printing ``analytic.__file__``), ``LINKAGE_JIT=0`` (the numpy solver, the one the
 mutations edit) and ``MUJOCO_GL=egl``. Tests that fail on the unmutated copy are deselected everywhere.
 
-For the solver's formulas (analytic/kinematics.py) the compiled path (analytic/_jit.py) mirrors every
+For the solver's formulas (analytic/solver/kinematics.py) the compiled path (analytic/solver/jit.py) mirrors every
 formula, so tests/test_solver_paths.py kills any such mutation by comparing the two paths; that says
 nothing about whether the formula is right, so it is run apart and shown in its own column, and the
 verdict comes from the tests that check the physics.
@@ -64,7 +64,7 @@ class Mutation:
 
 
 def _tol(name: str, value: str, loose: str, extra_tests=(), should=""):
-    return Mutation(f"tol-{name}", f"sim/compare.py {name} loosened 10x ({value} -> {loose})", "sim/compare.py",
+    return Mutation(f"tol-{name}", f"sim/run/compare.py {name} loosened 10x ({value} -> {loose})", "sim/run/compare.py",
                     f"{name} = {value}\n", f"{name} = {loose}\n", [CV, *extra_tests],
                     should or f"tests/test_cross_validation.py should pin {name} (e.g. compare the comparison's "
                                 f"own tolerance with the pinned value, or run a case whose error lies between "
@@ -88,8 +88,8 @@ MUTATIONS = [
          "test_cross_validation.test_fifty_revolutions_keep_every_error_flat checks work_balance <= 1e-3 "
          "itself; nothing pins the code's WORK_TOL: a test should assert c.as_dict(built)['work_tol'] <= 1e-3"),
     # --- an output dropped
-    Mutation("out-mu-fourbar", "'mu' dropped from the four-bar's SPEC outputs (analytic/fourbar.py OUTPUTS)",
-             "analytic/fourbar.py", '"axE", "ayE", "mu")', '"axE", "ayE")', [CLI_A, GS, CV],
+    Mutation("out-mu-fourbar", "'mu' dropped from the four-bar's SPEC outputs (analytic/closed_forms/fourbar.py OUTPUTS)",
+             "analytic/closed_forms/fourbar.py", '"axE", "ayE", "mu")', '"axE", "ayE")', [CLI_A, GS, CV],
              "tests/test_cli_analyze.py::test_csv_has_time_inputs_and_every_spec_output compares the header "
              "with module.OUTPUTS, the very tuple mutated: it should pin SPEC's literal column list"),
     Mutation("out-mu-general", "transmission angles muP dropped from every library mechanism's outputs "
@@ -104,64 +104,64 @@ MUTATIONS = [
              [CLI_A], "tests/test_cli_analyze.py (CSV header of the four-bar)"),
     # --- a formula perturbed by 1e-6 relative (the numpy solver)
     Mutation("kin-rrr-alpha", "RRR group: alpha of the first link x (1 + 1e-6) (kinematics._rrr)",
-             "analytic/kinematics.py", "    al1 *= idet\n", "    al1 *= idet * (1.0 + 1e-6)\n", KIN_TESTS,
+             "analytic/solver/kinematics.py", "    al1 *= idet\n", "    al1 *= idet * (1.0 + 1e-6)\n", KIN_TESTS,
              "tests/test_library.py / test_analytic_vs_newton.py (accelerations to RATE_TOL 1e-9 of the peak)",
              mirror=[PATHS]),
     Mutation("kin-rrr-omega", "RRR group: omega of the second link x (1 + 1e-6) (kinematics._rrr)",
-             "analytic/kinematics.py", "    w2 *= idet\n", "    w2 *= idet * (1.0 + 1e-6)\n", KIN_TESTS,
+             "analytic/solver/kinematics.py", "    w2 *= idet\n", "    w2 *= idet * (1.0 + 1e-6)\n", KIN_TESTS,
              "tests/test_library.py / test_analytic_vs_newton.py (link rates to RATE_TOL 1e-9)", mirror=[PATHS]),
     Mutation("kin-rpr-coriolis", "RPR group: Coriolis term 2 ds w x (1 + 1e-6) (kinematics._rpr)",
-             "analytic/kinematics.py", "- 2.0 * ds * w + offset * w * w) / s",
+             "analytic/solver/kinematics.py", "- 2.0 * ds * w + offset * w * w) / s",
              "- 2.0 * (1.0 + 1e-6) * ds * w + offset * w * w) / s", KIN_TESTS,
              "tests/test_library.py (inverted_slider_crank, whitworth) or the five-bar's closed-form check",
              mirror=[PATHS]),
     Mutation("kin-rrp-coriolis", "RRP group: Coriolis term 2 ds w x (1 + 1e-6) (kinematics._rrp)",
-             "analytic/kinematics.py", "ax0, ay0 = C0[4] - 2.0 * ds * w * s, C0[5] + 2.0 * ds * w * c",
+             "analytic/solver/kinematics.py", "ax0, ay0 = C0[4] - 2.0 * ds * w * s, C0[5] + 2.0 * ds * w * c",
              "ax0, ay0 = C0[4] - 2.0 * (1.0 + 1e-6) * ds * w * s, C0[5] + 2.0 * (1.0 + 1e-6) * ds * w * c",
              KIN_TESTS, "a test with a block on a turning guide (RRP on a moving line): test_library if a library "
                         "file has one, else nothing", mirror=[PATHS]),
     Mutation("kin-crank-velocity", "crank tip velocity x (1 + 1e-6) (kinematics._crank)",
-             "analytic/kinematics.py", "P[2] - qd * ry, P[3] + qd * rx, ax, ay)",
+             "analytic/solver/kinematics.py", "P[2] - qd * ry, P[3] + qd * rx, ax, ay)",
              "P[2] - qd * (1.0 + 1e-6) * ry, P[3] + qd * (1.0 + 1e-6) * rx, ax, ay)", KIN_TESTS,
              "tests/test_library.py / test_analytic_vs_newton.py / test_general_solver.py (velocities to 1e-9)",
              mirror=[PATHS]),
     # --- inverse dynamics
     Mutation("torque-mass-1e-6", "inverse dynamics: every link's m (a - g).dv term x (1 + 1e-6) "
-             "(torque.drive_forces)", "analytic/torque.py", "tau = tau + b.m * ((agx - gx) * cvx",
+             "(torque.drive_forces)", "analytic/applications/torque.py", "tau = tau + b.m * ((agx - gx) * cvx",
              "tau = tau + b.m * (1.0 + 1e-6) * ((agx - gx) * cvx", [DYN, CV],
-             "tests/test_dynamics.py (the general inverse dynamics against analytic.dynamics.torques or the "
+             "tests/test_dynamics.py (the general inverse dynamics against analytic.closed_forms.dynamics.torques or the "
              "power balance, at rounding level)"),
     Mutation("torque-com-1pct", "inverse dynamics: centre-of-mass offset 1 % too far (torque._com)",
-             "analytic/torque.py", "rx, ry = b.cx * c - b.cy * s, b.cx * s + b.cy * c",
+             "analytic/applications/torque.py", "rx, ry = b.cx * c - b.cy * s, b.cx * s + b.cy * c",
              "rx, ry = 1.01 * (b.cx * c - b.cy * s), 1.01 * (b.cx * s + b.cy * c)", [DYN, CV],
              "tests/test_dynamics.py (MuJoCo's actuator torque against torque.drive_forces, or the dedicated "
              "torques)"),
     Mutation("torque-inertia-1pct", "inverse dynamics: moment of inertia term x 1.01 (torque.drive_forces)",
-             "analytic/torque.py", "b.I * sol[\"alpha\" + link] * coeff[\"omega\" + link]",
+             "analytic/applications/torque.py", "b.I * sol[\"alpha\" + link] * coeff[\"omega\" + link]",
              "1.01 * b.I * sol[\"alpha\" + link] * coeff[\"omega\" + link]", [DYN, CV],
              "tests/test_dynamics.py"),
     # --- the drives
-    Mutation("servo-budget-1000x", "sim/model.py DRIVE_ERROR_BUDGET 1000x larger (a soft servo)", "sim/model.py",
+    Mutation("servo-budget-1000x", "sim/model/__init__.py DRIVE_ERROR_BUDGET 1000x larger (a soft servo)", "sim/model/__init__.py",
              "DRIVE_ERROR_BUDGET = 1e-6\n", "DRIVE_ERROR_BUDGET = 1e-3\n", [CV, MOD, DYN],
              "tests/test_cross_validation.py (drive error against DRIVE)"),
-    Mutation("step-angle-10x", "sim/model.py STEP_ANGLE 10x larger (0.03 -> 0.3 rad per step)", "sim/model.py",
+    Mutation("step-angle-10x", "sim/model/__init__.py STEP_ANGLE 10x larger (0.03 -> 0.3 rad per step)", "sim/model/__init__.py",
              "STEP_ANGLE = 0.03\n", "STEP_ANGLE = 0.3\n", [CV, MOD],
              "tests/test_cross_validation.py::test_the_simulation_records_what_happened (h <= 0.03 / Omega)"),
-    Mutation("rate-no-zoom", "sim/model.py: the fastest rate from the 720-sample scan only (RATE_ZOOMS 0)",
-             "sim/model.py", "RATE_ZOOMS = 8\n", "RATE_ZOOMS = 0\n", [CV],
+    Mutation("rate-no-zoom", "sim/model/__init__.py: the fastest rate from the 720-sample scan only (RATE_ZOOMS 0)",
+             "sim/model/__init__.py", "RATE_ZOOMS = 8\n", "RATE_ZOOMS = 0\n", [CV],
              "tests/test_cross_validation.py::test_the_step_follows_a_peak_that_falls_between_samples"),
-    Mutation("rate-first-turn", "sim/model.py: the step chosen from the first revolution of the run only",
-             "sim/model.py", "omega = rate_scale(mech, revolutions)\n", "omega = rate_scale(mech, min(revolutions, 1.0))\n",
+    Mutation("rate-first-turn", "sim/model/__init__.py: the step chosen from the first revolution of the run only",
+             "sim/model/__init__.py", "omega = rate_scale(mech, revolutions)\n", "omega = rate_scale(mech, min(revolutions, 1.0))\n",
              [CV], "tests/test_cross_validation.py::test_the_step_follows_the_fastest_revolution_of_an_accelerating_run"),
-    Mutation("regulariser-ignores-loads", "sim/model.py: the constraint regulariser not reduced for loads",
-             "sim/model.py", "return REGULARIZATION_SCALE / (1.0 + load / inertial) if inertial > 0",
+    Mutation("regulariser-ignores-loads", "sim/model/__init__.py: the constraint regulariser not reduced for loads",
+             "sim/model/__init__.py", "return REGULARIZATION_SCALE / (1.0 + load / inertial) if inertial > 0",
              "return REGULARIZATION_SCALE / (1.0 + 0 * load / inertial) if inertial > 0", [CV],
              "tests/test_cross_validation.py::test_loads_far_above_the_inertial_forces_keep_the_accuracy"),
-    Mutation("regulariser-100x", "sim/model.py REGULARIZATION_SCALE 100x larger (1e-6 -> 1e-4, the old value)",
-             "sim/model.py", "REGULARIZATION_SCALE = 1e-6\n", "REGULARIZATION_SCALE = 1e-4\n", [CV],
+    Mutation("regulariser-100x", "sim/model/__init__.py REGULARIZATION_SCALE 100x larger (1e-6 -> 1e-4, the old value)",
+             "sim/model/__init__.py", "REGULARIZATION_SCALE = 1e-6\n", "REGULARIZATION_SCALE = 1e-4\n", [CV],
              "tests/test_cross_validation.py (the near-singular Whitworth case)"),
-    Mutation("loop-timeconst-16x", "sim/model.py LOOP_TIMECONST 16x shorter (32 -> 2 steps: a drift correction "
-             "RK4 cannot follow; 8 steps only triples the errors, all within tolerance)", "sim/model.py",
+    Mutation("loop-timeconst-16x", "sim/model/__init__.py LOOP_TIMECONST 16x shorter (32 -> 2 steps: a drift correction "
+             "RK4 cannot follow; 8 steps only triples the errors, all within tolerance)", "sim/model/__init__.py",
              "LOOP_TIMECONST = 32.0\n", "LOOP_TIMECONST = 2.0\n", [CV, MOD],
              "tests/test_cross_validation.py"),
     # --- units of results (SPEC "Units of results")
@@ -170,12 +170,12 @@ MUTATIONS = [
     Mutation("display-rpm-inverted", "analytic/quantities.py: rpm per rad/s inverted", "analytic/quantities.py",
              "RPM = 60.0 / (2.0 * math.pi)", "RPM = 2.0 * math.pi / 60.0", ["tests/test_units.py"],
              "tests/test_units.py (CSV --speeds rpm: 360 deg/s is 60 rpm)"),
-    Mutation("inertia-option-in-si", "sim/cli.py: --inertia read in SI, not in the file's unit", "sim/cli.py",
+    Mutation("inertia-option-in-si", "sim/front/cli.py: --inertia read in SI, not in the file's unit", "sim/front/cli.py",
              "inertias[link] = Inertia(m=given.m, cx=given.cx * s, cy=given.cy * s, I=given.I * s * s)",
              "inertias[link] = given", ["tests/test_units.py"],
              "tests/test_units.py::test_inertia_file_is_read_in_the_file_unit_like_the_inertia_table"),
-    Mutation("sheet-figures-from-samples", "sim/plot.py: the sheet's figures from the simulated samples",
-             "sim/plot.py", "figs = service.figures(mech)", "figs = mech.figures(c.analytic)", ["tests/test_units.py"],
+    Mutation("sheet-figures-from-samples", "sim/output/plot.py: the sheet's figures from the simulated samples",
+             "sim/output/plot.py", "figs = service.figures(mech)", "figs = mech.figures(c.analytic)", ["tests/test_units.py"],
              "tests/test_units.py::test_plot_sheet_figures_are_analyze_figures_and_the_hand_value"),
 ]
 

@@ -16,7 +16,10 @@ sys.path[:] = [p for p in sys.path if Path(p or ".").resolve() != Path(__file__)
 import sim  # noqa: E402,F401  (chooses the offscreen GL backend before mujoco is imported)
 import mujoco  # noqa: E402
 
-from sim import model, render, service, simulate  # noqa: E402
+from sim import model  # noqa: E402
+from sim.output import render  # noqa: E402
+from sim import service  # noqa: E402
+from sim.run import simulate  # noqa: E402
 
 W, H, FPS = 640, 480, 30.0
 

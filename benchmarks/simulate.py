@@ -2,7 +2,7 @@
 
 Run:  python benchmarks/simulate.py [--quick]
 For each mechanism (the five-bar also at omega4 = 2 omega2), for a few integrators and timesteps, prints
-the worst error as a fraction of its tolerance (<= 1 passes; see sim/compare.py), the loop violation and
+the worst error as a fraction of its tolerance (<= 1 passes; see sim/run/compare.py), the loop violation and
 the CPU milliseconds per simulated crank revolution; then, at the default settings, the harness
 (rollout + reading the outputs) against a bare Python loop of mj_step on the same model.
 """
@@ -18,7 +18,10 @@ import mujoco
 
 # benchmarks/analytic.py would shadow the package of that name: keep this folder off the import path.
 sys.path[:] = [p for p in sys.path if Path(p or ".").resolve() != Path(__file__).resolve().parent]
-from sim import compare, model, service, simulate  # noqa: E402
+from sim.run import compare  # noqa: E402
+from sim import model  # noqa: E402
+from sim import service  # noqa: E402
+from sim.run import simulate  # noqa: E402
 
 CASES = {"fourbar": service.load("fourbar"), "sixbar": service.load("sixbar"), "fivebar": service.load("fivebar"),
          "fivebar w4=2w2": service.load("fivebar", {"omega4": 4 * math.pi}), "jansen": service.load("jansen")}

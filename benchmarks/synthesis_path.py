@@ -18,9 +18,9 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-from analytic import synthesis_path as sp  # noqa: E402
-from sim.parallel import mapper  # noqa: E402
-from sim.synth_path_cmd import _mu_min_deg  # noqa: E402
+from analytic.synthesis import path as sp  # noqa: E402
+from sim.run.parallel import mapper  # noqa: E402
+from sim.front.synth_path_cmd import _mu_min_deg  # noqa: E402
 
 DATA = Path(__file__).parent / "data"
 CASES = ("mkh1", "mkh2", "mkh3", "mcgarva", "ullah")

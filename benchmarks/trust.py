@@ -13,7 +13,7 @@ them. A design is
 valid when ``service.prepare`` (full turn, singular pose, assembly) and the time-step choice accept it;
 refusals are counted by reason. Each valid design is simulated for one revolution with
 ``service.compare`` and judged here against the issue's targets, written independently of
-sim/compare.py (its own verdict ``passed`` is reported alongside):
+sim/run/compare.py (its own verdict ``passed`` is reported alongside):
 
     angles          <= 1e-6 rad
     positions       <= 1e-6 of the size L
@@ -22,7 +22,7 @@ sim/compare.py (its own verdict ``passed`` is reported alongside):
     loops           <= 1e-6 of L
     drive error     <= 1e-4 rad (of L for a slider)
 
-with Omega = sim.compare.motion_scale(mech). Prints the pass rate (overall and per mechanism, target
+with Omega = sim.run.compare.motion_scale(mech). Prints the pass rate (overall and per mechanism, target
 >= 99 %), the worst error/target per output kind, the failing designs with a reproduction command, the
 CPU cost per simulated revolution (target median <= 15 ms) and the chosen time steps.
 
@@ -45,8 +45,9 @@ import numpy as np
 # benchmarks/analytic.py would shadow the package of that name: keep this folder off the import path.
 sys.path[:] = [p for p in sys.path if Path(p or ".").resolve() != Path(__file__).resolve().parent]
 import analytic  # noqa: E402
-from analytic import ParameterError, expr  # noqa: E402
-from sim import compare as sim_compare  # noqa: E402
+from analytic import ParameterError  # noqa: E402
+from analytic.format import expr  # noqa: E402
+from sim.run import compare as sim_compare  # noqa: E402
 from sim import model as sim_model  # noqa: E402
 from sim import service  # noqa: E402
 
@@ -322,7 +323,7 @@ def run(args) -> int:
                    torque={n: e["max"] / e["tol"] for n, e in c.errors.items() if n.startswith("tau")},
                    work=c.work_balance, h=tr.timestep, steps=tr.steps, cpu=tr.cpu_seconds,
                    cpu_total=time.process_time() - c0, worst=(worst, j["ratios"][worst]),
-                   # own error computation against sim.compare's (same data: should agree to rounding)
+                   # own error computation against sim.run.compare's (same data: should agree to rounding)
                    agree=max((abs(j["detail"][n][1] - e["max"]) / max(e["max"], 1e-300)
                               for n, e in c.errors.items() if n in j["detail"]), default=0.0),
                    duration=mech.duration(1.0))
@@ -369,7 +370,7 @@ def report(args, names, results, refusals, refusals_by_mech, attempts, cap, wall
         print(f"  with loads (force on the output point, {g} also with gravity): "
               f"{sum(r['ok'] for r in loaded)}/{len(loaded)} pass")
     own = [r for r in results if r.get("own_verdict")]
-    print(f"sim.compare's own verdict passed: {len(own)}/{n}; disagreements with the issue targets: "
+    print(f"sim.run.compare's own verdict passed: {len(own)}/{n}; disagreements with the issue targets: "
           f"{sum(1 for r in results if 'own_verdict' in r and r['own_verdict'] != r['ok'])}")
     print(f"\n{'mechanism':<22s} {'valid':>5s} {'pass':>5s} {'rate':>7s} {'refused':>7s}  worst error/target (output)")
     for name in names:
@@ -413,7 +414,7 @@ def report(args, names, results, refusals, refusals_by_mech, attempts, cap, wall
               f"(size {r['size']:.3g} m, {r['info']['rev_s']:+.2f} rev/s)")
     agree = [r["agree"] for r in results if "agree" in r]
     if agree:
-        print(f"  (check) own max errors vs sim.compare's errors[...]['max']: largest relative difference "
+        print(f"  (check) own max errors vs sim.run.compare's errors[...]['max']: largest relative difference "
               f"{max(agree):.2g}")
     tq = [max(r["torque"].values()) for r in results if r.get("torque")]
     wk = [r["work"] for r in results if "work" in r]
@@ -437,7 +438,7 @@ def report(args, names, results, refusals, refusals_by_mech, attempts, cap, wall
             for v, o in bad[:8]:
                 kind, err, tol = r["detail"][o]
                 print(f"    {o:<10s} {kind:<16s} error {err:.3e} target {tol:.3e}  ratio {v:.3g}")
-            print(f"    h {r['h']:.4g} s, {r['steps']} steps; sim.compare passed={r['own_verdict']}")
+            print(f"    h {r['h']:.4g} s, {r['steps']} steps; sim.run.compare passed={r['own_verdict']}")
         print(f"    {repro(r['name'], r['over'], loads=r['loads'])}")
 
     sims = [r for r in results if "cpu" in r]

@@ -4,12 +4,12 @@ MuJoCo fixes its OpenGL backend when it is imported, so the offscreen backend is
 any submodule imports mujoco: the user's ``MUJOCO_GL`` if set, else EGL (OSMesa where EGL is missing).
 """
 
-from .gl import ensure_gl_backend
+from sim.output.gl import ensure_gl_backend
 
 ensure_gl_backend()
 
 
 def load_exported(path):
-    """(MjModel, MjData) of a ``linkage export --mjcf`` file as validated: see :mod:`sim.exported`."""
-    from .exported import load_exported as load
+    """(MjModel, MjData) of a ``linkage export --mjcf`` file as validated: see :mod:`sim.model.exported`."""
+    from sim.model.exported import load_exported as load
     return load(path)

@@ -1,5 +1,5 @@
 import sys
 
-from .launch import main
+from sim.front.launch import main
 
 sys.exit(main())

@@ -13,7 +13,8 @@ from dataclasses import dataclass
 import numpy as np
 
 import analytic
-from analytic import ParameterError, expr
+from analytic import ParameterError
+from analytic.format import expr
 from analytic.mechanism import Mechanism
 
 MAX_SAMPLES = 10_000_000
@@ -55,7 +56,7 @@ def parameter_value(mech_or_def, name: str, value) -> float:
 def load(mechanism: str, values: dict | None = None, text: str | None = None) -> Mechanism:
     """A mechanism by name or path (or from a file's ``text``), with parameter ``values`` (numbers or
     strings such as ``"30deg"``, file units)."""
-    d = analytic.linkfile.parse(text, "<upload>") if text is not None else analytic.definition(mechanism)
+    d = analytic.format.linkfile.parse(text, "<upload>") if text is not None else analytic.definition(mechanism)
     overrides = {k: parameter_value(d, k, v) for k, v in (values or {}).items()}
     builtin = analytic.BUILTINS.get(mechanism) if text is None else None
     return Mechanism.from_definition(d, overrides, builtin)
@@ -97,7 +98,7 @@ def describe(mech: Mechanism) -> dict:
 
 def link_drawing(mech: Mechanism) -> list[dict]:
     """Each link with the points to draw it through (origin first), for front ends."""
-    from analytic.linkfile import link_members
+    from analytic.format.linkfile import link_members
     members = link_members(mech.definition)
     origins = mech.link_origins
     return [{"name": ln, "points": [origins[ln]] + sorted(members.get(ln, set()) - {origins[ln]}),
@@ -181,7 +182,7 @@ def check_turns_fully(mech: Mechanism) -> None:
     (a rocking drive, ``input_range``, is the way to run it)."""
     if len(mech.inputs) != 1 or mech.rock is not None or mech.inputs[0].kind != "crank":
         return
-    from analytic import figures
+    from analytic.applications import figures
     ranges = figures.assembly_ranges(mech)
     if not ranges:
         raise ParameterError(f"the {mech.name} cannot be assembled at any value of {mech.inputs[0].q}: change its "
@@ -229,7 +230,7 @@ def analysis_columns(mech: Mechanism, a: Analysis) -> dict[str, np.ndarray]:
 
 def units_of(mech: Mechanism, columns, display=None) -> dict[str, str]:
     """The unit of each CSV column (for the sidecar) in ``display`` units (default SI)."""
-    from .units import SI, column_unit
+    from sim.output.units import SI, column_unit
     return {c: column_unit(mech, c, display or SI) for c in columns}
 
 
@@ -238,7 +239,7 @@ def check_singular(mech: Mechanism) -> None:
     """Refuse a run whose first input would carry a group through a singular (change-point) pose,
     naming the input value: the simulation cannot tell the branches apart there."""
     if len(mech.inputs) != 1:
-        from analytic import figures
+        from analytic.applications import figures
         t = np.linspace(0.0, mech.duration(1.0), 2001)
         sol = mech.solve(*mech.drive(t))
         m, where = figures.min_singularity(mech, sol)
@@ -246,7 +247,7 @@ def check_singular(mech: Mechanism) -> None:
             raise ParameterError(f"the {mech.name} passes through a singular pose ({where} folds): its motion is "
                                  f"undefined there; change a length or a phase")
         return
-    from analytic import figures
+    from analytic.applications import figures
     poses = figures.singular_poses(mech)
     if poses:
         first = mech.inputs[0]
@@ -277,8 +278,8 @@ def prepare(mech: Mechanism, revolutions: float, input_range=None) -> Mechanism:
 
 def simulate(mech: Mechanism, revolutions: float = 1.0, settings=None, loads=None, input_range=None):
     """Build and run the MuJoCo model: returns (Built, Trajectory)."""
-    from .model import Loads, Settings, build
-    from .simulate import simulate as run
+    from sim.model import Loads, Settings, build
+    from sim.run.simulate import simulate as run
     mech = prepare(mech, revolutions, input_range)
     built = build(mech, settings or Settings(), loads or Loads(), revolutions)
     return built, run(built, revolutions)
@@ -286,7 +287,7 @@ def simulate(mech: Mechanism, revolutions: float = 1.0, settings=None, loads=Non
 
 def compare(mech: Mechanism, revolutions: float = 1.0, settings=None, loads=None, input_range=None):
     """Simulate and cross-validate: returns (Built, Comparison)."""
-    from .compare import compare as cmp
+    from sim.run.compare import compare as cmp
     built, tr = simulate(mech, revolutions, settings, loads, input_range)
     return built, cmp(tr, built, revolutions)
 
@@ -308,11 +309,11 @@ def trajectory_columns(tr) -> dict:
 
 def export_mjcf(mech: Mechanism, settings=None, revolutions: float = 1.0) -> str:
     """The generated MJCF of ``mech`` as a standalone document (its time step chosen for ``revolutions``)."""
-    from .model import Settings, build, export_xml
+    from sim.model import Settings, build, export_xml
     return export_xml(build(mech, settings or Settings(), revolutions=revolutions))
 
 
 def mechanism_text(mech: Mechanism) -> str:
     """The mechanism's file (TOML) with its current parameter values written in."""
-    from .tomlout import dump
+    from sim.output.tomlout import dump
     return dump(mech)

@@ -1,6 +1,6 @@
 """An independent oracle for any ``linkage/1`` mechanism: Newton's method on the whole constraint system.
 
-It shares nothing with ``analytic/kinematics.py`` or its group formulas. It reads only the resolved data
+It shares nothing with ``analytic/solver/kinematics.py`` or its group formulas. It reads only the resolved data
 of a file (``Mechanism.geometry``: ground points and the elements' numeric fields, SI units) and writes
 two scalar constraint equations per element, in the element's own point (x, y):
 

@@ -9,7 +9,9 @@ import math
 import numpy as np
 import pytest
 
-from analytic import fivebar, fourbar, sixbar
+from analytic.closed_forms import fivebar
+from analytic.closed_forms import fourbar
+from analytic.closed_forms import sixbar
 from oracle import solve_loops
 
 RNG_SEEDS = range(8)

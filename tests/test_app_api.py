@@ -15,7 +15,8 @@ import numpy as np
 import pytest
 
 import analytic
-from sim import app, service
+from sim.front import app
+from sim import service
 
 LIBRARY = Path(analytic.__file__).parent / "library"
 

@@ -157,7 +157,7 @@ def test_csv_carries_its_units_and_compare_json_its_context(tmp_path):
 
 def test_help_starts_without_mujoco_or_matplotlib():
     code = ("import sys, runpy; sys.argv = ['linkage', 'analyze', 'fourbar'];\n"
-            "from sim.cli import main; main();\n"
+            "from sim.front.cli import main; main();\n"
             "assert 'mujoco' not in sys.modules and 'matplotlib' not in sys.modules, "
             "[m for m in ('mujoco', 'matplotlib') if m in sys.modules]")
     r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
@@ -285,7 +285,7 @@ def test_cli_classes_of_issue_20(tmp_path, args, pattern):
 
 def test_a_slider_scan_in_a_mm_file_covers_four_sizes_in_metres():
     import analytic
-    from analytic import figures
+    from analytic.applications import figures
     mech = analytic.load(str(__import__("pathlib").Path(__file__).parent / "mechanisms" / "slider_driven.toml"))
     lo, hi = figures._first_range(mech)
     # s0 = 60 mm, size 100 mm (the rod): the scan is s0 +- 4 x 0.1 m, in metres like the slider's q

@@ -1,4 +1,4 @@
-"""Batch over designs (analytic/batch.py) and ``linkage sweep`` on it: the same numbers as one
+"""Batch over designs (analytic/solver/batch.py) and ``linkage sweep`` on it: the same numbers as one
 ``Mechanism.solve`` per design, invalid designs flagged with the one-at-a-time reason, bad --vary refused."""
 
 import csv
@@ -10,7 +10,9 @@ import numpy as np
 import pytest
 
 import analytic
-from analytic import ParameterError, batch, studies
+from analytic import ParameterError
+from analytic.solver import batch
+from analytic.applications import studies
 
 MECHANISMS = ["fourbar", "fivebar", "slider_crank", "jansen", "watt_six_bar", "whitworth",
               "inverted_slider_crank", "stephenson_six_bar"]

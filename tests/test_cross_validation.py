@@ -1,7 +1,7 @@
 """MuJoCo against the analytic solver for any design: scale, speed, branch, acceleration, speed ratio,
 rocking drives; the verdict can fail; singular designs are refused with the angle.
 
-The tolerances are pinned here, each with the error source it bounds, not read from sim.compare: a
+The tolerances are pinned here, each with the error source it bounds, not read from sim.run.compare: a
 test fails if the code's tolerances are loosened.
 """
 
@@ -11,8 +11,10 @@ import numpy as np
 import pytest
 
 from analytic import ParameterError
-from sim import compare, model, service
-from sim.simulate import SimulationError
+from sim.run import compare
+from sim import model
+from sim import service
+from sim.run.simulate import SimulationError
 
 ANGLE = 1e-6        # [rad] RK4 truncation at 0.03 rad per step plus loop drift (measured ~1e-8)
 POSITION = 1e-6     # [of the size] the same for points and slides
@@ -48,7 +50,7 @@ CASES = {
 
 def _scaled_errors(c, mech):
     """Each output's error over a pinned tolerance of its own kind."""
-    from sim.units import output_kind
+    from sim.output.units import output_kind
     L = mech.size
     omega = compare.motion_scale(mech)
     out = {}

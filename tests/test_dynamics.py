@@ -6,9 +6,14 @@ import numpy as np
 import pytest
 
 import analytic
-from analytic import ParameterError, fivebar, fourbar, sixbar, torque
-from analytic.dynamics import Inertia, body_motions, torques
-from sim import model, service
+from analytic import ParameterError
+from analytic.closed_forms import fivebar
+from analytic.closed_forms import fourbar
+from analytic.closed_forms import sixbar
+from analytic.applications import torque
+from analytic.closed_forms.dynamics import Inertia, body_motions, torques
+from sim import model
+from sim import service
 
 G = 9.81
 
@@ -115,8 +120,8 @@ FIVE_INERTIAS = {"crank2": Inertia(0.2, 0.03, 0.01, 1e-4), "link3": Inertia(0.4,
 
 @pytest.mark.parametrize("name", ["fourbar", "sixbar", "fivebar"])
 def test_the_general_drive_forces_equal_the_built_in_torques(name):
-    # Two independent routes: analytic.torque works on any mechanism through the general solver and
-    # the file's link frames; analytic.dynamics on the built-ins' closed forms and their own body frames.
+    # Two independent routes: analytic.applications.torque works on any mechanism through the general solver and
+    # the file's link frames; analytic.closed_forms.dynamics on the built-ins' closed forms and their own body frames.
     mech = analytic.load(name, **({"alpha1": 2.0} if name != "fivebar" else {"omega4": 4 * math.pi, "alpha2": 1.0}))
     inertias = FIVE_INERTIAS if name == "fivebar" else INERTIAS[name]
     t = np.linspace(0.0, 0.9, 37)

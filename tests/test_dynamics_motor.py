@@ -1,5 +1,5 @@
-"""A motor drives the linkage: the reduced equation of motion (analytic/motor.py) against an independent
-integration written here from the four-bar's own closed form (analytic/fourbar.py), energy conservation,
+"""A motor drives the linkage: the reduced equation of motion (analytic/applications/motor.py) against an independent
+integration written here from the four-bar's own closed form (analytic/closed_forms/fourbar.py), energy conservation,
 flywheel sizing and bad inputs."""
 
 from __future__ import annotations
@@ -12,8 +12,9 @@ from scipy.integrate import solve_ivp
 from scipy.optimize import minimize_scalar
 
 import analytic
-from analytic import fourbar, motor
-from analytic.dynamics import Inertia
+from analytic.closed_forms import fourbar
+from analytic.applications import motor
+from analytic.closed_forms.dynamics import Inertia
 
 # hand-chosen mass model (link frames: origin at the link's first point, x along the link)
 INERTIAS = {"1": Inertia(m=0.3, cx=0.04, cy=0.01, I=4e-4),

@@ -1,4 +1,4 @@
-"""MuJoCo under a motor (sim/motor.py) against the reduced equation of motion, its energy, the flywheel
+"""MuJoCo under a motor (sim/run/motor.py) against the reduced equation of motion, its energy, the flywheel
 sizing checked by both, and `linkage dynamics` on the command line."""
 
 from __future__ import annotations
@@ -10,10 +10,10 @@ import numpy as np
 import pytest
 
 import analytic
-from analytic import motor as am
+from analytic.applications import motor as am
 from sim import model as M
-from sim import motor as sm
-from sim.cli import cutting_direction, main
+from sim.run import motor as sm
+from sim.front.cli import cutting_direction, main
 
 
 def _shaper_loads(F=20.0):
@@ -113,7 +113,7 @@ def test_cli_rpm_and_csv(tmp_path, capsys):
     data = np.genfromtxt(path, delimiter=",", names=True)
     assert set(data.dtype.names) == {"t", "phi", "omega", "torque"}
     assert np.all(np.diff(data["t"]) > 0) and data["omega"][0] == 0.0      # from rest, in time order
-    from sim.dynamics_cmd import parse_motor
+    from sim.front.dynamics_cmd import parse_motor
     assert parse_motor("0.5,120rpm").W0 == pytest.approx(4 * math.pi, rel=1e-15)   # 120 rpm = 4 pi rad/s
 
 

@@ -17,10 +17,10 @@ from mujoco import rollout
 import sim
 from analytic import ParameterError
 from analytic.registry import LIBRARY, load
-from sim.compare import LOOP_TOL, tolerance
+from sim.run.compare import LOOP_TOL, tolerance
 from sim.model import Settings, build, motion_scale
 from sim.service import export_mjcf
-from sim.simulate import controls, measure, steps_for
+from sim.run.simulate import controls, measure, steps_for
 
 HERE = Path(__file__).parent
 REVOLUTIONS = {"moving_guide": 0.8}     # it assembles from 0 to 311.8 deg only (linkage check), not a full turn

@@ -5,7 +5,8 @@ import math
 import numpy as np
 import pytest
 
-from analytic import ParameterError, fivebar
+from analytic import ParameterError
+from analytic.closed_forms import fivebar
 
 
 @pytest.mark.parametrize("ratio", [1.0, 2.0, 0.5, -1.0, 3.0])

@@ -6,8 +6,9 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from analytic import ParameterError, fourbar
-from analytic.fourbar import FourBar
+from analytic import ParameterError
+from analytic.closed_forms import fourbar
+from analytic.closed_forms.fourbar import FourBar
 
 ROUND = 1e-14       # a few ulps of lengths of order 1 m: what rounding alone leaves
 

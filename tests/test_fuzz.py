@@ -13,10 +13,11 @@ import threading
 import pytest
 
 import analytic
-from analytic import ParameterError, figures
+from analytic import ParameterError
+from analytic.applications import figures
 from analytic.registry import LIBRARY
-from sim import app
-from sim.cli import main
+from sim.front import app
+from sim.front.cli import main
 
 SEED = 20
 FILES = sorted(LIBRARY.glob("*.toml"))
@@ -60,7 +61,7 @@ def test_mutated_files_parse_or_are_refused_in_one_line():
         text = _mutate(rng, FILES[k % len(FILES)].read_text())
         try:
             mech = analytic.from_text(text, "fuzz.toml")
-            analytic.linkfile.parameter_values(mech.definition)
+            analytic.format.linkfile.parameter_values(mech.definition)
             if len(mech.inputs) == 1:
                 figures.assembly_ranges(mech, samples=36)
             worked += 1
@@ -73,7 +74,7 @@ def test_mutated_files_parse_or_are_refused_in_one_line():
 def test_mutated_json_files_too():
     rng = random.Random(SEED + 1)
     for k in range(100):
-        data = json.loads(json.dumps(analytic.linkfile.tomllib.loads(FILES[k % len(FILES)].read_text())))
+        data = json.loads(json.dumps(analytic.format.linkfile.tomllib.loads(FILES[k % len(FILES)].read_text())))
         key = rng.choice(sorted(data))
         data[key] = rng.choice([None, [], {}, "x", 1e308, -1, [[1]], {"a": {"b": []}}, "1/30deg", 10 ** 30])
         with contextlib.suppress(ParameterError):

@@ -1,4 +1,4 @@
-"""A numerically solved Assur group (analytic/general_group.py) against an oracle written here.
+"""A numerically solved Assur group (analytic/solver/general_group.py) against an oracle written here.
 
 The group: a class III triad (a ternary link D E F with three binary links pinned at A, O1, O2), the
 group a Stephenson six-bar leaves when its crank is the link that makes the rest indecomposable into dyads.
@@ -12,8 +12,8 @@ import pytest
 from scipy.optimize import fsolve
 
 from analytic import ParameterError
-from analytic.general_group import make_group, solve_group
-from analytic.kinematics import _point, _rrr
+from analytic.solver.general_group import make_group, solve_group
+from analytic.solver.kinematics import _point, _rrr
 
 Q0 = 0.5
 R = 1.0

@@ -1,6 +1,6 @@
 """Every named mechanism (built-ins and the shipped library) against an independent Newton oracle.
 
-The general solver (``analytic/kinematics.py``, closed form group by group) and ``oracle_linkage``
+The general solver (``analytic/solver/kinematics.py``, closed form group by group) and ``oracle_linkage``
 (Newton on the whole constraint system, exact derivatives by Taylor jets) share only the file's
 resolved numbers. Over one full period of the inputs, at 180 samples, with random (seeded) input
 accelerations, they must agree on every point's position, velocity and acceleration, every prismatic
@@ -24,7 +24,7 @@ import pytest
 
 import analytic
 import oracle_linkage as oracle
-from analytic import _jit
+from analytic.solver import jit as _jit
 
 NAMES = analytic.names()
 SAMPLES = 180
@@ -130,7 +130,7 @@ def _assert_agree(name, worst):
 # ------------------------------------------------------------------------------------- vs the oracle
 @pytest.fixture(params=["numpy", "compiled"])
 def solver_path(request, monkeypatch):
-    """Mechanism.solve through analytic/kinematics.py (numpy) or its numba twin (analytic/_jit.py)."""
+    """Mechanism.solve through analytic/solver/kinematics.py (numpy) or its numba twin (analytic/solver/jit.py)."""
     if request.param == "compiled" and not _jit.AVAILABLE:
         pytest.skip("numba is not installed")
     monkeypatch.setenv("LINKAGE_JIT", "1" if request.param == "compiled" else "0")

@@ -11,7 +11,8 @@ import pytest
 
 import analytic
 from mjcf import keyframes
-from sim import model, service
+from sim import model
+from sim import service
 
 NAMES = list(analytic.names())
 OBJECTS = [(mujoco.mjtObj.mjOBJ_BODY, "nbody"), (mujoco.mjtObj.mjOBJ_JOINT, "njnt"),

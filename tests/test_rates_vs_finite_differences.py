@@ -10,7 +10,9 @@ import math
 import numpy as np
 import pytest
 
-from analytic import fivebar, fourbar, sixbar
+from analytic.closed_forms import fivebar
+from analytic.closed_forms import fourbar
+from analytic.closed_forms import sixbar
 
 H = 1e-4
 TOL = 1e-5

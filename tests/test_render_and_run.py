@@ -9,7 +9,8 @@ import pytest
 import sim  # noqa: F401  (chooses the offscreen GL backend before mujoco is imported)
 import imageio.v3 as iio
 
-from sim import render, service
+from sim.output import render
+from sim import service
 
 
 def run(*args, cwd=None):

@@ -5,7 +5,8 @@ import math
 import numpy as np
 import pytest
 
-from analytic import ParameterError, sixbar
+from analytic import ParameterError
+from analytic.closed_forms import sixbar
 
 
 def test_quick_return_ratio_matches_the_timing_of_the_ram():

@@ -1,5 +1,5 @@
-"""The two paths of the general solver give the same numbers: numpy (analytic/kinematics.py, always there)
-and the compiled one (analytic/_jit.py, with numba; LINKAGE_JIT=1 forces it, 0 turns it off). Every output of every
+"""The two paths of the general solver give the same numbers: numpy (analytic/solver/kinematics.py, always there)
+and the compiled one (analytic/solver/jit.py, with numba; LINKAGE_JIT=1 forces it, 0 turns it off). Every output of every
 named mechanism, NaN included where a group cannot assemble; and ``solve(..., outputs=...)`` returns the
 same values as the full solve on either path."""
 
@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import analytic
-from analytic import _jit
+from analytic.solver import jit as _jit
 
 CASES = [(name, {}) for name in analytic.names()] + [
     ("fourbar", {"l1": 0.2, "l3": 0.1}),          # a crank that cannot turn fully: NaN over part of the turn

@@ -8,7 +8,9 @@ import sys
 import numpy as np
 import pytest
 
-from analytic import FiveBar, FourBar, fivebar, studies
+from analytic import FiveBar, FourBar
+from analytic.closed_forms import fivebar
+from analytic.applications import studies
 
 
 def run(*args):

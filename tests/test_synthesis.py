@@ -14,7 +14,9 @@ import sys
 import numpy as np
 import pytest
 
-from analytic import ParameterError, fourbar, synthesis
+from analytic import ParameterError
+from analytic.closed_forms import fourbar
+from analytic.synthesis import two_position as synthesis
 
 TABLE1 = [  # theta, phi0, psi0 [deg] as printed in seed 001
     (0.0, 61.1901, 53.6901), (5.0, 65.0004, 47.5008), (-5.0, 58.4204, 58.5103), (-15.0, 54.6004, 65.4251),

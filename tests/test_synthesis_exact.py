@@ -11,7 +11,10 @@ import numpy as np
 import pytest
 
 import analytic
-from analytic import ParameterError, synth_fourbar, synthesis_function, synthesis_motion
+from analytic import ParameterError
+from analytic.synthesis import fourbar as synth_fourbar
+from analytic.synthesis import function as synthesis_function
+from analytic.synthesis import motion as synthesis_motion
 
 KNOWN = dict(l1=0.10, l2=0.30, l3=0.25, l4=0.30, ex=0.15, ey=0.10)
 """The library four-bar's own crank-rocker (A = (0, 0), D = (l4, 0)): a reference whose poses any design

@@ -103,7 +103,8 @@ def test_compare_table_in_mm_and_the_output_point_first(files):
 def test_plot_sheet_figures_are_analyze_figures_and_the_hand_value():
     """Whitworth: the ram's extremes are where the slotted lever is horizontal, the crank pin then on the
     line through C at c below O: the strokes take 180 +- 2 asin(c/r) degrees of crank."""
-    from sim import plot, service
+    from sim.output import plot
+    from sim import service
     mech = service.load("whitworth")
     built, c = service.compare(mech)
     k_plot = numbers(next(ln for ln in plot.summary_lines(c, built, Q.Display("mm")) if "K =" in ln))[-1]
@@ -213,7 +214,7 @@ def test_sweep_table_in_the_file_unit_and_plot_colours_distinct(files):
         # columns: crank, x lo, x hi, y lo, y hi, area, |v| mean, min, max, fluctuation; printed to 5 digits
         factor = np.array([1000] * 5 + [1e6] + [1000] * 3 + [1])
         np.testing.assert_allclose(ra, np.array(rb) * factor, rtol=1e-4)
-    from sim.design import family_styles
+    from sim.front.design import family_styles
     styles = family_styles(45)
     assert len(set(styles)) == 45 and len({c for c, _ in styles[:20]}) == 20
 

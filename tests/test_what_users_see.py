@@ -55,8 +55,8 @@ def _rgb(hexcolor):
 
 def test_video_colours_are_the_apps():
     import re
-    from sim import drawing
-    js = (Path(__file__).resolve().parent.parent / "sim" / "static" / "app.js").read_text()
+    from sim.output import drawing
+    js = (Path(__file__).resolve().parent.parent / "sim" / "front" / "static" / "app.js").read_text()
     app = re.search(r"const COLORS = \[(.*?)\];", js).group(1)
     assert tuple(re.findall(r'"(#[0-9a-f]{6})"', app)) == drawing.COLORS
 
@@ -66,7 +66,9 @@ def test_a_frame_has_pins_plates_bars_scale_and_readout():
     centre is white (the output point's red), a plate's centroid is its colour blended at alpha 0x2e over
     white, a bar's midpoint its colour; the scale bar and the readout put dark pixels in their corners."""
     from analytic.quantities import Display
-    from sim import drawing, render, service
+    from sim.output import drawing
+    from sim.output import render
+    from sim import service
     built, tr = service.simulate(service.load("jansen"), 0.25)
     qpos, _ = render.frame_poses(tr.t, tr.qpos, np.array([0.1]))
     xy, angles = drawing.poses(built, qpos)
@@ -99,5 +101,5 @@ def test_a_frame_has_pins_plates_bars_scale_and_readout():
 
 
 def test_scale_bar_length_is_round_in_the_display_unit():
-    from sim.drawing import nice_step
+    from sim.output.drawing import nice_step
     assert nice_step(600.0) == 100.0 and nice_step(0.6) == 0.1 and nice_step(1.3) == 0.5

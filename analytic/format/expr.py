@@ -1,0 +1,155 @@
+"""Values in mechanism files: numbers, quantities such as ``"30deg"``, parameter names and small
+arithmetic expressions of them (``"l3*(1 + sqrt(1 - (l1/l6)**2))/2"``).
+
+An expression is parsed with :mod:`ast` and evaluated by walking the tree: only numbers, parameter
+names, ``+ - * / **``, parentheses and the functions in :data:`FUNCTIONS` are accepted. Nothing in a
+file is ever executed.
+"""
+
+from __future__ import annotations
+
+import ast
+import math
+import re
+
+from analytic._common import ParameterError
+
+FUNCTIONS = {"sqrt": math.sqrt, "sin": math.sin, "cos": math.cos, "tan": math.tan, "asin": math.asin,
+             "acos": math.acos, "atan": math.atan, "atan2": math.atan2, "hypot": math.hypot,
+             "abs": abs, "min": min, "max": max, "radians": math.radians, "degrees": math.degrees}
+CONSTANTS = {"pi": math.pi}
+
+# Possessive quantifiers and a look-behind: each pattern matches in time linear in the text (the
+# former ``\d+\.?\d*`` split a run of digits in quadratically many ways and re-tried it at each start).
+_UNSIGNED = r"(?:\d++(?:\.\d*+)?+|\.\d++)(?:[eE][-+]?+\d++)?+"
+_NUMBER = rf"[-+]?+{_UNSIGNED}"
+_QUANTITY = re.compile(rf"^\s*+({_NUMBER})\s*+(deg)?+\s*+$")
+_DEG = re.compile(rf"(?<![\w.])({_UNSIGNED})\s*+deg\b")
+MAX_LENGTH = 400         # characters in one expression: a design's formula is far shorter
+MAX_DEPTH = 40           # nested parentheses/operators in one expression
+_DEG_MARK = "_deg_"      # what a ``deg`` suffix becomes while parsing: a call that marks the angle
+NAME = re.compile(r"^[A-Za-z][A-Za-z0-9_]*$")
+
+
+def quantity(text: str) -> tuple[float, bool] | None:
+    """``"30deg"`` -> (0.5236, True); ``"0.25"`` -> (0.25, False); anything else -> None."""
+    m = _QUANTITY.match(text)
+    if not m:
+        return None
+    value = float(m.group(1))
+    return (math.radians(value), True) if m.group(2) else (value, False)
+
+
+def names_in(text: str) -> set[str]:
+    """The parameter names an expression uses (raises ValueError if it is not a valid expression)."""
+    tree = _parse(text)
+    return {n.id for n in ast.walk(tree) if isinstance(n, ast.Name)} - set(FUNCTIONS) - set(CONSTANTS) - {_DEG_MARK}
+
+
+def _short(text: str, limit: int = 60) -> str:
+    r = repr(text)
+    return r if len(r) <= limit else r[:limit - 5] + "...'" + f" ({len(text)} characters)"
+
+
+def _depth(node, level: int = 0) -> int:
+    """Nesting depth of an expression tree (stops counting past MAX_DEPTH)."""
+    if level > MAX_DEPTH:
+        return level
+    return max((_depth(c, level + 1) for c in ast.iter_child_nodes(node)), default=level)
+
+
+def _parse(text: str) -> ast.Expression:
+    if len(text) > MAX_LENGTH:
+        raise ValueError(f"{_short(text)} is too long: an expression is at most {MAX_LENGTH} characters")
+    source = _DEG.sub(lambda m: f"{_DEG_MARK}({m.group(1)})", text)
+    try:
+        tree = ast.parse(source.strip(), mode="eval")
+    except (SyntaxError, RecursionError, MemoryError, ValueError):
+        raise ValueError(f"{_short(text)} is not a number, a parameter name or an arithmetic expression") from None
+    if _depth(tree) > MAX_DEPTH:
+        raise ValueError(f"{_short(text)} is nested too deeply (at most {MAX_DEPTH} levels)")
+    for node in ast.walk(tree):
+        if isinstance(node, ast.BinOp) and (isinstance(node.op, ast.Pow) or isinstance(node.op, ast.Div)) and any(
+                isinstance(n, ast.Call) and isinstance(n.func, ast.Name) and n.func.id == _DEG_MARK
+                for side in ((node.left, node.right) if isinstance(node.op, ast.Pow) else (node.right,))
+                for n in ast.walk(side)):
+            raise ValueError(f"{_short(text)}: a 'deg' value divides or is raised to a power, which gives no "
+                             f"angle; write the angle whole, e.g. \"2deg\" or \"(1/30)*1deg\"")
+        if isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id == _DEG_MARK:
+            continue
+        if not isinstance(node, _ALLOWED):
+            raise ValueError(f"{_short(text)}: only numbers, parameter names, + - * / ** and "
+                             f"{', '.join(FUNCTIONS)} are allowed")
+        if isinstance(node, ast.Call) and not (isinstance(node.func, ast.Name) and node.func.id in FUNCTIONS
+                                               and not node.keywords) and not (
+                isinstance(node.func, ast.Name) and node.func.id == _DEG_MARK):
+            raise ValueError(f"{_short(text)}: unknown function; use one of {', '.join(FUNCTIONS)}")
+        if isinstance(node, ast.Constant) and not isinstance(node.value, (int, float)):
+            raise ValueError(f"{_short(text)}: only numbers are allowed as constants")
+    return tree
+
+
+_ALLOWED = (ast.Expression, ast.BinOp, ast.UnaryOp, ast.Constant, ast.Name, ast.Load, ast.Call,
+            ast.Add, ast.Sub, ast.Mult, ast.Div, ast.Pow, ast.USub, ast.UAdd)
+
+
+def evaluate(text: str, values: dict[str, float]) -> float:
+    """Evaluate an expression with parameter ``values``; raises ValueError with a readable message."""
+    tree = _parse(text)
+
+    def walk(node):
+        if isinstance(node, ast.Expression):
+            return walk(node.body)
+        if isinstance(node, ast.Constant):
+            return float(node.value)
+        if isinstance(node, ast.Name):
+            if node.id in CONSTANTS:
+                return CONSTANTS[node.id]
+            if node.id not in values:
+                raise ValueError(f"{_short(text)} uses {node.id!r}, which is not a parameter")
+            return values[node.id]
+        if isinstance(node, ast.UnaryOp):
+            v = walk(node.operand)
+            return -v if isinstance(node.op, ast.USub) else v
+        if isinstance(node, ast.BinOp):
+            a, b = walk(node.left), walk(node.right)
+            op = type(node.op)
+            if op is ast.Pow and abs(b) > 64:
+                raise ValueError(f"{_short(text)}: exponent {b:g} is too large")
+            try:
+                return {ast.Add: a + b, ast.Sub: a - b, ast.Mult: a * b}[op] if op in (
+                    ast.Add, ast.Sub, ast.Mult) else (a / b if op is ast.Div else a ** b)
+            except (ZeroDivisionError, OverflowError):
+                raise ValueError(f"{_short(text)} divides by zero or overflows") from None
+        if isinstance(node, ast.Call) and node.func.id == _DEG_MARK:
+            return math.radians(walk(node.args[0]))
+        if isinstance(node, ast.Call):
+            args = [walk(a) for a in node.args]
+            try:
+                return float(FUNCTIONS[node.func.id](*args))
+            except (ValueError, TypeError, OverflowError):
+                raise ValueError(f"{_short(text)}: {node.func.id}({', '.join(f'{a:g}' for a in args)}) is undefined")
+        raise ValueError(f"{_short(text)} is not a valid expression")
+
+    result = walk(tree)
+    if isinstance(result, complex) or not math.isfinite(result):
+        raise ValueError(f"{_short(text)} evaluates to {result!r}, not a finite number")
+    return float(result)
+
+
+def parse_value(name: str, text: str, angle: bool | None = None) -> float:
+    """A command-line value: a number, or an angle with a ``deg`` suffix (converted to radians).
+
+    ``angle`` False refuses a ``deg`` suffix (the parameter is a length), None accepts both. Values
+    must be finite and not absurdly large (|v| <= 1e12).
+    """
+    q = quantity(text)
+    if q is None:
+        raise ParameterError(f"{name}={_short(text)} is not a number (write e.g. {name}=0.25"
+                             f"{'' if angle is False else f' or {name}=30deg'})")
+    value, deg = q
+    if deg and angle is False:
+        raise ParameterError(f"{name}={_short(text)}: {name} is a length, not an angle; drop the 'deg' suffix")
+    if not math.isfinite(value) or abs(value) > 1e12:
+        raise ParameterError(f"{name}={_short(text)} is out of range: give a finite value of magnitude <= 1e12")
+    return value

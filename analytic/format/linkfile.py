@@ -1,0 +1,756 @@
+"""Mechanism files (``linkage/1``, SPEC.md): read, check and resolve them.
+
+A file is data: TOML (or the same structure in JSON), read with :mod:`tomllib`/:mod:`json`, never
+executed, with no includes. :func:`read` turns it into a :class:`Definition` (the elements as written,
+values still symbolic) after checking every name, field and reference; :func:`resolve` evaluates the
+values with a set of parameter values into a :class:`Geometry` in SI units, which the solver uses.
+
+Every problem is one line naming the file, the element (by its point) and the field, and what to change.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import re
+import stat
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from analytic.format import expr
+from analytic._common import ParameterError
+
+FORMAT = "linkage/1"
+UNITS = {"m": 1.0, "mm": 1e-3, "cm": 1e-2, "in": 0.0254}
+MAX_FILE_BYTES = 1 << 20
+MAX_ITEMS = 500          # parameters, ground points, elements: each at most this many (bounds memory and time)
+MAX_MAGNITUDE = 1e12     # |number| in a file; beyond it a value is a typo, not a design
+LINK_NAME = re.compile(r"^[A-Za-z0-9_]+$")
+"""Link names may start with a digit (SPEC's example names the four-bar's links "1", "2", "3")."""
+
+
+class FileError(ParameterError):
+    """A mechanism file that cannot be used; the message is one line naming the file and the fix."""
+
+
+# Field types: "point" (a defined point), "new" (the point an element defines), "length", "angle",
+# "rate" (per second), "branch", "link" (a new link name), "guide", "pair" (two points), "lengths2",
+# "links2", "xy" (two lengths).
+KINDS: dict[str, dict[str, tuple[str, object]]] = {
+    # field: (type, default; REQUIRED if it must be given)
+    "crank": {"pivot": ("point", None), "point": ("new", None), "length": ("length", None),
+              "link": ("link", "{pivot}{point}"), "phi0": ("angle", 0.0), "omega": ("angle", 2 * math.pi),
+              "alpha": ("angle", 0.0)},
+    "slider": {"point": ("new", None), "guide": ("guide", None), "s0": ("length", 0.0),
+               "v": ("length", 0.1), "a": ("length", 0.0), "link": ("link", "{point}_block")},
+    "RRR": {"point": ("new", None), "from": ("pair", None), "lengths": ("lengths2", None),
+            "links": ("links2", ("{from0}{point}", "{from1}{point}")), "branch": ("branch", 1)},
+    "RRP": {"point": ("new", None), "from": ("point", None), "length": ("length", None),
+            "guide": ("guide", None), "offset": ("length", 0.0),
+            "links": ("links2", ("{from}{point}", "{point}_block")), "branch": ("branch", 1)},
+    "RPR": {"pivot": ("point", None), "through": ("point", None), "point": ("new", None),
+            "length": ("length", None), "offset": ("length", 0.0),
+            "links": ("links2", ("{pivot}{point}", "{through}_block")), "branch": ("branch", 1)},
+    "point": {"point": ("new", None), "on": ("pair", None), "at": ("xy", None)},
+}
+INPUT_KINDS = ("crank", "slider")
+GROUP_KINDS = ("RRR", "RRP", "RPR", "point")
+TOP_LEVEL = {"format", "name", "units", "description", "output", "parameters", "ground", "inputs", "groups",
+             "inertia"}
+
+
+@dataclass(frozen=True)
+class Guide:
+    """A guide line: the line P->Q of the link carrying both points (``points``), or a ground line
+    through a point or coordinates at an angle (``through``, ``angle``)."""
+
+    points: tuple[str, str] | None = None
+    through: str | tuple[object, object] | None = None
+    angle: object = 0.0
+
+    def uses(self) -> tuple[str, ...]:
+        if self.points:
+            return self.points
+        return (self.through,) if isinstance(self.through, str) else ()
+
+
+@dataclass(frozen=True)
+class Element:
+    """One input or group as written: ``kind``, the ``point`` it defines, its fields (values still
+    symbolic: numbers, quantity strings, parameter names or expressions) and where it stands."""
+
+    kind: str
+    point: str
+    fields: dict
+    where: str
+
+    @property
+    def label(self) -> str:
+        return f"{self.where} (point {self.point})"
+
+    def needs(self) -> tuple[str, ...]:
+        """The points this element needs before it can be solved."""
+        f = self.fields
+        if self.kind == "crank":
+            return (f["pivot"],)
+        if self.kind == "slider":
+            return f["guide"].uses()
+        if self.kind == "RRR":
+            return tuple(f["from"])
+        if self.kind == "RRP":
+            return (f["from"],) + f["guide"].uses()
+        if self.kind == "RPR":
+            return (f["pivot"], f["through"])
+        return tuple(f["on"])
+
+    def links(self) -> tuple[str, ...]:
+        f = self.fields
+        return (f["link"],) if "link" in f else tuple(f.get("links", ()))
+
+
+@dataclass(frozen=True)
+class Definition:
+    """A mechanism as its file describes it; ``order`` lists the elements in solving order."""
+
+    name: str
+    source: str
+    units: str
+    description: str
+    parameters: dict[str, object]
+    parameter_order: tuple[str, ...]
+    parameter_kind: dict[str, str]
+    ground: dict[str, tuple[object, object]]
+    inputs: tuple[Element, ...]
+    groups: tuple[Element, ...]
+    order: tuple[Element, ...]
+    output: str
+    inertia: dict = field(default_factory=dict)
+
+    @property
+    def scale(self) -> float:
+        return UNITS[self.units]
+
+
+def _fail(source: str, where: str, what: str) -> FileError:
+    return FileError(f"{source}: {where}: {what}")
+
+
+# --------------------------------------------------------------------------------------------- read
+def read(path: str | Path) -> Definition:
+    """Read and check a ``linkage/1`` file (``.toml`` or ``.json``)."""
+    p = Path(path)
+    source = str(path)
+    try:
+        st = p.stat()
+        if p.is_dir():
+            raise FileError(f"{source} is a folder, not a mechanism file")
+        if not stat.S_ISREG(st.st_mode):
+            raise FileError(f"{source} is not a regular file (a device or a pipe); save the mechanism to a file")
+        if st.st_size > MAX_FILE_BYTES:
+            raise FileError(f"{source} is {st.st_size} bytes; a mechanism file is at most {MAX_FILE_BYTES} bytes")
+        with open(p, "rb") as fh:                      # read at most the cap: the file may grow meanwhile
+            raw = fh.read(MAX_FILE_BYTES + 1)
+        if len(raw) > MAX_FILE_BYTES:
+            raise FileError(f"{source} is over {MAX_FILE_BYTES} bytes; a mechanism file is at most that")
+    except FileError:
+        raise
+    except OSError as exc:
+        raise FileError(f"{source}: cannot read it ({exc.strerror or exc})") from None
+    return parse(raw, source, json_format=p.suffix.lower() == ".json", default_name=p.stem)
+
+
+def parse(raw: bytes | str, source: str = "<text>", json_format: bool | None = None,
+          default_name: str = "mechanism") -> Definition:
+    """Parse a file's text (TOML, or JSON when ``json_format``; None: JSON if it starts with '{')."""
+    if isinstance(raw, bytes):
+        try:
+            text = raw.decode("utf-8-sig")
+        except UnicodeDecodeError as exc:
+            raise FileError(f"{source}: not UTF-8 text (byte 0x{raw[exc.start]:02x} at offset {exc.start}); "
+                            f"save the file as UTF-8") from None
+    else:
+        text = raw
+    if json_format is None:
+        json_format = text.lstrip().startswith("{")
+    if len(text) > MAX_FILE_BYTES:
+        raise FileError(f"{source} is over {MAX_FILE_BYTES} characters; a mechanism file is at most that")
+    try:
+        data = json.loads(text, object_pairs_hook=_unique_keys(source)) if json_format else tomllib.loads(text)
+    except RecursionError:
+        raise FileError(f"{source}: nested too deeply; a mechanism file nests tables a few levels only") from None
+    except tomllib.TOMLDecodeError as exc:
+        raise FileError(f"{source}: not valid TOML: {exc}") from None
+    except json.JSONDecodeError as exc:
+        raise FileError(f"{source}: not valid JSON: {exc.msg} (line {exc.lineno}, column {exc.colno})") from None
+    if not isinstance(data, dict):
+        raise FileError(f"{source}: expected a table of fields at the top level")
+    return _check(data, source, default_name)
+
+
+def _unique_keys(source: str):
+    def hook(pairs):
+        seen = {}
+        for k, v in pairs:
+            if k in seen:
+                raise FileError(f"{source}: field {_short(k)} is given twice; keep one")
+            seen[k] = v
+        return seen
+    return hook
+
+
+def _short(value, limit: int = 60) -> str:
+    """``repr(value)`` cut to ``limit`` characters (a message stays one readable line)."""
+    text = repr(value)
+    quote = "'" if isinstance(value, str) else ""
+    return text if len(text) <= limit else text[:limit - 5] + "..." + quote + f" ({len(text)} characters)"
+
+
+def _check(data: dict, source: str, default_name: str) -> Definition:
+    fmt = data.get("format")
+    if not isinstance(fmt, str) or fmt != FORMAT:
+        fmt = _short(fmt)
+        raise _fail(source, "format", f"{fmt} is not supported; the first line must be format = \"{FORMAT}\"")
+    unknown = sorted(set(data) - TOP_LEVEL)
+    if unknown:
+        raise _fail(source, unknown[0], f"unknown field; the top level takes {', '.join(sorted(TOP_LEVEL))}")
+    units = data.get("units", "m")
+    if not isinstance(units, str) or units not in UNITS:
+        raise _fail(source, "units", f"unknown unit {_short(units)}; use one of {', '.join(UNITS)}")
+    name = data.get("name", default_name)
+    if not (isinstance(name, str) and expr.NAME.match(name)):
+        raise _fail(source, "name", f"{_short(name)} is not a name (letters, digits and _, starting with a letter)")
+    description = data.get("description", "")
+    if not isinstance(description, str):
+        raise _fail(source, "description", "must be a string")
+
+    params = data.get("parameters", {})
+    if not isinstance(params, dict):
+        raise _fail(source, "parameters", "must be a table NAME = value")
+    for section, table in (("parameters", params), ("ground", data.get("ground", {})),
+                           ("inputs", data.get("inputs", [])), ("groups", data.get("groups", []))):
+        if isinstance(table, (dict, list)) and len(table) > MAX_ITEMS:
+            raise _fail(source, section, f"{len(table)} entries; a mechanism file holds at most {MAX_ITEMS}")
+    for pname, value in params.items():
+        if not expr.NAME.match(pname):
+            raise _fail(source, f"parameters.{_short(pname)}", "not a valid name (letters, digits and _)")
+        if isinstance(value, bool) or not isinstance(value, (int, float, str)):
+            raise _fail(source, f"parameters.{pname}", f"{_short(value)} must be a number or a string such as \"30deg\"")
+        _scalar(value, f"parameters.{pname}", source)
+
+    ground = data.get("ground", {})
+    if not isinstance(ground, dict):
+        raise _fail(source, "ground", "must be a table NAME = [x, y]")
+    for gname, xy in ground.items():
+        if not expr.NAME.match(gname):
+            raise _fail(source, f"ground.{_short(gname)}", "not a valid name (letters, digits and _)")
+        if not (isinstance(xy, list) and len(xy) == 2):
+            raise _fail(source, f"ground.{gname}", f"{_short(xy)} must be [x, y]")
+        for c in xy:
+            _scalar(c, f"ground.{gname}", source)
+
+    elements = []
+    for section in ("inputs", "groups"):
+        items = data.get(section, [])
+        if not isinstance(items, list):
+            raise _fail(source, section, f"must be an array of tables ([[{section}]])")
+        for i, item in enumerate(items, 1):
+            elements.append(_element(item, f"{section}[{i}]", section, source))
+    inputs = tuple(e for e in elements if e.kind in INPUT_KINDS)
+    groups = tuple(e for e in elements if e.kind in GROUP_KINDS)
+    if not elements:
+        raise _fail(source, "inputs", "none given; a mechanism needs at least one [[inputs]] (e.g. kind = \"crank\")")
+    _check_names(source, params, ground, elements)
+    order = _solve_order(source, ground, elements)
+    kinds = _parameter_kinds(source, params, ground, elements)
+    output = data.get("output", order[-1].point)
+    if not isinstance(output, str):
+        raise _fail(source, "output", f"{_short(output)} must be one point name such as \"E\"")
+    if output not in {e.point for e in elements} and output not in ground:
+        raise _fail(source, "output", f"{output!r} is not a point of the mechanism")
+    inertia = data.get("inertia", {})
+    if not isinstance(inertia, dict):
+        raise _fail(source, "inertia", "must be a table LINK = {m = ..., cx = ..., cy = ..., I = ...}")
+    links = {ln for e in elements for ln in e.links()}
+    for lname, entry in inertia.items():
+        if lname not in links:
+            raise _fail(source, f"inertia.{lname}", f"no link named {lname!r}; links: {', '.join(sorted(links))}")
+        if not (isinstance(entry, dict) and set(entry) <= {"m", "cx", "cy", "I"} and {"m", "I"} <= set(entry)):
+            raise _fail(source, f"inertia.{lname}", "give {m = kg, I = kg m^2 about the centre of mass, "
+                                                   "cx, cy = centre of mass in the link frame}")
+        for key, v in entry.items():
+            if isinstance(v, bool) or not isinstance(v, (int, float)) or not abs(v) <= MAX_MAGNITUDE:
+                raise _fail(source, f"inertia.{lname}.{key}", f"{_short(v)} must be a finite number")
+            if key in ("m", "I") and not v > 0:
+                raise _fail(source, f"inertia.{lname}.{key}", f"{v!r} must be > 0")
+    definition = Definition(name, source, units, description, dict(params), tuple(params), kinds,
+                            {k: tuple(v) for k, v in ground.items()}, inputs, groups, order, output, inertia)
+    _check_mobility(definition)
+    check_guides(definition)
+    return definition
+
+
+def _element(item, where: str, section: str, source: str) -> Element:
+    if not isinstance(item, dict):
+        raise _fail(source, where, "must be a table of fields")
+    kind = item.get("kind")
+    allowed = INPUT_KINDS if section == "inputs" else GROUP_KINDS
+    if kind not in allowed:
+        raise _fail(source, where, f"unknown kind {kind!r}; [[{section}]] takes kind = "
+                                   f"{' or '.join(repr(k) for k in allowed)}")
+    spec = KINDS[kind]
+    point = item.get("point")
+    if not (isinstance(point, str) and expr.NAME.match(point)):
+        raise _fail(source, where, f"field 'point': {point!r} must be a point name (letters, digits and _)")
+    label = f"{where} (point {point})"
+    unknown = sorted(set(item) - set(spec) - {"kind"})
+    if unknown:
+        raise _fail(source, label, f"unknown field {unknown[0]!r}; a {kind} takes {', '.join(spec)}")
+    fields = {}
+    for fname, (ftype, default) in spec.items():
+        if fname not in item:
+            if default is None:
+                raise _fail(source, label, f"field {fname!r} is missing")
+            value = _default(default, item)
+        else:
+            value = item[fname]
+        fields[fname] = _field(value, ftype, f"{label}: field {fname!r}", source)
+    return Element(kind, point, fields, where)
+
+
+def _default(default, item):
+    if isinstance(default, str):
+        return default.format(**_names(item))
+    if isinstance(default, tuple):
+        return [d.format(**_names(item)) for d in default]
+    return default
+
+
+def _names(item) -> dict:
+    f = item.get("from")
+    return {"pivot": item.get("pivot", ""), "point": item.get("point", ""), "through": item.get("through", ""),
+            "from": f if isinstance(f, str) else "", "from0": f[0] if isinstance(f, list) and f else "",
+            "from1": f[1] if isinstance(f, list) and len(f) > 1 else ""}
+
+
+def _scalar(value, what: str, source: str):
+    if isinstance(value, bool) or not isinstance(value, (int, float, str)):
+        raise FileError(f"{source}: {what}: {_short(value)} must be a number, a parameter name or an expression")
+    if isinstance(value, float) and not math.isfinite(value):
+        raise FileError(f"{source}: {what}: must be finite")
+    if isinstance(value, (int, float)) and not abs(value) <= MAX_MAGNITUDE:
+        raise FileError(f"{source}: {what}: {_short(value)} is out of range; give a magnitude <= {MAX_MAGNITUDE:g}")
+    if isinstance(value, str):
+        try:
+            expr.names_in(value)
+        except ValueError as exc:
+            raise FileError(f"{source}: {what}: {exc}") from None
+    return value
+
+
+def _name(value, what: str, source: str) -> str:
+    if not (isinstance(value, str) and expr.NAME.match(value)):
+        raise FileError(f"{source}: {what}: {value!r} must be a name (letters, digits and _)")
+    return value
+
+
+def _link_name(value, what: str, source: str) -> str:
+    if not (isinstance(value, str) and LINK_NAME.match(value)):
+        raise FileError(f"{source}: {what}: {value!r} must be a link name (letters, digits and _)")
+    return value
+
+
+def _field(value, ftype: str, what: str, source: str):
+    if ftype in ("point", "new"):
+        return _name(value, what, source)
+    if ftype == "link":
+        return _link_name(value, what, source)
+    if ftype == "links2":
+        if not (isinstance(value, list) and len(value) == 2):
+            raise FileError(f"{source}: {what}: {value!r} must be a list of two link names")
+        names = tuple(_link_name(v, what, source) for v in value)
+        if names[0] == names[1]:
+            raise FileError(f"{source}: {what}: the two names must differ (both are {names[0]!r})")
+        return names
+    if ftype == "pair":
+        if not (isinstance(value, list) and len(value) == 2):
+            raise FileError(f"{source}: {what}: {value!r} must be a list of two names")
+        names = tuple(_name(v, what, source) for v in value)
+        if names[0] == names[1]:
+            raise FileError(f"{source}: {what}: the two names must differ (both are {names[0]!r})")
+        return names
+    if ftype in ("lengths2", "xy"):
+        if not (isinstance(value, list) and len(value) == 2):
+            raise FileError(f"{source}: {what}: {value!r} must be a list of two values")
+        return tuple(_scalar(v, what, source) for v in value)
+    if ftype == "guide":
+        if isinstance(value, list):
+            if len(value) != 2:
+                raise FileError(f"{source}: {what}: a guide is [\"P\", \"Q\"] or {{through = ..., angle = ...}}")
+            pts = tuple(_name(v, what, source) for v in value)
+            if pts[0] == pts[1]:
+                raise FileError(f"{source}: {what}: the guide's two points must differ")
+            return Guide(points=pts)
+        if isinstance(value, dict):
+            extra = set(value) - {"through", "angle"}
+            if extra or "through" not in value:
+                raise FileError(f"{source}: {what}: a ground guide is {{through = \"P\" or [x, y], angle = \"0deg\"}}")
+            through = value["through"]
+            if isinstance(through, list):
+                if len(through) != 2:
+                    raise FileError(f"{source}: {what}: through = [x, y] takes two values")
+                through = tuple(_scalar(v, what, source) for v in through)
+            else:
+                through = _name(through, what, source)
+            return Guide(through=through, angle=_scalar(value.get("angle", 0.0), what, source))
+        raise FileError(f"{source}: {what}: a guide is [\"P\", \"Q\"] or {{through = ..., angle = ...}}")
+    return _scalar(value, what, source)
+
+
+def _check_names(source: str, params: dict, ground: dict, elements: list[Element]) -> None:
+    seen: dict[str, str] = {}
+
+    def claim(name: str, what: str, where: str):
+        if name in seen:
+            raise _fail(source, where, f"{what} name {name!r} is already used by {seen[name]}; choose another")
+        seen[name] = f"{what} {name!r}" if what == "parameter" else where
+
+    for p in params:
+        claim(p, "parameter", f"parameters.{p}")
+    for g in ground:
+        claim(g, "point", f"ground.{g}")
+    for e in elements:
+        claim(e.point, "point", e.label)
+    links: dict[str, str] = {}
+    for e in elements:
+        for ln in e.links():
+            if ln in links:
+                raise _fail(source, e.label, f"link name {ln!r} is already used by {links[ln]}; every link is "
+                                             f"named once (attach more points to it with kind = \"point\")")
+            if ln in params or ln in ground or any(ln == x.point for x in elements):
+                raise _fail(source, e.label, f"link name {ln!r} is also a parameter or point name; choose another")
+            links[ln] = e.label
+    points = set(ground) | {e.point for e in elements}
+    for e in elements:
+        for p in e.needs():
+            if p not in points:
+                raise _fail(source, e.label, f"point {p!r} is never defined; define it in [ground] or by an element")
+        if e.kind == "crank" and e.fields["pivot"] not in ground:
+            raise _fail(source, e.label, f"field 'pivot': {e.fields['pivot']!r} must be a ground point")
+        if e.kind == "slider" and any(p not in ground for p in e.fields["guide"].uses()):
+            raise _fail(source, e.label, "field 'guide': a driven slider runs on a ground line")
+        if e.point in e.needs():
+            raise _fail(source, e.label, f"the element uses its own point {e.point!r}")
+
+
+def _solve_order(source: str, ground: dict, elements: list[Element]) -> tuple[Element, ...]:
+    known = set(ground)
+    pending = list(elements)
+    order = []
+    while pending:
+        ready = [e for e in pending if all(p in known for p in e.needs())]
+        if not ready:
+            e = pending[0]
+            missing = [p for p in e.needs() if p not in known]
+            chain = " -> ".join([e.point] + missing)
+            raise _fail(source, e.label, f"a cycle: {chain} depend on each other; each element must use only "
+                                         f"points defined without it")
+        for e in ready:
+            order.append(e)
+            known.add(e.point)
+            pending.remove(e)
+    return tuple(order)
+
+
+_FIELD_KIND = {"length": "length", "lengths2": "length", "xy": "length", "angle": "angle", "branch": "branch"}
+
+
+def _parameter_kinds(source: str, params: dict, ground: dict, elements: list[Element]) -> dict[str, str]:
+    """What each parameter measures (length, angle, branch, number), from where it is used; a parameter
+    used as a length and as an angle is an error."""
+    kinds: dict[str, str] = {}
+    undefined = []
+
+    def use(value, kind: str, where: str):
+        if not isinstance(value, str):
+            return
+        for n in expr.names_in(value):
+            if n not in params:
+                undefined.append((where, n))
+                continue
+            if kinds.get(n, kind) != kind:
+                raise _fail(source, where, f"parameter {n!r} is used as a {kinds[n]} elsewhere and as a {kind} "
+                                           f"here; use two parameters")
+            kinds[n] = kind
+
+    for g, xy in ground.items():
+        for v in xy:
+            if isinstance(v, bool) or not isinstance(v, (int, float, str)):
+                raise _fail(source, f"ground.{g}", f"{v!r} must be a number, a parameter name or an expression")
+            use(v, "length", f"ground.{g}")
+    for e in elements:
+        for fname, (ftype, _) in KINDS[e.kind].items():
+            value = e.fields[fname]
+            where = f"{e.label}: field {fname!r}"
+            if ftype == "guide":
+                if value.through is not None and not isinstance(value.through, str):
+                    for v in value.through:
+                        use(v, "length", where)
+                use(value.angle, "angle", where)
+            elif ftype in ("lengths2", "xy"):
+                for v in value:
+                    use(v, "length", where)
+            elif ftype in _FIELD_KIND:
+                use(value, _FIELD_KIND[ftype], where)
+    if undefined:
+        where, n = undefined[0]
+        raise _fail(source, where, f"{n!r} is not a parameter; define it under [parameters]")
+    # Parameters used only inside other parameters' expressions take the kind "number"; an expression
+    # parameter gets the kind of its use.
+    for p, value in params.items():
+        if isinstance(value, str):
+            q = expr.quantity(value)
+            if q is None:
+                try:
+                    used = expr.names_in(value)
+                except ValueError as exc:
+                    raise _fail(source, f"parameters.{p}", str(exc)) from None
+                missing = used - set(params)
+                if missing:
+                    raise _fail(source, f"parameters.{p}", f"{sorted(missing)[0]!r} is not a parameter")
+            elif q[1] and kinds.get(p) == "length":
+                raise _fail(source, f"parameters.{p}", f"{value!r} is an angle but {p} is used as a length")
+    return {p: kinds.get(p, "number") for p in params}
+
+
+def _check_mobility(d: Definition) -> None:
+    """Gruebler's count M = 3 (n - 1) - 2 j must equal the number of inputs."""
+    n, j = structure_counts(d)
+    mobility = 3 * (n - 1) - 2 * j
+    if not d.inputs:
+        raise _fail(d.source, "inputs", f"no input: the mechanism has mobility {mobility} (Gruebler: 3 x ({n} - 1) - "
+                                        f"2 x {j} = {mobility}); add an [[inputs]] crank or slider")
+    if mobility != len(d.inputs):
+        raise _fail(d.source, "inputs", f"the mechanism has mobility {mobility} (Gruebler: 3 x ({n} - 1) - 2 x {j}"
+                                        f" = {mobility}) but {len(d.inputs)} input(s); give one input per "
+                                        f"degree of freedom")
+
+
+def structure_counts(d: Definition) -> tuple[int, int]:
+    """(links including the ground, lower pairs) of the mechanism, for Gruebler's count."""
+    touches = incidence(d)
+    links = {ln for e in d.order for ln in e.links()}
+    revolute = sum(max(len(ls) - 1, 0) for ls in touches.values())
+    prismatic = sum(1 for e in d.order if e.kind in ("slider", "RRP", "RPR"))
+    return len(links) + 1, revolute + prismatic
+
+
+GROUND = "ground"
+
+
+def incidence(d: Definition) -> dict[str, list[str]]:
+    """For every point, the links pinned there (in order of appearance; ``ground`` for ground points)."""
+    touches: dict[str, list[str]] = {g: [GROUND] for g in d.ground}
+
+    def add(point, link):
+        lst = touches.setdefault(point, [])
+        if link not in lst:
+            lst.append(link)
+
+    carriers = carrier_links(d)
+    for e in d.order:
+        f = e.fields
+        if e.kind == "crank":
+            add(f["pivot"], f["link"])
+            add(e.point, f["link"])
+        elif e.kind == "slider":
+            add(e.point, f["link"])
+        elif e.kind == "RRR":
+            (p, q), (m, n) = f["from"], f["links"]
+            add(p, m), add(e.point, m), add(q, n), add(e.point, n)
+        elif e.kind == "RRP":
+            rod, block = f["links"]
+            add(f["from"], rod), add(e.point, rod), add(e.point, block)
+        elif e.kind == "RPR":
+            slotted, block = f["links"]
+            add(f["pivot"], slotted), add(e.point, slotted), add(f["through"], block)
+        else:
+            add(e.point, carriers[e.point])
+    return touches
+
+
+def carrier_links(d: Definition) -> dict[str, str]:
+    """For every point, the link it is rigidly part of when it is first defined (its body)."""
+    body: dict[str, str] = {g: GROUND for g in d.ground}
+    members: dict[str, set[str]] = {GROUND: set(d.ground)}
+
+    def on(link, *points):
+        members.setdefault(link, set()).update(points)
+
+    for e in d.order:
+        f = e.fields
+        if e.kind == "crank":
+            on(f["link"], f["pivot"], e.point)
+            body[e.point] = f["link"]
+        elif e.kind == "slider":
+            on(f["link"], e.point)
+            body[e.point] = f["link"]
+        elif e.kind == "RRR":
+            on(f["links"][0], f["from"][0], e.point)
+            on(f["links"][1], f["from"][1], e.point)
+            body[e.point] = f["links"][0]
+        elif e.kind == "RRP":
+            on(f["links"][0], f["from"], e.point)
+            on(f["links"][1], e.point)
+            body[e.point] = f["links"][0]
+        elif e.kind == "RPR":
+            on(f["links"][0], f["pivot"], e.point)
+            on(f["links"][1], f["through"])
+            body[e.point] = f["links"][0]
+        else:
+            p, q = f["on"]
+            link = next((ln for ln, pts in members.items() if p in pts and q in pts), None)
+            if link is None:
+                raise _fail(d.source, e.label, f"field 'on': no link carries both {p!r} and {q!r}; name two points "
+                                               f"of one link")
+            on(link, e.point)
+            body[e.point] = link
+    return body
+
+
+def link_members(d: Definition) -> dict[str, set[str]]:
+    """Every link's points (ground included)."""
+    members: dict[str, set[str]] = {}
+    for point, links in incidence(d).items():
+        for ln in links:
+            members.setdefault(ln, set()).add(point)
+    return members
+
+
+def check_guides(d: Definition) -> None:
+    """A guide named by two points must lie on one link (or on the ground)."""
+    members = link_members(d)
+    for e in d.order:
+        g = e.fields.get("guide")
+        if g is not None and g.points:
+            p, q = g.points
+            if not any(p in pts and q in pts for pts in members.values()):
+                raise _fail(d.source, e.label, f"field 'guide': no link carries both {p!r} and {q!r}")
+
+
+# ------------------------------------------------------------------------------------------ resolve
+@dataclass(frozen=True)
+class Geometry:
+    """Numeric data of a definition for one set of parameter values, SI units (m, rad, s).
+
+    ``ground``: name -> (x, y); ``elements``: one dict of numeric fields per element, in solving order
+    (lengths in m, angles in rad, branches +-1); ``values``: the parameter values (file units)."""
+
+    ground: dict[str, tuple[float, float]]
+    elements: tuple[dict, ...]
+    values: dict[str, float]
+
+
+def parameter_values(d: Definition, overrides: dict[str, float] | None = None) -> dict[str, float]:
+    """Every parameter's value (file units; angles in rad), with ``overrides`` (already numbers)."""
+    overrides = dict(overrides or {})
+    for k in overrides:
+        if k not in d.parameters:
+            raise ParameterError(f"{k!r} is not a parameter of {d.name}; parameters: "
+                                 f"{', '.join(d.parameter_order) or '(none)'}")
+    values: dict[str, float] = {}
+
+    def direct(p: str) -> float | None:
+        if p in overrides:
+            return float(overrides[p])
+        raw = d.parameters[p]
+        if isinstance(raw, (int, float)):
+            return float(raw)
+        q = expr.quantity(raw)
+        return None if q is None else q[0]
+
+    for first in d.parameter_order:                # depth-first with an explicit stack (no recursion limit)
+        stack: list[str] = [first]
+        while stack:
+            p = stack[-1]
+            if p in values:
+                stack.pop()
+                continue
+            v = direct(p)
+            if v is None:
+                raw = d.parameters[p]
+                missing = [n for n in sorted(expr.names_in(raw)) if n not in values and n in d.parameters]
+                for n in missing:
+                    if n in stack:
+                        cycle = stack[stack.index(n):] + [n]
+                        raise _fail(d.source, f"parameters.{n}", f"defined in terms of itself ({' -> '.join(cycle)})")
+                if missing:
+                    stack.extend(missing[:1])
+                    continue
+                try:
+                    v = expr.evaluate(raw, {n: values[n] for n in expr.names_in(raw) if n in values})
+                except ValueError as exc:
+                    raise ParameterError(f"{d.source}: parameters.{p}: {exc}") from None
+            if not abs(v) <= MAX_MAGNITUDE:
+                raise ParameterError(f"{d.source}: parameters.{p}: {v:g} is out of range; give a magnitude "
+                                     f"<= {MAX_MAGNITUDE:g}")
+            values[p] = v
+            stack.pop()
+    return values
+
+
+def resolve(d: Definition, values: dict[str, float]) -> Geometry:
+    """Evaluate every field of ``d`` with parameter ``values`` (see :func:`parameter_values`)."""
+    k = d.scale
+
+    def num(v, kind: str, where: str) -> float:
+        if isinstance(v, (int, float)):
+            x = float(v)
+        else:
+            q = expr.quantity(v)
+            if q is not None:
+                if q[1] and kind == "length":
+                    raise ParameterError(f"{d.source}: {where}: {v!r} is an angle where a length is expected")
+                x = q[0]
+            else:
+                try:
+                    x = expr.evaluate(v, values)
+                except ValueError as exc:
+                    raise ParameterError(f"{d.source}: {where}: {exc}") from None
+        if not math.isfinite(x):
+            raise ParameterError(f"{d.source}: {where}: {v!r} is not finite")
+        return x * k if kind == "length" else x
+
+    ground = {g: (num(x, "length", f"ground.{g}"), num(y, "length", f"ground.{g}")) for g, (x, y) in d.ground.items()}
+    elements = []
+    for e in d.order:
+        out = {"kind": e.kind, "point": e.point, "label": e.label}
+        for fname, (ftype, _) in KINDS[e.kind].items():
+            v = e.fields[fname]
+            where = f"{e.label}: field {fname!r}"
+            if ftype in ("point", "new", "link", "pair", "links2"):
+                out[fname] = v
+            elif ftype == "guide":
+                if v.points:
+                    out[fname] = {"points": v.points}
+                else:
+                    through = v.through if isinstance(v.through, str) else tuple(
+                        num(c, "length", where) for c in v.through)
+                    out[fname] = {"through": through, "angle": num(v.angle, "angle", where)}
+            elif ftype in ("lengths2", "xy"):
+                out[fname] = tuple(num(c, "length", where) for c in v)
+            elif ftype == "branch":
+                b = num(v, "number", where)
+                if b not in (1.0, -1.0):
+                    raise ParameterError(f"{d.source}: {where}: branch {b:g} must be +1 or -1")
+                out[fname] = int(b)
+            else:
+                out[fname] = num(v, "length" if ftype == "length" else "angle", where)
+            if ftype == "length" and fname in ("length",) and out[fname] <= 0:
+                raise ParameterError(f"{d.source}: {where}: length {out[fname]:g} m must be > 0")
+            if ftype == "lengths2":
+                for c in out[fname]:
+                    if c <= 0:
+                        raise ParameterError(f"{d.source}: {where}: length {c:g} m must be > 0")
+        elements.append(out)
+    return Geometry(ground, tuple(elements), dict(values))

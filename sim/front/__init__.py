@@ -1,0 +1,1 @@
+"""The front ends: the ``linkage`` command line and the local web app, both over :mod:`sim.service`."""

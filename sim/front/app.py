@@ -1,0 +1,648 @@
+"""``linkage app``: seed 000's interactive workflow as a local web page.
+
+A small JSON API over :mod:`sim.service` (standard library only: ``http.server``) and one static page
+(``sim/front/static``). The page sends a mechanism (a name from ``linkage list`` or an uploaded file's text)
+with parameter values; the server answers curves, point paths and figures of merit, runs the MuJoCo
+cross-validation, renders the video and produces the exports as downloads.
+
+The server is for the local user only: it binds 127.0.0.1, refuses a Host header other than its own
+loopback address (DNS rebinding) and POSTs from another origin, accepts bounded JSON bodies only and never
+opens a path that came from a request. Every refusal and every failure to compute is a 4xx with
+``{"error": "one line"}``; nothing a request holds can stop the server or print a traceback.
+"""
+
+from __future__ import annotations
+
+import concurrent.futures
+import dataclasses
+import html
+import json
+import math
+import os
+import re
+import sys
+import tempfile
+import threading
+import webbrowser
+from http import HTTPStatus
+from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
+from pathlib import Path
+
+import numpy as np
+
+import analytic
+from analytic import ParameterError
+from analytic.format import expr
+from analytic.mechanism import Mechanism
+from sim import service
+from sim.output.jsonout import clean
+from sim.output.units import output_kind
+
+DEFAULT_PORT = 8765
+MAX_BODY = 1_000_000
+WORKERS = 16
+"""Requests served at once; more wait in the listen queue (a page uses a few keep-alive connections)."""
+"""[bytes] the largest request body: an uploaded mechanism file travels inside it."""
+MAX_SAMPLES = 20_001
+MAX_REVOLUTIONS = 20.0
+MAX_RENDER_REVOLUTIONS = 5.0
+MAX_RENDER_SIZE = (640, 480)
+MAX_RENDER_FPS = 60.0
+MAX_RENDER_FRAMES = 900
+"""Frames of one rendered video (30 s at 30 fps): rendering runs at ~35 frames/s on two cores."""
+OVERLAY_POINTS = 1000
+"""Simulated samples sent back per series: enough for markers and error curves, small for the page."""
+MAX_ERROR_CHARS = 1000
+
+STATIC = Path(__file__).parent / "static"
+FILES = {
+    "/app.js": ("app.js", "text/javascript; charset=utf-8"),
+    "/app.css": ("app.css", "text/css; charset=utf-8"),
+    "/vendor/uPlot.iife.min.js": ("vendor/uPlot.iife.min.js", "text/javascript; charset=utf-8"),
+    "/vendor/uPlot.min.css": ("vendor/uPlot.min.css", "text/css; charset=utf-8"),
+    "/vendor/uPlot.LICENSE": ("vendor/uPlot.LICENSE", "text/plain; charset=utf-8"),
+}
+"""Every static file served besides the page itself, by URL path: a fixed list, so no request can name a
+file."""
+
+SECURITY_HEADERS = {
+    # 'unsafe-eval' only because browser test drivers (Playwright's wait_for_function) evaluate their
+    # predicates in the page; the page itself never evaluates text and builds its DOM with textContent.
+    "Content-Security-Policy": "default-src 'self'; script-src 'self' 'unsafe-eval'; img-src 'self' data: blob:; "
+                               "media-src 'self' blob:; style-src 'self' 'unsafe-inline'; frame-ancestors 'none'; "
+                               "base-uri 'none'; form-action 'none'",
+    "X-Content-Type-Options": "nosniff",
+    "X-Frame-Options": "DENY",
+    "Referrer-Policy": "no-referrer",
+    "Cache-Control": "no-store",
+}
+
+FIELDS = {
+    "solve": {"mechanism", "text", "set", "samples", "revolutions", "input_range", "outputs", "figures", "digits"},
+    "simulate": {"mechanism", "text", "set", "revolutions", "input_range", "outputs"},
+    "render": {"mechanism", "text", "set", "revolutions", "input_range", "size", "fps"},
+    "export": {"mechanism", "text", "set", "samples", "revolutions", "input_range"},
+}
+"""The fields each POST accepts; any other is refused, so a misspelt field is never silently ignored."""
+
+_RENDER_LOCK = threading.Lock()
+"""One offscreen GL context at a time: two renders would only compete for the same two cores."""
+
+
+class RequestError(Exception):
+    """A refused request: its HTTP status and a one-line message for the page."""
+
+    def __init__(self, status: int, message: str):
+        super().__init__(message)
+        self.status = status
+
+
+# ---------------------------------------------------------------------------------- request fields
+def parse_json(raw: bytes) -> dict:
+    """A request body as a JSON object; NaN/Infinity tokens, deep nesting and bad UTF-8 are refused."""
+    def refuse_constant(token):
+        raise RequestError(400, f"the body holds {token}, which is not JSON: send numbers or text")
+    try:
+        body = json.loads(raw.decode("utf-8"), parse_constant=refuse_constant)
+    except (UnicodeDecodeError, ValueError, RecursionError) as exc:
+        raise RequestError(400, f"the body is not valid JSON ({_first_line(str(exc))})") from None
+    if not isinstance(body, dict):
+        raise RequestError(400, "the body must be a JSON object")
+    return body
+
+
+def check_fields(body: dict, action: str) -> None:
+    unknown = sorted(set(body) - FIELDS[action])
+    if unknown:
+        raise RequestError(400, f"unknown field {unknown[0]!r}; {action} takes {', '.join(sorted(FIELDS[action]))}")
+
+
+def number(body: dict, key: str, default: float, lo: float, hi: float, integer: bool = False) -> float:
+    """A bounded numeric field: an integer where ``integer``; booleans are not numbers."""
+    v = body.get(key, default)
+    kinds = (int,) if integer else (int, float)
+    if isinstance(v, bool) or not isinstance(v, kinds):
+        raise RequestError(400, f"{key} must be {'an integer' if integer else 'a number'} (got {_short(v)})")
+    if not (math.isfinite(v) and lo <= v <= hi):
+        raise RequestError(400, f"{key}={_short(v)} is out of range: give {'an integer' if integer else 'a number'} "
+                                f"in {lo:g}..{hi:g}")
+    return v
+
+
+def mechanism_of(body: dict) -> Mechanism:
+    """The mechanism of a request: a known name, or an uploaded file's text; never a path."""
+    values = body.get("set", {})
+    if not isinstance(values, dict):
+        raise RequestError(400, "set must be an object of parameter values, e.g. {\"l1\": 0.12}")
+    for k, v in values.items():
+        if isinstance(v, bool) or not isinstance(v, (int, float, str)):
+            raise RequestError(400, f"set.{k} must be a number or text such as \"30deg\" (got {_short(v)})")
+    text = body.get("text")
+    if text is not None:
+        if not isinstance(text, str):
+            raise RequestError(400, "text must be the mechanism file's contents as a string")
+        return service.load("<upload>", values, text=text)
+    name = body.get("mechanism")
+    if not isinstance(name, str):
+        raise RequestError(400, "mechanism must be a name (GET /api/mechanisms lists them) or give text")
+    if name not in analytic.names():
+        raise RequestError(404, f"unknown mechanism {_short(name)}; known: {', '.join(analytic.names())}")
+    return service.load(name, values)
+
+
+def input_range_of(body: dict, mech: Mechanism) -> tuple[float, float] | None:
+    """The first input's range: ``"LO:HI"`` (angles in rad or with a deg suffix) or [LO, HI]; None: turns."""
+    v = body.get("input_range")
+    if v is None or v == "":
+        return None
+    angle = None if mech.inputs[0].kind == "crank" else False
+    if isinstance(v, str) and ":" in v:
+        lo, hi = v.split(":", 1)
+        return expr.parse_value("input range", lo.strip(), angle), expr.parse_value("input range", hi.strip(), angle)
+    if isinstance(v, list) and len(v) == 2 and all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in v):
+        return float(v[0]), float(v[1])
+    raise RequestError(400, f"input_range {_short(v)} is not LO:HI (e.g. \"-100deg:-45deg\") or [LO, HI]")
+
+
+def outputs_of(body: dict, mech: Mechanism) -> list[str]:
+    """The outputs asked for (the page asks for the plotted ones only); default: every reported output."""
+    v = body.get("outputs")
+    if v is None:
+        return list(mech.outputs)
+    if not isinstance(v, list) or not all(isinstance(x, str) for x in v):
+        raise RequestError(400, "outputs must be a list of output names")
+    known = set(mech.outputs)
+    for name in v:
+        if name not in known:
+            raise RequestError(400, f"{_short(name)} is not an output of {mech.name}; outputs: "
+                                    f"{' '.join(mech.outputs[:20])}{' ...' if len(mech.outputs) > 20 else ''}")
+    return list(dict.fromkeys(v))
+
+
+def size_of(body: dict) -> tuple[int, int]:
+    v = body.get("size", "%dx%d" % MAX_RENDER_SIZE)
+    m = re.fullmatch(r"(\d{2,4})x(\d{2,4})", v) if isinstance(v, str) else None
+    w, h = (int(m[1]), int(m[2])) if m else (0, 0)
+    if not (16 <= w <= MAX_RENDER_SIZE[0] and 16 <= h <= MAX_RENDER_SIZE[1] and w % 2 == 0 and h % 2 == 0):
+        raise RequestError(400, f"size {_short(v)} must be WxH with even sizes up to %dx%d" % MAX_RENDER_SIZE)
+    return w, h
+
+
+# ------------------------------------------------------------------------------------- computation
+@dataclasses.dataclass(frozen=True)
+class Run:
+    """The analysed run a request describes."""
+
+    analysis: service.Analysis
+    samples: int
+    revolutions: float
+    input_range: tuple[float, float] | None
+
+
+def run_options(body: dict, mech: Mechanism) -> tuple[int, float, tuple[float, float] | None]:
+    """(samples, revolutions, input range) of a request, bounded."""
+    samples = int(number(body, "samples", 361, 2, MAX_SAMPLES, integer=True))
+    revolutions = float(number(body, "revolutions", 1.0, 1e-6, MAX_REVOLUTIONS))
+    return samples, revolutions, input_range_of(body, mech)
+
+
+def analysis(mech: Mechanism, body: dict, figures: bool) -> Run:
+    samples, revolutions, rng = run_options(body, mech)
+    return Run(service.analyze(mech, samples, revolutions, rng, figures=figures), samples, revolutions, rng)
+
+
+def series(a, n: int | None = None, digits: int | None = None) -> list:
+    """An array as a JSON-ready list with NaN as None (plain ``tolist`` when all finite: the common case,
+    and ~50 times faster than cleaning each number). ``digits``: significant digits relative to the array's
+    peak; the page asks for 7 while dragging, which halves the bytes and the time to encode them."""
+    a = np.asarray(a, dtype=float)
+    a = np.broadcast_to(a, (n,)) if n is not None and a.ndim == 0 else a.ravel()
+    finite = np.isfinite(a)
+    if digits is not None and finite.any():
+        peak = float(np.max(np.abs(a[finite])))
+        if peak > 0:
+            a = np.round(a, digits - 1 - math.floor(math.log10(peak)))
+    if finite.all():
+        return a.tolist()
+    return [v if ok else None for v, ok in zip(a.tolist(), finite.tolist())]
+
+
+def point_paths(mech: Mechanism, sol, n: int, stride: int = 1, digits: int | None = None) -> dict:
+    """Each point's path {P: {"x": [...], "y": [...]}} [m]: the page draws the links through them."""
+    return {p: {c: series(np.broadcast_to(sol[c + p], (n,))[::stride], digits=digits) for c in "xy"}
+            for p in mech.points}
+
+
+def solve(body: dict) -> dict:
+    """Curves of the outputs against the input, every point's path, block angles, figures of merit."""
+    check_fields(body, "solve")
+    figures = body.get("figures", True)
+    if not isinstance(figures, bool):
+        raise RequestError(400, "figures must be true or false")
+    digits = int(number(body, "digits", 15, 3, 15, integer=True)) if "digits" in body else None
+    mech = mechanism_of(body)
+    names = outputs_of(body, mech)
+    run = analysis(mech, body, figures)
+    a = run.analysis
+    n, sol = len(a.t), a.solution
+    return {
+        "mechanism": mech.name, "samples": run.samples, "revolutions": run.revolutions,
+        "input_range": list(run.input_range) if run.input_range else None,
+        "describe": describe(mech), "parameters": clean(mech.parameters),
+        "input": mech.inputs[0].q, "units": units(mech, body.get("text") or body["mechanism"]),
+        "t": series(a.t), "inputs": {k: series(v, n, digits) for k, v in a.inputs.items()},
+        "outputs": {k: series(sol[k], n, digits) for k in names},
+        "points": point_paths(mech, sol, n, digits=digits),
+        "angles": {ln: series(sol["phi" + ln], n, digits) for ln in mech.slides if "phi" + ln in sol},
+        "figures": clean(a.figures) if figures else None,
+        "summary": mech.summary(a.figures) if figures else None,
+    }
+
+
+_UNITS: dict[str, dict[str, str]] = {}
+
+
+def units(mech: Mechanism, key: str) -> dict[str, str]:
+    """The unit of every input and output column. Units follow from the mechanism's structure, not its
+    values, so they are worked out once per mechanism (``key``: its name or file text) rather than on every
+    slider move (~5 ms for a 70-output walking leg)."""
+    if key not in _UNITS:
+        if len(_UNITS) >= 64:
+            _UNITS.clear()
+        columns = [q for i in mech.inputs for q in (i.q, i.qd, i.qdd)] + list(mech.outputs)
+        _UNITS[key] = service.units_of(mech, columns)
+    return _UNITS[key]
+
+
+def describe(mech: Mechanism) -> dict:
+    """:func:`service.describe` for the page: the drives' speed and acceleration parameters in rad/s and
+    rad/s^2 (a slider's in length/s, length/s^2) where the table gives every angle-kind parameter 'rad', and a
+    slider range for a length that is zero (an offset), whose table range is empty."""
+    d = clean(service.describe(mech))
+    rates = {}
+    for i in mech.inputs:
+        base = "rad" if i.kind == "crank" else mech.units
+        _, speed, accel = i.parameters
+        rates.update({name: unit for name, unit in ((speed, f"{base}/s"), (accel, f"{base}/s^2")) if name})
+    size = mech.size / mech.scale                   # [file units]
+    for p in d["parameters"]:
+        p["unit"] = rates.get(p["name"], p["unit"])
+        if p["kind"] == "length" and p["max"] - p["min"] < 1e-6 * size:    # a zero offset: +-size to play with
+            p.update(min=-size, max=size, step=size / 200)
+    return d
+
+
+def simulate(body: dict) -> dict:
+    """``compare --json`` plus the overlay: simulated outputs, their errors and the output point's path,
+    at most OVERLAY_POINTS samples each."""
+    check_fields(body, "simulate")
+    mech = mechanism_of(body)
+    names = outputs_of(body, mech)
+    revolutions = float(number(body, "revolutions", 1.0, 1e-6, MAX_REVOLUTIONS))
+    built, c = service.compare(mech, revolutions, input_range=input_range_of(body, mech))
+    tr = c.trajectory
+    n = len(tr.t)
+    k = max(1, math.ceil(n / OVERLAY_POINTS))
+    record = clean(service.comparison_record(built, c))
+    record["simulated"] = {
+        "t": series(tr.t[::k]), "inputs": {q: series(v[::k]) for q, v in tr.inputs.items()},
+        "outputs": {name: series(np.broadcast_to(tr.outputs[name], (n,))[::k]) for name in names},
+        "errors": {name: series(error(built.mech, name, tr.outputs[name], c.analytic[name], n)[::k])
+                   for name in names},
+        "points": point_paths(built.mech, tr.outputs, n, k),
+    }
+    return record
+
+
+def error(mech: Mechanism, name: str, simulated, reference, n: int) -> np.ndarray:
+    """Simulated minus analytic, angles wrapped into (-pi, pi] as the comparison measures them."""
+    diff = np.broadcast_to(np.asarray(simulated, float) - np.asarray(reference, float), (n,))
+    return np.pi - np.mod(np.pi - diff, 2 * np.pi) if output_kind(mech, name)[1] == "angle" else diff
+
+
+def render_video(body: dict) -> bytes:
+    """The MuJoCo animation as MP4 bytes, rendered into a private temporary folder."""
+    check_fields(body, "render")
+    from sim.output.render import render
+    mech = mechanism_of(body)
+    revolutions = float(number(body, "revolutions", 1.0, 1e-6, MAX_RENDER_REVOLUTIONS))
+    fps = float(number(body, "fps", 30.0, 1.0, MAX_RENDER_FPS))
+    size = size_of(body)
+    built, tr = service.simulate(mech, revolutions, input_range=input_range_of(body, mech))
+    frames = int(tr.t[-1] * fps) + 1
+    if frames > MAX_RENDER_FRAMES:
+        raise RequestError(400, f"the video would have {frames} frames (at most {MAX_RENDER_FRAMES}): lower the "
+                                f"revolutions or the frame rate, or raise the input speed")
+    with tempfile.TemporaryDirectory(prefix="linkage-app-") as folder, _RENDER_LOCK:
+        out = Path(folder) / "linkage.mp4"
+        render(built, tr, str(out), fps, size)
+        return out.read_bytes()
+
+
+def export(kind: str, body: dict) -> tuple[bytes, str, str]:
+    """A download: (bytes, content type, file name) of the CSV, JSON, mechanism file or MJCF."""
+    check_fields(body, "export")
+    mech = mechanism_of(body)
+    run_options(body, mech)                         # a bad field is refused whichever file is asked for
+    stem = re.sub(r"[^A-Za-z0-9_.-]", "_", mech.name)[:64] or "mechanism"
+    if kind == "toml":
+        return service.mechanism_text(mech).encode(), "application/toml", f"{stem}.toml"
+    if kind == "mjcf":
+        return service.export_mjcf(mech).encode(), "application/xml", f"{stem}.xml"
+    if kind == "csv":
+        run = analysis(mech, body, figures=False)
+        return csv_text(service.analysis_columns(mech, run.analysis)).encode(), "text/csv", f"{stem}.csv"
+    run = analysis(mech, body, figures=True)
+    record = service.analysis_record(mech, run.analysis, run.samples, run.revolutions)
+    return json.dumps(clean(record), indent=2, allow_nan=False).encode(), "application/json", f"{stem}.json"
+
+
+def csv_text(columns: dict) -> str:
+    """The CSV of ``linkage analyze --csv`` (header row, full precision), in memory."""
+    import io
+    data = np.column_stack([np.ravel(v) for v in columns.values()])
+    buf = io.StringIO()
+    np.savetxt(buf, data, delimiter=",", header=",".join(columns), comments="", fmt="%.17g")
+    return buf.getvalue()
+
+
+def page(initial: dict) -> bytes:
+    """index.html with the first mechanism's parameter rows written in, so the page as served already
+    holds every ``<input name=PARAM>`` (the script rebuilds the rows when the mechanism changes)."""
+    mech = service.load(initial["name"], text=initial.get("text"))
+    rows = "".join(parameter_row(p) for p in describe(mech)["parameters"])
+    return (STATIC / "index.html").read_text().replace("<!--PARAMETERS-->", rows).encode()
+
+
+def parameter_row(p: dict) -> str:
+    """One parameter's row: label, slider, number box, unit, range; the markup app.js builds too."""
+    name, unit = html.escape(p["name"]), html.escape(p["unit"])
+    hint = "branch: +1 or -1" if p["kind"] == "branch" else f"range {p['min']:.4g} … {p['max']:.4g} {unit}"
+    hint += " · derived from the others until set" if p["derived"] else ""
+    return (f'<div class="param" data-name="{name}"><label for="p-{name}">{name}</label>'
+            f'<input type="range" data-param="{name}" aria-label="{name} slider" min="{p["min"]!r}" '
+            f'max="{p["max"]!r}" step="{p["step"]!r}" value="{p["value"]!r}">'
+            f'<input type="text" id="p-{name}" name="{name}" value="{p["value"]:.6g}" inputmode="decimal" '
+            f'autocomplete="off" spellcheck="false"><span class="unit">{unit}</span>'
+            f'<p class="hint">{hint}</p><p class="field-error" role="alert"></p></div>')
+
+
+def mechanisms(initial: dict) -> dict:
+    listing = service.list_mechanisms()
+    return {"names": [m["name"] for m in listing], "mechanisms": listing, "initial": initial}
+
+
+# ------------------------------------------------------------------------------------------- HTTP
+def _limit_arenas(n: int = 2) -> None:
+    """At most ``n`` glibc malloc arenas (M_ARENA_MAX = -8): with one per worker thread the heap fragments
+    and the resident size grows over repeated rounds; a no-op where mallopt does not exist."""
+    try:
+        import ctypes
+        ctypes.CDLL(None).mallopt(-8, n)
+    except (OSError, AttributeError):
+        pass
+
+
+def _trim() -> None:
+    """Give freed heap back to the system after a request (glibc keeps large freed arenas otherwise and
+    the resident size creeps up over repeated rounds); a no-op where malloc_trim does not exist."""
+    try:
+        import ctypes
+        ctypes.CDLL(None).malloc_trim(0)
+    except (OSError, AttributeError):
+        pass
+
+
+class AppServer(ThreadingHTTPServer):
+    """The HTTP server with what its handlers need: the addresses it answers to and the first mechanism."""
+
+    daemon_threads = True
+    request_queue_size = 128            # listen backlog: a burst of simultaneous requests waits, never reset
+
+    def __init__(self, port: int, initial: dict):
+        super().__init__(("127.0.0.1", port), Handler)
+        # a fixed pool instead of a thread per connection: threads (and their malloc arenas, MuJoCo and
+        # GL contexts) are reused, so memory stays flat over repeated rounds; further requests queue
+        _limit_arenas()
+        self.pool = concurrent.futures.ThreadPoolExecutor(max_workers=WORKERS, thread_name_prefix="linkage-app")
+        self.port = self.server_address[1]
+        self.hosts = {f"127.0.0.1:{self.port}", f"localhost:{self.port}"}
+        self.origins = {f"http://{h}" for h in self.hosts}
+        self.initial = initial
+        self.page = page(initial)
+
+    @property
+    def url(self) -> str:
+        return f"http://127.0.0.1:{self.port}/"
+
+    def handle_error(self, request, client_address) -> None:
+        """A client that went away mid-answer is not worth a traceback on the user's terminal."""
+
+    def process_request(self, request, client_address) -> None:
+        self.pool.submit(self._serve_one, request, client_address)
+
+    def _serve_one(self, request, client_address) -> None:
+        self.process_request_thread(request, client_address)
+        _trim()
+
+    def server_close(self) -> None:
+        super().server_close()
+        self.pool.shutdown(wait=False, cancel_futures=True)
+
+
+class Handler(BaseHTTPRequestHandler):
+    """Routes: GET / and the static files, GET /api/mechanisms; POST /api/solve, /api/simulate,
+    /api/render, /api/export/{csv,json,toml,mjcf}, /api/exit."""
+
+    server: AppServer
+    server_version = "linkage-app"
+    sys_version = ""
+    protocol_version = "HTTP/1.1"                 # keep-alive: a slider drag reuses one connection
+    disable_nagle_algorithm = True                # else headers and body wait ~40 ms on a delayed ACK
+    timeout = 10                                  # [s] a slow or stalled client frees its thread after this
+    stopping = False
+
+    def do_GET(self) -> None:
+        self._answer(self._get)
+
+    def do_POST(self) -> None:
+        self._answer(self._post)
+
+    def __getattr__(self, name: str):
+        """Every other method (PUT, DELETE, OPTIONS, ...): 405, never the framework's 501."""
+        if name.startswith("do_"):
+            return lambda: self._answer(self._not_allowed)
+        raise AttributeError(name)
+
+    def log_message(self, format, *args) -> None:
+        """Quiet: the terminal shows the URL and nothing per request."""
+
+    def send_error(self, code, message=None, explain=None) -> None:
+        """The framework's own refusals (malformed request line, headers too large) as one-line JSON 4xx."""
+        code = code if 400 <= code < 500 else 400
+        self._send(code, _json_bytes({"error": message or HTTPStatus(code).phrase}), "application/json",
+                   close=True)
+
+    # -------------------------------------------------------------- routing
+    def _answer(self, route) -> None:
+        try:
+            self._check_origin()
+            status, data, ctype, extra = route()
+        except RequestError as exc:
+            status, data, ctype, extra = exc.status, _json_bytes({"error": _first_line(str(exc))}), \
+                "application/json", {}
+        except MemoryError:
+            status, data, ctype, extra = 400, _json_bytes({"error": "out of memory: lower the samples or "
+                                                                    "revolutions"}), "application/json", {}
+        except Exception as exc:              # ParameterError, and any failure to compute: the page's message
+            status, data, ctype, extra = 400, _json_bytes({"error": _first_line(str(exc)) or type(exc).__name__}), \
+                "application/json", {}
+        self._send(status, data, ctype, extra, close=status >= 400 or self.stopping)
+        if self.stopping:                       # after the answer is out: shutdown() waits for serve_forever
+            threading.Thread(target=self.server.shutdown, daemon=True).start()
+
+    def _get(self):
+        path = self.path.split("?", 1)[0]
+        if path == "/api/mechanisms":
+            return 200, _json_bytes(mechanisms(self.server.initial)), "application/json", {}
+        if path == "/":
+            return 200, self.server.page, "text/html; charset=utf-8", {}
+        if path in FILES:
+            name, ctype = FILES[path]
+            return 200, (STATIC / name).read_bytes(), ctype, {}
+        if path.startswith("/api/"):
+            raise RequestError(405 if path in POSTS else 404, f"{path}: unknown path or use POST")
+        raise RequestError(404, f"{path}: not found")
+
+    def _post(self):
+        path = self.path.split("?", 1)[0]
+        if path not in POSTS:
+            raise RequestError(405 if path in FILES or path == "/api/mechanisms" else 404,
+                               f"{path}: no such action (POST to /api/solve, /api/simulate, /api/render, "
+                               f"/api/export/KIND or /api/exit)")
+        body = self._body()
+        if path == "/api/exit":
+            self.stopping = True
+            return 200, _json_bytes({"stopped": True}), "application/json", {}
+        if path == "/api/solve":
+            return 200, _json_bytes(solve(body)), "application/json", {}
+        if path == "/api/simulate":
+            return 200, _json_bytes(simulate(body)), "application/json", {}
+        if path == "/api/render":
+            return 200, render_video(body), "video/mp4", {}
+        data, ctype, filename = export(path.rsplit("/", 1)[1], body)
+        return 200, data, ctype, {"Content-Disposition": f'attachment; filename="{filename}"'}
+
+    def _not_allowed(self):
+        raise RequestError(405, f"method {self.command} is not allowed: use GET or POST")
+
+    # -------------------------------------------------------------- checks
+    def _check_origin(self) -> None:
+        """DNS rebinding and cross-site requests: the Host must be this loopback address and port, and an
+        Origin, when sent, this page's."""
+        host = (self.headers.get("Host") or "").strip().lower()
+        if host not in self.server.hosts:
+            raise RequestError(403, f"Host {host or '(none)'!r} refused: open {self.server.url}")
+        origin = self.headers.get("Origin")
+        if origin is not None and origin.strip().lower() not in self.server.origins:
+            raise RequestError(403, f"cross-origin request from {_short(origin)} refused")
+
+    def _body(self) -> dict:
+        ctype = (self.headers.get("Content-Type") or "").split(";", 1)[0].strip().lower()
+        if ctype != "application/json":
+            raise RequestError(415, "send the request body as JSON (Content-Type: application/json)")
+        if self.headers.get("Transfer-Encoding"):
+            raise RequestError(411, "send the body with a Content-Length, not chunked")
+        length = self.headers.get("Content-Length", "")
+        if not length.isdigit():
+            raise RequestError(411, "a Content-Length is required")
+        if int(length) > MAX_BODY:
+            raise RequestError(413, f"the body is {int(length):,} bytes; at most {MAX_BODY:,} are accepted")
+        return parse_json(self.rfile.read(int(length)))
+
+    def _send(self, status: int, data: bytes, ctype: str, extra: dict | None = None, close: bool = False) -> None:
+        self.send_response(status)
+        self.send_header("Content-Type", ctype)
+        self.send_header("Content-Length", str(len(data)))
+        for k, v in {**SECURITY_HEADERS, **(extra or {})}.items():
+            self.send_header(k, v)
+        if close:                               # an unread body must not be taken for the next request
+            self.send_header("Connection", "close")
+            self.close_connection = True
+        self.end_headers()
+        if self.command != "HEAD":
+            self.wfile.write(data)
+
+
+POSTS = {"/api/solve", "/api/simulate", "/api/render", "/api/exit",
+         *(f"/api/export/{k}" for k in ("csv", "json", "toml", "mjcf"))}
+
+
+def _json_bytes(obj) -> bytes:
+    return json.dumps(obj, separators=(",", ":"), allow_nan=False).encode()
+
+
+def _first_line(text: str) -> str:
+    line = (text.strip().splitlines() or [""])[0]
+    return line if len(line) <= MAX_ERROR_CHARS else line[:MAX_ERROR_CHARS - 3] + "..."
+
+
+def _short(v) -> str:
+    r = repr(v)
+    return r if len(r) <= 60 else r[:57] + "..."
+
+
+# -------------------------------------------------------------------------------------- command
+def initial_mechanism(name: str) -> dict:
+    """The page's first mechanism: a name, or a file the user named on the command line (sent to the page
+    as text, so requests never carry paths). Checked here, so a bad one fails before the server starts."""
+    if name in analytic.names():
+        service.load(name)
+        return {"name": name}
+    if not Path(name).exists():
+        raise ParameterError(f"{name!r} is neither a mechanism (linkage list) nor a linkage/1 file")
+    from analytic.format import linkfile
+    linkfile.read(name)                 # a regular UTF-8 file within the size cap, or one line saying why
+    text = Path(name).read_bytes()[:linkfile.MAX_FILE_BYTES].decode("utf-8-sig")
+    return {"name": service.load(name, text=text).name, "text": text}
+
+
+def start(port: int, initial: dict) -> AppServer:
+    try:
+        return AppServer(port, initial)
+    except OSError as exc:
+        raise ParameterError(f"cannot listen on 127.0.0.1:{port} ({exc.strerror or exc}): choose another "
+                             f"--port (0 picks a free one)") from None
+
+
+def has_display() -> bool:
+    return bool(os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY"))
+
+
+def cmd_app(args) -> int:
+    if not 0 <= args.port <= 65535:
+        raise ParameterError(f"--port {args.port} must be in 0..65535 (0 picks a free one)")
+    server = start(args.port, initial_mechanism(args.mechanism))
+    print(f"linkage app: {server.url}  (Exit on the page or Ctrl-C stops it)", flush=True)
+    if has_display() and not args.no_browser:
+        webbrowser.open(server.url)
+    try:
+        server.serve_forever()
+    except KeyboardInterrupt:
+        print("\nlinkage app: stopped", file=sys.stderr)
+        return 130
+    finally:
+        server.server_close()
+    print("linkage app: stopped")
+    return 0
+
+
+def register(sub) -> None:
+    """Add ``linkage app [MECH] [--port N] [--no-browser]`` to the CLI's subcommands."""
+    p = sub.add_parser("app", help="interactive page: parameters, curves, animation, simulation, exports")
+    p.add_argument("mechanism", metavar="MECH", nargs="?", default="fourbar",
+                   help="the mechanism to open: a name (linkage list) or a linkage/1 file (default fourbar)")
+    p.add_argument("--port", type=int, default=DEFAULT_PORT, metavar="N",
+                   help=f"port on 127.0.0.1 (default {DEFAULT_PORT}; 0 picks a free one)")
+    p.add_argument("--no-browser", action="store_true", help="do not open a browser; just print the URL")
+    p.set_defaults(func=cmd_app)

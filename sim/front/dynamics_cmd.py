@@ -1,0 +1,211 @@
+"""`linkage dynamics MECH`: a motor drives the linkage (SPEC, "Dynamics under a motor")."""
+
+from __future__ import annotations
+
+import csv
+import math
+
+
+from analytic import ParameterError
+from analytic.format import expr
+from analytic.applications import motor as amotor
+
+RPM = 2 * math.pi / 60
+
+
+def parse_speed(option: str, text: str) -> float:
+    """A speed [rad/s], or with an ``rpm`` suffix in revolutions per minute."""
+    t = text.strip()
+    scale = 1.0
+    if t.lower().endswith("rpm"):
+        t, scale = t[:-3].strip(), RPM
+    return expr.parse_value(option, t, angle=False) * scale
+
+
+def parse_motor(text: str) -> amotor.LinearMotor:
+    """``T0,W0``: stall torque [N m], no-load speed [rad/s or rpm]."""
+    parts = text.split(",")
+    if len(parts) != 2:
+        raise ParameterError(f"--motor {text!r} is not T0,W0 (stall torque N m, no-load speed rad/s or rpm; "
+                             f"e.g. --motor 2,150rpm)")
+    return amotor.LinearMotor(expr.parse_value("--motor T0", parts[0], angle=False),
+                              parse_speed("--motor W0", parts[1]))
+
+
+def read_table(path: str) -> amotor.TableMotor:
+    """A torque-speed table: CSV with a header ``omega,tau`` (rad/s, N m) or ``rpm,tau``."""
+    try:
+        with open(path, newline="") as f:
+            rows = list(csv.reader(f))
+    except OSError as exc:
+        raise ParameterError(f"--motor-table {path}: cannot read it ({exc.strerror or exc})") from None
+    rows = [r for r in rows if r and any(c.strip() for c in r)]
+    if not rows:
+        raise ParameterError(f"--motor-table {path}: the file is empty; give a header omega,tau and rows")
+    head = [c.strip().lower() for c in rows[0]]
+    if len(head) != 2 or head[1] != "tau" or head[0] not in ("omega", "rpm"):
+        raise ParameterError(f"--motor-table {path}: the header must be omega,tau (rad/s, N m) or rpm,tau")
+    scale = RPM if head[0] == "rpm" else 1.0
+    w, tau = [], []
+    for k, r in enumerate(rows[1:], start=1):
+        if len(r) != 2:
+            raise ParameterError(f"--motor-table {path}: row {k}: give two numbers {head[0]},tau")
+        try:
+            w.append(float(r[0]) * scale)
+            tau.append(float(r[1]))
+        except ValueError:
+            raise ParameterError(f"--motor-table {path}: row {k}: {','.join(r)!r} is not two numbers") from None
+    return amotor.TableMotor(tuple(w), tuple(tau), source=f"--motor-table {path}")
+
+
+def register(sub, add_common, add_sim_options, add_video_options) -> None:
+    p = sub.add_parser("dynamics", help="a motor drives the linkage: speed fluctuation, start-up, flywheel")
+    add_common(p, revolutions=10.0)
+    add_sim_options(p)
+    p.add_argument("--motor", metavar="[NAME=]T0,W0", action="append", default=[],
+                   help="linear motor: stall torque [N m], no-load speed [rad/s, or rpm suffix], e.g. 2,150rpm; "
+                        "a two-crank five-bar takes one per input: --motor phi2=2,150rpm --motor phi4=...")
+    p.add_argument("--motor-table", metavar="PATH.csv", help="torque-speed table: header omega,tau (or rpm,tau)")
+    p.add_argument("--flywheel", metavar="[NAME=]J", action="append", default=[],
+                   help="flywheel on the input link [kg m^2] (default 0); per input for two motors")
+    p.add_argument("--target-fluctuation", metavar="CS", help="size the flywheel for this Cs, in (0, 1)")
+    p.add_argument("--start-speed", metavar="W", default="0", help="input speed at t = 0 [rad/s or rpm] (default 0)")
+    p.add_argument("--json", action="store_true", help="print one JSON object")
+    p.add_argument("--csv", metavar="PATH", help="write the analytic run (t, phi, omega, torque) as CSV")
+    p.add_argument("--plot", metavar="PATH", help="dynamics sheet: .png, .svg or .pdf")
+    p.set_defaults(func=cmd_dynamics)
+
+
+def cmd_dynamics(args) -> int:
+    from sim.run import motor as smotor
+    from sim.front.cli import check_outputs, loads_from, mechanism_from, settings_from
+    from sim.output.io import write_csv, write_text
+    from sim.output.jsonout import dumps
+    if bool(args.motor) == bool(args.motor_table):
+        raise ParameterError("give the motor: --motor T0,W0 or --motor-table PATH.csv (one of them)")
+    if args.input_range:
+        raise ParameterError("--input-range does not apply to `linkage dynamics`: the motor turns the crank "
+                             "through whole revolutions; leave it out")
+    check_outputs(args, {"csv": (".csv",), "plot": (".png", ".svg", ".pdf")})
+    if args.motor_table and args.csv and args.motor_table == args.csv:
+        raise ParameterError(f"--csv {args.csv} is the motor table; choose another output name")
+    target = (expr.parse_value("--target-fluctuation", args.target_fluctuation, angle=False)
+              if args.target_fluctuation is not None else None)
+    mech = mechanism_from(args)
+    if len(mech.inputs) == 2:
+        return _two_motors(args, mech, target)
+    if len(mech.inputs) != 1:
+        raise ParameterError(f"the {mech.name} has {len(mech.inputs)} inputs; `linkage dynamics` drives one or two")
+    if len(args.motor) > 1 or len(args.flywheel) > 1:
+        raise ParameterError(f"the {mech.name} has one input: give one --motor and at most one --flywheel")
+    mot = _named(args.motor[0], mech, "--motor")[1] if args.motor else read_table(args.motor_table)
+    mot = parse_motor(mot) if isinstance(mot, str) else mot
+    flywheel = None
+    if args.flywheel:
+        flywheel = expr.parse_value("--flywheel", _named(args.flywheel[0], mech, "--flywheel")[1], angle=False)
+        if not flywheel >= 0:
+            raise ParameterError(f"--flywheel {flywheel:g} must be >= 0 [kg m^2] (the flywheel's moment of inertia)")
+    start = parse_speed("--start-speed", args.start_speed)
+    d = smotor.dynamics(mech, loads_from(args, mech), mot, flywheel, target, start, args.revolutions,
+                        settings_from(args))
+    if args.csv:
+        write_csv(args.csv, {"t": d.run.t, "phi": d.run.phi, "omega": d.run.omega, "torque": d.run.torque})
+        import json
+        write_text(f"{args.csv}.units.json", json.dumps({"mechanism": mech.name, "units": {
+            "t": "s", "phi": "rad", "omega": "rad/s", "torque": "N m"}}, indent=2) + "\n")
+    if args.plot:
+        from sim.output.dynamics_plot import sheet
+        sheet(d, args.plot)
+    if args.json:
+        print(dumps(smotor.record(d)))
+    else:
+        print(summary(d))
+    return 0 if d.passed else 1
+
+
+def _named(text: str, mech, option: str) -> tuple[str, str]:
+    """``NAME=VALUE`` or ``VALUE`` (the first input): (input name, value text); NAME must be an input."""
+    names = [i.q for i in mech.inputs]
+    if "=" not in text:
+        return names[0], text
+    name, value = text.split("=", 1)
+    name = name.strip()
+    if name not in names:
+        raise ParameterError(f"{option} {text!r}: the {mech.name} has no input {name!r}; inputs: {', '.join(names)}")
+    return name, value
+
+
+def _two_motors(args, mech, target) -> int:
+    from sim.run import motor as smotor
+    from sim.front.cli import loads_from, settings_from
+    from sim.output.jsonout import dumps
+    names = [i.q for i in mech.inputs]
+    if args.motor_table or target is not None or args.plot or args.csv:
+        raise ParameterError(f"the {mech.name} has two inputs: give --motor per input; --motor-table, "
+                             f"--target-fluctuation, --plot and --csv drive one input only")
+    motors = {}
+    for text in args.motor:
+        if "=" not in text:
+            raise ParameterError(f"--motor {text!r}: the {mech.name} has two inputs; name each: "
+                                 f"--motor {names[0]}=T0,W0 --motor {names[1]}=T0,W0")
+        name, value = _named(text, mech, "--motor")
+        motors[name] = parse_motor(value)
+    missing = [n for n in names if n not in motors]
+    if missing:
+        raise ParameterError(f"--motor: no motor for {', '.join(missing)}; give --motor NAME=T0,W0 for each of "
+                             f"{', '.join(names)}")
+    fly = dict.fromkeys(names, 0.0)
+    for text in args.flywheel:
+        if "=" not in text:
+            raise ParameterError(f"--flywheel {text!r}: name the input (--flywheel {names[0]}=J)")
+        name, value = _named(text, mech, "--flywheel")
+        fly[name] = expr.parse_value("--flywheel", value, angle=False)
+    start = parse_speed("--start-speed", args.start_speed)
+    d = smotor.dynamics_two(mech, loads_from(args, mech), tuple(motors[n] for n in names),
+                            tuple(fly[n] for n in names), (start, start), args.revolutions, settings_from(args))
+    if args.json:
+        print(dumps(smotor.record_two(d)))
+    else:
+        r, s = d.run, d.sim
+        print(f"{mech.name} driven by two motors, {r.revolutions:g} revolutions of {names[0]}")
+        for k, n in enumerate(names):
+            print(f"  {n}: mean speed {r.mean_speed[k]:.6g} rad/s (MuJoCo {s['mean_speed'][k]:.6g}), Cs "
+                  f"{r.fluctuation[k]:.6g} (MuJoCo {s['fluctuation'][k]:.6g}), start-up {r.startup_time[k]:.4g} s")
+        print("PASS" if d.passed else "FAIL")
+    return 0 if d.passed else 1
+
+
+def summary(d) -> str:
+    r, s, a = d.run, d.sim, d.agreement
+    rpm = 1 / RPM
+    lines = [f"{d.mech.name} driven by {_motor_text(d.motor)}, flywheel {d.flywheel:.4g} kg m^2, "
+             f"{r.revolutions:g} revolutions",
+             f"{'':24s}{'analytic':>14s}{'MuJoCo':>14s}",
+             f"{'mean speed [rad/s]':24s}{r.mean_speed:14.6g}{s.mean_speed:14.6g}   ({r.mean_speed * rpm:.4g} rpm)",
+             f"{'fluctuation Cs':24s}{r.fluctuation:14.6g}{s.fluctuation:14.6g}",
+             f"{'start-up time [s]':24s}{r.startup_time:14.6g}{s.startup_time:14.6g}",
+             f"peak motor torque {r.peak_torque:.4g} N m, peak power {r.peak_power:.4g} W, "
+             f"energy per cycle {r.energy_per_cycle:.4g} J"]
+    if d.target is not None:
+        lines.append(f"flywheel sized for Cs = {d.target:g}: {d.flywheel:.6g} kg m^2; runs give "
+                     f"{r.fluctuation:.5g} (analytic), {s.fluctuation:.5g} (MuJoCo) "
+                     f"[{'ok' if d.sizing_passed else f'FAIL: outside {smotor_tol():.0%}; try more --revolutions'}]")
+    lines.append(f"agreement: mean speed {a.mean_speed:.1e} (tol {a.as_dict()['tolerances']['mean_speed']:.0e}), "
+                 f"Cs {a.fluctuation:.1e} (tol {a.as_dict()['tolerances']['fluctuation']:.0e}), speed vs angle "
+                 f"{a.curve:.1e}, vs time {a.time:.1e}; loop {s.loop_violation:.1e} m; step {s.timestep:.3g} s")
+    lines.append("PASS" if d.passed else "FAIL")
+    return "\n".join(lines)
+
+
+def smotor_tol() -> float:
+    from sim.run.motor import SIZING_TOL
+    return SIZING_TOL
+
+
+def _motor_text(m) -> str:
+    if isinstance(m, amotor.LinearMotor):
+        return f"a linear motor T0={m.T0:g} N m, W0={m.W0:g} rad/s ({m.W0 / RPM:.4g} rpm)"
+    return f"a table motor ({len(m.omega)} rows, stall {m.stall:g} N m)"
+
+
+__all__ = ["register", "cmd_dynamics", "parse_motor", "read_table"]

@@ -1,0 +1,1031 @@
+// linkage app: the page over the JSON API of sim/front/app.py. No build step, no framework: uPlot draws the
+// curves, a canvas draws the linkage. The last solve is kept in window.linkageState (the last simulation in
+// window.linkageSimulation) and every redraw increments document.body.dataset.revision: tests and the
+// latency benchmark wait on it.
+"use strict";
+
+(() => {
+  const DEG = 180 / Math.PI;
+  const SAMPLES = 361;
+  const DRAG_DIGITS = 7;          // significant digits asked for while dragging: half the bytes to move
+  const FIGURES_DELAY_MS = 250;   // figures of merit (50 ms - 2 s on the server) once the input settles
+  const HOLD_MS = 300;            // the animation pauses this long after each edit
+  const MAX_UPLOAD = 900000;
+  const FEW_OUTPUTS = 24;         // up to this many outputs all are fetched; above, only the plotted ones
+  // links' and curves' colours; red is the output point's path alone (the videos use the same: sim/output/drawing.py)
+  const COLORS = ["#1f77b4", "#2ca02c", "#9467bd", "#ff7f0e", "#17becf", "#8c564b", "#e377c2", "#bcbd22"];
+  const SIM_COLOR = "#111";
+  const CHART_HEIGHT = 175;
+  const ERROR_HEIGHT = 130;
+
+  const $ = (sel) => document.querySelector(sel);
+  const state = {
+    mech: { name: null, text: null },   // a library name, or an uploaded file's text
+    describe: null,
+    set: {},                            // the values the user gave, by parameter name (as typed)
+    ranges: {},                         // slider ranges from the defaults: they must not move under a drag
+    lastEdited: null,
+    inputRange: "",
+    revolutions: 1,
+    solve: null,
+    sim: null,
+    selected: [],
+    charts: [],
+    display: { deg: true, rpm: false },  // angles in deg (else rad), angular speeds in rpm; lengths: the file's
+    frame: 0,
+    playing: true,
+    speed: 1,
+    version: 0,                         // bumped by every edit; answers to older versions are dropped
+    applied: -1,
+    opened: 0,                          // the version at which the current mechanism was opened
+    built: -1,                          // the `opened` the panels were built for
+    geometry: null,
+    holdUntil: 0,
+  };
+
+  // ------------------------------------------------------------------------------------------ api
+  async function api(path, body) {
+    const res = await fetch(path, {
+      method: "POST",
+      headers: { "Content-Type": "application/json" },
+      body: JSON.stringify(body || {}),
+    });
+    if (!res.ok) {
+      let message = `${res.status} ${res.statusText}`;
+      try { message = (await res.json()).error || message; } catch (e) { /* not JSON: keep the status */ }
+      throw new ApiError(message, res.status);
+    }
+    return res;
+  }
+
+  class ApiError extends Error {
+    constructor(message, status) { super(message); this.status = status; }
+  }
+
+  function requestBody(extra) {
+    const body = { set: { ...state.set } };
+    if (state.mech.text !== null) body.text = state.mech.text; else body.mechanism = state.mech.name;
+    if (state.inputRange.trim()) body.input_range = state.inputRange.trim();
+    const r = Number(state.revolutions);
+    body.revolutions = state.revolutions === "" || !Number.isFinite(r) ? state.revolutions : r;
+    return Object.assign(body, extra || {});
+  }
+
+  // Two channels: "curves" answers each edit at once (one request in flight, the latest edit wins);
+  // "full" adds the figures of merit once the edits have settled.
+  const channels = { curves: { busy: false, queued: false }, full: { busy: false, queued: false, timer: 0 } };
+
+  function edited() {
+    state.version += 1;
+    state.holdUntil = performance.now() + HOLD_MS;
+    clearSimulation();
+    $("#video").hidden = true;             // a video of other values
+    $("#figures").classList.add("pending");
+    send("curves");
+    const full = channels.full;
+    clearTimeout(full.timer);
+    full.timer = setTimeout(() => send("full"), FIGURES_DELAY_MS);
+  }
+
+  async function send(kind) {
+    const ch = channels[kind];
+    if (ch.busy) { ch.queued = true; return; }
+    ch.busy = true;
+    ch.queued = false;
+    const version = state.version;
+    const extra = kind === "full"
+      ? { samples: SAMPLES, figures: true, outputs: wantedOutputs() }
+      : { samples: SAMPLES, figures: false, digits: DRAG_DIGITS, outputs: wantedOutputs() };
+    const current = () => version >= state.opened && version >= state.applied;
+    try {
+      const started = performance.now();
+      const res = await api("/api/solve", requestBody(extra));
+      const data = await res.json();
+      const received = performance.now();
+      if (current() && !(kind === "curves" && version === state.applied)) {
+        applySolve(data, version, kind === "full");
+        const drawn = performance.now();
+        window.linkageTiming = { kind, request_ms: received - started, draw_ms: drawn - received };
+        status(`${data.mechanism}: solved and drawn in ${Math.round(drawn - started)} ms`);
+      }
+    } catch (err) {
+      if (current()) showError(err, version);
+    } finally {
+      ch.busy = false;
+      if (ch.queued) send(kind);
+    }
+  }
+
+  function wantedOutputs() {
+    const many = state.built === state.opened && state.describe.outputs.length > FEW_OUTPUTS;
+    return many ? state.selected : undefined;
+  }
+
+  // ------------------------------------------------------------------------------------ redraw
+  function applySolve(data, version, full) {
+    state.applied = version;
+    const rebuild = state.built !== state.opened;
+    state.describe = data.describe;
+    if (full || !state.solve || rebuild) {
+      state.solve = data;
+    } else {                             // a curves-only answer: keep the figures of the last full one
+      state.solve = { ...data, figures: state.solve.figures, summary: state.solve.summary };
+    }
+    window.linkageState = state.solve;
+    if (rebuild) {
+      state.built = state.opened;
+      $("#description").textContent = data.describe.description;
+      buildParameters(data.describe);
+      state.selected = defaultOutputs(data);
+      unitToggles();
+      buildOutputPicker();
+      buildCharts();
+      setFrame(0);
+    }
+    clearErrors();
+    syncParameters(data.parameters);
+    state.geometry = geometry(data);
+    updateCharts();
+    drawFrame();
+    if (full) showFigures(data);
+    bumpRevision();
+  }
+
+  function bumpRevision() {
+    document.body.dataset.revision = String(Number(document.body.dataset.revision || 0) + 1);
+  }
+
+  function showError(err, version) {
+    state.applied = Math.max(state.applied, version);
+    const message = err.message || String(err);
+    const name = fieldOfError(message);
+    clearErrors();
+    const row = name && document.querySelector(`.param[data-name="${CSS.escape(name)}"]`);
+    const target = row ? row.querySelector(".field-error") : $("#file-error");
+    target.textContent = message;
+    if (row) row.classList.add("invalid");
+    document.body.classList.add("stale");
+    status(message, true);
+    bumpRevision();
+  }
+
+  // The field an error belongs to: a parameter it names first ("l1=0.2 is not ..."), else the one edited.
+  function fieldOfError(message) {
+    const m = /^(?:set\.)?'?([A-Za-z_][A-Za-z0-9_]*)'?(?:=| must| is)/.exec(message);
+    const names = new Set((state.describe ? state.describe.parameters : []).map((p) => p.name));
+    if (m && (names.has(m[1]) || m[1] === "revolutions")) return m[1];
+    if (/^(input range|input_range)/.test(message)) return "input_range";
+    return state.lastEdited;
+  }
+
+  function clearErrors() {
+    document.querySelectorAll(".field-error").forEach((el) => { el.textContent = ""; });
+    document.querySelectorAll(".param.invalid").forEach((el) => el.classList.remove("invalid"));
+    document.body.classList.remove("stale");
+  }
+
+  function status(text, bad) {
+    const el = $("#status");
+    el.textContent = text;
+    el.classList.toggle("bad", !!bad);
+  }
+
+  // -------------------------------------------------------------------------------- parameters
+  function fmt(v, digits = 6) {
+    if (v === null || v === undefined || !Number.isFinite(v)) return "–";
+    if (v !== 0 && (Math.abs(v) >= 1e6 || Math.abs(v) < 1e-4)) return v.toExponential(digits - 1).replace(/\.?0+e/, "e");
+    return String(Number(v.toPrecision(digits)));
+  }
+
+  function buildParameters(describe) {
+    const box = $("#params");
+    box.replaceChildren();
+    state.ranges = {};
+    for (const p of describe.parameters) {
+      state.ranges[p.name] = { min: p.min, max: p.max };
+      box.appendChild(parameterRow(p));
+    }
+  }
+
+  function parameterRow(p) {
+    const row = document.createElement("div");
+    row.className = "param";
+    row.dataset.name = p.name;
+    const unit = p.unit ? ` ${p.unit}` : "";
+    row.innerHTML = `
+      <label></label>
+      <input type="range">
+      <input type="text" inputmode="decimal" autocomplete="off" spellcheck="false">
+      <span class="unit"></span>
+      <p class="hint"></p>
+      <p class="field-error" role="alert"></p>`;
+    const label = row.querySelector("label");
+    label.textContent = p.name;
+    label.htmlFor = `p-${p.name}`;
+    const slider = row.querySelector("input[type=range]");
+    slider.dataset.param = p.name;
+    slider.setAttribute("aria-label", `${p.name} slider`);
+    slider.min = p.min; slider.max = p.max; slider.step = p.step; slider.value = p.value;
+    const box = row.querySelector("input[type=text]");
+    box.id = `p-${p.name}`;
+    box.name = p.name;
+    box.value = fmt(p.value);
+    row.querySelector(".unit").textContent = p.unit || "";
+    row.querySelector(".hint").textContent = p.kind === "branch"
+      ? "branch: +1 or -1"
+      : `range ${fmt(p.min, 4)} … ${fmt(p.max, 4)}${unit}${p.derived ? " · derived from the others until set" : ""}`;
+    slider.addEventListener("input", () => {
+      state.set[p.name] = Number(slider.value);
+      box.value = fmt(Number(slider.value));
+      state.lastEdited = p.name;
+      edited();
+    });
+    box.addEventListener("input", () => {
+      const text = box.value.trim();
+      state.set[p.name] = text;
+      const v = Number(text);
+      if (text !== "" && Number.isFinite(v)) moveSlider(slider, p.name, v);
+      state.lastEdited = p.name;
+      edited();
+    });
+    return row;
+  }
+
+  function moveSlider(slider, name, v) {
+    const r = state.ranges[name];
+    slider.min = Math.min(r.min, v);     // a typed value outside the range widens the slider
+    slider.max = Math.max(r.max, v);
+    slider.value = v;
+  }
+
+  // Values the user did not set (defaults, derived ones) follow the solve.
+  function syncParameters(values) {
+    for (const [name, v] of Object.entries(values)) {
+      if (name in state.set) continue;
+      const box = document.querySelector(`#params input[name="${CSS.escape(name)}"]`);
+      const slider = document.querySelector(`#params input[data-param="${CSS.escape(name)}"]`);
+      if (box && document.activeElement !== box) box.value = fmt(v);
+      if (slider) moveSlider(slider, name, v);
+    }
+  }
+
+  // --------------------------------------------------------------------------------- outputs
+  // Units of results (SPEC): the API answers in SI; what is shown is in the file's length unit, angles in
+  // deg or rad and angular speeds in rpm as toggled (analytic/quantities.py does the same for the CLI).
+  const METRES = { m: 1, mm: 1e-3, cm: 1e-2, in: 0.0254 };
+  function lengthUnit() {
+    const u = (state.solve && state.solve.describe.units) || (state.describe && state.describe.units) || "m";
+    return { unit: u, f: 1 / (METRES[u] || 1) };
+  }
+
+  // [display unit, factor from SI] of a column whose SI unit is units[name]
+  function shownAs(name, units) {
+    const u = units[name] || "";
+    const L = lengthUnit();
+    const deg = state.display.deg;
+    const table = {
+      m: [L.unit, L.f], "m/s": [`${L.unit}/s`, L.f], "m/s^2": [`${L.unit}/s^2`, L.f],
+      rad: deg ? ["deg", DEG] : ["rad", 1],
+      "rad/s": state.display.rpm ? ["rpm", 30 / Math.PI] : (deg ? ["deg/s", DEG] : ["rad/s", 1]),
+      "rad/s^2": deg ? ["deg/s^2", DEG] : ["rad/s^2", 1],
+    };
+    return table[u] || [u, 1];
+  }
+
+  function displayUnit(name, units) {
+    return shownAs(name, units)[0];
+  }
+
+  function unitToggles() {
+    if ($("#unit-toggles")) return;
+    const box = document.createElement("span");
+    box.id = "unit-toggles";
+    box.className = "muted";
+    for (const [key, text] of [["deg", "angles in deg"], ["rpm", "speeds in rpm"]]) {
+      const label = document.createElement("label");
+      const check = document.createElement("input");
+      check.type = "checkbox";
+      check.name = `units-${key}`;
+      check.checked = state.display[key];
+      check.addEventListener("change", () => {
+        state.display[key] = check.checked;
+        if (!state.solve) return;
+        buildOutputPicker(); buildCharts(); updateCharts(); drawFrame();
+        if (state.sim) showVerdict(state.sim);
+        bumpRevision();
+      });
+      label.style.whiteSpace = "nowrap";
+      label.style.marginLeft = "0.6em";
+      label.append(check, ` ${text}`);
+      box.appendChild(label);
+    }
+    $("#analysis-panel .panel-head").appendChild(box);
+  }
+
+  // A first choice of curves: link angles, a slide, a transmission angle, the output point's path; outputs
+  // that stay constant (a block's angle on a fixed guide) are left out.
+  function defaultOutputs(data) {
+    const describe = data.describe;
+    const units = data.units;
+    const varies = (n) => {
+      const v = (data.outputs[n] || []).filter((x) => x !== null);
+      return v.length > 0 && Math.max(...v) - Math.min(...v) > 1e-9 * (1 + Math.abs(v[0]));
+    };
+    const outs = describe.outputs.filter(varies);
+    const p = describe.output_point;
+    const inputs = new Set(describe.inputs.flatMap((i) => [i.q, i.qd, i.qdd]));
+    const angles = outs.filter((n) => units[n] === "rad" && !n.startsWith("mu") && !inputs.has(n)).slice(0, 2);
+    const slides = outs.filter((n) => units[n] === "m" && !/^[xy]/.test(n)).slice(0, 1);
+    const mus = outs.filter((n) => n.startsWith("mu")).slice(0, 1);
+    const path = [`x${p}`, `y${p}`].filter((n) => outs.includes(n));
+    const picked = [...new Set([...angles, ...slides, ...mus, ...path])].slice(0, 4);
+    return picked.length ? picked : describe.outputs.slice(0, 4);
+  }
+
+  function buildOutputPicker() {
+    const box = $("#output-picker");
+    box.replaceChildren();
+    const units = state.solve.units;
+    state.selected.forEach((name, k) => {
+      const chip = document.createElement("button");
+      chip.className = "chip";
+      chip.style.setProperty("--chip", COLORS[k % COLORS.length]);
+      chip.textContent = `${name} ✕`;
+      chip.title = `remove ${name} [${displayUnit(name, units)}]`;
+      chip.addEventListener("click", () => {
+        state.selected = state.selected.filter((n) => n !== name);
+        selectionChanged();
+      });
+      box.appendChild(chip);
+    });
+    const add = document.createElement("select");
+    add.setAttribute("aria-label", "add an output");
+    add.innerHTML = `<option value="">+ output…</option>`;
+    for (const name of state.describe.outputs) {
+      if (state.selected.includes(name)) continue;
+      const opt = document.createElement("option");
+      opt.value = name;
+      opt.textContent = `${name} [${displayUnit(name, units) || "–"}]`;
+      add.appendChild(opt);
+    }
+    add.addEventListener("change", () => {
+      if (!add.value) return;
+      state.selected = [...state.selected, add.value];
+      selectionChanged();
+    });
+    box.appendChild(add);
+  }
+
+  function selectionChanged() {
+    buildOutputPicker();
+    buildCharts();
+    const missing = state.selected.some((n) => !(n in state.solve.outputs));
+    if (missing) { state.version += 1; send("curves"); } else { updateCharts(); bumpRevision(); }
+  }
+
+  // ---------------------------------------------------------------------------------- charts
+  function inputAxis(data) {
+    const q = data.input;
+    const crank = data.units[q] === "rad";
+    const shown = crank ? ["deg", DEG] : shownAs(q, data.units);
+    return { key: q, crank, f: shown[1], label: `input ${q} [${shown[0]}]` };
+  }
+
+  function buildCharts() {
+    for (const c of state.charts) { c.plot.destroy(); if (c.err) c.err.destroy(); }
+    const box = $("#charts");
+    box.replaceChildren();
+    state.charts = [];
+    const axis = inputAxis(state.solve);
+    const width = chartWidth();
+    state.selected.forEach((name, k) => {
+      const color = COLORS[k % COLORS.length];
+      const card = document.createElement("div");
+      card.className = "chart-card";
+      box.appendChild(card);
+      const unit = displayUnit(name, state.solve.units);
+      const plot = new uPlot({
+        width, height: CHART_HEIGHT, title: `${name} [${unit}]`,
+        scales: { x: { time: false } },
+        legend: { show: true, live: false },
+        cursor: { drag: { x: false, y: false } },
+        axes: [axisOptions(axis.label), axisOptions(`${name} [${unit}]`, 64)],
+        series: [
+          { label: axis.label },
+          { label: "analytic", stroke: color, width: 1.8, spanGaps: true },
+          { label: "MuJoCo", stroke: SIM_COLOR, width: 0, paths: () => null,
+            points: { show: true, size: 6, width: 1.2, stroke: SIM_COLOR, fill: "#fff" } },
+        ],
+      }, [[], [], []], card);
+      const line = document.createElement("div");
+      line.className = "cursor-line";
+      plot.over.appendChild(line);
+      const errBox = document.createElement("div");
+      errBox.className = "error-chart";
+      errBox.hidden = true;
+      card.appendChild(errBox);
+      const err = new uPlot({
+        width, height: ERROR_HEIGHT, title: `${name}: MuJoCo − analytic, in tolerances`,
+        scales: { x: { time: false }, y: { range: (u, lo, hi) => [Math.min(-1.5, lo), Math.max(1.5, hi)] } },
+        legend: { show: false },
+        cursor: { drag: { x: false, y: false } },
+        axes: [axisOptions(null), { ...axisOptions("error / tol", 64), space: 14 }],
+        series: [
+          {},
+          { label: "error / tol", stroke: color, width: 1.4 },
+          { label: "+tol", stroke: "#c33", width: 1, dash: [4, 4] },
+          { label: "-tol", stroke: "#c33", width: 1, dash: [4, 4] },
+        ],
+      }, [[], [], [], []], errBox);
+      state.charts.push({ name, plot, err, errBox, line });
+    });
+  }
+
+  function axisOptions(label, size) {
+    const o = { labelSize: 16, labelFont: "12px system-ui, sans-serif", font: "11px system-ui, sans-serif",
+      stroke: "#333", grid: { stroke: "#e6e6e6", width: 1 }, ticks: { stroke: "#ccc", width: 1 } };
+    if (label) o.label = label;
+    if (size) o.size = size;
+    return o;
+  }
+
+  function chartWidth() {
+    const box = $("#charts");
+    const w = box.clientWidth || 600;
+    return w >= 760 ? Math.floor((w - 12) / 2) : Math.floor(w);
+  }
+
+  function toDisplay(name, values, units) {
+    if (units[name] !== "rad") {
+      const f = shownAs(name, units)[1];
+      return f === 1 ? values : values.map((v) => (v === null ? null : v * f));
+    }
+    const unit = state.display.deg ? DEG : 1;
+    const out = new Array(values.length);
+    const wrap = !name.startsWith("mu");    // turning links: a continuous curve, not jumps at +-180
+    let offset = 0; let prev = null;
+    for (let i = 0; i < values.length; i++) {
+      const v = values[i];
+      if (v === null) { out[i] = null; continue; }
+      if (wrap && prev !== null) {
+        const d = v + offset - prev;
+        if (d > Math.PI) offset -= 2 * Math.PI; else if (d < -Math.PI) offset += 2 * Math.PI;
+      }
+      prev = v + offset;
+      out[i] = prev * unit;
+    }
+    return out;
+  }
+
+  function inputValues(data, inputs) {
+    const axis = inputAxis(data);
+    const q = inputs[axis.key];
+    return q.map((v) => (v === null ? null : v * axis.f));
+  }
+
+  // uPlot wants ascending x; a reversed crank or a rocking run is sorted first.
+  function sortedBy(x, ...ys) {
+    const idx = x.map((_, i) => i).filter((i) => x[i] !== null).sort((a, b) => x[a] - x[b]);
+    return [idx.map((i) => x[i]), ...ys.map((y) => idx.map((i) => y[i]))];
+  }
+
+  function updateCharts() {
+    const data = state.solve;
+    const sim = state.sim;
+    const xa = inputValues(data, data.inputs);
+    const xs = sim ? inputValues(data, sim.simulated.inputs) : null;
+    for (const c of state.charts) {
+      const ya = data.outputs[c.name];
+      if (!ya) continue;
+      const analytic = sortedBy(xa, toDisplay(c.name, ya, data.units));
+      const simY = sim && sim.simulated.outputs[c.name];
+      if (simY) {
+        const every = Math.max(1, Math.round(xs.length / 72));    // a marker every ~5 deg of a turn
+        const xm = xs.filter((_, i) => i % every === 0);
+        const ym = toDisplay(c.name, simY, data.units).filter((_, i) => i % every === 0);
+        c.plot.setData(uPlot.join([analytic, sortedBy(xm, ym)]));
+        const tol = (sim.errors[c.name] || {}).tol || 1;
+        const [xe, ye] = sortedBy(xs, sim.simulated.errors[c.name].map((e) => (e === null ? null : e / tol)));
+        c.err.setData([xe, ye, xe.map(() => 1), xe.map(() => -1)]);
+        c.errBox.hidden = false;
+        const [eu, ef] = shownAs(c.name, data.units);
+        c.errBox.title = `tolerance ${fmt(tol * ef, 2)} ${eu}`;
+      } else {
+        c.plot.setData([analytic[0], analytic[1], analytic[0].map(() => null)]);
+        c.errBox.hidden = true;
+      }
+    }
+    moveCursors();
+  }
+
+  function moveCursors() {
+    const data = state.solve;
+    if (!data) return;
+    const axis = inputAxis(data);
+    const q = data.inputs[axis.key][state.frame];
+    if (q === null || q === undefined) return;
+    const x = q * axis.f;
+    for (const c of state.charts) {
+      const left = c.plot.valToPos(x, "x");
+      c.line.style.transform = `translateX(${left}px)`;
+    }
+  }
+
+  // ----------------------------------------------------------------------------- figures, sim
+  function showFigures(data) {
+    const list = $("#figures");
+    list.replaceChildren();
+    for (const line of data.summary || []) {
+      const li = document.createElement("li");
+      li.textContent = line.trim();
+      list.appendChild(li);
+    }
+    list.classList.remove("pending");
+    $("#all-figures pre").textContent = JSON.stringify(data.figures, null, 1);
+  }
+
+  function clearSimulation() {
+    if (!state.sim) return;
+    state.sim = null;
+    window.linkageSimulation = null;
+    $("#verdict").hidden = true;
+    $("#errors").hidden = true;
+    $("#sim-status").textContent = "parameters changed: simulate again";
+  }
+
+  async function simulate() {
+    const button = $("#simulate");
+    button.disabled = true;
+    $("#sim-status").classList.remove("bad");
+    $("#sim-status").textContent = "simulating…";
+    const version = state.version;
+    try {
+      const res = await api("/api/simulate", requestBody({ outputs: wantedOutputs() }));
+      const sim = await res.json();
+      if (version !== state.version) return;           // the parameters moved on meanwhile
+      state.sim = sim;
+      window.linkageSimulation = sim;
+      showVerdict(sim);
+      updateCharts();
+      drawFrame();
+      $("#sim-status").textContent = `${sim.steps} steps of ${fmt(sim.timestep * 1e3, 3)} ms (${sim.integrator}), `
+        + `${fmt(sim.cpu_seconds * 1e3, 3)} ms CPU`;
+      bumpRevision();
+    } catch (err) {
+      actionError(err);
+    } finally {
+      button.disabled = false;
+    }
+  }
+
+  // A failed action (simulate, render, export) is said beside its buttons: it is not one field's fault.
+  function actionError(err) {
+    const el = $("#sim-status");
+    el.textContent = err.message || String(err);
+    el.classList.add("bad");
+    status(el.textContent, true);
+    bumpRevision();
+  }
+
+  function showVerdict(sim) {
+    const v = $("#verdict");
+    v.hidden = false;
+    v.className = sim.passed ? "verdict passed" : "verdict failed";
+    v.textContent = sim.passed ? "PASSED" : "FAILED";
+    const small = document.createElement("small");
+    small.textContent = ` drive error ${fmt(sim.drive_error, 3)} (tol ${fmt(sim.drive_tol, 2)}) · loop violation `
+      + `${fmt(sim.max_loop_violation * lengthUnit().f, 3)} ${lengthUnit().unit} `
+      + `(tol ${fmt(sim.loop_tol * lengthUnit().f, 2)}) · work balance ${fmt(sim.work_balance, 3)}`;
+    v.appendChild(small);
+    const table = $("#errors");
+    table.hidden = false;
+    table.innerHTML = "<thead><tr><th>output</th><th>max error</th><th>rms</th><th>tolerance</th><th>unit</th>"
+      + "<th></th></tr></thead>";
+    const body = document.createElement("tbody");
+    for (const [name, e] of Object.entries(sim.errors)) {
+      const tr = document.createElement("tr");
+      if (!e.passed) tr.className = "fail";
+      const [u, f] = shownAs(name, { [name]: e.unit });
+      for (const text of [name, fmt(e.max * f, 3), fmt(e.rms * f, 3), fmt(e.tol * f, 2), u, e.passed ? "✓" : "✗"]) {
+        const td = document.createElement("td");
+        td.textContent = text;
+        tr.appendChild(td);
+      }
+      body.appendChild(tr);
+    }
+    table.appendChild(body);
+  }
+
+  async function renderVideo() {
+    const button = $("#render");
+    button.disabled = true;
+    $("#sim-status").classList.remove("bad");
+    $("#sim-status").textContent = "rendering the MuJoCo video…";
+    try {
+      const revolutions = Math.min(5, Number(state.revolutions) || 1);
+      const res = await api("/api/render", requestBody({ revolutions, size: "640x480", fps: 30 }));
+      const video = $("#video");
+      if (video.src) URL.revokeObjectURL(video.src);
+      video.src = URL.createObjectURL(await res.blob());
+      video.hidden = false;
+      video.play().catch(() => {});
+      $("#sim-status").textContent = "video rendered offscreen by MuJoCo";
+    } catch (err) {
+      actionError(err);
+    } finally {
+      button.disabled = false;
+    }
+  }
+
+  async function download(kind) {
+    try {
+      const res = await api(`/api/export/${kind}`, requestBody(kind === "csv" || kind === "json" ? { samples: SAMPLES } : {}));
+      const name = (/filename="([^"]+)"/.exec(res.headers.get("Content-Disposition") || "") || [])[1] || `linkage.${kind}`;
+      const url = URL.createObjectURL(await res.blob());
+      const a = document.createElement("a");
+      a.href = url;
+      a.download = name;
+      document.body.appendChild(a);
+      a.click();
+      a.remove();
+      setTimeout(() => URL.revokeObjectURL(url), 1000);
+      status(`downloaded ${name}`);
+    } catch (err) {
+      actionError(err);
+    }
+  }
+
+  // -------------------------------------------------------------------------------- animation
+  // World bounds over the whole run (every point's path), so the view holds still while it moves.
+  function geometry(data) {
+    let x0 = Infinity; let x1 = -Infinity; let y0 = Infinity; let y1 = -Infinity;
+    for (const p of Object.values(data.points)) {
+      for (let i = 0; i < p.x.length; i++) {
+        const x = p.x[i]; const y = p.y[i];
+        if (x === null || y === null) continue;
+        if (x < x0) x0 = x; if (x > x1) x1 = x; if (y < y0) y0 = y; if (y > y1) y1 = y;
+      }
+    }
+    if (!Number.isFinite(x0)) { x0 = -1; x1 = 1; y0 = -1; y1 = 1; }
+    const pad = 0.08 * Math.max(x1 - x0, y1 - y0, 1e-9);
+    return { x0: x0 - pad, x1: x1 + pad, y0: y0 - pad, y1: y1 + pad, n: data.t.length };
+  }
+
+  const canvas = $("#view");
+  const ctx = canvas.getContext("2d");
+  const MARGIN = { left: 52, right: 12, top: 12, bottom: 38 };
+
+  function sizeCanvas() {
+    const wrap = canvas.parentElement;
+    const w = wrap.clientWidth;
+    const h = Math.round(Math.min(w * 0.8, 520));
+    const dpr = window.devicePixelRatio || 1;
+    canvas.style.width = `${w}px`;
+    canvas.style.height = `${h}px`;
+    canvas.width = Math.round(w * dpr);
+    canvas.height = Math.round(h * dpr);
+    ctx.setTransform(dpr, 0, 0, dpr, 0, 0);
+  }
+
+  function view() {
+    const g = state.geometry;
+    const w = canvas.clientWidth - MARGIN.left - MARGIN.right;
+    const h = canvas.clientHeight - MARGIN.top - MARGIN.bottom;
+    const s = Math.min(w / (g.x1 - g.x0), h / (g.y1 - g.y0));
+    const cx = MARGIN.left + w / 2 - s * (g.x0 + g.x1) / 2;
+    const cy = MARGIN.top + h / 2 + s * (g.y0 + g.y1) / 2;
+    return { s, X: (x) => cx + s * x, Y: (y) => cy - s * y, inv: (px, py) => [(px - cx) / s, (cy - py) / s], w, h };
+  }
+
+  function niceStep(span) {
+    const raw = span / 6;
+    const p = 10 ** Math.floor(Math.log10(raw));
+    return [1, 2, 5, 10].map((m) => m * p).find((v) => v >= raw);
+  }
+
+  function drawAxes(v) {
+    const [xa, yb] = v.inv(MARGIN.left, MARGIN.top + v.h);
+    const [xb, ya] = v.inv(MARGIN.left + v.w, MARGIN.top);
+    const L = lengthUnit();                   // ticks round in the file's unit
+    const step = niceStep(Math.max(xb - xa, ya - yb) * L.f) / L.f;
+    ctx.save();
+    ctx.strokeStyle = "#eceff3";
+    ctx.fillStyle = "#555";
+    ctx.font = "11px system-ui, sans-serif";
+    ctx.lineWidth = 1;
+    ctx.textAlign = "center";
+    for (let x = Math.ceil(xa / step) * step; x <= xb; x += step) {
+      const px = Math.round(v.X(x)) + 0.5;
+      ctx.beginPath(); ctx.moveTo(px, MARGIN.top); ctx.lineTo(px, MARGIN.top + v.h); ctx.stroke();
+      ctx.fillText(fmt(x * L.f, 3), px, MARGIN.top + v.h + 14);
+    }
+    ctx.textAlign = "right";
+    for (let y = Math.ceil(yb / step) * step; y <= ya; y += step) {
+      const py = Math.round(v.Y(y)) + 0.5;
+      ctx.beginPath(); ctx.moveTo(MARGIN.left, py); ctx.lineTo(MARGIN.left + v.w, py); ctx.stroke();
+      ctx.fillText(fmt(y * L.f, 3), MARGIN.left - 6, py + 4);
+    }
+    ctx.strokeStyle = "#bbb";
+    ctx.strokeRect(MARGIN.left + 0.5, MARGIN.top + 0.5, v.w, v.h);
+    ctx.fillStyle = "#333";
+    ctx.font = "12px system-ui, sans-serif";
+    ctx.textAlign = "center";
+    ctx.fillText(`x [${L.unit}]`, MARGIN.left + v.w / 2, MARGIN.top + v.h + 31);
+    ctx.translate(13, MARGIN.top + v.h / 2);
+    ctx.rotate(-Math.PI / 2);
+    ctx.fillText(`y [${L.unit}]`, 0, 0);
+    ctx.restore();
+  }
+
+  function pathLine(v, xs, ys, upto, style, width, dash) {
+    ctx.save();
+    ctx.strokeStyle = style; ctx.lineWidth = width; ctx.setLineDash(dash || []);
+    ctx.beginPath();
+    let pen = false;
+    for (let i = 0; i <= upto && i < xs.length; i++) {
+      if (xs[i] === null || ys[i] === null) { pen = false; continue; }
+      if (pen) ctx.lineTo(v.X(xs[i]), v.Y(ys[i])); else ctx.moveTo(v.X(xs[i]), v.Y(ys[i]));
+      pen = true;
+    }
+    ctx.stroke();
+    ctx.restore();
+  }
+
+  function hull(pts) {
+    if (pts.length < 3) return pts;
+    const s = [...pts].sort((a, b) => a[0] - b[0] || a[1] - b[1]);
+    const cross = (o, a, b) => (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
+    const half = (list) => {
+      const out = [];
+      for (const p of list) {
+        while (out.length >= 2 && cross(out[out.length - 2], out[out.length - 1], p) <= 0) out.pop();
+        out.push(p);
+      }
+      out.pop();
+      return out;
+    };
+    return [...half(s), ...half([...s].reverse())];
+  }
+
+  function drawFrame() {
+    const data = state.solve;
+    if (!data || !state.geometry) return;
+    const W = canvas.clientWidth; const H = canvas.clientHeight;
+    ctx.clearRect(0, 0, W, H);
+    const v = view();
+    drawAxes(v);
+    ctx.save();
+    ctx.beginPath(); ctx.rect(MARGIN.left, MARGIN.top, v.w, v.h); ctx.clip();
+    const i = state.frame;
+    const d = data.describe;
+    const at = (p) => {
+      const q = data.points[p];
+      return q && q.x[i] !== null && q.y[i] !== null ? [v.X(q.x[i]), v.Y(q.y[i])] : null;
+    };
+    const out = data.points[d.output_point];
+    if (out) pathLine(v, out.x, out.y, out.x.length, "rgba(214,39,40,0.25)", 1.5);
+    const sp = state.sim && state.sim.simulated.points[d.output_point];
+    if (sp) pathLine(v, sp.x, sp.y, sp.x.length, SIM_COLOR, 1.1, [5, 4]);    // MuJoCo's path, under the trace
+    if (out) pathLine(v, out.x, out.y, i, "#d62728", 2.4);
+    d.links.forEach((link, k) => drawLink(link, k, at, data, i, v));
+    for (const g of d.ground) { const p = at(g); if (p) drawGround(p); }
+    for (const name of d.points) drawJoint(name, at(name), name === d.output_point, d.ground.includes(name));
+    ctx.restore();
+    drawLegend(d.output_point, !!sp);
+    updateReadout();
+  }
+
+  function drawLegend(point, sim) {
+    const items = [[`path of ${point}`, "#d62728", 2.4, []]];
+    if (sim) items.push(["MuJoCo", SIM_COLOR, 1.1, [5, 4]]);
+    ctx.save();
+    ctx.font = "11px system-ui, sans-serif";
+    ctx.textBaseline = "middle";
+    let x = MARGIN.left + 8;
+    const y = MARGIN.top + 10;
+    for (const [label, color, width, dash] of items) {
+      ctx.strokeStyle = color; ctx.lineWidth = width; ctx.setLineDash(dash);
+      ctx.beginPath(); ctx.moveTo(x, y); ctx.lineTo(x + 22, y); ctx.stroke();
+      ctx.fillStyle = "#333";
+      ctx.fillText(label, x + 27, y);
+      x += 27 + ctx.measureText(label).width + 14;
+    }
+    ctx.restore();
+  }
+
+  function drawLink(link, k, at, data, i, v) {
+    const pts = link.points.map(at).filter(Boolean);
+    if (!pts.length) return;
+    const color = COLORS[k % COLORS.length];
+    ctx.save();
+    ctx.lineJoin = "round"; ctx.lineCap = "round";
+    if (link.block) {
+      const phi = (data.angles[link.name] || [])[i] ?? 0;
+      const size = Math.max(10, 0.06 * data.describe.size * v.s);
+      ctx.translate(pts[0][0], pts[0][1]);
+      ctx.rotate(-phi);
+      ctx.fillStyle = `${color}33`; ctx.strokeStyle = color; ctx.lineWidth = 2;
+      ctx.fillRect(-size, -size * 0.55, 2 * size, 1.1 * size);
+      ctx.strokeRect(-size, -size * 0.55, 2 * size, 1.1 * size);
+    } else if (pts.length >= 3) {
+      const poly = hull(pts);
+      ctx.fillStyle = `${color}2e`; ctx.strokeStyle = color; ctx.lineWidth = 4;
+      ctx.beginPath();
+      poly.forEach((p, j) => (j ? ctx.lineTo(p[0], p[1]) : ctx.moveTo(p[0], p[1])));
+      ctx.closePath(); ctx.fill(); ctx.stroke();
+    } else if (pts.length === 2) {
+      ctx.strokeStyle = color; ctx.lineWidth = 6;
+      ctx.beginPath(); ctx.moveTo(pts[0][0], pts[0][1]); ctx.lineTo(pts[1][0], pts[1][1]); ctx.stroke();
+    }
+    ctx.restore();
+  }
+
+  function drawGround([x, y]) {
+    ctx.save();
+    ctx.strokeStyle = "#444"; ctx.fillStyle = "#e8e8e8"; ctx.lineWidth = 1.2;
+    ctx.beginPath(); ctx.moveTo(x, y); ctx.lineTo(x - 9, y + 14); ctx.lineTo(x + 9, y + 14); ctx.closePath();
+    ctx.fill(); ctx.stroke();
+    ctx.beginPath();
+    for (let k = -12; k <= 8; k += 5) { ctx.moveTo(x + k, y + 20); ctx.lineTo(x + k + 5, y + 14); }
+    ctx.moveTo(x - 13, y + 14); ctx.lineTo(x + 13, y + 14);
+    ctx.stroke();
+    ctx.restore();
+  }
+
+  function drawJoint(name, p, output, ground) {
+    if (!p) return;
+    ctx.save();
+    ctx.fillStyle = output ? "#d62728" : "#fff";
+    ctx.strokeStyle = output ? "#8b0000" : "#222";
+    ctx.lineWidth = 1.5;
+    ctx.beginPath(); ctx.arc(p[0], p[1], output ? 5 : 4, 0, 2 * Math.PI); ctx.fill(); ctx.stroke();
+    ctx.fillStyle = "#222";
+    ctx.font = `${output ? "bold " : ""}12px system-ui, sans-serif`;
+    ctx.fillText(name, p[0] + 7, p[1] - (ground ? -4 : 7));
+    ctx.restore();
+  }
+
+  function updateReadout() {
+    const data = state.solve;
+    const axis = inputAxis(data);
+    const q = data.inputs[axis.key][state.frame];
+    const value = axis.crank ? `${(q * DEG).toFixed(1)}°` : `${fmt(q * axis.f, 4)} ${displayUnit(axis.key, data.units)}`;
+    $("#readout").textContent = `${axis.key} = ${value} · t = ${data.t[state.frame].toFixed(3)} s`;
+  }
+
+  function setFrame(i) {
+    const n = state.solve ? state.solve.t.length : 1;
+    state.frame = Math.max(0, Math.min(n - 1, i));
+    const scrub = $("#scrub");
+    scrub.max = String(n - 1);
+    scrub.value = String(state.frame);
+  }
+
+  let clock = { wall: 0, sim: 0 };
+  // While values are being edited the pose holds still (each answer redraws it): the main thread and the
+  // two cores stay with the edit, which halves the slider-to-redraw latency, and the motion resumes from
+  // the same pose when the edits pause.
+  function tick(now) {
+    const data = state.solve;
+    if (now < state.holdUntil) {
+      clock = { wall: now, sim: data ? data.t[state.frame] || 0 : 0 };
+    } else if (state.playing && data && data.t.length > 1) {
+      const tEnd = data.t[data.t.length - 1];
+      const elapsed = ((now - clock.wall) / 1000) * state.speed;
+      const t = (clock.sim + elapsed) % tEnd;
+      const i = Math.round((t / tEnd) * (data.t.length - 1));
+      if (i !== state.frame) {
+        setFrame(i);
+        drawFrame();
+        moveCursors();
+      }
+    }
+    requestAnimationFrame(tick);
+  }
+
+  function syncClock() {
+    const data = state.solve;
+    clock = { wall: performance.now(), sim: data ? data.t[state.frame] || 0 : 0 };
+  }
+
+  // ------------------------------------------------------------------------------ mechanisms
+  async function loadMechanisms() {
+    const res = await fetch("/api/mechanisms");
+    const data = await res.json();
+    const select = $("#mechanism");
+    for (const m of data.mechanisms) {
+      const opt = document.createElement("option");
+      opt.value = m.name;
+      opt.textContent = m.builtin ? `${m.name} (built-in)` : m.name;
+      opt.title = m.description;
+      select.appendChild(opt);
+    }
+    const first = data.initial || { name: data.names[0] };
+    if (first.text) addUploadOption(first.name, first.text); else select.value = first.name;
+    openMechanism(first.name, first.text ?? null);
+  }
+
+  function addUploadOption(name, text) {
+    const select = $("#mechanism");
+    const opt = document.createElement("option");
+    opt.value = `upload:${select.options.length}`;
+    opt.textContent = `${name} (file)`;
+    opt.dataset.name = name;
+    opt.dataset.text = text;
+    select.appendChild(opt);
+    select.value = opt.value;
+  }
+
+  function openMechanism(name, text) {
+    state.mech = { name, text };
+    state.set = {};
+    state.lastEdited = null;
+    state.inputRange = "";
+    state.revolutions = 1;
+    $("#input-range").value = "";
+    $("#revolutions").value = "1";
+    clearSimulation();
+    $("#sim-status").textContent = "";
+    $("#figures").replaceChildren();
+    state.opened = state.version + 1;
+    edited();
+  }
+
+  async function openFile(file) {
+    $("#file-error").textContent = "";
+    if (file.size > MAX_UPLOAD) {
+      $("#file-error").textContent = `${file.name} is ${file.size} bytes: a mechanism file is at most ${MAX_UPLOAD}`;
+      return;
+    }
+    const text = await file.text();
+    try {
+      const res = await api("/api/solve", { text, samples: 2, figures: false });
+      const data = await res.json();
+      addUploadOption(data.mechanism, text);
+      openMechanism(data.mechanism, text);
+    } catch (err) {
+      $("#file-error").textContent = `${file.name}: ${err.message}`;
+      status(`${file.name}: ${err.message}`, true);
+    }
+  }
+
+  // ---------------------------------------------------------------------------------- wiring
+  function wire() {
+    $("#mechanism").addEventListener("change", (e) => {
+      const opt = e.target.selectedOptions[0];
+      openMechanism(opt.dataset.name || opt.value, opt.dataset.text ?? null);
+    });
+    $("#file").addEventListener("change", (e) => { if (e.target.files[0]) openFile(e.target.files[0]); e.target.value = ""; });
+    $("#clear").addEventListener("click", () => openMechanism(state.mech.name, state.mech.text));
+    $("#input-range").addEventListener("input", (e) => {
+      state.inputRange = e.target.value;
+      state.lastEdited = "input_range";
+      edited();
+    });
+    $("#revolutions").addEventListener("input", (e) => {
+      state.revolutions = e.target.value.trim();
+      state.lastEdited = "revolutions";
+      edited();
+    });
+    $("#simulate").addEventListener("click", simulate);
+    $("#render").addEventListener("click", renderVideo);
+    document.querySelectorAll("[data-export]").forEach((b) => b.addEventListener("click", () => download(b.dataset.export)));
+    $("#exit").addEventListener("click", exitApp);
+    $("#play").addEventListener("click", () => {
+      state.playing = !state.playing;
+      $("#play").textContent = state.playing ? "Pause" : "Play";
+      syncClock();
+    });
+    $("#scrub").addEventListener("input", (e) => {
+      state.playing = false;
+      $("#play").textContent = "Play";
+      setFrame(Number(e.target.value));
+      drawFrame();
+      moveCursors();
+    });
+    $("#speed").addEventListener("change", (e) => { state.speed = Number(e.target.value); syncClock(); });
+    window.addEventListener("resize", () => {
+      sizeCanvas();
+      drawFrame();
+      const w = chartWidth();
+      for (const c of state.charts) { c.plot.setSize({ width: w, height: CHART_HEIGHT }); c.err.setSize({ width: w, height: ERROR_HEIGHT }); }
+      moveCursors();
+    });
+  }
+
+  async function exitApp() {
+    try { await api("/api/exit", {}); } catch (err) { /* already gone */ }
+    state.playing = false;
+    $("#stopped").hidden = false;
+  }
+
+  function start() {
+    wire();
+    sizeCanvas();
+    syncClock();
+    requestAnimationFrame(tick);
+    loadMechanisms().catch((err) => status(`cannot reach the server: ${err.message}`, true));
+  }
+
+  start();
+})();

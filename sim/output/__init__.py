@@ -1,0 +1,1 @@
+"""What users receive: videos, drawings, plot sheets, CSV/JSON/TOML files and display units."""

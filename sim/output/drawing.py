@@ -1,0 +1,274 @@
+"""Video frames drawn as the app draws its view (sim/front/static/app.js): links in the app's colours, plates
+(filled convex hulls) for links of three or more points, blocks as rectangles along their guide, ground
+pivots with hatching, pins at every joint with their labels, the output point's path traced in red over
+its whole path in pale red, a scale bar in the display unit, and the time and input value in a corner.
+
+The poses are the simulation's: every point is a MuJoCo site, read after ``mj_kinematics`` at each frame's
+joint positions. Drawing is 2-D (Pillow, which matplotlib already needs), supersampled 2x for smooth edges.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+COLORS = ("#1f77b4", "#2ca02c", "#9467bd", "#ff7f0e", "#17becf", "#8c564b", "#e377c2", "#bcbd22")
+"""The app's link colours, in the app's order (sim/front/static/app.js COLORS): no red, the output point's
+path's colour."""
+PATH = "#d62728"
+PATH_PALE = (214, 39, 40, 64)
+GRID = "#eceff3"
+SUPERSAMPLE = 2
+PAD = 0.08
+"""Margin around every point's whole path, as a fraction of the larger extent (the app's view)."""
+
+
+@dataclass(frozen=True)
+class Scene:
+    """What is drawn, fixed over a run: links (name, points, block), ground and labelled points, the
+    output point, the view's world bounds [m], the display units and the input's name."""
+
+    links: tuple
+    points: tuple[str, ...]
+    ground: tuple[str, ...]
+    output_point: str
+    bounds: tuple[float, float, float, float]
+    size: float
+    display: object
+    input_name: str
+    input_is_angle: bool
+
+
+def poses(built, qpos_frames: np.ndarray) -> tuple[np.ndarray, dict[str, np.ndarray]]:
+    """Every point's position [m] at each frame, shape (frames, points, 2), from the model's sites at
+    the frames' joint positions; and each block link's angle [rad] per frame."""
+    import mujoco
+    model, mech = built.model, built.mech
+    data = mujoco.MjData(model)
+    sites = [model.site(p).id for p in mech.points]
+    blocks = {ln: model.body(ln).id for ln in mech.slides}
+    xy = np.empty((len(qpos_frames), len(sites), 2))
+    angles = {ln: np.empty(len(qpos_frames)) for ln in blocks}
+    for i, q in enumerate(qpos_frames):        # one kinematics pass per video frame
+        data.qpos[:] = q
+        mujoco.mj_kinematics(model, data)
+        xy[i] = data.site_xpos[sites, :2]
+        for ln, b in blocks.items():
+            m = data.xmat[b]
+            angles[ln][i] = math.atan2(m[3], m[0])
+    return xy, angles
+
+
+def scene(built, xy: np.ndarray, display, path: np.ndarray | None = None) -> Scene:
+    """The scene of a run whose points move through ``xy`` (frames, points, 2), the view holding them
+    and the output point's whole recorded ``path`` (steps, 2) [m] (its tips may fall between frames)."""
+    from sim.service import link_drawing
+    mech = built.mech
+    every = xy.reshape(-1, 2) if path is None else np.vstack([xy.reshape(-1, 2), path])
+    finite = every[np.all(np.isfinite(every), axis=-1)]
+    lo, hi = (finite.min(axis=0), finite.max(axis=0)) if len(finite) else (np.array([-1.0, -1]), np.array([1.0, 1]))
+    pad = PAD * max(float(np.max(hi - lo)), 1e-9)
+    first = mech.inputs[0]
+    return Scene(tuple((d["name"], tuple(d["points"]), d["block"]) for d in link_drawing(mech)), tuple(mech.points),
+                 tuple(mech.ground_points), mech.output_point,
+                 (lo[0] - pad, lo[1] - pad, hi[0] + pad, hi[1] + pad), mech.size, display, first.q,
+                 first.kind == "crank")
+
+
+def nice_step(span: float) -> float:
+    """1, 2 or 5 times a power of ten, at least span / 6 (the app's grid step)."""
+    raw = span / 6
+    p = 10 ** math.floor(math.log10(raw))
+    return next(m * p for m in (1, 2, 5, 10) if m * p >= raw * (1 - 1e-12))
+
+
+def _font(px: int, bold: bool = False):
+    from PIL import ImageFont
+    try:
+        import matplotlib
+        from pathlib import Path
+        name = "DejaVuSans-Bold.ttf" if bold else "DejaVuSans.ttf"
+        return ImageFont.truetype(str(Path(matplotlib.get_data_path()) / "fonts" / "ttf" / name), px)
+    except (OSError, ImportError):
+        return ImageFont.load_default()
+
+
+class Painter:
+    """Draws frames of one scene at one size; fonts and the world-to-pixel map made once."""
+
+    def __init__(self, sc: Scene, size: tuple[int, int]):
+        self.sc, self.size = sc, size
+        w, h = size
+        k = SUPERSAMPLE
+        self.W, self.H = w * k, h * k
+        self.u = k * max(h, 240) / 480                     # one app pixel at a 480-px-high frame
+        x0, y0, x1, y1 = sc.bounds
+        self.s = min(self.W / (x1 - x0), self.H / (y1 - y0))
+        self.cx = self.W / 2 - self.s * (x0 + x1) / 2
+        self.cy = self.H / 2 + self.s * (y0 + y1) / 2
+        self.font = _font(max(8 * k, round(12 * self.u)))       # never under 8 pixels in the video
+        self.bold = _font(max(8 * k, round(12 * self.u)), bold=True)
+        self.small = _font(max(8 * k, round(11 * self.u)))
+        self.index = {p: i for i, p in enumerate(sc.points)}
+
+    def px(self, xy: np.ndarray) -> np.ndarray:
+        return np.column_stack([self.cx + self.s * xy[:, 0], self.cy - self.s * xy[:, 1]])
+
+    def frame(self, xy: np.ndarray, angles: dict, trace: np.ndarray, path: np.ndarray, t: float, q: float,
+              markers=()) -> np.ndarray:
+        """One RGB frame (h, w, 3) uint8: ``xy`` the points at this frame (points, 2) [m], ``trace`` the
+        output point's path so far and ``path`` its whole path [m], ``t`` [s], ``q`` the input's value."""
+        from PIL import Image, ImageDraw
+        img = Image.new("RGB", (self.W, self.H), "white")
+        d = ImageDraw.Draw(img, "RGBA")
+        u, sc = self.u, self.sc
+        self._grid(d)
+        if len(path) > 1:
+            d.line([tuple(p) for p in self.px(path)], fill=PATH_PALE, width=max(1, round(1.5 * u)))
+        if len(trace) > 1:
+            d.line([tuple(p) for p in self.px(trace)], fill=PATH, width=max(2 * SUPERSAMPLE, round(2.4 * u)),
+                   joint="curve")                          # at least 2 pixels wide in the smallest frames
+        P = self.px(xy)
+        at = {p: P[i] for p, i in self.index.items() if np.all(np.isfinite(P[i]))}
+        for k, (name, pts, block) in enumerate(sc.links):
+            self._link(d, [at[p] for p in pts if p in at], COLORS[k % len(COLORS)], block, angles.get(name, 0.0))
+        for g in sc.ground:
+            if g in at:
+                self._ground(d, at[g])
+        for p in sc.points:
+            if p in at:
+                self._joint(d, p, at[p], p == sc.output_point, p in sc.ground)
+        for mx, my in markers:
+            c = self.px(np.array([[mx, my]]))[0]
+            r = 6 * u
+            d.line([(c[0] - r, c[1] - r), (c[0] + r, c[1] + r)], fill="#1a1a1a", width=round(2 * u))
+            d.line([(c[0] - r, c[1] + r), (c[0] + r, c[1] - r)], fill="#1a1a1a", width=round(2 * u))
+        self._legend(d)
+        self._readout(d, t, q)
+        self._scale_bar(d)
+        return np.asarray(img.resize(self.size, Image.LANCZOS))
+
+    # -------------------------------------------------------------------------------- elements
+    def _grid(self, d) -> None:
+        x0, y0 = (0 - self.cx) / self.s, (self.cy - self.H) / self.s
+        x1, y1 = (self.W - self.cx) / self.s, self.cy / self.s
+        step = nice_step(max(x1 - x0, y1 - y0))
+        w = max(1, round(self.u))
+        for x in np.arange(math.ceil(x0 / step) * step, x1, step):
+            px = self.cx + self.s * x
+            d.line([(px, 0), (px, self.H)], fill=GRID, width=w)
+        for y in np.arange(math.ceil(y0 / step) * step, y1, step):
+            py = self.cy - self.s * y
+            d.line([(0, py), (self.W, py)], fill=GRID, width=w)
+
+    def _link(self, d, pts, color, block, phi) -> None:
+        u = self.u
+        if not pts:
+            return
+        rgb = tuple(int(color[i:i + 2], 16) for i in (1, 3, 5))
+        if block:
+            size = max(10 * u, 0.06 * self.sc.size * self.s)
+            c, s = math.cos(phi), math.sin(phi)
+            corners = [(-size, -0.55 * size), (size, -0.55 * size), (size, 0.55 * size), (-size, 0.55 * size)]
+            poly = [(pts[0][0] + a * c - b * s, pts[0][1] - (a * s + b * c)) for a, b in corners]
+            d.polygon(poly, fill=rgb + (0x33,), outline=color, width=max(1, round(2 * u)))
+        elif len(pts) >= 3 and _thickness(convex_hull(np.array(pts))) > 3 * u:
+            hull = convex_hull(np.array(pts))
+            d.polygon([tuple(p) for p in hull], fill=rgb + (0x2e,), outline=color, width=max(1, round(4 * u)))
+            r = 2 * u
+            for p in hull:                                    # rounded corners, as the app's lineJoin
+                d.ellipse([p[0] - r, p[1] - r, p[0] + r, p[1] + r], fill=color)
+        elif len(pts) >= 2:                                   # a bar (or points in a line: its ends)
+            pts = _farthest(np.array(pts))
+            w = max(1, round(6 * u))
+            d.line([tuple(pts[0]), tuple(pts[-1])], fill=color, width=w)
+            r = w / 2
+            for p in pts:                                     # round caps
+                d.ellipse([p[0] - r, p[1] - r, p[0] + r, p[1] + r], fill=color)
+
+    def _ground(self, d, p) -> None:
+        u, (x, y) = self.u, p
+        w = max(1, round(1.2 * u))
+        d.polygon([(x, y), (x - 9 * u, y + 14 * u), (x + 9 * u, y + 14 * u)], fill="#e8e8e8", outline="#444", width=w)
+        d.line([(x - 13 * u, y + 14 * u), (x + 13 * u, y + 14 * u)], fill="#444", width=w)
+        for k in range(-12, 9, 5):
+            d.line([(x + k * u, y + 20 * u), (x + (k + 5) * u, y + 14 * u)], fill="#444", width=w)
+
+    def _joint(self, d, name, p, output, ground) -> None:
+        u = self.u
+        r = (5 if output else 4) * u
+        d.ellipse([p[0] - r, p[1] - r, p[0] + r, p[1] + r], fill="#d62728" if output else "#ffffff",
+                  outline="#8b0000" if output else "#222222", width=max(1, round(1.5 * u)))
+        dy = 4 * u if ground else -7 * u
+        d.text((p[0] + 7 * u, p[1] + dy), name, fill="#222222", font=self.bold if output else self.font,
+               anchor="ls")
+
+    def _legend(self, d) -> None:
+        u = self.u
+        x, y = 8 * u, 12 * u
+        d.line([(x, y), (x + 22 * u, y)], fill=PATH, width=max(1, round(2.4 * u)))
+        d.text((x + 27 * u, y), f"path of {self.sc.output_point}", fill="#333333", font=self.small, anchor="lm")
+
+    def _readout(self, d, t: float, q: float) -> None:
+        """The app's readout: ``phi1 = 123.4° · t = 0.412 s`` in the top right corner."""
+        u, sc = self.u, self.sc
+        if sc.input_is_angle:
+            value = f"{math.degrees(q):.1f}°"
+        else:
+            value = f"{sc.display.convert('length', q):.4g} {sc.display.unit('length')}"
+        d.text((self.W - 8 * u, 12 * u), f"{sc.input_name} = {value} · t = {t:.3f} s", fill="#222222",
+               font=self.font, anchor="rm")
+
+    def _scale_bar(self, d) -> None:
+        """A bar of a round length in the display unit, bottom right, labelled."""
+        u, disp = self.u, self.sc.display
+        f = disp.factor("length")                         # display units per metre
+        target = 0.2 * self.W / self.s * f                # about a fifth of the frame's width
+        length = 10 ** math.floor(math.log10(target)) if target > 0 else 1.0
+        length = max(m * length for m in (1, 2, 5) if m * length <= target)    # 1, 2, 5 x 10^k, <= target
+        n = length / f * self.s                           # its length in pixels
+        x1, y = self.W - 12 * u, self.H - 14 * u
+        x0 = x1 - n
+        w = max(1, round(2 * u))
+        d.line([(x0, y), (x1, y)], fill="#222222", width=w)
+        for x in (x0, x1):
+            d.line([(x, y - 5 * u), (x, y + 1 * u)], fill="#222222", width=w)
+        d.text(((x0 + x1) / 2, y - 6 * u), f"{length:g} {disp.unit('length')}", fill="#222222", font=self.small,
+               anchor="mb")
+
+
+def _thickness(hull: np.ndarray) -> float:
+    """A polygon's area over its longest extent [px]: ~0 for points in a line (drawn as a bar)."""
+    if len(hull) < 3:
+        return 0.0
+    x, y = hull[:, 0], hull[:, 1]
+    area = 0.5 * abs(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1)))
+    return area / max(float(np.max(np.hypot(*(hull[:, None] - hull[None]).transpose(2, 0, 1)))), 1e-12)
+
+
+def _farthest(pts: np.ndarray) -> np.ndarray:
+    """The two points farthest apart."""
+    d = np.hypot(*(pts[:, None] - pts[None]).transpose(2, 0, 1))
+    i, j = np.unravel_index(np.argmax(d), d.shape)
+    return pts[[i, j]]
+
+
+def convex_hull(pts: np.ndarray) -> np.ndarray:
+    """The convex hull of 2-D points, counter-clockwise in the points' own axes (Andrew's monotone
+    chain, as the app's ``hull``); fewer than 3 points are returned as given."""
+    if len(pts) < 3:
+        return pts
+    order = np.lexsort((pts[:, 1], pts[:, 0]))
+    s = pts[order]
+
+    def half(seq):
+        out = []
+        for p in seq:
+            while len(out) >= 2 and ((out[-1][0] - out[-2][0]) * (p[1] - out[-2][1])
+                                     - (out[-1][1] - out[-2][1]) * (p[0] - out[-2][0])) <= 0:
+                out.pop()
+            out.append(p)
+        return out[:-1]
+    return np.array(half(s) + half(s[::-1]))

@@ -1,0 +1,93 @@
+"""The dynamics sheet of `linkage dynamics --plot`: speed against angle over the last revolution with the
+mean and the Cs band, start-up against time, and the motor's torque; the reduced equation's curves with
+MuJoCo's steps over them."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from sim.output.io import atomic_path
+
+RPM = 60 / (2 * math.pi)
+
+
+def speed_vs_angle(d, ax=None):
+    """Speed [rpm] against the input's advance over the last revolution [deg]; returns the Axes."""
+    import matplotlib.pyplot as plt
+    ax = ax or plt.gca()
+    r, s = d.run, d.sim
+    red = r.reduced
+    end = 2 * math.pi * r.revolutions
+    u = np.linspace(end - 2 * math.pi, end, 721)
+    w = r.speed_at(u)
+    x = np.degrees(u - u[0])
+    ax.axhspan(r.w_min * RPM, r.w_max * RPM, color="tab:blue", alpha=0.12,
+               label=f"Cs = {r.fluctuation:.4g}")
+    ax.axhline(r.mean_speed * RPM, color="k", lw=0.8, ls="--", label=f"mean {r.mean_speed * RPM:.4g} rpm")
+    ax.plot(x, w * RPM, color="tab:blue", lw=1.5, label="reduced equation")
+    if s is not None:
+        us = red.direction * (s.phi - red.q0)
+        last = us >= end - 2 * math.pi - 1e-9
+        step = max(1, int(last.sum() // 90))
+        ax.plot(np.degrees(us[last][::step] - u[0]), red.direction * s.omega[last][::step] * RPM, ".",
+                color="tab:red", ms=3, label="MuJoCo")
+    ax.set_xlabel("input angle over the last revolution [deg]")
+    ax.set_ylabel("speed [rpm]")
+    ax.set_xlim(0, 360)
+    ax.legend(fontsize=7, loc="best")
+    return ax
+
+
+def startup(d, ax=None):
+    """Speed [rpm] against time [s] over the run, with the start-up time marked; returns the Axes."""
+    import matplotlib.pyplot as plt
+    ax = ax or plt.gca()
+    r, s = d.run, d.sim
+    ax.plot(r.t, np.abs(r.omega) * RPM, color="tab:blue", lw=1.2, label="reduced equation")
+    if s is not None:
+        step = max(1, len(s.t) // 300)
+        ax.plot(s.t[::step], np.abs(s.omega[::step]) * RPM, ".", color="tab:red", ms=2, label="MuJoCo")
+    ax.axvline(r.startup_time, color="k", lw=0.8, ls=":", label=f"start-up {r.startup_time:.3g} s (95 % of mean)")
+    ax.axhline(r.mean_speed * RPM, color="k", lw=0.8, ls="--")
+    ax.set_xlabel("time [s]")
+    ax.set_ylabel("speed [rpm]")
+    ax.legend(fontsize=7, loc="lower right")
+    return ax
+
+
+def torque(d, ax=None):
+    """Motor torque [N m] against time [s]; returns the Axes."""
+    import matplotlib.pyplot as plt
+    ax = ax or plt.gca()
+    r, s = d.run, d.sim
+    ax.plot(r.t, r.torque, color="tab:green", lw=1.2, label="reduced equation")
+    if s is not None:
+        step = max(1, len(s.t) // 300)
+        ax.plot(s.t[::step], s.torque[::step], ".", color="tab:red", ms=2, label="MuJoCo")
+    ax.set_xlabel("time [s]")
+    ax.set_ylabel("motor torque [N m]")
+    ax.set_title(f"peak {r.peak_torque:.3g} N m, peak power {r.peak_power:.3g} W, "
+                 f"{r.energy_per_cycle:.3g} J per cycle", fontsize=8)
+    ax.legend(fontsize=7, loc="best")
+    return ax
+
+
+def sheet(d, out: str) -> None:
+    """Draw the three panels and save them atomically to ``out`` (.png, .svg or .pdf)."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, axes = plt.subplots(3, 1, figsize=(7.5, 9.5))
+    verdict = "" if d.agreement is None else ("  MuJoCo agrees" if d.agreement.passed else "  MuJoCo DISAGREES")
+    fig.suptitle(f"{d.mech.name} under a motor, flywheel {d.flywheel:.4g} kg m^2{verdict}", fontsize=10)
+    speed_vs_angle(d, axes[0])
+    startup(d, axes[1])
+    torque(d, axes[2])
+    fig.tight_layout()
+    try:
+        with atomic_path(out) as tmp:
+            fig.savefig(tmp, dpi=90)
+    finally:
+        plt.close(fig)

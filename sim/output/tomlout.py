@@ -1,0 +1,132 @@
+"""Write a mechanism back as a ``linkage/1`` TOML file, with its current parameter values."""
+
+from __future__ import annotations
+
+import json
+import math
+
+from analytic.format.linkfile import KINDS
+
+
+def _value(v) -> str:
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, int):
+        return str(v)
+    if isinstance(v, float):
+        return repr(v) if math.isfinite(v) else '"nan"'
+    if isinstance(v, (list, tuple)):
+        return "[" + ", ".join(_value(x) for x in v) + "]"
+    return json.dumps(str(v))
+
+
+def dump(mech) -> str:
+    """The mechanism's file with its current parameter values: the original text with only the changed
+    values rewritten (comments, layout and values as written kept, ``"144deg"`` stays unless changed)
+    where the file is TOML and that reproduces this exact design; else the generated file."""
+    edited = edit_parameters(mech)
+    return edited if edited is not None else generate(mech)
+
+
+_VALUE = r'"(?:[^"\\\n]|\\.)*"|\'[^\'\n]*\'|[^\s#,\]\}]+'
+"""A TOML value on one line: a basic string, a literal string, or a bare number/boolean."""
+
+
+def _source_text(mech) -> str | None:
+    from pathlib import Path
+    src = Path(mech.definition.source)
+    if src.suffix.lower() != ".toml" or not src.is_file():
+        return None
+    try:
+        return src.read_text()
+    except (OSError, UnicodeDecodeError):
+        return None
+
+
+def _written(mech, name: str, old: str) -> str:
+    """The new value of parameter ``name`` as TOML, in the style of the ``old`` text: degrees stay
+    degrees, a branch an integer."""
+    v = mech.values[name]
+    kind = mech.definition.parameter_kind[name]
+    if kind == "branch":
+        return str(int(v))
+    if kind == "angle" and old.strip("\"'").endswith("deg"):
+        return f'"{math.degrees(v):.15g}deg"'
+    return _value(float(v))
+
+
+def edit_parameters(mech) -> str | None:
+    """The source file's text with the values of the parameters set on ``mech`` (``mech.overrides``)
+    rewritten in its ``[parameters]`` table, everything else byte for byte; None when the file is not
+    TOML text on disk, a value is not on a line of its own, or the result would not read back as this
+    design (values within 1e-12, the rest of the definition equal)."""
+    import re
+    from analytic.format import linkfile
+    text = _source_text(mech)
+    if text is None:
+        return None
+    d = mech.definition
+    original = linkfile.parameter_values(d, {})
+    changed = [p for p in d.parameter_order if p in mech.overrides and mech.values[p] != original[p]]
+    lines = text.splitlines(keepends=True)
+    section = None
+    for i, line in enumerate(lines):
+        head = re.match(r"\s*\[\s*([A-Za-z_.]+)\s*\]\s*(#.*)?$", line)
+        if head:
+            section = head.group(1)
+            continue
+        if section != "parameters":
+            continue
+        m = re.match(r"(\s*([A-Za-z][A-Za-z0-9_]*)\s*=\s*)(" + _VALUE + r")(.*)$", line, re.S)
+        if m and m.group(2) in changed:
+            lines[i] = m.group(1) + _written(mech, m.group(2), m.group(3)) + m.group(4)
+            changed.remove(m.group(2))
+    if changed:
+        return None
+    out = "".join(lines)
+    try:
+        back = linkfile.parse(out, d.source)
+        values = linkfile.parameter_values(back, {})
+    except Exception:                              # anything unexpected: the generated file instead
+        return None
+    same = all(math.isclose(values[k], mech.values[k], rel_tol=1e-12, abs_tol=1e-300) for k in mech.values)
+    rest = all(getattr(back, f) == getattr(d, f) for f in ("name", "units", "parameter_order", "ground", "order",
+                                                         "output", "inertia"))
+    return out if same and rest and set(values) == set(mech.values) else None
+
+
+def generate(mech) -> str:
+    """The mechanism's definition generated as TOML; parameters hold their current values (file units,
+    angles in radians) so the file reproduces this exact design."""
+    d = mech.definition
+    lines = ['format = "linkage/1"', f"name = {_value(d.name)}", f"units = {_value(d.units)}"]
+    if d.description:
+        lines.append(f"description = {_value(d.description)}")
+    lines.append(f"output = {_value(d.output)}")
+    if d.parameters:
+        lines += ["", "[parameters]"]
+        for p in d.parameter_order:
+            v = mech.values[p]
+            lines.append(f"{p} = {_value(int(v) if d.parameter_kind[p] == 'branch' else v)}")
+    lines += ["", "[ground]"]
+    for g, (x, y) in d.ground.items():
+        lines.append(f"{g} = [{_value(x)}, {_value(y)}]")
+    for section, elements in (("inputs", d.inputs), ("groups", d.groups)):
+        for e in elements:
+            lines += ["", f"[[{section}]]", f"kind = {_value(e.kind)}"]
+            for fname in KINDS[e.kind]:
+                v = e.fields[fname]
+                if fname == "guide":
+                    if v.points:
+                        lines.append(f"guide = {_value(list(v.points))}")
+                    else:
+                        through = v.through if isinstance(v.through, str) else list(v.through)
+                        lines.append(f"guide = {{ through = {_value(through)}, angle = {_value(v.angle)} }}")
+                else:
+                    lines.append(f"{fname} = {_value(v)}")
+    if d.inertia:
+        lines += ["", "[inertia]"]
+        for link, entry in d.inertia.items():
+            inner = ", ".join(f"{k} = {_value(float(x))}" for k, x in entry.items())
+            lines.append(f"{json.dumps(link)} = {{ {inner} }}")
+    return "\n".join(lines) + "\n"

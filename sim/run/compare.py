@@ -1,0 +1,282 @@
+"""Cross-validation: the analytic solution evaluated at the *simulated* inputs against every output the
+MuJoCo model measures, the drives' tracking of their commanded motion, the loops' closure, the drive
+forces against inverse dynamics and the work done against the energy change.
+
+Tolerances are relative to the mechanism's size L (its longest link) and to each output's scale: its
+peak over the run, but never less than the motion's own scale (L Omega for a velocity, L Omega^2 for an
+acceleration, Omega the fastest input speed), so an output that happens to stay near zero (a perfect
+parallelogram's coupler) is not judged against zero. Each constant says which error it bounds.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from sim.model import motion_scale
+from sim.run.simulate import Trajectory, energies
+from sim.output.units import output_kind
+
+ANGLE_TOL = 1e-6
+"""[rad] RK4's truncation error at 0.03 rad per step over a run plus the loop drift it carries (1000 random
+designs, benchmarks/trust.py: median 2e-8, worst 3e-7)."""
+POSITION_TOL = 1e-6
+"""[of the size L] the same for points and slides, measured against the mechanism's size."""
+VELOCITY_TOL = 1e-5
+"""[of the output's scale] the loops' velocity stabilisation and the drives' servo ripple (median 6e-8,
+worst 3e-6)."""
+ACCELERATION_TOL = 1e-3
+"""[of the output's scale] the constraint solver's residual and the regulariser's leak (median 1e-7,
+worst 5e-6)."""
+LOOP_TOL = 1e-6
+"""[of the size L] the loops' position drift under the stiff constraint's drift correction (median 7e-9,
+worst 2.4e-8)."""
+DRIVE_TOL = 1e-4
+"""[rad, or of L for a slider] commanded minus simulated input: the servo's deflection under the peak
+reaction (sized to 1e-6, sim.model.DRIVE_ERROR_BUDGET) plus its transient at start."""
+TORQUE_TOL = 5e-3
+"""[of the peak drive force] the servo force read at each step's start against inverse dynamics: the
+constraint solver's residual (~1e-8 of the constraint force) is all that separates them."""
+WORK_TOL = 1e-3
+"""[of the kinetic-energy swing, per revolution] 4-point Gauss quadrature of the drive power over each
+step (exact for the interpolated motion) against MuJoCo's energy; what is left is RK4's energy error."""
+
+
+def tolerance(mech, name: str, peak: float, omega: float) -> float:
+    L = mech.size
+    _, kind = output_kind(mech, name)
+    if kind == "angle":
+        return ANGLE_TOL
+    if kind == "position":
+        return POSITION_TOL * L
+    if kind == "ang_velocity":
+        return VELOCITY_TOL * max(peak, omega)
+    if kind == "velocity":
+        return VELOCITY_TOL * max(peak, L * omega)
+    if kind == "ang_acceleration":
+        return ACCELERATION_TOL * max(peak, omega ** 2)
+    if kind == "acceleration":
+        return ACCELERATION_TOL * max(peak, L * omega ** 2)
+    return TORQUE_TOL * peak
+
+
+@dataclass(frozen=True)
+class Comparison:
+    """Per-output error statistics and the run's verdict."""
+
+    trajectory: Trajectory
+    analytic: object
+    errors: dict[str, dict]
+    drive_error: float
+    max_loop_violation: float
+    torques: dict[str, np.ndarray]
+    work_balance: float
+    passed: bool
+    revolutions: float
+
+    def as_dict(self, built=None, display=None) -> dict:
+        """The JSON record: SI unless ``display`` says otherwise (its ``units`` table says which)."""
+        from analytic.quantities import SI
+        display = display or SI
+        tr = self.trajectory
+        mech = built.mech if built is not None else None
+        out = {"mechanism": tr.name}
+        if mech is not None:
+            out["parameters"] = mech.parameters
+            out["units"] = {"file": mech.units, "length": display.unit("length"), "angle": display.unit("angle"),
+                            "outputs": {k: e["unit"] for k, e in errors_in(self.errors, display).items()}}
+            loads = built.loads
+            out["loads"] = {"gravity": list(loads.gravity) if loads.gravity else None, "force": list(loads.force),
+                            "slow_stroke_only": loads.slow_stroke_only,
+                            "inertias": {k: vars(v) for k, v in (loads.inertias or {}).items()}}
+            out["input_range"] = list(mech.rock) if mech.rock else None
+        out.update({"timestep": tr.timestep, "integrator": tr.integrator, "revolutions": self.revolutions,
+                    "steps": tr.steps, "cpu_seconds": tr.cpu_seconds, "errors": errors_in(self.errors, display),
+                    "drive_error": self.drive_error, "drive_tol": DRIVE_TOL,
+                    "max_loop_violation": display.convert("length", self.max_loop_violation),
+                    "loop_tol": display.convert("length", LOOP_TOL * (mech.size if mech is not None else 1.0)),
+                    "work_balance": self.work_balance, "work_tol": WORK_TOL, "passed": self.passed})
+        return out
+
+
+def simulated_inputs(tr: Trajectory, mech):
+    cols = [np.column_stack([tr.inputs[getattr(i, a)] for i in mech.inputs]) for a in ("q", "qd", "qdd")]
+    return tuple(cols)
+
+
+def analytic_at(tr: Trajectory, mech):
+    """The analytic solution at the simulated inputs."""
+    return mech.solve(*simulated_inputs(tr, mech))
+
+
+def analytic_forces(tr: Trajectory, built, mech=None) -> dict[str, np.ndarray]:
+    """Inverse-dynamics drive forces at the simulated state, with the compiled model's inertias,
+    armature, gravity and the load as applied."""
+    from analytic.applications import torque
+    from sim.model import body_inertias
+    model = built.model
+    mech = mech or built.mech
+    armature = {d.input.link: d.armature for d in built.drives}
+    gear = tuple(model.actuator("load").gear[:2])
+    forces = torque.drive_forces(mech, *simulated_inputs(tr, mech), body_inertias(model, mech.links), armature,
+                                 tuple(model.opt.gravity[:2]), gear, tr.load)
+    return {f"tau{k}": v for k, v in forces.items()}
+
+
+def drive_error(tr: Trajectory, mech) -> float:
+    """Largest |simulated - commanded| input [rad, or of the size for a slider] over the run."""
+    worst = 0.0
+    for i in mech.inputs:
+        e = np.max(np.abs(tr.inputs[i.q] - tr.commanded[i.q]))
+        worst = max(worst, float(e) / (1.0 if i.kind == "crank" else mech.size))
+    return worst
+
+
+def work_balance(tr: Trajectory, built) -> float:
+    """max over the run of |work done on the mechanism - change of its energy|, as a fraction of the
+    kinetic-energy swing, per revolution.
+
+    Each drive's force over a step is kp (a - q) - kv qdot with the activation a linear in time (its
+    rate, the control, is constant over the step) and qdot the cubic through the step's end speeds and
+    accelerations (q its integral): 4-point Gauss quadrature of force x qdot is exact for that motion.
+    The load's constant force times the output point's displacement is exact. The energy is MuJoCo's
+    kinetic + potential energy at each recorded state."""
+    model, mech = built.model, built.mech
+    h = tr.timestep
+    nodes, weights = np.polynomial.legendre.leggauss(4)
+    u = 0.5 * (nodes + 1.0)
+    H = np.array([2 * u ** 3 - 3 * u ** 2 + 1, u ** 3 - 2 * u ** 2 + u, -2 * u ** 3 + 3 * u ** 2, u ** 3 - u ** 2])
+    # integrals of the Hermite basis from 0 to u (times h)
+    Hi = np.array([u - u ** 3 + u ** 4 / 2, u ** 2 / 2 - 2 * u ** 3 / 3 + u ** 4 / 4, u ** 3 - u ** 4 / 2,
+                   u ** 4 / 4 - u ** 3 / 3])
+    from sim.run.simulate import controls
+    ctrl = controls(built, np.arange(len(tr.t)) * h)
+    switch_changes = np.flatnonzero(np.abs(np.diff(tr.load)) > 0)
+    ends = _end_accelerations(built, tr, switch_changes, ctrl)
+    work = np.zeros(len(tr.t) - 1)
+    for k, d in enumerate(built.drives):
+        jid = model.joint(d.joint).id
+        q = tr.qpos[:, model.jnt_qposadr[jid]]
+        w = tr.qvel[:, model.jnt_dofadr[jid]]
+        a = tr.inputs[d.input.qdd]
+        a1 = a[1:].copy()
+        for step, acc in ends.items():
+            a1[step] = acc[k]
+        act = tr.act[:, model.actuator(d.actuator).actadr[0]]
+        c = ctrl[:-1, model.actuator(d.actuator).id]
+        coef = np.column_stack([w[:-1], h * a[:-1], w[1:], h * a1])           # Hermite data per step
+        ws = coef @ H                                                         # qdot at the nodes
+        qs = q[:-1, None] + h * (coef @ Hi)
+        acts = act[:-1, None] + c[:, None] * (u * h)[None]
+        force = d.kp * (acts - qs) - d.kv * ws
+        work += 0.5 * h * (force * ws) @ weights
+    gear = model.actuator("load").gear[:2]
+    if np.any(gear):
+        p = mech.output_point
+        work += tr.load[:-1] * (gear[0] * np.diff(tr.outputs["x" + p]) + gear[1] * np.diff(tr.outputs["y" + p]))
+    total = np.concatenate([[0.0], np.cumsum(work)])
+    kinetic, potential = energies(built, tr)
+    energy = kinetic + potential
+    swing = float(np.ptp(kinetic))
+    revs = max(1.0, tr.t[-1] / mech.duration(1.0))
+    return float(np.max(np.abs(total - (energy - energy[0]))) / swing / revs) if swing > 0 else 0.0
+
+
+def _end_accelerations(built, tr: Trajectory, steps, ctrl) -> dict[int, list[float]]:
+    """Each drive's joint acceleration at the end of each step in ``steps`` under that step's controls
+    (needed where the load switched between steps)."""
+    import mujoco
+    model = built.model
+    data = mujoco.MjData(model)
+    dofs = [model.jnt_dofadr[model.joint(d.joint).id] for d in built.drives]
+    out = {}
+    for k in steps:
+        data.qpos[:], data.qvel[:], data.act[:] = tr.qpos[k + 1], tr.qvel[k + 1], tr.act[k + 1]
+        data.ctrl[:] = ctrl[k]
+        mujoco.mj_forward(model, data)
+        out[int(k)] = [float(data.qacc[dof]) for dof in dofs]
+    return out
+
+
+def compare(tr: Trajectory, built, revolutions: float = 1.0) -> Comparison:
+    """Every reported output, the drive forces, drive tracking, loops and work balance of run ``tr``."""
+    mech = built.mech
+    ref = analytic_at(tr, mech)
+    omega = motion_scale(mech)
+    taus = analytic_forces(tr, built, mech)
+    pairs = [(n, np.asarray(ref[n]), tr.outputs[n]) for n in mech.outputs]
+    pairs += [(n, taus[n], tr.forces[n]) for n in taus]
+    errors, ok = {}, True
+    for name, a, s in pairs:
+        diff = s - a
+        unit, kind = output_kind(mech, name)
+        if kind == "angle":
+            diff = np.pi - np.mod(np.pi - diff, 2 * np.pi)
+        peak = float(np.nanmax(np.abs(a)))
+        tol = tolerance(mech, name, peak, omega)
+        e_max, e_rms = float(np.max(np.abs(diff))), float(np.sqrt(np.mean(diff ** 2)))
+        passed = bool(e_max <= tol) if kind != "force" or peak > 0 else bool(e_max <= 1e-9)
+        ok &= passed
+        errors[name] = {"max": e_max, "rms": e_rms, "peak": peak, "tol": tol, "unit": unit, "passed": passed}
+    drive = drive_error(tr, mech)
+    viol = float(np.max(tr.loop_violation))
+    balance = work_balance(tr, built)
+    ok &= drive <= DRIVE_TOL and viol <= LOOP_TOL * mech.size and balance <= WORK_TOL
+    return Comparison(tr, ref, errors, drive, viol, taus, balance, bool(ok), revolutions)
+
+
+def errors_in(errors: dict, display) -> dict:
+    """Per-output error records (SI, each naming its unit) in ``display`` units: max, rms, peak and
+    tolerance converted by the output's quantity, ``unit`` relabelled."""
+    from analytic.quantities import SI_UNIT
+    by_unit = {u: q for q, u in SI_UNIT.items()}
+    out = {}
+    for name, e in errors.items():
+        q = by_unit.get(e["unit"], "")
+        out[name] = {**e, **{k: display.convert(q, e[k]) for k in ("max", "rms", "peak", "tol")},
+                     "unit": display.unit(q) if q else e["unit"]}
+    return out
+
+
+FIXED = 1e-12
+"""[of the size L, or rad] an output whose analytic value moves less than this over the run is fixed (a
+ground point, a parallel guide's angle): the table folds such rows into one line."""
+
+
+def table(c: Comparison, size: float, display=None, output_point: str | None = None) -> str:
+    """A readable comparison table in ``display`` units (analytic.quantities.Display; None: SI), led by
+    what matters: the output point's coordinates, the other outputs that move, then the drive forces;
+    outputs that stay fixed over the run (ground points) folded into one line unless one of them fails."""
+    from analytic.quantities import SI
+    display = display or SI
+    tr = c.trajectory
+    errors = errors_in(c.errors, display)
+    moving, fixed = [], []
+    for name, e in errors.items():
+        ref = np.asarray(c.analytic[name]) if not name.startswith("tau") else None
+        scale = 1.0 if c.errors[name]["unit"].startswith("rad") else size
+        still = ref is not None and np.ptp(np.broadcast_to(ref, np.shape(tr.t))) <= FIXED * scale
+        (fixed if still and e["passed"] else moving).append(name)
+    lead = {f"{k}{output_point}" for k in ("x", "y", "vx", "vy", "ax", "ay")} if output_point else set()
+    moving.sort(key=lambda n: (n.startswith("tau"), n not in lead))     # stable: the file's order within
+    width = max([8] + [len(n) for n in moving])
+    lines = [f"{tr.name}: {tr.steps} steps of {tr.timestep:.3g} s ({tr.integrator}), "
+             f"{tr.cpu_seconds * 1e3:.1f} ms CPU",
+             f"  {'output':<{width}s} {'max error':>11s} {'rms error':>11s} {'peak':>11s} {'tolerance':>11s}  unit"]
+    for name in moving:
+        e = errors[name]
+        flag = "" if e["passed"] else "  FAIL"
+        lines.append(f"  {name:<{width}s} {e['max']:11.3e} {e['rms']:11.3e} {e['peak']:11.4g} {e['tol']:11.1e}  "
+                     f"{e['unit']}{flag}")
+    if fixed:
+        worst = max(c.errors[n]["max"] / c.errors[n]["tol"] for n in fixed)
+        shown = " ".join(fixed[:8]) + (" ..." if len(fixed) > 8 else "")
+        lines.append(f"  {len(fixed)} fixed outputs ({shown}): within tolerance, worst {worst:.1e} of it")
+    length = display.unit("length")
+    lines.append(f"  drive error {c.drive_error:.3e} (tol {DRIVE_TOL:.0e}); loop violation max "
+                 f"{display.convert('length', c.max_loop_violation):.3e} {length} "
+                 f"(tol {display.convert('length', LOOP_TOL * size):.1e})")
+    lines.append(f"  work balance {c.work_balance:.3e} of the kinetic-energy swing per revolution (tol {WORK_TOL:.0e})")
+    lines.append(f"  {'PASSED' if c.passed else 'FAILED'}")
+    return "\n".join(lines)

@@ -1,0 +1,223 @@
+"""Run a built model with ``mujoco.rollout`` and read every output it measures, by sensor name, in the
+world frame, named as the analytic solver names them.
+
+Sensor values that ``rollout`` returns for step k are evaluated at the state *before* that step (mj_step
+runs mj_forward on the current state, then integrates), so every recorded quantity, time included
+(``clock`` sensor), belongs to one instant.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass
+
+import mujoco
+import numpy as np
+from mujoco import rollout
+
+from analytic import ParameterError
+from analytic.mechanism import Solution
+from sim.model import DEFAULT_INTEGRATOR, INTEGRATORS, Built, _jerk, drive_command
+
+MAX_STEPS = 20_000_000
+"""Longest run accepted [steps] (~2 GB of recorded sensors for a four-bar); more is refused up front."""
+
+
+class SimulationError(ParameterError):
+    """The simulation diverged or its loops opened; the message names the time and input value."""
+
+
+LOOP_BOUND = 1e-3
+"""Loop violation [relative to the mechanism's size] past which a run is stopped as failed."""
+
+
+@dataclass(frozen=True)
+class Trajectory:
+    """One simulated run: time [s], the drive inputs and every output measured by the model (world
+    frame, SI units), the loop-closure violation [m], drive forces, commanded inputs and joint states."""
+
+    name: str
+    timestep: float
+    integrator: str
+    steps: int
+    cpu_seconds: float
+    t: np.ndarray
+    inputs: dict[str, np.ndarray]
+    outputs: Solution
+    loop_violation: np.ndarray
+    forces: dict[str, np.ndarray]
+    commanded: dict[str, np.ndarray]
+    """Each input's commanded position at the recorded instants, keyed by its q name (phi1, ...)."""
+    load: np.ndarray
+    """The external load's switch (1 on, 0 off) at each step, as the load actuator applied it."""
+    qpos: np.ndarray
+    qvel: np.ndarray
+    act: np.ndarray
+    joint_names: tuple[str, ...]
+
+
+def steps_for(built: Built, revolutions: float) -> int:
+    end = built.mech.duration(revolutions)
+    n = int(math.ceil(end / built.timestep - 1e-9)) + 1
+    if n > MAX_STEPS:
+        raise ParameterError(f"revolutions={revolutions:g} needs {n:.3g} steps of {built.timestep:.3g} s; at most "
+                             f"{MAX_STEPS:.0e} are simulated at once: reduce the revolutions")
+    return n
+
+
+def controls(built: Built, t: np.ndarray) -> np.ndarray:
+    """Controls at step start times t, shape (len(t), nu): each drive's activation rate at the step's
+    midpoint (the activation integrates it exactly for a steady drive), and the load switch."""
+    model, mech = built.model, built.mech
+    h = built.timestep
+    mid = t + 0.5 * h
+    q, qd, qdd = mech.drive(mid)
+    jerk = _jerk(mech, mid)
+    ctrl = np.zeros((len(t), model.nu))
+    for k, d in enumerate(built.drives):
+        _, rate = drive_command(d, q[:, k], qd[:, k], qdd[:, k], jerk[:, k])
+        ctrl[:, model.actuator(d.actuator).id] = rate
+    ctrl[:, model.actuator("load").id] = load_switch(built, t)
+    return ctrl
+
+
+def load_switch(built: Built, t: np.ndarray) -> np.ndarray:
+    """1 where the external load acts, else 0 (always, or during the slow stroke only)."""
+    if built.slow_stroke is None:
+        return np.ones_like(t)
+    first = built.mech.inputs[0]
+    phase = np.mod(first.motion.at(t)[0] - first.motion.q0, 2 * math.pi)
+    lo, hi = built.slow_stroke
+    return (((phase >= lo) & (phase <= hi)) | ((phase + 2 * math.pi >= lo) & (phase + 2 * math.pi <= hi))).astype(float)
+
+
+def _reader(model, sens):
+    def g(name):
+        s = model.sensor(name)
+        values = sens[:, s.adr[0]:s.adr[0] + s.dim[0]]
+        if s.type[0] == mujoco.mjtSensor.mjSENS_FRAMELINACC:
+            values = values + model.opt.gravity          # frame accelerometers read a - g
+        return values
+    return g
+
+
+def measure(built: Built, sens: np.ndarray):
+    """(inputs, outputs, loop violation, forces) from the recorded sensor rows."""
+    model, mech = built.model, built.mech
+    g = _reader(model, sens)
+    out: dict[str, np.ndarray] = {}
+    for p in mech.points:
+        pos, vel, acc = g(f"{p}_pos"), g(f"{p}_vel"), g(f"{p}_acc")
+        out["x" + p], out["y" + p], out["vx" + p], out["vy" + p] = pos[:, 0], pos[:, 1], vel[:, 0], vel[:, 1]
+        out["ax" + p], out["ay" + p] = acc[:, 0], acc[:, 1]
+    for ln in mech.links:
+        xa = g(f"{ln}_xaxis")
+        out["phi" + ln] = np.arctan2(xa[:, 1], xa[:, 0])
+        out["cos" + ln], out["sin" + ln] = np.cos(out["phi" + ln]), np.sin(out["phi" + ln])
+        out["omega" + ln] = g(f"{ln}_angvel")[:, 2]
+        out["alpha" + ln] = g(f"{ln}_angacc")[:, 2]
+    for block, (origin, point, offset) in mech.slide_frames.items():
+        if isinstance(origin, str):
+            O = [out[k + origin] for k in ("x", "y", "vx", "vy", "ax", "ay")]
+        else:
+            zero = np.zeros(len(sens))
+            O = [zero + origin[0], zero + origin[1], zero, zero, zero, zero]
+        c, s = out["cos" + block], out["sin" + block]
+        w, a = out["omega" + block], out["alpha" + block]
+        dx, dy = out["x" + point] - O[0], out["y" + point] - O[1]
+        sd = dx * c + dy * s
+        out["s" + block] = sd
+        out["ds" + block] = (out["vx" + point] - O[2]) * c + (out["vy" + point] - O[3]) * s + offset * w
+        out["dds" + block] = ((out["ax" + point] - O[4]) * c + (out["ay" + point] - O[5]) * s + sd * w * w
+                              + offset * a)
+    for e in mech.geometry.elements:
+        if e["kind"] == "RRR":
+            m, n = e["links"]
+            d = out["phi" + m] - out["phi" + n]
+            out["mu" + e["point"]] = np.arctan2(np.abs(np.sin(d)), np.abs(np.cos(d)))
+    inputs = {}
+    for d in built.drives:
+        inp = d.input
+        inputs[inp.q] = d.q_offset + g(f"{d.joint}_q")[:, 0]
+        inputs[inp.qd] = g(f"{d.joint}_qd")[:, 0]
+        inputs[inp.qdd] = out["alpha" + inp.link] if inp.kind == "crank" else out["dds" + inp.link]
+    viol = np.zeros(len(sens))
+    for lp in built.loops:
+        viol = np.maximum(viol, np.linalg.norm(g(f"{lp.site1}_pos") - g(f"{lp.site2}_pos"), axis=1))
+    forces = {f"tau{d.input.link}": g(f"tau{d.input.link}")[:, 0] for d in built.drives}
+    labels = tuple(e["label"] for e in mech.geometry.elements)
+    sol = Solution(out, np.full(len(sens), -1), labels, mech.aliases)
+    return inputs, sol, viol, forces
+
+
+def simulate(built: Built, revolutions: float = 1.0) -> Trajectory:
+    """Simulate ``revolutions`` turns of the first input; every loop starts closed (analytic state)."""
+    model, mech = built.model, built.mech
+    h = built.timestep
+    nstep = steps_for(built, revolutions)
+    data = mujoco.MjData(model)
+    data.qpos[:], data.qvel[:], data.act[:], data.ctrl[:] = built.qpos0, built.qvel0, built.act0, built.ctrl0
+    mujoco.mj_forward(model, data)
+    kind = mujoco.mjtState.mjSTATE_FULLPHYSICS
+    state0 = np.empty(mujoco.mj_stateSize(model, kind))
+    mujoco.mj_getState(model, data, state0, kind)
+    t = np.arange(nstep) * h
+    ctrl = controls(built, t)
+    t0 = time.process_time()
+    states, sens = rollout.rollout(model, data, state0[None], ctrl[None], nstep=nstep)
+    cpu = time.process_time() - t0
+    sens = sens[0]
+    nq, nv, na = model.nq, model.nv, model.na
+    full = np.concatenate([state0[None], states[0, :-1]])
+    qpos, qvel, act = full[:, 1:1 + nq], full[:, 1 + nq:1 + nq + nv], full[:, 1 + nq + nv:1 + nq + nv + na]
+    inputs, outputs, viol, forces = measure(built, sens)
+    q_des = mech.drive(t)[0]
+    commanded = {inp.q: q_des[:, k] for k, inp in enumerate(mech.inputs)}
+    _check_run(built, sens, inputs, viol, h)
+    integrator = next(k for k, v in INTEGRATORS.items() if v == model.opt.integrator)
+    return Trajectory(mech.name, h, integrator, nstep, cpu, _reader(model, sens)("time")[:, 0], inputs, outputs,
+                      viol, forces, commanded, _reader(model, sens)("load")[:, 0], qpos, qvel, act,
+                      tuple(model.joint(i).name for i in range(model.njnt)))
+
+
+def energies(built: Built, tr: Trajectory) -> tuple[np.ndarray, np.ndarray]:
+    """MuJoCo's kinetic and potential energy [J] at every recorded state (armature included), by
+    mj_forward on each state (the energy sensors inside an RK4 step are not at the step's start)."""
+    model = built.model
+    data = mujoco.MjData(model)
+    flags = model.opt.enableflags
+    model.opt.enableflags = flags | mujoco.mjtEnableBit.mjENBL_ENERGY
+    try:
+        out = np.empty((len(tr.t), 2))
+        for k in range(len(tr.t)):
+            data.qpos[:] = tr.qpos[k]
+            data.qvel[:] = tr.qvel[k]
+            mujoco.mj_forward(model, data)
+            out[k] = data.energy[1], data.energy[0]
+    finally:
+        model.opt.enableflags = flags
+    return out[:, 0], out[:, 1]
+
+
+def _check_run(built: Built, sens: np.ndarray, inputs: dict, viol: np.ndarray, h: float) -> None:
+    bad = ~np.all(np.isfinite(sens), axis=1) | ~(viol <= LOOP_BOUND * built.mech.size)
+    if bad.any():
+        k = int(np.argmax(bad))
+        first = built.mech.inputs[0]
+        value = inputs[first.q][k]
+        where = (f"{first.q}={math.degrees(value):.2f}deg" if first.kind == "crank" else f"{first.q}={value:.6g} m") \
+            if np.isfinite(value) else "an undefined input"
+        what = "diverged" if not np.all(np.isfinite(sens[k])) else f"opened a loop by {viol[k]:.3g} m"
+        from sim.model import choose_timestep
+        needed = choose_timestep(built.mech)
+        if h > 1.5 * needed:
+            raise SimulationError(f"the {built.name} simulation {what} at t={k * h:.4f} s ({where}): the time step "
+                                  f"{h:g} s is too large for this design, which needs about {needed:.3g} s; leave "
+                                  f"the time step to be chosen from the design")
+        if built.settings.integrator != DEFAULT_INTEGRATOR:
+            raise SimulationError(f"the {built.name} simulation {what} at t={k * h:.4f} s ({where}): the "
+                                  f"{built.settings.integrator} integrator cannot hold the loops at a step of {h:.3g} s; "
+                                  f"use --integrator {DEFAULT_INTEGRATOR} (the default) or a smaller --timestep")
+        raise SimulationError(f"the {built.name} simulation {what} at t={k * h:.4f} s ({where}): the design is "
+                              f"too close to a singular pose there to simulate; move it away or lower the speed")
