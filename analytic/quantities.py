@@ -32,7 +32,7 @@ RPM = 60.0 / (2.0 * math.pi)
 @dataclass(frozen=True)
 class Output:
     """One reported result: its SPEC name, its quantity, its SI unit and what it belongs to (a point, a
-    link, a prismatic pair, a transmission angle or a drive)."""
+    link, a prismatic pair, a kind's own output or a drive)."""
 
     name: str
     quantity: str
@@ -40,39 +40,48 @@ class Output:
     owner: str
 
 
-_PREFIXES = (  # (prefix, quantity, pool) in the order names are matched: longer prefixes first
-    ("phi", ANGLE, "links"), ("omega", ANGULAR_VELOCITY, "links"), ("alpha", ANGULAR_ACCELERATION, "links"),
-    ("mu", ANGLE, "points"),
-    ("vx", VELOCITY, "points"), ("vy", VELOCITY, "points"), ("ax", ACCELERATION, "points"),
-    ("ay", ACCELERATION, "points"), ("x", LENGTH, "points"), ("y", LENGTH, "points"),
-    ("dds", ACCELERATION, "slides"), ("ds", VELOCITY, "slides"), ("s", LENGTH, "slides"),
-)
-_OWNER = {"links": "link", "points": "point", "slides": "prismatic pair"}
+def _entry(name: str, quantity: str, owner: str) -> Output:
+    return Output(name, quantity, SI_UNIT[quantity], owner)
+
+
+def output_table(mech) -> dict[str, Output]:
+    """Every output of ``mech`` by name: each point's, link's and prismatic pair's (inputs' columns
+    included), each kind's own, each input's drive force ``tauL`` (a torque for a crank, a force for a
+    slider), and a built-in's SPEC aliases. Built from the topology; :attr:`Mechanism.table` caches it."""
+    from analytic import kinds
+    table: dict[str, Output] = {}
+    for p in mech.points:
+        for prefix, q in (("x", LENGTH), ("y", LENGTH), ("vx", VELOCITY), ("vy", VELOCITY), ("ax", ACCELERATION),
+                          ("ay", ACCELERATION)):
+            table[prefix + p] = _entry(prefix + p, q, f"point {p}")
+    for ln in mech.links:
+        for prefix, q in (("phi", ANGLE), ("omega", ANGULAR_VELOCITY), ("alpha", ANGULAR_ACCELERATION)):
+            table[prefix + ln] = _entry(prefix + ln, q, f"link {ln}")
+    for j in mech.slides:
+        for prefix, q in (("s", LENGTH), ("ds", VELOCITY), ("dds", ACCELERATION)):
+            table[prefix + j] = _entry(prefix + j, q, f"prismatic pair {j}")
+    for e in mech.geometry.elements:
+        for x in kinds.get(e["kind"]).extra_outputs(e):
+            table[x.name] = _entry(x.name, x.quantity, x.owner)
+    for i in mech.inputs:
+        q = TORQUE if i.kind == "crank" else FORCE
+        table["tau" + i.link] = _entry("tau" + i.link, q, f"drive of link {i.link}")
+    for alias, target in mech.aliases.items():
+        if target in table:
+            t = table[target]
+            table[alias] = Output(alias, t.quantity, t.si_unit, t.owner)
+    return table
 
 
 def output(mech, name: str) -> Output:
-    """The table entry of output ``name`` of ``mech`` (a general name, a built-in's alias, or a drive force
-    ``tauL``: a torque for a crank, a force for a slider). Raises KeyError for anything else."""
-    g = mech.aliases.get(name, name)
-    if g.startswith("tau"):
-        link = g[3:]
-        kinds = {i.link: i.kind for i in mech.inputs}
-        if link in kinds:
-            q = TORQUE if kinds[link] == "crank" else FORCE
-            return Output(name, q, SI_UNIT[q], f"drive of link {link}")
-        raise KeyError(name)
-    for prefix, quantity, pool in _PREFIXES:
-        rest = g[len(prefix):]
-        if g.startswith(prefix) and rest in getattr(mech, pool):
-            owner = "transmission angle at " if prefix == "mu" else _OWNER[pool] + " "
-            return Output(name, quantity, SI_UNIT[quantity], owner + rest)
-    raise KeyError(name)
+    """The table entry of output ``name`` of ``mech`` (KeyError for a name it does not have)."""
+    return mech.table[name]
 
 
 def outputs(mech) -> tuple[Output, ...]:
     """The table of every reported output of ``mech`` (``mech.outputs``) and its drive forces."""
     names = list(mech.outputs) + [f"tau{i.link}" for i in mech.inputs]
-    return tuple(output(mech, n) for n in names)
+    return tuple(mech.table[n] for n in names)
 
 
 def quantity(mech, name: str) -> str:
@@ -82,10 +91,8 @@ def quantity(mech, name: str) -> str:
         return TIME
     if name == "loop_violation":
         return LENGTH
-    try:
-        return output(mech, name).quantity
-    except KeyError:
-        return ""
+    entry = mech.table.get(name)
+    return entry.quantity if entry is not None else ""
 
 
 # -------------------------------------------------------------------------------- figures of merit

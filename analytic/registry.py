@@ -17,7 +17,8 @@ from analytic.closed_forms import fourbar
 from analytic.format import linkfile
 from analytic.closed_forms import sixbar
 from analytic._common import ParameterError
-from analytic.mechanism import Builtin, Mechanism
+from analytic.closed_forms import Builtin
+from analytic.mechanism import Mechanism
 
 LIBRARY = Path(__file__).resolve().parent / "library"
 

@@ -3,7 +3,7 @@
 The group: the class III triad of ``tests/test_general_group.py`` (a ternary link D E F pinned through three
 binary links to a crank tip A and two ground pivots; 6 unknown coordinates), solved by
 :func:`analytic.solver.general_group.solve_group` (coarse continuation, batched Newton, exact rates). The chain:
-three closed-form RRR dyads (:func:`analytic.solver.kinematics._rrr`) placing three points from the same crank
+three closed-form RRR dyads (:func:`analytic.kinds.rrr.rrr`) placing three points from the same crank
 (6 unknown coordinates). Both give positions, velocities and accelerations of their three points.
 Goal (issue 16): the group costs at most 10x the chain per sample, numpy, N = 1e6.
 
@@ -24,7 +24,13 @@ import numpy as np
 sys.path[:] = [p for p in sys.path if Path(p or ".").resolve() != Path(__file__).resolve().parent]
 
 from analytic.solver.general_group import make_group, solve_group  # noqa: E402
-from analytic.solver.kinematics import _crank, _rrr  # noqa: E402
+from analytic.kinds.base import on_frame  # noqa: E402
+from analytic.kinds.rrr import rrr as _rrr  # noqa: E402
+
+
+def _crank(P, r, q, qd, qdd):
+    """The crank tip at radius r about P (as the crank kind solves it)."""
+    return on_frame(P, np.cos(q), np.sin(q), qd, qdd, r, 0.0), None
 
 Q0 = 0.5
 O1, O2 = (4.0, 3.5), (3.5, -0.5)

@@ -175,7 +175,7 @@ MUTATIONS = [
              "inertias[link] = given", ["tests/test_units.py"],
              "tests/test_units.py::test_inertia_file_is_read_in_the_file_unit_like_the_inertia_table"),
     Mutation("sheet-figures-from-samples", "sim/output/plot.py: the sheet's figures from the simulated samples",
-             "sim/output/plot.py", "figs = service.figures(mech)", "figs = mech.figures(c.analytic)", ["tests/test_units.py"],
+             "sim/output/plot.py", "figs = service.figures(mech)", "figs = figures.of(mech, c.analytic)", ["tests/test_units.py"],
              "tests/test_units.py::test_plot_sheet_figures_are_analyze_figures_and_the_hand_value"),
 ]
 

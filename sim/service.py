@@ -15,6 +15,7 @@ import numpy as np
 import analytic
 from analytic import ParameterError
 from analytic.format import expr
+from analytic.applications.figures import of as figures_of
 from analytic.mechanism import Mechanism
 
 MAX_SAMPLES = 10_000_000
@@ -98,11 +99,9 @@ def describe(mech: Mechanism) -> dict:
 
 def link_drawing(mech: Mechanism) -> list[dict]:
     """Each link with the points to draw it through (origin first), for front ends."""
-    from analytic.format.linkfile import link_members
-    members = link_members(mech.definition)
-    origins = mech.link_origins
-    return [{"name": ln, "points": [origins[ln]] + sorted(members.get(ln, set()) - {origins[ln]}),
-             "block": ln in mech.slides} for ln in mech.links]
+    links = mech.topology.links
+    return [{"name": ln, "points": [link.origin] + sorted(set(link.points) - {link.origin}),
+             "block": ln in mech.slides} for ln, link in links.items()]
 
 
 # ------------------------------------------------------------------------------------------ analysis
@@ -168,7 +167,7 @@ def analyze(mech: Mechanism, samples: int = 361, revolutions: float = 1.0,
     for attr, arr in (("q", q), ("qd", qd), ("qdd", qdd)):          # phi2 phi4 omega2 omega4 alpha2 alpha4
         for k, inp in enumerate(mech.inputs):
             cols[getattr(inp, attr)] = arr[:, k]
-    return Analysis(t, cols, sol, mech.figures(sol) if figures else {})
+    return Analysis(t, cols, sol, figures_of(mech, sol) if figures else {})
 
 
 def figures(mech: Mechanism) -> dict:

@@ -127,7 +127,7 @@ def test_the_general_drive_forces_equal_the_built_in_torques(name):
     t = np.linspace(0.0, 0.9, 37)
     q, qd, qdd = mech.drive(t)
     keys = [i.link for i in mech.inputs]
-    old = torques(name, mech.closed_form_parameters(), {k: q[:, j] for j, k in enumerate(keys)},
+    old = torques(name, mech.builtin.parameters(mech.values), {k: q[:, j] for j, k in enumerate(keys)},
                   {k: qd[:, j] for j, k in enumerate(keys)}, {k: qdd[:, j] for j, k in enumerate(keys)}, inertias,
                   armature={k: 0.03 for k in keys}, gravity=(0.3, -G), force=(4.0, -1.5))
     new = torque.drive_forces(mech, q, qd, qdd, {BODY_TO_LINK[name][b]: v for b, v in inertias.items()},

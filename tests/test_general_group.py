@@ -13,7 +13,13 @@ from scipy.optimize import fsolve
 
 from analytic import ParameterError
 from analytic.solver.general_group import make_group, solve_group
-from analytic.solver.kinematics import _point, _rrr
+from analytic.kinds.base import line, on_frame
+from analytic.kinds.rrr import rrr as _rrr
+
+
+def _point(P, Q, u, v):
+    """The closed-form rigid point at (u, v) in the frame of P -> Q."""
+    return on_frame(*line(P, Q), u, v)
 
 Q0 = 0.5
 R = 1.0

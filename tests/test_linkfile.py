@@ -92,7 +92,7 @@ def test_two_cranks_make_two_inputs_and_mobility_two():
     text = text.replace('from = ["B", "D"]', 'from = ["B", "K"]')
     m = parse(text)
     assert [i.q for i in m.inputs] == ["phi1", "phi9"]
-    assert analytic.format.linkfile.structure_counts(m.definition) == (5, 5)      # 3 x 4 - 2 x 5 = 2
+    assert m.topology.counts == (5, 5, 0) and m.topology.mobility == 2     # 3 x 4 - 2 x 5 = 2
 
 
 def test_a_group_that_cannot_assemble_at_the_start_says_where_it_can():

@@ -99,13 +99,14 @@ def test_the_jit_switch(monkeypatch):
 
 def test_the_compiled_sin_cos_atan2_are_within_2_ulp_of_numpy():
     numba = pytest.importorskip("numba")
-    _jit._compile()
+    from analytic.kinds import compiled as C
+    _jit.compile_kernel()
 
     @numba.njit
     def run(x, y, s, c, a):
         for i in range(x.shape[0]):
-            s[i], c[i] = _jit._sincos(x[i])
-            a[i] = _jit._atan2(y[i], x[i])
+            s[i], c[i] = C.sincos(x[i])
+            a[i] = C.atan2(y[i], x[i])
 
     rng = np.random.default_rng(5)
     edges = [0.0, -0.0, 1.0, -1.0, 2.0, 1e-310, -1e-310, math.pi / 4, math.pi / 2, math.pi, -math.pi]
@@ -115,7 +116,7 @@ def test_the_compiled_sin_cos_atan2_are_within_2_ulp_of_numpy():
                         np.tile(edges, 11)])
     s, c, a = np.empty_like(x), np.empty_like(x), np.empty_like(x)
     run(x, y, s, c, a)
-    small = np.abs(x) <= _jit._LOSSTH                          # beyond 2^30 the kernel calls the C library
+    small = np.abs(x) <= C.LOSSTH                          # beyond 2^30 the kernel calls the C library
     # sin and cos: to 2 ulp of 1 (absolute: the reduction modulo pi/4 is exact to that)
     assert np.abs(s - np.sin(x))[small].max() <= 2 * np.spacing(1.0)
     assert np.abs(c - np.cos(x))[small].max() <= 2 * np.spacing(1.0)

@@ -19,6 +19,7 @@ import pytest
 
 import analytic
 from analytic import quantities as Q
+from analytic.applications import figures
 
 LIB = Path(analytic.__file__).parent / "library"
 HOEKENS_M = ["--set", "crank=0.05", "--set", "ground=0.1", "--set", "coupler=0.125", "--set", "rocker=0.125",
@@ -114,7 +115,7 @@ def test_plot_sheet_figures_are_analyze_figures_and_the_hand_value():
     assert abs(k_plot - k_analyze) <= 1e-4           # both print %.4f of the same number
     assert abs(k_analyze - hand) <= 1e-3             # 361 samples, extremes located by linear interpolation
     # the simulated samples' value (what the sheet printed before) is off by more than that
-    assert abs(mech.figures(c.analytic)["time_ratio"] - hand) > 2e-3
+    assert abs(figures.of(mech, c.analytic)["time_ratio"] - hand) > 2e-3
 
 
 # -------------------------------------------------------------------------------- CSV and JSON

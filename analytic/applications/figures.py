@@ -337,3 +337,21 @@ def general_summary(mech, f: dict, u=None) -> list[str]:
                  f"y {L(f[f'y{p}_range'][0], 0)} .. {L(f[f'y{p}_range'][1])}; |v{p}| "
                  f"{V(f[f'v{p}_min'], 0)} .. {V(f[f'v{p}_max'])}")
     return lines
+
+
+def of(mech, sol) -> dict:
+    """Figures of merit over a sampled solution: the general ones, and a built-in's own."""
+    out = general(mech, sol)
+    if mech.builtin is not None:
+        out.update(mech.builtin.figures(mech.builtin.parameters(mech.values), sol))
+    return out
+
+
+def summary(mech, figs: dict, display=None) -> list[str]:
+    """The figures of merit (SI) as readable lines, in ``display`` units (analytic.quantities.Display;
+    None: the file's length unit)."""
+    from analytic.quantities import Display
+    display = display or Display(mech.units)
+    if mech.builtin is not None:
+        return mech.builtin.summary(figs, display)
+    return general_summary(mech, figs, display)

@@ -18,8 +18,10 @@ import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from analytic import kinds, topology
+from analytic._common import FileError, ParameterError
 from analytic.format import expr
-from analytic._common import ParameterError
+from analytic.kinds.base import GROUND, REQUIRED, Guide
 
 FORMAT = "linkage/1"
 UNITS = {"m": 1.0, "mm": 1e-3, "cm": 1e-2, "in": 0.0254}
@@ -30,83 +32,39 @@ LINK_NAME = re.compile(r"^[A-Za-z0-9_]+$")
 """Link names may start with a digit (SPEC's example names the four-bar's links "1", "2", "3")."""
 
 
-class FileError(ParameterError):
-    """A mechanism file that cannot be used; the message is one line naming the file and the fix."""
-
-
-# Field types: "point" (a defined point), "new" (the point an element defines), "length", "angle",
-# "rate" (per second), "branch", "link" (a new link name), "guide", "pair" (two points), "lengths2",
-# "links2", "xy" (two lengths).
-KINDS: dict[str, dict[str, tuple[str, object]]] = {
-    # field: (type, default; REQUIRED if it must be given)
-    "crank": {"pivot": ("point", None), "point": ("new", None), "length": ("length", None),
-              "link": ("link", "{pivot}{point}"), "phi0": ("angle", 0.0), "omega": ("angle", 2 * math.pi),
-              "alpha": ("angle", 0.0)},
-    "slider": {"point": ("new", None), "guide": ("guide", None), "s0": ("length", 0.0),
-               "v": ("length", 0.1), "a": ("length", 0.0), "link": ("link", "{point}_block")},
-    "RRR": {"point": ("new", None), "from": ("pair", None), "lengths": ("lengths2", None),
-            "links": ("links2", ("{from0}{point}", "{from1}{point}")), "branch": ("branch", 1)},
-    "RRP": {"point": ("new", None), "from": ("point", None), "length": ("length", None),
-            "guide": ("guide", None), "offset": ("length", 0.0),
-            "links": ("links2", ("{from}{point}", "{point}_block")), "branch": ("branch", 1)},
-    "RPR": {"pivot": ("point", None), "through": ("point", None), "point": ("new", None),
-            "length": ("length", None), "offset": ("length", 0.0),
-            "links": ("links2", ("{pivot}{point}", "{through}_block")), "branch": ("branch", 1)},
-    "point": {"point": ("new", None), "on": ("pair", None), "at": ("xy", None)},
-}
-INPUT_KINDS = ("crank", "slider")
-GROUP_KINDS = ("RRR", "RRP", "RPR", "point")
 TOP_LEVEL = {"format", "name", "units", "description", "output", "parameters", "ground", "inputs", "groups",
              "inertia"}
 
 
 @dataclass(frozen=True)
-class Guide:
-    """A guide line: the line P->Q of the link carrying both points (``points``), or a ground line
-    through a point or coordinates at an angle (``through``, ``angle``)."""
-
-    points: tuple[str, str] | None = None
-    through: str | tuple[object, object] | None = None
-    angle: object = 0.0
-
-    def uses(self) -> tuple[str, ...]:
-        if self.points:
-            return self.points
-        return (self.through,) if isinstance(self.through, str) else ()
-
-
-@dataclass(frozen=True)
 class Element:
-    """One input or group as written: ``kind``, the ``point`` it defines, its fields (values still
-    symbolic: numbers, quantity strings, parameter names or expressions) and where it stands."""
+    """One input or group as written: its ``kind`` (a name in :data:`analytic.kinds.KINDS`), its fields
+    (values still symbolic: numbers, quantity strings, parameter names or expressions), where it stands
+    (``groups[2]``) and the points it places."""
 
     kind: str
-    point: str
     fields: dict
     where: str
+    places: tuple[str, ...]
+
+    @property
+    def point(self) -> str:
+        """The (first) point it places: names the element in messages."""
+        return self.places[0]
 
     @property
     def label(self) -> str:
-        return f"{self.where} (point {self.point})"
+        if len(self.places) == 1:
+            return f"{self.where} (point {self.places[0]})"
+        return f"{self.where} (points {', '.join(self.places)})"
 
     def needs(self) -> tuple[str, ...]:
         """The points this element needs before it can be solved."""
-        f = self.fields
-        if self.kind == "crank":
-            return (f["pivot"],)
-        if self.kind == "slider":
-            return f["guide"].uses()
-        if self.kind == "RRR":
-            return tuple(f["from"])
-        if self.kind == "RRP":
-            return (f["from"],) + f["guide"].uses()
-        if self.kind == "RPR":
-            return (f["pivot"], f["through"])
-        return tuple(f["on"])
+        return kinds.get(self.kind).needs(self.fields)
 
     def links(self) -> tuple[str, ...]:
-        f = self.fields
-        return (f["link"],) if "link" in f else tuple(f.get("links", ()))
+        """The links this element creates."""
+        return tuple(part.name for part in kinds.get(self.kind).structure(self.fields).links)
 
 
 @dataclass(frozen=True)
@@ -126,10 +84,16 @@ class Definition:
     order: tuple[Element, ...]
     output: str
     inertia: dict = field(default_factory=dict)
+    topology: topology.Topology | None = None
 
     @property
     def scale(self) -> float:
         return UNITS[self.units]
+
+    @property
+    def elements(self) -> tuple[Element, ...]:
+        """The elements as written (inputs, then groups): the indices of ``topology.order``."""
+        return self.inputs + self.groups
 
 
 def _fail(source: str, where: str, what: str) -> FileError:
@@ -256,17 +220,21 @@ def _check(data: dict, source: str, default_name: str) -> Definition:
             raise _fail(source, section, f"must be an array of tables ([[{section}]])")
         for i, item in enumerate(items, 1):
             elements.append(_element(item, f"{section}[{i}]", section, source))
-    inputs = tuple(e for e in elements if e.kind in INPUT_KINDS)
-    groups = tuple(e for e in elements if e.kind in GROUP_KINDS)
+    inputs = tuple(e for e in elements if kinds.get(e.kind).section == "inputs")
+    groups = tuple(e for e in elements if kinds.get(e.kind).section == "groups")
     if not elements:
         raise _fail(source, "inputs", "none given; a mechanism needs at least one [[inputs]] (e.g. kind = \"crank\")")
     _check_names(source, params, ground, elements)
-    order = _solve_order(source, ground, elements)
-    kinds = _parameter_kinds(source, params, ground, elements)
-    output = data.get("output", order[-1].point)
+    try:
+        topo = topology.build(tuple(ground), inputs + groups)
+    except topology.StructureError as exc:
+        raise _fail(source, exc.where, exc.what) from None
+    order = tuple((inputs + groups)[i] for i in topo.order)
+    param_kinds = _parameter_kinds(source, params, ground, elements)
+    output = data.get("output", order[-1].places[-1])
     if not isinstance(output, str):
         raise _fail(source, "output", f"{_short(output)} must be one point name such as \"E\"")
-    if output not in {e.point for e in elements} and output not in ground:
+    if output not in topo.points:
         raise _fail(source, "output", f"{output!r} is not a point of the mechanism")
     inertia = data.get("inertia", {})
     if not isinstance(inertia, dict):
@@ -283,39 +251,51 @@ def _check(data: dict, source: str, default_name: str) -> Definition:
                 raise _fail(source, f"inertia.{lname}.{key}", f"{_short(v)} must be a finite number")
             if key in ("m", "I") and not v > 0:
                 raise _fail(source, f"inertia.{lname}.{key}", f"{v!r} must be > 0")
-    definition = Definition(name, source, units, description, dict(params), tuple(params), kinds,
-                            {k: tuple(v) for k, v in ground.items()}, inputs, groups, order, output, inertia)
+    definition = Definition(name, source, units, description, dict(params), tuple(params), param_kinds,
+                            {k: tuple(v) for k, v in ground.items()}, inputs, groups, order, output, inertia, topo)
     _check_mobility(definition)
-    check_guides(definition)
     return definition
 
 
 def _element(item, where: str, section: str, source: str) -> Element:
     if not isinstance(item, dict):
         raise _fail(source, where, "must be a table of fields")
-    kind = item.get("kind")
-    allowed = INPUT_KINDS if section == "inputs" else GROUP_KINDS
-    if kind not in allowed:
-        raise _fail(source, where, f"unknown kind {kind!r}; [[{section}]] takes kind = "
+    name = item.get("kind")
+    allowed = kinds.of_section(section)
+    if name not in allowed:
+        raise _fail(source, where, f"unknown kind {_short(name)}; [[{section}]] takes kind = "
                                    f"{' or '.join(repr(k) for k in allowed)}")
-    spec = KINDS[kind]
-    point = item.get("point")
-    if not (isinstance(point, str) and expr.NAME.match(point)):
-        raise _fail(source, where, f"field 'point': {point!r} must be a point name (letters, digits and _)")
-    label = f"{where} (point {point})"
+    kind = kinds.get(name)
+    spec = kind.fields
+    placed = [f for f, fld in spec.items() if fld.type in ("new", "news")][0]
+    first = item.get(placed)
+    if spec[placed].type == "new":
+        if not (isinstance(first, str) and expr.NAME.match(first)):
+            raise _fail(source, where, f"field {placed!r}: {_short(first)} must be a point name (letters, digits "
+                                       f"and _)")
+        label = f"{where} (point {first})"
+    else:
+        if not (isinstance(first, list) and first and all(isinstance(p, str) and expr.NAME.match(p) for p in first)):
+            raise _fail(source, where, f"field {placed!r}: {_short(first)} must be a list of point names")
+        if len(set(first)) != len(first):
+            raise _fail(source, where, f"field {placed!r}: a point is listed twice")
+        label = f"{where} (points {', '.join(first)})"
     unknown = sorted(set(item) - set(spec) - {"kind"})
     if unknown:
-        raise _fail(source, label, f"unknown field {unknown[0]!r}; a {kind} takes {', '.join(spec)}")
+        raise _fail(source, label, f"unknown field {unknown[0]!r}; a {name} takes {', '.join(spec)}")
     fields = {}
-    for fname, (ftype, default) in spec.items():
+    for fname, fld in spec.items():
         if fname not in item:
-            if default is None:
+            if fld.default is REQUIRED:
                 raise _fail(source, label, f"field {fname!r} is missing")
-            value = _default(default, item)
+            value = _default(fld.default, item)
         else:
             value = item[fname]
-        fields[fname] = _field(value, ftype, f"{label}: field {fname!r}", source)
-    return Element(kind, point, fields, where)
+        fields[fname] = _field(value, fld.type, f"{label}: field {fname!r}", source)
+    problem = kind.check(fields)
+    if problem:
+        raise _fail(source, label, problem)
+    return Element(name, fields, where, tuple(kind.places(fields)))
 
 
 def _default(default, item):
@@ -363,26 +343,49 @@ def _link_name(value, what: str, source: str) -> str:
 def _field(value, ftype: str, what: str, source: str):
     if ftype in ("point", "new"):
         return _name(value, what, source)
-    if ftype == "link":
+    if ftype in ("link", "linkref"):
         return _link_name(value, what, source)
+    if ftype in ("news", "points"):
+        if not (isinstance(value, list) and value):
+            raise FileError(f"{source}: {what}: {_short(value)} must be a list of point names")
+        return tuple(_name(v, what, source) for v in value)
     if ftype == "links2":
         if not (isinstance(value, list) and len(value) == 2):
-            raise FileError(f"{source}: {what}: {value!r} must be a list of two link names")
+            raise FileError(f"{source}: {what}: {_short(value)} must be a list of two link names")
         names = tuple(_link_name(v, what, source) for v in value)
         if names[0] == names[1]:
             raise FileError(f"{source}: {what}: the two names must differ (both are {names[0]!r})")
         return names
     if ftype == "pair":
         if not (isinstance(value, list) and len(value) == 2):
-            raise FileError(f"{source}: {what}: {value!r} must be a list of two names")
+            raise FileError(f"{source}: {what}: {_short(value)} must be a list of two names")
         names = tuple(_name(v, what, source) for v in value)
         if names[0] == names[1]:
             raise FileError(f"{source}: {what}: the two names must differ (both are {names[0]!r})")
         return names
+    if ftype == "carrier":
+        if isinstance(value, str):
+            return _link_name(value, what, source)
+        return _field(value, "pair", what + " (two points of the link, or the link's name)", source)
     if ftype in ("lengths2", "xy"):
         if not (isinstance(value, list) and len(value) == 2):
-            raise FileError(f"{source}: {what}: {value!r} must be a list of two values")
+            raise FileError(f"{source}: {what}: {_short(value)} must be a list of two values")
         return tuple(_scalar(v, what, source) for v in value)
+    if ftype == "linktable":
+        if not (isinstance(value, dict) and value):
+            raise FileError(f"{source}: {what}: give a table LINK = [\"P\", \"Q\", ...] of the group's links")
+        return {_link_name(k, what, source): _field(v, "points", f"{what}: link {k}", source)
+                for k, v in value.items()}
+    if ftype == "pose":
+        if not isinstance(value, dict):
+            raise FileError(f"{source}: {what}: give a table POINT = [x, y] of assembled positions")
+        out = {}
+        for k, xy in value.items():
+            _name(k, what, source)
+            if not (isinstance(xy, list) and len(xy) == 2):
+                raise FileError(f"{source}: {what}: {k} = {_short(xy)} must be [x, y]")
+            out[k] = tuple(_scalar(v, f"{what}: {k}", source) for v in xy)
+        return out
     if ftype == "guide":
         if isinstance(value, list):
             if len(value) != 2:
@@ -420,55 +423,39 @@ def _check_names(source: str, params: dict, ground: dict, elements: list[Element
     for g in ground:
         claim(g, "point", f"ground.{g}")
     for e in elements:
-        claim(e.point, "point", e.label)
+        for p in e.places:
+            claim(p, "point", e.label)
     links: dict[str, str] = {}
     for e in elements:
         for ln in e.links():
             if ln in links:
                 raise _fail(source, e.label, f"link name {ln!r} is already used by {links[ln]}; every link is "
                                              f"named once (attach more points to it with kind = \"point\")")
-            if ln in params or ln in ground or any(ln == x.point for x in elements):
+            if ln in params or ln in ground or ln == GROUND or any(ln in x.places for x in elements):
                 raise _fail(source, e.label, f"link name {ln!r} is also a parameter or point name; choose another")
             links[ln] = e.label
-    points = set(ground) | {e.point for e in elements}
+    points = set(ground) | {p for e in elements for p in e.places}
     for e in elements:
+        kind = kinds.get(e.kind)
         for p in e.needs():
             if p not in points:
                 raise _fail(source, e.label, f"point {p!r} is never defined; define it in [ground] or by an element")
-        if e.kind == "crank" and e.fields["pivot"] not in ground:
-            raise _fail(source, e.label, f"field 'pivot': {e.fields['pivot']!r} must be a ground point")
-        if e.kind == "slider" and any(p not in ground for p in e.fields["guide"].uses()):
-            raise _fail(source, e.label, "field 'guide': a driven slider runs on a ground line")
-        if e.point in e.needs():
-            raise _fail(source, e.label, f"the element uses its own point {e.point!r}")
+        problem = kind.check_context(e.fields, tuple(ground))
+        if problem:
+            raise _fail(source, e.label, problem)
+        own = [p for p in e.needs() if p in e.places]
+        if own:
+            raise _fail(source, e.label, f"the element uses its own point {own[0]!r}")
 
 
-def _solve_order(source: str, ground: dict, elements: list[Element]) -> tuple[Element, ...]:
-    known = set(ground)
-    pending = list(elements)
-    order = []
-    while pending:
-        ready = [e for e in pending if all(p in known for p in e.needs())]
-        if not ready:
-            e = pending[0]
-            missing = [p for p in e.needs() if p not in known]
-            chain = " -> ".join([e.point] + missing)
-            raise _fail(source, e.label, f"a cycle: {chain} depend on each other; each element must use only "
-                                         f"points defined without it")
-        for e in ready:
-            order.append(e)
-            known.add(e.point)
-            pending.remove(e)
-    return tuple(order)
-
-
-_FIELD_KIND = {"length": "length", "lengths2": "length", "xy": "length", "angle": "angle", "branch": "branch"}
+_FIELD_KIND = {"length": "length", "size": "length", "lengths2": "length", "xy": "length", "angle": "angle",
+               "branch": "branch", "number": "number"}
 
 
 def _parameter_kinds(source: str, params: dict, ground: dict, elements: list[Element]) -> dict[str, str]:
     """What each parameter measures (length, angle, branch, number), from where it is used; a parameter
     used as a length and as an angle is an error."""
-    kinds: dict[str, str] = {}
+    measured: dict[str, str] = {}
     undefined = []
 
     def use(value, kind: str, where: str):
@@ -478,10 +465,10 @@ def _parameter_kinds(source: str, params: dict, ground: dict, elements: list[Ele
             if n not in params:
                 undefined.append((where, n))
                 continue
-            if kinds.get(n, kind) != kind:
-                raise _fail(source, where, f"parameter {n!r} is used as a {kinds[n]} elsewhere and as a {kind} "
+            if measured.get(n, kind) != kind:
+                raise _fail(source, where, f"parameter {n!r} is used as a {measured[n]} elsewhere and as a {kind} "
                                            f"here; use two parameters")
-            kinds[n] = kind
+            measured[n] = kind
 
     for g, xy in ground.items():
         for v in xy:
@@ -489,10 +476,15 @@ def _parameter_kinds(source: str, params: dict, ground: dict, elements: list[Ele
                 raise _fail(source, f"ground.{g}", f"{v!r} must be a number, a parameter name or an expression")
             use(v, "length", f"ground.{g}")
     for e in elements:
-        for fname, (ftype, _) in KINDS[e.kind].items():
+        for fname, fld in kinds.get(e.kind).fields.items():
+            ftype = fld.type
             value = e.fields[fname]
             where = f"{e.label}: field {fname!r}"
-            if ftype == "guide":
+            if ftype == "pose":
+                for xy in value.values():
+                    for v in xy:
+                        use(v, "length", where)
+            elif ftype == "guide":
                 if value.through is not None and not isinstance(value.through, str):
                     for v in value.through:
                         use(v, "length", where)
@@ -518,124 +510,24 @@ def _parameter_kinds(source: str, params: dict, ground: dict, elements: list[Ele
                 missing = used - set(params)
                 if missing:
                     raise _fail(source, f"parameters.{p}", f"{sorted(missing)[0]!r} is not a parameter")
-            elif q[1] and kinds.get(p) == "length":
+            elif q[1] and measured.get(p) == "length":
                 raise _fail(source, f"parameters.{p}", f"{value!r} is an angle but {p} is used as a length")
-    return {p: kinds.get(p, "number") for p in params}
+    return {p: measured.get(p, "number") for p in params}
 
 
 def _check_mobility(d: Definition) -> None:
-    """Gruebler's count M = 3 (n - 1) - 2 j must equal the number of inputs."""
-    n, j = structure_counts(d)
-    mobility = 3 * (n - 1) - 2 * j
+    """Gruebler's count must equal the number of inputs."""
+    topo = d.topology
+    mobility = topo.mobility
     if not d.inputs:
-        raise _fail(d.source, "inputs", f"no input: the mechanism has mobility {mobility} (Gruebler: 3 x ({n} - 1) - "
-                                        f"2 x {j} = {mobility}); add an [[inputs]] crank or slider")
+        raise _fail(d.source, "inputs", f"no input: the mechanism has mobility {mobility} (Gruebler: "
+                                        f"{topo.gruebler()}); add an [[inputs]] crank or slider")
     if mobility != len(d.inputs):
-        raise _fail(d.source, "inputs", f"the mechanism has mobility {mobility} (Gruebler: 3 x ({n} - 1) - 2 x {j}"
-                                        f" = {mobility}) but {len(d.inputs)} input(s); give one input per "
-                                        f"degree of freedom")
-
-
-def structure_counts(d: Definition) -> tuple[int, int]:
-    """(links including the ground, lower pairs) of the mechanism, for Gruebler's count."""
-    touches = incidence(d)
-    links = {ln for e in d.order for ln in e.links()}
-    revolute = sum(max(len(ls) - 1, 0) for ls in touches.values())
-    prismatic = sum(1 for e in d.order if e.kind in ("slider", "RRP", "RPR"))
-    return len(links) + 1, revolute + prismatic
-
-
-GROUND = "ground"
-
-
-def incidence(d: Definition) -> dict[str, list[str]]:
-    """For every point, the links pinned there (in order of appearance; ``ground`` for ground points)."""
-    touches: dict[str, list[str]] = {g: [GROUND] for g in d.ground}
-
-    def add(point, link):
-        lst = touches.setdefault(point, [])
-        if link not in lst:
-            lst.append(link)
-
-    carriers = carrier_links(d)
-    for e in d.order:
-        f = e.fields
-        if e.kind == "crank":
-            add(f["pivot"], f["link"])
-            add(e.point, f["link"])
-        elif e.kind == "slider":
-            add(e.point, f["link"])
-        elif e.kind == "RRR":
-            (p, q), (m, n) = f["from"], f["links"]
-            add(p, m), add(e.point, m), add(q, n), add(e.point, n)
-        elif e.kind == "RRP":
-            rod, block = f["links"]
-            add(f["from"], rod), add(e.point, rod), add(e.point, block)
-        elif e.kind == "RPR":
-            slotted, block = f["links"]
-            add(f["pivot"], slotted), add(e.point, slotted), add(f["through"], block)
-        else:
-            add(e.point, carriers[e.point])
-    return touches
-
-
-def carrier_links(d: Definition) -> dict[str, str]:
-    """For every point, the link it is rigidly part of when it is first defined (its body)."""
-    body: dict[str, str] = {g: GROUND for g in d.ground}
-    members: dict[str, set[str]] = {GROUND: set(d.ground)}
-
-    def on(link, *points):
-        members.setdefault(link, set()).update(points)
-
-    for e in d.order:
-        f = e.fields
-        if e.kind == "crank":
-            on(f["link"], f["pivot"], e.point)
-            body[e.point] = f["link"]
-        elif e.kind == "slider":
-            on(f["link"], e.point)
-            body[e.point] = f["link"]
-        elif e.kind == "RRR":
-            on(f["links"][0], f["from"][0], e.point)
-            on(f["links"][1], f["from"][1], e.point)
-            body[e.point] = f["links"][0]
-        elif e.kind == "RRP":
-            on(f["links"][0], f["from"], e.point)
-            on(f["links"][1], e.point)
-            body[e.point] = f["links"][0]
-        elif e.kind == "RPR":
-            on(f["links"][0], f["pivot"], e.point)
-            on(f["links"][1], f["through"])
-            body[e.point] = f["links"][0]
-        else:
-            p, q = f["on"]
-            link = next((ln for ln, pts in members.items() if p in pts and q in pts), None)
-            if link is None:
-                raise _fail(d.source, e.label, f"field 'on': no link carries both {p!r} and {q!r}; name two points "
-                                               f"of one link")
-            on(link, e.point)
-            body[e.point] = link
-    return body
-
-
-def link_members(d: Definition) -> dict[str, set[str]]:
-    """Every link's points (ground included)."""
-    members: dict[str, set[str]] = {}
-    for point, links in incidence(d).items():
-        for ln in links:
-            members.setdefault(ln, set()).add(point)
-    return members
-
-
-def check_guides(d: Definition) -> None:
-    """A guide named by two points must lie on one link (or on the ground)."""
-    members = link_members(d)
-    for e in d.order:
-        g = e.fields.get("guide")
-        if g is not None and g.points:
-            p, q = g.points
-            if not any(p in pts and q in pts for pts in members.values()):
-                raise _fail(d.source, e.label, f"field 'guide': no link carries both {p!r} and {q!r}")
+        raise _fail(d.source, "inputs", f"the mechanism has mobility {mobility} (Gruebler: {topo.gruebler()}) but "
+                                        f"{len(d.inputs)} input(s); give one input per degree of freedom")
+    lost = topology.disconnected(topo)
+    if lost:
+        raise _fail(d.source, "groups", f"links {', '.join(sorted(lost))} are not connected to the ground")
 
 
 # ------------------------------------------------------------------------------------------ resolve
@@ -723,34 +615,64 @@ def resolve(d: Definition, values: dict[str, float]) -> Geometry:
 
     ground = {g: (num(x, "length", f"ground.{g}"), num(y, "length", f"ground.{g}")) for g, (x, y) in d.ground.items()}
     elements = []
+    n_inputs = 0
     for e in d.order:
-        out = {"kind": e.kind, "point": e.point, "label": e.label}
-        for fname, (ftype, _) in KINDS[e.kind].items():
-            v = e.fields[fname]
-            where = f"{e.label}: field {fname!r}"
-            if ftype in ("point", "new", "link", "pair", "links2"):
-                out[fname] = v
-            elif ftype == "guide":
-                if v.points:
-                    out[fname] = {"points": v.points}
-                else:
-                    through = v.through if isinstance(v.through, str) else tuple(
-                        num(c, "length", where) for c in v.through)
-                    out[fname] = {"through": through, "angle": num(v.angle, "angle", where)}
-            elif ftype in ("lengths2", "xy"):
-                out[fname] = tuple(num(c, "length", where) for c in v)
-            elif ftype == "branch":
-                b = num(v, "number", where)
-                if b not in (1.0, -1.0):
-                    raise ParameterError(f"{d.source}: {where}: branch {b:g} must be +1 or -1")
-                out[fname] = int(b)
-            else:
-                out[fname] = num(v, "length" if ftype == "length" else "angle", where)
-            if ftype == "length" and fname in ("length",) and out[fname] <= 0:
-                raise ParameterError(f"{d.source}: {where}: length {out[fname]:g} m must be > 0")
-            if ftype == "lengths2":
-                for c in out[fname]:
-                    if c <= 0:
-                        raise ParameterError(f"{d.source}: {where}: length {c:g} m must be > 0")
+        kind = kinds.get(e.kind)
+        out = {"kind": e.kind, "point": e.point, "places": e.places, "label": e.label}
+        if kind.section == "inputs":
+            out["input"] = n_inputs
+            n_inputs += 1
+        for fname, fld in kind.fields.items():
+            out[fname] = resolve_field(e.fields[fname], fld.type, num, f"{e.label}: field {fname!r}", d.source)
+        kind.resolve_extra(out, d.topology)
+        problem = kind.check_resolved(out)
+        if problem:
+            raise ParameterError(f"{d.source}: {e.label}: {problem}")
         elements.append(out)
     return Geometry(ground, tuple(elements), dict(values))
+
+
+NAMES = ("point", "new", "news", "points", "link", "linkref", "pair", "links2", "carrier", "linktable")
+"""Field types whose values are names (resolved as they are)."""
+
+
+def resolve_field(v, ftype: str, num, where: str, source: str):
+    """One field's value resolved with ``num(value, kind, where)`` (kind "length", "angle" or "number")."""
+    if ftype in NAMES:
+        return v
+    if ftype == "guide":
+        if v.points:
+            return {"points": v.points}
+        through = v.through if isinstance(v.through, str) else tuple(num(c, "length", where) for c in v.through)
+        return {"through": through, "angle": num(v.angle, "angle", where)}
+    if ftype == "pose":
+        return {p: (num(x, "length", where), num(y, "length", where)) for p, (x, y) in v.items()}
+    if ftype in ("lengths2", "xy"):
+        out = tuple(num(c, "length", where) for c in v)
+        if ftype == "lengths2":
+            for c in out:
+                if c <= 0:
+                    raise ParameterError(f"{source}: {where}: length {c:g} m must be > 0")
+        return out
+    if ftype == "branch":
+        b = num(v, "number", where)
+        if b not in (1.0, -1.0):
+            raise ParameterError(f"{source}: {where}: branch {b:g} must be +1 or -1")
+        return int(b)
+    if ftype == "number":
+        return num(v, "number", where)
+    x = num(v, "length" if ftype in ("length", "size") else "angle", where)
+    if ftype == "size" and x <= 0:
+        raise ParameterError(f"{source}: {where}: length {x:g} m must be > 0")
+    return x
+
+
+def is_size(d: Definition, name: str) -> bool:
+    """A length parameter used directly as a size (a link length, which must be > 0), not as a coordinate."""
+    for e in d.order:
+        for fname, fld in kinds.get(e.kind).fields.items():
+            if fld.type in ("size", "lengths2"):
+                v = e.fields[fname]
+                if name in (v if isinstance(v, tuple) else (v,)):
+                    return True
+    return False

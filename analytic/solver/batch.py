@@ -23,7 +23,8 @@ import numpy as np
 from analytic.format import expr
 from analytic.format import linkfile
 from analytic._common import BLOCK, ParameterError, keep_freed_memory
-from analytic.mechanism import Mechanism, Motion, _is_size
+from analytic import kinds
+from analytic.mechanism import Mechanism, Motion, block
 
 __all__ = ["Designs", "BatchSolution", "resolve", "drive", "solve", "motions", "motion_table"]
 
@@ -161,12 +162,24 @@ def _fields(d: linkfile.Definition, values: dict, k: int):
         ground[g] = (_num(d, x, "length", values, k), _num(d, y, "length", values, k))
         ok &= np.isfinite(ground[g][0]) & np.isfinite(ground[g][1])
     elements = []
+    n_inputs = 0
     for e in d.order:
-        out = {"kind": e.kind, "point": e.point, "label": e.label}
-        for fname, (ftype, _) in linkfile.KINDS[e.kind].items():
+        kind = kinds.get(e.kind)
+        out = {"kind": e.kind, "point": e.point, "places": e.places, "label": e.label}
+        if kind.section == "inputs":
+            out["input"] = n_inputs
+            n_inputs += 1
+        for fname, fld in kind.fields.items():
+            ftype = fld.type
             v = e.fields[fname]
-            if ftype in ("point", "new", "link", "pair", "links2"):
+            if ftype in linkfile.NAMES:
                 out[fname] = v
+                continue
+            if ftype == "pose":
+                out[fname] = {p: (_num(d, x, "length", values, k), _num(d, y, "length", values, k))
+                              for p, (x, y) in v.items()}
+                for x, y in out[fname].values():
+                    ok &= np.isfinite(x) & np.isfinite(y)
                 continue
             if ftype == "guide":
                 if v.points:
@@ -188,14 +201,19 @@ def _fields(d: linkfile.Definition, values: dict, k: int):
                 ok &= (b == 1.0) | (b == -1.0)
                 nums = [b]
                 out[fname] = b
-            else:
-                x = _num(d, v, "length" if ftype == "length" else "angle", values, k)
+            elif ftype == "number":
+                x = _num(d, v, "number", values, k)
                 nums = [x]
                 out[fname] = x
-                if ftype == "length" and fname == "length":
+            else:
+                x = _num(d, v, "length" if ftype in ("length", "size") else "angle", values, k)
+                nums = [x]
+                out[fname] = x
+                if ftype == "size":
                     ok &= x > 0
             for x in nums:
                 ok &= np.isfinite(x)
+        kind.resolve_extra(out, d.topology)
         elements.append(out)
     return ground, elements, ok
 
@@ -232,19 +250,15 @@ def resolve(base: Mechanism, overrides: dict[str, object]) -> Designs:
     ok = np.ones(k, dtype=bool)
     for name, v in values.items():
         ok &= np.isfinite(v)
-        if d.parameter_kind.get(name) == "length" and _is_size(d, name):
+        if d.parameter_kind.get(name) == "length" and linkfile.is_size(d, name):
             ok &= v > 0
     ground, elements, ok_fields = _fields(d, values, k)
     ok &= ok_fields
     reasons = [""] * k
     if base.builtin is not None:                             # the dedicated model's own checks
-        names = [n for n in base.builtin.params.__dataclass_fields__ if n in values]
         for i in np.flatnonzero(ok):
-            kw = {n: float(values[n][i]) for n in names}
-            if "branch" in kw:
-                kw["branch"] = int(kw["branch"])
             try:
-                base.builtin.params(**kw)
+                base.builtin.parameters({n: float(v[i]) for n, v in values.items()})
             except ParameterError:
                 ok[i] = False
     for i in np.flatnonzero(~ok):                            # the one-at-a-time path's own words
@@ -349,6 +363,7 @@ def solve(designs: Designs, q, qd=0.0, qdd=0.0, outputs=None) -> BatchSolution:
         raise ParameterError(f"give q of shape (K, N, {m}) for K={k} designs of {base.name} ({m} inputs)")
     n = q.shape[1]
     want = None if outputs is None else {base.aliases.get(o, o) for o in outputs}
+    extras = want is None or any(x in want for x in base.extra_outputs)
     out: dict[str, np.ndarray] | None = None
     failed = np.zeros((k, n), dtype=np.int64)
     per = max(1, SAMPLES_PER_BLOCK // max(n, 1))
@@ -363,7 +378,7 @@ def solve(designs: Designs, q, qd=0.0, qdd=0.0, outputs=None) -> BatchSolution:
                                   tuple(_per_sample(_pick(e, loc), n) for e in geo.elements), {})
             flat = [a[rows].reshape(-1, m).T for a in (q, qd, qdd)]
             with np.errstate(invalid="ignore", divide="ignore"):
-                part, f = replace(base, geometry=g)._block(*flat, want)
+                part, f, _ = block(g, *flat, want, None, extras)
             if out is None:
                 out = {name: np.full((k, n), np.nan) for name in part}
             for name, v in part.items():
@@ -371,7 +386,7 @@ def solve(designs: Designs, q, qd=0.0, qdd=0.0, outputs=None) -> BatchSolution:
             failed[rows] = f.reshape(rows.size, n)
     if out is None:                                           # no valid design: names from the base
         with np.errstate(invalid="ignore", divide="ignore"):
-            part, _ = base._block(*(np.zeros((m, 1)) for _ in range(3)), want)
+            part, _, _ = block(base.geometry, *(np.zeros((m, 1)) for _ in range(3)), want, None, extras)
         out = {name: np.full((k, n), np.nan) for name in part}
     labels = tuple(e["label"] for e in base.geometry.elements)
     return BatchSolution(out, failed, labels)

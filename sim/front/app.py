@@ -32,6 +32,7 @@ import numpy as np
 
 import analytic
 from analytic import ParameterError
+from analytic.applications.figures import summary as figures_summary
 from analytic.format import expr
 from analytic.mechanism import Mechanism
 from sim import service
@@ -255,7 +256,7 @@ def solve(body: dict) -> dict:
         "points": point_paths(mech, sol, n, digits=digits),
         "angles": {ln: series(sol["phi" + ln], n, digits) for ln in mech.slides if "phi" + ln in sol},
         "figures": clean(a.figures) if figures else None,
-        "summary": mech.summary(a.figures) if figures else None,
+        "summary": figures_summary(mech, a.figures) if figures else None,
     }
 
 

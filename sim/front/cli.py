@@ -194,20 +194,26 @@ def cmd_check(args) -> int:
 
 
 def structure_report(mech) -> str:
+    from analytic import kinds
     from analytic.applications import figures
-    from analytic.format import linkfile
     d = mech.definition
-    n, j = linkfile.structure_counts(d)
+    topo = mech.topology
+    n, _, _ = topo.counts
     lines = [f"{mech.name}: {d.description}" if d.description else mech.name,
              f"  source: {d.source} (units: {d.units})",
              f"  links: {n} ({', '.join(('ground',) + mech.links)})"]
     joints = mech.joints
     lines.append(f"  joints: {len(joints)} ({', '.join(f'{x.name} {x.kind[0].upper()} {x.a}-{x.b}' for x in joints)})")
-    loops = len(joints) - (n - 1)
-    lines.append(f"  independent loops: {loops}")
-    lines.append(f"  mobility (Gruebler): 3 x ({n} - 1) - 2 x {j} = {3 * (n - 1) - 2 * j}; inputs: "
+    if topo.couplings:
+        lines.append(f"  gear pairs: {len(topo.couplings)} ("
+                     + ", ".join(f"{c.link}-{c.mesh} on {c.carrier}" for c in topo.couplings) + ")")
+    lines.append(f"  independent loops: {len(topo.loops)}")
+    lines.append(f"  mobility (Gruebler): {topo.gruebler()}; inputs: "
                  + ", ".join(f"{i.q} ({i.kind} at {i.joint})" for i in mech.inputs))
-    lines.append("  solve order: " + " -> ".join(f"{e.point} ({e.kind})" for e in d.order))
+    lines.append("  solve order: " + " -> ".join(f"{'+'.join(e.places)} ({e.kind})" for e in d.order))
+    groups = [(e, kinds.get(e.kind).group_class) for e in d.order]
+    lines.append("  Assur groups: " + (", ".join(f"{'+'.join(e.places)}: {cls}" for e, cls in groups if cls)
+                                      or "none"))
     if len(mech.inputs) == 1:
         ranges = figures.assembly_ranges(mech)
         first = mech.inputs[0]
@@ -228,6 +234,7 @@ def cmd_analyze(args) -> int:
     mech = mechanism_from(args)
     check_outputs(args, {"csv": (".csv",)})
     a = service.analyze(mech, args.samples, args.revolutions, parse_range(mech, args.input_range))
+    from analytic.applications import figures
     from sim.output.units import machine_units, shown_units
     if args.csv:
         write_columns(args.csv, mech, service.analysis_columns(mech, a), machine_units(args))
@@ -238,7 +245,7 @@ def cmd_analyze(args) -> int:
         print(dumps(record))
     else:
         p = ", ".join(f"{k}={v:g}" for k, v in mech.parameters.items())
-        print("\n".join([f"{mech.name}: {p}"] + mech.summary(a.figures, shown_units(args, mech))))
+        print("\n".join([f"{mech.name}: {p}"] + figures.summary(mech, a.figures, shown_units(args, mech))))
         if args.csv:
             print(f"wrote {args.csv} ({args.samples} rows)")
     return 0

@@ -24,7 +24,7 @@ import numpy as np
 
 import mjcf
 from analytic import ParameterError
-from analytic.format.linkfile import GROUND
+from analytic.kinds import GROUND
 
 MJCF_DIR = Path(mjcf.__file__).resolve().parent
 
@@ -304,44 +304,19 @@ def _quat(angle: float) -> list[float]:
 
 
 def spanning_tree(mech):
-    """Split the joints into tree joints (parent, child, joint) rooted at the ground and loop closures.
-    Driven and prismatic joints come first: they must be tree joints."""
-    joints = sorted(mech.joints, key=lambda j: (j.input is None, j.kind != "prismatic"))
-    parent = {GROUND: GROUND}
-
-    def root(x):
-        while parent.setdefault(x, x) != x:
-            x = parent[x]
-        return x
-
-    tree, cuts = [], []
-    for j in joints:
-        ra, rb = root(j.a), root(j.b)
-        if ra == rb:
-            if j.kind == "prismatic" or j.input is not None:
-                raise ParameterError(f"the {mech.name}'s loop through {j.name} would close at a prismatic or "
-                                     f"driven pair, which MuJoCo cannot close; restructure the loop")
-            cuts.append(j)
-        else:
-            parent[ra] = rb
-            tree.append(j)
-    # orient the tree from the ground outwards
-    adj: dict[str, list] = {}
-    for j in tree:
-        adj.setdefault(j.a, []).append((j.b, j))
-        adj.setdefault(j.b, []).append((j.a, j))
-    order, seen, queue = [], {GROUND}, [GROUND]
-    while queue:
-        body = queue.pop(0)
-        for other, j in adj.get(body, []):
-            if other not in seen:
-                seen.add(other)
-                order.append((body, other, j))
-                queue.append(other)
-    missing = set(mech.links) - seen
+    """The topology's spanning tree (parent, child, joint) from the ground outwards, and the joints that
+    close its loops; MuJoCo closes a loop at a revolute only."""
+    topo = mech.topology
+    for loop in topo.loops:
+        j = loop.joint
+        if j.kind == "prismatic" or j.input is not None:
+            raise ParameterError(f"the {mech.name}'s loop through {j.name} would close at a prismatic or "
+                                 f"driven pair, which MuJoCo cannot close; restructure the loop")
+    from analytic.topology import disconnected
+    missing = disconnected(topo)
     if missing:
         raise ParameterError(f"links {', '.join(sorted(missing))} of the {mech.name} are not connected to the ground")
-    return order, cuts
+    return topo.tree, tuple(loop.joint for loop in topo.loops)
 
 
 def default_inertia(mech, points, frames, link: str):
@@ -370,8 +345,8 @@ def _point_local(points, frames, link, p):
 
 
 def _members(mech) -> dict[str, set[str]]:
-    from analytic.format.linkfile import link_members
-    return link_members(mech.definition)
+    topo = mech.topology
+    return {GROUND: set(topo.ground), **{ln: set(link.points) for ln, link in topo.links.items()}}
 
 
 _COLORS = ["crank", "coupler", "rocker", "slider", "ground"]
@@ -471,8 +446,7 @@ def _build(mech, settings, loads, h, sol, points, q_start, revolutions) -> Built
 
 
 def _carriers(mech) -> dict[str, str]:
-    from analytic.format.linkfile import carrier_links
-    return carrier_links(mech.definition)
+    return mech.topology.carriers
 
 
 def _draw_link(spec, body, mech, points, frames, link, members, radius, material):
@@ -551,7 +525,7 @@ def _add_drives(spec, mech, order, q_start, h) -> list[Drive]:
     drives = []
     q0, _, _ = q_start
     for k, inp in enumerate(mech.inputs):
-        j = next(jt for _, _, jt in order if jt.input is not None and jt.input.link == inp.link)
+        j = next(jt for _, _, jt in order if jt.input == k)
         name = f"drive_{inp.link}"
         act = spec.add_actuator(name=name, target=j.name, trntype=mujoco.mjtTrn.mjTRN_JOINT)
         act.dyntype = mujoco.mjtDyn.mjDYN_INTEGRATOR

@@ -8,6 +8,7 @@ import textwrap
 
 import numpy as np
 
+from analytic.applications import figures
 from sim.run.compare import Comparison
 from sim.output.io import atomic_path, check_writable
 from sim.output.units import output_kind
@@ -176,7 +177,7 @@ def summary_lines(c: Comparison, built, u) -> list[str]:
              f"max loop violation {u.convert('length', c.max_loop_violation):.2e} {u.unit('length')}",
              f"drive error {c.drive_error:.2e} (commanded - simulated input)",
              "comparison: " + ("PASSED" if c.passed else "FAILED"), ""]
-    lines += [ln.strip() for ln in mech.summary(figs, u)]
+    lines += [ln.strip() for ln in figures.summary(mech, figs, u)]
     loads = built.loads
     extra = []
     if loads.gravity:

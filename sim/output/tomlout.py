@@ -5,7 +5,8 @@ from __future__ import annotations
 import json
 import math
 
-from analytic.format.linkfile import KINDS
+from analytic import kinds
+from analytic.kinds.base import Guide
 
 
 def _value(v) -> str:
@@ -18,6 +19,18 @@ def _value(v) -> str:
     if isinstance(v, (list, tuple)):
         return "[" + ", ".join(_value(x) for x in v) + "]"
     return json.dumps(str(v))
+
+
+def _field(v) -> str:
+    """A field's value as written (a guide, a table of links or of positions, or a plain value)."""
+    if isinstance(v, Guide):
+        if v.points:
+            return _value(list(v.points))
+        through = v.through if isinstance(v.through, str) else list(v.through)
+        return f"{{ through = {_value(through)}, angle = {_value(v.angle)} }}"
+    if isinstance(v, dict):
+        return "{ " + ", ".join(f"{k} = {_value(list(x))}" for k, x in v.items()) + " }"
+    return _value(v)
 
 
 def dump(mech) -> str:
@@ -114,16 +127,8 @@ def generate(mech) -> str:
     for section, elements in (("inputs", d.inputs), ("groups", d.groups)):
         for e in elements:
             lines += ["", f"[[{section}]]", f"kind = {_value(e.kind)}"]
-            for fname in KINDS[e.kind]:
-                v = e.fields[fname]
-                if fname == "guide":
-                    if v.points:
-                        lines.append(f"guide = {_value(list(v.points))}")
-                    else:
-                        through = v.through if isinstance(v.through, str) else list(v.through)
-                        lines.append(f"guide = {{ through = {_value(through)}, angle = {_value(v.angle)} }}")
-                else:
-                    lines.append(f"{fname} = {_value(v)}")
+            for fname in kinds.get(e.kind).fields:
+                lines.append(f"{fname} = {_field(e.fields[fname])}")
     if d.inertia:
         lines += ["", "[inertia]"]
         for link, entry in d.inertia.items():

@@ -17,7 +17,7 @@ import numpy as np
 from mujoco import rollout
 
 from analytic import ParameterError
-from analytic.mechanism import Solution
+from analytic.solution import Solution
 from sim.model import DEFAULT_INTEGRATOR, INTEGRATORS, Built, _jerk, drive_command
 
 MAX_STEPS = 20_000_000

@@ -1,0 +1,332 @@
+"""The protocol every element kind implements, and what kinds share.
+
+An element kind is one module of :mod:`analytic.kinds` holding one :class:`Kind` subclass and an instance of
+it, ``KIND``. The kind owns everything about its elements:
+
+* **format**: its fields (:class:`Field`: a type and a default), extra checks, the points it needs and the
+  points it places (one or several);
+* **topology**: the links it creates with their points, the points it fixes to links that exist, its
+  prismatic pairs and gear couplings (:class:`Structure`);
+* **solver**: positions, exact velocities and accelerations of what it places (:meth:`Kind.solve` on
+  numpy arrays, every sample at once), its singularity measure and any outputs of its own (the
+  transmission angle of an RRR); its compiled row for the numba path where it has one (:attr:`Kind.jit`);
+* **simulation**: constraints the MuJoCo model needs besides the tree of revolute and slide joints and the
+  loop closures that the topology gives (:meth:`Kind.mjcf`, e.g. a gear's coupling).
+
+Nothing outside a kind's module switches on its name: the format, the topology, the solver, the model
+builder and the outputs table ask the kind. Registering a kind is one line in :mod:`analytic.kinds`.
+
+Solved quantities, per sample (arrays of shape (N,), or scalars broadcast against them):
+
+* a point: ``(x, y, vx, vy, ax, ay)`` [m, m/s, m/s^2];
+* a link: ``(cos phi, sin phi, omega, alpha)`` of its angle phi (its frame's x-axis) [rad/s, rad/s^2];
+* a prismatic pair (named after its block link): ``(s, ds, dds)`` [m, m/s, m/s^2].
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+REQUIRED = object()
+"""A field with no default: the file must give it."""
+
+GROUND = "ground"
+"""The name of the frame link (the ground)."""
+
+
+@dataclass(frozen=True)
+class Field:
+    """One field of an element kind.
+
+    ``type`` says what the value is and how it is checked and resolved:
+
+    ========== ===============================================================================
+    point      a point defined elsewhere (a name)
+    new        the point the element places (a name)
+    news       the points the element places (a list of names)
+    points     points defined elsewhere (a list of names)
+    pair       two different points defined elsewhere
+    carrier    a link that exists: two of its points ``["P", "Q"]``, or its name
+    link       a new link's name (default: a pattern of the element's point names)
+    links2     two new links' names
+    linkref    a link that exists (or ``ground``)
+    size       a length > 0 (file units, resolved to m)
+    length     a length of any sign (an offset, a coordinate)
+    lengths2   two sizes
+    xy         two lengths (a position in a link's frame)
+    angle      an angle (rad, or ``"30deg"``); also a speed per second or acceleration per second^2
+    branch     +1 or -1
+    number     a pure number (a gear ratio)
+    guide      ``["P", "Q"]`` (the line P->Q of a link) or ``{through = "P" or [x, y], angle = ...}``
+    linktable  ``{LINK = ["P", "Q", ...], ...}`` (the links of a general group and their points)
+    pose       ``{P = [x, y], ...}`` (assembled positions, file units)
+    ========== ===============================================================================
+    """
+
+    type: str
+    default: object = REQUIRED
+
+
+@dataclass(frozen=True)
+class LinkPart:
+    """A link an element creates: its ``name``, the ``origin`` of its frame (a point on it), the points it
+    carries (``origin`` first), and ``block`` for a sliding block (drawn as a block, light by default)."""
+
+    name: str
+    origin: str
+    points: tuple[str, ...]
+    block: bool = False
+
+
+@dataclass(frozen=True)
+class Attach:
+    """A point fixed to a link that exists: the link carrying both points of ``on`` (a pair), or the link
+    named ``on`` (a string)."""
+
+    point: str
+    on: tuple[str, str] | str
+
+
+@dataclass(frozen=True)
+class Slide:
+    """A prismatic pair: the ``block`` link slides relative to the guide link along a line. The guide link is
+    the one carrying both points of ``guide`` (a pair), the link named ``guide`` (a string), or the ground
+    (None). ``point`` is the block's point on the line (its pin). The pair is named after the block."""
+
+    block: str
+    guide: tuple[str, str] | str | None
+    point: str
+    driven: bool = False
+
+
+@dataclass(frozen=True)
+class Coupling:
+    """A gear pair: ``link`` turns relative to ``carrier`` at ``ratio`` times ``mesh``'s rotation relative to
+    ``carrier`` (a higher pair: one constraint)."""
+
+    link: str
+    mesh: str
+    carrier: str
+    ratio: object
+    """The ratio's resolved field name in the element (it may be a parameter)."""
+
+
+@dataclass(frozen=True)
+class Structure:
+    """What an element adds to the topology."""
+
+    links: tuple[LinkPart, ...] = ()
+    attach: tuple[Attach, ...] = ()
+    slides: tuple[Slide, ...] = ()
+    couplings: tuple[Coupling, ...] = ()
+    pins: tuple[tuple[str, str], ...] = ()
+    """Extra (point, link) incidences: a link pinned at a point it did not create."""
+    driven_pin: tuple[str, str] | None = None
+    """For a driven revolute (a crank): (its point, the driven link); the other link there is the ground."""
+
+
+@dataclass(frozen=True)
+class ExtraOutput:
+    """An output a kind computes besides its points, links and slides: ``name`` (e.g. ``muC``), its
+    ``quantity`` (see :mod:`analytic.quantities`) and what it belongs to."""
+
+    name: str
+    quantity: str
+    owner: str
+
+
+@dataclass(frozen=True)
+class JitSpec:
+    """A kind's compiled row (see :mod:`analytic.solver.jit`): ``layout(e, L, row, par)`` fills the kind's
+    integer row and number row from a resolved element through the layout builder ``L``;
+    ``kernel(st, m, e, ops, par, q, qd, qdd, step, i0, need)`` is a plain Python function numba compiles,
+    solving the element for ``m`` samples of the state ``st``; ``helpers`` names further functions of the
+    kind's module that the kernel calls (compiled with it)."""
+
+    layout: object
+    kernel: object
+    helpers: tuple[str, ...] = ()
+
+
+@dataclass
+class State:
+    """What the solver knows while it works down the elements: points, links, prismatic pairs and extra
+    outputs solved so far (see the module docstring), the inputs (``q``, ``qd``, ``qdd``: (n_inputs, N)),
+    the number of samples and whether the extra outputs are wanted."""
+
+    n: int
+    q: np.ndarray
+    qd: np.ndarray
+    qdd: np.ndarray
+    extras_wanted: bool = True
+    points: dict = field(default_factory=dict)
+    links: dict = field(default_factory=dict)
+    slides: dict = field(default_factory=dict)
+    extras: dict = field(default_factory=dict)
+    start: dict | None = None
+    """What the previous block of samples carried over (its ``carry``), for kinds that continue a motion
+    from sample to sample (numerically solved groups); None for the first block."""
+    carry: dict = field(default_factory=dict)
+    """What this block carries over to the next: small, keyed by element label."""
+
+
+class Kind:
+    """An element kind (see the module docstring). Subclasses set the class attributes and override what
+    differs; the defaults suit a group that places one point ``point``."""
+
+    name: str = ""
+    section: str = "groups"
+    """``inputs`` (a driven input) or ``groups`` (an Assur group or a rigid point)."""
+    summary: str = ""
+    """What it makes, one line (docs, ``linkage check``)."""
+    group_class: str = ""
+    """The Assur group it is (``dyad RRR``, ``triad``...), shown by ``linkage check``; "" for none."""
+    fields: dict[str, Field] = {}
+    input_kind: str | None = None
+    """For inputs: ``crank`` (an angle) or ``slider`` (a distance)."""
+    motion_fields: tuple[str, str, str] = ()
+    """For inputs: the fields of its motion law (start, rate, acceleration)."""
+    jit: JitSpec | None = None
+
+    # ------------------------------------------------------------------------------------ format
+    def places(self, f: dict) -> tuple[str, ...]:
+        """The points the element places."""
+        return (f["point"],)
+
+    def needs(self, f: dict) -> tuple[str, ...]:
+        """The points that must be known before the element can be solved."""
+        raise NotImplementedError
+
+    def needs_links(self, f: dict) -> tuple[str, ...]:
+        """Links that must be solved before the element (beyond those that ``needs`` implies)."""
+        return ()
+
+    def check(self, f: dict) -> str | None:
+        """A problem with the fields as written (one line naming the field), or None."""
+        return None
+
+    def check_context(self, f: dict, ground: tuple[str, ...]) -> str | None:
+        """A problem with the fields given the ground points (once every name is known to exist), or None."""
+        return None
+
+    def check_resolved(self, e: dict) -> str | None:
+        """A problem with the resolved numbers (one line naming the field), or None."""
+        return None
+
+    # ---------------------------------------------------------------------------------- topology
+    def structure(self, f: dict) -> Structure:
+        raise NotImplementedError
+
+    def resolve_extra(self, e: dict, topology) -> None:
+        """Add to the resolved element ``e`` what the solver needs from the topology (a link's origin)."""
+
+    def guide_field(self, f: dict):
+        """The element's guide (a format ``Guide``) if it has one on the ground, for drawing its rail."""
+        return None
+
+    # ------------------------------------------------------------------------------------ solver
+    def solve(self, e: dict, st: State) -> None:
+        """Solve the element on every sample: add its points, links, slides and extras to ``st``."""
+        raise NotImplementedError
+
+    def singularity(self, e: dict, st: State, size: float) -> np.ndarray | None:
+        """A measure in [0, 1] that is 0 where the element is singular (its group cannot transmit motion),
+        from the solved state; None for an element that is never singular."""
+        return None
+
+    def extra_outputs(self, e: dict) -> tuple[ExtraOutput, ...]:
+        return ()
+
+    def slide_frames(self, e: dict) -> dict:
+        """How each of its prismatic pairs is measured: {block: (origin, point, offset)}: ``s`` is the
+        distance from the origin (a point's name or fixed (x, y) [m]) to ``point`` along the block's
+        direction, the line shifted ``offset`` [m] to its left (see :func:`slide_origin`)."""
+        return {}
+
+    # ---------------------------------------------------------------------------------- inputs
+    def input_joint(self, e: dict) -> str:
+        """For inputs: the point it turns or slides about (its pivot, or the guide's origin)."""
+        raise NotImplementedError
+
+    # -------------------------------------------------------------------------------- simulation
+    def mjcf(self, e: dict, model) -> None:
+        """Add constraints the MuJoCo model needs besides its joints and loop closures (``model`` is the
+        builder's context, :class:`sim.model.tree.Context`)."""
+
+
+@dataclass(frozen=True)
+class Guide:
+    """A guide line as written: the line P->Q of the link carrying both points (``points``), or a ground
+    line through a point or coordinates at an angle (``through``, ``angle``)."""
+
+    points: tuple[str, str] | None = None
+    through: str | tuple[object, object] | None = None
+    angle: object = 0.0
+
+    def uses(self) -> tuple[str, ...]:
+        """The points the guide needs."""
+        if self.points:
+            return self.points
+        return (self.through,) if isinstance(self.through, str) else ()
+
+
+# --------------------------------------------------------------------------------- shared geometry
+def cross(ax, ay, bx, by):
+    return ax * by - ay * bx
+
+
+def line(P, Q):
+    """A line through points P -> Q of one rigid link: origin P, unit direction (c, s), its angular
+    velocity and acceleration (from the relative motion of Q about P)."""
+    dx, dy = Q[0] - P[0], Q[1] - P[1]
+    L2 = dx * dx + dy * dy
+    L = np.sqrt(L2)
+    w = cross(dx, dy, Q[2] - P[2], Q[3] - P[3]) / L2
+    a = cross(dx, dy, Q[4] - P[4], Q[5] - P[5]) / L2
+    return P, dx / L, dy / L, w, a
+
+
+def on_frame(O, c, s, w, a, u, v):
+    """Point at local (u, v) in a frame with origin O, x-axis (c, s), angular velocity w, acceleration a."""
+    rx, ry = u * c - v * s, u * s + v * c
+    w2 = w * w
+    return (O[0] + rx, O[1] + ry, O[2] - w * ry, O[3] + w * rx,
+            O[4] - a * ry - w2 * rx, O[5] + a * rx - w2 * ry)
+
+
+def link_from(P, C, length):
+    """The link P -> C of the given length: (cos, sin, omega, alpha)."""
+    rx, ry = C[0] - P[0], C[1] - P[1]
+    l2 = length * length
+    return (rx / length, ry / length, cross(rx, ry, C[2] - P[2], C[3] - P[3]) / l2,
+            cross(rx, ry, C[4] - P[4], C[5] - P[5]) / l2)
+
+
+def fixed_point(x, y, n: int):
+    """A point at rest at (x, y), on n samples."""
+    zero = np.zeros(n)
+    return (zero + x, zero + y, zero, zero, zero, zero)
+
+
+def guide_line(G: dict, st: State):
+    """Origin and motion of a resolved guide (``{"points": (P, Q)}`` or ``{"through": P or (x, y),
+    "angle": a}``), as :func:`line` returns them."""
+    if "points" in G:
+        p, q = G["points"]
+        return line(st.points[p], st.points[q])
+    through = G["through"]
+    O = st.points[through] if isinstance(through, str) else (through[0], through[1], 0.0, 0.0, 0.0, 0.0)
+    return O, np.cos(G["angle"]), np.sin(G["angle"]), 0.0, 0.0
+
+
+def slide_origin(G: dict):
+    """Where a resolved guide measures from: its first point, or ``through`` (a point or (x, y))."""
+    return G["points"][0] if "points" in G else G["through"]
+
+
+def guide_link(G: Guide) -> tuple[str, str] | None:
+    """The link a guide runs on, for :class:`Slide`: the pair of points, or None for a ground line given
+    by a point or coordinates and an angle."""
+    return G.points if G.points else None

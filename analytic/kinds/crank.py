@@ -1,0 +1,103 @@
+"""``crank``: a driven link turning about a ground pivot (an input).
+
+Fields: ``pivot`` (a ground point), ``point`` (the crank tip it places), ``length``, ``link`` (default
+pivot + point), and its motion law ``phi(t) = phi0 + omega t + alpha t^2 / 2``.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from . import compiled as C
+from .base import Field, JitSpec, Kind, LinkPart, State, Structure
+
+
+class Crank(Kind):
+    name = "crank"
+    section = "inputs"
+    summary = "a driven link pivot->point turning about a ground pivot"
+    input_kind = "crank"
+    motion_fields = ("phi0", "omega", "alpha")
+    fields = {"pivot": Field("point"), "point": Field("new"), "length": Field("size"),
+              "link": Field("link", "{pivot}{point}"), "phi0": Field("angle", 0.0),
+              "omega": Field("angle", 2 * math.pi), "alpha": Field("angle", 0.0)}
+
+    def needs(self, f):
+        return (f["pivot"],)
+
+    def check_context(self, f, ground):
+        if f["pivot"] not in ground:
+            return f"field 'pivot': {f['pivot']!r} must be a ground point"
+        return None
+
+    def structure(self, f):
+        return Structure(links=(LinkPart(f["link"], f["pivot"], (f["pivot"], f["point"])),),
+                         driven_pin=(f["pivot"], f["link"]))
+
+    def input_joint(self, e):
+        return e["pivot"]
+
+    def solve(self, e, st: State):
+        j = e["input"]
+        P = st.points[e["pivot"]]
+        r, q, qd, qdd = e["length"], st.q[j], st.qd[j], st.qdd[j]
+        c, s = np.cos(q), np.sin(q)
+        rx, ry = r * c, r * s
+        w2 = qd * qd
+        ax = P[4] - qdd * ry
+        ax -= w2 * rx
+        ay = P[5] + qdd * rx
+        ay -= w2 * ry
+        st.points[e["point"]] = (P[0] + rx, P[1] + ry, P[2] - qd * ry, P[3] + qd * rx, ax, ay)
+        st.links[e["link"]] = (c, s, qd, qdd)
+
+
+def _layout(e, L, row, par):
+    row[2], row[4] = L.point(e["pivot"]), e["input"]
+    par[0] = e["length"]
+    row[3] = L.new_link(e["link"])
+    L.new_point(e["point"])
+
+
+def _sincos_rows(x, s, c):
+    """s, c = sin x, cos x over 1-D arrays (separate arrays: the loop vectorises)."""
+    for i in range(x.shape[0]):
+        s[i], c[i] = C.sincos(x[i])
+
+
+def _kernel(st, m, e, ops, par, q, qd, qdd, step, i0, need):
+    n, p, L, j = ops[e, 1], ops[e, 2], ops[e, 3], ops[e, 4]
+    r = par[e, 0]
+    if step[0] == 0:                                # the same angle at every sample
+        x = q[j, 0]
+        s, c = C.sincos(x) if abs(x) <= C.LOSSTH else (math.sin(x), math.cos(x))
+        for i in range(m):
+            st[L, i] = c
+            st[L + 1, i] = s
+    else:
+        fast = True
+        for i in range(m):
+            if not abs(q[j, i0 + i]) <= C.LOSSTH:   # beyond 2^30 rad, inf, NaN: the C library's
+                fast = False
+        if fast:
+            _sincos_rows(q[j, i0:i0 + m], st[L + 1, :m], st[L, :m])
+        else:
+            for i in range(m):
+                st[L, i] = math.cos(q[j, i0 + i])
+                st[L + 1, i] = math.sin(q[j, i0 + i])
+    s1, s2 = step[1], step[2]
+    for i in range(m):
+        c, s, xd, xdd = st[L, i], st[L + 1, i], qd[j, (i0 + i) * s1], qdd[j, (i0 + i) * s2]
+        rx = r * c
+        ry = r * s
+        w2 = xd * xd
+        C.put(st, n, i, st[p, i] + rx, st[p + 1, i] + ry, st[p + 2, i] - xd * ry, st[p + 3, i] + xd * rx,
+              st[p + 4, i] - xdd * ry - w2 * rx, st[p + 5, i] + xdd * rx - w2 * ry)
+        st[L + 2, i] = xd
+        st[L + 3, i] = xdd
+
+
+KIND = Crank()
+KIND.jit = JitSpec(_layout, _kernel, helpers=("_sincos_rows",))

@@ -1,0 +1,84 @@
+"""``slider``: a block driven along a ground line (an input).
+
+Fields: ``point`` (the block's pin it places), ``guide`` (a ground line), ``link`` (the block, default
+point + ``_block``) and its motion law ``s(t) = s0 + v t + a t^2 / 2``, measured from the guide's origin.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from . import compiled as C
+from .base import (Field, JitSpec, Kind, LinkPart, Slide, State, Structure, guide_line, guide_link, on_frame,
+                   slide_origin)
+
+
+class Slider(Kind):
+    name = "slider"
+    section = "inputs"
+    summary = "a block driven along a ground line: s(t) = s0 + v t + a t^2/2 from the guide's origin"
+    input_kind = "slider"
+    motion_fields = ("s0", "v", "a")
+    fields = {"point": Field("new"), "guide": Field("guide"), "s0": Field("length", 0.0),
+              "v": Field("length", 0.1), "a": Field("length", 0.0), "link": Field("link", "{point}_block")}
+
+    def needs(self, f):
+        return f["guide"].uses()
+
+    def check_context(self, f, ground):
+        if any(p not in ground for p in f["guide"].uses()):
+            return "field 'guide': a driven slider runs on a ground line"
+        return None
+
+    def structure(self, f):
+        link = f["link"]
+        return Structure(links=(LinkPart(link, f["point"], (f["point"],), block=True),),
+                         slides=(Slide(link, guide_link(f["guide"]), f["point"], driven=True),))
+
+    def guide_field(self, f):
+        return f["guide"]
+
+    def slide_frames(self, e):
+        return {e["link"]: (slide_origin(e["guide"]), e["point"], 0.0)}
+
+    def input_joint(self, e):
+        g = e["guide"]
+        if "points" in g:
+            return g["points"][0]
+        return g["through"] if isinstance(g["through"], str) else e["point"]
+
+    def solve(self, e, st: State):
+        j = e["input"]
+        x, xd, xdd = st.q[j], st.qd[j], st.qdd[j]
+        O, c, s, w, a = guide_line(e["guide"], st)
+        P = on_frame(O, c, s, 0.0, 0.0, x, 0.0)
+        st.points[e["point"]] = (P[0], P[1], O[2] + xd * c, O[3] + xd * s, O[4] + xdd * c, O[5] + xdd * s)
+        zero = np.zeros(np.shape(x))
+        st.links[e["link"]] = (zero + c, zero + s, zero, zero)
+        st.slides[e["link"]] = (x, xd, xdd)
+
+
+def _layout(e, L, row, par):
+    row[4] = e["input"]
+    L.guide(row, par, e["guide"])
+    row[3] = L.new_link(e["link"])
+    row[8] = L.new_slide(e["link"])
+    L.new_point(e["point"])
+
+
+def _kernel(st, m, e, ops, par, q, qd, qdd, step, i0, need):
+    n, o, L, j, sl = ops[e, 1], ops[e, 6], ops[e, 3], ops[e, 4], ops[e, 8]
+    s0, s1, s2 = step[0], step[1], step[2]
+    for i in range(m):
+        x, xd, xdd = q[j, (i0 + i) * s0], qd[j, (i0 + i) * s1], qdd[j, (i0 + i) * s2]
+        c, s, w, a = C.guide(st, e, ops, par, i)
+        C.put(st, n, i, st[o, i] + (x * c - 0.0 * s), st[o + 1, i] + (x * s + 0.0 * c), st[o + 2, i] + xd * c,
+              st[o + 3, i] + xd * s, st[o + 4, i] + xdd * c, st[o + 5, i] + xdd * s)
+        C.put4(st, L, i, c, s, 0.0, 0.0)
+        st[sl, i] = x
+        st[sl + 1, i] = xd
+        st[sl + 2, i] = xdd
+
+
+KIND = Slider()
+KIND.jit = JitSpec(_layout, _kernel)
