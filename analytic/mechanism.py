@@ -182,6 +182,12 @@ class Mechanism:
         """The names of the kinds' own outputs (transmission angles ...)."""
         return tuple(x.name for e in self.geometry.elements for x in kinds.get(e["kind"]).extra_outputs(e))
 
+    @functools.cached_property
+    def transmission_angles(self) -> dict[str, str]:
+        """{point: output name} of every transmission angle the kinds compute."""
+        return {x.transmission: x.name for e in self.geometry.elements
+                for x in kinds.get(e["kind"]).extra_outputs(e) if x.transmission}
+
     @property
     def outputs(self) -> tuple[str, ...]:
         """The outputs reported in CSV, JSON and comparisons: SPEC's for a built-in, else all."""

@@ -47,3 +47,22 @@ class Solution(Mapping):
             return None
         k = int(bad[0])
         return k, self.labels[int(self.failed_index.ravel()[k])]
+
+
+class StateView:
+    """Named outputs (a :class:`Solution`, or any mapping of output names to arrays: a simulation's) seen
+    as the solver's state: ``points[P]``, ``links[L]`` and ``slides[J]`` give the tuples the kinds use
+    (see :mod:`analytic.kinds.base`)."""
+
+    def __init__(self, outputs: Mapping):
+        self.points = _Lazy(lambda p: tuple(outputs[c + p] for c in ("x", "y", "vx", "vy", "ax", "ay")))
+        self.links = _Lazy(lambda ln: tuple(outputs[c + ln] for c in ("cos", "sin", "omega", "alpha")))
+        self.slides = _Lazy(lambda j: tuple(outputs[c + j] for c in ("s", "ds", "dds")))
+
+
+class _Lazy:
+    def __init__(self, get):
+        self.get = get
+
+    def __getitem__(self, key):
+        return self.get(key)

@@ -85,3 +85,39 @@ def test_run_end_to_end_reduced(tmp_path):
             assert (tmp_path / f"{name}.{ext}").stat().st_size > 0
         assert iio.imread(tmp_path / f"{name}.gif", index=None).shape[0] == 4     # 0.25 s at 12 fps
     assert r.stdout.count("PASSED") == 6                    # three tables and three summary lines
+
+
+def test_a_signal_while_ffmpeg_starts_stops_it_before_the_temporary_is_removed(tmp_path, monkeypatch):
+    """Ctrl-C arriving while ffmpeg starts (the window where an orphaned ffmpeg used to write its file after
+    the temporary was removed): it is delivered once the writer can stop ffmpeg, ffmpeg is stopped at once
+    (no trailer written), and nothing is left in the folder."""
+    import signal
+
+    import imageio_ffmpeg
+
+    from sim.output import render
+
+    events = []
+
+    def fake_write_frames(path, *args, **kwargs):
+        open(path, "wb").close()                  # ffmpeg opens its output
+        events.append("started")
+        signal.raise_signal(signal.SIGINT)        # the user presses Ctrl-C now
+        try:
+            while True:
+                yield
+        except KeyboardInterrupt:
+            events.append("killed")               # imageio-ffmpeg's kill path
+            raise
+        except GeneratorExit:
+            events.append("closed")               # would wait for ffmpeg and let it write its trailer
+            with open(path, "wb"):
+                pass
+
+    monkeypatch.setattr(imageio_ffmpeg, "write_frames", fake_write_frames)
+    out = tmp_path / "v.mp4"
+    with pytest.raises(KeyboardInterrupt):
+        with render.atomic_path(out) as tmp, render._Writer(tmp, 30.0, (64, 48)):
+            pass
+    assert events == ["started", "killed"]
+    assert list(tmp_path.iterdir()) == []

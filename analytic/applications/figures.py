@@ -13,7 +13,9 @@ import math
 
 import numpy as np
 
+from analytic import kinds
 from analytic._common import fmt_deg
+from analytic.solution import StateView
 
 SINGULAR = 1e-6
 """A group whose singularity measure falls below this is at a singular (change-point) pose: its rates
@@ -116,21 +118,14 @@ def describe_ranges(first, ranges) -> str:
 
 
 def singularity(mech, sol) -> dict[str, np.ndarray]:
-    """Each group's singularity measure (see the module docstring), keyed by the group's label."""
+    """Each group's singularity measure (see the module docstring), keyed by the group's label: what its
+    kind says (:meth:`analytic.kinds.base.Kind.singularity`) from the solution."""
+    view = StateView(sol)
     out = {}
-    size = mech.size
     for e in mech.geometry.elements:
-        kind, p = e["kind"], e["point"]
-        if kind == "RRR":
-            out[e["label"]] = np.sin(sol["mu" + p])
-        elif kind == "RRP":
-            q = e["from"]
-            rx, ry = sol["x" + p] - sol["x" + q], sol["y" + p] - sol["y" + q]
-            block = e["links"][1]
-            c, s = sol["cos" + block], sol["sin" + block]
-            out[e["label"]] = np.abs(rx * c + ry * s) / e["length"]
-        elif kind == "RPR":
-            out[e["label"]] = np.abs(sol["s" + e["links"][1]]) / size
+        m = kinds.get(e["kind"]).singularity(e, view, mech.size)
+        if m is not None:
+            out[e["label"]] = m
     return out
 
 
@@ -204,8 +199,7 @@ def general(mech, sol) -> dict:
         f"x{p}_range": _span(sol["x" + p]), f"y{p}_range": _span(sol["y" + p]),
         f"v{p}_min": float(np.nanmin(speed)), f"v{p}_mean": float(np.nanmean(speed)),
         f"v{p}_max": float(np.nanmax(speed)),
-        "transmission": {e["point"]: _span(sol["mu" + e["point"]]) for e in mech.geometry.elements
-                         if e["kind"] == "RRR"},
+        "transmission": {p: _span(sol[name]) for p, name in mech.transmission_angles.items()},
     }
     if len(mech.inputs) == 1:
         ranges = assembly_ranges(mech)

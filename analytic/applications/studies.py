@@ -243,11 +243,10 @@ def sweep_mechanism(base, vary: dict[str, list[float]], samples: int = 360, keep
     total = math.prod(len(vary[k]) for k in keys)
     mesh = np.meshgrid(*(np.asarray(vary[k], dtype=float) for k in keys), indexing="ij")
     columns = {k: m.ravel() for k, m in zip(keys, mesh)}      # the first parameter varies slowest
-    has_mu = any(e["kind"] == "RRR" for e in base.geometry.elements)
-    names = STATS + (("mu_min",) if has_mu else ()) + ("period",)
+    mus = list(base.transmission_angles.values())
+    names = STATS + (("mu_min",) if mus else ()) + ("period",)
     p = base.output_point
-    want = ["x" + p, "y" + p, "vx" + p, "vy" + p] + [
-        "mu" + e["point"] for e in base.geometry.elements if e["kind"] == "RRR"]
+    want = ["x" + p, "y" + p, "vx" + p, "vy" + p] + mus
     u = np.linspace(0.0, 1.0, samples + 1)
     rows, paths = [], []
     for start in range(0, total, DESIGNS_PER_CHUNK):
@@ -265,7 +264,7 @@ def sweep_mechanism(base, vary: dict[str, list[float]], samples: int = 360, keep
         x, y, vx, vy = (sol[k + p] for k in ("x", "y", "vx", "vy"))
         with np.errstate(invalid="ignore", divide="ignore"):
             stats = _stats(x, y, vx, vy)
-            if has_mu:
+            if mus:
                 stats["mu_min"] = np.min([sol[n] for n in want[4:]], axis=(0, 2))
         stats["period"] = T
         table = np.stack([stats[n] for n in names], axis=1)

@@ -135,6 +135,8 @@ class ExtraOutput:
     name: str
     quantity: str
     owner: str
+    transmission: str | None = None
+    """For a transmission angle: the point it is measured at (figures of merit collect these)."""
 
 
 @dataclass(frozen=True)
@@ -222,9 +224,9 @@ class Kind:
     def resolve_extra(self, e: dict, topology) -> None:
         """Add to the resolved element ``e`` what the solver needs from the topology (a link's origin)."""
 
-    def guide_field(self, f: dict):
-        """The element's guide (a format ``Guide``) if it has one on the ground, for drawing its rail."""
-        return None
+    def rails(self, e: dict) -> tuple[tuple[str, dict, float], ...]:
+        """Blocks sliding on ground lines, for drawing their rails: (block, resolved guide, offset) each."""
+        return ()
 
     # ------------------------------------------------------------------------------------ solver
     def solve(self, e: dict, st: State) -> None:
@@ -238,6 +240,11 @@ class Kind:
 
     def extra_outputs(self, e: dict) -> tuple[ExtraOutput, ...]:
         return ()
+
+    def measured_extras(self, e: dict, st) -> dict:
+        """Its own outputs from a measured state (``st.points``, ``st.links``, ``st.slides``: the simulated
+        ones), named as :meth:`extra_outputs` names them."""
+        return {}
 
     def slide_frames(self, e: dict) -> dict:
         """How each of its prismatic pairs is measured: {block: (origin, point, offset)}: ``s`` is the

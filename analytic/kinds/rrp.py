@@ -34,8 +34,8 @@ class RRP(Kind):
         return Structure(links=(LinkPart(rod, f["from"], (f["from"], c)), LinkPart(block, c, (c,), block=True)),
                          slides=(Slide(block, guide_link(f["guide"]), c),))
 
-    def guide_field(self, f):
-        return f["guide"]
+    def rails(self, e):
+        return ((e["links"][1], e["guide"], e["offset"]),) if "points" not in e["guide"] else ()
 
     def slide_frames(self, e):
         return {e["links"][1]: (slide_origin(e["guide"]), e["point"], e["offset"])}

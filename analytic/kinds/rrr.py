@@ -31,7 +31,7 @@ class RRR(Kind):
         return Structure(links=(LinkPart(m, p, (p, c)), LinkPart(n, q, (q, c))))
 
     def extra_outputs(self, e):
-        return (ExtraOutput("mu" + e["point"], ANGLE, "transmission angle at " + e["point"]),)
+        return (ExtraOutput("mu" + e["point"], ANGLE, "transmission angle at " + e["point"], e["point"]),)
 
     def solve(self, e, st: State):
         p, q = e["from"]
@@ -41,6 +41,11 @@ class RRR(Kind):
         st.links[e["links"][0]], st.links[e["links"][1]] = lm, ln
         if st.extras_wanted:
             st.extras["mu" + e["point"]] = mu
+
+    def measured_extras(self, e, st):
+        c1, s1, _, _ = st.links[e["links"][0]]
+        c2, s2, _, _ = st.links[e["links"][1]]
+        return {"mu" + e["point"]: np.arctan2(np.abs(c1 * s2 - s1 * c2), np.abs(c1 * c2 + s1 * s2))}
 
     def singularity(self, e, st, size):
         c1, s1, _, _ = st.links[e["links"][0]]

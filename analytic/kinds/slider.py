@@ -35,8 +35,8 @@ class Slider(Kind):
         return Structure(links=(LinkPart(link, f["point"], (f["point"],), block=True),),
                          slides=(Slide(link, guide_link(f["guide"]), f["point"], driven=True),))
 
-    def guide_field(self, f):
-        return f["guide"]
+    def rails(self, e):
+        return ((e["link"], e["guide"], 0.0),) if "points" not in e["guide"] else ()
 
     def slide_frames(self, e):
         return {e["link"]: (slide_origin(e["guide"]), e["point"], 0.0)}

@@ -291,7 +291,7 @@ def motion_table(designs: Designs) -> np.ndarray:
     inputs = _input_elements(designs)
     out = np.empty((k, len(inputs), 3))
     for j, (e_index, kind) in enumerate(inputs):
-        names = ("phi0", "omega", "alpha") if kind == "crank" else ("s0", "v", "a")
+        names = kinds.get(kind).motion_fields
         for idx, geo in designs.groups:
             e = geo.elements[e_index]
             for c, name in enumerate(names):
@@ -327,7 +327,8 @@ def drive(designs: Designs, t: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.n
 
 
 def _input_elements(designs: Designs):
-    return [(i, e["kind"]) for i, e in enumerate(designs.base.geometry.elements) if e["kind"] in ("crank", "slider")]
+    return [(i, e["kind"]) for i, e in enumerate(designs.base.geometry.elements)
+            if kinds.get(e["kind"]).section == "inputs"]
 
 
 # ------------------------------------------------------------------------------------------- solve

@@ -478,22 +478,21 @@ def _draw_ground(spec, mech, points, radius):
                        size=[3 * radius, 2 * radius, 0.7 * radius], pos=[x, y - 2 * radius, -2 * radius],
                        material="ground", contype=0, conaffinity=0)
     # ground guide lines: a rail over the block's travel
-    for e in mech.geometry.elements:
-        if e["kind"] in ("slider", "RRP") and "points" not in e["guide"]:
-            t = np.linspace(0.0, mech.duration(1.0), 181)
-            sol = mech.solve(*mech.drive(t))
-            block = e["link"] if e["kind"] == "slider" else e["links"][1]
-            s = sol["s" + block]
-            lo, hi = float(np.nanmin(s)), float(np.nanmax(s))
-            g = e["guide"]
-            ox, oy = (points[g["through"]] if isinstance(g["through"], str) else g["through"])
-            c, sn = math.cos(g["angle"]), math.sin(g["angle"])
-            mid = 0.5 * (lo + hi)
-            off = e.get("offset", 0.0)
-            world.add_geom(name=f"rail_{block}", type=mujoco.mjtGeom.mjGEOM_BOX,
-                           size=[0.5 * (hi - lo) + 3 * radius, 0.4 * radius, 0.2 * radius],
-                           pos=[ox + mid * c - off * sn, oy + mid * sn + off * c, -2 * radius],
-                           quat=_quat(g["angle"]), material="ground", contype=0, conaffinity=0)
+    from analytic import kinds
+    rails = [r for e in mech.geometry.elements for r in kinds.get(e["kind"]).rails(e)]
+    if rails:
+        t = np.linspace(0.0, mech.duration(1.0), 181)
+        sol = mech.solve(*mech.drive(t))
+    for block, g, off in rails:
+        s = sol["s" + block]
+        lo, hi = float(np.nanmin(s)), float(np.nanmax(s))
+        ox, oy = (points[g["through"]] if isinstance(g["through"], str) else g["through"])
+        c, sn = math.cos(g["angle"]), math.sin(g["angle"])
+        mid = 0.5 * (lo + hi)
+        world.add_geom(name=f"rail_{block}", type=mujoco.mjtGeom.mjGEOM_BOX,
+                       size=[0.5 * (hi - lo) + 3 * radius, 0.4 * radius, 0.2 * radius],
+                       pos=[ox + mid * c - off * sn, oy + mid * sn + off * c, -2 * radius],
+                       quat=_quat(g["angle"]), material="ground", contype=0, conaffinity=0)
 
 
 def _add_inertias(spec, mech, points, frames, loads):

@@ -56,6 +56,28 @@ def atomic_path(path: str | os.PathLike):
         raise
 
 
+@contextlib.contextmanager
+def deferred_signals():
+    """Hold Ctrl-C and SIGTERM until the block ends, then deliver them: for a step that must not be cut in
+    two (starting ffmpeg: interrupted between its start and the writer's clean-up, it would write its file
+    after the temporary was removed). Outside the main thread: nothing is held."""
+    import signal
+    import threading
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    caught: list[int] = []
+    sigs = (signal.SIGINT, signal.SIGTERM)
+    old = {s: signal.signal(s, lambda signum, frame: caught.append(signum)) for s in sigs}
+    try:
+        yield
+    finally:
+        for s, handler in old.items():
+            signal.signal(s, handler)
+        for s in caught[:1]:
+            signal.raise_signal(s)
+
+
 def write_csv(path, columns: dict[str, np.ndarray]) -> None:
     """Write named columns as CSV with a header row, atomically. Values in full double precision."""
     names = list(columns)

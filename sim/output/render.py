@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from analytic import ParameterError
-from sim.output.io import atomic_path, check_writable
+from sim.output.io import atomic_path, check_writable, deferred_signals
 from sim.output.progress import Progress
 
 VIDEO_SUFFIXES = (".mp4", ".gif")
@@ -105,10 +105,31 @@ class _Writer:
         else:
             kw = dict(codec="libx264", pix_fmt_out="yuv420p", quality=None,
                       output_params=["-crf", "23", "-preset", "ultrafast", "-movflags", "+faststart"])
+        self.frames = 0
         self._gen = imageio_ffmpeg.write_frames(path, size, fps=float(fps), macro_block_size=1,
                                                 ffmpeg_log_level="error", **kw)
-        self._gen.send(None)                      # start ffmpeg
-        self.frames = 0
+        try:
+            with deferred_signals():              # a signal while ffmpeg starts is delivered after it
+                self._gen.send(None)
+        except BaseException:                     # ...and ends it before the temporary file is removed
+            self.abort()
+            raise
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, exc_type, *exc) -> None:
+        if exc_type is None:
+            self.close()
+        else:
+            self.abort()
+
+    def abort(self) -> None:
+        """Stop ffmpeg at once (the file is being thrown away): no trailer, nothing on the terminal."""
+        try:
+            self._gen.throw(KeyboardInterrupt)     # imageio-ffmpeg kills ffmpeg on a KeyboardInterrupt
+        except (KeyboardInterrupt, StopIteration):
+            pass
 
     def append(self, frame: np.ndarray) -> None:
         self._gen.send(np.ascontiguousarray(frame))
@@ -157,13 +178,9 @@ def render(built, tr, out: str, fps: float = 30.0, size: tuple[int, int] = (640,
     q = np.interp(instants, tr.t, tr.inputs[mech.inputs[0].q])
     progress = Progress(len(frames), f"rendering {Path(out).name}")
     t0 = time.perf_counter()
-    with atomic_path(out) as tmp:
-        writer = _Writer(tmp, fps, size)
-        try:
-            for i, k in enumerate(frames):
-                writer.append(painter.frame(xy[i], {ln: a[i] for ln, a in angles.items()}, _trace(path, k), whole,
-                                            float(instants[i]), float(q[i]), markers))
-                progress.update(i + 1)
-        finally:
-            writer.close()
+    with atomic_path(out) as tmp, _Writer(tmp, fps, size) as writer:     # ffmpeg ends before tmp is removed
+        for i, k in enumerate(frames):
+            writer.append(painter.frame(xy[i], {ln: a[i] for ln, a in angles.items()}, _trace(path, k), whole,
+                                        float(instants[i]), float(q[i]), markers))
+            progress.update(i + 1)
     return RenderStats(len(frames), time.perf_counter() - t0, str(out), fps)

@@ -17,7 +17,8 @@ import numpy as np
 from mujoco import rollout
 
 from analytic import ParameterError
-from analytic.solution import Solution
+from analytic import kinds
+from analytic.solution import Solution, StateView
 from sim.model import DEFAULT_INTEGRATOR, INTEGRATORS, Built, _jerk, drive_command
 
 MAX_STEPS = 20_000_000
@@ -131,11 +132,9 @@ def measure(built: Built, sens: np.ndarray):
         out["ds" + block] = (out["vx" + point] - O[2]) * c + (out["vy" + point] - O[3]) * s + offset * w
         out["dds" + block] = ((out["ax" + point] - O[4]) * c + (out["ay" + point] - O[5]) * s + sd * w * w
                               + offset * a)
+    view = StateView(out)
     for e in mech.geometry.elements:
-        if e["kind"] == "RRR":
-            m, n = e["links"]
-            d = out["phi" + m] - out["phi" + n]
-            out["mu" + e["point"]] = np.arctan2(np.abs(np.sin(d)), np.abs(np.cos(d)))
+        out.update(kinds.get(e["kind"]).measured_extras(e, view))
     inputs = {}
     for d in built.drives:
         inp = d.input
