@@ -10,7 +10,7 @@ two scalar constraint equations per element, in the element's own point (x, y):
 * ``RRP``     |C - P|^2 = l^2,  cross(u, C - O) = offset   (O, u: the guide line, possibly moving)
 * ``RPR``     |R - P|^2 = l^2,  cross(R - P, Q - P) = l * offset
               (Q - P = s u + offset u_perp with u = (R - P)/l, so cross(u, Q - P) = offset)
-* ``point``   R = P + u e + v e_perp                   (e: unit vector P -> Q)
+* ``point``   R = P + u e + v e_perp                   (e: unit vector P -> Q, or a named link's x-axis)
 
 All unknowns are solved together: ``F(x; q) = 0`` for all samples at once (batched 2n x 2n systems).
 
@@ -120,6 +120,32 @@ def _guide(G, pts):
     return O, (Jet(math.cos(G["angle"])), Jet(math.sin(G["angle"])))
 
 
+def _frame(geometry, on, pts):
+    """(origin, unit x-axis) of the frame a ``point`` is given in: two points P -> Q, or a link by name (SPEC:
+    origin its first point, x-axis its angle: the direction first point -> second point as the file lists
+    them; a block's: its pin, along its guide; the slotted link of an RPR: pivot, along the slot)."""
+    if not isinstance(on, str):
+        P, Qp = (pts[n] for n in on)
+        return P, _unit(P, Qp)
+    for e in geometry.elements:
+        k = e["kind"]
+        if k == "crank" and e["link"] == on:
+            return pts[e["pivot"]], _unit(pts[e["pivot"]], pts[e["point"]])
+        if k == "slider" and e["link"] == on:
+            return pts[e["point"]], _guide(e["guide"], pts)[1]
+        if k == "RRR" and on in e["links"]:
+            P = pts[e["from"][e["links"].index(on)]]
+            return P, _unit(P, pts[e["point"]])
+        if k == "RRP" and on == e["links"][0]:
+            return pts[e["from"]], _unit(pts[e["from"]], pts[e["point"]])
+        if k == "RRP" and on == e["links"][1]:
+            return pts[e["point"]], _guide(e["guide"], pts)[1]
+        if k == "RPR" and on in e["links"]:
+            P = pts[e["pivot"]] if on == e["links"][0] else pts[e["through"]]
+            return P, _unit(pts[e["pivot"]], pts[e["point"]])
+    raise ValueError(f"no link named {on!r}")
+
+
 def residual(geometry, X, Q):
     """The constraint residuals (list of Jets, two per element) at unknown points ``X`` {name: (Jet, Jet)}
     and inputs ``Q`` (list of Jets, in input order)."""
@@ -152,8 +178,7 @@ def residual(geometry, X, Q):
             rows += [_dot(R[0] - P[0], R[1] - P[1], R[0] - P[0], R[1] - P[1]) - l * l,
                      _cross(R[0] - P[0], R[1] - P[1], Qp[0] - P[0], Qp[1] - P[1]) - l * e["offset"]]
         elif kind == "point":
-            P, Qp = (pts[n] for n in e["on"])
-            ex, ey = _unit(P, Qp)
+            P, (ex, ey) = _frame(geometry, e["on"], pts)
             u, v = e["at"]
             rows += [R[0] - P[0] - (u * ex - v * ey), R[1] - P[1] - (u * ey + v * ex)]
         else:

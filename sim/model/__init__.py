@@ -152,6 +152,45 @@ class Loop:
 
 
 @dataclass(frozen=True)
+class Context:
+    """What a kind's :meth:`~analytic.kinds.base.Kind.mjcf` hook sees while the model is built: the spec
+    being built, the mechanism, the spanning tree (parent, child, joint) from the ground outwards, every
+    body's world pose (x, y, angle) and every point's position at t = 0 [m], the time step [s] and the
+    settings. Every joint's position is 0 at the assembled pose the bodies are placed in."""
+
+    spec: object
+    mech: object
+    tree: tuple
+    frames: dict
+    points: dict
+    timestep: float
+    settings: Settings
+
+    def angle_terms(self, link: str) -> dict[str, float]:
+        """The link's angle minus its angle at t = 0 as a sum of hinge positions {joint name: coefficient}
+        (the hinges on the tree path from the ground to it; slides do not turn). The ground: {}."""
+        parent = {child: (par, j) for par, child, j in self.tree}
+        out: dict[str, float] = {}
+        while link in parent:
+            link, j = parent[link][0], parent[link][1]
+            if j.kind == "revolute":
+                out[j.name] = out.get(j.name, 0.0) + 1.0
+        return out
+
+    def couple(self, name: str, terms: dict[str, float]) -> None:
+        """Hold sum(coef x joint position) at its value at t = 0 (0): a fixed tendon over the joints and a
+        tendon equality constraint, stiff as the loops' (solref, solimp as the loop closures)."""
+        tendon = self.spec.add_tendon(name=name)
+        for joint, coef in terms.items():
+            if coef != 0.0:
+                tendon.wrap_joint(joint, coef)
+        eq = self.spec.add_equality(name=f"couple_{name}", type=mujoco.mjtEq.mjEQ_TENDON, name1=name)
+        eq.data[:5] = [0.0, 0.0, 0.0, 0.0, 0.0]
+        eq.solref = [self.settings.timeconst * self.timestep, 1.0]
+        eq.solimp = [0.9999, 0.9999, 0.001, 0.5, 2]
+
+
+@dataclass(frozen=True)
 class Built:
     """A compiled model with the mechanism it was built from, its initial state and its parts."""
 
@@ -422,6 +461,10 @@ def _build(mech, settings, loads, h, sol, points, q_start, revolutions) -> Built
         eq.solimp = [0.9999, 0.9999, 0.001, 0.5, 2]
         loops.append(Loop(eq.name, j.point, site1, name2))
 
+    context = Context(spec, mech, order, frames, points, h, settings)
+    from analytic import kinds
+    for e in mech.geometry.elements:                   # constraints a kind adds (a gear's coupling)
+        kinds.get(e["kind"]).mjcf(e, context)
     _add_inertias(spec, mech, points, frames, loads)
     drives = _add_drives(spec, mech, order, q_start, h)
     _add_load(spec, mech, loads)
