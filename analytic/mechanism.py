@@ -62,6 +62,9 @@ class Mechanism:
                 raise ParameterError(f"{name}={values[name]:g} is not a valid length: it must be > 0 "
                                      f"[{definition.units}]{where}")
         geometry = linkfile.resolve(definition, values)
+        problem = kinematics.start_problem(geometry)
+        if problem:
+            raise ParameterError(f"{definition.source}: {problem}")
         mech = cls(definition, values, geometry, builtin, definition.description, None, dict(overrides or {}))
         if builtin is not None:
             builtin.parameters(values)                   # the dedicated model's own checks
@@ -201,15 +204,9 @@ class Mechanism:
 
     @functools.cached_property
     def size(self) -> float:
-        """The mechanism's size [m]: its longest link (every size field) or the spread of its ground points,
+        """The mechanism's size [m]: its longest link (every kind's ``extent``) or the spread of its ground points,
         whichever is larger; sets scale-relative tolerances and drawing sizes."""
-        lengths = []
-        for e in self.geometry.elements:
-            for fname, fld in kinds.get(e["kind"]).fields.items():
-                if fld.type == "size":
-                    lengths.append(abs(e[fname]))
-                elif fld.type == "lengths2":
-                    lengths += [abs(x) for x in e[fname]]
+        lengths = [kinds.get(e["kind"]).extent(e) for e in self.geometry.elements]
         xy = np.array(list(self.geometry.ground.values()) or [(0.0, 0.0)])
         spread = float(np.max(np.ptp(xy, axis=0))) if len(xy) > 1 else 0.0
         return max(lengths + [spread, 1e-12])

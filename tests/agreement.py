@@ -28,6 +28,8 @@ FD_STEPS = 4000          # finite-difference step h = period / FD_STEPS
 FD_TOL = 1e-7            # five-point differences, / peak rate: truncation (omega h)^4/30 x harmonics (Jansen 5e-9) + eps size/h
 MIN_MU_DEG = 8.0         # dead-centre clearance of a shipped file: Jansen's holy numbers reach 8.6 deg at D, others >= 23
 MIN_SLIDE = 0.05         # |s| / size of a slotted link (its rates grow like 1/s): Whitworth's block comes to 0.1
+MIN_SINGULARITY = 0.05   # every kind's singularity measure (figures.singularity; rates ~ 1/measure): the least of
+#                          the two above (sin 8 deg = 0.14 for a dyad); the numeric groups shipped stay above 0.3
 MAX_DENOMINATOR = 64     # two cranks: speed ratio taken as p/q with q <= 64 to find the common period
 
 

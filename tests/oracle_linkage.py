@@ -11,6 +11,8 @@ two scalar constraint equations per element, in the element's own point (x, y):
 * ``RPR``     |R - P|^2 = l^2,  cross(R - P, Q - P) = l * offset
               (Q - P = s u + offset u_perp with u = (R - P)/l, so cross(u, Q - P) = offset)
 * ``point``   R = P + u e + v e_perp                   (e: unit vector P -> Q, or a named link's x-axis)
+* ``group``   per link p0, p1, p2...: |p1 - p0|^2 = L^2 and pk = p0 + u e + v e_perp (e: unit p0 -> p1), with
+              L, u, v measured here from the file's pose; two rows per point the group places
 
 All unknowns are solved together: ``F(x; q) = 0`` for all samples at once (batched 2n x 2n systems).
 
@@ -25,7 +27,8 @@ and the Jacobian J itself is F1 with unit seeds (forward-mode differentiation). 
 given guess (the caller perturbs the analytic solution) and the branch it lands on is then checked
 against the file's conventions independently of the solver: RRR branch +1 puts C left of P->Q
 (cross(Q - P, C - P) > 0); RRP branch +1 takes the intersection farther along the guide
-(dot(C - P, u) > 0); RPR branch +1 puts R on the side of Q (dot(R - P, Q - P) > 0).
+(dot(C - P, u) > 0); RPR branch +1 puts R on the side of Q (dot(R - P, Q - P) > 0); a group keeps the
+sign its equations' Jacobian (in the points it places, rows as written above) has at the file's pose.
 """
 
 from __future__ import annotations
@@ -143,7 +146,28 @@ def _frame(geometry, on, pts):
         if k == "RPR" and on in e["links"]:
             P = pts[e["pivot"]] if on == e["links"][0] else pts[e["through"]]
             return P, _unit(pts[e["pivot"]], pts[e["point"]])
+        if k == "group" and on in e["links"]:
+            p0, p1 = e["links"][on][:2]
+            return pts[p0], _unit(pts[p0], pts[p1])
     raise ValueError(f"no link named {on!r}")
+
+
+def _group_rows(e, pts):
+    """A ``group``'s equations (see the module docstring): lengths and frame coordinates from its pose."""
+    pose = {p: (float(x), float(y)) for p, (x, y) in e["pose"].items()}
+    rows = []
+    for names in e["links"].values():
+        (ax, ay), (bx, by) = pose[names[0]], pose[names[1]]
+        L = math.hypot(bx - ax, by - ay)
+        P, Q = pts[names[0]], pts[names[1]]
+        rows.append(_dot(Q[0] - P[0], Q[1] - P[1], Q[0] - P[0], Q[1] - P[1]) - L * L)
+        ex, ey = _unit(P, Q)
+        for k in names[2:]:
+            rx, ry = pose[k][0] - ax, pose[k][1] - ay
+            u, v = ((bx - ax) * rx + (by - ay) * ry) / L, ((bx - ax) * ry - (by - ay) * rx) / L
+            R = pts[k]
+            rows += [R[0] - P[0] - (u * ex - v * ey), R[1] - P[1] - (u * ey + v * ex)]
+    return rows
 
 
 def residual(geometry, X, Q):
@@ -181,6 +205,8 @@ def residual(geometry, X, Q):
             P, (ex, ey) = _frame(geometry, e["on"], pts)
             u, v = e["at"]
             rows += [R[0] - P[0] - (u * ex - v * ey), R[1] - P[1] - (u * ey + v * ex)]
+        elif kind == "group":
+            rows += _group_rows(e, pts)
         else:
             raise ValueError(f"unknown element kind {kind!r}")
     return rows
@@ -188,7 +214,7 @@ def residual(geometry, X, Q):
 
 # ------------------------------------------------------------------------------------------- solving
 def _names(geometry):
-    return [e["point"] for e in geometry.elements]
+    return [p for e in geometry.elements for p in e["places"]]
 
 
 def _pack(names, x, xd=None, xdd2=None):
@@ -262,6 +288,9 @@ def branch_violations(geometry, points):
     P = {n: (v[0], v[1]) for n, v in points.items()}
     bad = {}
     for e in geometry.elements:
+        if e["kind"] == "group":
+            bad[e["label"]] = _group_branch_violations(e, P)
+            continue
         R = P[e["point"]]
         if e["kind"] == "RRR":
             A, B = (P[n] for n in e["from"])
@@ -282,6 +311,27 @@ def branch_violations(geometry, points):
             continue
         bad[e["label"]] = int(np.sum(e["branch"] * side <= 0))
     return bad
+
+
+def _group_det(e, P):
+    """det of a group's equations' Jacobian in the points it places, at positions P {name: (x, y)}."""
+    unknown = list(e["places"])
+    n = 2 * len(unknown)
+    N = np.size(np.asarray(P[unknown[0]][0]))
+    cols = []
+    for c in range(n):
+        pts = {p: (Jet(np.asarray(xy[0], float)), Jet(np.asarray(xy[1], float))) for p, xy in P.items()}
+        p = unknown[c // 2]
+        x, y = pts[p]
+        pts[p] = (Jet(x.c0, float(c % 2 == 0)), Jet(y.c0, float(c % 2 == 1)))
+        cols.append(np.stack([np.broadcast_to(r.c1, (N,)) for r in _group_rows(e, pts)], -1))
+    return np.linalg.det(np.stack(cols, -1))
+
+
+def _group_branch_violations(e, P):
+    """Samples where a group's Jacobian determinant has another sign than at the file's pose."""
+    at_pose = _group_det(e, {p: (np.array([x]), np.array([y])) for p, (x, y) in e["pose"].items()})[0]
+    return int(np.sum(np.sign(_group_det(e, P)) != np.sign(at_pose)))
 
 
 def slides(geometry, points):
@@ -333,4 +383,7 @@ def link_rates(geometry, points):
             out[e["links"][1]] = rates(*G["points"]) if "points" in G else (0.0, 0.0)
         elif k == "RPR":
             out[e["links"][0]] = out[e["links"][1]] = rates(e["pivot"], pt)
+        elif k == "group":
+            for ln, names in e["links"].items():
+                out[ln] = rates(names[0], names[1])
     return out

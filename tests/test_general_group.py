@@ -86,7 +86,7 @@ BRANCHES = {"pose": np.r_[POSE["D"], POSE["E"], POSE["F"]], "other": None}
 def branch_case(request):
     z = BRANCHES["pose"] if request.param == "pose" else _other_pose()
     g = _group(z)
-    sol = solve_group(g, _known(Q), coarse=40)   # 40 < 161 samples: the batched path is exercised
+    sol = solve_group(g, _known(Q))   # 40 < 161 samples: the batched path is exercised
     return z, g, sol
 
 
@@ -106,7 +106,7 @@ def test_positions_match_the_oracle_on_both_branches(branch_case):
 def test_the_two_branches_differ_and_are_reported():
     g1, g2 = _group(BRANCHES["pose"]), _group(_other_pose())
     assert g1.branch == -g2.branch
-    s2 = solve_group(g2, _known(Q), coarse=40)
+    s2 = solve_group(g2, _known(Q))
     assert s2.branch == g2.branch
     assert np.min(np.abs(_xyz(s2, 0) - _oracle(Q, BRANCHES["pose"])).max(axis=1)) > 0.1
 
@@ -144,7 +144,7 @@ def test_link_rates_match_finite_differences_of_the_solved_angle(branch_case):
     c, s, w, al = sol.links["T"]
 
     def phi(dq):
-        so = solve_group(g, _known(Q + dq), coarse=40)
+        so = solve_group(g, _known(Q + dq))
         D, E = so.points["D"], so.points["E"]
         return np.arctan2(E[1] - D[1], E[0] - D[0])
 
@@ -168,7 +168,7 @@ def test_a_dyad_as_a_general_group_equals_the_closed_form_rrr(branch):
     C, links, _ = _rrr(P, Q_, a, b, branch)
     pose = dict(P=(P[0][0], P[1][0]), Q=(3.0, 0.0), C=(C[0][0], C[1][0]))
     g = make_group({"2": ("P", "C"), "3": ("Q", "C")}, ("P", "Q"), ("C",), pose)
-    sol = solve_group(g, dict(P=P, Q=Q_), coarse=50)
+    sol = solve_group(g, dict(P=P, Q=Q_))
     assert sol.assembled.all()
     for k in range(6):
         scale = g.size if k < 2 else np.max(np.abs(C[k]))   # size, or the closed form's peak rate
@@ -180,7 +180,7 @@ def test_a_dyad_as_a_general_group_equals_the_closed_form_rrr(branch):
 
 def test_samples_where_the_triad_cannot_assemble_are_flagged():
     q = Q0 + np.linspace(0.0, 2 * np.pi, 400)     # a full turn: the triad locks near Q0 + 0.96
-    sol = solve_group(_group(BRANCHES["pose"]), _known(q), coarse=100)
+    sol = solve_group(_group(BRANCHES["pose"]), _known(q))
     assert sol.assembled[:50].all() and not sol.assembled.all()
     bad = ~sol.assembled
     assert np.isnan(sol.points["D"][0][bad]).all() and np.isnan(sol.points["F"][5][bad]).all()
@@ -202,7 +202,7 @@ def test_bad_groups_are_refused_with_one_line():
 def test_a_long_run_through_the_middle_level_matches_the_oracle():
     q = Q0 + np.linspace(0.0, 0.8, 20001)       # 20001 > 64 * 40 samples: the batched middle level runs
     g = _group(BRANCHES["pose"])
-    sol = solve_group(g, _known(q), coarse=40)
+    sol = solve_group(g, _known(q))
     assert sol.assembled.all()
     pick = np.arange(0, len(q), 997)
     ref = _oracle(q[pick], BRANCHES["pose"])
@@ -213,10 +213,10 @@ def test_a_long_run_through_the_middle_level_matches_the_oracle():
 
 def test_a_motion_solved_in_two_blocks_continues_from_the_first_blocks_end():
     g = _group(BRANCHES["pose"])
-    whole = solve_group(g, _known(Q), coarse=40)
-    first = solve_group(g, _known(Q[:80]), coarse=40)
+    whole = solve_group(g, _known(Q))
+    first = solve_group(g, _known(Q[:80]))
     end = {p: (first.points[p][0][-1], first.points[p][1][-1]) for p in "DEF"}
-    second = solve_group(g, _known(Q[79:]), coarse=40, start=end)
+    second = solve_group(g, _known(Q[79:]), start=end)
     for p in "DEF":
         for k in range(6):
             # 1e-12 of size (and of peak rates): two Newton runs to rounding from different starts
@@ -235,7 +235,7 @@ def test_a_coupler_point_on_a_dyad_link_equals_the_closed_form_point(branch):
     X = _point(P, C, u, v)
     pose = dict(P=(P[0][0], P[1][0]), Q=(3.0, 0.0), C=(C[0][0], C[1][0]), X=(X[0][0], X[1][0]))
     g = make_group({"2": ("P", "C", "X"), "3": ("Q", "C")}, ("P", "Q"), ("C", "X"), pose)
-    sol = solve_group(g, dict(P=P, Q=Q_), coarse=50)
+    sol = solve_group(g, dict(P=P, Q=Q_))
     assert sol.assembled.all()
     for k in range(6):
         scale = g.size if k < 2 else np.max(np.abs(X[k]))   # size, or the closed form's peak rate
@@ -250,6 +250,6 @@ def test_samples_off_the_continuous_path_are_flagged_not_solved_on_some_branch()
     qy = np.r_[0.0, np.full(9, 4.0), 0.0]
     z = np.zeros(11)
     g = make_group({"2": ("P", "C"), "3": ("Q", "C")}, ("P", "Q"), ("C",), dict(P=(0, 0), Q=(3, 0), C=(1.5, 2.0)))
-    sol = solve_group(g, dict(P=(z, z, z, z, z, z), Q=(qx, qy, z, z, z, z)), coarse=2)
+    sol = solve_group(g, dict(P=(z, z, z, z, z, z), Q=(qx, qy, z, z, z, z)))
     assert sol.assembled[[0, -1]].all() and not sol.assembled[1:-1].any()
     assert np.isnan(sol.points["C"][0][1:-1]).all()

@@ -21,8 +21,9 @@ import numpy as np
 import pytest
 
 import analytic
-from agreement import (FD_STEPS, FD_TOL, MIN_MU_DEG, MIN_SLIDE, POS_TOL, RATE_TOL, assert_agree, compare, drive,
-                       period, rng_for)
+from agreement import (FD_STEPS, FD_TOL, MIN_MU_DEG, MIN_SINGULARITY, MIN_SLIDE, POS_TOL, RATE_TOL, assert_agree,
+                       compare, drive, period, rng_for)
+from analytic.applications import figures
 from analytic.solver import jit as _jit
 
 NAMES = analytic.names()
@@ -155,7 +156,7 @@ def test_comparison_fails_when_input_accelerations_are_off_by_1e_6(name):
 def test_file_is_described_and_has_a_moving_output(name):
     m = analytic.load(name)
     assert m.description and "\n" not in m.description, name
-    assert m.output_point in {e["point"] for e in m.geometry.elements}, name
+    assert m.output_point in {p for e in m.geometry.elements for p in e["places"]}, name
 
 
 @pytest.mark.parametrize("name", NAMES)
@@ -177,6 +178,8 @@ def test_assembles_over_a_full_period_clear_of_dead_centres(name):
         elif e["kind"] == "RPR":     # singular when the block reaches the pivot (the slot's rate ~ v / s)
             s = np.min(np.abs(sol["s" + e["links"][1]]))
             assert s >= MIN_SLIDE * m.size, (name, e["label"], s / m.size)
+    for label, measure in figures.singularity(m, sol).items():     # every kind, by its own measure
+        assert np.min(measure) >= MIN_SINGULARITY, (name, label, np.min(measure))
 
 
 def _five_point(f, h):
@@ -192,7 +195,7 @@ def test_rates_match_finite_differences(name):
     h = T / FD_STEPS
     sols = [m.solve_at(t + k * h)[1] for k in (-2, -1, 0, 1, 2)]
     mid = sols[2]
-    for p in (e["point"] for e in m.geometry.elements):
+    for p in (p for e in m.geometry.elements for p in e["places"]):
         for d, dd in (("", "v"), ("v", "a")):
             fx = _five_point([s[f"{d}x{p}"] for s in sols], h)
             fy = _five_point([s[f"{d}y{p}"] for s in sols], h)

@@ -191,6 +191,10 @@ class Kind:
     motion_fields: tuple[str, str, str] = ()
     """For inputs: the fields of its motion law (start, rate, acceleration)."""
     jit: JitSpec | None = None
+    continuous: bool = False
+    """Whether its solve continues from sample to sample (a numerically solved group): the solver then takes
+    a solve's samples as a path from the inputs' start values and fills in samples where the inputs jump
+    (:func:`analytic.solver.kinematics.evaluate`), and batches solve such mechanisms design by design."""
 
     # ------------------------------------------------------------------------------------ format
     def places(self, f: dict) -> tuple[str, ...]:
@@ -216,6 +220,27 @@ class Kind:
     def check_resolved(self, e: dict) -> str | None:
         """A problem with the resolved numbers (one line naming the field), or None."""
         return None
+
+    def check_start(self, e: dict, st: "State") -> str | None:
+        """A problem with the resolved element given where the elements before it are at the start (``st``:
+        every element solved at the inputs' start values, one sample), one line naming the field, or None.
+        Asked when a mechanism is built, only of kinds that override it (a group's pose)."""
+        return None
+
+    def group_label(self, e: dict) -> str:
+        """What ``linkage check`` calls the resolved element's Assur group ("" for none)."""
+        return self.group_class
+
+    def extent(self, e: dict) -> float:
+        """The resolved element's longest link [m] (the mechanism's size is the largest of these and the
+        ground's spread): its ``size`` and ``lengths2`` fields."""
+        out = 0.0
+        for fname, fld in self.fields.items():
+            if fld.type == "size":
+                out = max(out, abs(e[fname]))
+            elif fld.type == "lengths2":
+                out = max([out] + [abs(x) for x in e[fname]])
+        return out
 
     # ---------------------------------------------------------------------------------- topology
     def structure(self, f: dict) -> Structure:

@@ -211,8 +211,8 @@ def structure_report(mech) -> str:
     lines.append(f"  mobility (Gruebler): {topo.gruebler()}; inputs: "
                  + ", ".join(f"{i.q} ({i.kind} at {i.joint})" for i in mech.inputs))
     lines.append("  solve order: " + " -> ".join(f"{'+'.join(e.places)} ({e.kind})" for e in d.order))
-    groups = [(e, kinds.get(e.kind).group_class) for e in d.order]
-    lines.append("  Assur groups: " + (", ".join(f"{'+'.join(e.places)}: {cls}" for e, cls in groups if cls)
+    groups = [(e, kinds.get(e["kind"]).group_label(e)) for e in mech.geometry.elements]
+    lines.append("  Assur groups: " + (", ".join(f"{'+'.join(e['places'])}: {cls}" for e, cls in groups if cls)
                                       or "none"))
     if len(mech.inputs) == 1:
         ranges = figures.assembly_ranges(mech)
