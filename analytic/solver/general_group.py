@@ -18,8 +18,8 @@ coordinates ``z`` [m]. Every link's base vector is then affine in them: ``d = C 
 Positions, along a path (the samples are a motion in time, as every command produces):
 
 1. **nodes**, sequentially: Newton from the previous node (the first from the pose or from where the
-   previous block ended); nodes are placed every 1/16 of the group's size of travel of the known points,
-   refined by halving where the solution moves far between two nodes and, down to adjacent samples, where
+   previous block ended); nodes are placed every 1/16 of the group's size of travel of the known points and
+   where they turn back (so that between two nodes the samples go one way), refined by halving where the solution moves far between two nodes and, down to adjacent samples, where
    the group stops or starts assembling;
 2. **every 64th sample**, batched, by Newton from the nodes' solutions interpolated linearly in the sample
    index;
@@ -50,18 +50,20 @@ import numpy as np
 
 from analytic._common import ParameterError
 
-NEWTON_STEPS = 12          # most Newton steps per sample: from an interpolated start it takes 1 or 2
-NEWTON_TOL = 1e-13         # converged when the largest step is below this fraction of the group's size
+NEWTON_STEPS = 12          # most Newton steps per sample: from an interpolated start it takes 0 to 2
+NEWTON_TOL = 1e-13         # one sample (nodes): converged when its step is below this fraction of the size
 RESIDUAL_CONVERGED = 4e-15  # residual at rounding level [fraction of size]: the rows are lengths of the
 #                             order of the size, each rounded to ~eps times a few terms
-RESIDUAL_TOL = 1e-10       # a sample whose residual exceeds this fraction of size is refused
+NEWTON_LOOSE = 1e-11       # many samples: iterate to this residual [fraction of size], then one more step
+#                            (its error squared: rounding)
+RESIDUAL_TOL = 1e-10       # a sample whose residual after that step exceeds this fraction of size is refused
 SINGULAR_COND = 1e12       # a pose whose reduced Jacobian's condition number exceeds this is singular: a
 #                            Newton step there loses 12 of 16 digits
 NODE_TRAVEL = 1 / 16       # nodes every this fraction of the size of the known points' travel
 HOP = 1 / 4                # a node farther than this fraction of size from the previous one is refined
 JUMP = 1 / 4               # the known points moving farther than this fraction of size between two adjacent
 #                            samples break the path (the kinematics fills in inputs far apart first)
-REFINE = 64                # samples per node of the batched middle level
+REFINE = 32                # samples per node of the batched middle level
 BLOCK = 16384              # samples per batched block (bounds the (L, L, N) Jacobians' memory)
 GROWTH = 16.0              # largest multiplier accepted in an LU without pivot search (partial pivoting: 1)
 
@@ -299,12 +301,17 @@ class _Path:
     travel: np.ndarray
     jump: np.ndarray
 
+    turn: np.ndarray
+    """The samples where a known point turns back (its step makes an obtuse angle with the one before)."""
+
     @staticmethod
     def of(g: GeneralGroup, K) -> "_Path":
         n = K.shape[1]
         P = K.reshape(-1, 2, n)
-        step = np.sqrt(np.max(np.sum(np.diff(P, axis=2) ** 2, axis=1), axis=0)) if n > 1 else np.zeros(0)
-        return _Path(K, np.r_[0.0, np.cumsum(step)], np.r_[False, step > JUMP * g.size])
+        d = np.diff(P, axis=2)
+        step = np.sqrt(np.max(np.sum(d * d, axis=1), axis=0)) if n > 1 else np.zeros(0)
+        turn = np.flatnonzero(np.any(np.sum(d[:, :, 1:] * d[:, :, :-1], axis=1) < 0.0, axis=0)) + 1
+        return _Path(K, np.r_[0.0, np.cumsum(step)], np.r_[False, step > JUMP * g.size], turn)
 
 
 def _walk(g: GeneralGroup, path: _Path, a: int, za, b: int) -> list:
@@ -332,7 +339,8 @@ def _nodes(g: GeneralGroup, path: _Path, z_start):
     n = path.K.shape[1]
     marks = np.floor(path.travel / (NODE_TRAVEL * g.size))
     cand = np.flatnonzero(np.r_[True, marks[1:] != marks[:-1]] | path.jump)
-    cand = np.unique(np.r_[cand, n - 1])
+    cand = np.unique(np.r_[cand, path.turn, n - 1])          # nodes where the path turns back: between
+    #                                                          two nodes the samples go one way
     found: dict[int, tuple] = {}
     z, ok = _newton1(g, path.K[:, 0], z_start)
     found[0] = (z, ok)
@@ -406,6 +414,21 @@ def parity(perm) -> np.ndarray:
     return 1.0 - 2.0 * (inv % 2)
 
 
+MAX_RUNS = 32
+"""Row orders that change at most this many times along the samples are applied run by run (row copies);
+beyond, sample by sample (a gather several times slower)."""
+
+
+def _runs(order):
+    """(start, end, order) of the runs of samples sharing one row order, or None if there are too many."""
+    m = order.shape[1]
+    cut = np.flatnonzero(np.any(order[:, 1:] != order[:, :-1], axis=0)) + 1
+    if cut.size > MAX_RUNS:
+        return None
+    edges = np.r_[0, cut, m]
+    return [(int(s), int(e), order[:, s]) for s, e in zip(edges[:-1], edges[1:])]
+
+
 def lu(A, order=None):
     """LU factorisation of many small matrices at once.
 
@@ -416,26 +439,31 @@ def lu(A, order=None):
     order : ndarray of int, shape (n, N), optional
         A row order per matrix known to pivot well (that of a nearby matrix): the rows are taken in this
         order and eliminated without searching for pivots, which is several times faster; a matrix whose
-        multipliers then exceed ``GROWTH`` is factorised again with partial pivoting. None: partial pivoting.
+        multipliers then exceed ``GROWTH`` is factorised again with partial pivoting. Also a list of runs
+        (start, end, order) of samples sharing one order. None: partial pivoting.
 
     Returns
     -------
     (LU, perm, det)
-        ``LU`` (unit lower factor below the diagonal, upper factor on and above it), ``perm`` (n, N): row i
-        of the factors is row ``perm[i]`` of the matrix, and ``det`` (N,) the determinants. A singular
-        matrix gives a zero or non-finite pivot, and NaN or inf in what is solved with it.
+        ``LU`` (unit lower factor below the diagonal, upper factor on and above it), ``perm``: row i of the
+        factors of matrix s is its row ``perm[i, s]`` (an (n, N) array, or a list of runs (start, end,
+        order) of samples sharing one), and ``det`` (N,) the determinants. A singular matrix gives a zero or
+        non-finite pivot, and NaN or inf in what is solved with it.
     """
     if order is None:
         return _lu_pivoting(A)
     n, _, m = A.shape
     A0 = A
-    if (order == order[:, :1]).all():          # one order for every matrix (the usual case): a row copy
-        order = order[:, 0]
-        A = A[order]
-        det = np.full(m, parity(order[:, None])[0])
-    else:
+    runs = order if isinstance(order, list) else _runs(order)
+    if runs is None:
         A = np.take_along_axis(A, order[:, None, :], axis=0)
         det = parity(order)
+    else:
+        A = np.empty_like(A0)
+        det = np.empty(m)
+        for s, e, o in runs:
+            A[:, :, s:e] = A0[o, :, s:e]
+            det[s:e] = parity(o[:, None])[0]
     growth = np.zeros(m)
     for k in range(n):
         piv = A[k, k]
@@ -445,25 +473,42 @@ def lu(A, order=None):
             A[k + 1:, k] = f
             np.maximum(growth, np.max(np.abs(f), axis=0), out=growth)
             A[k + 1:, k + 1:] -= f[:, None, :] * A[k, None, k + 1:]
-    perm = order
+    perm = order if runs is None else runs
     redo = np.flatnonzero(~(growth <= GROWTH))
     if redo.size:
         LU, p, d = _lu_pivoting(A0[:, :, redo])
         A[:, :, redo], det[redo] = LU, d
-        perm = np.array(np.broadcast_to(order.reshape(n, -1), (n, m)))
+        perm = order_array(perm, m)
         perm[:, redo] = p
     return A, perm, det
 
 
+def order_array(perm, m: int) -> np.ndarray:
+    """A row order as an (n, m) array (from a list of runs, or a copy of an array)."""
+    if not isinstance(perm, list):
+        return np.array(perm)
+    out = np.empty((len(perm[0][2]), m), dtype=np.intp)
+    for s, e, o in perm:
+        out[:, s:e] = o[:, None]
+    return out
+
+
 def lu_solve(LU, perm, b):
-    """Solve with :func:`lu`'s factors: b (n, N) -> x (n, N) (``perm`` (n, N), or (n,) for one order)."""
+    """Solve with :func:`lu`'s factors: b (n, N) -> x (n, N)."""
     n = LU.shape[0]
-    y = b[perm] if perm.ndim == 1 else np.take_along_axis(b, perm, axis=0)
+    if isinstance(perm, list):
+        y = np.empty_like(b)
+        for s, e, o in perm:
+            y[:, s:e] = b[o, s:e]
+    else:
+        y = np.take_along_axis(b, perm, axis=0)
+    tmp = np.empty_like(y[0])
     for i in range(1, n):
-        y[i] -= np.sum(LU[i, :i] * y[:i], axis=0)
+        for j in range(i):
+            y[i] -= np.multiply(LU[i, j], y[j], out=tmp)
     for i in range(n - 1, -1, -1):
-        if i < n - 1:
-            y[i] -= np.sum(LU[i, i + 1:] * y[i + 1:], axis=0)
+        for j in range(i + 1, n):
+            y[i] -= np.multiply(LU[i, j], y[j], out=tmp)
         y[i] /= LU[i, i]
     return y
 
@@ -476,75 +521,81 @@ def _jacobian(g: GeneralGroup, dx, dy):
     return J
 
 
+def _residual(g: GeneralGroup, Bx, By, z):
+    """The base vectors (dx, dy) and the rows F = (|d|^2 - L^2) / (2 L) [m] at z, each (L, m)."""
+    dx = g.Ex @ z
+    dx += Bx
+    dy = g.Ey @ z
+    dy += By
+    F = dx * dx
+    F += dy * dy
+    F -= (g.length * g.length)[:, None]
+    F *= (0.5 / g.length)[:, None]
+    return dx, dy, F
+
+
 def _newton(g: GeneralGroup, Bx, By, z, order):
     """Batched Newton on the reduced coordinates z (L, m), the known points' part of the base vectors
-    Bx, By (L, m) given (``order``: see :func:`lu`). Only the samples not yet converged are iterated.
-    Returns z and whether each sample converged (residual at rounding level, or its last step below
-    NEWTON_TOL of size)."""
+    Bx, By (L, m) given (``order``: see :func:`lu`), until the residual is below NEWTON_LOOSE of size (the
+    correction in :func:`_finish` then squares what is left). Only the samples not yet there are iterated.
+    Returns z, whether each sample got there, and (dx, dy, F) at z where no sample took a step (else None)."""
     m = z.shape[1]
     z = np.array(z, dtype=float)
     done = np.zeros(m, dtype=bool)
     act = None                                  # None: every sample (no copies)
-    step = np.full(m, np.inf)
-    inv2 = 0.5 / g.length[:, None]
-    L2 = (g.length * g.length)[:, None]
     with np.errstate(all="ignore"):
         for it in range(NEWTON_STEPS + 1):
             if act is None:
-                za, bx, by, st, od = z, Bx, By, step, order
+                dx, dy, F = _residual(g, Bx, By, z)
+                od = order
             else:
-                za, bx, by, st = z[:, act], Bx[:, act], By[:, act], step[act]
-                od = None if order is None else order[:, act]
-            dx = g.Ex @ za
-            dx += bx
-            dy = g.Ey @ za
-            dy += by
-            F = dx * dx
-            F += dy * dy
-            F -= L2
-            F *= inv2
+                dx, dy, F = _residual(g, Bx[:, act], By[:, act], z[:, act])
+                od = None if order is None else order_array(order, m)[:, act]
             res = np.max(np.abs(F), axis=0)
-            conv = (res <= RESIDUAL_CONVERGED * g.size) | (st <= NEWTON_TOL * g.size)
-            ok = conv & (res <= RESIDUAL_TOL * g.size)
+            conv = res <= NEWTON_LOOSE * g.size
             if act is None:
-                done[:] = ok
+                done[:] = conv
             else:
-                done[act] = ok
+                done[act] = conv
             keep = ~conv & np.isfinite(res)
+            if it == 0 and conv.all():
+                return z, done, (dx, dy, F)
             if it == NEWTON_STEPS or not keep.any():
                 break
             if not keep.all():
                 sel = np.flatnonzero(keep)
                 act = sel if act is None else act[sel]
                 dx, dy, F = dx[:, sel], dy[:, sel], F[:, sel]
-                od = None if od is None else od[:, sel]
+                od = None if order is None else order_array(order, m)[:, act]
             LU, perm, _ = lu(_jacobian(g, dx, dy), od)
             dz = lu_solve(LU, perm, F)
             if act is None:
                 z -= dz
-                step = np.max(np.abs(dz), axis=0)
             else:
                 z[:, act] -= dz
-                step[act] = np.max(np.abs(dz), axis=0)
-    return z, done
+    return z, done, None
 
 
-def _finish(g: GeneralGroup, K3, z, order, rates: bool):
-    """At the converged z (L, m): one more Newton correction with the Jacobian there, its determinant's
-    sign against the branch, and (``rates``) the velocities and accelerations.
+def _finish(g: GeneralGroup, K3, z, order, rates: bool, cache=None, B=None):
+    """At z (L, m), within NEWTON_LOOSE of the solution: one more Newton step (to rounding: the error is
+    squared), the residual after it, the determinant's sign against the branch, and (``rates``) the
+    velocities and accelerations, solved with the Jacobian factorised again where the points are (exact).
 
-    K3: known coordinates, velocities and accelerations (3, 2 nk, m). Returns z, the on-branch mask, the
-    row order of the factorisation, and (``rates``) (vz, az, (D, dD, ddD)) with the links' base vectors and
-    their rates, each a pair (x, y) of (L, m)."""
+    K3: known coordinates, velocities and accelerations (3, 2 nk, m); ``cache``: (dx, dy, F) at z if known;
+    ``B``: (C_x k, C_y k) if known. Returns z, whether each sample is assembled on the branch (the sign, the
+    residual below RESIDUAL_TOL of size), the row order of the factorisation, and (``rates``) (vz, az, (D,
+    dD, ddD)) with the links' base vectors and their rates, each a pair (x, y) of (L, m)."""
     with np.errstate(all="ignore"):
-        Bx, By = g.Cx @ K3[0], g.Cy @ K3[0]
-        dx = Bx + g.Ex @ z
-        dy = By + g.Ey @ z
-        F = (dx * dx + dy * dy - (g.length * g.length)[:, None]) * (0.5 / g.length[:, None])
+        Bx, By = (g.Cx @ K3[0], g.Cy @ K3[0]) if B is None else B
+        dx, dy, F = _residual(g, Bx, By, z) if cache is None else cache
         LU, perm, det = lu(_jacobian(g, dx, dy), order)
-        on = np.isfinite(det) & (np.sign(det) == g.sign)
+        z = z - lu_solve(LU, perm, F)
+        dx, dy, F = _residual(g, Bx, By, z)             # the base vectors where the points are
+        if rates:
+            LU, perm, det = lu(_jacobian(g, dx, dy), perm)
+        on = (np.sign(det) == g.sign) & (np.max(np.abs(F), axis=0) <= RESIDUAL_TOL * g.size)
         if not rates:
-            return z - lu_solve(LU, perm, F), on, perm, None
+            return z, on, perm, None
         inv = 1.0 / g.length[:, None]
         vBx, vBy = g.Cx @ K3[1], g.Cy @ K3[1]
         aBx, aBy = g.Cx @ K3[2], g.Cy @ K3[2]
@@ -554,61 +605,97 @@ def _finish(g: GeneralGroup, K3, z, order, rates: bool):
         az = lu_solve(LU, perm, -(vx * vx + vy * vy + dx * aBx + dy * aBy) * inv)
         ax = aBx + g.Ex @ az
         ay = aBy + g.Ey @ az
-        z = z - lu_solve(LU, perm, F)
-        dx = Bx + g.Ex @ z                     # the base vectors where the points are
-        dy = By + g.Ey @ z
     return z, on, perm, (vz, az, ((dx, dy), (vx, vy), (ax, ay)))
 
 
 @dataclass(frozen=True)
 class _Nodes:
     """Solved samples along the path: indices (sorted), reduced coordinates (n_nodes, L; NaN where not
-    assembled), whether each is assembled, and the row order its Jacobian pivots in (L, n_nodes)."""
+    assembled), whether each is assembled, the row order its Jacobian pivots in (L, n_nodes), and whether the
+    path turns back there."""
 
     index: np.ndarray
     z: np.ndarray
     good: np.ndarray
     order: np.ndarray
+    turn: np.ndarray
 
     def merged(self, other: "_Nodes") -> "_Nodes":
         idx = np.r_[self.index, other.index]
         k = np.argsort(idx, kind="stable")
         return _Nodes(idx[k], np.r_[self.z, other.z][k], np.r_[self.good, other.good][k],
-                      np.c_[self.order, other.order][:, k])
+                      np.c_[self.order, other.order][:, k], np.r_[self.turn, other.turn][k])
 
 
 def _interpolated(nodes: _Nodes, idx):
-    """The start of every sample in idx: the nodes' solutions interpolated linearly in the sample index
-    (L, m); whether the nodes around it hold the branch; how far a solution may lie from its start (the
-    nodes' distance plus their path's bend); and the row order of the node before it."""
+    """The start of every sample in idx (sorted): the nodes' solutions interpolated in the sample index
+    (L, m), by the parabola through the two nodes around it and the next one (the one before, at the end; a
+    straight line where that node is not assembled); whether the nodes around it hold the branch; how far a
+    solution may lie from its start (the nodes' distance plus their path's bend); and the row orders of the
+    nodes before the samples, as runs (see :func:`lu`)."""
     zs, good, ix = nodes.z, nodes.good, nodes.index
-    dd = np.zeros(len(ix) + 1)
-    if len(ix) >= 3:
-        dd[1:-2] = np.nan_to_num(np.max(np.abs(zs[2:] - 2 * zs[1:-1] + zs[:-2]), axis=1), nan=0.0)
-    bend = np.maximum.reduce([dd[:-1], dd[1:], np.r_[dd[2:], 0.0]])
-    j = np.clip(np.searchsorted(ix, idx, side="right") - 1, 0, max(len(ix) - 2, 0))
-    j1 = np.minimum(j + 1, len(ix) - 1)
-    span = np.maximum(ix[j1] - ix[j], 1)
-    t = (idx - ix[j]) / span
+    n = len(ix)
+    if n == 1:
+        at = idx == ix[0]
+        return (np.repeat(zs.T, len(idx), axis=1), at & good[0], np.zeros(len(idx)),
+                [(0, len(idx), nodes.order[:, 0])])
     zt = zs.T
+    span = np.diff(ix).astype(float)
     with np.errstate(all="ignore"):
-        a, b = zt[:, j], zt[:, j1]
-        z0 = np.where(t <= 0.0, a, np.where(t >= 1.0, b, a + t * (b - a)))
-        hop = np.nan_to_num(np.max(np.abs(b - a), axis=0), nan=0.0)
-    usable = np.where(t <= 0.0, good[j], np.where(t >= 1.0, good[j1], good[j] & good[j1]))  # a node: its own
-    return z0, usable, hop + bend[j], nodes.order[:, j]
+        a = zt[:, :-1]
+        slope = (zt[:, 1:] - a) / span
+        curve = np.zeros_like(slope)
+        if n >= 3:
+            # the third node of each interval: the next one, or the one before (at the end, or where the path
+            # turns back at the next node); none (a straight line) where it turns back at both ends
+            turn = nodes.turn
+            ahead = np.r_[~turn[1:-1], False]
+            k = np.where(ahead, np.arange(2, n + 1) % n, np.r_[0, np.arange(n - 2)])
+            third = (ahead | ~turn[:-1]) & good[k] & (np.arange(n - 1) + ahead > 0)
+            curve = ((zt[:, k] - zt[:, 1:]) / (ix[k] - ix[1:]) - slope) / (ix[k] - ix[:-1])
+            curve = np.where(third & np.isfinite(curve), curve, 0.0)
+        hop = np.nan_to_num(np.max(np.abs(zt[:, 1:] - a), axis=0), nan=0.0)
+    dd = np.zeros(n + 1)
+    if n >= 3:
+        dd[1:-2] = np.nan_to_num(np.max(np.abs(zs[2:] - 2 * zs[1:-1] + zs[:-2]), axis=1), nan=0.0)
+    allow = hop + np.maximum.reduce([dd[:-2], dd[1:-1], dd[2:]])
+    both = good[:-1] & good[1:]
+    j = np.clip(np.searchsorted(ix, idx, side="right") - 1, 0, n - 2)
+    u = (idx - np.take(ix, j)).astype(float)
+    sj = np.take(span, j)
+    with np.errstate(all="ignore"):
+        z0 = np.take(curve, j, axis=1)                       # (np.take: several times faster than [:, j])
+        z0 *= u - sj
+        z0 += np.take(slope, j, axis=1)
+        z0 *= u
+        z0 += np.take(a, j, axis=1)                          # Newton's form of the parabola
+    first, last = u <= 0.0, u >= sj
+    on_node = np.flatnonzero(first)                          # a node itself: its own solution
+    z0[:, on_node] = a[:, j[on_node]]
+    on_node = np.flatnonzero(last)
+    z0[:, on_node] = zt[:, j[on_node] + 1]
+    usable = np.where(first, np.take(good, j), np.where(last, np.take(good, j + 1), np.take(both, j)))
+    # the row orders: one run per stretch of samples whose node before has the same order
+    change = np.r_[True, np.any(nodes.order[:, 1:] != nodes.order[:, :-1], axis=0)]
+    moved = np.flatnonzero(np.diff(j)) + 1
+    cut = moved[change[j[moved]]]
+    edges = np.r_[0, cut, len(idx)]
+    runs = [(int(s0), int(e0), nodes.order[:, j[s0]]) for s0, e0 in zip(edges[:-1], edges[1:])]
+    if len(runs) > MAX_RUNS:
+        runs = order_array(runs, len(idx))
+    return z0, usable, np.take(allow, j), runs
 
 
-def _level(g: GeneralGroup, K3, nodes: _Nodes, idx, rates: bool, pivot: bool):
+def _level(g: GeneralGroup, K3, nodes: _Nodes, idx, rates: bool):
     """Every sample of idx solved by batched Newton from the nodes (module docstring, steps 2 and 3):
-    z (L, m), whether each is assembled on the branch, the row order of its Jacobian and the rates (see
-    :func:`_finish`). ``pivot``: search the pivots (else start from the nodes' row order)."""
+    z (L, m), whether each is assembled on the branch, the row order of its Jacobian (runs or an array, see
+    :func:`lu`) and the rates (see :func:`_finish`). The Jacobians are factorised in the nodes' row orders."""
     z0, usable, allow, order = _interpolated(nodes, idx)
-    if pivot:
-        order = None
-    z0 = np.where(usable, z0, g.z0[:, None])
-    z, ok = _newton(g, g.Cx @ K3[0], g.Cy @ K3[0], z0, order)
-    z, on, perm, extra = _finish(g, K3, z, order, rates)
+    if not usable.all():
+        z0[:, ~usable] = g.z0[:, None]
+    B = (g.Cx @ K3[0], g.Cy @ K3[0])
+    z, ok, cache = _newton(g, *B, z0, order)
+    z, on, perm, extra = _finish(g, K3, z, order, rates, cache, B)
     with np.errstate(invalid="ignore"):
         # a jump: farther from the interpolated start than the nodes around it allow; 1e-9 of size:
         # rounding where the nodes coincide
@@ -688,47 +775,57 @@ def solve_group(g: GeneralGroup, known: Mapping[str, Sequence[np.ndarray]], *,
     idx, zs, good = _nodes(g, path, start_of(g, start, K3))
     # the nodes' row orders: partial pivoting at their solutions
     _, _, order, _ = _finish(g, K3[:, :, idx], np.where(good, zs.T, g.z0[:, None]), None, False)
-    nodes = _Nodes(idx, zs, good, order)
+    nodes = _Nodes(idx, zs, good, order, np.isin(idx, path.turn))
     if n > REFINE * len(idx):
         # a batched middle level: from it the interpolation is close enough for one Newton step per sample
         mid = np.setdiff1d(np.arange(0, n, REFINE), idx)
-        zm, okm, pm, _ = _level(g, K3[:, :, mid], nodes, mid, rates=False, pivot=True)
-        nodes = nodes.merged(_Nodes(mid, np.where(okm, zm, np.nan).T, okm, pm))
-    L = g.dof
-    X = np.empty((3, g.n, n))
-    D = np.empty((3, 2, L, n))
+        zm, okm, pm, _ = _level(g, K3[:, :, mid], nodes, mid, rates=False)
+        nodes = nodes.merged(_Nodes(mid, np.where(okm, zm, np.nan).T, okm, order_array(pm, len(mid)),
+                                    np.zeros(len(mid), dtype=bool)))
+    L, nu = g.dof, len(g.unknown)
+    P = np.empty((nu, 6, n))                   # each point's x, y, vx, vy, ax, ay: contiguous rows
+    W = np.empty((L, 4, n))                    # each link's cos, sin, omega, alpha
     assembled = np.empty(n, dtype=bool)
+    end = None
     for s in range(0, n, BLOCK):
         e = min(n, s + BLOCK)
         k3 = K3[:, :, s:e]
-        z, ok, _, (vz, az, base) = _level(g, k3, nodes, np.arange(s, e), rates=True, pivot=False)
+        z, ok, _, (vz, az, base) = _level(g, k3, nodes, np.arange(s, e), rates=True)
         for c, r in enumerate((z, vz, az)):
-            np.matmul(g.M, k3[c], out=X[c, :, s:e])
-            X[c, :, s:e] += g.N @ r
-            D[c, 0, :, s:e], D[c, 1, :, s:e] = base[c]
+            X = g.M @ k3[c]
+            X += g.N @ r
+            P[:, 2 * c, s:e], P[:, 2 * c + 1, s:e] = X[0::2], X[1::2]
+        W[:, :, s:e] = link_rates(*base, g.length)
         assembled[s:e] = ok
-    if not assembled.all():
-        X[:, :, ~assembled] = np.nan
-        D[..., ~assembled] = np.nan
-    points = {p: (X[0, 2 * i], X[0, 2 * i + 1], X[1, 2 * i], X[1, 2 * i + 1], X[2, 2 * i], X[2, 2 * i + 1])
-              for i, p in enumerate(g.unknown)}
-    last = np.flatnonzero(assembled)
-    end = None
-    if last.size:
-        i = last[-1]
-        end = g.N.T @ (X[0, :, i] - g.M @ K3[0, :, i])
-    return GroupSolution(points, link_rates(g, D), assembled, g.branch, end)
+        if not ok.all():
+            P[:, :, s:e][:, :, ~ok] = np.nan
+            W[:, :, s:e][:, :, ~ok] = np.nan
+        if ok.any():
+            end = z[:, np.flatnonzero(ok)[-1]].copy()
+    points = {p: tuple(P[i]) for i, p in enumerate(g.unknown)}
+    links = {name: tuple(W[i]) for i, (name, _) in enumerate(g.links)}
+    return GroupSolution(points, links, assembled, g.branch, end)
 
 
-def link_rates(g: GeneralGroup, D) -> dict:
-    """Each link's (cos, sin, omega, alpha) from its base vector and its rates D (3, 2, L, N)."""
-    (dx, dy), (vx, vy), (ax, ay) = D
-    L2 = dx * dx + dy * dy
-    L = np.sqrt(L2)
-    c, s = dx / L, dy / L
-    w = (dx * vy - dy * vx) / L2
-    a = (dx * ay - dy * ax) / L2
-    return {name: (c[i], s[i], w[i], a[i]) for i, (name, _) in enumerate(g.links)}
+def link_rates(D, dD, ddD, length) -> np.ndarray:
+    """Links' (cos, sin, omega, alpha), shape (L, 4, m), from their base vectors D (whose lengths are
+    ``length`` (L,), to rounding: the points are solved) and its rates dD, ddD (pairs (x, y) of (L, m))."""
+    (dx, dy), (vx, vy), (ax, ay) = D, dD, ddD
+    out = np.empty((dx.shape[0], 4, dx.shape[1]))
+    inv = (1.0 / length)[:, None]
+    inv2 = inv * inv
+    with np.errstate(all="ignore"):
+        np.multiply(dx, inv, out=out[:, 0])
+        np.multiply(dy, inv, out=out[:, 1])
+        w = out[:, 2]
+        np.multiply(dx, vy, out=w)
+        w -= dy * vx
+        w *= inv2
+        a = out[:, 3]
+        np.multiply(dx, ay, out=a)
+        a -= dy * ax
+        a *= inv2
+    return out
 
 
 def singularity(g: GeneralGroup, positions: Mapping[str, Sequence[np.ndarray]]) -> np.ndarray:
