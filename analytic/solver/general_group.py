@@ -19,11 +19,13 @@ Positions, along a path (the samples are a motion in time, as every command prod
 
 1. **nodes**, sequentially: Newton from the previous node (the first from the pose or from where the
    previous block ended); nodes are placed every 1/16 of the group's size of travel of the known points and
-   where they turn back (so that between two nodes the samples go one way), refined by halving where the solution moves far between two nodes and, down to adjacent samples, where
-   the group stops or starts assembling;
-2. **every 64th sample**, batched, by Newton from the nodes' solutions interpolated linearly in the sample
-   index;
-3. **every sample**, batched, from those, by Newton (one or two steps reach rounding).
+   where they turn back (so that between two nodes the samples go one way), refined by halving where the
+   solution moves far between two nodes and, down to adjacent samples, where the group stops or starts
+   assembling; there the Jacobian is factorised with partial pivoting, which gives each node a row order;
+2. **every 32nd sample**, batched, by Newton from the nodes' solutions interpolated in the sample index (a
+   parabola through three nodes on the same stretch);
+3. **every sample**, batched, from those likewise: Newton until the residual is below 1e-11 of the size (from
+   the parabola, usually at once), then one more step (rounding).
 
 Branch: the sign of ``det(J_u)``, the Jacobian of all the equations in the unknown coordinates (for a dyad:
 which side of ``P -> Q`` the point lies on, the ``branch`` of ``RRR``); it equals the sign of the reduced
@@ -33,12 +35,13 @@ determinant has the other sign (the path went through a singular pose), or where
 from its interpolated start than the nodes around it allow (a jump to another assembly). The known points
 jumping by more than a quarter of the size between two adjacent samples breaks the path there.
 
-Rates: exact linear solves with the same reduced Jacobian ``J`` (rows ``d^T E / L``):
-``J vz = -d.(C vk) / L`` and ``J az = -(|dv|^2 + d.(C ak)) / L`` with ``dv = C vk + E vz``.
+Rates: exact linear solves with the reduced Jacobian ``J`` (rows ``d^T E / L``) factorised again at the
+solved points: ``J vz = -d.(C vk) / L`` and ``J az = -(|dv|^2 + d.(C ak)) / L`` with ``dv = C vk + E vz``.
 
-Every batched linear solve is an LU factorisation with partial pivoting written over the samples (arrays
-(L, L, N), each entry a contiguous run of samples), which costs a fraction of a LAPACK call per sample for
-these small systems; the determinant comes with it.
+Every batched linear solve is an LU factorisation written over the samples (arrays (L, L, N), each entry a
+contiguous run of samples), in the row order of the node before each sample (rows copied run by run, no
+pivot search) and with partial pivoting where a multiplier would exceed 16; it costs a fraction of a LAPACK
+call per sample for these small systems, and the determinant comes with it.
 """
 
 from __future__ import annotations
