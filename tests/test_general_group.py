@@ -562,17 +562,21 @@ def test_batched_lu_solves_and_its_determinant():
             assert np.all(np.abs(d - det) <= 1e-12 * np.abs(det) * cond)
 
 
-def test_windows_that_step_back_are_solved_on_the_branch():
-    """Samples in short windows that each start a little behind where the last one ended (as the time-step
-    scan zooms into its peaks): every sample equals the same samples solved in increasing order."""
-    m = analytic.load(str(KINDS / "group.toml"))
-    starts = np.radians([107.8, 107.4, 107.6, 107.9, 150.0, 149.5, 300.0, 20.0, 20.1])
-    q = (starts[:, None] + np.radians(0.2) * np.linspace(0, 1, 9)[None, :]).ravel()
+@pytest.mark.parametrize("starts, width", [
+    ([107.8, 107.4, 107.6, 107.9, 150.0, 149.5, 300.0, 20.0, 20.1], 0.2),   # windows stepping back
+    ([358.0 + 0.4 * k for k in range(12)], 0.125),                          # dense clusters, sparse between
+])
+def test_windows_that_step_back_are_solved_on_the_branch(starts, width):
+    """Samples in short windows that each start a little behind where the last one ended, or clusters of
+    dense samples with wide steps between them (as the time-step scan zooms into its peaks): every sample
+    equals the same samples solved in increasing order."""
+    m = analytic.load(str(KINDS / "group__butterfly.toml"))
+    q = (np.radians(starts)[:, None] + np.radians(width) * np.linspace(0, 1, 9)[None, :]).ravel()
     sol = m.solve(q, 1.0)
     order = np.argsort(q, kind="stable")
     ref = m.solve(q[order], 1.0)
     assert sol.valid.all() and ref.valid.all()
-    for p in ("Q1", "Q2", "Q3"):
+    for p in ("H", "C3", "D4"):
         for c in ("x", "vy"):
             scale = max(np.max(np.abs(ref[c + p])), m.size)
             # 1e-12 of scale: Newton to rounding along two paths; exact rates at the same points

@@ -157,7 +157,10 @@ class Group(Kind):
         return f"{name} (class {ROMAN.get(cls, cls)}), branch {branch:+d}"
 
     def extent(self, e):
-        return float(np.max(group(e).length))
+        """The largest distance between two points of one of its links, in the pose [m]."""
+        pose = e["pose"]
+        return max(float(np.hypot(pose[p][0] - pose[q][0], pose[p][1] - pose[q][1]))
+                   for pts in e["links"].values() for p in pts for q in pts)
 
     # ---------------------------------------------------------------------------------- topology
     def structure(self, f):

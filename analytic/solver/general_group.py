@@ -22,8 +22,8 @@ Positions, along a path (the samples are a motion in time, as every command prod
    where they turn back (so that between two nodes the samples go one way), refined by halving where the
    solution moves far between two nodes and, down to adjacent samples, where the group stops or starts
    assembling; there the Jacobian is factorised with partial pivoting, which gives each node a row order;
-2. **every 32nd sample**, batched, by Newton from the nodes' solutions interpolated in the sample index (a
-   parabola through three nodes on the same stretch);
+2. **every 32nd sample**, batched, by Newton from the nodes' solutions interpolated in the known points'
+   travel along the path (a parabola through three nodes on the same stretch);
 3. **every sample**, batched, from those likewise: Newton until the residual is below 1e-11 of the size (from
    the parabola, usually at once), then one more step (rounding).
 
@@ -630,12 +630,13 @@ class _Nodes:
                       np.c_[self.order, other.order][:, k], np.r_[self.turn, other.turn][k])
 
 
-def _interpolated(nodes: _Nodes, idx):
-    """The start of every sample in idx (sorted): the nodes' solutions interpolated in the sample index
-    (L, m), by the parabola through the two nodes around it and the next one (the one before, at the end; a
-    straight line where that node is not assembled); whether the nodes around it hold the branch; how far a
-    solution may lie from its start (the nodes' distance plus their path's bend); and the row orders of the
-    nodes before the samples, as runs (see :func:`lu`)."""
+def _interpolated(nodes: _Nodes, idx, travel):
+    """The start of every sample in idx (sorted): the nodes' solutions interpolated in the known points'
+    travel along the path (``travel``, one value per sample: a parameter that the sampling's density does not
+    bend), (L, m), by the parabola through the two nodes around it and the next one (the one before, at the
+    end, or where the path turns back; a straight line where neither is usable); whether the nodes around it
+    hold the branch; how far a solution may lie from its start (the nodes' distance plus their path's bend);
+    and the row orders of the nodes before the samples, as runs (see :func:`lu`)."""
     zs, good, ix = nodes.z, nodes.good, nodes.index
     n = len(ix)
     if n == 1:
@@ -643,10 +644,11 @@ def _interpolated(nodes: _Nodes, idx):
         return (np.repeat(zs.T, len(idx), axis=1), at & good[0], np.zeros(len(idx)),
                 [(0, len(idx), nodes.order[:, 0])])
     zt = zs.T
-    span = np.diff(ix).astype(float)
+    X = travel[ix]
+    span = np.diff(X)
     with np.errstate(all="ignore"):
         a = zt[:, :-1]
-        slope = (zt[:, 1:] - a) / span
+        slope = np.where(span > 0.0, (zt[:, 1:] - a) / span, 0.0)
         curve = np.zeros_like(slope)
         if n >= 3:
             # the third node of each interval: the next one, or the one before (at the end, or where the path
@@ -655,7 +657,7 @@ def _interpolated(nodes: _Nodes, idx):
             ahead = np.r_[~turn[1:-1], False]
             k = np.where(ahead, np.arange(2, n + 1) % n, np.r_[0, np.arange(n - 2)])
             third = (ahead | ~turn[:-1]) & good[k] & (np.arange(n - 1) + ahead > 0)
-            curve = ((zt[:, k] - zt[:, 1:]) / (ix[k] - ix[1:]) - slope) / (ix[k] - ix[:-1])
+            curve = ((zt[:, k] - zt[:, 1:]) / (X[k] - X[1:]) - slope) / (X[k] - X[:-1])
             curve = np.where(third & np.isfinite(curve), curve, 0.0)
         hop = np.nan_to_num(np.max(np.abs(zt[:, 1:] - a), axis=0), nan=0.0)
     dd = np.zeros(n + 1)
@@ -664,7 +666,7 @@ def _interpolated(nodes: _Nodes, idx):
     allow = hop + np.maximum.reduce([dd[:-2], dd[1:-1], dd[2:]])
     both = good[:-1] & good[1:]
     j = np.clip(np.searchsorted(ix, idx, side="right") - 1, 0, n - 2)
-    u = (idx - np.take(ix, j)).astype(float)
+    u = travel[idx] - np.take(X, j)
     sj = np.take(span, j)
     with np.errstate(all="ignore"):
         z0 = np.take(curve, j, axis=1)                       # (np.take: several times faster than [:, j])
@@ -672,7 +674,7 @@ def _interpolated(nodes: _Nodes, idx):
         z0 += np.take(slope, j, axis=1)
         z0 *= u
         z0 += np.take(a, j, axis=1)                          # Newton's form of the parabola
-    first, last = u <= 0.0, u >= sj
+    first, last = idx == np.take(ix, j), idx == np.take(ix, j + 1)
     on_node = np.flatnonzero(first)                          # a node itself: its own solution
     z0[:, on_node] = a[:, j[on_node]]
     on_node = np.flatnonzero(last)
@@ -689,11 +691,11 @@ def _interpolated(nodes: _Nodes, idx):
     return z0, usable, np.take(allow, j), runs
 
 
-def _level(g: GeneralGroup, K3, nodes: _Nodes, idx, rates: bool):
+def _level(g: GeneralGroup, K3, nodes: _Nodes, idx, travel, rates: bool):
     """Every sample of idx solved by batched Newton from the nodes (module docstring, steps 2 and 3):
     z (L, m), whether each is assembled on the branch, the row order of its Jacobian (runs or an array, see
     :func:`lu`) and the rates (see :func:`_finish`). The Jacobians are factorised in the nodes' row orders."""
-    z0, usable, allow, order = _interpolated(nodes, idx)
+    z0, usable, allow, order = _interpolated(nodes, idx, travel)
     if not usable.all():
         z0[:, ~usable] = g.z0[:, None]
     B = (g.Cx @ K3[0], g.Cy @ K3[0])
@@ -782,7 +784,7 @@ def solve_group(g: GeneralGroup, known: Mapping[str, Sequence[np.ndarray]], *,
     if n > REFINE * len(idx):
         # a batched middle level: from it the interpolation is close enough for one Newton step per sample
         mid = np.setdiff1d(np.arange(0, n, REFINE), idx)
-        zm, okm, pm, _ = _level(g, K3[:, :, mid], nodes, mid, rates=False)
+        zm, okm, pm, _ = _level(g, K3[:, :, mid], nodes, mid, path.travel, rates=False)
         nodes = nodes.merged(_Nodes(mid, np.where(okm, zm, np.nan).T, okm, order_array(pm, len(mid)),
                                     np.zeros(len(mid), dtype=bool)))
     L, nu = g.dof, len(g.unknown)
@@ -793,7 +795,7 @@ def solve_group(g: GeneralGroup, known: Mapping[str, Sequence[np.ndarray]], *,
     for s in range(0, n, BLOCK):
         e = min(n, s + BLOCK)
         k3 = K3[:, :, s:e]
-        z, ok, _, (vz, az, base) = _level(g, k3, nodes, np.arange(s, e), rates=True)
+        z, ok, _, (vz, az, base) = _level(g, k3, nodes, np.arange(s, e), path.travel, rates=True)
         for c, r in enumerate((z, vz, az)):
             X = g.M @ k3[c]
             X += g.N @ r
