@@ -206,10 +206,7 @@ class Mechanism:
     def size(self) -> float:
         """The mechanism's size [m]: its longest link (every kind's ``extent``) or the spread of its ground points,
         whichever is larger; sets scale-relative tolerances and drawing sizes."""
-        lengths = [kinds.get(e["kind"]).extent(e) for e in self.geometry.elements]
-        xy = np.array(list(self.geometry.ground.values()) or [(0.0, 0.0)])
-        spread = float(np.max(np.ptp(xy, axis=0))) if len(xy) > 1 else 0.0
-        return max(lengths + [spread, 1e-12])
+        return kinematics.size_of(self.geometry)
 
     # ------------------------------------------------------------------ motion and solving
     def drive(self, t) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
