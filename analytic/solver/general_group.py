@@ -467,21 +467,59 @@ def lu(A, order=None):
         for s, e, o in runs:
             A[:, :, s:e] = A0[o, :, s:e]
             det[s:e] = parity(o[:, None])[0]
-    growth = np.zeros(m)
-    for k in range(n):
-        piv = A[k, k]
-        det *= piv
-        if k < n - 1:
-            f = A[k + 1:, k] / piv
-            A[k + 1:, k] = f
-            np.maximum(growth, np.max(np.abs(f), axis=0), out=growth)
-            A[k + 1:, k + 1:] -= f[:, None, :] * A[k, None, k + 1:]
+    growth = _eliminate(A, det)
     perm = order if runs is None else runs
     redo = np.flatnonzero(~(growth <= GROWTH))
     if redo.size:
         LU, p, d = _lu_pivoting(A0[:, :, redo])
         A[:, :, redo], det[redo] = LU, d
         perm = order_array(perm, m)
+        perm[:, redo] = p
+    return A, perm, det
+
+
+def _eliminate(A, det):
+    """Gaussian elimination without pivot search of A (n, n, m) in place (its rows already in their order),
+    ``det`` (m,) multiplied by the pivots; returns each matrix's largest multiplier (its element growth)."""
+    n = A.shape[0]
+    for k in range(n):
+        piv = A[k, k]
+        det *= piv
+        if k < n - 1:
+            f = A[k + 1:, k]
+            f /= piv
+            A[k + 1:, k + 1:] -= f[:, None, :] * A[k, None, k + 1:]
+    if n < 2:
+        return np.zeros(A.shape[2])
+    rows, cols = np.tril_indices(n, -1)
+    return np.max(np.abs(A[rows, cols]), axis=0)
+
+
+def _factor(g: GeneralGroup, dx, dy, order):
+    """The LU factorisation of the reduced Jacobian at base vectors (dx, dy), each (L, m), as
+    ``lu(_jacobian(g, dx, dy), order)`` returns it; built directly in the row order where that is given as
+    runs (no copy of the matrices)."""
+    if order is None:
+        return _lu_pivoting(_jacobian(g, dx, dy))
+    runs = order if isinstance(order, list) else _runs(order)
+    if runs is None:
+        return lu(_jacobian(g, dx, dy), order)
+    L, m = dx.shape
+    jx, jy = g.Jx, g.Jy
+    A = np.empty((L, L, m))
+    det = np.empty(m)
+    for s, e, o in runs:
+        blk = A[:, :, s:e]
+        np.multiply(dx[o, s:e][:, None, :], jx[o][:, :, None], out=blk)
+        blk += dy[o, s:e][:, None, :] * jy[o][:, :, None]
+        det[s:e] = parity(o[:, None])[0]
+    growth = _eliminate(A, det)
+    perm = runs
+    redo = np.flatnonzero(~(growth <= GROWTH))
+    if redo.size:
+        LU, p, d = _lu_pivoting(_jacobian(g, dx[:, redo], dy[:, redo]))
+        A[:, :, redo], det[redo] = LU, d
+        perm = order_array(runs, m)
         perm[:, redo] = p
     return A, perm, det
 
@@ -505,14 +543,12 @@ def lu_solve(LU, perm, b):
             y[:, s:e] = b[o, s:e]
     else:
         y = np.take_along_axis(b, perm, axis=0)
-    tmp = np.empty_like(y[0])
-    for i in range(1, n):
-        for j in range(i):
-            y[i] -= np.multiply(LU[i, j], y[j], out=tmp)
-    for i in range(n - 1, -1, -1):
-        for j in range(i + 1, n):
-            y[i] -= np.multiply(LU[i, j], y[j], out=tmp)
-        y[i] /= LU[i, i]
+    for j in range(n - 1):                          # column by column: one array operation per column
+        y[j + 1:] -= LU[j + 1:, j] * y[j]
+    for j in range(n - 1, -1, -1):
+        y[j] /= LU[j, j]
+        if j:
+            y[:j] -= LU[:j, j] * y[j]
     return y
 
 
@@ -570,7 +606,7 @@ def _newton(g: GeneralGroup, Bx, By, z, order):
                 act = sel if act is None else act[sel]
                 dx, dy, F = dx[:, sel], dy[:, sel], F[:, sel]
                 od = None if order is None else order_array(order, m)[:, act]
-            LU, perm, _ = lu(_jacobian(g, dx, dy), od)
+            LU, perm, _ = _factor(g, dx, dy, od)
             dz = lu_solve(LU, perm, F)
             if act is None:
                 z -= dz
@@ -591,11 +627,11 @@ def _finish(g: GeneralGroup, K3, z, order, rates: bool, cache=None, B=None):
     with np.errstate(all="ignore"):
         Bx, By = (g.Cx @ K3[0], g.Cy @ K3[0]) if B is None else B
         dx, dy, F = _residual(g, Bx, By, z) if cache is None else cache
-        LU, perm, det = lu(_jacobian(g, dx, dy), order)
+        LU, perm, det = _factor(g, dx, dy, order)
         z = z - lu_solve(LU, perm, F)
         dx, dy, F = _residual(g, Bx, By, z)             # the base vectors where the points are
         if rates:
-            LU, perm, det = lu(_jacobian(g, dx, dy), perm)
+            LU, perm, det = _factor(g, dx, dy, perm)
         on = (np.sign(det) == g.sign) & (np.max(np.abs(F), axis=0) <= RESIDUAL_TOL * g.size)
         if not rates:
             return z, on, perm, None
@@ -668,12 +704,14 @@ def _interpolated(nodes: _Nodes, idx, travel):
     j = np.clip(np.searchsorted(ix, idx, side="right") - 1, 0, n - 2)
     u = travel[idx] - np.take(X, j)
     sj = np.take(span, j)
+    L = zt.shape[0]
+    coef = np.take(np.concatenate((curve, slope, a)), j, axis=1)   # np.take: several times faster than [:, j]
     with np.errstate(all="ignore"):
-        z0 = np.take(curve, j, axis=1)                       # (np.take: several times faster than [:, j])
+        z0 = coef[:L]
         z0 *= u - sj
-        z0 += np.take(slope, j, axis=1)
+        z0 += coef[L:2 * L]
         z0 *= u
-        z0 += np.take(a, j, axis=1)                          # Newton's form of the parabola
+        z0 += coef[2 * L:]                                   # Newton's form of the parabola
     first, last = idx == np.take(ix, j), idx == np.take(ix, j + 1)
     on_node = np.flatnonzero(first)                          # a node itself: its own solution
     z0[:, on_node] = a[:, j[on_node]]
