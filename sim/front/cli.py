@@ -118,8 +118,8 @@ def loads_from(args, mech):
 
 def cutting_direction(mech) -> float:
     """-1 or +1: the x direction that resists the output point during its slow (cutting) stroke."""
-    from sim.model import _slow_stroke
-    lo, hi = _slow_stroke(mech)
+    from sim.model import slow_stroke
+    lo, hi = slow_stroke(mech)
     first = mech.inputs[0]
     q = first.motion.q0 + np.linspace(lo, hi, 50)[1:-1]
     sol = mech.solve(q, math.copysign(1.0, first.motion.rate or 1.0))
