@@ -33,7 +33,7 @@ LINK_NAME = re.compile(r"^[A-Za-z0-9_]+$")
 
 
 TOP_LEVEL = {"format", "name", "units", "description", "output", "parameters", "ground", "inputs", "groups",
-             "inertia"}
+             "inertia", "mass"}
 
 
 @dataclass(frozen=True)
@@ -85,6 +85,8 @@ class Definition:
     output: str
     inertia: dict = field(default_factory=dict)
     topology: topology.Topology | None = None
+    mass: dict = field(default_factory=dict)
+    """The ``[mass]`` section as written (numbers in file units; see :mod:`analytic.mass`)."""
 
     @property
     def scale(self) -> float:
@@ -251,10 +253,86 @@ def _check(data: dict, source: str, default_name: str) -> Definition:
                 raise _fail(source, f"inertia.{lname}.{key}", f"{_short(v)} must be a finite number")
             if key in ("m", "I") and not v > 0:
                 raise _fail(source, f"inertia.{lname}.{key}", f"{v!r} must be > 0")
+    mass = _check_mass(data.get("mass", {}), links, source)
     definition = Definition(name, source, units, description, dict(params), tuple(params), param_kinds,
-                            {k: tuple(v) for k, v in ground.items()}, inputs, groups, order, output, inertia, topo)
+                            {k: tuple(v) for k, v in ground.items()}, inputs, groups, order, output, inertia, topo,
+                            mass=mass)
     _check_mobility(definition)
     return definition
+
+
+MASS_FIELDS = {"shape": "", "density": "kg/m^3", "width": "file units", "thickness": "file units"}
+"""The material fields of ``[mass]`` (file-wide) and ``[mass.links.LINK]`` (one link), with their units."""
+
+
+def _check_mass(section, links: set, source: str) -> dict:
+    """The ``[mass]`` section checked (see :mod:`analytic.mass`): a shape "bar" or "plate", a density,
+    width and thickness > 0, per-link overrides of existing links, counterweights ``LINK = {m = kg,
+    at = [u, v]}``; a density needs a width and a thickness. One line naming the link and field otherwise."""
+    if not isinstance(section, dict):
+        raise _fail(source, "mass", "must be a table (density = kg/m^3, width, thickness, shape = \"bar\" or "
+                                    "\"plate\", [mass.links.LINK], [mass.counterweights])")
+    unknown = sorted(set(section) - set(MASS_FIELDS) - {"links", "counterweights"})
+    if unknown:
+        raise _fail(source, f"mass.{_short(unknown[0])}", f"unknown field; [mass] takes {', '.join(MASS_FIELDS)}, "
+                                                         f"links and counterweights")
+
+    def material(table, where):
+        for key, v in table.items():
+            if key not in MASS_FIELDS:
+                raise _fail(source, f"{where}.{_short(key)}", f"unknown field; a link's material takes "
+                                                               f"{', '.join(MASS_FIELDS)}")
+            if key == "shape":
+                if v not in ("bar", "plate"):
+                    raise _fail(source, f"{where}.shape", f"{_short(v)} must be \"bar\" or \"plate\"")
+                continue
+            if isinstance(v, bool) or not isinstance(v, (int, float)) or not abs(v) <= MAX_MAGNITUDE:
+                raise _fail(source, f"{where}.{key}", f"{_short(v)} must be a finite number [{MASS_FIELDS[key]}]")
+            if not v > 0:
+                raise _fail(source, f"{where}.{key}", f"{v!r} must be > 0 [{MASS_FIELDS[key]}]")
+
+    top = {k: v for k, v in section.items() if k in MASS_FIELDS}
+    material(top, "mass")
+    per = section.get("links", {})
+    if not isinstance(per, dict):
+        raise _fail(source, "mass.links", "must be a table of links: [mass.links.LINK] with density, width, ...")
+    for ln, table in per.items():
+        if ln not in links:
+            raise _fail(source, f"mass.links.{_short(ln)}", f"no link named {ln!r}; links: {', '.join(sorted(links))}")
+        if not isinstance(table, dict):
+            raise _fail(source, f"mass.links.{ln}", "must be a table (density, width, thickness, shape)")
+        material(table, f"mass.links.{ln}")
+    for ln in sorted(links):
+        merged = {**top, **per.get(ln, {})}
+        where = f"mass.links.{ln}" if ln in per else "mass"
+        if "density" in merged:
+            for key in ("width", "thickness"):
+                if key not in merged:
+                    raise _fail(source, f"{where}", f"link {ln}: a density needs a {key} [file units]; give "
+                                                    f"{key} = ...")
+        elif merged:
+            raise _fail(source, f"{where}", f"link {ln}: {', '.join(sorted(merged))} without a density; give "
+                                            f"density = kg/m^3 (e.g. 7850 for steel)")
+    weights = section.get("counterweights", {})
+    if not isinstance(weights, dict):
+        raise _fail(source, "mass.counterweights", "must be a table LINK = {m = kg, at = [u, v]}")
+    for ln, w in weights.items():
+        where = f"mass.counterweights.{_short(ln)}"
+        if ln not in links:
+            raise _fail(source, where, f"no link named {ln!r}; links: {', '.join(sorted(links))}")
+        if not (isinstance(w, dict) and set(w) == {"m", "at"}):
+            raise _fail(source, where, "give {m = kg, at = [u, v]} (the point mass and where it sits in the "
+                                       "link's frame, file units)")
+        m = w["m"]
+        if isinstance(m, bool) or not isinstance(m, (int, float)) or not abs(m) <= MAX_MAGNITUDE:
+            raise _fail(source, f"{where}.m", f"{_short(m)} must be a finite number [kg]")
+        if not m > 0:
+            raise _fail(source, f"{where}.m", f"{m!r} must be > 0 [kg]")
+        at = w["at"]
+        if not (isinstance(at, list) and len(at) == 2 and all(
+                not isinstance(c, bool) and isinstance(c, (int, float)) and abs(c) <= MAX_MAGNITUDE for c in at)):
+            raise _fail(source, f"{where}.at", f"{_short(at)} must be [u, v]: two finite numbers [file units]")
+    return section
 
 
 def _element(item, where: str, section: str, source: str) -> Element:

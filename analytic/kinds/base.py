@@ -11,7 +11,9 @@ it, ``KIND``. The kind owns everything about its elements:
   numpy arrays, every sample at once), its singularity measure and any outputs of its own (the
   transmission angle of an RRR); its compiled row for the numba path where it has one (:attr:`Kind.jit`);
 * **simulation**: constraints the MuJoCo model needs besides the tree of revolute and slide joints and the
-  loop closures that the topology gives (:meth:`Kind.mjcf`, e.g. a gear's coupling).
+  loop closures that the topology gives (:meth:`Kind.mjcf`, e.g. a gear's coupling);
+* **forces**: its joint forces by statics (:meth:`Kind.forces`), in closed form where it has one; the default
+  solves the element's Newton-Euler equations assembled from the topology.
 
 Nothing outside a kind's module switches on its name: the format, the topology, the solver, the model
 builder and the outputs table ask the kind. Registering a kind is one line in :mod:`analytic.kinds`.
@@ -256,6 +258,15 @@ class Kind:
     def input_joint(self, e: dict) -> str:
         """For inputs: the point it turns or slides about (its pivot, or the guide's origin)."""
         raise NotImplementedError
+
+    # ------------------------------------------------------------------------------------ forces
+    def forces(self, e: dict, ctx) -> None:
+        """Solve the forces in the joints the element adds (and its input's drive, its gear pairs' moments)
+        from the known loads on its links (``ctx``: :class:`analytic.applications.forces.Context`), and
+        record them with ``ctx.pin``, ``ctx.guide``, ``ctx.drive``, ``ctx.coupling``. The default assembles
+        the element's Newton-Euler equations from the topology and solves them per sample; a kind with a
+        closed form overrides it."""
+        ctx.generic(e)
 
     # -------------------------------------------------------------------------------- simulation
     def mjcf(self, e: dict, model) -> None:
