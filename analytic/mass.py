@@ -14,7 +14,8 @@ angle ``phiL``; a centre of mass ``(cx, cy)`` is given in that frame. Per link, 
    for a link with several points), a block a small mass at its pin (0.1 size kg), with a floor on the moment
    of inertia (1 % of the size as radius of gyration) that keeps MuJoCo's bodies regular.
 
-Counterweights (``[mass.counterweights]``: a point mass ``m`` at ``at`` in the link's frame) are added to the
+Counterweights (``[mass.counterweights]``: a point mass ``m`` at ``at`` in the link's frame, or a list of
+them per link) are added to the
 link's inertia whichever of the above gave it. Everything here is pure: numbers in, numbers out.
 """
 
@@ -195,7 +196,7 @@ def counterweights(mech) -> tuple[Counterweight, ...]:
     s = mech.scale
     table = (mech.definition.mass or {}).get("counterweights", {})
     return tuple(Counterweight(ln, float(w["m"]), float(w["at"][0]) * s, float(w["at"][1]) * s)
-                 for ln, w in table.items())
+                 for ln, entry in table.items() for w in (entry if isinstance(entry, list) else [entry]))
 
 
 def local_points(mech, points=None, frames=None) -> dict[str, dict[str, tuple[float, float]]]:

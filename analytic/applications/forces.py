@@ -37,7 +37,7 @@ from analytic import kinds
 from analytic._common import ParameterError
 from analytic.kinds import GROUND
 
-__all__ = ["Forces", "StaticsError", "Plan", "Context", "plan", "solve", "BLOCK"]
+__all__ = ["Forces", "StaticsError", "Plan", "Context", "plan", "solve", "centres", "wanted", "BLOCK"]
 
 BLOCK = 8192
 """Samples per block: arrays of 64 KiB stay in the cache between the few hundred array operations a block
@@ -53,24 +53,27 @@ class StaticsError(ParameterError):
 class Forces:
     """The joint forces of a run (SI, world frame, arrays over the samples).
 
-    ``F[k]``: (Fx, Fy) the force ``joints[k].a`` exerts on ``joints[k].b`` at its point [N]; ``M[k]``: for a
-    prismatic pair the couple its guide exerts on its block [N m] (0 for a revolute); ``drives``: by input
+    ``F[k]``: (Fx, Fy) the force ``joints[k].a`` exerts on ``joints[k].b`` at its point [N]; ``couples``: {k:
+    the couple [N m] the guide of prismatic pair ``joints[k]`` exerts on its block}; ``drives``: by input
     link, the torque [N m] or force [N] each drive puts on its link; ``couplings``: each gear pair's constraint
     moment ``lambda`` [N m]; ``shaking``: (Fx, Fy, M) the moving links exert on the ground (M about the origin);
-    ``com``: each link's centre of mass (xG, yG) [m]; ``inertias``: the mass model used."""
+    ``inertias``: the mass model used."""
 
     joints: tuple
     F: np.ndarray
-    M: np.ndarray
+    couples: dict
     drives: dict
     couplings: np.ndarray
     shaking: np.ndarray
-    com: dict
     inertias: dict
 
     def index(self, name: str) -> int:
         """The index of the joint called ``name``."""
         return next(k for k, j in enumerate(self.joints) if j.name == name)
+
+    def M(self, k: int) -> np.ndarray:
+        """The couple of joint ``k`` [N m]: its guide's on its block (a prismatic pair), 0 (a revolute)."""
+        return self.couples[k] if k in self.couples else np.zeros(self.F.shape[-1])
 
     def magnitude(self) -> np.ndarray:
         """|F| of every joint, shape (n_joints, N)."""
@@ -275,7 +278,7 @@ class Context:
         self.out["F"][k, 0, self.sl] = fx
         self.out["F"][k, 1, self.sl] = fy
         if couple is not None:
-            self.out["M"][k, self.sl] = couple
+            self.out["M"][k][self.sl] = couple
         self.done.add(("joint", k))
 
     # ---------------------------------------------------------------- the general solve
@@ -454,9 +457,9 @@ def solve(mech, q, qd, qdd, inertias: dict, gravity=(0.0, 0.0), force=(0.0, 0.0)
     sol = {k: np.reshape(sol[k], n) for k in wanted(mech)}
     p = plan(mech)
     nj = len(p.joints)
-    out = {"F": np.zeros((nj, 2, n)), "M": np.zeros((nj, n)), "drives": np.zeros((len(p.inputs), n)),
-           "couplings": np.zeros((len(p.couplings), n)), "shaking": np.zeros((3, n)),
-           "com": {ln: np.zeros((2, n)) for ln in mech.links}}
+    out = {"F": np.empty((nj, 2, n)), "M": {k: np.empty(n) for k in p.slide.values()},
+           "drives": np.empty((len(p.inputs), n)), "couplings": np.empty((len(p.couplings), n)),
+           "shaking": np.empty((3, n))}
     force_on = np.broadcast_to(np.asarray(force_on, dtype=float), (n,))
     point = point or mech.output_point
     carrier = mech.topology.carriers[point]
@@ -479,13 +482,12 @@ def solve(mech, q, qd, qdd, inertias: dict, gravity=(0.0, 0.0), force=(0.0, 0.0)
         for k in range(3):
             out["shaking"][k, sl] = ctx.ground[k]
     drives = {inp.link: out["drives"][i] for i, inp in enumerate(p.inputs)}
-    com = {ln: (v[0], v[1]) for ln, v in out["com"].items()}
-    return Forces(p.joints, out["F"], out["M"], drives, out["couplings"], out["shaking"], com, dict(inertias))
+    return Forces(p.joints, out["F"], out["M"], drives, out["couplings"], out["shaking"], dict(inertias))
 
 
 def _loads(ctx: Context, mech, inertias, gx, gy) -> None:
     """Each link's d'Alembert load and weight: -m a_G + m g at G and the couple -I alpha, as a resultant and
-    a moment about the link's origin; the centre of mass's path into the output."""
+    a moment about the link's origin."""
     sol, sl = ctx.sol, ctx.sl
     for ln in mech.links:
         o = ctx.plan.origins[ln]
@@ -495,9 +497,6 @@ def _loads(ctx: Context, mech, inertias, gx, gy) -> None:
             zero = np.zeros(sl.stop - sl.start)
             ctx.F[ln] = [zero, zero.copy()]
             ctx.M[ln] = zero.copy()
-            ox, oy = ctx.xy(o)
-            ctx.out["com"][ln][0, sl] = ox
-            ctx.out["com"][ln][1, sl] = oy
             continue
         w, al = sol["omega" + ln][sl], sol["alpha" + ln][sl]
         rx = b.cx * c - b.cy * s
@@ -512,9 +511,18 @@ def _loads(ctx: Context, mech, inertias, gx, gy) -> None:
         M -= b.I * al
         ctx.F[ln] = [Fx, Fy]
         ctx.M[ln] = M
-        ox, oy = ctx.xy(o)
-        ctx.out["com"][ln][0, sl] = ox + rx
-        ctx.out["com"][ln][1, sl] = oy + ry
+
+
+def centres(mech, sol, inertias: dict) -> dict:
+    """Each link's centre of mass along a solution: {link: (xG, yG)} [m] (a massless link: its origin)."""
+    out = {}
+    for ln in mech.links:
+        o = mech.link_origins[ln]
+        b = inertias.get(ln)
+        cx, cy = (b.cx, b.cy) if b is not None else (0.0, 0.0)
+        c, s = np.asarray(sol["cos" + ln]), np.asarray(sol["sin" + ln])
+        out[ln] = (sol["x" + o] + cx * c - cy * s, sol["y" + o] + cx * s + cy * c)
+    return out
 
 
 def _check_complete(p: Plan, step: Step, ctx: Context) -> None:
@@ -531,7 +539,8 @@ def _check_complete(p: Plan, step: Step, ctx: Context) -> None:
 def singular_samples(forces: Forces) -> np.ndarray:
     """Samples where a joint force or drive is not finite (a singular pose)."""
     bad = ~np.isfinite(forces.F).all(axis=(0, 1))
-    bad |= ~np.isfinite(forces.M).all(axis=0)
+    for v in forces.couples.values():
+        bad |= ~np.isfinite(v)
     for v in forces.drives.values():
         bad |= ~np.isfinite(v)
     return bad

@@ -265,22 +265,27 @@ MASS_FIELDS = {"shape": "", "density": "kg/m^3", "width": "file units", "thickne
 """The material fields of ``[mass]`` (file-wide) and ``[mass.links.LINK]`` (one link), with their units."""
 
 
+def _key(k) -> str:
+    """A table key in a message: as written when it is a plain name, else quoted and cut."""
+    return k if isinstance(k, str) and LINK_NAME.match(k) and len(k) <= 60 else _short(k)
+
+
 def _check_mass(section, links: set, source: str) -> dict:
     """The ``[mass]`` section checked (see :mod:`analytic.mass`): a shape "bar" or "plate", a density,
     width and thickness > 0, per-link overrides of existing links, counterweights ``LINK = {m = kg,
-    at = [u, v]}``; a density needs a width and a thickness. One line naming the link and field otherwise."""
+    at = [u, v]}`` (or a list of them); a density needs a width and a thickness. One line naming the link and field otherwise."""
     if not isinstance(section, dict):
         raise _fail(source, "mass", "must be a table (density = kg/m^3, width, thickness, shape = \"bar\" or "
                                     "\"plate\", [mass.links.LINK], [mass.counterweights])")
     unknown = sorted(set(section) - set(MASS_FIELDS) - {"links", "counterweights"})
     if unknown:
-        raise _fail(source, f"mass.{_short(unknown[0])}", f"unknown field; [mass] takes {', '.join(MASS_FIELDS)}, "
+        raise _fail(source, f"mass.{_key(unknown[0])}", f"unknown field; [mass] takes {', '.join(MASS_FIELDS)}, "
                                                          f"links and counterweights")
 
     def material(table, where):
         for key, v in table.items():
             if key not in MASS_FIELDS:
-                raise _fail(source, f"{where}.{_short(key)}", f"unknown field; a link's material takes "
+                raise _fail(source, f"{where}.{_key(key)}", f"unknown field; a link's material takes "
                                                                f"{', '.join(MASS_FIELDS)}")
             if key == "shape":
                 if v not in ("bar", "plate"):
@@ -298,7 +303,7 @@ def _check_mass(section, links: set, source: str) -> dict:
         raise _fail(source, "mass.links", "must be a table of links: [mass.links.LINK] with density, width, ...")
     for ln, table in per.items():
         if ln not in links:
-            raise _fail(source, f"mass.links.{_short(ln)}", f"no link named {ln!r}; links: {', '.join(sorted(links))}")
+            raise _fail(source, f"mass.links.{_key(ln)}", f"no link named {ln!r}; links: {', '.join(sorted(links))}")
         if not isinstance(table, dict):
             raise _fail(source, f"mass.links.{ln}", "must be a table (density, width, thickness, shape)")
         material(table, f"mass.links.{ln}")
@@ -316,22 +321,23 @@ def _check_mass(section, links: set, source: str) -> dict:
     weights = section.get("counterweights", {})
     if not isinstance(weights, dict):
         raise _fail(source, "mass.counterweights", "must be a table LINK = {m = kg, at = [u, v]}")
-    for ln, w in weights.items():
-        where = f"mass.counterweights.{_short(ln)}"
+    for ln, entry in weights.items():
+        where = f"mass.counterweights.{_key(ln)}"
         if ln not in links:
             raise _fail(source, where, f"no link named {ln!r}; links: {', '.join(sorted(links))}")
-        if not (isinstance(w, dict) and set(w) == {"m", "at"}):
-            raise _fail(source, where, "give {m = kg, at = [u, v]} (the point mass and where it sits in the "
-                                       "link's frame, file units)")
-        m = w["m"]
-        if isinstance(m, bool) or not isinstance(m, (int, float)) or not abs(m) <= MAX_MAGNITUDE:
-            raise _fail(source, f"{where}.m", f"{_short(m)} must be a finite number [kg]")
-        if not m > 0:
-            raise _fail(source, f"{where}.m", f"{m!r} must be > 0 [kg]")
-        at = w["at"]
-        if not (isinstance(at, list) and len(at) == 2 and all(
-                not isinstance(c, bool) and isinstance(c, (int, float)) and abs(c) <= MAX_MAGNITUDE for c in at)):
-            raise _fail(source, f"{where}.at", f"{_short(at)} must be [u, v]: two finite numbers [file units]")
+        for w in (entry if isinstance(entry, list) and entry else [entry]):
+            if not (isinstance(w, dict) and set(w) == {"m", "at"}):
+                raise _fail(source, where, "give {m = kg, at = [u, v]} (the point mass and where it sits in the "
+                                           "link's frame, file units), or a list of them")
+            m = w["m"]
+            if isinstance(m, bool) or not isinstance(m, (int, float)) or not abs(m) <= MAX_MAGNITUDE:
+                raise _fail(source, f"{where}.m", f"{_short(m)} must be a finite number [kg]")
+            if not m > 0:
+                raise _fail(source, f"{where}.m", f"{m!r} must be > 0 [kg]")
+            at = w["at"]
+            if not (isinstance(at, list) and len(at) == 2 and all(
+                    not isinstance(c, bool) and isinstance(c, (int, float)) and abs(c) <= MAX_MAGNITUDE for c in at)):
+                raise _fail(source, f"{where}.at", f"{_short(at)} must be [u, v]: two finite numbers [file units]")
     return section
 
 

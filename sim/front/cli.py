@@ -318,6 +318,9 @@ def cmd_export(args) -> int:
         raise ParameterError("give --mjcf PATH (the MuJoCo model) and/or --toml PATH (the mechanism file)")
     check_outputs(args, {"mjcf": (".xml",), "toml": (".toml",)})
     mech = mechanism_from(args)
+    if args.balance is not None:                   # counterweights written into the model (issue 17)
+        from sim.front.forces_cmd import balance_links
+        mech, _ = service.balanced_mechanism(mech, balance_links(args.balance))
     if args.mjcf:
         write_text(args.mjcf, service.export_mjcf(mech, settings_from(args), getattr(args, "revolutions", 1.0)))
         print(f"wrote {args.mjcf}")
@@ -478,6 +481,8 @@ def make_parser() -> argparse.ArgumentParser:
     p.add_argument("--toml", metavar="PATH.toml", help="the mechanism file with the current parameter values")
     p.add_argument("--timestep", type=float, default=None, metavar="H", help="time step written into the model")
     p.add_argument("--integrator", default="rk4", help=argparse.SUPPRESS)
+    p.add_argument("--balance", nargs="?", const="", default=None, metavar="LINK,LINK",
+                   help="add counterweights that balance the shaking force ([mass.counterweights]; see forces)")
     p.set_defaults(func=cmd_export)
 
     p = sub.add_parser("run", help="the main job: simulate, cross-validate, render, plot and save")
@@ -498,6 +503,8 @@ def make_parser() -> argparse.ArgumentParser:
     # commands in their own modules: module.register(sub, add_common, add_sim_options, add_video_options)
     from sim.front import dynamics_cmd  # a motor drives the linkage (issue 18)
     dynamics_cmd.register(sub, add_common, add_sim_options, add_video_options)
+    from sim.front import forces_cmd  # joint forces, shaking, balancing (issue 17)
+    forces_cmd.register(sub, add_common, add_sim_options, add_video_options)
     try:
         from sim.front import app
         app.register(sub)

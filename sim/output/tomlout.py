@@ -147,6 +147,8 @@ def _mass_section(mass: dict) -> list[str]:
         lines += ["", f"[mass.links.{json.dumps(link)}]"] + [f"{k} = {_value(v)}" for k, v in table.items()]
     if mass.get("counterweights"):
         lines += ["", "[mass.counterweights]"]
-        for link, w in mass["counterweights"].items():
-            lines.append(f"{json.dumps(link)} = {{ m = {_value(float(w['m']))}, at = {_value([float(x) for x in w['at']])} }}")
+        for link, entry in mass["counterweights"].items():
+            items = [f"{{ m = {_value(float(w['m']))}, at = {_value([float(x) for x in w['at']])} }}"
+                     for w in (entry if isinstance(entry, list) else [entry])]
+            lines.append(f"{json.dumps(link)} = " + (items[0] if len(items) == 1 else "[" + ", ".join(items) + "]"))
     return lines
