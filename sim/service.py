@@ -413,6 +413,7 @@ def forces_run(mech: Mechanism, samples: int = 361, revolutions: float = 1.0, in
     from analytic.applications import forces as F
     check_samples(samples)
     check_revolutions(revolutions)
+    F.check_determinate(mech)
     if input_range is not None:
         lo, hi = check_range(mech, *input_range)
         mech = mech.rocking(lo, hi)

@@ -176,3 +176,30 @@ def solve(mech, sol, inertias, gravity=(0.0, 0.0), force=(0.0, 0.0), force_on=1.
             if ln == GROUND:
                 sm = sm + fct * x[:, col[("lambda", k)]]   # the gear pair's couple on the ground carrier
     return {"joints": joints, "drives": drives, "shaking": (sx, sy, sm)}
+
+
+def compare(mech, q, qd, qdd, gravity=(0.0, 0.0), force=(0.0, 0.0)) -> dict:
+    """The force solver (``analytic.applications.forces``, on the mass model) against this oracle on the
+    same motion: the worst error of every joint force relative to the peak joint force, of every prismatic
+    pair's couple relative to that peak times the mechanism's size, of every drive relative to its peak, and
+    of the shaking force and moment (same scales)."""
+    from analytic import mass
+    from analytic.applications import forces as F
+    inertias = mass.model(mech)
+    sol = mech.solve(q, qd, qdd, outputs=F.wanted(mech))
+    got = F.solve(mech, q, qd, qdd, inertias, gravity, force, sol=sol)
+    ref = solve(mech, sol, inertias, gravity, force)
+    peak = max(float(np.max(np.hypot(fx, fy))) for fx, fy, _ in ref["joints"].values())
+    moment = peak * mech.size
+    worst = {"joints": 0.0, "couples": 0.0, "drives": 0.0, "shaking": 0.0, "peak": peak}
+    for k, j in enumerate(got.joints):
+        fx, fy, M = ref["joints"][j.name]
+        worst["joints"] = max(worst["joints"], float(np.max(np.hypot(got.F[k, 0] - fx, got.F[k, 1] - fy))) / peak)
+        worst["couples"] = max(worst["couples"], float(np.max(np.abs(got.M(k) - M))) / moment)
+    for link, d in ref["drives"].items():
+        scale = max(float(np.max(np.abs(d))), 1e-300)
+        worst["drives"] = max(worst["drives"], float(np.max(np.abs(got.drives[link] - d))) / scale)
+    sx, sy, sm = ref["shaking"]
+    worst["shaking"] = max(float(np.max(np.hypot(got.shaking[0] - sx, got.shaking[1] - sy))) / peak,
+                           float(np.max(np.abs(got.shaking[2] - sm))) / moment)
+    return worst

@@ -37,7 +37,8 @@ from analytic import kinds
 from analytic._common import ParameterError
 from analytic.kinds import GROUND
 
-__all__ = ["Forces", "StaticsError", "Plan", "Context", "plan", "solve", "centres", "wanted", "BLOCK"]
+__all__ = ["Forces", "StaticsError", "Plan", "Context", "plan", "check_determinate", "solve", "centres", "wanted",
+           "BLOCK"]
 
 BLOCK = 8192
 """Samples per block: arrays of 64 KiB stay in the cache between the few hundred array operations a block
@@ -143,6 +144,22 @@ def plan(mech) -> Plan:
     return Plan(tuple(steps), joints, tuple(couplings), tuple(ratios), dict(mech.link_origins),
                 {k: tuple(v) for k, v in at.items()}, slide, driven, tuple(mech.inputs), topo.loops,
                 {k: e["label"] for k, e in enumerate(elements)})
+
+
+def unknowns(p: Plan, step: Step) -> int:
+    """How many force unknowns an element adds: 2 per lower pair it owns, 1 per drive and per gear pair."""
+    return sum(2 + (p.joints[k].input is not None) for k in step.joints) + len(step.couplings)
+
+
+def check_determinate(mech, p: Plan | None = None) -> Plan:
+    """The plan of ``mech``, after checking that every element is statically determinate (as many force
+    unknowns as equations of its links); a StaticsError naming the element and its loop otherwise."""
+    p = p or plan(mech)
+    for step in p.steps:
+        k = unknowns(p, step)
+        if k != 3 * len(step.links):
+            raise indeterminate(p, step, k)
+    return p
 
 
 def _ratio_field(e: dict, c) -> str:
@@ -455,7 +472,7 @@ def solve(mech, q, qd, qdd, inertias: dict, gravity=(0.0, 0.0), force=(0.0, 0.0)
         sol = mech.solve(q, qd, qdd, outputs=wanted(mech))
     n = int(np.size(sol["x" + mech.points[0]]))
     sol = {k: np.reshape(sol[k], n) for k in wanted(mech)}
-    p = plan(mech)
+    p = check_determinate(mech)
     nj = len(p.joints)
     out = {"F": np.empty((nj, 2, n)), "M": {k: np.empty(n) for k in p.slide.values()},
            "drives": np.empty((len(p.inputs), n)), "couplings": np.empty((len(p.couplings), n)),
