@@ -534,7 +534,8 @@ def balance_record(run: ForceRun, display=None) -> dict:
 
 def forces_columns(run: ForceRun) -> tuple[dict, dict]:
     """CSV columns of a forces run and their quantities: t, the inputs, each joint's ``Fx_J Fy_J F_J``
-    (``M_J`` for a prismatic pair), each drive ``tau_Q`` (Q the input's name), the shaking force and moment."""
+    (``M_J`` for a prismatic pair), each drive ``tauL`` (L the input's link, as in simulate's CSV), the shaking
+    force and moment."""
     from analytic import quantities as Q
     mech, f = run.mech, run.forces
     cols = {"t": run.t}
@@ -549,8 +550,8 @@ def forces_columns(run: ForceRun) -> tuple[dict, dict]:
         if j.kind == "prismatic":
             cols[f"M_{j.name}"], qty[f"M_{j.name}"] = f.M(k), Q.TORQUE
     for inp in mech.inputs:
-        cols[f"tau_{inp.q}"] = f.drives[inp.link]
-        qty[f"tau_{inp.q}"] = Q.TORQUE if inp.kind == "crank" else Q.FORCE
+        cols[f"tau{inp.link}"] = f.drives[inp.link]                 # as simulate's CSV names a drive
+        qty[f"tau{inp.link}"] = Q.TORQUE if inp.kind == "crank" else Q.FORCE
     for name, k, quantity in (("Fx_shaking", 0, Q.FORCE), ("Fy_shaking", 1, Q.FORCE), ("M_shaking", 2, Q.TORQUE)):
         cols[name], qty[name] = f.shaking[k], quantity
     return cols, qty

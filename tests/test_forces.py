@@ -270,7 +270,7 @@ def test_csv_with_its_units_and_the_file_unit(tmp_path):
     for j in m.joints:
         assert {f"Fx_{j.name}", f"Fy_{j.name}", f"F_{j.name}"} <= set(cols)
     units = json.loads((tmp_path / "f.csv.units.json").read_text())
-    assert units["units"]["phiOA"] == "deg" and units["units"]["F_O"] == "N" and units["units"]["tau_phiOA"] == "N m"
+    assert units["units"]["phiOA"] == "deg" and units["units"]["F_O"] == "N" and units["units"]["tauOA"] == "N m"
     assert not units["si"]
     rows = np.array([[float(x) for x in line.split(",")] for line in head[1:]])
     assert math.isclose(rows[-1, cols.index("phiOA")], 360.0, rel_tol=1e-12)
