@@ -504,7 +504,7 @@ def forces_record(run: ForceRun, display=None) -> dict:
               "inputs": {inp.q: display.convert(inp_q(inp), run.inputs[inp.q]) for inp in mech.inputs},
               "links": links, "joints": joints, "drives": drives,
               "shaking": {"Fx": f.shaking[0], "Fy": f.shaking[1], "M": f.shaking[2]},
-              "loads": run.loads, "peaks": force_peaks(run),
+              "loads": run.loads, "peaks": _peaks_at(run, force_peaks(run), display),
               "units": {"file": mech.units, "length": display.unit(Q.LENGTH), "angle": display.unit(Q.ANGLE),
                         "time": "s", "force": "N", "torque": "N m", "mass": "kg", "I": "kg m^2",
                         "inputs": {inp.q: display.unit(inp_q(inp)) for inp in mech.inputs},
@@ -512,6 +512,25 @@ def forces_record(run: ForceRun, display=None) -> dict:
     if run.balance is not None:
         record["balance"] = balance_record(run, display)
     return record
+
+
+def _peaks_at(run: ForceRun, peaks: dict, display) -> dict:
+    """The peaks with the first input's value (display units) beside each sample index ``at``/``at_M``."""
+    from analytic import quantities as Q
+    first = run.mech.inputs[0]
+    quantity = Q.ANGLE if first.kind == "crank" else Q.LENGTH
+
+    def value(i):
+        return display.convert(quantity, float(run.q[i, 0]))
+
+    def walk(d):
+        out = {}
+        for k, v in d.items():
+            out[k] = walk(v) if isinstance(v, dict) else v
+            if k in ("at", "at_M") and not isinstance(v, dict):
+                out[f"{first.q}{'' if k == 'at' else '_M'}"] = value(v)
+        return out
+    return walk(peaks)
 
 
 def balance_record(run: ForceRun, display=None) -> dict:
