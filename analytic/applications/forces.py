@@ -69,8 +69,11 @@ class Forces:
     inertias: dict
 
     def index(self, name: str) -> int:
-        """The index of the joint called ``name``."""
-        return next(k for k, j in enumerate(self.joints) if j.name == name)
+        """The index of the joint called ``name`` (KeyError if there is none)."""
+        for k, j in enumerate(self.joints):
+            if j.name == name:
+                return k
+        raise KeyError(name)
 
     def M(self, k: int) -> np.ndarray:
         """The couple of joint ``k`` [N m]: its guide's on its block (a prismatic pair), 0 (a revolute)."""
@@ -393,7 +396,8 @@ def _input_element(plan_: Plan, i: int) -> dict:
 
 
 def _solve_batch(A, b):
-    """x with A x = b per sample; NaN rows where A is singular; None when it is singular at every sample."""
+    """x with A x = b per sample; NaN rows where A is singular; None when it is singular at every sample of
+    the block."""
     try:
         return np.linalg.solve(A, b[..., None])[..., 0]
     except np.linalg.LinAlgError:
@@ -423,7 +427,8 @@ def indeterminate(plan_: Plan, step: Step, unknowns: int, singular: bool = False
     equations = 3 * len(step.links)
     if singular:
         return StaticsError(f"{label}: statically indeterminate{where}: its joint forces are not determined by "
-                            f"statics at any pose (a redundant constraint); free one joint of the loop")
+                            f"statics at these poses (a redundant constraint, or a group held in a singular pose); "
+                            f"free one joint of the loop")
     if unknowns > equations:
         return StaticsError(f"{label}: statically indeterminate{where}: {unknowns} unknown joint forces for "
                             f"{equations} equations of its links {', '.join(step.links)} (a redundant "
