@@ -260,7 +260,7 @@ class Kind:
     # -------------------------------------------------------------------------------- simulation
     def mjcf(self, e: dict, model) -> None:
         """Add constraints the MuJoCo model needs besides its joints and loop closures (``model`` is the
-        builder's context, :class:`sim.model.tree.Context`)."""
+        builder's context, :class:`sim.model.build.Context`)."""
 
 
 @dataclass(frozen=True)
