@@ -167,6 +167,9 @@ class State:
     links: dict = field(default_factory=dict)
     slides: dict = field(default_factory=dict)
     extras: dict = field(default_factory=dict)
+    angles: dict = field(default_factory=dict)
+    """Link angles [rad] counted in whole turns (not reduced to (-pi, pi]) where a kind knows them: a gear
+    sets its link's, for the gears that mesh with it ({link: array})."""
     start: dict | None = None
     """What the previous block of samples carried over (its ``carry``), for kinds that continue a motion
     from sample to sample (numerically solved groups); None for the first block."""
@@ -256,6 +259,11 @@ class Kind:
     def input_joint(self, e: dict) -> str:
         """For inputs: the point it turns or slides about (its pivot, or the guide's origin)."""
         raise NotImplementedError
+
+    def describe(self, e: dict, pose: dict, unit: tuple[float, str]) -> str:
+        """A line about the resolved element at a pose ({point: (x, y)} [m]) for ``linkage check`` (a gear
+        pair's pitch radii), lengths in ``unit`` (metres per unit, its name); "" for nothing to say."""
+        return ""
 
     # -------------------------------------------------------------------------------- simulation
     def mjcf(self, e: dict, model) -> None:
