@@ -152,3 +152,26 @@ def test_a_wrong_gear_file_exits_2_with_one_line(tmp_path):
                          timeout=120)
     assert out.returncode == 2 and out.stdout == ""
     assert out.stderr.count("\n") == 1 and "groups[1] (point C): field 'ratio'" in out.stderr, out.stderr
+
+
+# ------------------------------------------------------------------------------------------- drawing
+@pytest.mark.parametrize("name", ["gear.toml", "gear__planetary.toml"])
+def test_drawn_gears_mesh_at_the_contact_point(name):
+    """Teeth in the ratio with one module, the mesh gear's tooth and the new gear's gap both centred on the
+    pitch point (on the line of centres, r_mesh from the mesh's centre) at the start."""
+    m = analytic.load(str(KINDS / name))
+    _, start = m.solve_at([0.0])
+    pose = {p: (float(start["x" + p][0]), float(start["y" + p][0])) for p in m.points}
+    for e in (e for e in m.geometry.elements if e["kind"] == "gear"):
+        a, b = analytic.kinds.get("gear").wheels(e, pose)
+        assert a.teeth * 1.0 / b.teeth == pytest.approx(abs(e["ratio"]), rel=1e-12)
+        assert a.radius / a.teeth == pytest.approx(b.radius / b.teeth, rel=1e-12)      # one module
+        (ax, ay), (bx, by) = pose[a.centre], pose[b.centre]
+        d = math.hypot(bx - ax, by - ay)
+        assert a.radius + b.radius == pytest.approx(d, rel=1e-12)                       # external examples
+        kx, ky = ax + a.radius * (bx - ax) / d, ay + a.radius * (by - ay) / d
+        for w, offset in ((a, 0.0), (b, math.pi / b.teeth)):
+            cx, cy = pose[w.centre]
+            ref = 0.0 if w.ref is None else math.atan2(pose[w.ref][1] - cy, pose[w.ref][0] - cx)
+            toward = math.atan2(ky - cy, kx - cx)
+            assert abs(math.remainder(ref + w.phase - offset - toward, 2 * math.pi)) <= 1e-12

@@ -140,6 +140,21 @@ class ExtraOutput:
 
 
 @dataclass(frozen=True)
+class Wheel:
+    """A gear as drawn on a link: its pitch circle of ``radius`` [m] about ``centre`` (a point of ``link``)
+    with ``teeth`` teeth (inward for a ``ring``), the first centred ``phase`` [rad] from the direction
+    ``centre`` -> ``ref`` (a second point of the link; None: from +x, a gear fixed to the ground)."""
+
+    link: str
+    centre: str
+    ref: str | None
+    radius: float
+    teeth: int
+    phase: float
+    ring: bool = False
+
+
+@dataclass(frozen=True)
 class JitSpec:
     """A kind's compiled row (see :mod:`analytic.solver.jit`): ``layout(e, L, row, par)`` fills the kind's
     integer row and number row from a resolved element through the layout builder ``L``;
@@ -259,6 +274,10 @@ class Kind:
     def input_joint(self, e: dict) -> str:
         """For inputs: the point it turns or slides about (its pivot, or the guide's origin)."""
         raise NotImplementedError
+
+    def wheels(self, e: dict, pose: dict) -> tuple[Wheel, ...]:
+        """Gears to draw on links (:class:`Wheel`), given the start pose ({point: (x, y)} [m])."""
+        return ()
 
     def describe(self, e: dict, pose: dict, unit: tuple[float, str]) -> str:
         """A line about the resolved element at a pose ({point: (x, y)} [m]) for ``linkage check`` (a gear

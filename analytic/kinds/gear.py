@@ -36,10 +36,12 @@ which moves with the carrier.
 from __future__ import annotations
 
 import math
+from fractions import Fraction
 
 import numpy as np
 
-from .base import GROUND, Coupling, Field, Kind, LinkPart, State, Structure, on_frame
+
+from .base import GROUND, Coupling, Field, Kind, LinkPart, State, Structure, Wheel, on_frame
 
 RATIO_EPS = 1e-9
 """A ratio within this of 0 or 1 would need a pitch radius over 1e9 times the centre distance: no gear pair."""
@@ -106,6 +108,7 @@ class Gear(Kind):
                             f"{', '.join(on_carrier)}); pivot the gear on a point of its carrier")
         shared = [p for p in topology.members(mesh) if p in on_carrier]
         e["centre"] = shared[0] if len(shared) == 1 else None
+        e["mesh_ref"] = next((p for p in topology.members(mesh) if p not in shared), None) if mesh != GROUND else None
         if not e["problem"] and len(shared) != 1:
             how = "shares no point with" if not shared else f"shares {len(shared)} points ({', '.join(shared)}) with"
             e["problem"] = (f"field 'mesh': link {mesh!r} {how} the carrier {carrier!r}; the mesh gear must turn "
@@ -129,6 +132,31 @@ class Gear(Kind):
         kind = "external" if e["ratio"] < 0 else f"internal, {a if r_a > r_b else b} is the ring"
         return (f"gear {b}-{a} on {e['carrier']}: pitch radii {r_b / scale:.6g} ({b}) and {r_a / scale:.6g} ({a}) "
                 f"{name} at centre distance {d / scale:.6g} {name} ({kind})")
+
+    def wheels(self, e, pose):
+        """The two pitch circles, toothed so that they mesh: teeth in the ratio (as a fraction), a tooth of
+        the mesh gear and a gap of the new gear at the contact point at the start."""
+        (px, py), (cx, cy) = pose[e["pivot"]], pose[e["centre"]]
+        d = math.hypot(px - cx, py - cy)
+        if d == 0.0:                                   # coaxial: no pair of pitch circles
+            return ()
+        k = e["ratio"]
+        r_a, r_b = pitch_radii(k, d)
+        ux, uy = (px - cx) / d, (py - cy) / d
+        if k < 0 or r_a > r_b:                         # contact on the mesh gear's circle towards (or past) b
+            kx, ky = cx + r_a * ux, cy + r_a * uy
+        else:                                          # b is the ring: contact past a, away from b
+            kx, ky = px - r_b * ux, py - r_b * uy
+        n_a, n_b = teeth(abs(k))
+
+        def phase(x, y, ref, n, gap):
+            base = 0.0 if ref is None else math.atan2(pose[ref][1] - y, pose[ref][0] - x)
+            return math.atan2(ky - y, kx - x) - base + (math.pi / n if gap else 0.0)
+
+        return (Wheel(e["mesh"], e["centre"], e["mesh_ref"], r_a, n_a, phase(cx, cy, e["mesh_ref"], n_a, False),
+                      k > 0 and r_a > r_b),
+                Wheel(e["link"], e["pivot"], e["point"], r_b, n_b, phase(px, py, e["point"], n_b, True),
+                      k > 0 and r_b > r_a))
 
     # ------------------------------------------------------------------------------------ solver
     def solve(self, e, st: State):
@@ -171,6 +199,15 @@ def pitch_radii(ratio: float, d: float) -> tuple[float, float]:
     return k * r_b, r_b
 
 
+def teeth(ratio: float, fewest: int = 20, most: int = 240) -> tuple[int, int]:
+    """Teeth of the mesh gear and of the new gear for a drawing: in the ratio r_mesh / r_gear (as a fraction
+    of denominator <= 24), the smaller gear with at least ``fewest`` where no gear passes ``most``."""
+    f = Fraction(ratio).limit_denominator(24)
+    p, q = max(f.numerator, 1), max(f.denominator, 1)
+    m = max(1, min(math.ceil(fewest / min(p, q)), most // max(p, q)))
+    return p * m, q * m
+
+
 def _wrap(x):
     """x reduced to [-pi, pi]."""
     return x - (2.0 * np.pi) * np.round(x / (2.0 * np.pi))
@@ -195,36 +232,31 @@ def _turns(link: str, e: dict, st: State):
 
 # ------------------------------------------------------------------------------------------- drawing
 def _draw(e, ctx):
-    """Each gear's pitch circle (a thin disc; a ring gear as a rim of short bars) on its body."""
+    """Each gear's pitch circle on its body, for MuJoCo's viewer: a thin disc, a ring gear as a rim of short
+    bars (no mass: the bodies' inertias are explicit)."""
     import mujoco                                  # only the model builder calls this hook
 
-    (px, py), (cx, cy) = ctx.points[e["pivot"]], ctx.points[e["centre"]]
-    d = math.hypot(px - cx, py - cy)
-    if d <= 1e-9 * ctx.mech.size:                 # coaxial: no pair of pitch circles to draw
-        return
-    r_a, r_b = pitch_radii(e["ratio"], d)
-    ring = None if e["ratio"] < 0 else ("a" if r_a > r_b else "b")
-    z = -0.02 * ctx.mech.size
-    for tag, ln, (x, y), r in (("a", e["mesh"], (cx, cy), r_a), ("b", e["link"], (px, py), r_b)):
-        body = ctx.spec.worldbody if ln == GROUND else ctx.spec.body(ln)
-        ox, oy, th = ctx.frames[ln]                # the body's world pose at the start
+    size = ctx.mech.size
+    for i, w in enumerate(KIND.wheels(e, ctx.points)):
+        body = ctx.spec.worldbody if w.link == GROUND else ctx.spec.body(w.link)
+        x, y = ctx.points[w.centre]
+        ox, oy, th = ctx.frames[w.link]            # the body's world pose at the start
         lx = (x - ox) * math.cos(th) + (y - oy) * math.sin(th)
         ly = (y - oy) * math.cos(th) - (x - ox) * math.sin(th)
-        name = f"gear_{e['link']}_{tag}"
-        rgba = [0.55, 0.55, 0.60, 0.35] if tag == "a" else [0.85, 0.60, 0.20, 0.35]
-        if ring == tag:
-            n = 72
-            half = math.pi * r / n
-            for i in range(n):
-                t = 2.0 * math.pi * (i + 0.5) / n
-                body.add_geom(name=f"{name}_{i}", type=mujoco.mjtGeom.mjGEOM_BOX,
-                              size=[0.01 * ctx.mech.size, 1.05 * half, 0.002 * ctx.mech.size],
-                              pos=[lx + r * math.cos(t), ly + r * math.sin(t), z],
-                              quat=[math.cos(t / 2), 0.0, 0.0, math.sin(t / 2)], rgba=rgba[:3] + [0.8],
-                              contype=0, conaffinity=0, density=0)
-        else:
-            body.add_geom(name=name, type=mujoco.mjtGeom.mjGEOM_CYLINDER, size=[r, 0.002 * ctx.mech.size, 0],
+        name, z = f"gear_{e['link']}_{'ab'[i]}", -0.02 * size
+        rgba = [0.55, 0.55, 0.60, 0.35] if i == 0 else [0.85, 0.60, 0.20, 0.35]
+        if not w.ring:
+            body.add_geom(name=name, type=mujoco.mjtGeom.mjGEOM_CYLINDER, size=[w.radius, 0.002 * size, 0],
                           pos=[lx, ly, z], rgba=rgba, contype=0, conaffinity=0, density=0)
+            continue
+        n = 72
+        for j in range(n):
+            t = 2.0 * math.pi * (j + 0.5) / n
+            body.add_geom(name=f"{name}_{j}", type=mujoco.mjtGeom.mjGEOM_BOX,
+                          size=[0.01 * size, 1.05 * math.pi * w.radius / n, 0.002 * size],
+                          pos=[lx + w.radius * math.cos(t), ly + w.radius * math.sin(t), z],
+                          quat=[math.cos(t / 2), 0.0, 0.0, math.sin(t / 2)], rgba=rgba[:3] + [0.8],
+                          contype=0, conaffinity=0, density=0)
 
 
 KIND = Gear()
