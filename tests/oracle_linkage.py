@@ -11,6 +11,11 @@ two scalar constraint equations per element, in the element's own point (x, y):
 * ``RPR``     |R - P|^2 = l^2,  cross(R - P, Q - P) = l * offset
               (Q - P = s u + offset u_perp with u = (R - P)/l, so cross(u, Q - P) = offset)
 * ``point``   R = P + u e + v e_perp                   (e: unit vector P -> Q, or a named link's x-axis)
+* ``gear``    R = pivot + l (cos psi, sin psi), psi = phi_c + phase + ratio (phi_a - phi_c): the gear's
+              angle from the relation between the carrier's (c) and the mesh link's (a) angles, each
+              measured from its own points (a crank's: its input angle, counted in turns; a gear's: its
+              own psi; the ground's 0; any other link's atan2 of its frame, in (-pi, pi], relative to the
+              carrier when neither angle counts turns)
 
 All unknowns are solved together: ``F(x; q) = 0`` for all samples at once (batched 2n x 2n systems).
 
@@ -95,6 +100,13 @@ def jsin(a: Jet) -> Jet:
     return Jet(s, c * a.c1, c * a.c2 - 0.5 * s * a.c1 * a.c1)
 
 
+def jatan2(ex: Jet, ey: Jet) -> Jet:
+    """The angle of a unit vector (ex, ey): e1 = th1 e_perp and e2 = th2 e_perp - th1^2 e / 2 give
+    th1 = cross(e0, e1), th2 = cross(e0, e2)."""
+    ex, ey = Jet.lift(ex), Jet.lift(ey)
+    return Jet(np.arctan2(ey.c0, ex.c0), ex.c0 * ey.c1 - ey.c0 * ex.c1, ex.c0 * ey.c2 - ey.c0 * ex.c2)
+
+
 def _cross(ax, ay, bx, by):
     return ax * by - ay * bx
 
@@ -143,7 +155,33 @@ def _frame(geometry, on, pts):
         if k == "RPR" and on in e["links"]:
             P = pts[e["pivot"]] if on == e["links"][0] else pts[e["through"]]
             return P, _unit(pts[e["pivot"]], pts[e["point"]])
+        if k == "gear" and e["link"] == on:
+            return pts[e["pivot"]], _unit(pts[e["pivot"]], pts[e["point"]])
     raise ValueError(f"no link named {on!r}")
+
+
+def _link_angle(geometry, link, pts, Q):
+    """(angle of ``link`` as a Jet, whether it counts whole turns): the ground 0; a crank its input angle
+    (its equation is written with it); a gear its psi; any other link atan2 of its frame's x-axis."""
+    if link == "ground":
+        return Jet(0.0), True
+    for e in geometry.elements:
+        if e["kind"] == "crank" and e["link"] == link:
+            return Q[e["input"]], True
+        if e["kind"] == "gear" and e["link"] == link:
+            return _gear_angle(geometry, e, pts, Q), True
+    _, (ex, ey) = _frame(geometry, link, pts)
+    return jatan2(ex, ey), False
+
+
+def _gear_angle(geometry, e, pts, Q):
+    """psi = phi_c + phase + ratio (phi_a - phi_c) of a gear element (see the module docstring)."""
+    phi_c, turns_c = _link_angle(geometry, e["carrier"], pts, Q)
+    phi_a, turns_a = _link_angle(geometry, e["mesh"], pts, Q)
+    theta = phi_a - phi_c
+    if not (turns_a or turns_c):           # both in (-pi, pi]: their difference reduced to (-pi, pi]
+        theta = Jet(theta.c0 - 2 * np.pi * np.round(theta.c0 / (2 * np.pi)), theta.c1, theta.c2)
+    return phi_c + e["phase"] + e["ratio"] * theta
 
 
 def residual(geometry, X, Q):
@@ -181,6 +219,9 @@ def residual(geometry, X, Q):
             P, (ex, ey) = _frame(geometry, e["on"], pts)
             u, v = e["at"]
             rows += [R[0] - P[0] - (u * ex - v * ey), R[1] - P[1] - (u * ey + v * ex)]
+        elif kind == "gear":
+            P, psi = pts[e["pivot"]], _gear_angle(geometry, e, pts, Q)
+            rows += [R[0] - P[0] - e["length"] * jcos(psi), R[1] - P[1] - e["length"] * jsin(psi)]
         else:
             raise ValueError(f"unknown element kind {kind!r}")
     return rows
@@ -333,4 +374,6 @@ def link_rates(geometry, points):
             out[e["links"][1]] = rates(*G["points"]) if "points" in G else (0.0, 0.0)
         elif k == "RPR":
             out[e["links"][0]] = out[e["links"][1]] = rates(e["pivot"], pt)
+        elif k == "gear":
+            out[e["link"]] = rates(e["pivot"], pt)
     return out
