@@ -15,6 +15,7 @@ MODULES = (
     "rrp",
     "rpr",
     "point",
+    "rpp", "prp", "ppr",
 )
 """The kinds' modules, in the order the docs list them: adding a kind is one line here."""
 
