@@ -112,17 +112,18 @@ def check_slot_angle(e) -> str | None:
 
 
 def layout_pin_in_slot(e, L, row, par, on_guide: str, in_slot: str) -> None:
-    """The compiled row of a pin in a slot on a guide (RPP, PPR): the pin ``row[2]``, the guide
+    """The compiled row of a pin in a slot on a guide (RPP, PPR; outputs in the order of ``links``, as
+    the numpy path gives them): the pin ``row[2]``, the guide
     ``row[5:8]`` and ``par[2:4]``, the link on the guide ``row[3]`` and its slide ``row[8]``, the block in
     the slot ``row[4]`` and its slide ``row[9]``; offset ``par[0]``, the slot angle's cos and sin
     ``par[1]``, ``par[4]`` (as :func:`pin_in_slot` computes them)."""
     row[2] = L.point(e["through"])
     par[0], par[1], par[4] = e["offset"], math.cos(e["angle"]), math.sin(e["angle"])
     L.guide(row, par, e["guide"])
-    row[3] = L.new_link(on_guide)
-    row[4] = L.new_link(in_slot)
-    row[8] = L.new_slide(on_guide)
-    row[9] = L.new_slide(in_slot)
+    for name in e["links"]:                      # in the order of the links, as the numpy path adds them
+        row[3 if name == on_guide else 4] = L.new_link(name)
+    for name in e["links"]:
+        row[8 if name == on_guide else 9] = L.new_slide(name)
     L.new_point(e["point"])
 
 

@@ -55,8 +55,8 @@ class RPP(Kind):
         st.points[e["point"]] = _lines.samples(C_, st.n)
         st.links[block] = _lines.samples(in_slot, st.n)
         st.links[yoke] = _lines.samples(on_guide, st.n)
-        st.slides[yoke] = _lines.samples(s_yoke, st.n)
         st.slides[block] = _lines.samples(s_block, st.n)
+        st.slides[yoke] = _lines.samples(s_yoke, st.n)
 
     def singularity(self, e, st, size):
         # the sin of the angle between slot and guide: constant, as the slot turns with the guide (NaN where
