@@ -16,6 +16,9 @@ two scalar constraint equations per element, in the element's own point (x, y):
               measured from its own points (a crank's: its input angle, counted in turns; a gear's: its
               own psi; the ground's 0; any other link's atan2 of its frame, in (-pi, pi], relative to the
               carrier when neither angle counts turns)
+* ``PRP``     cross(u1, C - O1) = offset1,  cross(u2, C - O2) = offset2   (C on both shifted guide lines)
+* ``RPP``     cross(u, C - O) = offset,  cross(v, P - C) = 0   (C on the shifted guide; the pin P on the slot
+              through C, v = u turned by the slot's angle); ``PPR`` the same with its pin Q
 
 All unknowns are solved together: ``F(x; q) = 0`` for all samples at once (batched 2n x 2n systems).
 
@@ -122,6 +125,12 @@ def _unit(P, Q):
 
 
 # ---------------------------------------------------------------------------------------- equations
+def _slot(e, u):
+    """The slot's unit direction of an RPP or PPR: the guide's ``u`` turned by its ``angle``."""
+    ca, sa = math.cos(e["angle"]), math.sin(e["angle"])
+    return u[0] * ca - u[1] * sa, u[0] * sa + u[1] * ca
+
+
 def _guide(G, pts):
     """(origin, unit direction) of a guide: the line P->Q of two points, or a ground line."""
     if "points" in G:
@@ -157,6 +166,12 @@ def _frame(geometry, on, pts):
             return P, _unit(pts[e["pivot"]], pts[e["point"]])
         if k == "gear" and e["link"] == on:
             return pts[e["pivot"]], _unit(pts[e["pivot"]], pts[e["point"]])
+        if k == "PRP" and on in e["links"]:            # a block: its pin, along its guide
+            return pts[e["point"]], _guide(e["guide" + str(e["links"].index(on) + 1)], pts)[1]
+        if k in ("RPP", "PPR") and on in e["links"]:   # the link on the guide: C, along it; the pin block: its pin, along the slot
+            u = _guide(e["guide"], pts)[1]
+            on_guide = on == e["links"][1 if k == "RPP" else 0]
+            return (pts[e["point"]], u) if on_guide else (pts[e["through"]], _slot(e, u))
     raise ValueError(f"no link named {on!r}")
 
 
@@ -215,6 +230,16 @@ def residual(geometry, X, Q):
             P, Qp, l = pts[e["pivot"]], pts[e["through"]], e["length"]
             rows += [_dot(R[0] - P[0], R[1] - P[1], R[0] - P[0], R[1] - P[1]) - l * l,
                      _cross(R[0] - P[0], R[1] - P[1], Qp[0] - P[0], Qp[1] - P[1]) - l * e["offset"]]
+        elif kind == "PRP":
+            for g, off in (("guide1", "offset1"), ("guide2", "offset2")):
+                O, (ux, uy) = _guide(e[g], pts)
+                rows.append(_cross(ux, uy, R[0] - O[0], R[1] - O[1]) - e[off])
+        elif kind in ("RPP", "PPR"):
+            O, u = _guide(e["guide"], pts)
+            vx, vy = _slot(e, u)
+            P = pts[e["through"]]
+            rows += [_cross(u[0], u[1], R[0] - O[0], R[1] - O[1]) - e["offset"],
+                     _cross(vx, vy, P[0] - R[0], P[1] - R[1])]
         elif kind == "point":
             P, (ex, ey) = _frame(geometry, e["on"], pts)
             u, v = e["at"]
@@ -328,7 +353,8 @@ def branch_violations(geometry, points):
 def slides(geometry, points):
     """(s, ds, dds) of every prismatic pair, named after its block link, from the oracle's points:
     RRP: distance of C from the guide's origin along the guide; RPR: Q - P along the slot; slider: its
-    input, recovered from the point."""
+    input, recovered from the point; PRP: C from each guide's origin along it; RPP, PPR: C from the guide's
+    origin along the guide (the link on it), the pin - C along the slot (the block in it)."""
     J = {n: (Jet(v[0], v[2], 0.5 * v[4]), Jet(v[1], v[3], 0.5 * v[5])) for n, v in points.items()}
     out = {}
     for e in geometry.elements:
@@ -342,6 +368,21 @@ def slides(geometry, points):
             ux, uy = _unit(P, R)
             s = _dot(Qp[0] - P[0], Qp[1] - P[1], ux, uy)
             name = e["links"][1]
+        elif e["kind"] == "PRP":
+            for link, g in zip(e["links"], ("guide1", "guide2")):
+                O, (ux, uy) = _guide(e[g], J)
+                s = _dot(R[0] - O[0], R[1] - O[1], ux, uy)
+                out[link] = (s.c0, s.c1, 2.0 * s.c2)
+            continue
+        elif e["kind"] in ("RPP", "PPR"):
+            O, u = _guide(e["guide"], J)
+            vx, vy = _slot(e, u)
+            P = J[e["through"]]
+            on_guide, in_slot = e["links"] if e["kind"] == "PPR" else e["links"][::-1]
+            s = _dot(R[0] - O[0], R[1] - O[1], u[0], u[1])
+            out[on_guide] = (s.c0, s.c1, 2.0 * s.c2)
+            s = _dot(P[0] - R[0], P[1] - R[1], vx, vy)
+            name = in_slot
         else:
             continue
         out[name] = (s.c0, s.c1, 2.0 * s.c2)
@@ -376,4 +417,11 @@ def link_rates(geometry, points):
             out[e["links"][0]] = out[e["links"][1]] = rates(e["pivot"], pt)
         elif k == "gear":
             out[e["link"]] = rates(e["pivot"], pt)
+        elif k == "PRP":                      # each block turns with its guide
+            for link, g in zip(e["links"], ("guide1", "guide2")):
+                G = e[g]
+                out[link] = rates(*G["points"]) if "points" in G else (0.0, 0.0)
+        elif k in ("RPP", "PPR"):             # both turn with the guide (the slot is fixed in the link on it)
+            G = e["guide"]
+            out[e["links"][0]] = out[e["links"][1]] = rates(*G["points"]) if "points" in G else (0.0, 0.0)
     return out
