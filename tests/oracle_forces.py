@@ -24,6 +24,15 @@ import numpy as np
 GROUND = "ground"
 
 
+def _ratio(mech, c, elements) -> float:
+    """A gear pair's ratio: the value of the field its kind names for it (the kind's Coupling)."""
+    from analytic import kinds
+    written = mech.definition.elements[c.element]
+    field = next(k.ratio for k in kinds.get(written.kind).structure(written.fields).couplings
+                 if (k.link, k.mesh) == (c.link, c.mesh))
+    return float(elements[mech.topology.order.index(c.element)][field])
+
+
 def solve(mech, sol, inertias, gravity=(0.0, 0.0), force=(0.0, 0.0), force_on=1.0):
     """Joint forces from the whole linkage's Newton-Euler equations.
 
@@ -118,8 +127,7 @@ def solve(mech, sol, inertias, gravity=(0.0, 0.0), force=(0.0, 0.0), force_on=1.
             if jt.a != GROUND:
                 add_force(row_of[jt.a], jt.a, jt.point, col[("drive", inp.link)], c, s, -1.0)
     for k, c in enumerate(topo.couplings):
-        e = elements[topo.order.index(c.element)]
-        ratio = float(e[c.ratio] if isinstance(c.ratio, str) and c.ratio in e else e["ratio"])
+        ratio = _ratio(mech, c, elements)
         for ln, f in ((c.link, 1.0), (c.mesh, -ratio), (c.carrier, ratio - 1.0)):
             if ln != GROUND:
                 A[:, row_of[ln] + 2, col[("lambda", k)]] += f
@@ -170,8 +178,7 @@ def solve(mech, sol, inertias, gravity=(0.0, 0.0), force=(0.0, 0.0), force_on=1.
             px, py = P(jt.point)
             sx, sy, sm = sx - d * c, sy - d * s, sm - (px * d * s - py * d * c)
     for k, c in enumerate(topo.couplings):
-        e = elements[topo.order.index(c.element)]
-        ratio = float(e[c.ratio] if isinstance(c.ratio, str) and c.ratio in e else e["ratio"])
+        ratio = _ratio(mech, c, elements)
         for ln, fct in ((c.link, 1.0), (c.mesh, -ratio), (c.carrier, ratio - 1.0)):
             if ln == GROUND:
                 sm = sm + fct * x[:, col[("lambda", k)]]   # the gear pair's couple on the ground carrier

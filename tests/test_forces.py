@@ -90,7 +90,7 @@ def test_the_shaking_force_is_what_the_ground_joints_carry(name):
     inertias = mass.model(m)
     sol = m.solve(q, qd, qdd)
     f = F.solve(m, q, qd, qdd, inertias, GRAVITY, force)
-    # (1) identity: minus the ground joints' forces, the drives' and guides' reactions
+    # (1) identity: minus the ground joints' forces, the drives' and guides' reactions, gear pairs' couples
     sx, sy, sm = np.zeros(len(q)), np.zeros(len(q)), np.zeros(len(q))
     for k, j in enumerate(f.joints):
         if j.a != "ground":
@@ -105,6 +105,11 @@ def test_the_shaking_force_is_what_the_ground_joints_carry(name):
             c, s = sol["cos" + inp.link], sol["sin" + inp.link]
             x, y = sol["x" + inp.point], sol["y" + inp.point]
             sx, sy, sm = sx - d * c, sy - d * s, sm - (x * d * s - y * d * c)
+    plan = F.plan(m)
+    for k, (c, r) in enumerate(zip(plan.couplings, plan.ratios)):   # a gear pair's couple on a ground carrier
+        for ln, share in ((c.link, 1.0), (c.mesh, -r), (c.carrier, r - 1.0)):
+            if ln == "ground":
+                sm = sm + share * f.couplings[k]
     peak = F.peak(f)
     assert np.max(np.hypot(f.shaking[0] - sx, f.shaking[1] - sy)) <= ROUNDING * peak * 10
     assert np.max(np.abs(f.shaking[2] - sm)) <= ROUNDING * peak * m.size * 10

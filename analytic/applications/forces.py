@@ -130,7 +130,7 @@ def plan(mech) -> Plan:
     for c in topo.couplings:
         e = elements[pos_of_written[c.element]]
         couplings.append(c)
-        ratios.append(float(e[_ratio_field(e, c)]))
+        ratios.append(float(e[ratio_field(mech, c)]))
         c_owner.append(max(link_pos[c.link], link_pos[c.mesh], link_pos[c.carrier], pos_of_written[c.element]))
     steps = []
     for k, e in enumerate(elements):
@@ -165,9 +165,14 @@ def check_determinate(mech, p: Plan | None = None) -> Plan:
     return p
 
 
-def _ratio_field(e: dict, c) -> str:
-    """The resolved name of a coupling's ratio field (``Coupling.ratio`` names the element's field)."""
-    return c.ratio if isinstance(c.ratio, str) and c.ratio in e else "ratio"
+def ratio_field(mech, c) -> str:
+    """The name of the field of its element that holds a topology coupling's ratio (the kind's
+    :class:`~analytic.kinds.base.Coupling` says which)."""
+    written = mech.definition.elements[c.element]
+    for kc in kinds.get(written.kind).structure(written.fields).couplings:
+        if (kc.link, kc.mesh, kc.carrier) == (c.link, c.mesh, c.carrier):
+            return kc.ratio
+    raise KeyError(f"no coupling {c.link}-{c.mesh} in {written.label}")
 
 
 # ---------------------------------------------------------------------------------------- context

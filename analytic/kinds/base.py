@@ -142,6 +142,21 @@ class ExtraOutput:
 
 
 @dataclass(frozen=True)
+class Wheel:
+    """A gear as drawn on a link: its pitch circle of ``radius`` [m] about ``centre`` (a point of ``link``)
+    with ``teeth`` teeth (inward for a ``ring``), the first centred ``phase`` [rad] from the direction
+    ``centre`` -> ``ref`` (a second point of the link; None: from +x, a gear fixed to the ground)."""
+
+    link: str
+    centre: str
+    ref: str | None
+    radius: float
+    teeth: int
+    phase: float
+    ring: bool = False
+
+
+@dataclass(frozen=True)
 class JitSpec:
     """A kind's compiled row (see :mod:`analytic.solver.jit`): ``layout(e, L, row, par)`` fills the kind's
     integer row and number row from a resolved element through the layout builder ``L``;
@@ -169,6 +184,9 @@ class State:
     links: dict = field(default_factory=dict)
     slides: dict = field(default_factory=dict)
     extras: dict = field(default_factory=dict)
+    angles: dict = field(default_factory=dict)
+    """Link angles [rad] counted in whole turns (not reduced to (-pi, pi]) where a kind knows them: a gear
+    sets its link's, for the gears that mesh with it ({link: array})."""
     start: dict | None = None
     """What the previous block of samples carried over (its ``carry``), for kinds that continue a motion
     from sample to sample (numerically solved groups); None for the first block."""
@@ -259,6 +277,15 @@ class Kind:
         """For inputs: the point it turns or slides about (its pivot, or the guide's origin)."""
         raise NotImplementedError
 
+    def wheels(self, e: dict, pose: dict) -> tuple[Wheel, ...]:
+        """Gears to draw on links (:class:`Wheel`), given the start pose ({point: (x, y)} [m])."""
+        return ()
+
+    def describe(self, e: dict, pose: dict, unit: tuple[float, str]) -> str:
+        """A line about the resolved element at a pose ({point: (x, y)} [m]) for ``linkage check`` (a gear
+        pair's pitch radii), lengths in ``unit`` (metres per unit, its name); "" for nothing to say."""
+        return ""
+
     # ------------------------------------------------------------------------------------ forces
     def forces(self, e: dict, ctx) -> None:
         """Solve the forces in the joints the element adds (and its input's drive, its gear pairs' moments)
@@ -271,7 +298,7 @@ class Kind:
     # -------------------------------------------------------------------------------- simulation
     def mjcf(self, e: dict, model) -> None:
         """Add constraints the MuJoCo model needs besides its joints and loop closures (``model`` is the
-        builder's context, :class:`sim.model.tree.Context`)."""
+        builder's context, :class:`sim.model.build.Context`)."""
 
 
 @dataclass(frozen=True)

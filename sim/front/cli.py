@@ -207,6 +207,11 @@ def structure_report(mech) -> str:
     if topo.couplings:
         lines.append(f"  gear pairs: {len(topo.couplings)} ("
                      + ", ".join(f"{c.link}-{c.mesh} on {c.carrier}" for c in topo.couplings) + ")")
+    _, start = mech.solve_at([0.0])
+    if start.valid.all():                          # what the kinds say about their elements (pitch radii)
+        pose = {p: (float(start["x" + p][0]), float(start["y" + p][0])) for p in mech.points}
+        notes = (kinds.get(e["kind"]).describe(e, pose, (mech.scale, mech.units)) for e in mech.geometry.elements)
+        lines += [f"  {note}" for note in notes if note]
     lines.append(f"  independent loops: {len(topo.loops)}")
     lines.append(f"  mobility (Gruebler): {topo.gruebler()}; inputs: "
                  + ", ".join(f"{i.q} ({i.kind} at {i.joint})" for i in mech.inputs))
