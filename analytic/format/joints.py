@@ -767,12 +767,50 @@ class _Decomposer:
                         f"block) or an R joint")
 
     def pp_dyad(self, a: str, b: str, shape: str, label: str):
-        """A dyad with two prismatic pairs (RPP, PRP, PPR): written where those kinds are registered."""
-        canon = {"PRR": "RRP", "PPR": "RPP", "RPP": "RPP", "PRP": "PRP"}.get(shape, shape)
+        """A dyad with two prismatic pairs, where those kinds are registered: ``PRP`` (two blocks on two guides
+        pinned together) or ``RPP`` (a link pinned at a placed point sliding in the slot of a link that slides
+        on a guide; ``PPR`` is the same chain read from its other end)."""
+        canon = "PRP" if shape == "PRP" else "RPP"
         if canon not in kinds.KINDS:
             raise self.fail(label, f"a dyad with two prismatic pairs ({canon}), which this version cannot solve yet "
                                    f"(no kind {canon!r})")
-        raise self.fail(label, f"links {a} and {b} form a {canon} dyad; writing it is not supported yet")
+        if canon == "PRP":
+            c = self.between(a, b)[0][0]
+            where = f"{label} (point {c})"
+            (s1,), (s2,) = self.known_slides(a), self.known_slides(b)
+            g1, O1, e1, off1 = self.guide_of(s1, self.other(s1, a), c, where)
+            g2, O2, e2, off2 = self.guide_of(s2, self.other(s2, b), c, where)
+            if abs(e1.cross(e2).value) <= SINGULAR:
+                raise self.singular(where, f"the guides of {a} and {b} are parallel")
+            self.emit({"kind": "PRP", "point": c, "guide1": g1, "offset1": self.out(off1, where, "offset1"),
+                       "guide2": g2, "offset2": self.out(off2, where, "offset2"), "links": [a, b]}, label)
+            self.placed.add(c)
+            self.set_frame(a, c, e1)
+            self.set_frame(b, c, e2)
+            self.classes.append(f"dyad PRP {a}, {b} at {c}")
+        else:
+            pinned, yoke = (a, b) if shape[0] == "R" else (b, a)
+            p = self.known_points(pinned)[0]
+            (ext,) = self.known_slides(yoke)
+            (mid,) = self.between(a, b)[1]
+            where = f"{label} (the P joint at {mid.point})"
+            u_ext, u_mid = direction(ext.angle), direction(mid.angle)
+            if abs(u_ext.cross(u_mid).value) <= SINGULAR:
+                raise self.singular(where, f"the slot of {yoke} is parallel to its guide")
+            c = self.fresh(f"{yoke}_slot")             # the yoke's point where its slot crosses its line
+            self.pose[c] = self.pose[p]
+            self.points[yoke].append(c)
+            guide, O, e, offset = self.guide_of(ext, self.other(ext, yoke), c, where)
+            self.emit({"kind": "RPP", "point": c, "through": p, "guide": guide,
+                       "offset": self.out(offset, where, "the yoke's offset"),
+                       "angle": self.out(mid.angle - ext.angle, where, "the slot's angle"), "links": [pinned, yoke]},
+                      label)
+            self.placed.add(c)
+            self.set_frame(yoke, c, e)
+            self.set_frame(pinned, p, u_mid)
+            self.classes.append(f"dyad RPP {pinned}, {yoke} at {c}")
+        self.rigid(a, label)
+        self.rigid(b, label)
 
     def group(self, todo: list[str]):
         adj = {ln: {x for x in todo if x != ln and any(self.between(ln, x))} for ln in todo}

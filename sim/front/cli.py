@@ -212,7 +212,8 @@ def structure_report(mech) -> str:
                  + ", ".join(f"{i.q} ({i.kind} at {i.joint})" for i in mech.inputs))
     lines.append("  solve order: " + " -> ".join(f"{'+'.join(e.places)} ({e.kind})" for e in d.order))
     groups = [(e, kinds.get(e.kind).group_class) for e in d.order]
-    lines.append("  Assur groups: " + (", ".join(f"{'+'.join(e.places)}: {cls}" for e, cls in groups if cls)
+    lines.append("  Assur groups: " + (", ".join(f"{'+'.join(e.places)} (links {', '.join(e.links())}): {cls}"
+                                                for e, cls in groups if cls)
                                       or "none"))
     if len(mech.inputs) == 1:
         ranges = figures.assembly_ranges(mech)
@@ -498,6 +499,7 @@ def make_parser() -> argparse.ArgumentParser:
     # commands in their own modules: module.register(sub, add_common, add_sim_options, add_video_options)
     from sim.front import dynamics_cmd  # a motor drives the linkage (issue 18)
     dynamics_cmd.register(sub, add_common, add_sim_options, add_video_options)
+    from sim.front import import_cmd; import_cmd.register(sub, add_common, add_sim_options, add_video_options)  # noqa: E702
     try:
         from sim.front import app
         app.register(sub)
