@@ -314,15 +314,13 @@ def _read(data: dict, source: str, values: dict) -> _Form:
             raise _fail(source, where_link.get(ls[0], "links"), f"point {p!r} has no position; give it under "
                                                                  f"[pose] as {p} = [x, y]")
         if len(ls) > 1:
-            loose = [ln for ln in ls if ln not in pins.get(p, ())]
-            if loose:
-                pinned = pins.get(p, [])
-                missing = [ln for ln in ls if ln not in pinned]
-                raise _fail(source, where_link.get(missing[0], "links"),
-                            f"point {p!r} is on links {', '.join(ls)} but no R joint pins "
-                            f"{', '.join(missing)} there; add {{kind = \"R\", point = \"{p}\", links = "
-                            f"[{', '.join(repr(x) for x in ls)}]}} under [[joints]] (or give each link its own "
-                            f"point)".replace("'", '"'))
+            missing = [ln for ln in ls if ln not in pins.get(p, ())]
+            if missing:
+                names = ", ".join(f'"{x}"' for x in ls)
+                raise _fail(source, where_link.get(missing[-1], "links"),
+                            f"point {p!r} is on links {', '.join(ls)} but no R joint pins {', '.join(missing)} there; "
+                            f"add {{kind = \"R\", point = \"{p}\", links = [{names}]}} under [[joints]], or give "
+                            f"each link its own point")
     for p in pose:
         if p not in carriers:
             raise _fail(source, f"pose.{p}", f"point {p!r} is on no link; add it to a link's points or remove it")
