@@ -103,7 +103,7 @@ def parse(text: str, source: str) -> tuple[list, int | None, list[bool]]:
         rest = rest[2:]
         angle = None
         if rest and _NUMBER.match(rest[0]):
-            angle = float(rest[0])
+            angle = None if kind == "R" else float(rest[0])      # an angle on an R line is ignored
             rest = rest[1:]
         flags.append(_driving(rest))
         links = []

@@ -37,7 +37,10 @@ _LINE_COMMENT = re.compile(r"#[^\n]*")
 
 
 def strip_comments(text: str) -> str:
-    return _LINE_COMMENT.sub("", _BLOCK_COMMENT.sub("", text))
+    """The text with its comments blanked out (line breaks kept, so positions stay where they were)."""
+    def blank(m):
+        return re.sub(r"[^\n]", " ", m.group(0))
+    return _LINE_COMMENT.sub(blank, _BLOCK_COMMENT.sub(blank, text))
 
 
 def is_expression(text: str) -> bool:
@@ -47,16 +50,24 @@ def is_expression(text: str) -> bool:
 
 class _Parser:
     def __init__(self, text: str, source: str):
-        self.s = re.sub(r"\s+", "", strip_comments(text))
+        self.s = strip_comments(text)
         self.i = 0
         self.source = source
 
+    def skip(self):
+        while self.i < len(self.s) and self.s[self.i].isspace():
+            self.i += 1
+
     def fail(self, expected: str) -> FileError:
-        near = self.s[self.i:self.i + 20] or "the end"
-        return FileError(f"{self.source}: not a Pyslvs expression: expected {expected} at character {self.i + 1} "
-                         f"(near {near!r}); the expression is M[J[type, P[x, y], L[links]], ...]")
+        self.skip()
+        line = self.s.count("\n", 0, self.i) + 1
+        column = self.i - (self.s.rfind("\n", 0, self.i) + 1) + 1
+        near = self.s[self.i:self.i + 20].split("\n")[0] or "the end"
+        return FileError(f"{self.source}: not a Pyslvs expression: expected {expected} at line {line}, column "
+                         f"{column} (near {near!r}); the expression is M[J[type, P[x, y], L[links]], ...]")
 
     def take(self, literal: str) -> bool:
+        self.skip()
         if self.s.startswith(literal, self.i):
             self.i += len(literal)
             return True
@@ -67,6 +78,7 @@ class _Parser:
             raise self.fail(repr(literal))
 
     def match(self, pattern: re.Pattern, expected: str) -> str:
+        self.skip()
         m = pattern.match(self.s, self.i)
         if not m:
             raise self.fail(expected)
@@ -84,6 +96,7 @@ class _Parser:
             if not self.take(","):
                 self.need("]")
                 break
+        self.skip()
         if self.i != len(self.s):
             raise self.fail("the end after M[...]")
         return joints

@@ -46,9 +46,9 @@ def cmd_import(args) -> int:
     inputs = [parse_input(t) for t in args.inputs] or None
     data = foreign.read(source, inputs, args.units, kind)
     text = foreign.dumps(data)
-    d = linkfile.parse(text, args.out)          # the file as written reads back as a mechanism
-    values = linkfile.parameter_values(d)
-    groups = joints.structure(data, source, values)
+    d = linkfile.from_data(data, source)        # a mechanism (else one line naming the source), and the file
+    linkfile.parse(text, args.out)              # as written reads back as one
+    groups = joints.structure(data, source, linkfile.parameter_values(d))
     write_text(args.out, text)
     points = len(data["pose"])
     print(f"wrote {args.out}: {kind} {source} as {points} points, {len(data['links'])} link entries, "
