@@ -386,3 +386,11 @@ def test_cli_exit_2_one_line(tmp_path):
                        text=True)
     assert r.returncode == 0
     assert "Assur groups: J2 (links coupler, output): dyad RRP (class II)" in r.stdout
+
+
+def test_the_documented_example_reads_and_keeps_its_pose():
+    docs = (Path(__file__).resolve().parent.parent / "docs" / "CONVENTIONS.md").read_text()
+    block = docs.split("## Links and joints", 1)[1].split("```toml\n", 1)[1].split("```", 1)[0]
+    m = analytic.from_text(block, "docs.toml")
+    assert [e.kind for e in m.definition.order] == ["crank", "RRP", "point"]
+    check_motion(m, tomllib.loads(block))
