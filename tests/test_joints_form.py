@@ -54,7 +54,7 @@ def _angle(v):
     return np.arctan2(v[..., 1], v[..., 0])
 
 
-def _turn(form, pts, link, links, pose, turns):
+def _turn(form, pts, link, links, pose, turns, seen=()):
     """A link's rotation from the pose (rad, per sample), from two of its points, or as driven (``turns``);
     None where neither tells."""
     if link == "ground":
@@ -62,9 +62,17 @@ def _turn(form, pts, link, links, pose, turns):
     if link in turns:
         return turns[link]
     p = [x for x in links[link] if x in pts]
-    if len(p) < 2:
+    if len(p) < 2:                           # a block with one point turns as the link it slides on
+        for j in form.get("joints", []):
+            if j["kind"] == "P" and link in (j["guide"], j["block"]):
+                other = j["block"] if j["guide"] == link else j["guide"]
+                if other not in seen:
+                    t = _turn(form, pts, other, links, pose, turns, seen + (link,))
+                    if t is not None:
+                        return t
         return None
-    return _angle(pts[p[1]] - pts[p[0]]) - _angle(pose[p[1]] - pose[p[0]])
+    q = max(p[1:], key=lambda x: np.linalg.norm(pose[x] - pose[p[0]]))
+    return _angle(pts[q] - pts[p[0]]) - _angle(pose[q] - pose[p[0]])
 
 
 def joint_residuals(form: dict, pts: dict[str, np.ndarray], turns: dict | None = None) -> float:
@@ -88,13 +96,14 @@ def joint_residuals(form: dict, pts: dict[str, np.ndarray], turns: dict | None =
             continue
         if len(ps) < 2:
             continue
-        o, x = ps[0], ps[1]
+        o = ps[0]
+        x = max(ps[1:], key=lambda p: np.linalg.norm(pose[p] - pose[o]))    # a frame from two distinct points
         e0 = (pose[x] - pose[o]) / np.linalg.norm(pose[x] - pose[o])
         d = pts[x] - pts[o]
         e = d / np.linalg.norm(d, axis=-1, keepdims=True)
         worst = max(worst, float(np.max(np.abs(np.linalg.norm(d, axis=-1) - np.linalg.norm(pose[x] - pose[o]))))
                     / size)
-        for p in ps[2:]:
+        for p in ps[1:]:
             r0 = pose[p] - pose[o]
             u0, v0 = r0 @ e0, e0[0] * r0[1] - e0[1] * r0[0]
             r = pts[p] - pts[o]
