@@ -180,3 +180,11 @@ def test_imported_examples_pass_compare(name, inputs, rng):
     m = mech_of(name, inputs)
     _, c = service.compare(m, 1.0, input_range=rng)
     assert c.passed
+
+
+def test_the_app_opens_a_pyslvs_project():
+    from sim.front.app import initial_mechanism
+    first = initial_mechanism(str(EXAMPLES / "fourbar.pyslvs"))
+    assert first["name"] == "fourbar" and "[[joints]]" in first["text"]
+    with pytest.raises(FileError, match=r"locked_ppp.txt: links a, b: the loop input - a - b - ground locks"):
+        initial_mechanism(str(EXAMPLES / "locked_ppp.txt"))
