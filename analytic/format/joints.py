@@ -43,6 +43,8 @@ FIELDS = ("links", "joints", "pose")
 LINK_NAME = re.compile(r"^[A-Za-z0-9_]+$")     # as linkfile.LINK_NAME (a link name may start with a digit)
 MAX_ITEMS = 500                                # as linkfile.MAX_ITEMS
 MAX_GROUP = 12                                 # the largest set of links searched for one Assur group
+MAX_SETS = 200_000                             # connected sets of links tried per size (bounds a hostile file's
+#                                                search to about a second)
 SINGULAR = 1e-9    # a pose within this fraction of the size of a dead centre has no branch: the sign is noise
 RIGID = 1e-6       # a given length may differ from the pose by this fraction of the size (poses are written
 #                    with about 7 significant digits; the same bound as the peers' pose reproduction)
@@ -814,7 +816,13 @@ class _Decomposer:
         adj = {ln: {x for x in todo if x != ln and any(self.between(ln, x))} for ln in todo}
         for k in range(2, min(len(todo), MAX_GROUP) + 1):
             found = None
-            for S in _connected(todo, adj, k):
+            try:
+                sets = list(_connected(todo, adj, k))
+            except OverflowError:
+                raise self.fail(f"links {_few(todo, 6)}",
+                                f"no dyad is left among {len(todo)} links and they are too many to search for an "
+                                f"Assur group of {k} links; check their joints (mobility: {self.count})") from None
+            for S in sets:
                 ext = sum(self.ext(ln) for ln in S)
                 internal = self.internal(S)
                 if internal > 3 * (k - 1) or ext + internal > 3 * k:
@@ -826,7 +834,7 @@ class _Decomposer:
                     found = S
             if found is not None:
                 return self.general(found)
-        stuck = ", ".join(todo)
+        stuck = _few(todo)
         n = len(self.f.inputs)
         if self.mobility != n:
             raise self.fail("inputs", f"the mechanism has mobility {self.mobility} (Gruebler: {self.count}) but "
@@ -870,6 +878,12 @@ class _Decomposer:
             self.rigid(ln, label)
 
 
+def _few(names, n: int = 8) -> str:
+    """Names for a message: the first ``n`` and how many more."""
+    names = list(names)
+    return ", ".join(names[:n]) + (f" and {len(names) - n} more" if len(names) > n else "")
+
+
 def _connected(nodes: list[str], adj: dict[str, set[str]], k: int):
     """Every connected set of ``k`` nodes (as tuples in ``nodes`` order), each once."""
     rank = {n: i for i, n in enumerate(nodes)}
@@ -881,6 +895,8 @@ def _connected(nodes: list[str], adj: dict[str, set[str]], k: int):
             for n in s:
                 for x in adj[n] - s:
                     grown.add(s | {x})
+            if len(grown) > MAX_SETS:
+                raise OverflowError(k)
         frontier = list(grown)
     for s in frontier:
         if s not in seen:
