@@ -144,7 +144,8 @@ def test_import_writes_a_links_and_joints_file(tmp_path):
 
 @pytest.mark.parametrize("args,match", [
     (["fourbar.pkl.pyslvs"], r"is a pickled Pyslvs project \(binary\), which is never loaded"),
-    (["gear.txt"], r"joint J1 is a gear mesh \(G, links input, output\); gears are not a feature"),
+    (["gear.txt"], r"joint J1 is a gear mesh \(G, links input, output\); importing PMKS gear meshes is not "
+                 r"supported yet"),
     (["slider_crank_rp.txt"], r"a bare Pyslvs expression has no inputs; import it with 'linkage import"),
     (["slider_crank_rp.txt", "--input", "0,3"], r"input \(0, 3\): J0 and J3 share no moving link"),
     (["free.txt", "--input", "0,1"], r"joint J2 is a free point \(L\[\] names no link\)"),

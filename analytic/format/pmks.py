@@ -16,7 +16,7 @@ slide's direction in degrees in the drawn pose (``P`` and ``RP``), and ``flags``
 * ``R`` with links a, b, c...: pinned together at the point; with one link, a point on it;
 * ``P a b``: b slides on a without turning (a guide, b block); ``RP a b c...``: b (and c...) pinned to a
   block that slides in a's slot (as in Pyslvs, :mod:`analytic.format.pyslvs`);
-* ``G a b``: a gear mesh, which is refused until the format has gears.
+* ``G a b``: a gear mesh, refused: importing gear meshes is not supported yet.
 
 Joints have no names: the n-th joint line is point ``Jn``. The driver is ``d=``, else the first joint
 whose fourth flag is set, else the first ``R`` or ``P`` joint of two or more links; it drives its first
@@ -131,8 +131,8 @@ def to_form(text: str, source: str) -> dict:
     joints, driver, flags = parse(text, source)
     for k, (kind, _, _, links) in enumerate(joints):
         if kind == "G":
-            raise FileError(f"{source}: joint J{k} is a gear mesh (G, links {', '.join(links)}); gears are not a "
-                            f"feature of linkage/1 files yet")
+            raise FileError(f"{source}: joint J{k} is a gear mesh (G, links {', '.join(links)}); importing PMKS gear "
+                            f"meshes is not supported yet: write the gears as kind = \"gear\" elements by hand")
         if kind == "P" and len(links) != 2:
             raise FileError(f"{source}: joint J{k} is a P joint on {len(links)} link(s) ({', '.join(links)}); a "
                             f"prismatic pair joins a guide and a block")
