@@ -383,6 +383,8 @@ def test_not_a_mechanism_one_line_each():
     _bad(FOURBAR.replace('kind = "R"\npoint = "D"', 'kind = "Q"\npoint = "D"'), r"joints\[4\] \(point D\): unknown "
                                                                             r"kind 'Q'")
     _bad(FOURBAR.replace("E = [29.506, 53.4436]\n", ""), r"point 'E' has no position; give it under \[pose\]")
+    _bad(FOURBAR.replace("D = [80, 0]", 'D = ["80 +", 0]'), r"pose.D: '80 \+' is not a number, a parameter name or an")
+    _bad(FOURBAR.replace("D = [80, 0]", 'D = ["l4", 0]'), r"pose.D: 'l4' uses 'l4', which is not a parameter")
 
 
 def test_cli_exit_2_one_line(tmp_path):

@@ -169,17 +169,29 @@ class _Form:
     kinds: dict[str, str] = field(default_factory=dict)
 
 
-def _read(data: dict, source: str, values: dict) -> _Form:
-    kinds_of: dict[str, str] = {}
+class _Measures:
+    """What each parameter measures (``length`` or ``angle``), from where the form uses it."""
 
-    def measure(raw, kind: str, where: str):
-        if isinstance(raw, str) and expr.quantity(raw) is None:
-            for n in expr.names_in(raw):
-                if kinds_of.get(n, kind) != kind:
-                    raise _fail(source, where, f"parameter {n!r} is used as a {kinds_of[n]} elsewhere and as a "
-                                               f"{kind} here; use two parameters")
-                kinds_of[n] = kind
+    def __init__(self, source: str):
+        self.source = source
+        self.kinds: dict[str, str] = {}
 
+    def use(self, raw, kind: str, where: str):
+        if not (isinstance(raw, str) and expr.quantity(raw) is None):
+            return
+        try:
+            names = expr.names_in(raw)
+        except ValueError as exc:
+            raise _fail(self.source, where, str(exc)) from None
+        for n in names:
+            if self.kinds.get(n, kind) != kind:
+                raise _fail(self.source, where, f"parameter {n!r} is used as a {self.kinds[n]} elsewhere and as a "
+                                                f"{kind} here; use two parameters")
+            self.kinds[n] = kind
+
+
+def _read_links(data: dict, source: str, values: dict, measures: _Measures):
+    """``[[links]]``: each link's listed points, where it is written, and the lengths it gives."""
     links: dict[str, list[str]] = {GROUND: []}
     where_link = {GROUND: "ground"}
     lengths = []
@@ -209,9 +221,14 @@ def _read(data: dict, source: str, values: dict) -> _Form:
                 raise _fail(source, where, f"field 'lengths': {entry!r} must be [\"P\", \"Q\", length]")
             p = _point_name(entry[0], source, f"{where}: field 'lengths'")
             q = _point_name(entry[1], source, f"{where}: field 'lengths'")
-            measure(entry[2], "length", f"{where}: field 'lengths'")
+            measures.use(entry[2], "length", f"{where}: field 'lengths'")
             lengths.append((name, p, q, _sym(entry[2], values, source, f"{where}: field 'lengths'"), where))
+    return links, where_link, lengths
 
+
+def _read_joints(data: dict, source: str, values: dict, measures: _Measures, links: dict):
+    """``[[joints]]``: the links pinned at each point, the P joints (a direction ``along`` a point kept as
+    that point's name until the pose is read), and every link that has a joint."""
     def known_link(name, where):
         _link_name(name, source, where)
         if name not in links:
@@ -256,7 +273,7 @@ def _read(data: dict, source: str, values: dict) -> _Form:
                 raise _fail(source, where, "give the slide direction: angle = \"30deg\" (in the pose) or "
                                            "along = \"Q\" (a point the line runs towards in the pose)")
             if "angle" in item:
-                measure(item["angle"], "angle", f"{where}: field 'angle'")
+                measures.use(item["angle"], "angle", f"{where}: field 'angle'")
                 angle = _sym(item["angle"], values, source, f"{where}: field 'angle'", angle=True)
             else:
                 angle = _point_name(item["along"], source, f"{where}: field 'along'")
@@ -267,11 +284,14 @@ def _read(data: dict, source: str, values: dict) -> _Form:
         else:
             raise _fail(source, where, f"unknown kind {kind!r}; a joint is kind = \"R\" (links pinned at a point) "
                                        f"or \"P\" (a block sliding on a guide link)")
+    return pins, slides, joint_links
 
+
+def _read_pose(data: dict, source: str, values: dict, measures: _Measures) -> tuple[dict[str, Vec], dict]:
+    """``[pose]`` and ``[ground]``: every point's position; and the ``[ground]`` table."""
     ground_table = _table(data, "ground", source)
-    pose_table = _table(data, "pose", source)
     pose: dict[str, Vec] = {}
-    for section, table in (("ground", ground_table), ("pose", pose_table)):
+    for section, table in (("ground", ground_table), ("pose", _table(data, "pose", source))):
         for p, xy in table.items():
             where = f"{section}.{p}"
             _point_name(p, source, where)
@@ -280,10 +300,14 @@ def _read(data: dict, source: str, values: dict) -> _Form:
             if not (isinstance(xy, list) and len(xy) == 2):
                 raise _fail(source, where, f"{xy!r} must be [x, y]")
             for v in xy:
-                measure(v, "length", where)
+                measures.use(v, "length", where)
             pose[p] = Vec(_sym(xy[0], values, source, where), _sym(xy[1], values, source, where))
+    return pose, ground_table
 
-    # every point on its links: listed, pinned (R), or the block's point of a P joint
+
+def _complete(source, links, pins, slides, pose, ground_table) -> None:
+    """Every point on its links (listed, pinned by an R joint, a P joint's block point), the ground's
+    points, and each P joint's direction (from ``along``), in place."""
     for p, ls in pins.items():
         for ln in ls:
             if p not in links[ln]:
@@ -297,16 +321,21 @@ def _read(data: dict, source: str, values: dict) -> _Form:
     for g in ground_table:
         if g not in links[GROUND]:
             links[GROUND].append(g)
-    for s in slides:
+    for k, s in enumerate(slides):
         if isinstance(s.angle, str):
-            if s.angle not in pose:
-                raise _fail(source, s.where, f"field 'along': point {s.angle!r} has no position in [pose]")
+            if s.angle not in pose or s.point not in pose:
+                raise _fail(source, s.where, f"field 'along': points {s.point!r} and {s.angle!r} need positions in "
+                                             f"[pose]")
             d = pose[s.angle] - pose[s.point]
             if d.norm().value == 0.0:
                 raise _fail(source, s.where, f"field 'along': {s.angle!r} and {s.point!r} coincide in the pose; "
                                              f"name a point along the slide")
-            slides[slides.index(s)] = _Slide(s.point, s.guide, s.block, d.angle(), s.where)
+            slides[k] = _Slide(s.point, s.guide, s.block, d.angle(), s.where)
 
+
+def _check_points(source, links, pins, pose, joint_links, where_link) -> None:
+    """Every point has a position and is on a link; a point shared by links is pinned there; every link has
+    a joint and a point."""
     carriers: dict[str, list[str]] = {}
     for ln, pts in links.items():
         for p in pts:
@@ -315,14 +344,13 @@ def _read(data: dict, source: str, values: dict) -> _Form:
         if p not in pose:
             raise _fail(source, where_link.get(ls[0], "links"), f"point {p!r} has no position; give it under "
                                                                  f"[pose] as {p} = [x, y]")
-        if len(ls) > 1:
-            missing = [ln for ln in ls if ln not in pins.get(p, ())]
-            if missing:
-                names = ", ".join(f'"{x}"' for x in ls)
-                raise _fail(source, where_link.get(missing[-1], "links"),
-                            f"point {p!r} is on links {', '.join(ls)} but no R joint pins {', '.join(missing)} there; "
-                            f"add {{kind = \"R\", point = \"{p}\", links = [{names}]}} under [[joints]], or give "
-                            f"each link its own point")
+        missing = [ln for ln in ls if ln not in pins.get(p, ())] if len(ls) > 1 else []
+        if missing:
+            names = ", ".join(f'"{x}"' for x in ls)
+            raise _fail(source, where_link.get(missing[-1], "links"),
+                        f"point {p!r} is on links {', '.join(ls)} but no R joint pins {', '.join(missing)} there; "
+                        f"add {{kind = \"R\", point = \"{p}\", links = [{names}]}} under [[joints]], or give "
+                        f"each link its own point")
     for p in pose:
         if p not in carriers:
             raise _fail(source, f"pose.{p}", f"point {p!r} is on no link; add it to a link's points or remove it")
@@ -333,10 +361,9 @@ def _read(data: dict, source: str, values: dict) -> _Form:
         if ln != GROUND and not links[ln]:
             raise _fail(source, where_link[ln], f"link {ln!r} carries no point; give its points")
 
-    xy = np.array([v.value for v in pose.values()] or [(0.0, 0.0)])
-    size = float(np.sqrt(np.max(np.sum((xy[:, None, :] - xy[None, :, :]) ** 2, axis=-1))))
-    if not size > 0:
-        raise _fail(source, "pose", "every point is at the same place; give the assembled positions")
+
+def _check_lengths(source, links, pose, lengths, size) -> None:
+    """Each given length agrees with the pose (to :data:`RIGID` of the size)."""
     for ln, p, q, length, where in lengths:
         for x in (p, q):
             if x not in links[ln]:
@@ -347,6 +374,9 @@ def _read(data: dict, source: str, values: dict) -> _Form:
                                        f"{length.value:.9g}: the pose is not rigid with the link; move {p} or {q}, "
                                        f"or change the length")
 
+
+def _read_inputs(data: dict, source: str, measures: _Measures) -> list[tuple[dict, str]]:
+    """``[[inputs]]`` as written (checked against the links when they are placed)."""
     inputs = []
     for i, item in enumerate(_array(data, "inputs", source), 1):
         where = f"inputs[{i}]"
@@ -356,21 +386,35 @@ def _read(data: dict, source: str, values: dict) -> _Form:
         if kind == "crank":
             _fields(item, where, {"kind", "pivot", "point", "link", "omega", "alpha"}, source, "a crank")
             for f in ("omega", "alpha"):
-                if f in item:
-                    measure(item[f], "angle", f"{where}: field {f!r}")
+                measures.use(item.get(f), "angle", f"{where}: field {f!r}")
         elif kind == "slider":
             _fields(item, where, {"kind", "point", "v", "a"}, source, "a slider")
             for f in ("v", "a"):
-                if f in item:
-                    measure(item[f], "length", f"{where}: field {f!r}")
+                measures.use(item.get(f), "length", f"{where}: field {f!r}")
         else:
             raise _fail(source, where, f"unknown kind {kind!r}; an input is kind = \"crank\" (a link turned about "
                                        f"a ground pivot) or \"slider\" (a block driven along a ground guide)")
         inputs.append((item, where))
     if not inputs:
         raise _fail(source, "inputs", "none given; add [[inputs]] (kind = \"crank\", pivot = \"A\", point = \"B\")")
-    form = _Form(source, links, pins, slides, pose, links[GROUND], inputs, where_link, size, kinds_of)
-    return form
+    return inputs
+
+
+def _read(data: dict, source: str, values: dict) -> _Form:
+    """A links-and-joints file read and checked: names, references, positions, given lengths."""
+    measures = _Measures(source)
+    links, where_link, lengths = _read_links(data, source, values, measures)
+    pins, slides, joint_links = _read_joints(data, source, values, measures, links)
+    pose, ground_table = _read_pose(data, source, values, measures)
+    _complete(source, links, pins, slides, pose, ground_table)
+    _check_points(source, links, pins, pose, joint_links, where_link)
+    xy = np.array([v.value for v in pose.values()] or [(0.0, 0.0)])
+    size = float(np.sqrt(np.max(np.sum((xy[:, None, :] - xy[None, :, :]) ** 2, axis=-1))))
+    if not size > 0:
+        raise _fail(source, "pose", "every point is at the same place; give the assembled positions")
+    _check_lengths(source, links, pose, lengths, size)
+    inputs = _read_inputs(data, source, measures)
+    return _Form(source, links, pins, slides, pose, links[GROUND], inputs, where_link, size, measures.kinds)
 
 
 # ------------------------------------------------------------------------------------- decomposition
