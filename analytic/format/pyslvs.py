@@ -257,6 +257,8 @@ def read_project(raw: bytes, source: str) -> tuple[str, list]:
         mark = getattr(exc, "problem_mark", None)
         where = f" (line {mark.line + 1})" if mark is not None else ""
         raise FileError(f"{source}: not valid YAML{where}; a Pyslvs project is YAML") from None
+    except RecursionError:
+        raise FileError(f"{source}: nested too deeply; a Pyslvs project nests a few levels only") from None
     if not isinstance(data, dict) or not isinstance(data.get("mechanism"), str):
         raise FileError(f"{source}: a Pyslvs project needs 'mechanism: M[...]' (its expression)")
     pairs = data.get("input") or []
