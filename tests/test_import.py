@@ -195,6 +195,10 @@ def test_mangled_sources_are_one_line_each(tmp_path):
     """Seeded fuzz: our example files cut, spliced with format characters and deep nesting; every outcome is
     a mechanism or a ParameterError (one line), never another exception."""
     import random
+    deep = tmp_path / "deep.pyslvs"
+    deep.write_text("mechanism: " + "[" * 5000)
+    with pytest.raises(FileError, match=r"deep.pyslvs: nested too deeply"):
+        foreign.definition(deep)
     rng = random.Random(16)
     seeds = [(EXAMPLES / n).read_bytes() for n in ("fourbar.pyslvs", "slider_crank_rp.txt", "quirks.txt",
                                                      "moving_guide.txt")]
