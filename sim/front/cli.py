@@ -217,7 +217,8 @@ def structure_report(mech) -> str:
                  + ", ".join(f"{i.q} ({i.kind} at {i.joint})" for i in mech.inputs))
     lines.append("  solve order: " + " -> ".join(f"{'+'.join(e.places)} ({e.kind})" for e in d.order))
     groups = [(e, kinds.get(e.kind).group_class) for e in d.order]
-    lines.append("  Assur groups: " + (", ".join(f"{'+'.join(e.places)}: {cls}" for e, cls in groups if cls)
+    lines.append("  Assur groups: " + (", ".join(f"{'+'.join(e.places)} (links {', '.join(e.links())}): {cls}"
+                                                for e, cls in groups if cls)
                                       or "none"))
     if len(mech.inputs) == 1:
         ranges = figures.assembly_ranges(mech)
@@ -510,6 +511,8 @@ def make_parser() -> argparse.ArgumentParser:
     dynamics_cmd.register(sub, add_common, add_sim_options, add_video_options)
     from sim.front import forces_cmd  # joint forces, shaking, balancing (issue 17)
     forces_cmd.register(sub, add_common, add_sim_options, add_video_options)
+    from sim.front import import_cmd  # Pyslvs and PMKS files (issue 16)
+    import_cmd.register(sub, add_common, add_sim_options, add_video_options)
     try:
         from sim.front import app
         app.register(sub)
