@@ -9,6 +9,7 @@ Pure Python, no dependencies: front ends and summaries call it alike.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import re
 from dataclasses import dataclass
@@ -38,10 +39,14 @@ class Output:
     quantity: str
     si_unit: str
     owner: str
+    role: str = ""
+    """What owns it: ``point``, ``link``, ``slide``, ``drive``, ``transmission`` or ``extra`` (a kind's own)."""
+    of: str = ""
+    """The owner's name: the point, link, prismatic pair, the drive's link, the transmission angle's point."""
 
 
-def _entry(name: str, quantity: str, owner: str) -> Output:
-    return Output(name, quantity, SI_UNIT[quantity], owner)
+def _entry(name: str, quantity: str, owner: str, role: str, of: str) -> Output:
+    return Output(name, quantity, SI_UNIT[quantity], owner, role, of)
 
 
 def output_table(mech) -> dict[str, Output]:
@@ -53,23 +58,23 @@ def output_table(mech) -> dict[str, Output]:
     for p in mech.points:
         for prefix, q in (("x", LENGTH), ("y", LENGTH), ("vx", VELOCITY), ("vy", VELOCITY), ("ax", ACCELERATION),
                           ("ay", ACCELERATION)):
-            table[prefix + p] = _entry(prefix + p, q, f"point {p}")
+            table[prefix + p] = _entry(prefix + p, q, f"point {p}", "point", p)
     for ln in mech.links:
         for prefix, q in (("phi", ANGLE), ("omega", ANGULAR_VELOCITY), ("alpha", ANGULAR_ACCELERATION)):
-            table[prefix + ln] = _entry(prefix + ln, q, f"link {ln}")
+            table[prefix + ln] = _entry(prefix + ln, q, f"link {ln}", "link", ln)
     for j in mech.slides:
         for prefix, q in (("s", LENGTH), ("ds", VELOCITY), ("dds", ACCELERATION)):
-            table[prefix + j] = _entry(prefix + j, q, f"prismatic pair {j}")
+            table[prefix + j] = _entry(prefix + j, q, f"prismatic pair {j}", "slide", j)
     for e in mech.geometry.elements:
         for x in kinds.get(e["kind"]).extra_outputs(e):
-            table[x.name] = _entry(x.name, x.quantity, x.owner)
+            role, of = ("transmission", x.transmission) if x.transmission else ("extra", e["point"])
+            table[x.name] = _entry(x.name, x.quantity, x.owner, role, of)
     for i in mech.inputs:
         q = TORQUE if i.kind == "crank" else FORCE
-        table["tau" + i.link] = _entry("tau" + i.link, q, f"drive of link {i.link}")
+        table["tau" + i.link] = _entry("tau" + i.link, q, f"drive of link {i.link}", "drive", i.link)
     for alias, target in mech.aliases.items():
         if target in table:
-            t = table[target]
-            table[alias] = Output(alias, t.quantity, t.si_unit, t.owner)
+            table[alias] = dataclasses.replace(table[target], name=alias)
     return table
 
 

@@ -3,7 +3,7 @@ defaults.
 
 The hand-written files (fourbar.xml, sixbar.xml, fivebar.xml) are kept as independent, readable models
 of the three built-ins; the simulation itself uses the models generated from the mechanism files
-(sim/model/__init__.py), and tests/test_models.py checks that both agree.
+(sim/model/build.py), and tests/test_models.py checks that both agree.
 
 Each file draws its bodies in the assembled pose at SPEC defaults, so that the model as written
 (qpos = qpos0, before any keyframe) already closes every loop: a hinged body is turned by

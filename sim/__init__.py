@@ -10,6 +10,6 @@ ensure_gl_backend()
 
 
 def load_exported(path):
-    """(MjModel, MjData) of a ``linkage export --mjcf`` file as validated: see :mod:`sim.model.exported`."""
-    from sim.model.exported import load_exported as load
+    """(MjModel, MjData) of a ``linkage export --mjcf`` file as validated: see :mod:`sim.model.export`."""
+    from sim.model.export import load_exported as load
     return load(path)

@@ -132,7 +132,7 @@ def test_hostile_app_requests_get_4xx_never_5xx(server):
     values = [None, True, -1, 0, 1e308, 10 ** 40, "x", "30deg", "1/30deg", "1" * 300, [], [1, 2], {}, {"l1": "x"},
               {"l1": 1e308}, {"l1": "(" * 50}, "fourbar", "../../etc/passwd", "\u0000", "a\nb"]
     fields = ["mechanism", "set", "samples", "revolutions", "input_range", "outputs", "text", "zz"]
-    statuses = {_post(server, "/api/solve", json.dumps({"mechanism": "fourbar"}).encode())[0]}  # a sound one
+    statuses = set()
     for k in range(120):
         body = {"mechanism": "fourbar"} if rng.random() < 0.5 else {}
         for _ in range(rng.randint(1, 3)):
@@ -148,7 +148,10 @@ def test_hostile_app_requests_get_4xx_never_5xx(server):
         if status >= 400:
             msg = json.loads(data)["error"]
             assert msg and "\n" not in msg, msg
-    assert 200 in statuses and any(400 <= s < 500 for s in statuses)
+    assert any(400 <= s < 500 for s in statuses)
+    # and it still answers a plain request (the random ones above may all be refused: which of them are
+    # depends on the library's files, which the mutated texts are drawn from)
+    assert _post(server, "/api/solve", json.dumps({"mechanism": "fourbar"}).encode())[0] == 200
 
 
 def test_twenty_simultaneous_simulate_requests_are_all_answered(server):

@@ -52,6 +52,31 @@ class RRR(Kind):
         c2, s2, _, _ = st.links[e["links"][1]]
         return np.abs(c1 * s2 - s1 * c2)            # sin of the transmission angle
 
+    def forces(self, e, ctx):
+        """Closed form. With r1 = C - P, r2 = C - Q and F the force link m puts on link n at C, the moments
+        about P of link m and about Q of link n give r1 x F = M_m(P), r2 x F = -M_n(Q): a 2x2 system of
+        determinant r1 x r2 (zero where the dyad folds); then P and Q carry the rest of each link's load."""
+        p, q = e["from"]
+        m, n = e["links"]
+        c = e["point"]
+        px, py = ctx.xy(p)
+        qx, qy = ctx.xy(q)
+        cx, cy = ctx.xy(c)
+        r1x, r1y, r2x, r2y = cx - px, cy - py, cx - qx, cy - qy
+        mm, mn = ctx.moment(m, p), ctx.moment(n, q)
+        det = r1x * r2y
+        det -= r1y * r2x
+        fx = mm * r2x
+        fx += mn * r1x
+        fx /= det
+        fy = mm * r2y
+        fy += mn * r1y
+        fy /= det
+        wm, wn = ctx.resultant(m), ctx.resultant(n)
+        ctx.pin(c, n, fx, fy, other=m)
+        ctx.pin(p, m, fx - wm[0], fy - wm[1])
+        ctx.pin(q, n, -fx - wn[0], -fy - wn[1])
+
 
 def rrr(P, Q, a, b, branch, mu=True):
     """C with |C - P| = a, |C - Q| = b, left of P -> Q for branch +1.

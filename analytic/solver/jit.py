@@ -144,7 +144,13 @@ def _kernel_source() -> tuple[str, str]:
     text = _TEMPLATE.format(imports="\n".join(imports), wraps="\n".join(wraps), dispatch="\n".join(dispatch),
                             copy=OUT_COPY, phi=OUT_PHI)
     digest = hashlib.sha256(text.encode())
-    for module in [C] + [sys.modules[type(kinds.get(n)).__module__] for n in codes()]:
+    modules = [C]
+    for n in codes():              # each kind's module, and those its kernel and helpers come from
+        kind = kinds.get(n)
+        own = sys.modules[type(kind).__module__]
+        modules += [own, inspect.getmodule(kind.jit.kernel)]
+        modules += [inspect.getmodule(getattr(own, h)) for h in kind.jit.helpers]
+    for module in dict.fromkeys(modules):
         digest.update(inspect.getsource(module).encode())
     return text, f"_linkage_kernel_{digest.hexdigest()[:16]}"
 

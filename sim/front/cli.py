@@ -118,8 +118,8 @@ def loads_from(args, mech):
 
 def cutting_direction(mech) -> float:
     """-1 or +1: the x direction that resists the output point during its slow (cutting) stroke."""
-    from sim.model import _slow_stroke
-    lo, hi = _slow_stroke(mech)
+    from sim.model import slow_stroke
+    lo, hi = slow_stroke(mech)
     first = mech.inputs[0]
     q = first.motion.q0 + np.linspace(lo, hi, 50)[1:-1]
     sol = mech.solve(q, math.copysign(1.0, first.motion.rate or 1.0))
@@ -207,12 +207,18 @@ def structure_report(mech) -> str:
     if topo.couplings:
         lines.append(f"  gear pairs: {len(topo.couplings)} ("
                      + ", ".join(f"{c.link}-{c.mesh} on {c.carrier}" for c in topo.couplings) + ")")
+    _, start = mech.solve_at([0.0])
+    if start.valid.all():                          # what the kinds say about their elements (pitch radii)
+        pose = {p: (float(start["x" + p][0]), float(start["y" + p][0])) for p in mech.points}
+        notes = (kinds.get(e["kind"]).describe(e, pose, (mech.scale, mech.units)) for e in mech.geometry.elements)
+        lines += [f"  {note}" for note in notes if note]
     lines.append(f"  independent loops: {len(topo.loops)}")
     lines.append(f"  mobility (Gruebler): {topo.gruebler()}; inputs: "
                  + ", ".join(f"{i.q} ({i.kind} at {i.joint})" for i in mech.inputs))
     lines.append("  solve order: " + " -> ".join(f"{'+'.join(e.places)} ({e.kind})" for e in d.order))
-    groups = [(e, kinds.get(e["kind"]).group_label(e)) for e in mech.geometry.elements]
-    lines.append("  Assur groups: " + (", ".join(f"{'+'.join(e['places'])}: {cls}" for e, cls in groups if cls)
+    groups = [(e, kinds.get(e.kind).group_label(r)) for e, r in zip(d.order, mech.geometry.elements)]
+    lines.append("  Assur groups: " + (", ".join(f"{'+'.join(e.places)} (links {', '.join(e.links())}): {cls}"
+                                                for e, cls in groups if cls)
                                       or "none"))
     if len(mech.inputs) == 1:
         ranges = figures.assembly_ranges(mech)
@@ -318,6 +324,9 @@ def cmd_export(args) -> int:
         raise ParameterError("give --mjcf PATH (the MuJoCo model) and/or --toml PATH (the mechanism file)")
     check_outputs(args, {"mjcf": (".xml",), "toml": (".toml",)})
     mech = mechanism_from(args)
+    if args.balance is not None:                   # counterweights written into the model (issue 17)
+        from sim.front.forces_cmd import balance_links
+        mech, _ = service.balanced_mechanism(mech, balance_links(args.balance))
     if args.mjcf:
         write_text(args.mjcf, service.export_mjcf(mech, settings_from(args), getattr(args, "revolutions", 1.0)))
         print(f"wrote {args.mjcf}")
@@ -478,6 +487,8 @@ def make_parser() -> argparse.ArgumentParser:
     p.add_argument("--toml", metavar="PATH.toml", help="the mechanism file with the current parameter values")
     p.add_argument("--timestep", type=float, default=None, metavar="H", help="time step written into the model")
     p.add_argument("--integrator", default="rk4", help=argparse.SUPPRESS)
+    p.add_argument("--balance", nargs="?", const="", default=None, metavar="LINK,LINK",
+                   help="add counterweights that balance the shaking force ([mass.counterweights]; see forces)")
     p.set_defaults(func=cmd_export)
 
     p = sub.add_parser("run", help="the main job: simulate, cross-validate, render, plot and save")
@@ -498,6 +509,10 @@ def make_parser() -> argparse.ArgumentParser:
     # commands in their own modules: module.register(sub, add_common, add_sim_options, add_video_options)
     from sim.front import dynamics_cmd  # a motor drives the linkage (issue 18)
     dynamics_cmd.register(sub, add_common, add_sim_options, add_video_options)
+    from sim.front import forces_cmd  # joint forces, shaking, balancing (issue 17)
+    forces_cmd.register(sub, add_common, add_sim_options, add_video_options)
+    from sim.front import import_cmd  # Pyslvs and PMKS files (issue 16)
+    import_cmd.register(sub, add_common, add_sim_options, add_video_options)
     try:
         from sim.front import app
         app.register(sub)

@@ -39,6 +39,8 @@ class Scene:
     display: object
     input_name: str
     input_is_angle: bool
+    wheels: tuple = ()
+    """Gears drawn on links (:class:`analytic.kinds.base.Wheel`), from the kinds."""
 
 
 def poses(built, qpos_frames: np.ndarray) -> tuple[np.ndarray, dict[str, np.ndarray]]:
@@ -64,9 +66,18 @@ def poses(built, qpos_frames: np.ndarray) -> tuple[np.ndarray, dict[str, np.ndar
 def scene(built, xy: np.ndarray, display, path: np.ndarray | None = None) -> Scene:
     """The scene of a run whose points move through ``xy`` (frames, points, 2), the view holding them
     and the output point's whole recorded ``path`` (steps, 2) [m] (its tips may fall between frames)."""
+    from analytic import kinds
     from sim.service import link_drawing
     mech = built.mech
+    _, start = mech.solve_at([0.0])
+    pose = {p: (float(start["x" + p][0]), float(start["y" + p][0])) for p in mech.points}
+    wheels = tuple(w for e in mech.geometry.elements for w in kinds.get(e["kind"]).wheels(e, pose))
     every = xy.reshape(-1, 2) if path is None else np.vstack([xy.reshape(-1, 2), path])
+    index = {p: i for i, p in enumerate(mech.points)}
+    for w in wheels:                                   # a gear's teeth reach 2.5 modules past its pitch circle
+        reach = w.radius + 5.0 * w.radius / w.teeth
+        centre = xy[:, index[w.centre]]
+        every = np.vstack([every] + [centre + (dx * reach, dy * reach) for dx, dy in ((1, 0), (-1, 0), (0, 1), (0, -1))])
     finite = every[np.all(np.isfinite(every), axis=-1)]
     lo, hi = (finite.min(axis=0), finite.max(axis=0)) if len(finite) else (np.array([-1.0, -1]), np.array([1.0, 1]))
     pad = PAD * max(float(np.max(hi - lo)), 1e-9)
@@ -74,7 +85,7 @@ def scene(built, xy: np.ndarray, display, path: np.ndarray | None = None) -> Sce
     return Scene(tuple((d["name"], tuple(d["points"]), d["block"]) for d in link_drawing(mech)), tuple(mech.points),
                  tuple(mech.ground_points), mech.output_point,
                  (lo[0] - pad, lo[1] - pad, hi[0] + pad, hi[1] + pad), mech.size, display, first.q,
-                 first.kind == "crank")
+                 first.kind == "crank", wheels)
 
 
 def nice_step(span: float) -> float:
@@ -125,6 +136,9 @@ class Painter:
         d = ImageDraw.Draw(img, "RGBA")
         u, sc = self.u, self.sc
         self._grid(d)
+        colors = {name: COLORS[k % len(COLORS)] for k, (name, _, _) in enumerate(sc.links)}
+        for w in sc.wheels:
+            self._wheel(d, w, xy, colors.get(w.link, "#888888"))
         if len(path) > 1:
             d.line([tuple(p) for p in self.px(path)], fill=PATH_PALE, width=max(1, round(1.5 * u)))
         if len(trace) > 1:
@@ -187,6 +201,35 @@ class Painter:
             r = w / 2
             for p in pts:                                     # round caps
                 d.ellipse([p[0] - r, p[1] - r, p[0] + r, p[1] + r], fill=color)
+
+    def _wheel(self, d, w, xy, color) -> None:
+        """A gear: its toothed outline about its centre, turned with its link (the direction centre -> ref);
+        external gears filled pale, ring gears (teeth inward) in outline with their rim."""
+        i = self.index[w.centre]
+        cx, cy = xy[i]
+        if not (math.isfinite(cx) and math.isfinite(cy)):
+            return
+        base = 0.0
+        if w.ref is not None:
+            rx, ry = xy[self.index[w.ref]]
+            base = math.atan2(ry - cy, rx - cx)
+        m = 2.0 * w.radius / w.teeth                       # the module: addendum m, dedendum 1.25 m
+        tip, root = (w.radius - m, w.radius + 1.25 * m) if w.ring else (w.radius + m, w.radius - 1.25 * m)
+        pitch = 2.0 * math.pi / w.teeth
+        outline = []
+        for k in range(w.teeth):                           # a trapezoid tooth per pitch, centred on its angle
+            a = base + w.phase + k * pitch
+            outline += [(root, a - 0.30 * pitch), (tip, a - 0.17 * pitch), (tip, a + 0.17 * pitch),
+                        (root, a + 0.30 * pitch), (root, a + 0.5 * pitch)]
+        pts = self.px(np.array([[cx + r * math.cos(a), cy + r * math.sin(a)] for r, a in outline]))
+        rgb = tuple(int(color[i:i + 2], 16) for i in (1, 3, 5))
+        width = max(1, round(1.5 * self.u))
+        if w.ring:
+            d.polygon([tuple(p) for p in pts], outline=color, width=width)
+            c, r = self.px(np.array([[cx, cy]]))[0], (root + 1.5 * m) * self.s
+            d.ellipse([c[0] - r, c[1] - r, c[0] + r, c[1] + r], outline=color, width=width)
+        else:
+            d.polygon([tuple(p) for p in pts], fill=rgb + (0x24,), outline=color, width=width)
 
     def _ground(self, d, p) -> None:
         u, (x, y) = self.u, p

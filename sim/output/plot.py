@@ -40,12 +40,12 @@ def panels(mech, display=None) -> list[tuple[str, list[tuple[str, str, float]], 
     outs = [n for n in mech.outputs]
     kinds = {n: output_kind(mech, n)[1] for n in outs}
     inputs = {i.q for i in mech.inputs} | {i.qd for i in mech.inputs} | {i.qdd for i in mech.inputs}
-    angles = [n for n in outs if kinds[n] == "angle" and not mech.aliases.get(n, n).startswith("mu")
-              and n not in inputs][:4]
+    role = {n: mech.table[n].role for n in outs}
+    angles = [n for n in outs if kinds[n] == "angle" and role[n] != "transmission" and n not in inputs][:4]
     rates = [n for n in outs if kinds[n] == "ang_velocity" and n not in inputs][:4]
     accs = [n for n in outs if kinds[n] == "ang_acceleration" and n not in inputs][:4]
-    mus = [n for n in outs if mech.aliases.get(n, n).startswith("mu")][:4]
-    slides = [n for n in outs if kinds[n] == "position" and mech.aliases.get(n, n)[1:] in mech.slides][:2]
+    mus = [n for n in outs if role[n] == "transmission"][:4]
+    slides = [n for n in outs if kinds[n] == "position" and role[n] == "slide"][:2]
     p = mech.output_point
     vel = [n for n in (f"vx{p}", f"vy{p}") if n in outs or not mech.builtin]
     acc = [n for n in (f"ax{p}", f"ay{p}") if n in outs or not mech.builtin]
@@ -71,7 +71,7 @@ def _series(ax, x, c: Comparison, lines, colors, mech) -> None:
     for (name, label, factor), color in zip(lines, colors):
         ref = np.asarray(c.analytic[name]) * factor
         sim = c.trajectory.outputs[name] * factor
-        if output_kind(mech, name)[1] == "angle" and not name.startswith("mu"):   # turning links
+        if output_kind(mech, name)[1] == "angle" and mech.table[name].role != "transmission":   # turning links
             ref, sim = np.degrees(np.unwrap(ref / DEG)), np.degrees(np.unwrap(sim / DEG))
         ax.plot(x, ref, color=color, lw=1.6, label=f"{label} analytic")
         ax.plot(x[::MARK_EVERY], sim[::MARK_EVERY], "o", ms=3.5, mfc="none", color=color, label=f"{label} MuJoCo")
@@ -143,7 +143,7 @@ def _error_panel(ax, x, c: Comparison, units, title, xlabel, u) -> None:
     for name, e in c.errors.items():
         if e["unit"] not in units:
             continue
-        if name.startswith("tau"):
+        if e["role"] == "drive":
             continue
         diff = np.abs(c.trajectory.outputs[name] - np.asarray(c.analytic[name]))
         if e["unit"] == "rad":
@@ -233,9 +233,10 @@ def _torque_panels(axes, x, c: Comparison, xlabel, colors, mech) -> None:
     qd_of = {f"tau{i.link}": i.qd for i in mech.inputs}
     for name, color in zip(names, colors):
         ref, sim = c.torques[name], tr.forces[name]
-        axes[0].plot(x, ref, color=color, lw=1.6, label=f"$\\tau_{{{name[3:]}}}$ analytic")
+        link = mech.table[name].of
+        axes[0].plot(x, ref, color=color, lw=1.6, label=f"$\\tau_{{{link}}}$ analytic")
         axes[0].plot(x[::MARK_EVERY], sim[::MARK_EVERY], "o", ms=3.5, mfc="none", color=color,
-                     label=f"$\\tau_{{{name[3:]}}}$ MuJoCo")
+                     label=f"$\\tau_{{{link}}}$ MuJoCo")
         axes[1].plot(x, np.abs(sim - ref), color=color, lw=1.0, label=name)
         axes[1].axhline(c.errors[name]["tol"], color=color, ls="--", lw=0.8)
         power = power + ref * tr.inputs[qd_of[name]]

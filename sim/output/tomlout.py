@@ -104,7 +104,7 @@ def edit_parameters(mech) -> str | None:
         return None
     same = all(math.isclose(values[k], mech.values[k], rel_tol=1e-12, abs_tol=1e-300) for k in mech.values)
     rest = all(getattr(back, f) == getattr(d, f) for f in ("name", "units", "parameter_order", "ground", "order",
-                                                         "output", "inertia"))
+                                                         "output", "inertia", "mass"))
     return out if same and rest and set(values) == set(mech.values) else None
 
 
@@ -134,4 +134,21 @@ def generate(mech) -> str:
         for link, entry in d.inertia.items():
             inner = ", ".join(f"{k} = {_value(float(x))}" for k, x in entry.items())
             lines.append(f"{json.dumps(link)} = {{ {inner} }}")
+    lines += _mass_section(d.mass)
     return "\n".join(lines) + "\n"
+
+
+def _mass_section(mass: dict) -> list[str]:
+    """The ``[mass]`` section (analytic.mass) as TOML lines: its fields, the links' and the counterweights'."""
+    if not mass:
+        return []
+    lines = ["", "[mass]"] + [f"{k} = {_value(v)}" for k, v in mass.items() if k not in ("links", "counterweights")]
+    for link, table in mass.get("links", {}).items():
+        lines += ["", f"[mass.links.{json.dumps(link)}]"] + [f"{k} = {_value(v)}" for k, v in table.items()]
+    if mass.get("counterweights"):
+        lines += ["", "[mass.counterweights]"]
+        for link, entry in mass["counterweights"].items():
+            items = [f"{{ m = {_value(float(w['m']))}, at = {_value([float(x) for x in w['at']])} }}"
+                     for w in (entry if isinstance(entry, list) else [entry])]
+            lines.append(f"{json.dumps(link)} = " + (items[0] if len(items) == 1 else "[" + ", ".join(items) + "]"))
+    return lines

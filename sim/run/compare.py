@@ -218,7 +218,8 @@ def compare(tr: Trajectory, built, revolutions: float = 1.0) -> Comparison:
         e_max, e_rms = float(np.max(np.abs(diff))), float(np.sqrt(np.mean(diff ** 2)))
         passed = bool(e_max <= tol) if kind != "force" or peak > 0 else bool(e_max <= 1e-9)
         ok &= passed
-        errors[name] = {"max": e_max, "rms": e_rms, "peak": peak, "tol": tol, "unit": unit, "passed": passed}
+        errors[name] = {"max": e_max, "rms": e_rms, "peak": peak, "tol": tol, "unit": unit, "passed": passed,
+                        "role": mech.table[name].role}
     drive = drive_error(tr, mech)
     viol = float(np.max(tr.loop_violation))
     balance = work_balance(tr, built)
@@ -254,12 +255,12 @@ def table(c: Comparison, size: float, display=None, output_point: str | None = N
     errors = errors_in(c.errors, display)
     moving, fixed = [], []
     for name, e in errors.items():
-        ref = np.asarray(c.analytic[name]) if not name.startswith("tau") else None
+        ref = np.asarray(c.analytic[name]) if c.errors[name]["role"] != "drive" else None
         scale = 1.0 if c.errors[name]["unit"].startswith("rad") else size
         still = ref is not None and np.ptp(np.broadcast_to(ref, np.shape(tr.t))) <= FIXED * scale
         (fixed if still and e["passed"] else moving).append(name)
     lead = {f"{k}{output_point}" for k in ("x", "y", "vx", "vy", "ax", "ay")} if output_point else set()
-    moving.sort(key=lambda n: (n.startswith("tau"), n not in lead))     # stable: the file's order within
+    moving.sort(key=lambda n: (c.errors[n]["role"] == "drive", n not in lead))     # stable: file order within
     width = max([8] + [len(n) for n in moving])
     lines = [f"{tr.name}: {tr.steps} steps of {tr.timestep:.3g} s ({tr.integrator}), "
              f"{tr.cpu_seconds * 1e3:.1f} ms CPU",

@@ -19,7 +19,7 @@ from mujoco import rollout
 from analytic import ParameterError
 from analytic import kinds
 from analytic.solution import Solution, StateView
-from sim.model import DEFAULT_INTEGRATOR, INTEGRATORS, Built, _jerk, drive_command
+from sim.model import DEFAULT_INTEGRATOR, INTEGRATORS, Built, drive_command, input_jerk
 
 MAX_STEPS = 20_000_000
 """Longest run accepted [steps] (~2 GB of recorded sensors for a four-bar); more is refused up front."""
@@ -74,7 +74,7 @@ def controls(built: Built, t: np.ndarray) -> np.ndarray:
     h = built.timestep
     mid = t + 0.5 * h
     q, qd, qdd = mech.drive(mid)
-    jerk = _jerk(mech, mid)
+    jerk = input_jerk(mech, mid)
     ctrl = np.zeros((len(t), model.nu))
     for k, d in enumerate(built.drives):
         _, rate = drive_command(d, q[:, k], qd[:, k], qdd[:, k], jerk[:, k])

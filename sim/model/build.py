@@ -1,0 +1,270 @@
+"""Building a model: the spanning tree of link bodies placed at their assembled pose, the loops closed by
+connect constraints, the kinds' own constraints, masses, drives, load, sensors; compiled with the
+regulariser of the validated simulation and the initial state from the analytic solver."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+
+import mujoco
+import numpy as np
+
+import mjcf
+from analytic import ParameterError
+from analytic.kinds import GROUND
+from sim.model.appearance import COLORS, draw_ground, draw_link, frame_camera
+from sim.model.drives import Drive, add_drives, add_load, initial_controls, size_drives, slow_stroke
+from sim.model.frames import body_frames, local, point_local, quat
+from sim.model.inertia import add_inertias, link_members
+from sim.model.sensors import add_sensors
+from sim.model.settings import INTEGRATORS, Loads, Settings
+from sim.model.timestep import choose_timestep, motion_scale
+
+MJCF_DIR = Path(mjcf.__file__).resolve().parent
+
+TEMPLATE = MJCF_DIR / "template.xml"
+
+REGULARIZATION_SCALE = 1e-6
+"""Scale applied to the compiled ``body_invweight0`` (and ``tendon_invweight0``, which sizes a gear coupling's
+tendon equality the same way): MuJoCo sizes each constraint's regulariser as
+R = (1 - d) / d * invweight with the impedance d capped at 0.9999, so a share of about R / (J M^-1 J')
+of the constraint force leaks into loop violation. invweight0 is computed at the initial pose and serves
+only that purpose in a model without contacts; near a singular pose J M^-1 J' becomes small and the leak
+grows: a near-singular Whitworth design had 1e-6 rad of error from it at 1e-4, none visible at 1e-6
+(loop violation 9e-9 -> 1.4e-9 of the size). Smaller is not better: the constraint force is the
+solver's residual over R, and the drive torques' error grows as 1/R (400 random designs, worst torque
+error/tolerance: 0.004 at 1e-6, 0.02 at 1e-7, 0.5 at 1e-8, 18 at 1e-10). External loads add constraint
+force that inertia does not, so the scale is divided by 1 + (load / inertial force): see regularization."""
+
+MIN_SIZE = 1e-3
+"""[m] The smallest mechanism simulated: below it the default masses and inertias (LINEAR_DENSITY)
+approach MuJoCo's mjMINVAL (1e-15) and the model does not compile (a slider crank typed in metres
+into a mm file: 0.2 mm, piston inertia 1e-15 kg m^2)."""
+
+
+@dataclass(frozen=True)
+class Loop:
+    """A loop closed by a connect at ``point`` between the sites ``site1`` and ``site2``."""
+
+    name: str
+    point: str
+    site1: str
+    site2: str
+
+
+@dataclass(frozen=True)
+class Context:
+    """What a kind's :meth:`~analytic.kinds.base.Kind.mjcf` hook sees while the model is built: the spec
+    being built, the mechanism, the spanning tree (parent, child, joint) from the ground outwards, every
+    body's world pose (x, y, angle) and every point's position at t = 0 [m], the time step [s] and the
+    settings. Every joint's position is 0 at the assembled pose the bodies are placed in."""
+
+    spec: object
+    mech: object
+    tree: tuple
+    frames: dict
+    points: dict
+    timestep: float
+    settings: Settings
+
+    def angle_terms(self, link: str) -> dict[str, float]:
+        """The link's angle minus its angle at t = 0 as a sum of hinge positions {joint name: coefficient}
+        (the hinges on the tree path from the ground to it; slides do not turn). The ground: {}."""
+        parent = {child: (par, j) for par, child, j in self.tree}
+        out: dict[str, float] = {}
+        while link in parent:
+            link, j = parent[link][0], parent[link][1]
+            if j.kind == "revolute":
+                out[j.name] = out.get(j.name, 0.0) + 1.0
+        return out
+
+    def couple(self, name: str, terms: dict[str, float]) -> None:
+        """Hold sum(coef x joint position) at its value at t = 0 (0): a fixed tendon over the joints and a
+        tendon equality constraint, stiff as the loops' (solref, solimp as the loop closures)."""
+        tendon = self.spec.add_tendon(name=name)
+        for joint, coef in terms.items():
+            if coef != 0.0:
+                tendon.wrap_joint(joint, coef)
+        eq = self.spec.add_equality(name=f"couple_{name}", type=mujoco.mjtEq.mjEQ_TENDON, name1=name)
+        eq.data[:5] = [0.0, 0.0, 0.0, 0.0, 0.0]
+        eq.solref = [self.settings.timeconst * self.timestep, 1.0]
+        eq.solimp = [0.9999, 0.9999, 0.001, 0.5, 2]
+
+
+@dataclass(frozen=True)
+class Built:
+    """A compiled model with the mechanism it was built from, its initial state and its parts."""
+
+    mech: object
+    model: mujoco.MjModel
+    settings: Settings
+    loads: Loads
+    drives: tuple[Drive, ...]
+    loops: tuple[Loop, ...]
+    bodies: tuple[str, ...]
+    qpos0: np.ndarray
+    qvel0: np.ndarray
+    act0: np.ndarray
+    ctrl0: np.ndarray
+    slow_stroke: tuple[float, float] | None = None
+    """For a slow-stroke load: the first input's phase interval [rad] where it acts."""
+    spec_xml: str = field(default="", repr=False)
+
+    @property
+    def name(self) -> str:
+        return self.mech.name
+
+    @property
+    def timestep(self) -> float:
+        return float(self.model.opt.timestep)
+
+
+def regularization(model, mech, loads) -> float:
+    """REGULARIZATION_SCALE / (1 + load / inertial force), with the load |F| + m |g| and the inertial force
+    m L Omega^2 (m the links' mass, L the size, Omega the fastest input speed). The leak into the loops
+    grows with the constraint force (R lambda) and the torque error with the inertial forces over R, so
+    scaling R by their ratio keeps both at their unloaded level: a 6.6 mm Peaucellier cell pushed by 24 N
+    (140x its inertial force) had 4e-6 rad of angle error at 1e-6, 3e-8 at the 8e-9 chosen here."""
+    m = float(model.body_mass.sum())
+    inertial = m * mech.size * motion_scale(mech) ** 2
+    load = math.hypot(*loads.force) + (m * math.hypot(*loads.gravity) if loads.gravity is not None else 0.0)
+    return REGULARIZATION_SCALE / (1.0 + load / inertial) if inertial > 0 else REGULARIZATION_SCALE
+
+
+def spanning_tree(mech):
+    """The topology's spanning tree (parent, child, joint) from the ground outwards, and the joints that
+    close its loops; MuJoCo closes a loop at a revolute only."""
+    topo = mech.topology
+    for loop in topo.loops:
+        j = loop.joint
+        if j.kind == "prismatic" or j.input is not None:
+            raise ParameterError(f"the {mech.name}'s loop through {j.name} would close at a prismatic or "
+                                 f"driven pair, which MuJoCo cannot close; restructure the loop")
+    from analytic.topology import disconnected
+    missing = disconnected(topo)
+    if missing:
+        raise ParameterError(f"links {', '.join(sorted(missing))} of the {mech.name} are not connected to the ground")
+    return topo.tree, tuple(loop.joint for loop in topo.loops)
+
+
+def build(mech, settings: Settings = Settings(), loads: Loads = Loads(), revolutions: float = 1.0) -> Built:
+    """Generate and compile the model of ``mech`` with its initial state from the analytic solver."""
+    if settings.timestep is None:
+        settings = replace(settings, timestep=choose_timestep(mech, revolutions))
+    if mech.size < MIN_SIZE:
+        raise ParameterError(
+            f"{mech.definition.source}: the {mech.name} spans {mech.size:.3g} m ({mech.size / mech.scale:.3g} "
+            f"{mech.definition.units}); the simulation needs at least {MIN_SIZE:g} m (MuJoCo's minimum masses)"
+            + (": were metres typed into a mm file? give the lengths in mm" if mech.definition.units != "m" else
+               "; scale the lengths up"))
+    h = float(settings.timestep)
+    (q0, qd0, qdd0), sol = mech.solve_at([0.0])
+    if not sol.valid.all():
+        mech.check_assembles(q0)
+    points = {p: (float(sol["x" + p][0]), float(sol["y" + p][0])) for p in mech.points}
+    return build_model(mech, settings, loads, h, sol, points, (q0[0], qd0[0], qdd0[0]), revolutions)
+
+
+def build_model(mech, settings, loads, h, sol, points, q_start, revolutions) -> Built:
+    spec = mujoco.MjSpec.from_file(str(TEMPLATE))
+    spec.modelname = mech.name
+    size = mech.size
+    frames = body_frames(mech, sol)
+    order, cuts = spanning_tree(mech)
+    members = link_members(mech)
+    carriers = mech.topology.carriers
+    bodies = {GROUND: spec.worldbody}
+    radius = 0.015 * size
+
+    for n, (parent, child, j) in enumerate(order):
+        pf, cf = frames[parent], frames[child]
+        px, py = local(pf, cf[0], cf[1])
+        body = bodies[parent].add_body(name=child, pos=[px, py, 0.0], quat=quat(cf[2] - pf[2]))
+        bodies[child] = body
+        jx, jy = point_local(points, frames, child, j.point)
+        if j.kind == "revolute":
+            body.add_joint(name=j.name, type=mujoco.mjtJoint.mjJNT_HINGE, axis=[0, 0, 1], pos=[jx, jy, 0])
+        else:
+            u = frames[j.slide][2]                         # the block's angle is the slide direction
+            ax, ay = math.cos(u - cf[2]), math.sin(u - cf[2])
+            body.add_joint(name=j.name, type=mujoco.mjtJoint.mjJNT_SLIDE, axis=[ax, ay, 0], pos=[jx, jy, 0])
+        draw_link(spec, body, mech, points, frames, child, members, radius, COLORS[n % 4])
+    draw_ground(spec, mech, points, radius)
+
+    # Sites: every point on its carrier body; loop closures get a second site on the other body.
+    for p, (x, y) in points.items():
+        link = carriers[p]
+        lx, ly = local(frames[link], x, y)
+        marker = p == mech.output_point
+        site = bodies[link].add_site(name=p, pos=[lx, ly, 0], size=[radius * (0.8 if marker else 0.3)] * 3,
+                                     rgba=[0.89, 0.10, 0.11, 1] if marker else [1, 1, 1, 0])
+        site.group = 0 if marker else 4
+    loops = []
+    for j in cuts:
+        other = j.b if carriers[j.point] == j.a else j.a
+        host = j.a if other == j.b else j.b
+        x, y = points[j.point]
+        name2 = f"{j.point}_{other}"
+        lx, ly = local(frames[other], x, y)
+        bodies[other].add_site(name=name2, pos=[lx, ly, 0], size=[radius * 0.3] * 3, rgba=[1, 1, 1, 0], group=4)
+        site1 = j.point if carriers[j.point] == host else f"{j.point}_{host}"
+        if site1 != j.point:
+            lx1, ly1 = local(frames[host], x, y)
+            bodies[host].add_site(name=site1, pos=[lx1, ly1, 0], size=[radius * 0.3] * 3, rgba=[1, 1, 1, 0])
+        eq = spec.add_equality(name=f"loop_{j.name}", type=mujoco.mjtEq.mjEQ_CONNECT,
+                               objtype=mujoco.mjtObj.mjOBJ_SITE, name1=site1, name2=name2)
+        eq.solref = [settings.timeconst * h, 1.0]
+        eq.solimp = [0.9999, 0.9999, 0.001, 0.5, 2]
+        loops.append(Loop(eq.name, j.point, site1, name2))
+
+    context = Context(spec, mech, order, frames, points, h, settings)
+    from analytic import kinds
+    for e in mech.geometry.elements:                   # constraints a kind adds (a gear's coupling)
+        kinds.get(e["kind"]).mjcf(e, context)
+    add_inertias(spec, mech, points, frames, loads)
+    drives = add_drives(spec, mech, order, q_start, h)
+    add_load(spec, mech, loads)
+    add_sensors(spec, mech, drives, loops)
+    spec.option.timestep = h
+    spec.option.integrator = INTEGRATORS[settings.integrator]
+    if loads.gravity is not None:
+        spec.option.gravity = [loads.gravity[0], loads.gravity[1], 0.0]
+    frame_camera(spec, mech)
+    xml = spec.to_xml()
+    try:
+        model = spec.compile()
+    except ValueError as exc:
+        raise ParameterError(f"MuJoCo cannot compile the {mech.name}: {str(exc).splitlines()[0]}") from None
+    scale = regularization(model, mech, loads)
+    model.body_invweight0[:] *= scale
+    model.tendon_invweight0[:] *= scale             # a tendon equality (a gear coupling) is sized by these
+    drives = size_drives(model, mech, drives, loads, h)
+    qpos0, qvel0 = initial_state(model, mech, order, frames, sol)
+    act0, ctrl0 = initial_controls(model, mech, drives, q_start, loads)
+    built = Built(mech, model, settings, loads, tuple(drives), tuple(loops), tuple(mech.links),
+                  qpos0, qvel0, act0, ctrl0, slow_stroke(mech) if loads.slow_stroke_only else None, xml)
+    return built
+
+
+def initial_state(model, mech, order, frames, sol):
+    qpos = np.zeros(model.nq)
+    qvel = np.zeros(model.nv)
+    vel = {GROUND: (0.0, 0.0, 0.0)}
+    origins = mech.link_origins
+    for ln in mech.links:
+        p = origins[ln]
+        vel[ln] = (float(sol["vx" + p][0]), float(sol["vy" + p][0]), float(sol["omega" + ln][0]))
+    for parent, child, j in order:
+        dof = model.jnt_dofadr[model.joint(j.name).id]
+        if j.kind == "revolute":
+            qvel[dof] = vel[child][2] - vel[parent][2]
+        else:
+            px, py, pth = frames[parent]
+            cx, cy, _ = frames[child]
+            vpx = vel[parent][0] - vel[parent][2] * (cy - py)
+            vpy = vel[parent][1] + vel[parent][2] * (cx - px)
+            u = frames[j.slide][2]
+            qvel[dof] = (vel[child][0] - vpx) * math.cos(u) + (vel[child][1] - vpy) * math.sin(u)
+    return qpos, qvel

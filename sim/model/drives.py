@@ -1,0 +1,149 @@
+"""The drives: position-tracking servos (MuJoCo's integrated-velocity actuator) sized from the peak load,
+their commands, their initial state, and the external load's actuator.
+
+Drives track the commanded motion by position: the actuator's activation integrates the commanded speed,
+and force = kp (act - q) - kv qdot. With the speed and acceleration fed forward (see
+:func:`drive_command`) there is no phase drift; the tracking error is the reaction torque over kp."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+
+import mujoco
+import numpy as np
+
+from sim.model.inertia import body_inertias
+
+DRIVE_ERROR_BUDGET = 1e-6
+"""[rad, or of the size for a slider] The drives' stiffness kp is sized so that the peak reaction
+torque deflects the drive by at most this much (kp = peak / budget)."""
+
+SERVO_RATE = 0.25
+"""The drive's natural frequency times the time step: sqrt(kp / J) h. The rotor inertia J (armature)
+is sized for it (J = kp (h / SERVO_RATE)^2), critically damped (kv = 2 sqrt(kp J)); RK4 resolves a mode
+of 0.25 rad per step without pumping energy."""
+
+
+@dataclass(frozen=True)
+class Drive:
+    """A driven tree joint: its input, actuator and joint names, servo gains and rotor inertia."""
+
+    input: object
+    joint: str
+    actuator: str
+    kp: float
+    kv: float
+    armature: float
+    q_offset: float
+    """The input's value at qpos = 0 (the joint measures q - q_offset)."""
+
+
+def add_drives(spec, mech, order, q_start, h) -> list[Drive]:
+    drives = []
+    q0, _, _ = q_start
+    for k, inp in enumerate(mech.inputs):
+        j = next(jt for _, _, jt in order if jt.input == k)
+        name = f"drive_{inp.link}"
+        act = spec.add_actuator(name=name, target=j.name, trntype=mujoco.mjtTrn.mjTRN_JOINT)
+        act.dyntype = mujoco.mjtDyn.mjDYN_INTEGRATOR
+        act.gaintype = mujoco.mjtGain.mjGAIN_FIXED
+        act.biastype = mujoco.mjtBias.mjBIAS_AFFINE
+        act.actlimited = False
+        act.ctrllimited = False
+        act.forcelimited = False
+        drives.append(Drive(inp, j.name, name, 1.0, 0.0, 0.0, float(q0[k])))
+    return drives
+
+
+def add_load(spec, mech, loads):
+    act = spec.add_actuator(name="load", target=mech.output_point, trntype=mujoco.mjtTrn.mjTRN_SITE,
+                            refsite="origin")
+    fx, fy = loads.force
+    act.gear = [fx, fy, 0.0, 0.0, 0.0, 0.0]
+    act.ctrllimited = False
+
+
+def size_drives(model, mech, drives, loads, h) -> list[Drive]:
+    """kp from the peak analytic drive force (DRIVE_ERROR_BUDGET), J and kv for SERVO_RATE."""
+    from analytic.applications import torque
+    t = np.linspace(0.0, mech.duration(1.0), 361)
+    q, qd, qdd = mech.drive(t)
+    switch = 1.0
+    tau = torque.drive_forces(mech, q, qd, qdd, body_inertias(model, mech.links), None,
+                              tuple(model.opt.gravity[:2]), tuple(model.actuator("load").gear[:2]), switch)
+    out = []
+    size = mech.size
+    for d in drives:
+        peak = float(np.nanmax(np.abs(tau[d.input.link])))
+        budget = DRIVE_ERROR_BUDGET * (1.0 if d.input.kind == "crank" else size)
+        total_mass = float(sum(model.body_mass))
+        floor = 1e-3 * total_mass * 9.81 * size          # a small load so kp is never zero
+        kp = max(peak, floor) / budget
+        J = kp * (h / SERVO_RATE) ** 2
+        kv = 2.0 * math.sqrt(kp * J)
+        a = model.actuator(d.actuator)
+        a.gainprm[0] = kp
+        a.biasprm[:3] = [0.0, -kp, -kv]
+        model.dof_armature[model.jnt_dofadr[model.joint(d.joint).id]] = J
+        out.append(replace(d, kp=kp, kv=kv, armature=J))
+    return out
+
+
+def drive_command(d: Drive, q, qd, qdd, qddd):
+    """The servo's activation target and its rate for a desired motion (q, qd, qdd, qddd): the
+    activation a leads q by (kv qd + J qdd) / kp, so that force = kp (a - q) - kv qdot = J qdd on the
+    desired motion with no reaction; ctrl = da/dt."""
+    lead = (d.kv * qd + d.armature * qdd) / d.kp
+    rate = qd + (d.kv * qdd + d.armature * qddd) / d.kp
+    return q - d.q_offset + lead, rate
+
+
+def initial_controls(model, mech, drives, q_start, loads):
+    """The drives' activations at t = 0: the commanded motion's lead plus the deflection that the
+    mechanism's reaction needs (kp a = tau), so the servo starts already carrying its load and the
+    torque curve has no start-up transient."""
+    from analytic.applications import torque
+    q0, qd0, qdd0 = q_start
+    act = np.zeros(model.na)
+    ctrl = np.zeros(model.nu)
+    jerk = input_jerk(mech, np.array([0.0]))
+    on = 1.0
+    if loads.slow_stroke_only:
+        lo, hi = slow_stroke(mech)
+        on = float(lo <= 0.0 <= hi or lo <= 2 * math.pi <= hi)
+    reaction = torque.drive_forces(mech, q0[None], qd0[None], qdd0[None], body_inertias(model, mech.links), None,
+                                   tuple(model.opt.gravity[:2]), tuple(model.actuator("load").gear[:2]), on)
+    for k, d in enumerate(drives):
+        a, c = drive_command(d, q0[k], qd0[k], qdd0[k], jerk[0, k])
+        act[model.actuator(d.actuator).actadr[0]] = a + float(reaction[d.input.link][0]) / d.kp
+        ctrl[model.actuator(d.actuator).id] = c
+    return act, ctrl
+
+
+def input_jerk(mech, t):
+    """d^3 q / dt^3 of every input at times t (nonzero only for a rocking drive)."""
+    out = np.zeros((len(t), len(mech.inputs)))
+    for k, inp in enumerate(mech.inputs):
+        m = inp.motion
+        if m.rock is not None:
+            w, amp = abs(m.rate), 0.5 * (m.rock[1] - m.rock[0])
+            out[:, k] = -amp * w ** 3 * np.sin(w * t)
+    return out
+
+
+def slow_stroke(mech) -> tuple[float, float]:
+    """The first input's phase interval [rad from its start] in which the output point makes its slower
+    stroke along x (the cutting stroke of a quick-return mechanism)."""
+    first = mech.inputs[0]
+    T = mech.duration(1.0)
+    t = np.linspace(0.0, T, 3601)
+    sol = mech.solve(*mech.drive(t))
+    x = sol["x" + mech.output_point]
+    k_min, k_max = int(np.nanargmin(x)), int(np.nanargmax(x))
+    a, b = sorted((k_min, k_max))
+    inner = b - a                           # samples from one extreme to the other
+    phase = (first.motion.at(t)[0] - first.motion.q0)
+    if inner >= len(t) - 1 - inner:
+        return float(phase[a]), float(phase[b])
+    return float(phase[b]), float(phase[a] + 2 * math.pi)
