@@ -562,21 +562,31 @@ def test_batched_lu_solves_and_its_determinant():
             assert np.all(np.abs(d - det) <= 1e-12 * np.abs(det) * cond)
 
 
-@pytest.mark.parametrize("starts, width", [
-    ([107.8, 107.4, 107.6, 107.9, 150.0, 149.5, 300.0, 20.0, 20.1], 0.2),   # windows stepping back
-    ([358.0 + 0.4 * k for k in range(12)], 0.125),                          # dense clusters, sparse between
-])
-def test_windows_that_step_back_are_solved_on_the_branch(starts, width):
-    """Samples in short windows that each start a little behind where the last one ended, or clusters of
-    dense samples with wide steps between them (as the time-step scan zooms into its peaks): every sample
-    equals the same samples solved in increasing order."""
-    m = analytic.load(str(KINDS / "group__butterfly.toml"))
-    q = (np.radians(starts)[:, None] + np.radians(width) * np.linspace(0, 1, 9)[None, :]).ravel()
+def _windows(starts, width, back=False):
+    """Windows of 9 samples from each start [deg], each run back over itself after it when ``back`` (the turn is
+    a repeated sample: a zero step between the two ways)."""
+    w = np.asarray(starts, float)[:, None] + width * np.linspace(0, 1, 9)[None, :]
+    if back:
+        w = np.concatenate((w, w[:, ::-1]), axis=1)
+    return np.radians(w.ravel())
+
+
+@pytest.mark.parametrize("mech, q", [
+    ("butterfly", _windows([107.8, 107.4, 107.6, 107.9, 150.0, 149.5, 300.0, 20.0, 20.1], 0.2)),  # stepping back
+    ("butterfly", _windows([358.0 + 0.4 * k for k in range(12)], 0.125)),                         # dense clusters
+    ("triad", _windows([81.4, 81.6, 81.8, 82.0], 0.2, back=True)),  # back over itself, 2 deg short of the lock
+], ids=["back", "clusters", "repeated"])
+def test_windows_that_step_back_are_solved_on_the_branch(mech, q):
+    """Samples in short windows that each start a little behind where the last one ended, clusters of dense
+    samples with wide steps between them, windows run back over themselves (as the time-step scan zooms into
+    its peaks; near the triad's lock its points move fast): every sample equals the same samples solved in
+    increasing order."""
+    m = analytic.load(str(KINDS / "group__butterfly.toml")) if mech == "butterfly" else analytic.from_text(TRIAD, "t")
     sol = m.solve(q, 1.0)
     order = np.argsort(q, kind="stable")
     ref = m.solve(q[order], 1.0)
     assert sol.valid.all() and ref.valid.all()
-    for p in ("H", "C3", "D4"):
+    for p in [e["places"] for e in m.geometry.elements][-1]:
         for c in ("x", "vy"):
             scale = max(np.max(np.abs(ref[c + p])), m.size)
             # 1e-12 of scale: Newton to rounding along two paths; exact rates at the same points

@@ -313,7 +313,10 @@ class _Path:
         P = K.reshape(-1, 2, n)
         d = np.diff(P, axis=2)
         step = np.sqrt(np.max(np.sum(d * d, axis=1), axis=0)) if n > 1 else np.zeros(0)
-        turn = np.flatnonzero(np.any(np.sum(d[:, :, 1:] * d[:, :, :-1], axis=1) < 0.0, axis=0)) + 1
+        moved = np.flatnonzero(step > 0.0)                  # a repeated sample does not hide a turn
+        dm = d[:, :, moved]
+        back = np.any(np.sum(dm[:, :, 1:] * dm[:, :, :-1], axis=1) < 0.0, axis=0)
+        turn = np.unique(np.r_[moved[:-1][back] + 1, moved[1:][back]])
         return _Path(K, np.r_[0.0, np.cumsum(step)], np.r_[False, step > JUMP * g.size], turn)
 
 

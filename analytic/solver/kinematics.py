@@ -24,7 +24,7 @@ from analytic.format.linkfile import Geometry
 from analytic.kinds.base import State, fixed_point
 
 
-STEPS_PER_TURN = 96
+STEPS_PER_TURN = 720
 """For kinds that continue from sample to sample: the inputs' largest step along a solve's path, a crank's
 a turn / STEPS_PER_TURN, a slider's the mechanism's size / (STEPS_PER_TURN / 6) (about the same travel of a
 point on a crank of that size); samples farther apart are joined by samples filled in between."""
