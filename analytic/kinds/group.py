@@ -107,7 +107,7 @@ class Group(Kind):
         placed = set(f["points"])
         for ln, pts in f["links"].items():
             if len(pts) < 2:
-                return f"field 'links': link {ln} has {len(pts)} point; a link carries two or more"
+                return f"field 'links': link {ln} has {len(pts)} point(s); a link carries two or more"
             if len(set(pts)) != len(pts):
                 return f"field 'links': link {ln} lists a point twice ({', '.join(pts)})"
             if not placed.intersection(pts):
@@ -134,8 +134,8 @@ class Group(Kind):
     def check_resolved(self, e):
         try:
             group(e)
-        except ParameterError as exc:
-            return str(exc).split(": ", 1)[1]
+        except ParameterError as exc:          # the fields as written passed check(): what is left is the pose
+            return "field 'pose': " + str(exc).split(": ", 1)[1]
         return None
 
     def check_start(self, e, st):
