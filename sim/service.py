@@ -657,12 +657,30 @@ def balanced_mechanism(mech: Mechanism, links=None) -> tuple[Mechanism, object]:
     return Mechanism.from_definition(new, mech.overrides, mech.builtin), result
 
 
-def simulated_forces(run: ForceRun, settings=None, loads=None) -> dict:
-    """MuJoCo's joint forces for ``run`` and their agreement (the ``simulated`` object of the JSON): provided
-    by ``sim.run.forces.simulated(run, settings, loads)`` (the MuJoCo half of issue 17)."""
-    try:
-        from sim.run import forces as simforces
-    except ImportError:
-        raise ParameterError("--simulate: MuJoCo's joint forces are not available yet in this version; run "
-                             "without --simulate for the analytic forces") from None
-    return simforces.simulated(run, settings, loads)
+def simulated_forces_run(run: ForceRun, settings=None, loads=None):
+    """``run`` simulated in MuJoCo, its joint forces read at the run's samples and compared with the analytic
+    ones at the simulated inputs (:class:`sim.run.forces.Simulated`)."""
+    from sim.run import forces as simforces
+    return simforces.simulate_run(run, settings, loads)
+
+
+def simulated_forces(run: ForceRun, settings=None, loads=None, display=None) -> dict:
+    """The ``simulated`` object of ``linkage forces --simulate --json``: MuJoCo's answer in the fields of
+    :func:`forces_record` (at the run's samples, the inputs as simulated, the model's masses), the time step
+    and steps, the agreement with the analytic forces (``agreement``: each joint's largest difference [N] and
+    its share of the peak joint force, the drives' three answers, the shaking force) and ``passed``."""
+    from dataclasses import replace
+    from sim.model import body_inertias
+    s = simulated_forces_run(run, settings, loads)
+    mech, tr = run.mech, s.trajectory
+    q, qd, qdd = s.inputs
+    sol = {k: np.asarray(v)[s.steps] for k, v in tr.outputs.items() if k[:1] in ("x", "y", "c", "s")}
+    sim_run = replace(run, t=s.t, q=q, qd=qd, qdd=qdd, inputs={inp.q: q[:, k] for k, inp in enumerate(mech.inputs)},
+                      solution=sol, inertias=body_inertias(s.built.model, mech.links), forces=s.forces,
+                      balance=None, balanced=None)
+    record = forces_record(sim_run, display)
+    for key in ("mechanism", "loads", "units"):
+        record.pop(key, None)
+    record.update({"timestep": s.built.timestep, "steps": int(tr.steps), "agreement": s.agreement.as_dict(),
+                   "passed": s.agreement.passed})
+    return record
