@@ -675,7 +675,7 @@ def simulated_forces(run: ForceRun, settings=None, loads=None, display=None) -> 
     mech, tr = run.mech, s.trajectory
     q, qd, qdd = s.inputs
     sol = {k: np.asarray(v)[s.steps] for k, v in tr.outputs.items() if k[:1] in ("x", "y", "c", "s")}
-    sim_run = replace(run, t=s.t, q=q, qd=qd, qdd=qdd, inputs={inp.q: q[:, k] for k, inp in enumerate(mech.inputs)},
+    sim_run = replace(run, t=run.t[:len(s.steps)], q=q, qd=qd, qdd=qdd, inputs={inp.q: q[:, k] for k, inp in enumerate(mech.inputs)},
                       solution=sol, inertias=body_inertias(s.built.model, mech.links), forces=s.forces,
                       balance=None, balanced=None)
     record = forces_record(sim_run, display)

@@ -10,11 +10,12 @@ parallelogram's coupler) is not judged against zero. Each constant says which er
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from sim.model import motion_scale
+from sim.run import forces as joint_forces
 from sim.run.simulate import Trajectory, energies
 from sim.output.units import output_kind
 
@@ -68,6 +69,8 @@ class Comparison:
     trajectory: Trajectory
     analytic: object
     errors: dict[str, dict]
+    forces: object = field(default=None, kw_only=True)
+    """The joint forces against MuJoCo's (sim.run.forces.Agreement), None where statics cannot give them."""
     drive_error: float
     max_loop_violation: float
     torques: dict[str, np.ndarray]
@@ -97,6 +100,8 @@ class Comparison:
                     "max_loop_violation": display.convert("length", self.max_loop_violation),
                     "loop_tol": display.convert("length", LOOP_TOL * (mech.size if mech is not None else 1.0)),
                     "work_balance": self.work_balance, "work_tol": WORK_TOL, "passed": self.passed})
+        if self.forces is not None:
+            out["forces"] = self.forces.as_dict()
         return out
 
 
@@ -224,7 +229,9 @@ def compare(tr: Trajectory, built, revolutions: float = 1.0) -> Comparison:
     viol = float(np.max(tr.loop_violation))
     balance = work_balance(tr, built)
     ok &= drive <= DRIVE_TOL and viol <= LOOP_TOL * mech.size and balance <= WORK_TOL
-    return Comparison(tr, ref, errors, drive, viol, taus, balance, bool(ok), revolutions)
+    forces = joint_forces.check(built, tr)
+    ok &= forces is None or forces.passed
+    return Comparison(tr, ref, errors, drive, viol, taus, balance, bool(ok), revolutions, forces=forces)
 
 
 def errors_in(errors: dict, display) -> dict:
@@ -279,5 +286,7 @@ def table(c: Comparison, size: float, display=None, output_point: str | None = N
                  f"{display.convert('length', c.max_loop_violation):.3e} {length} "
                  f"(tol {display.convert('length', LOOP_TOL * size):.1e})")
     lines.append(f"  work balance {c.work_balance:.3e} of the kinetic-energy swing per revolution (tol {WORK_TOL:.0e})")
+    if c.forces is not None:
+        lines.append(f"  {c.forces.line()}{'' if c.forces.passed else '  FAIL'}")
     lines.append(f"  {'PASSED' if c.passed else 'FAILED'}")
     return "\n".join(lines)

@@ -181,20 +181,24 @@ def settle(model, data) -> None:
     turnaround), with M qacc - qfrc - J' f = 3e-3 N m. The dual solve is conditioned like A itself."""
     n = data.nefc
     if n:
+        nv = model.nv
         if mujoco.mj_isSparse(model):
-            J = np.zeros((n, model.nv))
+            J = np.zeros((n, nv))
             mujoco.mju_sparse2dense(J, data.efc_J, data.efc_J_rownnz[:n], data.efc_J_rowadr[:n],
                                     data.efc_J_colind)
         else:
-            J = np.asarray(data.efc_J[:n * model.nv]).reshape(n, model.nv)
-        MinvJt = np.empty((n, model.nv))
-        mujoco.mj_solveM(model, data, MinvJt, np.ascontiguousarray(J))
-        A = J @ MinvJt.T
-        A[np.diag_indices(n)] += data.efc_R[:n]
-        f = np.linalg.solve(A, data.efc_aref[:n] - J @ data.qacc_smooth)
+            J = data.efc_J[:n * nv].reshape(n, nv)
+        X = np.empty((n, nv))
+        mujoco.mj_solveM(model, data, X, J)                   # rows: M^-1 J_i'
+        A = J @ X.T
+        A.flat[::n + 1] += data.efc_R[:n]
+        rhs = data.efc_aref[:n] - J @ data.qacc_smooth
+        mujoco.mju_cholFactor(A, 0.0)                         # A + R is positive definite (R > 0)
+        f = np.empty(n)
+        mujoco.mju_cholSolve(f, A, rhs)
         data.efc_force[:n] = f
-        data.qacc[:] = data.qacc_smooth + MinvJt.T @ f
-        data.qfrc_constraint[:] = J.T @ f
+        data.qacc[:] = data.qacc_smooth + f @ X
+        data.qfrc_constraint[:] = f @ J
     mujoco.mj_rnePostConstraint(model, data)
 
 
