@@ -299,7 +299,8 @@ def cmd_render(args) -> int:
     built, tr = service.simulate(mech, args.revolutions, settings_from(args), loads_from(args, mech),
                                  parse_range(mech, args.input_range))
     from sim.output.units import shown_units
-    stats = render(built, tr, str(path), args.fps, size, display=shown_units(args, built.mech))
+    stats = render(built, tr, str(path), args.fps, size, display=shown_units(args, built.mech),
+                   forces=args.forces)
     print(f"wrote {stats.path}: {stats.frames} frames {size[0]}x{size[1]} at {stats.stored_fps:g} fps "
           f"({stats.fps:.1f} frames/s rendered)")
     return 0
@@ -312,7 +313,11 @@ def cmd_plot(args) -> int:
     built, c = service.compare(mech, args.revolutions, settings_from(args), loads_from(args, mech),
                                parse_range(mech, args.input_range))
     from sim.output.units import shown_units
-    sheet(c, built, args.out, shown_units(args, built.mech))
+    if args.forces:
+        from sim.output.plot import force_sheet
+        force_sheet(c, built, args.out, shown_units(args, built.mech))
+    else:
+        sheet(c, built, args.out, shown_units(args, built.mech))
     print(f"wrote {args.out}")
     return 0
 
@@ -470,6 +475,9 @@ def make_parser() -> argparse.ArgumentParser:
     add_common(p)
     add_sim_options(p)
     add_video_options(p)
+    p.add_argument("--forces", action="store_true",
+                   help="draw MuJoCo's joint forces as arrows (the first link's force on the second; scale in "
+                        "the legend)")
     add_unit_options(p)
     p.set_defaults(func=cmd_render)
 
@@ -477,6 +485,8 @@ def make_parser() -> argparse.ArgumentParser:
     add_common(p)
     add_sim_options(p)
     p.add_argument("--out", required=True, metavar="PATH", help="image file: .png, .svg or .pdf")
+    p.add_argument("--forces", action="store_true",
+                   help="the force sheet instead: bearing loads (polar), joint forces, drives, shaking force")
     add_unit_options(p)
     p.set_defaults(func=cmd_plot)
 

@@ -438,10 +438,17 @@ def check(built, tr, steps=None) -> Agreement | None:
         F.check_determinate(mech)
     except F.StaticsError:
         return None
+    mj, an, _, power = both(built, tr, steps)
+    return agreement(mech, mj, an, power)
+
+
+def both(built, tr, steps=None) -> tuple[F.Forces, F.Forces, tuple, dict]:
+    """MuJoCo's forces and the analytic ones at the simulated inputs of ``tr``'s ``steps`` (default every
+    step), the inputs (q, qd, qdd) and the power balance's drives there: what a plot of them needs."""
     steps = np.arange(len(tr.t)) if steps is None else np.asarray(steps, dtype=int)
     mj = measure(built, tr, steps)
-    an, _, power = analytic_at(built, tr, steps)
-    return agreement(mech, mj, an, power)
+    an, inputs, power = analytic_at(built, tr, steps)
+    return mj, an, inputs, power
 
 
 # ------------------------------------------------------------------------------- linkage forces --simulate
