@@ -281,12 +281,6 @@ def test_csv_with_its_units_and_the_file_unit(tmp_path):
     assert math.isclose(rows[-1, cols.index("phiOA")], 360.0, rel_tol=1e-12)
 
 
-def test_simulate_is_not_available_yet(tmp_path):
-    r = run(tmp_path, "forces", "fourbar", "--simulate", "--csv", "f.csv")
-    assert r.returncode == 2 and "not available yet" in r.stderr and len(r.stderr.strip().splitlines()) == 1
-    assert not (tmp_path / "f.csv").exists()
-
-
 def test_balance_on_forces_and_export(tmp_path):
     r = run(tmp_path, "forces", "fourbar", "--balance", "--json", "--samples", "91")
     assert r.returncode == 0, r.stderr

@@ -46,7 +46,7 @@ def _loads(mech, scale=1.0):
 
 # ------------------------------------------------------------------------------ against the analytic
 CASES = ["fourbar", "slider_crank", "whitworth", "jansen", "scotch_yoke", "elliptic_trammel", "gear.toml",
-         "gear__planetary.toml", "RPP.toml", "PRP.toml", "geared_five_bar"]
+         "gear__planetary.toml", "RPP.toml", "PRP.toml", "PPR.toml", "slider.toml", "geared_five_bar"]
 
 
 @pytest.mark.parametrize("name", CASES)
@@ -63,6 +63,35 @@ def test_mujoco_joint_forces_equal_the_kinetostatics(name):
     mj = SF.measure(built, tr)
     assert [j.name for j in mj.joints] == [j.name for j in mech.topology.joints]
     assert np.all(np.isfinite(mj.F))
+
+
+def test_a_tree_joint_whose_child_is_its_first_link():
+    """No shipped mechanism's spanning tree reaches a joint's links[0] from links[1]; the four-bar with its pin
+    B written the other way round (links 2, 1) does: MuJoCo's child body is then links[0] and its interaction
+    force must be turned round to stay the force links[0] exerts on links[1]."""
+    from dataclasses import replace
+    mech = analytic.load("fourbar")
+    topo = mech.topology
+    swapped = {j.name: (replace(j, a=j.b, b=j.a) if j.name == "B" else j) for j in topo.joints}
+    topo = replace(topo, joints=tuple(swapped[j.name] for j in topo.joints),
+                   tree=tuple((p, c, swapped[j.name]) for p, c, j in topo.tree),
+                   loops=tuple(replace(lp, joint=swapped[lp.joint.name]) for lp in topo.loops))
+    mech = replace(mech, definition=replace(mech.definition, topology=topo))
+    assert any(c == j.a for _, c, j in mech.topology.tree)
+    built, tr = _simulated(mech, _loads(mech))
+    a = SF.check(built, tr)
+    assert a.passed and a.worst <= TOL, (a.worst, a.worst_of)
+
+
+def test_a_rocking_crank_at_its_turnarounds():
+    """A four-bar rocking 10..60 deg for two periods (forces run -> simulated at its samples): at the
+    turnarounds the drive's rotor torque (armature x qacc) is 1e4 times the link torques, where the primal
+    solver's constraint force f = D (aref - J qacc), D ~ 5e9, lost 3e-2 of the peak to rounding; the dual
+    re-solve (sim.run.forces.settle) keeps MuJoCo's answer within the tolerance (measured 6e-7)."""
+    run_ = service.forces_run(analytic.load("fourbar"), 181, 2.0, (math.radians(10.0), math.radians(60.0)))
+    s = SF.simulate_run(run_)
+    assert len(s.steps) == 181 and np.allclose(s.t, run_.t, rtol=0, atol=1e-12)
+    assert s.agreement.passed and s.agreement.worst <= TOL, (s.agreement.worst, s.agreement.worst_of)
 
 
 def test_the_drives_three_answers():
@@ -222,6 +251,14 @@ def test_forces_simulate_json(tmp_path):
     assert (tmp_path / "f.csv").exists()
     r = run(tmp_path, "forces", "fourbar", "--simulate", "--samples", "19")
     assert r.returncode == 0 and "MuJoCo" in r.stdout and "PASSED" in r.stdout
+
+
+def test_forces_simulate_refused_in_one_line(tmp_path):
+    """A design MuJoCo cannot simulate (0.5 mm across): one line, exit 2, no CSV half-written."""
+    r = run(tmp_path, "forces", "fourbar", "--simulate", "--csv", "f.csv", "--set", "l1=0.0001", "--set", "l2=0.0003",
+            "--set", "l3=0.00025", "--set", "l4=0.0003", "--set", "ex=0.00015", "--set", "ey=0.0001")
+    assert r.returncode == 2 and len(r.stderr.strip().splitlines()) == 1, r.stderr
+    assert "needs at least" in r.stderr and not (tmp_path / "f.csv").exists()
 
 
 def test_compare_json_has_the_forces(tmp_path):
