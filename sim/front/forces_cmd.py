@@ -64,7 +64,8 @@ def cmd_forces(args) -> int:
         print(service.forces_table(run, shown_units(args, mech)))
         if simulated is not None:
             a = simulated["agreement"]
-            print(f"  MuJoCo ({simulated['steps']} steps of {simulated['timestep']:.3g} s): joint forces within "
+            plain = ", the file's masses without the counterweights" if run.balance is not None else ""
+            print(f"  MuJoCo ({simulated['steps']} steps of {simulated['timestep']:.3g} s{plain}): joint forces within "
                   f"{a['worst']:.2e} of the peak {a['peak']:.4g} N ({a['worst_of']}; median {a['median']:.2e}), "
                   f"tolerance {a['tol']:.0e}: {'PASSED' if simulated.get('passed') else 'FAILED'}")
         if args.csv:

@@ -36,7 +36,7 @@ the block about the block's pin.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import mujoco
 import numpy as np
@@ -234,7 +234,7 @@ def record(built, tr, steps) -> Record:
     return unpack(model, rows, data)
 
 
-def _load_wrench(built, lay: Layout, rec: Record, load_on: np.ndarray):
+def _load_wrench(built, lay: Layout, rec: Record):
     """The external load's force (Fx, Fy) [N] and its point (x, y) at each instant, as the load actuator
     applied it (gear in the world frame times its force)."""
     gear = built.model.actuator_gear[lay.load_actuator][:2]
@@ -254,7 +254,7 @@ def joint_forces(built, rec: Record) -> F.Forces:
     nj = len(topo.joints)
     Fo = np.full((nj, 2, n), np.nan)
     couples: dict = {}
-    lx, ly, px, py = _load_wrench(built, lay, rec, None)
+    lx, ly, px, py = _load_wrench(built, lay, rec)
     drives = {}
     drive_of_joint = {}
     for link, act, dof, sign in lay.drives:
@@ -363,7 +363,7 @@ class Agreement:
     tol: float = FORCE_TOL
     identity: float = 0.0
     """The largest Newton-Euler vs power-balance drive difference, as a share of its scale."""
-    passed: bool = field(default=False)
+    passed: bool = False
 
     def as_dict(self) -> dict:
         return {"peak": self.peak, "joints": self.joints, "drives": self.drives, "couplings": list(self.couplings),
