@@ -323,3 +323,21 @@ def test_the_video_draws_force_arrows_to_scale():
     assert np.any(magenta[-30:, :120])                                # the legend's arrow
     plain = painter.frame(xy[0], {}, np.empty((0, 2)), np.empty((0, 2)), 0.0, 0.0)
     assert not np.any(np.all(np.abs(plain.astype(int) - rgb) <= 40, axis=-1)[:, :])
+
+
+def test_plot_and_render_take_forces(tmp_path):
+    """The options reach the drawings: --forces gives the force sheet (its own height: 3 rows of panels, not
+    the kinematic sheet's 4) and a video whose frames carry the arrows' colour."""
+    import imageio.v3 as iio
+    from sim.output.drawing import FORCE_COLOR
+    r = run(tmp_path, "plot", "fourbar", "--out", "f.png", "--forces")
+    assert r.returncode == 0, r.stderr
+    r = run(tmp_path, "plot", "fourbar", "--out", "k.png")
+    assert r.returncode == 0, r.stderr
+    assert iio.imread(tmp_path / "f.png").shape[0] < iio.imread(tmp_path / "k.png").shape[0]
+    rgb = np.array([int(FORCE_COLOR[i:i + 2], 16) for i in (1, 3, 5)])
+    for flag, expect in (("--forces", True), (None, False)):
+        r = run(tmp_path, "render", "fourbar", "--out", "v.gif", "--fps", "4", *([flag] if flag else []))
+        assert r.returncode == 0, r.stderr
+        frames = iio.imread(tmp_path / "v.gif", index=None)[..., :3].astype(int)
+        assert np.any(np.all(np.abs(frames - rgb) <= 40, axis=-1)) == expect
