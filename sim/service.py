@@ -8,7 +8,7 @@ MuJoCo and matplotlib are imported only by the functions that need them, so anal
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -204,7 +204,7 @@ def analysis_record(mech: Mechanism, a: Analysis, samples: int, revolutions: flo
     kind = mech.inputs[0].kind
     ranges = {k: display.convert(Q.quantity(mech, k), _span(a.solution[k])) for k in outs}
     return {"mechanism": mech.name, "units": units_table(mech, display, outs, a.figures),
-            "parameters": mech.parameters, "samples": samples, "revolutions": revolutions,
+            "parameters": Q.parameters_in(mech, display), "samples": samples, "revolutions": revolutions,
             "figures": Q.convert_figures(a.figures, display, kind), "ranges": ranges}
 
 
@@ -213,8 +213,17 @@ def units_table(mech: Mechanism, display, outputs=(), figures=None) -> dict:
     each output and figure of merit named."""
     from analytic import quantities as Q
     return {"file": mech.units, **{q: display.unit(q) for q in Q.SI_UNIT if q != Q.RATIO},
+            "parameters": Q.parameter_units(mech, display),
             "outputs": {k: display.unit(Q.quantity(mech, k)) for k in outputs},
             **({"figures": Q.figure_units(figures, display, mech.inputs[0].kind)} if figures else {})}
+
+
+def parameters_record(mech: Mechanism, display=None) -> dict:
+    """``parameters`` (values in ``display`` units, default SI) and ``parameter_units`` (their unit labels)
+    for a machine-readable record (the CSV sidecar)."""
+    from analytic import quantities as Q
+    display = display or Q.SI
+    return {"parameters": Q.parameters_in(mech, display), "parameter_units": Q.parameter_units(mech, display)}
 
 
 def _span(x) -> list[float]:
@@ -267,12 +276,90 @@ def prepare(mech: Mechanism, revolutions: float, input_range=None) -> Mechanism:
         if len(mech.inputs) > 1:
             q = np.column_stack([q] + [np.full_like(q, i.motion.q0) for i in mech.inputs[1:]])
         mech.check_assembles(q)
+        check_fold(mech)
         return mech
     check_turns_fully(mech)
     check_singular(mech)
     t = np.linspace(0.0, mech.duration(min(revolutions, 1.0) if len(mech.inputs) == 1 else revolutions), 2001)
     mech.check_assembles(mech.drive(t)[0])
     return mech
+
+
+def check_fold(mech: Mechanism) -> None:
+    """Refuse a rocking run that comes so close to a dead point that the simulation cannot meet compare's
+    tolerances there (:data:`sim.model.timestep.FOLD_FLOOR`, ``FOLD_MARGIN``), naming how far inside to
+    stay and the range that can be run (rounded inward)."""
+    from analytic.applications import figures
+    from sim.model.timestep import FOLD_FLOOR, FOLD_MARGIN, fold_measure
+    m, label = fold_measure(mech)
+    lo, hi = mech.rock
+    first = mech.inputs[0]
+    crank = first.kind == "crank"
+    unit = 1.0 if crank else mech.size
+    dead = _dead_points_around(mech, lo, hi) if len(mech.inputs) == 1 else (None, None)
+    close = [d for d, end in zip(dead, (lo, hi)) if d is not None and abs(end - d) < FOLD_MARGIN * unit]
+    if m >= FOLD_FLOOR and not close:
+        return
+    fmt = (lambda v: f"{math.degrees(v):.4f}deg") if crank else (lambda v: f"{v / mech.scale:.6g} {mech.units}")
+    why = (f"near a fold the loops' drift and the drives' tracking error (~1e-6 rad) reach the outputs magnified by "
+           f"1/sin(transmission angle), past compare's tolerances; the simulation keeps sin >= {FOLD_FLOOR:g} and "
+           f"{FOLD_MARGIN:g} {'rad' if crank else 'of the size'} from a dead point")
+    if dead == (None, None):
+        raise ParameterError(f"the input range {fmt(lo)}:{fmt(hi)} brings {label} within sin = {m:.2g} of a fold: "
+                             f"{why}; narrow the range")
+    safe = [_fold_limit(mech, d, end, FOLD_FLOOR, FOLD_MARGIN * unit) if d is not None else end
+            for d, end in zip(dead, (lo, hi))]
+    a, b = max(lo, safe[0]), min(hi, safe[1])
+    if crank:
+        shown = f"{figures.round_inward(math.degrees(a), True, 2)}deg:{figures.round_inward(math.degrees(b), False, 2)}deg"
+    else:
+        shown = f"{figures.round_inward(a / mech.scale, True)}:{figures.round_inward(b / mech.scale, False)}"
+    near = [(d, end) for d, end in zip(dead, (lo, hi)) if d is not None]
+    d, end = min(near, key=lambda x: abs(x[1] - x[0]))
+    raise ParameterError(f"the input range {fmt(lo)}:{fmt(hi)} comes within {fmt(abs(end - d))} of the dead point at "
+                         f"{fmt(d)}, where {label} folds (sin of its transmission angle {m:.2g}): {why}; stay "
+                         f"{fmt(abs(safe[dead.index(d)] - d))} inside it: an input range of {shown}"
+                         + ("" if crank else f" [{mech.units}]"))
+
+
+def _dead_points_around(mech: Mechanism, lo: float, hi: float) -> tuple[float | None, float | None]:
+    """The dead points just below ``lo`` and just above ``hi`` (the ends of the assembly range holding the
+    rocking range), None where there is none (a crank that turns fully)."""
+    from analytic.applications import figures
+    plain = replace(mech, rock=None)
+    ranges = figures.assembly_ranges(plain)
+    if figures.turns_fully(plain, ranges):
+        return None, None
+    turn = 2 * math.pi if mech.inputs[0].kind == "crank" else 0.0
+    for a, b in ranges:
+        for k in ((range(-3, 4)) if turn else (0,)):
+            if a + k * turn <= lo + 1e-12 and hi - 1e-12 <= b + k * turn:
+                return a + k * turn, b + k * turn
+    return None, None
+
+
+def _fold_limit(mech: Mechanism, dead: float, end: float, floor: float, margin: float) -> float:
+    """The input value between the dead point ``dead`` and the range's ``end`` (or beyond it, towards the
+    middle) where the smallest singularity measure reaches ``floor``, at least ``margin`` from ``dead``."""
+    from analytic.applications import figures
+    plain = replace(mech, rock=None)
+    lo, hi = mech.rock
+    inner = 0.5 * (lo + hi)
+    far = inner if abs(inner - dead) > abs(end - dead) else end
+
+    def measure(x):
+        return figures.min_singularity(plain, plain.solve(np.array([x])))[0]
+
+    near = dead + math.copysign(margin, far - dead)
+    if measure(far) < floor:
+        return far
+    a, b = near, far
+    if measure(a) < floor:
+        for _ in range(60):                            # bisection: the measure grows away from the fold
+            mid = 0.5 * (a + b)
+            a, b = (mid, b) if measure(mid) < floor else (a, mid)
+        return b
+    return near
 
 
 def simulate(mech: Mechanism, revolutions: float = 1.0, settings=None, loads=None, input_range=None):

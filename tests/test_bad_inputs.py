@@ -314,5 +314,5 @@ def test_output_piped_into_head_n_0_ends_quietly(tmp_path):
 def test_a_failed_compare_at_a_given_time_step_says_why(tmp_path):
     r = run(tmp_path, "compare", "fourbar", "--timestep", "0.05")
     assert r.returncode == 1 and "FAILED" in r.stdout and "Traceback" not in r.stderr
-    assert re.fullmatch(r"linkage: the time step 0\.05 s given by --timestep is above the \S+ s this design needs "
-                        r"\(0\.03 rad per step\); drop --timestep\n", r.stderr), r.stderr
+    assert re.fullmatch(r"linkage: the time step 0\.05 s given by --timestep is above the \S+ s this design needs; "
+                        r"drop --timestep\n", r.stderr), r.stderr
