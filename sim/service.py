@@ -256,14 +256,57 @@ def check_singular(mech: Mechanism) -> None:
                                  f"undefined there; change a length or a phase")
         return
     from analytic.applications import figures
-    poses = figures.singular_poses(mech)
+    first = mech.inputs[0]
+    at_start = [x for x in change_points(mech) if abs(_wrapped(x - first.motion.q0, first)) < CHANGE_START]
+    if at_start:
+        at = f"{math.degrees(at_start[0]) % 360:.2f}deg" if first.kind == "crank" else f"{at_start[0]:.6g} m"
+        raise ParameterError(f"the {mech.name} starts at a change point ({first.q}={at}, where a dyad's links align): "
+                             f"there the loops' equations are singular at the simulation's first step, and the run "
+                             f"diverges or its errors ring far past compare's tolerances (measured); start it a "
+                             f"little away (e.g. {first.parameters[0] or 'its start'} = 1deg) to run through the "
+                             f"change point")
+    poses = [p for p in figures.singular_poses(mech) if not passes_smoothly(mech, p[1], p[0])]
     if poses:
         first = mech.inputs[0]
         x, label, _ = poses[0]
         at = f"{math.degrees(x) % 360:.2f}deg" if first.kind == "crank" else f"{x:.6g} m"
+        element = next(e for e in mech.geometry.elements if e["label"] == label)
+        if element.get("change") == -1:
+            raise ParameterError(f"the {mech.name} passes a change point at {first.q}={at} ({label} folds) where it is "
+                                 f"declared to switch form (change = -1: its branch sign kept), a kink in its motion; "
+                                 f"the simulation, carried on by its momentum, keeps the form there: declare change = 1 "
+                                 f"to simulate it, or run between two such angles with an input range")
         raise ParameterError(f"the {mech.name} passes through a singular pose at {first.q}={at} ({label} folds: "
                              f"a change point, where it may switch branch); the simulation cannot follow it: "
                              f"change a length by a little, or run between two such angles with an input range")
+
+
+CHANGE_START = 1e-6
+"""[rad, or m for a slider] A change point this close to the start is at the start."""
+
+
+def _wrapped(dx: float, first) -> float:
+    return (dx + math.pi) % (2 * math.pi) - math.pi if first.kind == "crank" else dx
+
+
+def change_points(mech: Mechanism) -> list[float]:
+    """The first input's values (over one turn from its start) where a dyad passes a change point on its
+    declared branch (:mod:`analytic.solver.change_points`)."""
+    return sorted(f for e in mech.solving_geometry.elements if e.get("flips") for f in e["flips"]["at"])
+
+
+def passes_smoothly(mech: Mechanism, label: str, x: float) -> bool:
+    """Whether element ``label`` passes its change point at first-input value ``x`` on its declared branch
+    (``change = 1``: scheduled in :attr:`Mechanism.solving_geometry`)."""
+    for e in mech.solving_geometry.elements:
+        flips = e.get("flips")
+        if e["label"] == label and flips:
+            period = flips["period"]
+            for f in flips["at"]:
+                gap = abs(x - f) if not period else abs((x - f + 0.5 * period) % period - 0.5 * period)
+                if gap < 1e-6 * (1.0 if period else mech.size):
+                    return True
+    return False
 
 
 def prepare(mech: Mechanism, revolutions: float, input_range=None) -> Mechanism:

@@ -240,7 +240,9 @@ def structure_report(mech, display=None) -> str:
             lines.append(f"  {first.q} assembles nowhere: change the lengths")
         for x, label, _ in figures.singular_poses(mech):
             where = f"{math.degrees(x) % 360:.2f}deg" if crank else at(x)
-            lines.append(f"  singular pose at {first.q}={where}: {label} folds (change point)")
+            how = ("passed on its declared branch, its form kept (change = 1)" if service.passes_smoothly(mech, label, x)
+                   else "the motion is undefined there")
+            lines.append(f"  singular pose at {first.q}={where}: {label} folds (change point; {how})")
     lines.append(f"  outputs: {len(mech.outputs)} ({' '.join(mech.outputs[:12])}{' ...' if len(mech.outputs) > 12 else ''})")
     return "\n".join(lines)
 
