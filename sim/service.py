@@ -188,11 +188,11 @@ def check_turns_fully(mech: Mechanism) -> None:
                              f"lengths")
     if not figures.turns_fully(mech, ranges):
         first = mech.inputs[0]
-        ends = ", ".join(sorted({f"{(math.degrees(a) + 180) % 360 - 180:.2f}deg" for r in ranges for a in r},
+        ends = ", ".join(sorted({f"{(math.degrees(a) + 180) % 360 - 180:.4f}deg" for r in ranges for a in r},
                                 key=lambda x: float(x[:-3])))
         reach = figures.describe_ranges(first, ranges) if ranges else "nowhere"
         raise ParameterError(f"the input {first.q} of the {mech.name} cannot turn fully (limit angles {ends}; "
-                             f"reachable {reach}): run it between the limits with an input range LO:HI")
+                             f"reachable {reach}, rounded inward): run it between the limits with an input range LO:HI")
 
 
 def analysis_record(mech: Mechanism, a: Analysis, samples: int, revolutions: float, display=None) -> dict:
