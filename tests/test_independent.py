@@ -119,6 +119,16 @@ def test_the_verdict_fails_when_an_output_is_off(run):
     assert not C.compare(replace(tr, outputs=outputs), built).passed
 
 
+def test_angles_are_compared_as_poses(run):
+    # an angle and the same angle plus a turn are one pose: the comparison measures the difference modulo
+    # 2 pi, so a simulated angle reported a turn away is no error
+    built, tr = run
+    outputs = dict(tr.outputs)
+    outputs["phi3"] = outputs["phi3"] + 2 * np.pi
+    c = C.compare(replace(tr, outputs=outputs), built)
+    assert c.passed and c.errors["phi3"]["max"] <= C.ANGLE_TOL
+
+
 def test_tolerances_follow_the_spec_scales():
     # SPEC: a velocity's scale is max(peak, L Omega), an acceleration's max(peak, L Omega^2). A lone crank of
     # 0.1 m at 2 pi rad/s: peak |vx| = L Omega, peak |ax| = L Omega^2, by hand
@@ -146,9 +156,12 @@ def test_a_sliders_drive_error_is_measured_against_the_size():
 def test_a_guide_through_coordinates_in_a_mm_file_is_in_mm(tmp_path):
     # slider_crank written in mm with the piston line 20 mm above the crank axis: by hand the piston pin
     # runs at y = 0.020 m, x = r cos(phi) + sqrt(l^2 - (r sin(phi) - e)^2)
+    # (the piston's guide given by coordinates: through = [0, e] on a horizontal line, no offset)
     text = (LIB / "slider_crank.toml").read_text()
     text = text.replace('output = "C"', 'output = "C"\nunits = "mm"')
-    for old, new in (("r = 0.05", "r = 50"), ("l = 0.20", "l = 200"), ("e = 0.0", "e = 20")):
+    for old, new in (("r = 0.05", "r = 50"), ("l = 0.20", "l = 200"), ("e = 0.0", "e = 20"),
+                     ('guide = { through = "A", angle = "0deg" }', 'guide = { through = [0, "e"], angle = "0deg" }'),
+                     ('offset = "e"', "offset = 0")):
         assert old in text
         text = text.replace(old, new)
     path = tmp_path / "sc_mm.toml"
