@@ -20,7 +20,7 @@ from pathlib import Path
 
 from analytic import kinds, topology
 from analytic._common import FileError, ParameterError
-from analytic.format import expr
+from analytic.format import expr, joints
 from analytic.kinds.base import GROUND, REQUIRED, Guide
 
 FORMAT = "linkage/1"
@@ -33,7 +33,8 @@ LINK_NAME = re.compile(r"^[A-Za-z0-9_]+$")
 
 
 TOP_LEVEL = {"format", "name", "units", "description", "output", "parameters", "ground", "inputs", "groups",
-             "inertia", "mass"}
+             "inertia", "mass"} | set(joints.FIELDS)
+"""The links-and-joints form (:mod:`.joints`) adds ``links``, ``joints`` and ``pose``."""
 
 
 @dataclass(frozen=True)
@@ -154,6 +155,11 @@ def parse(raw: bytes | str, source: str = "<text>", json_format: bool | None = N
     return _check(data, source, default_name)
 
 
+def from_data(data: dict, source: str, default_name: str = "mechanism") -> Definition:
+    """A definition from a file's top-level table (either form), e.g. one converted from another tool's file."""
+    return _check(data, source, default_name)
+
+
 def _unique_keys(source: str):
     def hook(pairs):
         seen = {}
@@ -204,6 +210,14 @@ def _check(data: dict, source: str, default_name: str) -> Definition:
             raise _fail(source, f"parameters.{pname}", f"{_short(value)} must be a number or a string such as \"30deg\"")
         _scalar(value, f"parameters.{pname}", source)
 
+    labels, measured = None, None
+    if joints.is_form(data):                   # links and joints: converted into the elements below
+        from types import SimpleNamespace
+        values = parameter_values(SimpleNamespace(parameters=params, parameter_order=tuple(params), source=source,
+                                                  name=name))
+        converted = joints.convert(data, source, values)
+        data, labels, measured = converted.data, converted.labels, converted.kinds
+
     ground = data.get("ground", {})
     if not isinstance(ground, dict):
         raise _fail(source, "ground", "must be a table NAME = [x, y]")
@@ -221,7 +235,8 @@ def _check(data: dict, source: str, default_name: str) -> Definition:
         if not isinstance(items, list):
             raise _fail(source, section, f"must be an array of tables ([[{section}]])")
         for i, item in enumerate(items, 1):
-            elements.append(_element(item, f"{section}[{i}]", section, source))
+            where = labels[len(elements)] if labels else f"{section}[{i}]"
+            elements.append(_element(item, where, section, source))
     inputs = tuple(e for e in elements if kinds.get(e.kind).section == "inputs")
     groups = tuple(e for e in elements if kinds.get(e.kind).section == "groups")
     if not elements:
@@ -232,7 +247,10 @@ def _check(data: dict, source: str, default_name: str) -> Definition:
     except topology.StructureError as exc:
         raise _fail(source, exc.where, exc.what) from None
     order = tuple((inputs + groups)[i] for i in topo.order)
-    param_kinds = _parameter_kinds(source, params, ground, elements)
+    if measured is None:
+        param_kinds = _parameter_kinds(source, params, ground, elements)
+    else:                                      # derived fields mix the pose's lengths into angles: the
+        param_kinds = {**_parameter_kinds(source, params, {}, []), **measured}   # form says what each measures
     output = data.get("output", order[-1].places[-1])
     if not isinstance(output, str):
         raise _fail(source, "output", f"{_short(output)} must be one point name such as \"E\"")
