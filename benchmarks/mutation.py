@@ -137,7 +137,7 @@ MUTATIONS = [
     Mutation("torque-mass-1e-6", "inverse dynamics: every link's m (a - g).dv term x (1 + 1e-6) "
              "(torque.drive_forces)", "analytic/applications/torque.py", "tau = tau + b.m * ((agx - gx) * cvx",
              "tau = tau + b.m * (1.0 + 1e-6) * ((agx - gx) * cvx", [DYN, CV],
-             "tests/test_dynamics.py (the general inverse dynamics against analytic.closed_forms.dynamics.torques or the "
+             "tests/test_dynamics.py (the general inverse dynamics against tests/builtin_dynamics.py's torques or the "
              "power balance, at rounding level)"),
     Mutation("torque-com-1pct", "inverse dynamics: centre-of-mass offset 1 % too far (torque._com)",
              "analytic/applications/torque.py", "rx, ry = b.cx * c - b.cy * s, b.cx * s + b.cy * c",

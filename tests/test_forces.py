@@ -21,7 +21,7 @@ from analytic import kinds, mass
 from analytic.applications import balance as B
 from analytic.applications import forces as F
 from analytic.applications import torque
-from analytic.closed_forms.dynamics import Inertia
+from analytic.mass import Inertia
 from analytic.format import linkfile
 from analytic.kinds.base import Field, Kind, LinkPart, Structure, line, on_frame
 from analytic.registry import LIBRARY

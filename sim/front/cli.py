@@ -78,7 +78,7 @@ def settings_from(args):
 
 def loads_from(args, mech):
     """The Loads of the command line: gravity, external or cutting force, links' inertias."""
-    from analytic.closed_forms.dynamics import Inertia
+    from analytic.mass import Inertia
     from sim.model import Loads
     gravity = pair("--gravity", args.gravity)
     force = pair("--force", args.force) or (0.0, 0.0)
