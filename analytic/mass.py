@@ -27,11 +27,33 @@ from dataclasses import dataclass
 import numpy as np
 
 from analytic._common import ParameterError
-from analytic.closed_forms.dynamics import Inertia
 
 __all__ = ["Inertia", "Material", "Counterweight", "LINEAR_DENSITY", "BLOCK_FRACTION", "GYRATION_FLOOR",
            "SHAPES", "bars", "plate", "block", "polygon", "convex_hull", "combine", "add_counterweights",
            "materials", "counterweights", "local_points", "default", "link_inertia", "model"]
+
+@dataclass(frozen=True)
+class Inertia:
+    """Inertial data of one body: mass ``m`` [kg], centre of mass ``(cx, cy)`` [m] in the body's frame
+    (the frames of the MJCF bodies: origin at the body's first joint, x along the link) and moment of
+    inertia ``I`` [kg m^2] about the centre of mass, about z."""
+
+    m: float
+    cx: float
+    cy: float
+    I: float
+
+    def __post_init__(self):
+        for name in ("m", "cx", "cy", "I"):
+            v = getattr(self, name)
+            if not (isinstance(v, (int, float)) and math.isfinite(v)):
+                raise ParameterError(f"inertia {name}={v!r} must be a finite number")
+        if self.m <= 0:
+            raise ParameterError(f"mass m={self.m!r} must be > 0 [kg]")
+        if self.I <= 0:
+            raise ParameterError(f"moment of inertia I={self.I!r} must be > 0 [kg m^2] (about the centre of mass)")
+
+
 
 LINEAR_DENSITY = 1.0
 """[kg/m] Default mass per length of a link: a slender bar (a 12.8 mm steel rod)."""

@@ -253,8 +253,9 @@ class Mechanism:
         n = flat[0].shape[1]
         want = None if outputs is None else {self.aliases.get(o, o) for o in outputs}
         extras = want is None or any(x in want for x in self.extra_outputs)
-        if jit.enabled(n) and jit.supports(self.geometry):
-            arrays, failed = jit.solve(self.geometry, *flat, want)
+        geometry = self.solving_geometry
+        if jit.enabled(n) and jit.supports(geometry):
+            arrays, failed = jit.solve(geometry, *flat, want)
         else:
             if n > BLOCK:
                 keep_freed_memory()
@@ -262,7 +263,7 @@ class Mechanism:
             for first in range(0, max(n, 1), BLOCK):
                 sl = slice(first, first + BLOCK)
                 with np.errstate(invalid="ignore", divide="ignore"):
-                    part, failed[sl], start = block(self.geometry, flat[0][:, sl], flat[1][:, sl],
+                    part, failed[sl], start = block(geometry, flat[0][:, sl], flat[1][:, sl],
                                                     flat[2][:, sl], want, start, extras)
                 if arrays is None:                          # the outputs are the rows of one array
                     arrays = dict(zip(part, np.empty((len(part), n))))
@@ -272,6 +273,13 @@ class Mechanism:
         labels = tuple(e["label"] for e in self.geometry.elements)
         aliases = self.aliases if want is None else {a: t for a, t in self.aliases.items() if t in arrays}
         return Solution(arrays, failed.reshape(shape), labels, aliases)
+
+    @functools.cached_property
+    def solving_geometry(self) -> linkfile.Geometry:
+        """The geometry the solver uses: :attr:`geometry` with the change points its dyads pass on their
+        declared branch (:mod:`analytic.solver.change_points`), found once per mechanism."""
+        from analytic.solver.change_points import schedule
+        return schedule(self)
 
     def solve_at(self, t) -> tuple[tuple[np.ndarray, np.ndarray, np.ndarray], Solution]:
         """The inputs' motion at times ``t`` and the solution there."""

@@ -8,7 +8,7 @@ MuJoCo and matplotlib are imported only by the functions that need them, so anal
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -188,11 +188,11 @@ def check_turns_fully(mech: Mechanism) -> None:
                              f"lengths")
     if not figures.turns_fully(mech, ranges):
         first = mech.inputs[0]
-        ends = ", ".join(sorted({f"{(math.degrees(a) + 180) % 360 - 180:.2f}deg" for r in ranges for a in r},
+        ends = ", ".join(sorted({f"{(math.degrees(a) + 180) % 360 - 180:.4f}deg" for r in ranges for a in r},
                                 key=lambda x: float(x[:-3])))
         reach = figures.describe_ranges(first, ranges) if ranges else "nowhere"
         raise ParameterError(f"the input {first.q} of the {mech.name} cannot turn fully (limit angles {ends}; "
-                             f"reachable {reach}): run it between the limits with an input range LO:HI")
+                             f"reachable {reach}, rounded inward): run it between the limits with an input range LO:HI")
 
 
 def analysis_record(mech: Mechanism, a: Analysis, samples: int, revolutions: float, display=None) -> dict:
@@ -204,7 +204,7 @@ def analysis_record(mech: Mechanism, a: Analysis, samples: int, revolutions: flo
     kind = mech.inputs[0].kind
     ranges = {k: display.convert(Q.quantity(mech, k), _span(a.solution[k])) for k in outs}
     return {"mechanism": mech.name, "units": units_table(mech, display, outs, a.figures),
-            "parameters": mech.parameters, "samples": samples, "revolutions": revolutions,
+            "parameters": Q.parameters_in(mech, display), "samples": samples, "revolutions": revolutions,
             "figures": Q.convert_figures(a.figures, display, kind), "ranges": ranges}
 
 
@@ -213,8 +213,17 @@ def units_table(mech: Mechanism, display, outputs=(), figures=None) -> dict:
     each output and figure of merit named."""
     from analytic import quantities as Q
     return {"file": mech.units, **{q: display.unit(q) for q in Q.SI_UNIT if q != Q.RATIO},
+            "parameters": Q.parameter_units(mech, display),
             "outputs": {k: display.unit(Q.quantity(mech, k)) for k in outputs},
             **({"figures": Q.figure_units(figures, display, mech.inputs[0].kind)} if figures else {})}
+
+
+def parameters_record(mech: Mechanism, display=None) -> dict:
+    """``parameters`` (values in ``display`` units, default SI) and ``parameter_units`` (their unit labels)
+    for a machine-readable record (the CSV sidecar)."""
+    from analytic import quantities as Q
+    display = display or Q.SI
+    return {"parameters": Q.parameters_in(mech, display), "parameter_units": Q.parameter_units(mech, display)}
 
 
 def _span(x) -> list[float]:
@@ -247,14 +256,57 @@ def check_singular(mech: Mechanism) -> None:
                                  f"undefined there; change a length or a phase")
         return
     from analytic.applications import figures
-    poses = figures.singular_poses(mech)
+    first = mech.inputs[0]
+    at_start = [x for x in change_points(mech) if abs(_wrapped(x - first.motion.q0, first)) < CHANGE_START]
+    if at_start:
+        at = f"{math.degrees(at_start[0]) % 360:.2f}deg" if first.kind == "crank" else f"{at_start[0]:.6g} m"
+        raise ParameterError(f"the {mech.name} starts at a change point ({first.q}={at}, where a dyad's links align): "
+                             f"there the loops' equations are singular at the simulation's first step, and the run "
+                             f"diverges or its errors ring far past compare's tolerances (measured); start it a "
+                             f"little away (e.g. {first.parameters[0] or 'its start'} = 1deg) to run through the "
+                             f"change point")
+    poses = [p for p in figures.singular_poses(mech) if not passes_smoothly(mech, p[1], p[0])]
     if poses:
         first = mech.inputs[0]
         x, label, _ = poses[0]
         at = f"{math.degrees(x) % 360:.2f}deg" if first.kind == "crank" else f"{x:.6g} m"
+        element = next(e for e in mech.geometry.elements if e["label"] == label)
+        if element.get("change") == -1:
+            raise ParameterError(f"the {mech.name} passes a change point at {first.q}={at} ({label} folds) where it is "
+                                 f"declared to switch form (change = -1: its branch sign kept), a kink in its motion; "
+                                 f"the simulation, carried on by its momentum, keeps the form there: declare change = 1 "
+                                 f"to simulate it, or run between two such angles with an input range")
         raise ParameterError(f"the {mech.name} passes through a singular pose at {first.q}={at} ({label} folds: "
                              f"a change point, where it may switch branch); the simulation cannot follow it: "
                              f"change a length by a little, or run between two such angles with an input range")
+
+
+CHANGE_START = 1e-6
+"""[rad, or m for a slider] A change point this close to the start is at the start."""
+
+
+def _wrapped(dx: float, first) -> float:
+    return (dx + math.pi) % (2 * math.pi) - math.pi if first.kind == "crank" else dx
+
+
+def change_points(mech: Mechanism) -> list[float]:
+    """The first input's values (over one turn from its start) where a dyad passes a change point on its
+    declared branch (:mod:`analytic.solver.change_points`)."""
+    return sorted(f for e in mech.solving_geometry.elements if e.get("flips") for f in e["flips"]["at"])
+
+
+def passes_smoothly(mech: Mechanism, label: str, x: float) -> bool:
+    """Whether element ``label`` passes its change point at first-input value ``x`` on its declared branch
+    (``change = 1``: scheduled in :attr:`Mechanism.solving_geometry`)."""
+    for e in mech.solving_geometry.elements:
+        flips = e.get("flips")
+        if e["label"] == label and flips:
+            period = flips["period"]
+            for f in flips["at"]:
+                gap = abs(x - f) if not period else abs((x - f + 0.5 * period) % period - 0.5 * period)
+                if gap < 1e-6 * (1.0 if period else mech.size):
+                    return True
+    return False
 
 
 def prepare(mech: Mechanism, revolutions: float, input_range=None) -> Mechanism:
@@ -267,12 +319,90 @@ def prepare(mech: Mechanism, revolutions: float, input_range=None) -> Mechanism:
         if len(mech.inputs) > 1:
             q = np.column_stack([q] + [np.full_like(q, i.motion.q0) for i in mech.inputs[1:]])
         mech.check_assembles(q)
+        check_fold(mech)
         return mech
     check_turns_fully(mech)
     check_singular(mech)
     t = np.linspace(0.0, mech.duration(min(revolutions, 1.0) if len(mech.inputs) == 1 else revolutions), 2001)
     mech.check_assembles(mech.drive(t)[0])
     return mech
+
+
+def check_fold(mech: Mechanism) -> None:
+    """Refuse a rocking run that comes so close to a dead point that the simulation cannot meet compare's
+    tolerances there (:data:`sim.model.timestep.FOLD_FLOOR`, ``FOLD_MARGIN``), naming how far inside to
+    stay and the range that can be run (rounded inward)."""
+    from analytic.applications import figures
+    from sim.model.timestep import FOLD_FLOOR, FOLD_MARGIN, fold_measure
+    m, label = fold_measure(mech)
+    lo, hi = mech.rock
+    first = mech.inputs[0]
+    crank = first.kind == "crank"
+    unit = 1.0 if crank else mech.size
+    dead = _dead_points_around(mech, lo, hi) if len(mech.inputs) == 1 else (None, None)
+    close = [d for d, end in zip(dead, (lo, hi)) if d is not None and abs(end - d) < FOLD_MARGIN * unit]
+    if m >= FOLD_FLOOR and not close:
+        return
+    fmt = (lambda v: f"{math.degrees(v):.4f}deg") if crank else (lambda v: f"{v / mech.scale:.6g} {mech.units}")
+    why = (f"near a fold the loops' drift and the drives' tracking error (~1e-6 rad) reach the outputs magnified by "
+           f"1/sin(transmission angle), past compare's tolerances; the simulation keeps sin >= {FOLD_FLOOR:g} and "
+           f"{FOLD_MARGIN:g} {'rad' if crank else 'of the size'} from a dead point")
+    if dead == (None, None):
+        raise ParameterError(f"the input range {fmt(lo)}:{fmt(hi)} brings {label} within sin = {m:.2g} of a fold: "
+                             f"{why}; narrow the range")
+    safe = [_fold_limit(mech, d, end, FOLD_FLOOR, FOLD_MARGIN * unit) if d is not None else end
+            for d, end in zip(dead, (lo, hi))]
+    a, b = max(lo, safe[0]), min(hi, safe[1])
+    if crank:
+        shown = f"{figures.round_inward(math.degrees(a), True, 2)}deg:{figures.round_inward(math.degrees(b), False, 2)}deg"
+    else:
+        shown = f"{figures.round_inward(a / mech.scale, True)}:{figures.round_inward(b / mech.scale, False)}"
+    near = [(d, end) for d, end in zip(dead, (lo, hi)) if d is not None]
+    d, end = min(near, key=lambda x: abs(x[1] - x[0]))
+    raise ParameterError(f"the input range {fmt(lo)}:{fmt(hi)} comes within {fmt(abs(end - d))} of the dead point at "
+                         f"{fmt(d)}, where {label} folds (sin of its transmission angle {m:.2g}): {why}; stay "
+                         f"{fmt(abs(safe[dead.index(d)] - d))} inside it: an input range of {shown}"
+                         + ("" if crank else f" [{mech.units}]"))
+
+
+def _dead_points_around(mech: Mechanism, lo: float, hi: float) -> tuple[float | None, float | None]:
+    """The dead points just below ``lo`` and just above ``hi`` (the ends of the assembly range holding the
+    rocking range), None where there is none (a crank that turns fully)."""
+    from analytic.applications import figures
+    plain = replace(mech, rock=None)
+    ranges = figures.assembly_ranges(plain)
+    if figures.turns_fully(plain, ranges):
+        return None, None
+    turn = 2 * math.pi if mech.inputs[0].kind == "crank" else 0.0
+    for a, b in ranges:
+        for k in ((range(-3, 4)) if turn else (0,)):
+            if a + k * turn <= lo + 1e-12 and hi - 1e-12 <= b + k * turn:
+                return a + k * turn, b + k * turn
+    return None, None
+
+
+def _fold_limit(mech: Mechanism, dead: float, end: float, floor: float, margin: float) -> float:
+    """The input value between the dead point ``dead`` and the range's ``end`` (or beyond it, towards the
+    middle) where the smallest singularity measure reaches ``floor``, at least ``margin`` from ``dead``."""
+    from analytic.applications import figures
+    plain = replace(mech, rock=None)
+    lo, hi = mech.rock
+    inner = 0.5 * (lo + hi)
+    far = inner if abs(inner - dead) > abs(end - dead) else end
+
+    def measure(x):
+        return figures.min_singularity(plain, plain.solve(np.array([x])))[0]
+
+    near = dead + math.copysign(margin, far - dead)
+    if measure(far) < floor:
+        return far
+    a, b = near, far
+    if measure(a) < floor:
+        for _ in range(60):                            # bisection: the measure grows away from the fold
+            mid = 0.5 * (a + b)
+            a, b = (mid, b) if measure(mid) < floor else (a, mid)
+        return b
+    return near
 
 
 def simulate(mech: Mechanism, revolutions: float = 1.0, settings=None, loads=None, input_range=None):
@@ -657,12 +787,30 @@ def balanced_mechanism(mech: Mechanism, links=None) -> tuple[Mechanism, object]:
     return Mechanism.from_definition(new, mech.overrides, mech.builtin), result
 
 
-def simulated_forces(run: ForceRun, settings=None, loads=None) -> dict:
-    """MuJoCo's joint forces for ``run`` and their agreement (the ``simulated`` object of the JSON): provided
-    by ``sim.run.forces.simulated(run, settings, loads)`` (the MuJoCo half of issue 17)."""
-    try:
-        from sim.run import forces as simforces
-    except ImportError:
-        raise ParameterError("--simulate: MuJoCo's joint forces are not available yet in this version; run "
-                             "without --simulate for the analytic forces") from None
-    return simforces.simulated(run, settings, loads)
+def simulated_forces_run(run: ForceRun, settings=None, loads=None):
+    """``run`` simulated in MuJoCo, its joint forces read at the run's samples and compared with the analytic
+    ones at the simulated inputs (:class:`sim.run.forces.Simulated`)."""
+    from sim.run import forces as simforces
+    return simforces.simulate_run(run, settings, loads)
+
+
+def simulated_forces(run: ForceRun, settings=None, loads=None, display=None) -> dict:
+    """The ``simulated`` object of ``linkage forces --simulate --json``: MuJoCo's answer in the fields of
+    :func:`forces_record` (at the run's samples, the inputs as simulated, the model's masses), the time step
+    and steps, the agreement with the analytic forces (``agreement``: each joint's largest difference [N] and
+    its share of the peak joint force, the drives' three answers, the shaking force) and ``passed``."""
+    from dataclasses import replace
+    from sim.model import body_inertias
+    s = simulated_forces_run(run, settings, loads)
+    mech, tr = run.mech, s.trajectory
+    q, qd, qdd = s.inputs
+    sol = {k: np.asarray(v)[s.steps] for k, v in tr.outputs.items() if k[:1] in ("x", "y", "c", "s")}
+    sim_run = replace(run, t=run.t[:len(s.steps)], q=q, qd=qd, qdd=qdd, inputs={inp.q: q[:, k] for k, inp in enumerate(mech.inputs)},
+                      solution=sol, inertias=body_inertias(s.built.model, mech.links), forces=s.forces,
+                      balance=None, balanced=None)
+    record = forces_record(sim_run, display)
+    for key in ("mechanism", "loads", "units"):
+        record.pop(key, None)
+    record.update({"timestep": s.built.timestep, "steps": int(tr.steps), "agreement": s.agreement.as_dict(),
+                   "passed": s.agreement.passed})
+    return record

@@ -21,7 +21,7 @@ from analytic import kinds, mass
 from analytic.applications import balance as B
 from analytic.applications import forces as F
 from analytic.applications import torque
-from analytic.closed_forms.dynamics import Inertia
+from analytic.mass import Inertia
 from analytic.format import linkfile
 from analytic.kinds.base import Field, Kind, LinkPart, Structure, line, on_frame
 from analytic.registry import LIBRARY
@@ -279,12 +279,6 @@ def test_csv_with_its_units_and_the_file_unit(tmp_path):
     assert not units["si"]
     rows = np.array([[float(x) for x in line.split(",")] for line in head[1:]])
     assert math.isclose(rows[-1, cols.index("phiOA")], 360.0, rel_tol=1e-12)
-
-
-def test_simulate_is_not_available_yet(tmp_path):
-    r = run(tmp_path, "forces", "fourbar", "--simulate", "--csv", "f.csv")
-    assert r.returncode == 2 and "not available yet" in r.stderr and len(r.stderr.strip().splitlines()) == 1
-    assert not (tmp_path / "f.csv").exists()
 
 
 def test_balance_on_forces_and_export(tmp_path):

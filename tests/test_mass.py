@@ -13,7 +13,7 @@ import pytest
 
 import analytic
 from analytic import mass
-from analytic.closed_forms.dynamics import Inertia
+from analytic.mass import Inertia
 from analytic.format import linkfile
 from analytic.registry import LIBRARY
 

@@ -460,7 +460,7 @@ def solve(mech, q, qd, qdd, inertias: dict, gravity=(0.0, 0.0), force=(0.0, 0.0)
     q, qd, qdd : array_like, shape (N,) or (N, n_inputs)
         The inputs' positions [rad or m], rates and accelerations.
     inertias : dict
-        {link: :class:`~analytic.closed_forms.dynamics.Inertia`} (SI; :func:`analytic.mass.model`); links not
+        {link: :class:`~analytic.mass.Inertia`} (SI; :func:`analytic.mass.model`); links not
         named are massless.
     gravity : (gx, gy)
         [m/s^2] in the plane.

@@ -74,8 +74,9 @@ def enabled(n: int | None = None) -> bool:
 
 
 def supports(geometry) -> bool:
-    """Whether every element of ``geometry`` has a compiled row."""
-    return all(kinds.get(e["kind"]).jit is not None for e in geometry.elements)
+    """Whether every element of ``geometry`` has a compiled row (an element passing change points, whose
+    branch sign follows the input, ``flips``, stays on numpy)."""
+    return all(kinds.get(e["kind"]).jit is not None and not e.get("flips") for e in geometry.elements)
 
 
 def codes() -> dict[str, int]:

@@ -45,8 +45,8 @@ def cmd_forces(args) -> int:
     run = service.forces_run(mech, args.samples, args.revolutions, parse_range(mech, args.input_range),
                              loads.gravity, loads.force, loads.slow_stroke_only, loads.inertias,
                              balance_links(args.balance))
-    simulated = service.simulated_forces(run, settings_from(args), loads) if args.simulate else None
     display = machine_units(args)
+    simulated = service.simulated_forces(run, settings_from(args), loads, display) if args.simulate else None
     if args.csv:
         cols, qty = service.forces_columns(run)
         write_csv(args.csv, {c: display.convert(qty[c], v) for c, v in cols.items()})
@@ -63,7 +63,11 @@ def cmd_forces(args) -> int:
     else:
         print(service.forces_table(run, shown_units(args, mech)))
         if simulated is not None:
-            print(f"  MuJoCo: {'PASSED' if simulated.get('passed') else 'FAILED'}")
+            a = simulated["agreement"]
+            plain = ", the file's masses without the counterweights" if run.balance is not None else ""
+            print(f"  MuJoCo ({simulated['steps']} steps of {simulated['timestep']:.3g} s{plain}): joint forces within "
+                  f"{a['worst']:.2e} of the peak {a['peak']:.4g} N ({a['worst_of']}; median {a['median']:.2e}), "
+                  f"tolerance {a['tol']:.0e}: {'PASSED' if simulated.get('passed') else 'FAILED'}")
         if args.csv:
             print(f"wrote {args.csv} ({len(run.t)} rows)")
     return 0 if simulated is None or simulated.get("passed", False) else 1

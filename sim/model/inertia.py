@@ -53,9 +53,9 @@ def add_inertias(spec, mech, points, frames, loads):
 
 
 def body_inertias(model: mujoco.MjModel, names) -> dict:
-    """The compiled bodies' inertial data as analytic.closed_forms.dynamics.Inertia (mass, COM in the body frame, Izz
+    """The compiled bodies' inertial data as analytic.mass.Inertia (mass, COM in the body frame, Izz
     about the COM)."""
-    from analytic.closed_forms.dynamics import Inertia
+    from analytic.mass import Inertia
     out = {}
     for n in names:
         b = model.body(n)
