@@ -144,8 +144,8 @@ def test_import_writes_a_links_and_joints_file(tmp_path):
 
 @pytest.mark.parametrize("args,match", [
     (["fourbar.pkl.pyslvs"], r"is a pickled Pyslvs project \(binary\), which is never loaded"),
-    (["gear.txt"], r"joint J1 is a gear mesh \(G, links input, output\); importing PMKS gear meshes is not "
-                 r"supported yet"),
+    (["gear.txt"], r"gear.txt: joints\[3\] \(point J1\): the pitch point J1 is at the centre J0 of input's gear \(a "
+                 r"pitch radius of 0\); put it where the two pitch circles touch"),
     (["slider_crank_rp.txt"], r"a bare Pyslvs expression has no inputs; import it with 'linkage import"),
     (["slider_crank_rp.txt", "--input", "0,3"], r"input \(0, 3\): J0 and J3 share no moving link"),
     (["free.txt", "--input", "0,1"], r"joint J2 is a free point \(L\[\] names no link\)"),
@@ -156,7 +156,7 @@ def test_import_writes_a_links_and_joints_file(tmp_path):
     (["locked_ppp.txt"], r"locked_ppp.txt: links a, b: the loop input - a - b - ground locks the mechanism"),
 ])
 def test_import_bad_input_one_line_nothing_written(tmp_path, args, match):
-    files = {"fourbar.pkl.pyslvs": b"\x80\x04\x95\x00", "gear.txt": b"ground,input,R,0,0\ninput,output,G,2,0\n"
+    files = {"fourbar.pkl.pyslvs": b"\x80\x04\x95\x00", "gear.txt": b"ground,input,R,0,0\ninput,output,G,0,0\n"
              b"output,ground,R,5,0\n", "free.txt": b"M[J[R,P[0,0],L[ground,L1]],J[R,P[1,0],L[L1,L2]],J[R,P[2,2],L[]]]",
              "three.txt": b"M[J[R,P[0,0],L[ground,L1]],J[R,P[1,0],L[L1,L2]],J[P,A[0],P[3,0],L[ground,L2,L3]]]",
              "relative.txt": b"ground,a,R,0,0\na,b,R,1,0,tfft\nb,ground,R,3,1\n", "notes.txt": b"a list of things\n"}

@@ -81,6 +81,23 @@ class _Slide:
 
 
 @dataclass(frozen=True)
+class _Mesh:
+    """A ``G`` joint: the gears of links ``a`` and ``b`` mesh at ``point`` (the pitch point, where their
+    pitch circles touch). Resolved from the pose: ``carrier`` (the link both gears turn on), the centres
+    ``ca``, ``cb`` and Willis' ``ratio`` (phi_b - phi_c = phase + ratio (phi_a - phi_c); -r_a / r_b for an
+    external pair, + r_a / r_b for an internal one)."""
+
+    point: str
+    a: str
+    b: str
+    where: str
+    carrier: str = ""
+    ca: str = ""
+    cb: str = ""
+    ratio: float = 0.0
+
+
+@dataclass(frozen=True)
 class _Frame:
     """A placed link's frame as the element that places it defines it: origin, unit x-axis at the pose,
     and the pair of points that spans it (None where the frame is the link's own, e.g. a block's)."""
@@ -167,6 +184,7 @@ class _Form:
     where_link: dict[str, str]
     size: float = 0.0
     kinds: dict[str, str] = field(default_factory=dict)
+    meshes: list[_Mesh] = field(default_factory=list)
 
 
 class _Measures:
@@ -238,6 +256,7 @@ def _read_joints(data: dict, source: str, values: dict, measures: _Measures, lin
 
     pins: dict[str, list[str]] = {}
     slides: list[_Slide] = []
+    meshes: list[_Mesh] = []
     joint_links: set[str] = set()
     for i, item in enumerate(_array(data, "joints", source), 1):
         where = f"joints[{i}]"
@@ -281,10 +300,23 @@ def _read_joints(data: dict, source: str, values: dict, measures: _Measures, lin
                 raise _fail(source, where, f"point {point!r} already has a P joint; give each its own point")
             slides.append(_Slide(point, guide, block, angle, where))
             joint_links.update((guide, block))
+        elif kind == "G":
+            _fields(item, where, {"kind", "point", "links"}, source, "a G joint")
+            ls = item.get("links")
+            if not (isinstance(ls, list) and len(ls) == 2):
+                raise _fail(source, where, "field 'links' must name the two links whose gears mesh at the point")
+            a, b = (known_link(x, f"{where}: field 'links'") for x in ls)
+            if a == b:
+                raise _fail(source, where, "field 'links': a gear meshes with another link's gear; name two links")
+            if any(m.point == point for m in meshes) or point in pins or any(s.point == point for s in slides):
+                raise _fail(source, where, f"point {point!r} already has a joint; give each gear mesh its own pitch "
+                                           f"point")
+            meshes.append(_Mesh(point, a, b, where))
         else:
-            raise _fail(source, where, f"unknown kind {kind!r}; a joint is kind = \"R\" (links pinned at a point) "
-                                       f"or \"P\" (a block sliding on a guide link)")
-    return pins, slides, joint_links
+            raise _fail(source, where, f"unknown kind {kind!r}; a joint is kind = \"R\" (links pinned at a point), "
+                                       f"\"P\" (a block sliding on a guide link) or \"G\" (two gears meshing at "
+                                       f"their pitch point)")
+    return pins, slides, meshes, joint_links
 
 
 def _read_pose(data: dict, source: str, values: dict, measures: _Measures) -> tuple[dict[str, Vec], dict]:
@@ -404,27 +436,86 @@ def _read(data: dict, source: str, values: dict) -> _Form:
     """A links-and-joints file read and checked: names, references, positions, given lengths."""
     measures = _Measures(source)
     links, where_link, lengths = _read_links(data, source, values, measures)
-    pins, slides, joint_links = _read_joints(data, source, values, measures, links)
+    pins, slides, meshes, joint_links = _read_joints(data, source, values, measures, links)
     pose, ground_table = _read_pose(data, source, values, measures)
     _complete(source, links, pins, slides, pose, ground_table)
-    _check_points(source, links, pins, pose, joint_links, where_link)
     xy = np.array([v.value for v in pose.values()] or [(0.0, 0.0)])
     size = float(np.sqrt(np.max(np.sum((xy[:, None, :] - xy[None, :, :]) ** 2, axis=-1))))
     if not size > 0:
         raise _fail(source, "pose", "every point is at the same place; give the assembled positions")
+    meshes = [_resolve_mesh(source, m, links, pins, pose, size) for m in meshes]
+    _check_points(source, links, pins, pose, joint_links, where_link)
     _check_lengths(source, links, pose, lengths, size)
     inputs = _read_inputs(data, source, measures)
-    return _Form(source, links, pins, slides, pose, links[GROUND], inputs, where_link, size, measures.kinds)
+    return _Form(source, links, pins, slides, pose, links[GROUND], inputs, where_link, size, measures.kinds, meshes)
+
+
+def _centre(g: str, c: str, pins: dict, pose: dict, size: float) -> str | None:
+    """The point gear ``g`` turns about that is fixed on link ``c``: a pin of ``g`` and ``c``, or a pin of
+    ``g`` and a link Z where ``c`` too is pinned to Z, at the same place in the pose (coaxial pins)."""
+    for p, ls in pins.items():
+        if g in ls and c in ls:
+            return p
+    for p, ls in pins.items():
+        if g not in ls:
+            continue
+        for z in ls:
+            for q, lq in pins.items():
+                if (z != g and z in lq and c in lq and p in pose and q in pose
+                        and (pose[q] - pose[p]).norm().value <= RIGID * size):
+                    return p
+    return None
+
+
+def _resolve_mesh(source, m: _Mesh, links, pins, pose, size) -> _Mesh:
+    """A G joint's carrier, centres and ratio from the pose; the pitch point becomes a point of the carrier
+    (it lies on the line of centres, fixed on the carrier)."""
+    where = m.where
+    if m.point not in pose:
+        raise _fail(source, where, f"point {m.point!r} has no position; give the pitch point (where the pitch "
+                                   f"circles touch) under [pose]")
+    cands = [(c, ca, cb) for c in links if c not in (m.a, m.b)
+             for ca in [_centre(m.a, c, pins, pose, size)] for cb in [_centre(m.b, c, pins, pose, size)]
+             if ca is not None and cb is not None]
+    if not cands:
+        raise _fail(source, where, f"the gears of {m.a} and {m.b} turn about no common carrier: pin each gear's "
+                                   f"link by an R joint to the link that carries both centres (the ground, or an arm)")
+    K = pose[m.point]
+    problem = ""
+    for c, ca, cb in cands:
+        for x in (ca, cb):
+            if x not in pose:
+                raise _fail(source, where, f"point {x!r} has no position; give it under [pose] as {x} = [x, y]")
+        r_a, r_b = (K - pose[ca]).norm().value, (K - pose[cb]).norm().value
+        for g, r, centre in ((m.a, r_a, ca), (m.b, r_b, cb)):
+            if r <= SINGULAR * size:
+                raise _fail(source, where, f"the pitch point {m.point} is at the centre {centre} of {g}'s gear (a "
+                                           f"pitch radius of 0); put it where the two pitch circles touch")
+        d = (pose[cb] - pose[ca]).norm().value
+        external = (K - pose[ca]).dot(K - pose[cb]).value < 0
+        if abs((r_a + r_b if external else abs(r_a - r_b)) - d) > RIGID * size:
+            problem = (f"the pitch point {m.point} is not on the line of the centres {ca} ({m.a}) and {cb} ({m.b}) "
+                       f"on {c} (radii {r_a:.9g} and {r_b:.9g}, centre distance {d:.9g}); put it where the pitch "
+                       f"circles touch")
+            continue
+        if not external and abs(r_a - r_b) <= SINGULAR * size:
+            raise _fail(source, where, f"the gears of {m.a} and {m.b} have equal pitch radii about one centre: an "
+                                       f"internal pair of ratio 1 cannot mesh")
+        if m.point not in links[c]:
+            links[c].append(m.point)
+        return _Mesh(m.point, m.a, m.b, where, c, ca, cb, (-1.0 if external else 1.0) * r_a / r_b)
+    raise _fail(source, where, problem)
 
 
 # ------------------------------------------------------------------------------------- decomposition
 def gruebler(form: _Form) -> tuple[int, str]:
-    """Gruebler's count 3 (n - 1) - 2 j over the links (the ground included) and lower pairs (a point
-    where k links are pinned: k - 1 pairs), and the count written out."""
+    """Gruebler's count 3 (n - 1) - 2 j - h over the links (the ground included), lower pairs (a point
+    where k links are pinned: k - 1 pairs) and gear meshes (higher pairs), and the count written out."""
     n = len(form.links)
     j = sum(len(ls) - 1 for ls in form.pins.values()) + len(form.slides)
-    m = 3 * (n - 1) - 2 * j
-    return m, f"3 x ({n} - 1) - 2 x {j} = {m}"
+    h = len(form.meshes)
+    m = 3 * (n - 1) - 2 * j - h
+    return m, f"3 x ({n} - 1) - 2 x {j}{f' - {h}' if h else ''} = {m}"
 
 
 class _Decomposer:
@@ -444,6 +535,10 @@ class _Decomposer:
         params = data.get("parameters", {})
         self.taken = set(params) | set(form.pose) | set(form.links)
         self.mobility, self.count = gruebler(form)
+        self.turns: dict[str, dict[str, float]] = {GROUND: {}}   # a placed link's angle as a linear form of
+        #                                                         the angles of the links not placed by gears
+        self.geared = 0                                         # gear elements written
+        self.counted: set[str] = {GROUND}                       # links whose angle the gear kind counts in turns
 
     # ------------------------------------------------------------------------------------ helpers
     def fail(self, where: str, what: str) -> FileError:
@@ -519,6 +614,7 @@ class _Decomposer:
     def set_frame(self, ln: str, origin: str, e: Vec, pair: tuple[str, str] | None = None):
         self.frames[ln] = _Frame(origin, e, pair)
         self.known.add(ln)
+        self.turns.setdefault(ln, {ln: 1.0})
 
     def pair_frame(self, ln: str, p: str, q: str):
         self.set_frame(ln, p, (self.pose[q] - self.pose[p]).unit(), (p, q))
@@ -598,8 +694,10 @@ class _Decomposer:
                 point = self.fresh(f"{slot.point}_guide")
                 self.pose[point] = self.pose[slot.point]
                 self.points[link].append(point)
-            else:
-                raise self.fail(where, f"link {link!r} carries no point besides {pivot!r}; give it one")
+            else:                             # a crank that is only a gear: its tooth at the pitch point
+                point = self.tooth(link)
+                if point is None:
+                    raise self.fail(where, f"link {link!r} carries no point besides {pivot!r}; give it one")
         if point not in self.points[link] or point == pivot:
             raise self.fail(where, f"field 'point': {point!r} must be another point of link {link!r}")
         grounded = [p for p in self.points[link] if p in self.placed and p != pivot]
@@ -616,6 +714,7 @@ class _Decomposer:
                    "omega": item.get("omega", DEFAULT_OMEGA), "alpha": item.get("alpha", 0.0)}, label)
         self.placed.add(point)
         self.pair_frame(link, pivot, point)
+        self.counted.add(link)
         self.classes.append(f"input crank {link} about {pivot}")
         self.rigid(link, where)
 
@@ -648,11 +747,143 @@ class _Decomposer:
         while True:
             todo = [ln for ln in self.points if ln not in self.known]
             if not todo:
-                return
+                break
             for ln in todo:
                 self.check_single(ln)
-            if not self.dyad(todo):
+            if not (self.gears(todo) or self.dyad(todo)):
                 self.group(todo)
+        if self.geared != len(self.f.meshes):
+            names = ", ".join(f"{m.point} ({m.a}, {m.b})" for m in self.f.meshes)
+            raise self.fail(f"gear meshes {names}", f"{len(self.f.meshes)} gear meshes but only {self.geared} links "
+                                                    f"turn by them: the others' links are already fixed by joints "
+                                                    f"(a locked or redundant loop; {self.gruebler_note()}); remove a "
+                                                    f"mesh or a joint")
+
+    # ------------------------------------------------------------------------------------- gears
+    def tooth(self, ln: str) -> str | None:
+        """A helper point on a gear link that carries no point besides its centre: ``<link>_tooth``, at its
+        first mesh's pitch point in the pose (it gives the link its frame)."""
+        m = next((m for m in self.f.meshes if ln in (m.a, m.b)), None)
+        if m is None:
+            return None
+        name = self.fresh(f"{ln}_tooth")
+        self.pose[name] = self.pose[m.point]
+        self.points[ln].append(name)
+        return name
+
+    def gears(self, todo: list[str]) -> bool:
+        """Place one link that gears turn: a link not placed, pinned at one placed point (its centre) and
+        whose angle Willis' relations of the meshes fix as a linear form of placed links' angles. Tried
+        before the dyads, so that a gear's link is never placed as if it were free."""
+        for x in todo:
+            pts = self.known_points(x)
+            if len(pts) != 1 or self.known_slides(x) or not any(x in (m.a, m.b, m.carrier) for m in self.f.meshes):
+                continue
+            w = self.geared_turns(x)
+            if w is not None:
+                self.gear(x, pts[0], w)
+                return True
+        return False
+
+    def geared_turns(self, x: str) -> dict[str, float] | None:
+        """The angle of link ``x`` as a linear form (coefficients over the angles of the links not placed by
+        gears) where the meshes' relations phi_b - phi_c - ratio (phi_a - phi_c) = phase fix it, else None."""
+        unknown = list(dict.fromkeys(ln for m in self.f.meshes for ln in (m.a, m.b, m.carrier)
+                                     if ln not in self.known))
+        if x not in unknown:
+            return None
+        rows, rhs = [], []
+        for m in self.f.meshes:
+            coef: dict[str, float] = {}
+            for ln, c in ((m.b, 1.0), (m.a, -m.ratio), (m.carrier, m.ratio - 1.0)):
+                coef[ln] = coef.get(ln, 0.0) + c
+            if all(ln in self.known for ln in coef):
+                continue
+            known: dict[str, float] = {}
+            for ln, c in coef.items():
+                for base, v in self.turns.get(ln, {}).items() if ln in self.known else ():
+                    known[base] = known.get(base, 0.0) + c * v
+            rows.append([coef.get(u, 0.0) for u in unknown])
+            rhs.append(known)
+        if not rows:
+            return None
+        A = np.array(rows)
+        e = np.zeros(len(unknown))
+        e[unknown.index(x)] = 1.0
+        y = np.linalg.lstsq(A.T, e, rcond=None)[0]
+        if np.linalg.norm(A.T @ y - e) > 1e-9:
+            return None
+        w: dict[str, float] = {}
+        for yi, known in zip(y, rhs):
+            for base, v in known.items():
+                w[base] = w.get(base, 0.0) - yi * v
+        return w
+
+    def gear(self, x: str, pivot: str, w: dict[str, float]):
+        """Write link ``x`` as a ``gear`` element: on the placed link ``y`` it is pinned to at ``pivot`` (the
+        carrier), meshed with a placed link that turns about one pin on ``y``, preferably a link its own gear
+        meshes with on ``y``; ratio and phase such that the element's relation is the meshes' one."""
+        mesh_of_x = next(m for m in self.f.meshes if x in (m.a, m.b, m.carrier))
+        label = mesh_of_x.where
+        ys = [ln for ln in self.f.pins.get(pivot, []) if ln in self.known and ln != x]
+        if not ys:
+            raise self.fail(label, f"link {x!r} is on the placed point {pivot} without a pin; pin it by an R joint")
+        y = ys[0]
+        wy = self.turns[y]
+
+        def minus(p, q):
+            return {k: p.get(k, 0.0) - q.get(k, 0.0) for k in set(p) | set(q)}
+
+        def dot(p, q):
+            return sum(v * q.get(k, 0.0) for k, v in p.items())
+
+        d = minus(w, wy)
+        if dot(d, d) <= 1e-24:
+            raise self.fail(label, f"the gear meshes hold {x} still relative to {y} (it cannot turn on its pin "
+                                   f"{pivot}): a locked train; check the meshes' links")
+        partners = [m.a if m.b == x else m.b for m in self.f.meshes if x in (m.a, m.b) and m.carrier == y]
+        found = None
+        for mesh in dict.fromkeys(partners + sorted(self.known)):
+            if mesh in (x, y) or mesh not in self.known:
+                continue
+            if len([p for p in self.points[mesh] if p in self.points[y]]) != 1:
+                continue
+            dm = minus(self.turns[mesh], wy)
+            if dot(dm, dm) <= 1e-24:
+                continue
+            k = dot(d, dm) / dot(dm, dm)
+            res = minus(d, {key: k * v for key, v in dm.items()})
+            if math.sqrt(dot(res, res)) <= 1e-9 * max(1.0, math.sqrt(dot(d, d))):
+                found = mesh, k
+                break
+        if found is None:
+            raise self.fail(label, f"link {x!r} turns on {y} about {pivot}, but no placed link that turns about one "
+                                   f"pin on {y} drives it at a fixed ratio; this train cannot be written as gear "
+                                   f"pairs")
+        mesh, k = found
+        point = next((p for p in self.points[x] if p not in self.placed), None) or self.tooth(x)
+        where = f"{label} (link {x})"
+
+        def angle(ln):
+            return 0.0 if ln == GROUND else self.frames[ln].e.angle().value
+
+        r = self.pose[point] - self.pose[pivot]
+        if r.norm().value <= SINGULAR * self.f.size:
+            raise self.singular(where, f"{point} is at the gear's centre {pivot}")
+        theta = angle(mesh) - angle(y)
+        if mesh not in self.counted and y not in self.counted:       # as the gear kind measures two rockers
+            theta = (theta + math.pi) % (2.0 * math.pi) - math.pi
+        phase = r.angle().value - angle(y) - k * theta
+        self.emit({"kind": "gear", "point": point, "pivot": pivot,
+                   "length": self.out(r.norm(), where, f"|{pivot}{point}|"), "link": x, "mesh": mesh,
+                   "carrier": y, "ratio": k, "phase": phase}, label)
+        self.turns[x] = w
+        self.counted.add(x)
+        self.geared += 1
+        self.placed.add(point)
+        self.pair_frame(x, pivot, point)
+        self.classes.append(f"gear {x} on {y} about {pivot} (mesh {mesh}, ratio {k:.9g})")
+        self.rigid(x, label)
 
     def check_single(self, ln: str):
         if self.ext(ln) <= 3:

@@ -16,7 +16,8 @@ slide's direction in degrees in the drawn pose (``P`` and ``RP``), and ``flags``
 * ``R`` with links a, b, c...: pinned together at the point; with one link, a point on it;
 * ``P a b``: b slides on a without turning (a guide, b block); ``RP a b c...``: b (and c...) pinned to a
   block that slides in a's slot (as in Pyslvs, :mod:`analytic.format.pyslvs`);
-* ``G a b``: a gear mesh, refused: importing gear meshes is not supported yet.
+* ``G a b``: the gears of links a and b mesh at the point (where their pitch circles touch): a ``G`` joint
+  of the links-and-joints form, which finds the carrier, the pitch radii and the ratio from the pose.
 
 Joints have no names: the n-th joint line is point ``Jn``. The driver is ``d=``, else the first joint
 whose fourth flag is set, else the first ``R`` or ``P`` joint of two or more links; it drives its first
@@ -130,9 +131,9 @@ def to_form(text: str, source: str) -> dict:
     """The links-and-joints tables (``pose``, ``links``, ``joints``, ``inputs``) of a PMKS text."""
     joints, driver, flags = parse(text, source)
     for k, (kind, _, _, links) in enumerate(joints):
-        if kind == "G":
-            raise FileError(f"{source}: joint J{k} is a gear mesh (G, links {', '.join(links)}); importing PMKS gear "
-                            f"meshes is not supported yet: write the gears as kind = \"gear\" elements by hand")
+        if kind == "G" and len(links) != 2:
+            raise FileError(f"{source}: joint J{k} is a gear mesh (G) on {len(links)} link(s) ({', '.join(links)}); a "
+                            f"mesh joins the gears of two links")
         if kind == "P" and len(links) != 2:
             raise FileError(f"{source}: joint J{k} is a P joint on {len(links)} link(s) ({', '.join(links)}); a "
                             f"prismatic pair joins a guide and a block")
@@ -166,7 +167,7 @@ def _input(k: int, joints, form: dict, source: str) -> dict:
         return {"kind": "slider", "point": p}
     driven = b if a == GROUND else a
     pts = next(x.get("points", []) for x in form["links"] if x["name"] == driven)
-    pins = [j["point"] for j in form["joints"] if driven in j.get("links", [j.get("block")])]
+    pins = [j["point"] for j in form["joints"] if j["kind"] != "G" and driven in j.get("links", [j.get("block")])]
     order = sorted(set(pts) | set(pins), key=lambda q: int(q[1:]))
     other = next((q for q in order if q != p), None)
     return {"kind": "crank", "pivot": p, **({"point": other} if other else {}), "link": driven}

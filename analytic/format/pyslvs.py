@@ -148,11 +148,12 @@ def to_form(joints, inputs, source: str) -> dict:
 
 def form_of_joints(joints, source: str) -> tuple[dict, dict, list]:
     """The ``pose``, ``links`` and ``joints`` tables of joints drawn at points, Pyslvs' and PMKS' way: each
-    (type R, P or RP; angle [deg] or None; (x, y); links, the guide first for P and RP) is point ``Jn``.
+    (type R, P, RP or G (PMKS' gear mesh at its pitch point); angle [deg] or None; (x, y); links, the guide
+    first for P and RP) is point ``Jn``.
     Also returns each point's links and the P joints."""
     if not joints:
         raise FileError(f"{source}: the expression has no joint")
-    pose, links, rjoints, pjoints = {}, {}, [], []
+    pose, links, rjoints, pjoints, gjoints = {}, {}, [], [], []
     on: dict[str, list[str]] = {}                          # point -> links it is on (as the joints say)
 
     def link(name):
@@ -166,6 +167,9 @@ def form_of_joints(joints, source: str) -> tuple[dict, dict, list]:
         if len(set(ls)) != len(ls):
             raise FileError(f"{source}: joint {p} names a link twice ({', '.join(ls)}); name each once")
         ls = [link(x) for x in ls]
+        if kind == "G":                                       # PMKS: two gears meshing at their pitch point
+            gjoints.append({"kind": "G", "point": p, "links": ls})
+            continue
         if kind == "R":
             if not ls:
                 raise FileError(f"{source}: joint {p} is a free point (L[] names no link), which a linkage cannot "
@@ -205,7 +209,7 @@ def form_of_joints(joints, source: str) -> tuple[dict, dict, list]:
     if ground:
         out_links.append({"name": GROUND, "points": ground})
     out_links += [{"name": n, **({"points": pts} if pts else {})} for n, pts in links.items()]
-    return {"pose": pose, "links": out_links, "joints": rjoints + pjoints}, on, pjoints
+    return {"pose": pose, "links": out_links, "joints": rjoints + pjoints + gjoints}, on, pjoints
 
 
 def _input(pair, joints, on, pjoints, source: str) -> dict:
