@@ -168,3 +168,77 @@ def test_bad_mesh_is_refused_in_one_line_naming_the_joint(tmp_path, text, match)
     with pytest.raises(FileError, match=match) as err:
         analytic.load(str(path))
     assert "\n" not in str(err.value)
+
+
+# ------------------------------------------------------------------------------ the form's G joint
+GEARED_FIVE_BAR = """
+format = "linkage/1"
+units = "mm"
+[pose]
+A = [0, 0]
+K = [4, 0]
+D = [10, 0]
+B = [0, 3]
+C = [10, 5]
+P = [5, 8]
+[[links]]
+name = "input"
+points = ["A", "B"]
+[[links]]
+name = "output"
+points = ["D", "C"]
+[[links]]
+name = "c"
+[[links]]
+name = "d"
+[[joints]]
+kind = "R"
+point = "A"
+links = ["ground", "input"]
+[[joints]]
+kind = "R"
+point = "D"
+links = ["ground", "output"]
+[[joints]]
+kind = "G"
+point = "K"
+links = ["input", "output"]
+[[joints]]
+kind = "R"
+point = "B"
+links = ["input", "c"]
+[[joints]]
+kind = "R"
+point = "P"
+links = ["c", "d"]
+[[joints]]
+kind = "R"
+point = "C"
+links = ["d", "output"]
+[[inputs]]
+kind = "crank"
+pivot = "A"
+point = "B"
+"""
+
+
+def test_form_g_joint_places_the_gear_before_the_dyad(tmp_path):
+    """A geared five-bar written by hand: the output gear is placed by the mesh (ratio -4/6), then the dyad
+    c, d closes the loop; with a second loop that fixes the output too, the mesh is refused as locked."""
+    path = tmp_path / "g5.toml"
+    path.write_text(GEARED_FIVE_BAR)
+    m = analytic.load(str(path))
+    _, q = turn(m)
+    pts = solved_points(m, q)
+    assert np.max(np.linalg.norm(pts["C"] - circle((10, 0), 5, math.pi / 2 - 4 / 6 * (q - math.pi / 2)),
+                                 axis=-1)) <= HAND * 12
+    import tomllib
+    assert joints.structure(tomllib.loads(GEARED_FIVE_BAR), "g5", {})[:3] == (
+        "input crank input about A", "gear output on ground about D (mesh input, ratio -0.666666667)",
+        "dyad RRR c, d at P")
+    locked = (GEARED_FIVE_BAR.replace('links = ["c", "d"]', 'links = ["c", "output"]')
+              .replace('[[links]]\nname = "d"\n', '').replace('[[joints]]\nkind = "R"\npoint = "C"\nlinks = ["d", "output"]\n', ''))
+    path.write_text(locked)
+    with pytest.raises(FileError, match=r"the loop c - output - ground - input cannot move: .*Gruebler: "
+                                        r"3 x \(4 - 1\) - 2 x 4 - 1 = 0"):
+        analytic.load(str(path))

@@ -2,18 +2,21 @@
 
 A file in this form gives its links (``[[links]]``: a name and the points it carries), its joints
 (``[[joints]]``: ``R`` where links are pinned together at a point, ``P`` where a block slides on a guide
-link), an assembled pose (``[pose]``: every point's x, y in the file's unit) and its inputs (``[[inputs]]``:
+link, ``G`` where the gears of two links mesh at their pitch point), an assembled pose (``[pose]``: every point's x, y in the file's unit) and its inputs (``[[inputs]]``:
 a crank turning a link about a ground pivot, or a slider driving a block along a ground guide). The link
 ``ground`` is the frame. :func:`convert` finds the Assur groups itself and writes the same mechanism in the
 ordinary form (``[ground]``, ``[[inputs]]``, ``[[groups]]``), so every command reads it unchanged:
 
 1. the inputs (their lengths and start angles from the pose);
-2. repeatedly, a dyad: two links not yet placed, each joined once to what is placed and once to the
+2. before any dyad, a link turned by gears: pinned at one placed point, its angle fixed by the meshes'
+   relations (Willis', linear in the link angles) as a linear form of placed links' angles: a ``gear``
+   element on the link it is pinned to (docs/CONVENTIONS.md, "Gears");
+3. repeatedly, a dyad: two links not yet placed, each joined once to what is placed and once to the
    other, solved in closed form (``RRR``, ``RRP``, ``RPR``, and the dyads with two prismatic pairs where
    those kinds are registered);
-3. where no dyad is left, the smallest set of links with as many constraints as freedoms: one general
+4. where no dyad is left, the smallest set of links with as many constraints as freedoms: one general
    Assur group (kind ``group``, revolute joints only);
-4. every further point of a placed link: a ``point`` element in the link's frame.
+5. every further point of a placed link: a ``point`` element in the link's frame.
 
 Lengths, offsets, start angles and local coordinates follow from the pose; where the pose uses parameters
 they are expressions of them (:mod:`analytic.format.sym`), so ``--set`` moves the mechanism. Branches are
