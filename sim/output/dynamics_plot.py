@@ -13,26 +13,36 @@ from sim.output.io import atomic_path
 RPM = 60 / (2 * math.pi)
 
 
+def last_cycle(d, n: int = 721) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The last revolution's speed against the input's advance from its start: the reduced equation's at
+    ``n`` advances (u [rad] in [0, 2 pi], w [rad/s] in the input's turning direction) and MuJoCo's at its
+    recorded steps in that revolution (empty arrays without a simulation)."""
+    r, s = d.run, d.sim
+    red = r.reduced
+    end = 2 * math.pi * r.revolutions
+    u = np.linspace(end - 2 * math.pi, end, n)
+    w = r.speed_at(u)
+    if s is None:
+        return u - u[0], w, np.empty(0), np.empty(0)
+    us = red.direction * (s.phi - red.q0)
+    last = us >= end - 2 * math.pi - 1e-9
+    return u - u[0], w, us[last] - u[0], red.direction * s.omega[last]
+
+
 def speed_vs_angle(d, ax=None):
     """Speed [rpm] against the input's advance over the last revolution [deg]; returns the Axes."""
     import matplotlib.pyplot as plt
     ax = ax or plt.gca()
     r, s = d.run, d.sim
-    red = r.reduced
-    end = 2 * math.pi * r.revolutions
-    u = np.linspace(end - 2 * math.pi, end, 721)
-    w = r.speed_at(u)
-    x = np.degrees(u - u[0])
+    u, w, us, ws = last_cycle(d)
+    x = np.degrees(u)
     ax.axhspan(r.w_min * RPM, r.w_max * RPM, color="tab:blue", alpha=0.12,
                label=f"Cs = {r.fluctuation:.4g}")
     ax.axhline(r.mean_speed * RPM, color="k", lw=0.8, ls="--", label=f"mean {r.mean_speed * RPM:.4g} rpm")
     ax.plot(x, w * RPM, color="tab:blue", lw=1.5, label="reduced equation")
     if s is not None:
-        us = red.direction * (s.phi - red.q0)
-        last = us >= end - 2 * math.pi - 1e-9
-        step = max(1, int(last.sum() // 90))
-        ax.plot(np.degrees(us[last][::step] - u[0]), red.direction * s.omega[last][::step] * RPM, ".",
-                color="tab:red", ms=3, label="MuJoCo")
+        step = max(1, len(us) // 90)
+        ax.plot(np.degrees(us[::step]), ws[::step] * RPM, ".", color="tab:red", ms=3, label="MuJoCo")
     ax.set_xlabel("input angle over the last revolution [deg]")
     ax.set_ylabel("speed [rpm]")
     ax.set_xlim(0, 360)
