@@ -554,13 +554,13 @@ def open_file(body: dict) -> dict:
     with tempfile.TemporaryDirectory(prefix="linkage-app-") as folder:
         path = Path(folder) / f"{stem}{suffix if re.fullmatch(r'[.][a-z0-9]{1,8}', suffix) else '.txt'}"
         path.write_text(text, encoding="utf-8")
-        kind = foreign.detect(path)
-        if kind is None:
-            return {"mechanism": service.load("<upload>", text=text).name, "text": text, "kind": "linkage/1"}
         try:
-            converted = foreign.dumps(foreign.read(path, kind=kind))
+            kind = foreign.detect(path)
+            converted = None if kind is None else foreign.dumps(foreign.read(path, kind=kind))
         except ParameterError as exc:        # the message names the temporary file: name the user's instead
             raise RequestError(400, str(exc).replace(str(path), base)) from None
+    if converted is None:
+        return {"mechanism": service.load("<upload>", text=text).name, "text": text, "kind": "linkage/1"}
     return {"mechanism": service.load("<upload>", text=converted).name, "text": converted, "kind": kind}
 
 
