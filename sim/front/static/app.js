@@ -731,8 +731,9 @@
       const v = Number(t);
       return Number.isFinite(v) && v >= 0 ? [v, ""] : [null, `cutting ${t} must be a force F >= 0 [N], e.g. 100`];
     }
-    const parts = t.split(",").map((x) => Number(x.trim()));
-    if (parts.length === 2 && parts.every((x) => x !== "" && Number.isFinite(x))) return [parts, ""];
+    const texts = t.split(",").map((x) => x.trim());
+    const parts = texts.map(Number);
+    if (parts.length === 2 && texts.every((x) => x !== "") && parts.every(Number.isFinite)) return [parts, ""];
     return [null, `${name} ${t} must be two numbers ${name === "gravity" ? "GX,GY [m/s²], e.g. 0,-9.81" : "FX,FY [N], e.g. 10,0"}`];
   }
 
@@ -1262,7 +1263,7 @@
       open.dataset.candidate = String(k);
       open.addEventListener("click", (e) => {
         e.stopPropagation();
-        addUploadOption(d.name, d.text);
+        addUploadOption(d.name, d.text, `synthesised #${k + 1}`);
         openMechanism(d.name, d.text);
       });
       td.appendChild(open);
@@ -1620,11 +1621,12 @@
     openMechanism(first.name, first.text ?? null);
   }
 
-  function addUploadOption(name, text) {
+  // an opened file (or a synthesised design) among the picker's mechanisms; `from` says where it came from
+  function addUploadOption(name, text, from = "file") {
     const select = $("#mechanism");
     const opt = document.createElement("option");
     opt.value = `upload:${select.options.length}`;
-    opt.textContent = `${name} (file)`;
+    opt.textContent = `${name} (${from})`;
     opt.dataset.name = name;
     opt.dataset.text = text;
     select.appendChild(opt);
@@ -1667,9 +1669,8 @@
       const res = await api("/api/open", { text: raw, filename: file.name });
       const { mechanism, text, kind } = await res.json();
       await api("/api/solve", { text, samples: 2, figures: false });     // it assembles, or say why here
-      addUploadOption(mechanism, text);
+      addUploadOption(mechanism, text, kind === "linkage/1" ? "file" : kind);
       openMechanism(mechanism, text);
-      if (kind !== "linkage/1") status(`${file.name}: opened the ${kind} as a linkage/1 mechanism`);
     } catch (err) {
       $("#file-error").textContent = `${file.name}: ${err.message}`;
       status(`${file.name}: ${err.message}`, true);
