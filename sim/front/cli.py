@@ -365,7 +365,8 @@ def _plot_dynamics(args) -> int:
         raise ParameterError(f"the {mech.name} has {len(mech.inputs)} inputs; the dynamics sheet drives one (for "
                              f"two motors run `linkage dynamics` with --motor per input)")
     d = motor_run(args, mech)
-    sheet(d, args.out)
+    from sim.output.units import shown_units
+    sheet(d, args.out, shown_units(args, mech))
     print(f"wrote {args.out}" + ("" if d.passed else " (MuJoCo disagrees with the reduced equation: see the title)"))
     return 0 if d.passed else 1
 

@@ -148,7 +148,7 @@ def cmd_dynamics(args) -> int:
             k: display.unit(QUANTITIES[k]) for k in cols}}, indent=2) + "\n")
     if args.plot:
         from sim.output.dynamics_plot import sheet
-        sheet(d, args.plot)
+        sheet(d, args.plot, shown_units(args, mech))
     if args.render:
         from sim.output.render import parse_size, render_motor
         stats = render_motor(d.built, d.sim, args.render, args.fps, parse_size(args.size),

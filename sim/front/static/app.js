@@ -913,7 +913,7 @@
     const table = $("#force-peaks");
     const sim = data.simulated;
     const head = ["", "joint", "kind", "links", "peak |F| [N]", `at ${data.input}`];
-    if (sim) head.push("MuJoCo − analytic [N]", "of the peak");
+    if (sim) head.push("MuJoCo − analytic", "of the peak");     // a drive's difference is in its own unit
     table.replaceChildren();
     const thead = document.createElement("thead");
     const hr = document.createElement("tr");
@@ -936,19 +936,20 @@
         angleText(pk[data.input])];
       if (sim) {
         const a = sim.agreement.joints[j.name] || {};
-        cells.push(fmt(a.max, 2), fmt(a.share, 2));
+        cells.push(`${fmt(a.max, 2)} N`, fmt(a.share, 2));
       }
       const tr = row(cells, forceColor(k));
       if (sim && (sim.agreement.joints[j.name] || {}).share > sim.agreement.tol) tr.className = "fail";
     });
     for (const [q, d] of Object.entries(data.peaks.drives)) {
-      const cells = [`drive ${q}`, "", "", `${fmt(d.value, 4)} ${(data.units.drives || {})[q] || ""}`, angleText(d[data.input])];
-      if (sim) { const a = sim.agreement.drives[q] || {}; cells.push(fmt(a.mujoco_max, 2), fmt(a.mujoco_share, 2)); }
+      const unit = (data.units.drives || {})[q] || "";
+      const cells = [`drive ${q}`, "", "", `${fmt(d.value, 4)} ${unit}`, angleText(d[data.input])];
+      if (sim) { const a = sim.agreement.drives[q] || {}; cells.push(`${fmt(a.mujoco_max, 2)} ${unit}`, fmt(a.mujoco_share, 2)); }
       row(cells, null);
     }
     const sh = data.peaks.shaking;
     const cells = ["shaking", "", "", `${fmt(sh.F, 4)} (RMS ${fmt(sh.F_rms, 4)})`, angleText(sh[data.input])];
-    if (sim) cells.push(fmt(sim.agreement.shaking.F_max, 2), fmt(sim.agreement.shaking.F_share, 2));
+    if (sim) cells.push(`${fmt(sim.agreement.shaking.F_max, 2)} N`, fmt(sim.agreement.shaking.F_share, 2));
     row(cells, null);
     table.appendChild(body);
   }
