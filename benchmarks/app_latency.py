@@ -4,9 +4,12 @@ Starts the server in-process on a free port, opens the page headless, and moves 
 N times (waiting each time for the redraw and the next animation frame), then prints the median and the
 90th percentile, with the request (server + transfer + JSON parse) and drawing shares of the median::
 
-    python benchmarks/app_latency.py [--mechanism fourbar] [--param l1] [--moves 30] [--screenshot PNG]
+    python benchmarks/app_latency.py [--mechanism fourbar] [--param l1] [--moves 30] [--panel forces]
+                                     [--gravity GX,GY] [--screenshot PNG]
 
-The target is 50 ms. ``--screenshot`` saves the page after a simulation (the README's picture).
+The target is 50 ms. ``--panel forces`` measures with the forces panel open: each move's joint forces are
+asked for beside its curves and the redraw waits for both (the timing says so). ``--screenshot`` saves the
+page after a simulation (the README's picture).
 """
 
 from __future__ import annotations
@@ -54,6 +57,15 @@ def values(lo: float, hi: float, n: int) -> list[float]:
     return [mid + amp * ((k % 10) / 5.0 - 1.0) for k in range(n)]
 
 
+def open_panel(page, panel: str, gravity: str | None) -> None:
+    """Open the right column's ``panel`` tab (and set the gravity load) and wait for its first answer."""
+    page.click(f"#tab-{panel}")
+    if panel == "forces":
+        if gravity:
+            page.fill("#gravity", gravity)
+        page.wait_for_function("window.linkageForces && window.linkageForces.joints")
+
+
 def measure(page, param: str, moves: int) -> tuple[list[float], list[dict]]:
     p = next(x for x in page.evaluate("window.linkageState.describe.parameters") if x["name"] == param)
     totals, parts = [], []
@@ -80,6 +92,9 @@ def main() -> int:
     ap.add_argument("--mechanism", default="fourbar")
     ap.add_argument("--param", default="l1")
     ap.add_argument("--moves", type=int, default=30)
+    ap.add_argument("--panel", choices=("curves", "forces"), default="curves",
+                    help="the right column's tab while measuring (forces: the joint forces redraw with each move)")
+    ap.add_argument("--gravity", metavar="GX,GY", default="0,-9.81", help="with --panel forces (default 0,-9.81)")
     ap.add_argument("--screenshot", metavar="PNG")
     args = ap.parse_args()
     from playwright.sync_api import sync_playwright
@@ -91,12 +106,18 @@ def main() -> int:
         page = browser.new_page(viewport={"width": 1440, "height": 900})
         page.goto(srv.url)
         settle(page, 0)
+        if args.panel != "curves":
+            open_panel(page, args.panel, args.gravity)
         measure(page, args.param, 3)         # warm-up: first requests, JIT of the page's code
         totals, parts = measure(page, args.param, args.moves)
         q = statistics.quantiles(totals, n=10)
         req = statistics.median(t["request_ms"] for t in parts)
         draw = statistics.median(t["draw_ms"] for t in parts)
-        print(f"{args.mechanism} {args.param}: slider-to-redraw over {args.moves} moves: median "
+        with_forces = sum(bool(t.get("forces")) for t in parts)
+        if args.panel == "forces" and with_forces < len(parts):
+            print(f"warning: only {with_forces} of {len(parts)} redraws carried the joint forces")
+        print(f"{args.mechanism} {args.param}{' (forces panel open)' if args.panel == 'forces' else ''}: "
+              f"slider-to-redraw over {args.moves} moves: median "
               f"{statistics.median(totals):.1f} ms, p90 {q[8]:.1f} ms (min {min(totals):.1f}, max {max(totals):.1f}); "
               f"median request {req:.1f} ms, drawing {draw:.1f} ms; target 50 ms")
         if args.screenshot:

@@ -195,3 +195,79 @@ def test_exports_download(page):
     with page.expect_download() as info:
         page.click('[data-export="json"]')
     assert json.loads(Path(info.value.path()).read_text())["mechanism"] == "fourbar"
+
+
+# ------------------------------------------------------------------------------------------ panels
+def forces_version(pg):
+    return pg.evaluate("window.linkageForces ? window.linkageForces.peaks.joints.A.F : null")
+
+
+def test_forces_panel_renders_and_follows_the_sliders_and_the_loads(page):
+    page.click("#tab-forces")
+    page.wait_for_function("window.linkageForces && window.linkageForces.joints.length === 4")
+    assert page.locator("#pane-forces").is_visible() and page.locator("#pane-curves").is_hidden()
+    assert page.locator("#force-charts .panel-chart").count() == 3           # joints, drives, shaking
+    assert page.locator("#force-peaks tbody tr").count() == 4 + 1 + 1          # joints, the drive, shaking
+    before = forces_version(page)
+    # a slider move redraws the curves and the forces together (one redraw, both answers)
+    page.evaluate(MOVE, ["l1", 0.12])
+    assert page.evaluate("window.linkageTiming.forces") is True
+    after = page.evaluate("window.linkageForces.peaks.joints.A.F")
+    # a 20 % longer crank changes the peak pin force by far more than rounding (1e-3 of it)
+    assert abs(after - before) > 1e-3 * before
+    # a load: the frame now also carries the weight
+    page.fill("#gravity", "0,-9.81")
+    page.wait_for_function("window.linkageForces.loads.gravity !== null")
+    assert "gravity 0,-9.81" in page.locator("#forces-status").inner_text()
+    page.fill("#gravity", "0,")
+    assert "must be two numbers" in page.locator('.loads .param[data-name="gravity"] .field-error').inner_text()
+    page.click("#forces-simulate")
+    page.locator("#forces-verdict.passed").wait_for()
+    assert page.evaluate("window.linkageForces.simulated.passed") is True
+    assert "MuJoCo" in page.locator("#force-peaks thead").inner_text()
+    # a change of value drops MuJoCo's answer
+    page.evaluate(MOVE, ["l1", 0.11])
+    page.wait_for_function("window.linkageForces.simulated === null")
+    assert page.locator("#forces-verdict").is_hidden()
+
+
+def test_dynamics_panel_runs_both_answers_and_sizes_the_flywheel(page):
+    page.click("#tab-dynamics")
+    page.fill("#dyn-revolutions", "4")
+    page.click("#dynamics-run")
+    page.wait_for_function("window.linkageDynamics && window.linkageDynamics.simulated")
+    assert page.locator("#dynamics-verdict.passed").is_visible()
+    assert page.locator("#dynamics-charts .panel-chart").count() == 3         # cycle, start-up, torque
+    d = page.evaluate("window.linkageDynamics")
+    # the default 150 rpm, converted to rad/s by the page: only rounding (approx's 1e-6 relative)
+    assert d["revolutions"] == 4 and d["motor"]["W0"] == pytest.approx(150 * 3.141592653589793 / 30)
+    assert "mean speed [rpm]" in page.locator("#dynamics-table").inner_text()
+    # size the flywheel for Cs = 0.1, reduced equation only: the flywheel box takes the answer
+    page.uncheck("#dynamics-mujoco")
+    page.fill("#dyn-target", "0.1")
+    page.click("#dynamics-size")
+    page.wait_for_function("window.linkageDynamics && window.linkageDynamics.sizing")
+    sized = page.evaluate("window.linkageDynamics")
+    assert sized["simulated"] is None and sized["sizing"]["passed"] is True
+    assert float(page.input_value("#dyn-flywheel")) == pytest.approx(sized["flywheel"], rel=1e-5)  # 6 digits
+    # a refused run is said beside the buttons, in one line
+    page.fill("#dyn-revolutions", "500")
+    page.click("#dynamics-run")
+    page.locator("#dynamics-status.bad").wait_for()
+    assert "revolutions=500" in page.locator("#dynamics-status").inner_text()
+    # another value: the answer is dropped
+    page.evaluate(MOVE, ["l1", 0.11])
+    assert page.evaluate("window.linkageDynamics") is None
+
+
+def test_open_a_gear_train_and_a_pyslvs_project(page, tmp_path):
+    kinds = Path(__file__).parent / "kinds"
+    r0 = revision(page)
+    page.set_input_files("#file", str(kinds / "gear.toml"))
+    settle(page, r0)
+    page.wait_for_function("window.linkageState.describe.wheels.length === 2")
+    r0 = revision(page)
+    page.set_input_files("#file", str(Path(__file__).parent / "peers_examples" / "fourbar.pyslvs"))
+    settle(page, r0)
+    page.wait_for_function("window.linkageState.mechanism === 'fourbar' && window.linkageState.describe.wheels.length === 0")
+    assert page.locator("#mechanism option:checked").inner_text() == "fourbar (Pyslvs project)"

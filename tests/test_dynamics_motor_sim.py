@@ -168,6 +168,34 @@ def test_cli_plot_sheet(tmp_path, capsys):
     assert not list(tmp_path.glob(".dyn.*"))    # no temporary file left behind
 
 
+def test_the_sheet_speaks_the_display_units(shaper):
+    """The dynamics sheet's speeds follow --speeds/--angles: rad/s by default, rpm on request (60 rpm per turn a
+    second: 60 / (2 pi) rpm per rad/s, by hand), the same curve; the angle axis in rad or deg."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from analytic.quantities import Display
+    from sim.output import dynamics_plot as dp
+    fig, (a_si, a_rpm, a_up) = plt.subplots(3, 1)
+    try:
+        dp.speed_vs_angle(shaper, a_si, Display())
+        dp.speed_vs_angle(shaper, a_rpm, Display(angle="deg", speed="rpm"))
+        dp.startup(shaper, a_up, Display(speed="rpm"))
+        assert a_si.get_ylabel() == "speed [rad/s]" and a_rpm.get_ylabel() == "speed [rpm]"
+        assert a_si.get_xlabel().endswith("[rad]") and a_rpm.get_xlabel().endswith("[deg]")
+        assert a_up.get_ylabel() == "speed [rpm]"
+        curve = {ax: next(ln for ln in ax.lines if ln.get_label() == "reduced equation") for ax in (a_si, a_rpm)}
+        x_si, w_si = curve[a_si].get_data()
+        x_rpm, w_rpm = curve[a_rpm].get_data()
+        # unit conversion of the same samples: rounding only
+        np.testing.assert_allclose(w_rpm, np.asarray(w_si) * 60 / (2 * math.pi), rtol=1e-12)
+        np.testing.assert_allclose(x_rpm, np.asarray(x_si) * 180 / math.pi, rtol=1e-12, atol=1e-9)
+        # the steady speed is in the run's own units: the mean of the last turn lies inside the plotted curve
+        assert np.min(w_si) < shaper.run.mean_speed < np.max(w_si)
+    finally:
+        plt.close(fig)
+
+
 def test_two_motors_on_the_fivebar_both_answers(capsys):
     rc = main(["dynamics", "fivebar", "--motor", "phi2=1,20", "--motor", "phi4=0.8,15", "--flywheel", "phi2=0.001",
                "--gravity", "0,-9.81", "--revolutions", "3", "--json"])

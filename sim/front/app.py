@@ -54,6 +54,24 @@ MAX_RENDER_FRAMES = 900
 OVERLAY_POINTS = 1000
 """Simulated samples sent back per series: enough for markers and error curves, small for the page."""
 MAX_ERROR_CHARS = 1000
+MAX_LOAD = 1e9
+"""[N, m/s^2] The largest gravity or force component accepted (sim.model.Loads' own bound)."""
+MAX_DYNAMICS_REVOLUTIONS = 50.0
+"""Revolutions of a motor run from the page: the last is the one measured, the first ones the start-up."""
+MAX_DYNAMICS_STEPS = 200_000
+"""MuJoCo steps of one motor run from the page (~40 s at the ~5000 steps/s of a six-bar on this machine);
+the reduced equation's run gives the duration and the step before any is taken."""
+MAX_MOTOR = 1e6
+"""[N m, rad/s] The largest stall torque, no-load speed or start speed accepted."""
+MAX_FLYWHEEL = 1e6
+"""[kg m^2] The largest flywheel accepted."""
+MAX_SYNTH_BUDGET = 120.0
+"""[s] The longest synthesis search the page may ask for (the issue's per-case bound)."""
+MAX_TARGETS = 500
+"""Target points of one synthesis request."""
+DYNAMICS_POINTS = 1500
+"""Samples sent back per time series of a motor run; the last revolution is sent at CYCLE_POINTS angles."""
+CYCLE_POINTS = 361
 
 STATIC = Path(__file__).parent / "static"
 FILES = {
@@ -78,11 +96,17 @@ SECURITY_HEADERS = {
     "Cache-Control": "no-store",
 }
 
+LOAD_FIELDS = {"gravity", "force", "cutting"}
 FIELDS = {
     "solve": {"mechanism", "text", "set", "samples", "revolutions", "input_range", "outputs", "figures", "digits"},
     "simulate": {"mechanism", "text", "set", "revolutions", "input_range", "outputs"},
     "render": {"mechanism", "text", "set", "revolutions", "input_range", "size", "fps"},
     "export": {"mechanism", "text", "set", "samples", "revolutions", "input_range"},
+    "forces": {"mechanism", "text", "set", "samples", "revolutions", "input_range", "digits", "simulate",
+               *LOAD_FIELDS},
+    "dynamics": {"mechanism", "text", "set", "motor", "flywheel", "target_fluctuation", "start_speed",
+                 "revolutions", "simulate", *LOAD_FIELDS},
+    "open": {"text", "filename"},
 }
 """The fields each POST accepts; any other is refused, so a misspelt field is never silently ignored."""
 
@@ -285,6 +309,8 @@ def describe(mech: Mechanism) -> dict:
         base = "rad" if i.kind == "crank" else mech.units
         _, speed, accel = i.parameters
         rates.update({name: unit for name, unit in ((speed, f"{base}/s"), (accel, f"{base}/s^2")) if name})
+    from sim.output.drawing import wheels_of
+    d["wheels"] = [dataclasses.asdict(w) for w in wheels_of(mech)]      # gears, drawn as the videos draw them
     size = mech.size / mech.scale                   # [file units]
     for p in d["parameters"]:
         p["unit"] = rates.get(p["name"], p["unit"])
@@ -340,6 +366,204 @@ def render_video(body: dict) -> bytes:
         return out.read_bytes()
 
 
+def synthesis_types() -> tuple[str, ...]:
+    """The linkage types path synthesis offers."""
+    return ("fourbar",)
+
+
+def flag(body: dict, key: str, default: bool) -> bool:
+    v = body.get(key, default)
+    if not isinstance(v, bool):
+        raise RequestError(400, f"{key} must be true or false (got {_short(v)})")
+    return v
+
+
+def pair_of(body: dict, key: str, example: str) -> tuple[float, float] | None:
+    """A field holding two finite numbers [x, y] (None or absent: not given)."""
+    v = body.get(key)
+    if v is None:
+        return None
+    ok = (isinstance(v, list) and len(v) == 2
+          and all(isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x) and abs(x) <= MAX_LOAD
+                  for x in v))
+    if not ok:
+        raise RequestError(400, f"{key} {_short(v)} must be two numbers [x, y] of magnitude <= {MAX_LOAD:g}, "
+                                f"e.g. {example}")
+    return float(v[0]), float(v[1])
+
+
+def loads_of(body: dict, mech: Mechanism):
+    """The loads of a request (:class:`sim.model.Loads`): ``gravity`` [gx, gy] m/s^2, ``force`` [Fx, Fy] N on
+    the output point, or ``cutting`` F >= 0 N resisting its slow stroke along x (as ``--cutting-force``)."""
+    from sim.model import Loads
+    gravity = pair_of(body, "gravity", "[0, -9.81]")
+    force = pair_of(body, "force", "[10, 0]") or (0.0, 0.0)
+    cutting = body.get("cutting")
+    if cutting is None:
+        return Loads(gravity=gravity, force=force)
+    cutting = float(number(body, "cutting", 0.0, 0.0, MAX_LOAD))
+    if force != (0.0, 0.0):
+        raise RequestError(400, "give either force or cutting (a force on the slow stroke), not both")
+    from sim.front.cli import cutting_direction
+    return Loads(gravity=gravity, force=(cutting_direction(mech) * cutting, 0.0), slow_stroke_only=True)
+
+
+def force_series(rec: dict, digits: int | None) -> dict:
+    """What the forces panel draws from a :func:`service.forces_record` (SI): the first input's values, each
+    joint's |F| [N] (a prismatic pair's couple M [N m] too), each drive [N m or N], the shaking force's
+    magnitude [N] and moment [N m]."""
+    n = len(rec["t"])
+    first = next(iter(rec["inputs"]))
+    joints = []
+    for j in rec["joints"]:
+        entry = {"name": j["name"], "point": j["point"], "kind": j["kind"], "links": j["links"],
+                 "F": series(np.hypot(j["Fx"], j["Fy"]), n, digits)}
+        if "M" in j:
+            entry["M"] = series(j["M"], n, digits)
+        if "input" in j:
+            entry["input"] = j["input"]
+        joints.append(entry)
+    sh = rec["shaking"]
+    return {"input": first, "inputs": {q: series(v, n, digits) for q, v in rec["inputs"].items()},
+            "joints": joints, "drives": {q: series(v, n, digits) for q, v in rec["drives"].items()},
+            "shaking": {"F": series(np.hypot(sh["Fx"], sh["Fy"]), n, digits), "M": series(sh["M"], n, digits)}}
+
+
+def forces(body: dict) -> dict:
+    """The forces panel: every joint's force, the drives and the shaking force along the analysed run under
+    the request's loads (:func:`service.forces_run`); with ``simulate`` MuJoCo's forces and their agreement
+    (:func:`service.simulated_forces`)."""
+    check_fields(body, "forces")
+    simulate_too = flag(body, "simulate", False)
+    digits = int(number(body, "digits", 15, 3, 15, integer=True)) if "digits" in body else None
+    mech = mechanism_of(body)
+    samples, revolutions, rng = run_options(body, mech)
+    loads = loads_of(body, mech)
+    run = service.forces_run(mech, samples, revolutions, rng, loads.gravity, loads.force, loads.slow_stroke_only)
+    rec = service.forces_record(run)
+    out = {"mechanism": mech.name, "samples": samples, "revolutions": revolutions,
+           **force_series(rec, digits), "peaks": clean(rec["peaks"]), "loads": clean(rec["loads"]),
+           "units": clean(rec["units"]), "simulated": None}
+    if simulate_too:
+        sim = service.simulated_forces(run, loads=loads)
+        out["simulated"] = {**force_series(sim, None), "agreement": clean(sim["agreement"]),
+                            "passed": bool(sim["passed"]), "timestep": sim["timestep"], "steps": sim["steps"]}
+    return out
+
+
+def motor_of(body: dict):
+    """The request's linear motor: ``motor`` = {"T0": stall torque N m, "W0": no-load speed rad/s}."""
+    from analytic.applications.motor import LinearMotor
+    m = body.get("motor")
+    if not isinstance(m, dict) or set(m) != {"T0", "W0"}:
+        raise RequestError(400, "motor must be {\"T0\": stall torque [N m], \"W0\": no-load speed [rad/s]}, e.g. "
+                                "{\"T0\": 2, \"W0\": 15.7}")
+    for key, what in (("T0", "stall torque [N m]"), ("W0", "no-load speed [rad/s]")):
+        v = m[key]
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not (math.isfinite(v) and 0 < v <= MAX_MOTOR):
+            raise RequestError(400, f"motor.{key}={_short(v)}: the {what} must be a number in (0, {MAX_MOTOR:g}]")
+    return LinearMotor(float(m["T0"]), float(m["W0"]))
+
+
+def dynamics(body: dict) -> dict:
+    """The dynamics panel: the linkage driven by a motor (:func:`sim.run.motor.dynamics`), the reduced
+    equation's answer and, with ``simulate`` (default), MuJoCo's and the verdict; with ``target_fluctuation``
+    the flywheel sized for that Cs. The MuJoCo run is refused before it starts when it would take more than
+    MAX_DYNAMICS_STEPS steps (the reduced equation's run gives its duration)."""
+    from sim.run import motor as smotor
+    check_fields(body, "dynamics")
+    mech = mechanism_of(body)
+    if len(mech.inputs) != 1:
+        raise RequestError(400, f"the {mech.name} has {len(mech.inputs)} inputs; the dynamics panel drives one "
+                                f"(run `linkage dynamics` with --motor per input)")
+    motor = motor_of(body)
+    revolutions = float(number(body, "revolutions", 10.0, 1.0, MAX_DYNAMICS_REVOLUTIONS))
+    start = float(number(body, "start_speed", 0.0, 0.0, MAX_MOTOR))
+    target = body.get("target_fluctuation")
+    if target is not None:
+        target = float(number(body, "target_fluctuation", 0.05, 0.0, 1.0))
+        if not 0 < target < 1:
+            raise RequestError(400, f"target_fluctuation={target:g} must be in (0, 1), e.g. 0.05")
+        if body.get("flywheel") not in (None, 0, 0.0):
+            raise RequestError(400, "give flywheel or target_fluctuation (which sizes the flywheel), not both")
+    flywheel = None if target is not None else float(number(body, "flywheel", 0.0, 0.0, MAX_FLYWHEEL))
+    simulate_too = flag(body, "simulate", True)
+    loads = loads_of(body, mech)
+    d = smotor.dynamics(mech, loads, motor, flywheel, target, start, revolutions, simulate_too=False)
+    if simulate_too:
+        h = smotor.timestep_for(mech, d.run.reduced, motor, float(np.max(np.abs(d.run.omega))))
+        steps = float(d.run.t[-1]) / h
+        if steps > MAX_DYNAMICS_STEPS:
+            raise RequestError(400, f"MuJoCo would take about {steps:,.0f} steps of {h:.3g} s for this run (at most "
+                                    f"{MAX_DYNAMICS_STEPS:,}): lower the revolutions, or run `linkage dynamics` "
+                                    f"on the command line")
+        d = smotor.simulated(d, loads, start)
+    return dynamics_view(d)
+
+
+def dynamics_view(d) -> dict:
+    """What the dynamics panel shows of a :class:`sim.run.motor.Dynamics` (SI): the design answers, the run
+    against time (at most DYNAMICS_POINTS samples), the last revolution's speed against the input's advance
+    [rad from its start], MuJoCo's the same and the verdict."""
+    from sim.output.dynamics_plot import last_cycle
+    from sim.run import motor as smotor
+    rec = smotor.record(d)
+    r = d.run
+    u, w, us, ws = last_cycle(d, CYCLE_POINTS)
+
+    def thin(*arrays):
+        k = max(1, math.ceil(len(arrays[0]) / DYNAMICS_POINTS))
+        return [series(a[::k]) for a in arrays]
+
+    t, omega, torque = thin(r.t, r.omega, r.torque)
+    keys = ("mechanism", "input", "motor", "flywheel", "mean_speed", "fluctuation", "startup_time", "peak_torque",
+            "peak_power", "energy_per_cycle", "revolutions", "units", "sizing", "passed")
+    out = {k: clean(rec[k]) for k in keys if k in rec}
+    out.update({"w_min": r.w_min, "w_max": r.w_max, "run": {"t": t, "omega": omega, "torque": torque},
+                "cycle": {"advance": series(u), "omega": series(w)}, "simulated": None})
+    if d.sim is not None:
+        s = d.sim
+        t, omega, torque = thin(s.t, s.omega, s.torque)
+        k = max(1, math.ceil(len(us) / CYCLE_POINTS))
+        out["simulated"] = {"t": t, "omega": omega, "torque": torque,
+                            "cycle": {"advance": series(us[::k]), "omega": series(ws[::k])},
+                            **{key: clean(rec["simulated"][key]) for key in (
+                                "mean_speed", "fluctuation", "startup_time", "timestep", "loop_violation",
+                                "agreement", "passed")},
+                            "steps": len(s.t)}
+    return out
+
+
+def open_file(body: dict) -> dict:
+    """A file the user opened on the page: a ``linkage/1`` file's text as it is, or a Pyslvs project or
+    expression or a PMKS text file (told apart as ``linkage import`` does, by the file name's extension and
+    the content) converted to ``linkage/1`` text. The text goes into a private temporary folder under a name
+    made here (only the extension and a cleaned stem come from the request)."""
+    from analytic.format import foreign
+    check_fields(body, "open")
+    text, filename = body.get("text"), body.get("filename", "mechanism.toml")
+    if not isinstance(text, str):
+        raise RequestError(400, "text must be the file's contents as a string")
+    if not isinstance(filename, str) or not filename:
+        raise RequestError(400, "filename must be the opened file's name, e.g. \"crank.pyslvs\"")
+    base = Path(filename.replace("\\", "/")).name
+    suffix = Path(base).suffix.lower()
+    stem = re.sub(r"[^A-Za-z0-9_-]", "_", Path(base).stem)[:64] or "mechanism"
+    if suffix in (".toml", ".json"):
+        return {"mechanism": service.load("<upload>", text=text).name, "text": text, "kind": "linkage/1"}
+    with tempfile.TemporaryDirectory(prefix="linkage-app-") as folder:
+        path = Path(folder) / f"{stem}{suffix if re.fullmatch(r'[.][a-z0-9]{1,8}', suffix) else '.txt'}"
+        path.write_text(text, encoding="utf-8")
+        try:
+            kind = foreign.detect(path)
+            converted = None if kind is None else foreign.dumps(foreign.read(path, kind=kind))
+        except ParameterError as exc:        # the message names the temporary file: name the user's instead
+            raise RequestError(400, str(exc).replace(str(path), base)) from None
+    if converted is None:
+        return {"mechanism": service.load("<upload>", text=text).name, "text": text, "kind": "linkage/1"}
+    return {"mechanism": service.load("<upload>", text=converted).name, "text": converted, "kind": kind}
+
+
 def export(kind: str, body: dict) -> tuple[bytes, str, str]:
     """A download: (bytes, content type, file name) of the CSV, JSON, mechanism file or MJCF."""
     check_fields(body, "export")
@@ -390,7 +614,9 @@ def parameter_row(p: dict) -> str:
 
 def mechanisms(initial: dict) -> dict:
     listing = service.list_mechanisms()
-    return {"names": [m["name"] for m in listing], "mechanisms": listing, "initial": initial}
+    return {"names": [m["name"] for m in listing], "mechanisms": listing, "initial": initial,
+            "synthesis": {"types": list(synthesis_types()), "max_budget": MAX_SYNTH_BUDGET,
+                          "max_targets": MAX_TARGETS}}
 
 
 # ------------------------------------------------------------------------------------------- HTTP
@@ -453,7 +679,7 @@ class AppServer(ThreadingHTTPServer):
 
 class Handler(BaseHTTPRequestHandler):
     """Routes: GET / and the static files, GET /api/mechanisms; POST /api/solve, /api/simulate,
-    /api/render, /api/export/{csv,json,toml,mjcf}, /api/exit."""
+    /api/render, /api/forces, /api/dynamics, /api/open, /api/export/{csv,json,toml,mjcf}, /api/exit."""
 
     server: AppServer
     server_version = "linkage-app"
@@ -520,7 +746,7 @@ class Handler(BaseHTTPRequestHandler):
         if path not in POSTS:
             raise RequestError(405 if path in FILES or path == "/api/mechanisms" else 404,
                                f"{path}: no such action (POST to /api/solve, /api/simulate, /api/render, "
-                               f"/api/export/KIND or /api/exit)")
+                               f"/api/forces, /api/dynamics, /api/open, /api/export/KIND or /api/exit)")
         body = self._body()
         if path == "/api/exit":
             self.stopping = True
@@ -531,6 +757,8 @@ class Handler(BaseHTTPRequestHandler):
             return 200, _json_bytes(simulate(body)), "application/json", {}
         if path == "/api/render":
             return 200, render_video(body), "video/mp4", {}
+        if path in ACTIONS:
+            return 200, _json_bytes(ACTIONS[path](body)), "application/json", {}
         data, ctype, filename = export(path.rsplit("/", 1)[1], body)
         return 200, data, ctype, {"Content-Disposition": f'attachment; filename="{filename}"'}
 
@@ -575,7 +803,9 @@ class Handler(BaseHTTPRequestHandler):
             self.wfile.write(data)
 
 
-POSTS = {"/api/solve", "/api/simulate", "/api/render", "/api/exit",
+ACTIONS = {"/api/forces": forces, "/api/dynamics": dynamics, "/api/open": open_file}
+"""The panels' JSON actions (forces, dynamics, opening a file), by path."""
+POSTS = {"/api/solve", "/api/simulate", "/api/render", "/api/exit", *ACTIONS,
          *(f"/api/export/{k}" for k in ("csv", "json", "toml", "mjcf"))}
 
 

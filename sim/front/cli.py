@@ -327,6 +327,14 @@ def cmd_render(args) -> int:
 
 def cmd_plot(args) -> int:
     from sim.output.plot import PLOT_SUFFIXES, sheet
+    motor = bool(args.motor or args.motor_table)
+    if args.revolutions is None:                  # a motor run measures its last revolution: start-up first
+        args.revolutions = 10.0 if motor else 1.0
+    if motor:
+        return _plot_dynamics(args)
+    for name in ("flywheel", "start_speed", "target_fluctuation"):
+        if getattr(args, name) not in (None, [], "0"):
+            raise ParameterError(f"--{name.replace('_', '-')} belongs to a motor-driven run: give --motor T0,W0 too")
     check_outputs(args, {"out": PLOT_SUFFIXES})
     mech = mechanism_from(args)
     built, c = service.compare(mech, args.revolutions, settings_from(args), loads_from(args, mech),
@@ -339,6 +347,28 @@ def cmd_plot(args) -> int:
         sheet(c, built, args.out, shown_units(args, built.mech))
     print(f"wrote {args.out}")
     return 0
+
+
+def _plot_dynamics(args) -> int:
+    """``linkage plot MECH --motor T0,W0``: the dynamics sheet (sim.output.dynamics_plot) of the motor-driven
+    run, as ``linkage dynamics --plot`` draws it."""
+    from sim.front.dynamics_cmd import check_motor_args, motor_run
+    from sim.output.dynamics_plot import sheet
+    from sim.output.plot import PLOT_SUFFIXES
+    if args.forces:
+        raise ParameterError("--forces and --motor are two sheets: give one (the force sheet follows the "
+                             "prescribed motion, the dynamics sheet the motor's)")
+    check_motor_args(args)
+    check_outputs(args, {"out": PLOT_SUFFIXES})
+    mech = mechanism_from(args)
+    if len(mech.inputs) != 1:
+        raise ParameterError(f"the {mech.name} has {len(mech.inputs)} inputs; the dynamics sheet drives one (for "
+                             f"two motors run `linkage dynamics` with --motor per input)")
+    d = motor_run(args, mech)
+    from sim.output.units import shown_units
+    sheet(d, args.out, shown_units(args, mech))
+    print(f"wrote {args.out}" + ("" if d.passed else " (MuJoCo disagrees with the reduced equation: see the title)"))
+    return 0 if d.passed else 1
 
 
 def cmd_export(args) -> int:
@@ -503,10 +533,18 @@ def make_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("plot", help="analysis sheet: simulated samples over analytic curves, with errors")
     add_common(p)
+    p.set_defaults(revolutions=None)
+    next(a for a in p._actions if a.dest == "revolutions").help = (
+        "revolutions of the first input (default 1; with --motor 10, the last one measured)")
     add_sim_options(p)
     p.add_argument("--out", required=True, metavar="PATH", help="image file: .png, .svg or .pdf")
     p.add_argument("--forces", action="store_true",
                    help="the force sheet instead: bearing loads (polar), joint forces, drives, shaking force")
+    from sim.front.dynamics_cmd import add_motor_options
+    add_motor_options(p, two=False)
+    p.epilog = ("--motor T0,W0 (or --motor-table) draws the dynamics sheet instead: the motor drives the input; "
+                "speed against angle over the last revolution with its mean and Cs band, start-up against time, "
+                "motor torque, the reduced equation with MuJoCo's steps over it (as linkage dynamics --plot)")
     add_unit_options(p)
     p.set_defaults(func=cmd_plot)
 

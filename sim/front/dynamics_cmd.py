@@ -8,6 +8,7 @@ import math
 
 from analytic import ParameterError
 from analytic.format import expr
+from analytic import quantities as Q
 from analytic.applications import motor as amotor
 
 RPM = 2 * math.pi / 60
@@ -58,44 +59,43 @@ def read_table(path: str) -> amotor.TableMotor:
     return amotor.TableMotor(tuple(w), tuple(tau), source=f"--motor-table {path}")
 
 
+def add_motor_options(p, two: bool = True) -> None:
+    """The motor, flywheel and start of a motor-driven run (``linkage dynamics``; ``linkage plot --motor``)."""
+    p.add_argument("--motor", metavar="[NAME=]T0,W0" if two else "T0,W0", action="append", default=[],
+                   help="linear motor: stall torque [N m], no-load speed [rad/s, or rpm suffix], e.g. 2,150rpm"
+                        + ("; a two-crank five-bar takes one per input: --motor phi2=2,150rpm --motor phi4=..."
+                           if two else ""))
+    p.add_argument("--motor-table", metavar="PATH.csv", help="torque-speed table: header omega,tau (or rpm,tau)")
+    p.add_argument("--flywheel", metavar="[NAME=]J" if two else "J", action="append", default=[],
+                   help="flywheel on the input link [kg m^2] (default 0)" + ("; per input for two motors" if two else ""))
+    p.add_argument("--target-fluctuation", metavar="CS", help="size the flywheel for this Cs, in (0, 1)")
+    p.add_argument("--start-speed", metavar="W", default="0", help="input speed at t = 0 [rad/s or rpm] (default 0)")
+
+
 def register(sub, add_common, add_sim_options, add_video_options) -> None:
+    from sim.output.units import add_unit_options
     p = sub.add_parser("dynamics", help="a motor drives the linkage: speed fluctuation, start-up, flywheel")
     add_common(p, revolutions=10.0)
     add_sim_options(p)
-    p.add_argument("--motor", metavar="[NAME=]T0,W0", action="append", default=[],
-                   help="linear motor: stall torque [N m], no-load speed [rad/s, or rpm suffix], e.g. 2,150rpm; "
-                        "a two-crank five-bar takes one per input: --motor phi2=2,150rpm --motor phi4=...")
-    p.add_argument("--motor-table", metavar="PATH.csv", help="torque-speed table: header omega,tau (or rpm,tau)")
-    p.add_argument("--flywheel", metavar="[NAME=]J", action="append", default=[],
-                   help="flywheel on the input link [kg m^2] (default 0); per input for two motors")
-    p.add_argument("--target-fluctuation", metavar="CS", help="size the flywheel for this Cs, in (0, 1)")
-    p.add_argument("--start-speed", metavar="W", default="0", help="input speed at t = 0 [rad/s or rpm] (default 0)")
-    p.add_argument("--json", action="store_true", help="print one JSON object")
+    add_motor_options(p)
+    p.add_argument("--json", action="store_true", help="print one JSON object (SI unless --units/--angles/--speeds)")
     p.add_argument("--csv", metavar="PATH", help="write the analytic run (t, phi, omega, torque) as CSV")
     p.add_argument("--plot", metavar="PATH", help="dynamics sheet: .png, .svg or .pdf")
+    p.add_argument("--render", "--out", dest="render", metavar="PATH",
+                   help="video of MuJoCo's motor-driven run (.mp4 or .gif), the input's speed in the corner")
+    add_video_options(p, out_required=False)
+    add_unit_options(p)
     p.set_defaults(func=cmd_dynamics)
 
 
-def cmd_dynamics(args) -> int:
+def motor_run(args, mech, check=True):
+    """The one-input motor run the command line asks for (:func:`sim.run.motor.dynamics`): the motor, flywheel
+    or target fluctuation and start speed of ``args`` (:func:`add_motor_options`) and the loads of the
+    simulation options."""
     from sim.run import motor as smotor
-    from sim.front.cli import check_outputs, loads_from, mechanism_from, settings_from
-    from sim.output.io import write_csv, write_text
-    from sim.output.jsonout import dumps
-    if bool(args.motor) == bool(args.motor_table):
-        raise ParameterError("give the motor: --motor T0,W0 or --motor-table PATH.csv (one of them)")
-    if args.input_range:
-        raise ParameterError("--input-range does not apply to `linkage dynamics`: the motor turns the crank "
-                             "through whole revolutions; leave it out")
-    check_outputs(args, {"csv": (".csv",), "plot": (".png", ".svg", ".pdf")})
-    if args.motor_table and args.csv and args.motor_table == args.csv:
-        raise ParameterError(f"--csv {args.csv} is the motor table; choose another output name")
+    from sim.front.cli import loads_from, settings_from
     target = (expr.parse_value("--target-fluctuation", args.target_fluctuation, angle=False)
               if args.target_fluctuation is not None else None)
-    mech = mechanism_from(args)
-    if len(mech.inputs) == 2:
-        return _two_motors(args, mech, target)
-    if len(mech.inputs) != 1:
-        raise ParameterError(f"the {mech.name} has {len(mech.inputs)} inputs; `linkage dynamics` drives one or two")
     if len(args.motor) > 1 or len(args.flywheel) > 1:
         raise ParameterError(f"the {mech.name} has one input: give one --motor and at most one --flywheel")
     mot = _named(args.motor[0], mech, "--motor")[1] if args.motor else read_table(args.motor_table)
@@ -106,21 +106,81 @@ def cmd_dynamics(args) -> int:
         if not flywheel >= 0:
             raise ParameterError(f"--flywheel {flywheel:g} must be >= 0 [kg m^2] (the flywheel's moment of inertia)")
     start = parse_speed("--start-speed", args.start_speed)
-    d = smotor.dynamics(mech, loads_from(args, mech), mot, flywheel, target, start, args.revolutions,
-                        settings_from(args))
+    return smotor.dynamics(mech, loads_from(args, mech), mot, flywheel, target, start, args.revolutions,
+                           settings_from(args))
+
+
+def check_motor_args(args) -> None:
+    """What must hold before any work: one motor given, no input range (whole revolutions)."""
+    if bool(args.motor) == bool(args.motor_table):
+        raise ParameterError("give the motor: --motor T0,W0 or --motor-table PATH.csv (one of them)")
+    if args.input_range:
+        raise ParameterError("--input-range does not apply to a motor-driven run: the motor turns the crank "
+                             "through whole revolutions; leave it out")
+
+
+def cmd_dynamics(args) -> int:
+    from sim.run import motor as smotor
+    from sim.front.cli import check_outputs, mechanism_from
+    from sim.output.io import write_csv, write_text
+    from sim.output.jsonout import dumps
+    from sim.output.units import machine_units, shown_units
+    check_motor_args(args)
+    check_outputs(args, {"csv": (".csv",), "plot": (".png", ".svg", ".pdf")})
+    if args.render:
+        from sim.output.render import check_video_args
+        check_video_args(args.render, args.fps, args.size)
+    if args.motor_table and args.csv and args.motor_table == args.csv:
+        raise ParameterError(f"--csv {args.csv} is the motor table; choose another output name")
+    mech = mechanism_from(args)
+    display = machine_units(args)
+    if len(mech.inputs) == 2:
+        target = args.target_fluctuation
+        return _two_motors(args, mech, target, display)
+    if len(mech.inputs) != 1:
+        raise ParameterError(f"the {mech.name} has {len(mech.inputs)} inputs; `linkage dynamics` drives one or two")
+    d = motor_run(args, mech)
     if args.csv:
-        write_csv(args.csv, {"t": d.run.t, "phi": d.run.phi, "omega": d.run.omega, "torque": d.run.torque})
+        cols = {"t": d.run.t, "phi": d.run.phi, "omega": d.run.omega, "torque": d.run.torque}
+        write_csv(args.csv, {k: display.convert(QUANTITIES[k], v) for k, v in cols.items()})
         import json
-        write_text(f"{args.csv}.units.json", json.dumps({"mechanism": mech.name, "units": {
-            "t": "s", "phi": "rad", "omega": "rad/s", "torque": "N m"}}, indent=2) + "\n")
+        write_text(f"{args.csv}.units.json", json.dumps({"mechanism": mech.name, "si": display.is_si, "units": {
+            k: display.unit(QUANTITIES[k]) for k in cols}}, indent=2) + "\n")
     if args.plot:
         from sim.output.dynamics_plot import sheet
-        sheet(d, args.plot)
+        sheet(d, args.plot, shown_units(args, mech))
+    if args.render:
+        from sim.output.render import parse_size, render_motor
+        stats = render_motor(d.built, d.sim, args.render, args.fps, parse_size(args.size),
+                             display=shown_units(args, mech))
+        if not args.json:
+            print(f"wrote {stats.path}: {stats.frames} frames at {stats.stored_fps:g} fps")
     if args.json:
-        print(dumps(smotor.record(d)))
+        print(dumps(in_units(smotor.record(d), display)))
     else:
         print(summary(d))
     return 0 if d.passed else 1
+
+
+QUANTITIES = {"t": Q.TIME, "phi": Q.ANGLE, "omega": Q.ANGULAR_VELOCITY, "torque": Q.TORQUE}
+"""The quantity (:mod:`analytic.quantities`) of each CSV column."""
+
+
+def in_units(record: dict, display) -> dict:
+    """A :func:`sim.run.motor.record` (SI) with its angles and speeds in ``display`` units (``--angles``,
+    ``--speeds``; forces, torques and times stay SI), its ``units`` table saying which."""
+    if display.is_si:
+        return record
+    names = {"phi": Q.ANGLE, "omega": Q.ANGULAR_VELOCITY, "mean_speed": Q.ANGULAR_VELOCITY}
+    out = {k: (display.convert(names[k], v) if k in names else v) for k, v in record.items()}
+    if isinstance(record.get("simulated"), dict):
+        out["simulated"] = {k: (display.convert(names[k], v) if k in names else v)
+                            for k, v in record["simulated"].items()}
+    if isinstance(record.get("units"), dict):
+        out["units"] = {**record["units"], **{k: display.unit(q) for k, q in names.items()}}
+    else:
+        out["units"] = {k: display.unit(q) for k, q in names.items()}
+    return out
 
 
 def _named(text: str, mech, option: str) -> tuple[str, str]:
@@ -135,14 +195,14 @@ def _named(text: str, mech, option: str) -> tuple[str, str]:
     return name, value
 
 
-def _two_motors(args, mech, target) -> int:
+def _two_motors(args, mech, target, display) -> int:
     from sim.run import motor as smotor
     from sim.front.cli import loads_from, settings_from
     from sim.output.jsonout import dumps
     names = [i.q for i in mech.inputs]
-    if args.motor_table or target is not None or args.plot or args.csv:
+    if args.motor_table or target is not None or args.plot or args.csv or args.render:
         raise ParameterError(f"the {mech.name} has two inputs: give --motor per input; --motor-table, "
-                             f"--target-fluctuation, --plot and --csv drive one input only")
+                             f"--target-fluctuation, --plot, --csv and --render drive one input only")
     motors = {}
     for text in args.motor:
         if "=" not in text:
@@ -164,7 +224,7 @@ def _two_motors(args, mech, target) -> int:
     d = smotor.dynamics_two(mech, loads_from(args, mech), tuple(motors[n] for n in names),
                             tuple(fly[n] for n in names), (start, start), args.revolutions, settings_from(args))
     if args.json:
-        print(dumps(smotor.record_two(d)))
+        print(dumps(in_units(smotor.record_two(d), display)))
     else:
         r, s = d.run, d.sim
         print(f"{mech.name} driven by two motors, {r.revolutions:g} revolutions of {names[0]}")
@@ -208,4 +268,5 @@ def _motor_text(m) -> str:
     return f"a table motor ({len(m.omega)} rows, stall {m.stall:g} N m)"
 
 
-__all__ = ["register", "cmd_dynamics", "parse_motor", "read_table"]
+__all__ = ["register", "cmd_dynamics", "parse_motor", "read_table", "add_motor_options", "motor_run",
+           "check_motor_args", "in_units"]

@@ -67,15 +67,24 @@ def poses(built, qpos_frames: np.ndarray) -> tuple[np.ndarray, dict[str, np.ndar
     return xy, angles
 
 
+def wheels_of(mech) -> tuple:
+    """The gears drawn on ``mech``'s links (:class:`analytic.kinds.base.Wheel`), as its kinds give them at
+    the start pose (the videos here, the app's page from :func:`sim.front.app.describe`)."""
+    from analytic import kinds
+    hooks = [(kinds.get(e["kind"]), e) for e in mech.geometry.elements]
+    if not any(type(k).wheels is not kinds.Kind.wheels for k, _ in hooks):
+        return ()                                          # no kind here draws a wheel: no pose needed
+    _, start = mech.solve_at([0.0])
+    pose = {p: (float(start["x" + p][0]), float(start["y" + p][0])) for p in mech.points}
+    return tuple(w for k, e in hooks for w in k.wheels(e, pose))
+
+
 def scene(built, xy: np.ndarray, display, path: np.ndarray | None = None) -> Scene:
     """The scene of a run whose points move through ``xy`` (frames, points, 2), the view holding them
     and the output point's whole recorded ``path`` (steps, 2) [m] (its tips may fall between frames)."""
-    from analytic import kinds
     from sim.service import link_drawing
     mech = built.mech
-    _, start = mech.solve_at([0.0])
-    pose = {p: (float(start["x" + p][0]), float(start["y" + p][0])) for p in mech.points}
-    wheels = tuple(w for e in mech.geometry.elements for w in kinds.get(e["kind"]).wheels(e, pose))
+    wheels = wheels_of(mech)
     every = xy.reshape(-1, 2) if path is None else np.vstack([xy.reshape(-1, 2), path])
     index = {p: i for i, p in enumerate(mech.points)}
     for w in wheels:                                   # a gear's teeth reach 2.5 modules past its pitch circle
@@ -151,11 +160,12 @@ class Painter:
         return np.column_stack([self.cx + self.s * xy[:, 0], self.cy - self.s * xy[:, 1]])
 
     def frame(self, xy: np.ndarray, angles: dict, trace: np.ndarray, path: np.ndarray, t: float, q: float,
-              markers=(), arrows=None) -> np.ndarray:
+              markers=(), arrows=None, speed: float | None = None) -> np.ndarray:
         """One RGB frame (h, w, 3) uint8: ``xy`` the points at this frame (points, 2) [m], ``trace`` the
         output point's path so far and ``path`` its whole path [m], ``t`` [s], ``q`` the input's value;
         ``arrows`` (joints, 4): each joint's point (x, y) [m] and force (Fx, Fy) [N], drawn to the scene's
-        force scale."""
+        force scale; ``speed`` the input's speed [rad/s, or m/s for a slider] shown in the readout (a
+        motor-driven run), None: not shown."""
         from PIL import Image, ImageDraw
         img = Image.new("RGB", (self.W, self.H), "white")
         d = ImageDraw.Draw(img, "RGBA")
@@ -190,7 +200,7 @@ class Painter:
         self._legend(d)
         if arrows is not None and sc.force_scale > 0:
             self._force_legend(d)
-        self._readout(d, t, q)
+        self._readout(d, t, q, speed)
         self._scale_bar(d)
         return np.asarray(img.resize(self.size, Image.LANCZOS))
 
@@ -317,15 +327,20 @@ class Painter:
         d.text((x0, y - 10 * u), "joint forces (first link on the second)", fill="#333333", font=self.small,
                anchor="ls")
 
-    def _readout(self, d, t: float, q: float) -> None:
-        """The app's readout: ``phi1 = 123.4° · t = 0.412 s`` in the top right corner."""
+    def _readout(self, d, t: float, q: float, speed: float | None = None) -> None:
+        """The app's readout: ``phi1 = 123.4° · t = 0.412 s`` in the top right corner; with a ``speed``
+        (a motor-driven run) ``phi1 = 123.4° · 147.1 rpm · t = 0.412 s``, the speed in the display's unit
+        of angular speed (rad/s, deg/s or rpm: ``--speeds``) or of velocity for a slider."""
         u, sc = self.u, self.sc
         if sc.input_is_angle:
             value = f"{math.degrees(q):.1f}°"
         else:
             value = f"{sc.display.convert('length', q):.4g} {sc.display.unit('length')}"
-        d.text((self.W - 8 * u, 12 * u), f"{sc.input_name} = {value} · t = {t:.3f} s", fill="#222222",
-               font=self.font, anchor="rm")
+        text = f"{sc.input_name} = {value}"
+        if speed is not None:
+            quantity = "angular_velocity" if sc.input_is_angle else "velocity"
+            text += f" · {_speed_text(sc.display.convert(quantity, speed))} {sc.display.unit(quantity)}"
+        d.text((self.W - 8 * u, 12 * u), f"{text} · t = {t:.3f} s", fill="#222222", font=self.font, anchor="rm")
 
     def _scale_bar(self, d) -> None:
         """A bar of a round length in the display unit, bottom right, labelled."""
@@ -343,6 +358,12 @@ class Painter:
             d.line([(x, y - 5 * u), (x, y + 1 * u)], fill="#222222", width=w)
         d.text(((x0 + x1) / 2, y - 6 * u), f"{length:g} {disp.unit('length')}", fill="#222222", font=self.small,
                anchor="mb")
+
+
+def _speed_text(v: float) -> str:
+    """A speed with four significant digits, its width steady while it fluctuates (no exponent under 1e5)."""
+    r = float(f"{v:.4g}")
+    return f"{r:.4g}" if abs(r) >= 1e5 or abs(r) < 1e-3 else f"{r:.{max(0, 3 - math.floor(math.log10(abs(r))))}f}"
 
 
 def _thickness(hull: np.ndarray) -> float:

@@ -179,15 +179,13 @@ def render(built, tr, out: str, fps: float = 30.0, size: tuple[int, int] = (640,
     legend giving the scale.
     """
     from analytic.quantities import Display
-    from sim.output.drawing import Painter, force_arrows, poses, scene
+    from sim.output.drawing import force_arrows, poses, scene
 
     fps = stored_fps(out, fps)
     mech = built.mech
     instants = frame_instants(tr.t, fps)
     qpos, frames = frame_poses(tr.t, tr.qpos, instants)
-    if len(frames) > MAX_FRAMES:
-        raise ParameterError(f"the video would have {len(frames):,} frames (over {MAX_FRAMES:,}): lower --fps or "
-                             f"--revolutions")
+    _check_frames(len(frames))
     xy, angles = poses(built, qpos)
     path = output_path(tr, mech)[:, :2]
     sc = scene(built, xy, display or Display(mech.units), path)
@@ -197,15 +195,61 @@ def render(built, tr, out: str, fps: float = 30.0, size: tuple[int, int] = (640,
         sc = force_arrows(sc, peak)
         where = [mech.points.index(j.point) for j in mech.topology.joints]
         arrows = np.concatenate([xy[:, where], F], axis=-1)                   # (frames, joints, 4)
+    q = np.interp(instants, tr.t, tr.inputs[mech.inputs[0].q])
+    return _write(out, fps, size, sc, xy, angles, path, frames, instants, q, markers=markers, arrows=arrows)
+
+
+def _check_frames(n: int) -> None:
+    if n > MAX_FRAMES:
+        raise ParameterError(f"the video would have {n:,} frames (over {MAX_FRAMES:,}): lower --fps or "
+                             f"--revolutions")
+
+
+MAX_MOTOR_PATH = 20_000
+"""Recorded steps of a motor run posed for the output point's path (evenly spread beyond): a path of a few
+hundred segments is drawn per frame (MAX_PATH_SEGMENTS), so more would only cost kinematics passes."""
+
+
+def render_motor(built, run, out: str, fps: float = 30.0, size: tuple[int, int] = (640, 480),
+                 display=None) -> RenderStats:
+    """Render MuJoCo's motor-driven run ``run`` (:class:`sim.run.motor.MotorRun`, its model ``built``) to
+    ``out`` (.mp4 or .gif), atomically, drawn as :func:`render` draws, with the input's speed (in
+    ``display``'s angular-speed unit: rad/s, deg/s or rpm) in the corner beside its angle and the time."""
+    from analytic.quantities import Display
+    from sim.output.drawing import poses, scene
+
+    fps = stored_fps(out, fps)
+    mech = built.mech
+    t = np.asarray(run.t)
+    instants = frame_instants(t, fps)
+    qpos, frames = frame_poses(t, run.qpos, instants)
+    _check_frames(len(frames))
+    xy, angles = poses(built, qpos)
+    stride = max(1, math.ceil(len(t) / MAX_MOTOR_PATH))
+    steps = np.unique(np.append(np.arange(0, len(t), stride), len(t) - 1))
+    path = poses(built, run.qpos[steps])[0][:, mech.points.index(mech.output_point)]
+    sc = scene(built, xy, display or Display(mech.units), path)
+    k = np.clip(np.searchsorted(steps, frames, side="right") - 1, 0, len(steps) - 1)   # a frame's last path step
+    q = np.interp(instants, t, run.phi)
+    w = np.interp(instants, t, run.omega)
+    return _write(out, fps, size, sc, xy, angles, path, k, instants, q, speeds=w)
+
+
+def _write(out, fps, size, sc, xy, angles, path, frames, instants, q, markers=(), arrows=None,
+           speeds=None) -> RenderStats:
+    """Draw and encode the frames: ``xy`` (frames, points, 2) and ``angles`` the poses, ``path`` the output
+    point's recorded path [m] and ``frames`` each frame's last step in it, ``q`` the input's value and
+    ``speeds`` its speed [rad/s] (None: not shown) at each frame instant."""
+    from sim.output.drawing import Painter
     painter = Painter(sc, size)
     whole = _trace(path, len(path) - 1)
-    q = np.interp(instants, tr.t, tr.inputs[mech.inputs[0].q])
     progress = Progress(len(frames), f"rendering {Path(out).name}")
     t0 = time.perf_counter()
     with atomic_path(out) as tmp, _Writer(tmp, fps, size) as writer:     # ffmpeg ends before tmp is removed
         for i, k in enumerate(frames):
             writer.append(painter.frame(xy[i], {ln: a[i] for ln, a in angles.items()}, _trace(path, k), whole,
                                         float(instants[i]), float(q[i]), markers,
-                                        None if arrows is None else arrows[i]))
+                                        None if arrows is None else arrows[i],
+                                        None if speeds is None else float(speeds[i])))
             progress.update(i + 1)
     return RenderStats(len(frames), time.perf_counter() - t0, str(out), fps)

@@ -321,16 +321,23 @@ def dynamics(mech, loads, motor, flywheel: float | None = 0.0, target: float | N
         J, _ = amotor.size_flywheel(make, motor, target)
     red = make(J)
     r = amotor.run(red, motor, revolutions, start_speed)
-    s = ag = built = None
-    if simulate_too:
-        built = build(mech, loads, red, motor, float(np.max(np.abs(r.omega))), settings)
-        s = simulate(built, red, motor, revolutions, start_speed)
-        ag = agreement(r, s)
-    sizing = None
-    if target is not None:
-        sizing = abs(r.fluctuation / target - 1) <= SIZING_TOL and (
-            s is None or abs(s.fluctuation / target - 1) <= SIZING_TOL)
-    return Dynamics(mech, motor, J, r, s, ag, target, sizing, built)
+    sizing = None if target is None else bool(abs(r.fluctuation / target - 1) <= SIZING_TOL)
+    d = Dynamics(mech, motor, J, r, None, None, target, sizing, None)
+    return simulated(d, loads, start_speed, settings) if simulate_too else d
+
+
+def simulated(d: Dynamics, loads, start_speed: float = 0.0, settings=M.Settings()) -> Dynamics:
+    """``d`` (the reduced equation's answer, from :func:`dynamics` with ``simulate_too=False``) with MuJoCo's
+    run from the same initial state under the same ``loads``, their agreement and the sizing checked by both
+    runs: a front end can look at the reduced equation's run (its duration, its peak speed) before paying
+    for the simulation."""
+    r = d.run
+    built = build(d.mech, loads, r.reduced, d.motor, float(np.max(np.abs(r.omega))), settings)
+    s = simulate(built, r.reduced, d.motor, r.revolutions, start_speed)
+    sizing = d.sizing_passed
+    if d.target is not None:
+        sizing = bool(sizing and abs(s.fluctuation / d.target - 1) <= SIZING_TOL)
+    return replace(d, sim=s, agreement=agreement(r, s), sizing_passed=sizing, built=built)
 
 
 def record(d: Dynamics) -> dict:

@@ -1,7 +1,8 @@
 // linkage app: the page over the JSON API of sim/front/app.py. No build step, no framework: uPlot draws the
 // curves, a canvas draws the linkage. The last solve is kept in window.linkageState (the last simulation in
-// window.linkageSimulation) and every redraw increments document.body.dataset.revision: tests and the
-// latency benchmark wait on it.
+// window.linkageSimulation, the forces panel's answer in window.linkageForces, the dynamics panel's in
+// window.linkageDynamics, the synthesis panel's in window.linkageSynthesis) and every redraw increments
+// document.body.dataset.revision: tests and the latency benchmark wait on it.
 "use strict";
 
 (() => {
@@ -41,6 +42,15 @@
     built: -1,                          // the `opened` the panels were built for
     geometry: null,
     holdUntil: 0,
+    tab: "curves",                      // the right panel's tab: curves, forces, dynamics, synthesis
+    loads: { gravity: null, force: null, cutting: null },   // SI, as the API takes them
+    forces: null,                       // the forces panel's last answer (with its "simulated" part)
+    forcesVersion: -1,                  // the version it answers
+    forceCharts: [],
+    forceKey: "",
+    dynamics: null,
+    dynamicsCharts: [],
+    synth: { targets: [], result: null, selected: 0, charts: [] },
   };
 
   // ------------------------------------------------------------------------------------------ api
@@ -79,8 +89,10 @@
     state.version += 1;
     state.holdUntil = performance.now() + HOLD_MS;
     clearSimulation();
+    staleDynamics();
     $("#video").hidden = true;             // a video of other values
     $("#figures").classList.add("pending");
+    if (state.tab === "forces") $("#force-charts").classList.add("stale-fade");
     send("curves");
     const full = channels.full;
     clearTimeout(full.timer);
@@ -97,16 +109,30 @@
       ? { samples: SAMPLES, figures: true, outputs: wantedOutputs() }
       : { samples: SAMPLES, figures: false, digits: DRAG_DIGITS, outputs: wantedOutputs() };
     const current = () => version >= state.opened && version >= state.applied;
+    // with the forces panel open, each edit's forces are asked for at once and drawn with its curves
+    const forcesToo = kind === "curves" && state.tab === "forces" && state.built === state.opened;
     try {
       const started = performance.now();
+      const forcesAnswer = forcesToo ? fetchForces(version) : null;
       const res = await api("/api/solve", requestBody(extra));
       const data = await res.json();
+      const forces = forcesAnswer ? await forcesAnswer : null;
       const received = performance.now();
+      let drawn = false;
       if (current() && !(kind === "curves" && version === state.applied)) {
-        applySolve(data, version, kind === "full");
-        const drawn = performance.now();
-        window.linkageTiming = { kind, request_ms: received - started, draw_ms: drawn - received };
-        status(`${data.mechanism}: solved and drawn in ${Math.round(drawn - started)} ms`);
+        applySolve(data, version, kind === "full", false);
+        drawn = true;
+      }
+      if (forces && version >= state.forcesVersion && version >= state.opened && state.solve) {
+        applyForces(forces, version);
+        drawn = true;
+      }
+      if (drawn) {
+        bumpRevision();
+        const done = performance.now();
+        window.linkageTiming = { kind, request_ms: received - started, draw_ms: done - received, forces: !!forces };
+        status(`${data.mechanism}: solved and drawn in ${Math.round(done - started)} ms`
+          + (forces ? " (with the joint forces)" : ""));
       }
     } catch (err) {
       if (current()) showError(err, version);
@@ -122,7 +148,7 @@
   }
 
   // ------------------------------------------------------------------------------------ redraw
-  function applySolve(data, version, full) {
+  function applySolve(data, version, full, bump = true) {
     state.applied = version;
     const rebuild = state.built !== state.opened;
     state.describe = data.describe;
@@ -141,6 +167,7 @@
       buildOutputPicker();
       buildCharts();
       setFrame(0);
+      if (state.tab === "forces") setTimeout(requestForces, 0);
     }
     clearErrors();
     syncParameters(data.parameters);
@@ -148,7 +175,7 @@
     updateCharts();
     drawFrame();
     if (full) showFigures(data);
-    bumpRevision();
+    if (bump) bumpRevision();
   }
 
   function bumpRevision() {
@@ -312,6 +339,7 @@
         if (!state.solve) return;
         buildOutputPicker(); buildCharts(); updateCharts(); drawFrame();
         if (state.sim) showVerdict(state.sim);
+        if (state.forces) drawForces();
         bumpRevision();
       });
       label.style.whiteSpace = "nowrap";
@@ -525,7 +553,7 @@
     const q = data.inputs[axis.key][state.frame];
     if (q === null || q === undefined) return;
     const x = q * axis.f;
-    for (const c of state.charts) {
+    for (const c of [...state.charts, ...state.forceCharts]) {
       const left = c.plot.valToPos(x, "x");
       c.line.style.transform = `translateX(${left}px)`;
     }
@@ -655,6 +683,635 @@
     }
   }
 
+  // ------------------------------------------------------------------------------------- tabs
+  function showTab(name) {
+    state.tab = name;
+    document.querySelectorAll("#analysis-panel [role=tab]").forEach((b) => {
+      b.setAttribute("aria-selected", String(b.dataset.tab === name));
+    });
+    document.querySelectorAll("#analysis-panel .pane").forEach((p) => { p.hidden = p.id !== `pane-${name}`; });
+    $("#view").classList.toggle("picking", name === "synthesis");
+    if (name === "forces" && state.solve && state.forcesVersion < state.version) requestForces();
+    if (name === "synthesis") synthTypes();
+    resizePanels();
+    drawFrame();
+    bumpRevision();
+  }
+
+  function resizePanels() {
+    const w = paneWidth();
+    for (const c of [...state.forceCharts, ...state.dynamicsCharts]) c.plot.setSize({ width: w, height: c.height });
+    moveCursors();
+  }
+
+  function paneWidth() {
+    const pane = document.querySelector("#analysis-panel .pane:not([hidden])") || $("#analysis-panel");
+    const w = pane.clientWidth || 600;
+    return w >= 760 ? Math.floor((w - 12) / 2) : Math.floor(w);
+  }
+
+  function newChart(box, opts, data, height, cls) {
+    const card = document.createElement("div");
+    card.className = cls || "panel-chart";
+    box.appendChild(card);
+    const plot = new uPlot({ width: paneWidth(), height, scales: { x: { time: false } },
+      cursor: { drag: { x: false, y: false } }, ...opts }, data, card);
+    const line = document.createElement("div");
+    line.className = "cursor-line";
+    plot.over.appendChild(line);
+    return { plot, line, card, height };
+  }
+
+  // ------------------------------------------------------------------------------------ loads
+  // Typed "GX,GY" (m/s^2), "FX,FY" (N) and "F" (N); kept as the API takes them, checked as typed.
+  function parseLoad(name, text) {
+    const t = text.trim();
+    if (!t) return [null, ""];
+    if (name === "cutting") {
+      const v = Number(t);
+      return Number.isFinite(v) && v >= 0 ? [v, ""] : [null, `cutting ${t} must be a force F >= 0 [N], e.g. 100`];
+    }
+    const texts = t.split(",").map((x) => x.trim());
+    const parts = texts.map(Number);
+    if (parts.length === 2 && texts.every((x) => x !== "") && parts.every(Number.isFinite)) return [parts, ""];
+    return [null, `${name} ${t} must be two numbers ${name === "gravity" ? "GX,GY [m/s²], e.g. 0,-9.81" : "FX,FY [N], e.g. 10,0"}`];
+  }
+
+  function loadsEdited(name, text) {
+    const [value, error] = parseLoad(name, text);
+    const row = document.querySelector(`.loads .param[data-name="${name}"]`);
+    row.querySelector(".field-error").textContent = error;
+    row.classList.toggle("invalid", !!error);
+    if (error) return;
+    state.loads[name] = value;
+    state.version += 1;                   // the forces of other loads are stale; the curves are not
+    clearForcesSimulation();
+    staleDynamics();
+    if (state.tab === "forces") requestForces();
+  }
+
+  function loadsBody() {
+    const out = {};
+    for (const [k, v] of Object.entries(state.loads)) if (v !== null) out[k] = v;
+    return out;
+  }
+
+  // ----------------------------------------------------------------------------------- forces
+  // The joint forces of the current values: asked for beside each edit's curves while the panel is open
+  // (send), on their own when the panel opens or the loads change (requestForces).
+  async function fetchForces(version, simulate) {
+    try {
+      const extra = { samples: SAMPLES, ...loadsBody() };
+      if (simulate) extra.simulate = true; else extra.digits = DRAG_DIGITS;
+      const res = await api("/api/forces", requestBody(extra));
+      return { data: await res.json(), version };
+    } catch (err) {
+      return { error: err, version };
+    }
+  }
+
+  const forcesChannel = { busy: false, queued: false };
+  async function requestForces() {
+    if (forcesChannel.busy) { forcesChannel.queued = true; return; }
+    forcesChannel.busy = true;
+    forcesChannel.queued = false;
+    const version = state.version;
+    $("#forces-status").textContent = "computing the joint forces…";
+    const answer = await fetchForces(version, false);
+    if (version >= state.forcesVersion && version >= state.opened && state.solve) {
+      applyForces(answer, version);
+      bumpRevision();
+    }
+    forcesChannel.busy = false;
+    if (forcesChannel.queued) requestForces();
+  }
+
+  function applyForces(answer, version) {
+    state.forcesVersion = version;
+    $("#force-charts").classList.remove("stale-fade");
+    const st = $("#forces-status");
+    st.classList.toggle("bad", !!answer.error);
+    if (answer.error) {
+      st.textContent = answer.error.message || String(answer.error);
+      $("#force-charts").classList.add("stale-fade");
+      return;
+    }
+    const data = answer.data;
+    state.forces = data;
+    window.linkageForces = data;
+    drawForces();
+    st.textContent = forcesLine(data);
+  }
+
+  function forcesLine(data) {
+    const parts = [];
+    const l = data.loads || {};
+    if (l.gravity) parts.push(`gravity ${l.gravity[0]},${l.gravity[1]} m/s²`);
+    if (l.force) parts.push(`${l.force.cutting ? "cutting force" : "force"} ${fmt(l.force.Fx, 4)},${fmt(l.force.Fy, 4)} N on ${l.force.point} (link ${l.force.link})`);
+    return `${data.joints.length} joints over ${data.samples} samples; ${parts.join(", ") || "inertia only"}`;
+  }
+
+  function clearForcesSimulation() {
+    if (!state.forces || !state.forces.simulated) return;
+    state.forces = { ...state.forces, simulated: null };
+    window.linkageForces = state.forces;
+    $("#forces-verdict").hidden = true;
+  }
+
+  function forceColor(k) { return COLORS[k % COLORS.length]; }
+
+  // x values of a forces answer (the first input, shown as the curves show it) and ys sorted by them
+  function forceXY(data, ys) {
+    const axis = inputAxis(state.solve);
+    const x = (data.inputs[data.input] || []).map((v) => (v === null ? null : v * axis.f));
+    return sortedBy(x, ...ys);
+  }
+
+  function buildForceCharts(data) {
+    for (const c of state.forceCharts) c.plot.destroy();
+    const box = $("#force-charts");
+    box.replaceChildren();
+    state.forceCharts = [];
+    const axis = inputAxis(state.solve);
+    const sim = !!data.simulated;
+    const marker = (color) => ({ stroke: color, width: 0, paths: () => null,
+      points: { show: true, size: 5, width: 1.2, stroke: color, fill: "#fff" } });
+    // joints: one line each (legend: the table below), MuJoCo's markers beside them after Simulate
+    const jointSeries = [{ label: axis.label }];
+    data.joints.forEach((j, k) => {
+      jointSeries.push({ label: j.name, stroke: forceColor(k), width: 1.6, spanGaps: true });
+      if (sim) jointSeries.push({ label: `${j.name} MuJoCo`, ...marker(forceColor(k)) });
+    });
+    state.forceCharts.push({ kind: "joints", height: 230, ...newChart(box, {
+      title: "joint forces |F| [N]", legend: { show: false },
+      axes: [axisOptions(axis.label), axisOptions("|F| [N]", 64)], series: jointSeries,
+    }, jointSeries.map(() => []), 230) });
+    const drives = Object.keys(data.drives);
+    const driveUnit = (q) => (data.units.drives || {})[q] || "N m";
+    const driveSeries = [{ label: axis.label }];
+    drives.forEach((q, k) => {
+      driveSeries.push({ label: `${q} drive [${driveUnit(q)}]`, stroke: COLORS[(k + 3) % COLORS.length], width: 1.8, spanGaps: true });
+      if (sim) driveSeries.push({ label: "MuJoCo", ...marker(SIM_COLOR) });
+    });
+    const units = [...new Set(drives.map(driveUnit))].join(", ");
+    state.forceCharts.push({ kind: "drives", height: 190, ...newChart(box, {
+      title: `drive ${units === "N" ? "force" : "torque"} [${units}]`, legend: { show: true, live: false },
+      axes: [axisOptions(axis.label), axisOptions(`[${units}]`, 64)], series: driveSeries,
+    }, driveSeries.map(() => []), 190) });
+    const shakeSeries = [{ label: axis.label },
+      { label: "|Fs| [N]", stroke: "#c51b8a", width: 1.8, scale: "F", spanGaps: true },
+      { label: "Ms [N m]", stroke: "#8c564b", width: 1.2, dash: [5, 4], scale: "M", spanGaps: true }];
+    if (sim) shakeSeries.push({ label: "MuJoCo |Fs|", scale: "F", ...marker(SIM_COLOR) });
+    state.forceCharts.push({ kind: "shaking", height: 190, ...newChart(box, {
+      title: "shaking force |Fs| and moment Ms (about the origin)", legend: { show: true, live: false },
+      scales: { x: { time: false }, F: {}, M: {} },
+      axes: [axisOptions(axis.label), { ...axisOptions("|Fs| [N]", 64), scale: "F" },
+        { ...axisOptions("Ms [N m]", 64), scale: "M", side: 1, grid: { show: false } }],
+      series: shakeSeries,
+    }, shakeSeries.map(() => []), 190) });
+  }
+
+  function drawForces() {
+    const data = state.forces;
+    if (!data || !state.solve) return;
+    const key = `${state.built}|${data.joints.map((j) => j.name).join(",")}|${!!data.simulated}|${state.display.deg}`;
+    if (key !== state.forceKey) { buildForceCharts(data); state.forceKey = key; }
+    const sim = data.simulated;
+    const every = sim ? Math.max(1, Math.round(sim.inputs[sim.input].length / 72)) : 1;
+    const thin = (a) => a.map((v, i) => (i % every === 0 ? v : null));
+    // analytic lines and MuJoCo's markers interleaved per series, on the union of their x values
+    const interleave = (an, mj, n) => {
+      const joined = uPlot.join([an, mj]);
+      const out = [joined[0]];
+      for (let k = 0; k < n; k++) out.push(joined[1 + k], joined[1 + n + k]);
+      return out;
+    };
+    const qs = Object.keys(data.drives);
+    for (const c of state.forceCharts) {
+      if (c.kind === "joints") {
+        const an = forceXY(data, data.joints.map((j) => j.F));
+        c.plot.setData(sim ? interleave(an, forceXY(sim, sim.joints.map((j) => thin(j.F))), data.joints.length) : an);
+      } else if (c.kind === "drives") {
+        const an = forceXY(data, qs.map((q) => data.drives[q]));
+        c.plot.setData(sim ? interleave(an, forceXY(sim, qs.map((q) => thin(sim.drives[q]))), qs.length) : an);
+      } else {
+        const an = forceXY(data, [data.shaking.F, data.shaking.M]);
+        c.plot.setData(sim ? uPlot.join([an, forceXY(sim, [thin(sim.shaking.F)])]) : an);
+      }
+    }
+    forcePeaks(data);
+    if (sim) forcesVerdict(sim); else $("#forces-verdict").hidden = true;
+    moveCursors();
+  }
+
+  function angleText(q) {
+    const axis = inputAxis(state.solve);
+    return axis.crank ? `${fmt(q * DEG, 4)}°` : `${fmt(q * axis.f, 4)} ${displayUnit(axis.key, state.solve.units)}`;
+  }
+
+  function forcePeaks(data) {
+    const table = $("#force-peaks");
+    const sim = data.simulated;
+    const head = ["", "joint", "kind", "links", "peak |F| [N]", `at ${data.input}`];
+    if (sim) head.push("MuJoCo − analytic", "of the peak");     // a drive's difference is in its own unit
+    table.replaceChildren();
+    const thead = document.createElement("thead");
+    const hr = document.createElement("tr");
+    for (const h of head) { const th = document.createElement("th"); th.textContent = h; hr.appendChild(th); }
+    thead.appendChild(hr);
+    table.appendChild(thead);
+    const body = document.createElement("tbody");
+    const row = (cells, swatch) => {
+      const tr = document.createElement("tr");
+      const sw = document.createElement("td");
+      if (swatch) { const s = document.createElement("span"); s.className = "swatch"; s.style.background = swatch; sw.appendChild(s); }
+      tr.appendChild(sw);
+      for (const text of cells) { const td = document.createElement("td"); td.textContent = text; tr.appendChild(td); }
+      body.appendChild(tr);
+      return tr;
+    };
+    data.joints.forEach((j, k) => {
+      const pk = data.peaks.joints[j.name];
+      const cells = [j.name, j.kind + (j.input ? " (driven)" : ""), j.links.join("–"), fmt(pk.F, 4),
+        angleText(pk[data.input])];
+      if (sim) {
+        const a = sim.agreement.joints[j.name] || {};
+        cells.push(`${fmt(a.max, 2)} N`, fmt(a.share, 2));
+      }
+      const tr = row(cells, forceColor(k));
+      if (sim && (sim.agreement.joints[j.name] || {}).share > sim.agreement.tol) tr.className = "fail";
+    });
+    for (const [q, d] of Object.entries(data.peaks.drives)) {
+      const unit = (data.units.drives || {})[q] || "";
+      const cells = [`drive ${q}`, "", "", `${fmt(d.value, 4)} ${unit}`, angleText(d[data.input])];
+      if (sim) { const a = sim.agreement.drives[q] || {}; cells.push(`${fmt(a.mujoco_max, 2)} ${unit}`, fmt(a.mujoco_share, 2)); }
+      row(cells, null);
+    }
+    const sh = data.peaks.shaking;
+    const cells = ["shaking", "", "", `${fmt(sh.F, 4)} (RMS ${fmt(sh.F_rms, 4)})`, angleText(sh[data.input])];
+    if (sim) cells.push(`${fmt(sim.agreement.shaking.F_max, 2)} N`, fmt(sim.agreement.shaking.F_share, 2));
+    row(cells, null);
+    table.appendChild(body);
+  }
+
+  function forcesVerdict(sim) {
+    const v = $("#forces-verdict");
+    const a = sim.agreement;
+    v.hidden = false;
+    v.className = sim.passed ? "verdict passed" : "verdict failed";
+    v.textContent = sim.passed ? "PASSED" : "FAILED";
+    const small = document.createElement("small");
+    small.textContent = ` MuJoCo's joint forces within ${fmt(a.worst, 2)} of the peak ${fmt(a.peak, 4)} N `
+      + `(worst ${a.worst_of}, median ${fmt(a.median, 2)}); tolerance ${fmt(a.tol, 2)} · ${sim.steps} steps of `
+      + `${fmt(sim.timestep * 1e3, 3)} ms`;
+    v.appendChild(small);
+  }
+
+  async function simulateForces() {
+    const button = $("#forces-simulate");
+    button.disabled = true;
+    const st = $("#forces-status");
+    st.classList.remove("bad");
+    st.textContent = "simulating the joint forces in MuJoCo…";
+    const version = state.version;
+    const answer = await fetchForces(version, true);
+    button.disabled = false;
+    if (version !== state.version) { st.textContent = "values changed: simulate again"; return; }
+    applyForces(answer, version);
+    bumpRevision();
+  }
+
+  // ---------------------------------------------------------------------------------- dynamics
+  const RPM = 30 / Math.PI;           // rpm per rad/s
+
+  function dynamicsInputs(size) {
+    const read = (id, name) => {
+      const el = $(id);
+      const v = Number(el.value.trim());
+      const row = el.closest(".param");
+      const ok = el.value.trim() !== "" && Number.isFinite(v);
+      row.querySelector(".field-error").textContent = ok ? "" : `${name}: give a number`;
+      row.classList.toggle("invalid", !ok);
+      if (!ok) throw new ApiError(`${name}: give a number`, 0);
+      return v;
+    };
+    const body = {
+      motor: { T0: read("#dyn-T0", "T0"), W0: read("#dyn-W0", "W0") / RPM },
+      start_speed: read("#dyn-start", "start") / RPM,
+      revolutions: read("#dyn-revolutions", "revolutions"),
+      simulate: $("#dynamics-mujoco").checked,
+      ...loadsBody(),
+    };
+    if (size) body.target_fluctuation = read("#dyn-target", "target Cs");
+    else body.flywheel = read("#dyn-flywheel", "flywheel");
+    const b = requestBody(body);
+    delete b.input_range;               // the motor turns the input through whole revolutions
+    return b;
+  }
+
+  async function runDynamics(size) {
+    const buttons = [$("#dynamics-run"), $("#dynamics-size")];
+    const st = $("#dynamics-status");
+    st.classList.remove("bad");
+    let body;
+    try { body = dynamicsInputs(size); } catch (err) { st.textContent = err.message; st.classList.add("bad"); return; }
+    buttons.forEach((b) => { b.disabled = true; });
+    const version = state.version;
+    const started = performance.now();
+    st.textContent = size ? "sizing the flywheel and checking it by both runs…"
+      : `integrating the reduced equation${body.simulate ? " and running MuJoCo" : ""}…`;
+    try {
+      const res = await api("/api/dynamics", body);
+      const data = await res.json();
+      if (version !== state.version) { st.textContent = "values changed: run again"; return; }
+      state.dynamics = data;
+      window.linkageDynamics = data;
+      if (size) $("#dyn-flywheel").value = fmt(data.flywheel, 6);
+      drawDynamics(data);
+      st.textContent = `done in ${fmt((performance.now() - started) / 1000, 3)} s`;
+      bumpRevision();
+    } catch (err) {
+      st.textContent = err.message || String(err);
+      st.classList.add("bad");
+      bumpRevision();
+    } finally {
+      buttons.forEach((b) => { b.disabled = false; });
+    }
+  }
+
+  function staleDynamics() {
+    if (!state.dynamics) return;
+    state.dynamics = null;
+    window.linkageDynamics = null;
+    $("#dynamics-status").textContent = "values changed: run again";
+    $("#dynamics-charts").classList.add("stale-fade");
+  }
+
+  function drawDynamics(data) {
+    for (const c of state.dynamicsCharts) c.plot.destroy();
+    const box = $("#dynamics-charts");
+    box.replaceChildren();
+    box.classList.remove("stale-fade");
+    state.dynamicsCharts = [];
+    const sim = data.simulated;
+    const marker = { stroke: SIM_COLOR, width: 0, paths: () => null,
+      points: { show: true, size: 5, width: 1.2, stroke: SIM_COLOR, fill: "#fff" } };
+    const deg = (a) => a.map((v) => (v === null ? null : v * DEG));
+    const rpm = (a) => a.map((v) => (v === null ? null : Math.abs(v) * RPM));
+    // speed against angle over the last revolution, its mean and the Cs band
+    const cx = deg(data.cycle.advance);
+    const an = [cx, rpm(data.cycle.omega), cx.map(() => data.w_max * RPM), cx.map(() => data.w_min * RPM),
+      cx.map(() => data.mean_speed * RPM)];
+    let cycle = an;
+    const series = [{ label: "advance [deg]" }, { label: "reduced equation", stroke: "#1f77b4", width: 1.8 },
+      { label: `Cs = ${fmt(data.fluctuation, 4)}`, stroke: "rgba(31,119,180,0.35)", width: 1 },
+      { label: "", stroke: "rgba(31,119,180,0.35)", width: 1 },
+      { label: `mean ${fmt(data.mean_speed * RPM, 4)} rpm`, stroke: "#222", width: 1, dash: [6, 4] }];
+    if (sim) {
+      const step = Math.max(1, Math.round(sim.cycle.advance.length / 90));
+      const sx = deg(sim.cycle.advance).filter((_, i) => i % step === 0);
+      const sy = rpm(sim.cycle.omega).filter((_, i) => i % step === 0);
+      cycle = uPlot.join([an, sortedBy(sx, sy)]);
+      series.push({ label: "MuJoCo", ...marker });
+    }
+    state.dynamicsCharts.push({ height: 210, ...newChart(box, {
+      title: "speed over the last revolution [rpm]", legend: { show: true, live: false },
+      bands: [{ series: [2, 3], fill: "rgba(31,119,180,0.12)" }],
+      scales: { x: { time: false, range: [0, 360] } },
+      axes: [axisOptions("input's advance over the last revolution [deg]"), axisOptions("speed [rpm]", 64)],
+      series,
+    }, cycle, 210) });
+    // start-up against time, and the motor's torque
+    const timeChart = (title, ylabel, ys, simYs, color) => {
+      let d = [data.run.t, ys];
+      const ser = [{ label: "t [s]" }, { label: "reduced equation", stroke: color, width: 1.5 }];
+      if (sim) {
+        const step = Math.max(1, Math.round(sim.t.length / 300));
+        d = uPlot.join([d, [sim.t.filter((_, i) => i % step === 0), simYs.filter((_, i) => i % step === 0)]]);
+        ser.push({ label: "MuJoCo", ...marker });
+      }
+      state.dynamicsCharts.push({ height: 180, ...newChart(box, {
+        title, legend: { show: true, live: false },
+        axes: [axisOptions("time [s]"), axisOptions(ylabel, 64)], series: ser,
+      }, d, 180) });
+    };
+    timeChart(`start-up: speed [rpm] (95 % of the mean at ${fmt(data.startup_time, 3)} s)`, "speed [rpm]",
+      rpm(data.run.omega), sim ? rpm(sim.omega) : null, "#1f77b4");
+    timeChart(`motor torque [N m] (peak ${fmt(data.peak_torque, 3)} N m, ${fmt(data.peak_power, 3)} W)`, "torque [N m]",
+      data.run.torque, sim ? sim.torque : null, "#2ca02c");
+    dynamicsTable(data);
+  }
+
+  function dynamicsTable(data) {
+    const sim = data.simulated;
+    const table = $("#dynamics-table");
+    table.hidden = false;
+    table.replaceChildren();
+    const add = (cells, tag = "td") => {
+      const tr = document.createElement("tr");
+      for (const c of cells) { const td = document.createElement(tag); td.textContent = c; tr.appendChild(td); }
+      table.appendChild(tr);
+    };
+    add(["", "reduced equation", "MuJoCo", "difference", "tolerance"], "th");
+    const ag = sim ? sim.agreement : null;
+    add(["mean speed [rpm]", fmt(data.mean_speed * RPM, 6), sim ? fmt(sim.mean_speed * RPM, 6) : "–",
+      ag ? `${fmt(ag.mean_speed, 2)} (relative)` : "", ag ? fmt(ag.tolerances.mean_speed, 2) : ""]);
+    add(["fluctuation Cs", fmt(data.fluctuation, 5), sim ? fmt(sim.fluctuation, 5) : "–", ag ? fmt(ag.fluctuation, 2) : "",
+      ag ? fmt(ag.tolerances.fluctuation, 2) : ""]);
+    add(["start-up time [s]", fmt(data.startup_time, 5), sim ? fmt(sim.startup_time, 5) : "–", "", ""]);
+    if (ag) {
+      add(["speed against angle", "", "", `${fmt(ag.speed_vs_angle, 2)} of the mean`, fmt(ag.tolerances.speed_vs_angle, 2)]);
+      add(["speed against time", "", "", `${fmt(ag.speed_vs_time, 2)} of the mean`, fmt(ag.tolerances.speed_vs_time, 2)]);
+    }
+    add(["flywheel [kg m²]", fmt(data.flywheel, 5), "", "", ""]);
+    add(["energy per cycle [J]", fmt(data.energy_per_cycle, 4), "", "", ""]);
+    const v = $("#dynamics-verdict");
+    const sizing = data.sizing;
+    if (!sim && !sizing) { v.hidden = true; return; }
+    v.hidden = false;
+    v.className = data.passed ? "verdict passed" : "verdict failed";
+    v.textContent = data.passed ? "PASSED" : "FAILED";
+    const small = document.createElement("small");
+    const parts = [];
+    if (sim) parts.push(`MuJoCo ${sim.passed ? "agrees" : "DISAGREES"} (${sim.steps} steps of ${fmt(sim.timestep * 1e3, 3)} ms)`);
+    if (sizing) parts.push(`flywheel ${fmt(sizing.flywheel, 5)} kg m² sized for Cs = ${fmt(sizing.target, 3)}: `
+      + `${fmt(sizing.fluctuation, 4)}${sizing.simulated_fluctuation !== null ? ` (MuJoCo ${fmt(sizing.simulated_fluctuation, 4)})` : ""}`
+      + ` ${sizing.passed ? "within" : "outside"} ${fmt(sizing.tolerance * 100, 2)} %`);
+    small.textContent = ` ${parts.join(" · ")}`;
+    v.appendChild(small);
+  }
+
+  // --------------------------------------------------------------------------------- synthesis
+  // Target points [m] clicked on the drawing (or loaded from a CSV in the file's unit); the candidates'
+  // coupler curves drawn over them on the same canvas; a candidate opens as the current mechanism.
+  function synthTypes() {
+    const select = $("#synth-type");
+    if (select.options.length || !state.synthesisInfo) return;
+    for (const t of state.synthesisInfo.types) {
+      const opt = document.createElement("option");
+      opt.value = t;
+      opt.textContent = t;
+      select.appendChild(opt);
+    }
+  }
+
+  function synthTargetsChanged() {
+    const n = state.synth.targets.length;
+    $("#synth-targets").textContent = n ? `${n} target point${n > 1 ? "s" : ""} (click the drawing to add more)`
+      : "no target points yet: click the drawing or load a CSV";
+    state.synth.result = null;
+    window.linkageSynthesis = null;
+    $("#synth-table").hidden = true;
+    if (state.solve) state.geometry = geometry(state.solve);
+    drawFrame();
+    bumpRevision();
+  }
+
+  function pickTarget(e) {
+    if (state.tab !== "synthesis" || !state.geometry) return;
+    const r = canvas.getBoundingClientRect();
+    const px = e.clientX - r.left; const py = e.clientY - r.top;
+    const v = view();
+    if (px < MARGIN.left || px > MARGIN.left + v.w || py < MARGIN.top || py > MARGIN.top + v.h) return;
+    state.synth.targets.push(v.inv(px, py));
+    synthTargetsChanged();
+  }
+
+  async function loadTargets(file) {
+    const st = $("#synth-status");
+    st.classList.remove("bad");
+    try {
+      const res = await api("/api/targets", { text: await file.text(), filename: file.name, unit: lengthUnit().unit });
+      const data = await res.json();
+      state.synth.targets = data.targets;
+      synthTargetsChanged();
+      st.textContent = `${file.name}: ${data.targets.length} targets`;
+    } catch (err) {
+      st.textContent = err.message || String(err);
+      st.classList.add("bad");
+      bumpRevision();
+    }
+  }
+
+  async function synthesize() {
+    const st = $("#synth-status");
+    st.classList.remove("bad");
+    const budget = Number($("#synth-budget").value);
+    const bar = $("#synth-progress");
+    const button = $("#synth-run");
+    button.disabled = true;
+    bar.hidden = false;
+    bar.value = 0;
+    const started = performance.now();
+    // the search runs to its time budget (or until its restarts are done): the bar shows the time used
+    const timer = setInterval(() => {
+      const s = (performance.now() - started) / 1000;
+      bar.value = Number.isFinite(budget) && budget > 0 ? Math.min(0.99, s / budget) : 0;
+      st.textContent = `searching… ${s.toFixed(0)} s of the ${fmt(budget, 3)} s budget, then each candidate is simulated`;
+    }, 250);
+    try {
+      const res = await api("/api/synthesize", { targets: state.synth.targets, type: $("#synth-type").value,
+        closed: $("#synth-closed").checked, budget: Number.isFinite(budget) ? budget : $("#synth-budget").value,
+        unit: lengthUnit().unit });
+      const data = await res.json();
+      state.synth.result = data;
+      state.synth.selected = 0;
+      window.linkageSynthesis = data;
+      if (state.solve) state.geometry = geometry(state.solve);
+      synthTable(data);
+      drawFrame();
+      st.textContent = `${data.designs.length} candidates in ${fmt(data.seconds, 3)} s`
+        + (data.service ? "" : "");
+      bar.value = 1;
+    } catch (err) {
+      st.textContent = err.message || String(err);
+      st.classList.add("bad");
+    } finally {
+      clearInterval(timer);
+      button.disabled = false;
+      bar.hidden = true;
+      bumpRevision();
+    }
+  }
+
+  function synthTable(data) {
+    const table = $("#synth-table");
+    table.hidden = false;
+    table.replaceChildren();
+    const unit = lengthUnit();
+    const head = document.createElement("tr");
+    for (const h of ["", "#", `sum of squares [${unit.unit}²]`, `max [${unit.unit}]`, "transmission ≥", "compare", ""]) {
+      const th = document.createElement("th"); th.textContent = h; head.appendChild(th);
+    }
+    table.appendChild(head);
+    data.designs.forEach((d, k) => {
+      const tr = document.createElement("tr");
+      tr.className = k === state.synth.selected ? "selected" : "";
+      if (d.failed || !d.compare_passed) tr.classList.add("fail");
+      const sw = document.createElement("td");
+      const s = document.createElement("span"); s.className = "swatch"; s.style.background = COLORS[k % COLORS.length];
+      sw.appendChild(s);
+      tr.appendChild(sw);
+      const f2 = unit.f * unit.f;
+      const cells = [String(k + 1), fmt(d.error.sum_sq * f2, 4), fmt(d.error.max * unit.f, 3),
+        Number.isFinite(d.mu_min_deg) ? `${fmt(d.mu_min_deg, 3)}°` : "–",
+        d.failed ? d.failed : (d.compare_passed ? "passed" : "FAILED")];
+      for (const c of cells) { const td = document.createElement("td"); td.textContent = c; tr.appendChild(td); }
+      const td = document.createElement("td");
+      const open = document.createElement("button");
+      open.textContent = "Open";
+      open.title = "open this design as the current mechanism";
+      open.dataset.candidate = String(k);
+      open.addEventListener("click", (e) => {
+        e.stopPropagation();
+        addUploadOption(d.name, d.text, `synthesised #${k + 1}`);
+        openMechanism(d.name, d.text);
+      });
+      td.appendChild(open);
+      tr.appendChild(td);
+      tr.addEventListener("click", () => {
+        state.synth.selected = k;
+        synthTable(data);
+        drawFrame();
+        bumpRevision();
+      });
+      table.appendChild(tr);
+    });
+  }
+
+  // extra world points the view must hold in the synthesis panel: the targets and the candidates' curves
+  function synthPoints() {
+    if (state.tab !== "synthesis") return [];
+    const pts = [...state.synth.targets];
+    const r = state.synth.result;
+    if (r) for (const d of r.designs) for (let i = 0; i < d.curve.x.length; i += 8) pts.push([d.curve.x[i], d.curve.y[i]]);
+    return pts;
+  }
+
+  function drawSynthesis(v) {
+    if (state.tab !== "synthesis") return;
+    const r = state.synth.result;
+    if (r) {
+      r.designs.forEach((d, k) => {
+        if (k === state.synth.selected) return;
+        pathLine(v, d.curve.x, d.curve.y, d.curve.x.length, `${COLORS[k % COLORS.length]}99`, 1.2, [4, 3]);
+      });
+      const d = r.designs[state.synth.selected];
+      if (d) pathLine(v, d.curve.x, d.curve.y, d.curve.x.length, COLORS[state.synth.selected % COLORS.length], 2.4);
+    }
+    ctx.save();
+    ctx.strokeStyle = "#111"; ctx.lineWidth = 1.6; ctx.fillStyle = "#111";
+    ctx.font = "10px system-ui, sans-serif";
+    state.synth.targets.forEach(([x, y], k) => {
+      const px = v.X(x); const py = v.Y(y);
+      ctx.beginPath();
+      ctx.moveTo(px - 5, py - 5); ctx.lineTo(px + 5, py + 5); ctx.moveTo(px - 5, py + 5); ctx.lineTo(px + 5, py - 5);
+      ctx.stroke();
+      ctx.fillText(String(k + 1), px + 6, py - 5);
+    });
+    ctx.restore();
+  }
+
   // -------------------------------------------------------------------------------- animation
   // World bounds over the whole run (every point's path), so the view holds still while it moves.
   function geometry(data) {
@@ -665,6 +1322,9 @@
         if (x === null || y === null) continue;
         if (x < x0) x0 = x; if (x > x1) x1 = x; if (y < y0) y0 = y; if (y > y1) y1 = y;
       }
+    }
+    for (const [x, y] of synthPoints()) {
+      if (x < x0) x0 = x; if (x > x1) x1 = x; if (y < y0) y0 = y; if (y > y1) y1 = y;
     }
     if (!Number.isFinite(x0)) { x0 = -1; x1 = 1; y0 = -1; y1 = 1; }
     const pad = 0.08 * Math.max(x1 - x0, y1 - y0, 1e-9);
@@ -787,9 +1447,12 @@
     const sp = state.sim && state.sim.simulated.points[d.output_point];
     if (sp) pathLine(v, sp.x, sp.y, sp.x.length, SIM_COLOR, 1.1, [5, 4]);    // MuJoCo's path, under the trace
     if (out) pathLine(v, out.x, out.y, i, "#d62728", 2.4);
+    const colorOf = Object.fromEntries(d.links.map((link, k) => [link.name, COLORS[k % COLORS.length]]));
+    for (const w of d.wheels || []) drawWheel(w, at, v, colorOf[w.link] || "#888888");
     d.links.forEach((link, k) => drawLink(link, k, at, data, i, v));
     for (const g of d.ground) { const p = at(g); if (p) drawGround(p); }
     for (const name of d.points) drawJoint(name, at(name), name === d.output_point, d.ground.includes(name));
+    drawSynthesis(v);
     ctx.restore();
     drawLegend(d.output_point, !!sp);
     updateReadout();
@@ -836,6 +1499,39 @@
     } else if (pts.length === 2) {
       ctx.strokeStyle = color; ctx.lineWidth = 6;
       ctx.beginPath(); ctx.moveTo(pts[0][0], pts[0][1]); ctx.lineTo(pts[1][0], pts[1][1]); ctx.stroke();
+    }
+    ctx.restore();
+  }
+
+  // A gear (describe's wheels, as the videos draw them: sim/output/drawing.py Painter._wheel): a toothed
+  // outline about its centre turning with its link (the direction centre -> ref), teeth in the ratio;
+  // external gears filled pale, ring gears (teeth inward) in outline with their rim.
+  function drawWheel(w, at, v, color) {
+    const c = at(w.centre);
+    if (!c) return;
+    let base = 0;
+    const r = w.ref ? at(w.ref) : null;
+    if (r) base = Math.atan2(-(r[1] - c[1]), r[0] - c[0]);       // canvas y points down
+    const m = 2 * w.radius / w.teeth;                            // the module: addendum m, dedendum 1.25 m
+    const tip = w.ring ? w.radius - m : w.radius + m;
+    const root = w.ring ? w.radius + 1.25 * m : w.radius - 1.25 * m;
+    const pitch = 2 * Math.PI / w.teeth;
+    ctx.save();
+    ctx.beginPath();
+    for (let k = 0; k < w.teeth; k++) {
+      const a = base + w.phase + k * pitch;
+      for (const [rad, da] of [[root, -0.30], [tip, -0.17], [tip, 0.17], [root, 0.30], [root, 0.5]]) {
+        const px = c[0] + v.s * rad * Math.cos(a + da * pitch);
+        const py = c[1] - v.s * rad * Math.sin(a + da * pitch);
+        if (k === 0 && da === -0.30) ctx.moveTo(px, py); else ctx.lineTo(px, py);
+      }
+    }
+    ctx.closePath();
+    ctx.strokeStyle = color; ctx.lineWidth = 1.5;
+    if (!w.ring) { ctx.fillStyle = `${color}24`; ctx.fill(); }
+    ctx.stroke();
+    if (w.ring) {
+      ctx.beginPath(); ctx.arc(c[0], c[1], (root + 1.5 * m) * v.s, 0, 2 * Math.PI); ctx.stroke();
     }
     ctx.restore();
   }
@@ -912,6 +1608,7 @@
   async function loadMechanisms() {
     const res = await fetch("/api/mechanisms");
     const data = await res.json();
+    state.synthesisInfo = data.synthesis || null;
     const select = $("#mechanism");
     for (const m of data.mechanisms) {
       const opt = document.createElement("option");
@@ -925,11 +1622,12 @@
     openMechanism(first.name, first.text ?? null);
   }
 
-  function addUploadOption(name, text) {
+  // an opened file (or a synthesised design) among the picker's mechanisms; `from` says where it came from
+  function addUploadOption(name, text, from = "file") {
     const select = $("#mechanism");
     const opt = document.createElement("option");
     opt.value = `upload:${select.options.length}`;
-    opt.textContent = `${name} (file)`;
+    opt.textContent = `${name} (${from})`;
     opt.dataset.name = name;
     opt.dataset.text = text;
     select.appendChild(opt);
@@ -947,6 +1645,16 @@
     clearSimulation();
     $("#sim-status").textContent = "";
     $("#figures").replaceChildren();
+    state.forces = null;
+    window.linkageForces = null;
+    state.forceKey = "";
+    for (const c of state.forceCharts) c.plot.destroy();
+    state.forceCharts = [];
+    $("#force-charts").replaceChildren();
+    $("#force-peaks").replaceChildren();
+    $("#forces-verdict").hidden = true;
+    $("#forces-status").textContent = "";
+    staleDynamics();
     state.opened = state.version + 1;
     edited();
   }
@@ -957,12 +1665,13 @@
       $("#file-error").textContent = `${file.name} is ${file.size} bytes: a mechanism file is at most ${MAX_UPLOAD}`;
       return;
     }
-    const text = await file.text();
+    const raw = await file.text();
     try {
-      const res = await api("/api/solve", { text, samples: 2, figures: false });
-      const data = await res.json();
-      addUploadOption(data.mechanism, text);
-      openMechanism(data.mechanism, text);
+      const res = await api("/api/open", { text: raw, filename: file.name });
+      const { mechanism, text, kind } = await res.json();
+      await api("/api/solve", { text, samples: 2, figures: false });     // it assembles, or say why here
+      addUploadOption(mechanism, text, kind === "linkage/1" ? "file" : kind);
+      openMechanism(mechanism, text);
     } catch (err) {
       $("#file-error").textContent = `${file.name}: ${err.message}`;
       status(`${file.name}: ${err.message}`, true);
@@ -987,6 +1696,17 @@
       state.lastEdited = "revolutions";
       edited();
     });
+    document.querySelectorAll("#analysis-panel [role=tab]").forEach((b) => b.addEventListener("click", () => showTab(b.dataset.tab)));
+    for (const name of ["gravity", "force", "cutting"]) {
+      $(`#${name}`).addEventListener("input", (e) => loadsEdited(name, e.target.value));
+    }
+    $("#forces-simulate").addEventListener("click", simulateForces);
+    $("#dynamics-run").addEventListener("click", () => runDynamics(false));
+    $("#dynamics-size").addEventListener("click", () => runDynamics(true));
+    canvas.addEventListener("click", pickTarget);
+    $("#synth-clear").addEventListener("click", () => { state.synth.targets = []; synthTargetsChanged(); });
+    $("#synth-file").addEventListener("change", (e) => { if (e.target.files[0]) loadTargets(e.target.files[0]); e.target.value = ""; });
+    $("#synth-run").addEventListener("click", synthesize);
     $("#simulate").addEventListener("click", simulate);
     $("#render").addEventListener("click", renderVideo);
     document.querySelectorAll("[data-export]").forEach((b) => b.addEventListener("click", () => download(b.dataset.export)));
@@ -1009,7 +1729,7 @@
       drawFrame();
       const w = chartWidth();
       for (const c of state.charts) { c.plot.setSize({ width: w, height: CHART_HEIGHT }); c.err.setSize({ width: w, height: ERROR_HEIGHT }); }
-      moveCursors();
+      resizePanels();
     });
   }
 
