@@ -16,7 +16,7 @@ from sim import model
 from sim import service
 from sim.run.simulate import SimulationError
 
-ANGLE = 1e-6        # [rad] RK4 truncation at 0.03 rad per step plus loop drift (measured ~1e-8)
+ANGLE = 1e-6        # [rad] RK4 truncation at 0.025 rad per step plus loop drift (measured ~1e-8)
 POSITION = 1e-6     # [of the size] the same for points and slides
 VELOCITY = 1e-5     # [of the output's scale] velocity stabilisation of the loops (measured ~1e-7)
 ACCEL = 1e-3        # [of the output's scale] constraint residual and regulariser leak (measured ~1e-6)
@@ -130,8 +130,8 @@ def test_the_simulation_records_what_happened():
     mech = service.load("fivebar", {"omega4": 4 * math.pi})
     built, tr = service.simulate(mech, 1.0)
     h = built.timestep
-    # The step is chosen from the fastest rate: 0.03 rad per step of the fastest link or input.
-    assert h <= 0.03 / (4 * math.pi) * (1 + 1e-12)
+    # The step is chosen from the fastest rate: 0.025 rad per step of the fastest link or input.
+    assert h <= 0.025 / (4 * math.pi) * (1 + 1e-12)
     assert tr.t[0] == 0 and abs(tr.t[-1] - 1.0) < h and abs(tr.t[1] - h) < 1e-15
     # Crank 4 turned twice as fast as crank 2, to the drive tolerance.
     turned = tr.inputs["phi4"][-1] - tr.inputs["phi4"][0]
@@ -144,7 +144,7 @@ def test_the_step_follows_a_peak_that_falls_between_samples():
     # of crank angle wide, which a 720-sample scan started off its phase misses by 4.5x.
     mech = service.load("whitworth", {"c": 149.8, "phi1_0": 0.0043})
     peak = 2 * math.pi * 150 / 0.2
-    assert model.choose_timestep(mech) == pytest.approx(0.03 / peak, rel=1e-6)   # refined to the peak
+    assert model.choose_timestep(mech) == pytest.approx(0.025 / peak, rel=1e-6)   # refined to the peak
 
 
 def test_the_step_follows_the_fastest_revolution_of_an_accelerating_run():
@@ -152,7 +152,7 @@ def test_the_step_follows_the_fastest_revolution_of_an_accelerating_run():
     # = 28.17 rad/s, 3.2x its first-turn speed; the step must be chosen for the end of the run.
     mech = service.load("fourbar", {"alpha1": 3.0})
     final = math.sqrt(4 * math.pi ** 2 + 2 * 3.0 * 40 * math.pi)
-    assert model.choose_timestep(mech, 20.0) <= 0.03 / final * (1 + 1e-9)
+    assert model.choose_timestep(mech, 20.0) <= 0.025 / final * (1 + 1e-9)
 
 
 def test_a_diverging_run_stops_with_time_and_angle():

@@ -74,7 +74,7 @@ def frame_instants(t: np.ndarray, fps: float) -> np.ndarray:
 def frame_poses(t: np.ndarray, qpos: np.ndarray, instants: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Joint positions at each frame instant, blended linearly between the recorded steps around it, and
     the last recorded step at or before it (for the traced path). The joints are hinges and slides (no
-    quaternions), so a blend is a pose; a step turns the fastest link by at most 0.03 rad, so a loop
+    quaternions), so a blend is a pose; a step turns the fastest link by at most 0.025 rad, so a loop
     opens by ~1e-4 of the size between steps: far below a pixel, where taking the nearest step instead
     would jerk the fastest link by up to half a step."""
     k = np.clip(np.searchsorted(t, instants, side="right") - 1, 0, len(t) - 2)

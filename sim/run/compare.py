@@ -20,7 +20,7 @@ from sim.run.simulate import Trajectory, energies
 from sim.output.units import output_kind
 
 ANGLE_TOL = 1e-6
-"""[rad] RK4's truncation error at 0.03 rad per step over a run plus the loop drift it carries (1000 random
+"""[rad] RK4's truncation error at 0.025 rad per step over a run plus the loop drift it carries (1000 random
 designs, benchmarks/trust.py: median 2e-8, worst 3e-7)."""
 POSITION_TOL = 1e-6
 """[of the size L] the same for points and slides, measured against the mechanism's size."""

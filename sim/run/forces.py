@@ -440,7 +440,7 @@ beyond 2 deg; the kinematic outputs are still judged at every sample."""
 CHECKED_STEPS = 1000
 """The most steps :func:`check` reads by default (evenly spread, both ends kept): every step of a one-turn run
 of nearly any design (the trust benchmark's: median 242, at most 874 steps a revolution), a bounded cost
-(50 us a step) for long runs, where the forces' error, smooth over the 0.03 rad steps, is sampled every few."""
+(50 us a step) for long runs, where the forces' error, smooth over the 0.025 rad steps, is sampled every few."""
 
 
 def spread(n: int, most: int = CHECKED_STEPS) -> np.ndarray:
