@@ -250,6 +250,9 @@ def summary(d) -> str:
         lines.append(f"flywheel sized for Cs = {d.target:g}: {d.flywheel:.6g} kg m^2; runs give "
                      f"{r.fluctuation:.5g} (analytic), {s.fluctuation:.5g} (MuJoCo) "
                      f"[{'ok' if d.sizing_passed else f'FAIL: outside {smotor_tol():.0%}; try more --revolutions'}]")
+        if d.revolutions_asked is not None and r.revolutions > d.revolutions_asked:
+            lines.append(f"  (run for {r.revolutions:g} revolutions instead of {d.revolutions_asked:g}: the start-up "
+                         f"with this flywheel takes {r.startup_time:.3g} s, and the last revolution must be steady)")
     lines.append(f"agreement: mean speed {a.mean_speed:.1e} (tol {a.as_dict()['tolerances']['mean_speed']:.0e}), "
                  f"Cs {a.fluctuation:.1e} (tol {a.as_dict()['tolerances']['fluctuation']:.0e}), speed vs angle "
                  f"{a.curve:.1e}, vs time {a.time:.1e}; loop {s.loop_violation:.1e} m; step {s.timestep:.3g} s")
