@@ -15,7 +15,7 @@ from analytic.solver import batch
 from analytic.applications import studies
 
 MECHANISMS = ["fourbar", "fivebar", "slider_crank", "jansen", "watt_six_bar", "whitworth",
-              "inverted_slider_crank", "stephenson_six_bar"]
+              "inverted_slider_crank", "stephenson_six_bar", "scotch_yoke", "elliptic_trammel"]
 
 
 def run(*args):

@@ -98,7 +98,8 @@ def pin_in_slot(guide, offset, angle, P):
     """
     O, c, s, w, a = guide
     A = on_frame(O, c, s, w, a, 0.0, offset)
-    cv, sv = turned(c, s, math.cos(angle), math.sin(angle))
+    cos, sin = (math.cos, math.sin) if np.ndim(angle) == 0 else (np.cos, np.sin)   # a batch: arrays
+    cv, sv = turned(c, s, cos(angle), sin(angle))
     C, along, (t, dt, ddt) = meet(A, c, s, w, a, P, cv, sv, w, a)
     return C, (c, s, w, a), (cv, sv, w, a), along, (-t, -dt, -ddt)
 
@@ -118,7 +119,8 @@ def layout_pin_in_slot(e, L, row, par, on_guide: str, in_slot: str) -> None:
     the slot ``row[4]`` and its slide ``row[9]``; offset ``par[0]``, the slot angle's cos and sin
     ``par[1]``, ``par[4]`` (as :func:`pin_in_slot` computes them)."""
     row[2] = L.point(e["through"])
-    par[0], par[1], par[4] = e["offset"], math.cos(e["angle"]), math.sin(e["angle"])
+    cos, sin = (math.cos, math.sin) if np.ndim(e["angle"]) == 0 else (np.cos, np.sin)   # a batch: arrays
+    par[0], par[1], par[4] = e["offset"], cos(e["angle"]), sin(e["angle"])
     L.guide(row, par, e["guide"])
     for name in e["links"]:                      # in the order of the links, as the numpy path adds them
         row[3 if name == on_guide else 4] = L.new_link(name)

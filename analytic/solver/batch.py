@@ -13,8 +13,11 @@ are a path from its own pose, never a continuation of the previous design's.
 numbers are repeated per sample, so every group function does the same arithmetic as for one design, on
 arrays; outputs come back as (K, N) arrays with the same names as :meth:`Mechanism.solve`.
 
-The compiled path (:mod:`analytic.solver.jit`) takes one geometry of scalars per call; batches always run on
-numpy (numbers identical to numpy's one-at-a-time solve to rounding).
+With numba installed (the compiled path, :mod:`analytic.solver.jit`, under the same conditions as
+:meth:`Mechanism.solve`'s: every kind with a compiled row, at least ``jit.MIN_SAMPLES`` samples in all), the
+blocks of designs go through :func:`analytic.solver.jit.solve_designs` instead: one compiled call per block
+whose numbers table has a design axis, each thread solving a run of one design's samples; the numbers
+equal numpy's to rounding (tests/test_batch_designs.py).
 """
 
 from __future__ import annotations
@@ -35,6 +38,10 @@ _NP = {"sqrt": np.sqrt, "sin": np.sin, "cos": np.cos, "tan": np.tan, "asin": np.
        "atan": np.arctan, "atan2": np.arctan2, "hypot": np.hypot, "abs": np.abs, "min": np.minimum,
        "max": np.maximum, "radians": np.radians, "degrees": np.degrees}
 """expr.FUNCTIONS on arrays (outside a function's domain: NaN, which marks the design invalid)."""
+
+JIT_SAMPLES_PER_CALL = 1 << 20
+"""Samples per compiled call over designs (whole designs): bounds its output array while every thread has
+many chunks to take."""
 
 SAMPLES_PER_BLOCK = 4 * BLOCK
 """Samples per evaluated block (designs x samples): large enough that numpy's per-call overhead is small
@@ -387,7 +394,9 @@ def solve(designs: Designs, q, qd=0.0, qdd=0.0, outputs=None) -> BatchSolution:
     extras = want is None or any(x in want for x in base.extra_outputs)
     out: dict[str, np.ndarray] | None = None
     failed = np.zeros((k, n), dtype=np.int64)
-    per = max(1, SAMPLES_PER_BLOCK // max(n, 1))
+    from analytic.solver import jit
+    compiled = n > 0 and jit.enabled(k * n) and jit.supports(base.geometry)
+    per = max(1, (JIT_SAMPLES_PER_CALL if compiled else SAMPLES_PER_BLOCK) // max(n, 1))
     if k * n > BLOCK:
         keep_freed_memory()
     for idx, geo in designs.groups:
@@ -395,11 +404,15 @@ def solve(designs: Designs, q, qd=0.0, qdd=0.0, outputs=None) -> BatchSolution:
         local = np.flatnonzero(designs.valid[idx])
         for s in range(0, idx_ok.size, per):
             rows, loc = idx_ok[s:s + per], local[s:s + per]
-            g = linkfile.Geometry(_per_sample(_pick(geo.ground, loc), n),
-                                  tuple(_per_sample(_pick(e, loc), n) for e in geo.elements), {})
             flat = [a[rows].reshape(-1, m).T for a in (q, qd, qdd)]
-            with np.errstate(invalid="ignore", divide="ignore"):
-                part, f, _ = block(g, *flat, want, None, extras)
+            if compiled:
+                g = linkfile.Geometry(_pick(geo.ground, loc), tuple(_pick(e, loc) for e in geo.elements), {})
+                part, f = jit.solve_designs(g, rows.size, *flat, want)
+            else:
+                g = linkfile.Geometry(_per_sample(_pick(geo.ground, loc), n),
+                                      tuple(_per_sample(_pick(e, loc), n) for e in geo.elements), {})
+                with np.errstate(invalid="ignore", divide="ignore"):
+                    part, f, _ = block(g, *flat, want, None, extras)
             if out is None:
                 out = {name: np.full((k, n), np.nan) for name in part}
             for name, v in part.items():

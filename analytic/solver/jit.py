@@ -98,14 +98,18 @@ import numpy as np
 
 
 @numba.njit(cache=True, parallel=True, error_model="numpy")
-def kernel(ops, par, init, ground, need, q, qd, qdd, step, rows, out, failed, size):
-    n = failed.shape[0]
-    for chunk in numba.prange((n + size - 1) // size):
-        i0 = chunk * size
-        m = min(n - i0, size)
-        st = np.empty((init.shape[0], size + 8))   # rows 4 KiB + 64 B apart: no cache-set aliasing
+def kernel(ops, par, init, ground, need, q, qd, qdd, step, rows, out, failed, size, per):
+    designs = par.shape[0]                       # design d's samples are columns d * per .. (d + 1) * per - 1
+    chunks = (per + size - 1) // size            # chunks per design: none spans two designs
+    for chunk in numba.prange(designs * chunks):
+        d = chunk // chunks
+        j0 = (chunk - d * chunks) * size
+        i0 = d * per + j0
+        m = min(per - j0, size)
+        pd = par[d]
+        st = np.empty((init.shape[1], size + 8))   # rows 4 KiB + 64 B apart: no cache-set aliasing
         for g in ground:
-            st[g, :] = init[g]
+            st[g, :] = init[d, g]
         for e in range(ops.shape[0]):
             code = ops[e, 0]
 {dispatch}
@@ -141,7 +145,7 @@ def _kernel_source() -> tuple[str, str]:
         wraps.append(f"_k{code} = numba.njit(error_model=\"numpy\")(_m{code}.{kind.jit.kernel.__name__})")
         word = "if" if code == 0 else "elif"
         dispatch.append(f"            {word} code == {code}:\n"
-                        f"                _k{code}(st, m, e, ops, par, q, qd, qdd, step, i0, need)")
+                        f"                _k{code}(st, m, e, ops, pd, q, qd, qdd, step, i0, need)")
     text = _TEMPLATE.format(imports="\n".join(imports), wraps="\n".join(wraps), dispatch="\n".join(dispatch),
                             copy=OUT_COPY, phi=OUT_PHI)
     digest = hashlib.sha256(text.encode())
@@ -206,11 +210,17 @@ class Layout:
     """A geometry's element table and state layout, and the output names in the numpy path's order.
 
     Kinds lay out their rows through it (:attr:`analytic.kinds.base.JitSpec.layout`): :meth:`point` and
-    :meth:`link` give the slots of what exists, ``new_*`` allocate the slots of what an element solves."""
+    :meth:`link` give the slots of what exists, ``new_*`` allocate the slots of what an element solves.
+
+    ``par`` has shape (designs, elements, PARS) and ``state`` (designs, slots): one design, or with
+    ``designs`` = K a geometry whose numbers are arrays of shape (K,) (a batch, :func:`solve_designs`; its
+    branches and other integer fields one number for all). A kind's layout writes its numbers into
+    ``par[index]``, rows of shape (PARS,) or (PARS, K), with arithmetic that broadcasts."""
 
     OUT_ABS_ANGLE = OUT_ABS_ANGLE
 
-    def __init__(self, geometry):
+    def __init__(self, geometry, designs: int | None = None):
+        shape = () if designs is None else (designs,)
         self.slots = 0
         self.base: list[int] = []                     # slot -> first slot of its point, link, pair, extra
         self.points, self.link_slots, self.slide_slots, self.extras = {}, {}, {}, {}
@@ -218,18 +228,20 @@ class Layout:
         self.init: list[tuple[int, float, float]] = []
         for g, (x, y) in geometry.ground.items():
             self.points[g] = self.alloc(6)
-            self.init.append((self.points[g], float(x), float(y)))
+            self.init.append((self.points[g], np.asarray(x, dtype=float), np.asarray(y, dtype=float)))
         table = codes()
         elements = geometry.elements
         ops = np.zeros((len(elements), OPS), dtype=np.int64)
-        par = np.zeros((len(elements), PARS))
+        par = np.zeros((len(elements), PARS) + shape)
         for index, e in enumerate(elements):
             ops[index, 0] = table[e["kind"]]
             kinds.get(e["kind"]).jit.layout(e, self, ops[index], par[index])
             ops[index, 1] = self.points[e["places"][0]]
-        state = np.zeros(self.slots)
+        state = np.zeros((self.slots,) + shape)
         for o, x, y in self.init:
             state[o], state[o + 1] = x, y
+        par = np.ascontiguousarray(np.moveaxis(par, -1, 0) if shape else par[None])   # (designs, E, PARS)
+        state = np.ascontiguousarray(state.T if shape else state[None])              # (designs, slots)
         names, rows = [], []
         for p, o in self.points.items():
             for i, prefix in enumerate(("x", "y", "vx", "vy", "ax", "ay")):
@@ -298,7 +310,7 @@ class Layout:
             o = self.points[through]
         else:
             o = self.alloc(6)
-            self.init.append((o, float(through[0]), float(through[1])))
+            self.init.append((o, np.asarray(through[0], dtype=float), np.asarray(through[1], dtype=float)))
         row[5], row[6] = C.G_ORIGIN, o
         par[2], par[3] = np.cos(G["angle"]), np.sin(G["angle"])     # as the numpy path does
 
@@ -330,7 +342,7 @@ def solve(geometry, q, qd, qdd, want=None):
     else:
         pick = [i for i, name in enumerate(layout.names) if name in want]
         names, rows = tuple(layout.names[i] for i in pick), layout.rows[pick]
-    need = np.zeros(layout.state.shape[0], dtype=np.bool_)     # links and extras: only when asked for
+    need = np.zeros(layout.state.shape[1], dtype=np.bool_)     # links and extras: only when asked for
     need[layout.base_array[rows[:, 1]]] = True
     for slot in layout.required:
         need[slot] = True
@@ -344,5 +356,30 @@ def solve(geometry, q, qd, qdd, want=None):
     failed = np.empty(n, dtype=np.int64)
     with warnings.catch_warnings():                  # numba reads .flags.writeable, which warns for views
         warnings.simplefilter("ignore", FutureWarning)  # of np.broadcast_to arrays; only read here
-        kernel(layout.ops, layout.par, layout.state, layout.ground, need, *inputs, step, rows, out, failed, CHUNK)
+        kernel(layout.ops, layout.par, layout.state, layout.ground, need, *inputs, step, rows, out, failed, CHUNK, n)
+    return dict(zip(names, out)), failed
+
+
+def solve_designs(geometry, designs: int, q, qd, qdd, want=None):
+    """K designs at once: ``geometry``'s numbers are arrays of shape (K,) (its branches and other integer
+    fields one number for all), ``q``, ``qd``, ``qdd`` of shape (n_inputs, K * N), design k's samples in
+    columns k N .. (k + 1) N - 1. Returns ``({name: (K * N,) array}, failed)`` as :func:`solve`."""
+    kernel = compile_kernel()
+    layout = Layout(geometry, designs)
+    names, rows = layout.names, layout.rows
+    if want is not None:
+        pick = [i for i, name in enumerate(layout.names) if name in want]
+        names, rows = tuple(layout.names[i] for i in pick), layout.rows[pick]
+    need = np.zeros(layout.state.shape[1], dtype=np.bool_)
+    need[layout.base_array[rows[:, 1]]] = True
+    for slot in layout.required:
+        need[slot] = True
+    n = q.shape[1]
+    if n % designs:
+        raise ValueError(f"{n} samples do not split into {designs} designs")
+    inputs = [np.ascontiguousarray(a, dtype=np.float64) for a in (q, qd, qdd)]
+    out = np.empty((len(names), n))
+    failed = np.empty(n, dtype=np.int64)
+    kernel(layout.ops, layout.par, layout.state, layout.ground, need, *inputs, np.ones(3, dtype=np.int64), rows,
+           out, failed, CHUNK, n // designs)
     return dict(zip(names, out)), failed
