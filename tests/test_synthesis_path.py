@@ -14,7 +14,7 @@ import pytest
 import analytic
 from analytic.synthesis import path as sp
 from sim.run.parallel import mapper
-from sim.front.synth_path_cmd import _mu_min_deg
+from sim.front.synth_path_cmd import mu_min_deg as _mu_min_deg
 
 LIB = dict(l1=0.10, l2=0.30, l3=0.25, l4=0.30, ex=0.15, ey=0.10)   # the library four-bar's crank-rocker
 
@@ -94,9 +94,9 @@ def test_recovers_a_random_fourbar():
     # the bar: every target within 1e-3 of the target's size of the found curve
     assert d.err.max() < 1e-3 * t.size
     # and independently, the general solver's curve of the written file passes within that bar too
-    from sim.front.synth_path_cmd import linkage_of
-    from analytic.synthesis import fourbar as synth_fourbar
-    sol = synth_fourbar.mechanism(linkage_of(d)).solve(np.linspace(0, 2 * math.pi, 20000))
+    from analytic.registry import from_text
+    from sim.design_service import design_text
+    sol = from_text(design_text(d, "m", t, 0)).solve(np.linspace(0, 2 * math.pi, 20000))
     P = np.column_stack([sol["xE"], sol["yE"]])
     near = np.sqrt(((xy[:, None, :] - P[None]) ** 2).sum(-1)).min(1)
     assert near.max() < 1e-3 * t.size                    # 20000 samples: spacing far below 1e-3 of size
