@@ -48,6 +48,8 @@ FOURBAR = FAMILIES["fourbar"]
 NAMES = FOURBAR.names
 ROTATIONS = 8
 """Starting turns of each shape before the similarity alignment (free timing)."""
+KEEP = 2
+"""Of those, the best (on a coarse curve) that are aligned."""
 PRESCREEN = 20000
 """Random shapes drawn per restart; the least constraint-breaking are posed on the targets and the best
 seed the population (a computed atlas, see :func:`restart`)."""
@@ -219,11 +221,15 @@ def failed_constraint(x, cons: Constraints, target: Target, branch=(1,), family:
 def _nearest_sample(E: np.ndarray, xy: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Squared distance (K, M) from each target to the nearest curve sample and that sample's index.
 
-    The search uses |e|^2 - 2 e.t (a matrix product; |t|^2 is the same for every sample), the returned
-    distance is recomputed directly at the chosen sample (no cancellation)."""
-    G = (E * E).sum(-1)[:, :, None] - 2.0 * (E @ xy.T)              # (K, N, M)
-    G = np.nan_to_num(G, nan=np.inf)
-    k = G.argmin(axis=1)
+    The search uses |e|^2 - 2 e.t on coordinates taken from the targets' mean (|t|^2 is the same for
+    every sample; a sample that does not close is put 1e150 away), laid out (K, M, N) so the arg-min runs
+    along contiguous memory; the returned distance is recomputed directly at the chosen sample."""
+    c = xy.mean(axis=0)
+    Ec = np.where(np.isnan(E), 1e150, E - c)
+    t = xy - c
+    G = (Ec * Ec).sum(-1)[:, None, :] - 2.0 * (t[None, :, 0, None] * Ec[:, None, :, 0]
+                                                + t[None, :, 1, None] * Ec[:, None, :, 1])   # (K, M, N)
+    k = G.argmin(axis=2)
     P = np.take_along_axis(E, k[:, :, None], axis=1)                  # (K, M, 2)
     d2 = ((P - xy[None]) ** 2).sum(-1)
     return np.where(np.isfinite(d2), d2, np.inf), k
@@ -316,10 +322,12 @@ def errors(x, branch, target: Target, phi_offset: float = 0.0, family: Family = 
 # --- normalised design space -------------------------------------------------------------------------
 def _pose(xn, target: Target, branch, n: int, family: Family):
     """Each shape moved, turned and scaled onto the targets: ROTATIONS starts matching the curve's centroid
-    and RMS radius to the targets', each aligned (``align``); the best kept.
+    and RMS radius to the targets', ranked by their error on a curve of n/2 samples; the best KEEP aligned
+    (``align``) and the best of those kept.
 
     Returns (x (K, size), sum_sq (K,), order violation (K,))."""
     K = len(xn)
+    nb = len(family.branches[0])
     phi = np.linspace(0.0, 2 * math.pi, n, endpoint=False)
     E, _ = family.points(xn, phi, branch)
     with np.errstate(invalid="ignore"):
@@ -334,15 +342,19 @@ def _pose(xn, target: Target, branch, n: int, family: Family):
     t = (cT[0] + 1j * cT[1]) - z * (cE[:, 0] + 1j * cE[:, 1])[:, None]
     t = np.where(np.isfinite(t), t, 0.0)
     xs = family.move(np.repeat(xn, ROTATIONS, axis=0), z.ravel(), t.ravel())
-    br = np.repeat(np.broadcast_to(np.asarray(branch), (K, len(family.branches[0]))), ROTATIONS, axis=0)
-    xs = align(xs, target, br, n, steps=3, family=family)
-    f, o = batch_error(xs, target, br, n, family)
-    f = np.where(np.isfinite(f), f, np.inf).reshape(K, ROTATIONS)
-    o = o.reshape(K, ROTATIONS)
+    br = np.broadcast_to(np.asarray(branch), (K, nb))
+    f0, _ = batch_error(xs, target, np.repeat(br, ROTATIONS, axis=0), max(n // 2, 16), family)
+    keep = np.argsort(f0.reshape(K, ROTATIONS), axis=1, kind="stable")[:, :KEEP]          # (K, KEEP)
+    xs = xs.reshape(K, ROTATIONS, -1)[np.arange(K)[:, None], keep].reshape(K * KEEP, -1)
+    brk = np.repeat(br, KEEP, axis=0)
+    xs = align(xs, target, brk, n, steps=3, family=family)
+    f, o = batch_error(xs, target, brk, n, family)
+    f = np.where(np.isfinite(f), f, np.inf).reshape(K, KEEP)
+    o = o.reshape(K, KEEP)
     score = f / max(target.size, 1e-300) ** 2 + ORDER_WEIGHT * o
     j = np.argmin(score, axis=1)
     r = np.arange(K)
-    return xs.reshape(K, ROTATIONS, -1)[r, j], f[r, j], o[r, j]
+    return xs.reshape(K, KEEP, -1)[r, j], f[r, j], o[r, j]
 
 
 def _pose_timed(u, target: Target, branch, family: Family):
