@@ -40,8 +40,11 @@ import numpy as np
 
 __all__ = ["Family", "FourBar", "SliderCrank", "SixBar", "FAMILIES", "family", "TYPES"]
 
-RATIO = 6.0
-"""Normalised shapes: lengths searched in [1/RATIO, RATIO] crank lengths (log scale)."""
+RATIO = 8.0
+"""Normalised shapes: link lengths searched in [1/RATIO, RATIO] crank lengths (log scale)."""
+REACH = (1 / 8, 16.0)
+"""Normalised shapes: a coupler point's distance from its link's origin, [min, max] crank lengths (log
+scale; its direction over the full turn). The literature's designs reach 9.6 (Ullah and Kota)."""
 SIXBAR_SAMPLES = 96
 """Crank angles at which the six-bars' second dyad is checked during the search (the final designs are
 checked on 4096, and by the general solver)."""
@@ -184,6 +187,13 @@ def _sym(u, half):
     return (2 * u - 1) * half
 
 
+def _polar(u2, reach=REACH):
+    """(K, 2) unit-interval pairs -> points at a log-uniform distance in ``reach`` and any direction."""
+    r = np.exp(np.log(reach[0]) + u2[:, 0] * (np.log(reach[1]) - np.log(reach[0])))
+    a = (2 * u2[:, 1] - 1) * math.pi
+    return np.column_stack([r * np.cos(a), r * np.sin(a)])
+
+
 def _g(v) -> str:
     return repr(float(v))
 
@@ -238,7 +248,8 @@ class FourBar(Family):
         bx, by = ax + a * np.cos(phi), ay + a * np.sin(phi)
         dx, dy = ax + d * np.cos(th), ay + d * np.sin(th)
         (cx, cy), ok, _ = _rrr(bx, by, dx, dy, b, c, br[:, 0:1])
-        E = np.stack([bx + ex * cx - ey * cy, by + ex * cy + ey * cx], axis=-1)
+        with np.errstate(invalid="ignore", over="ignore"):
+            E = np.stack([bx + ex * cx - ey * cy, by + ex * cy + ey * cx], axis=-1)
         ok = np.broadcast_to(ok, E.shape[:2])
         E[~ok] = np.nan
         return E, ok
@@ -260,7 +271,7 @@ class FourBar(Family):
         x = np.zeros((len(u), 9))
         x[:, 4] = 1.0
         x[:, [3, 5, 6]] = _ln(u[:, 0:3])
-        x[:, 7:9] = _sym(u[:, 3:5], 2 * RATIO ** 0.5)
+        x[:, 7:9] = _polar(u[:, 3:5])
         return x
 
     def linkage(self, x, branch, phi1_0=0.0, omega1=2 * math.pi):
@@ -299,7 +310,8 @@ class SliderCrank(Family):
             w = br * np.sqrt(disc)                          # C - B along the line
         ux, uy = (w * c0 + h * s0) / b, (w * s0 - h * c0) / b   # unit B->C (C - B = w u0 - h n0)
         bx, by = ax + rx, ay + ry
-        E = np.stack([bx + ex * ux - ey * uy, by + ex * uy + ey * ux], axis=-1)
+        with np.errstate(invalid="ignore", over="ignore"):
+            E = np.stack([bx + ex * ux - ey * uy, by + ex * uy + ey * ux], axis=-1)
         ok = np.broadcast_to(ok, E.shape[:2])
         E[~ok] = np.nan
         return E, ok
@@ -326,7 +338,7 @@ class SliderCrank(Family):
         x[:, 3] = 1.0
         x[:, 4] = _ln(u[:, 0])
         x[:, 5] = _sym(u[:, 1], 2.0)
-        x[:, 6:8] = _sym(u[:, 2:4], 2 * RATIO ** 0.5)
+        x[:, 6:8] = _polar(u[:, 2:4])
         return x
 
     def text(self, x, branch, units, name, description, phi1_0=0.0, omega1=2 * math.pi):
@@ -404,7 +416,8 @@ class SixBar(Family):
         x = np.atleast_2d(np.asarray(x, dtype=float))
         (ex, ey), (vx, vy), ok, _ = self._joints(x, phi, branch)
         qx, qy = _col(x, 13), _col(x, 14)
-        E = np.stack([ex + qx * vx - qy * vy, ey + qx * vy + qy * vx], axis=-1)
+        with np.errstate(invalid="ignore", over="ignore"):
+            E = np.stack([ex + qx * vx - qy * vy, ey + qx * vy + qy * vx], axis=-1)
         ok = np.broadcast_to(ok, E.shape[:2])
         E[~ok] = np.nan
         return E, ok
@@ -461,10 +474,10 @@ class SixBar(Family):
         x = np.zeros((len(u), 15))
         x[:, 4] = 1.0
         x[:, [3, 5, 6]] = _ln(u[:, 0:3])
-        x[:, 7:9] = _sym(u[:, 3:5], 2 * RATIO ** 0.5)
+        x[:, 7:9] = _polar(u[:, 3:5], (1 / 8, 8.0))
         x[:, 9:11] = _ln(u[:, 5:7])
         x[:, 11:13] = _sym(u[:, 7:9], 2 * RATIO)
-        x[:, 13:15] = _sym(u[:, 9:11], 2 * RATIO ** 0.5)
+        x[:, 13:15] = _polar(u[:, 9:11])
         return x
 
     def text(self, x, branch, units, name, description, phi1_0=0.0, omega1=2 * math.pi):

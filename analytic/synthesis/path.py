@@ -46,15 +46,36 @@ __all__ = ["Target", "Constraints", "Design", "coupler_points", "violation", "cu
 
 FOURBAR = FAMILIES["fourbar"]
 NAMES = FOURBAR.names
-ROTATIONS = 8
-"""Starting turns of each shape before the similarity alignment (free timing)."""
+STARTS = 8
+"""Free timing: starting points on each curve for matching the targets by arc length (:func:`_arc_starts`)."""
+SPANS = (1.0, 0.6, 0.35)
+"""Open targets: the fractions of the curve's length they are tried on."""
+ARC_GRID = 64
+"""Points of each curve, evenly spaced by arc length, the matches pick from."""
 KEEP = 2
-"""Of those, the best (on a coarse curve) that are aligned."""
+"""Starts (least matching residual) refined by nearest-point alignment."""
+ALIGN_STEPS = 5
+"""Rounds of nearest-point alignment."""
+SEARCH_TARGETS = 40
+"""Targets the global search uses at most (:func:`search_target`)."""
 PRESCREEN = 20000
 """Random shapes drawn per restart; the least constraint-breaking are posed on the targets and the best
 seed the population (a computed atlas, see :func:`restart`)."""
-ORDER_WEIGHT = 1.0
-"""Search objective: error / size^2 plus this times the order violation (in half turns)."""
+ORDER_WEIGHT = 0.1
+"""Search objective: error / size^2 plus this times the order violation (in half turns; the polish then
+puts the targets in order exactly)."""
+POLISH_STAGES = (("trf", 300),)
+"""The polish's least-squares runs in turn: (scipy method, residual evaluations at most)."""
+PENALTY = 1e3
+"""Weight of the constraint and order rows in the polish (against target distances / target size)."""
+DE_STRATEGY = "best1bin"
+"""scipy's differential-evolution strategy."""
+ORDER_SLACK = 1e-6
+"""[rad] A returned design may meet a target this much of a crank turn before the previous one (the
+polish's order penalty leaves steps back of that order; two targets met within 1e-6 rad are met
+together)."""
+TURN_ROUNDING = 1e-9
+"""[rad] A sum of wrapped steps is a whole number of turns up to rounding (1e-16 seen): below this, none."""
 FINAL_SAMPLES = 4096
 """Crank angles at which a returned design's sampled constraints (six-bars' second dyad) are checked."""
 POLISH_MARGIN = (math.radians(0.02), 1e-4)
@@ -159,30 +180,31 @@ def _wrap(a):
     return np.angle(np.exp(1j * np.asarray(a, dtype=float)))
 
 
-def order_violation(phis, closed: bool) -> np.ndarray:
+def order_violation(phis, closed: bool, slack: float = 0.0) -> np.ndarray:
     """(K,) how far matched crank angles ``phis`` (K, M) [rad] break the targets' order (module doc):
-    backward steps in half turns, plus (closed) the steps' total's distance from one turn or (open) its
-    excess over one turn, in turns. 0 = in order."""
+    backward steps beyond ``slack`` [rad] in half turns, plus (closed) the steps' total's distance from one
+    turn or (open) its excess over one turn, in turns. 0 = in order. The search passes a slack of about
+    one curve sample (targets nearer together than the samples may pick them in either order)."""
     phis = np.atleast_2d(phis)
     d = _wrap(np.diff(phis, axis=1))
     if closed:
         d = np.concatenate([d, _wrap(phis[:, :1] - phis[:, -1:])], axis=1)
     total = d.sum(axis=1)
     s = np.where(total < 0, -1.0, 1.0)[:, None]
-    back = np.maximum(-s * d, 0).sum(axis=1) / math.pi
+    back = np.maximum(-s * d - slack, 0).sum(axis=1) / math.pi
     tot = (s * d).sum(axis=1)
     turn = np.abs(tot - 2 * math.pi) if closed else np.maximum(tot - 2 * math.pi, 0)
-    return back + turn / (2 * math.pi)
+    return back + np.maximum(turn - TURN_ROUNDING, 0) / (2 * math.pi)
 
 
 def _order_words(phis, closed: bool) -> str:
     """Which targets break the order ('' if none)."""
-    if order_violation(phis[None], closed)[0] <= 0:
+    if order_violation(phis[None], closed, ORDER_SLACK)[0] <= 0:
         return ""
     d = _wrap(np.diff(phis))
     dd = np.concatenate([d, _wrap(phis[:1] - phis[-1:])]) if closed else d
     s = -1.0 if dd.sum() < 0 else 1.0
-    bad = np.flatnonzero(s * dd < 0)
+    bad = np.flatnonzero(s * dd < -ORDER_SLACK)
     m = len(phis)
     if bad.size:
         i = int(bad[0])
@@ -254,7 +276,7 @@ def batch_error(x, target: Target, branch, n: int = 192, family: Family = FOURBA
         E, _ = family.points(x[i:i + step], phi, b)
         d2, k = _nearest_sample(E, target.xy)
         out[i:i + step] = d2.sum(-1)
-        order[i:i + step] = order_violation(phi[k], target.closed)
+        order[i:i + step] = order_violation(phi[k], target.closed, 1.5 * 2 * math.pi / n)
     return out, order
 
 
@@ -320,34 +342,62 @@ def errors(x, branch, target: Target, phi_offset: float = 0.0, family: Family = 
 
 
 # --- normalised design space -------------------------------------------------------------------------
+def _target_fractions(target: Target) -> np.ndarray:
+    """Each target's place along the targets' polygon as a fraction of its length (closed: the closing
+    side counted)."""
+    xy = target.xy
+    sides = np.hypot(*np.diff(np.vstack([xy, xy[:1]]) if target.closed else xy, axis=0).T)
+    cum = np.concatenate([[0.0], np.cumsum(sides)])
+    return cum[:len(xy)] / max(cum[-1], 1e-300)
+
+
+def _arc_starts(E: np.ndarray, target: Target) -> tuple[np.ndarray, np.ndarray]:
+    """Similarities (z, t) (K, S) that put each sampled curve E (K, n, 2) on the targets when the targets,
+    spaced by their polygon's length, are matched to the curve spaced by its arc length from STARTS
+    starting points, in both senses, the targets spanning the whole curve (closed) or SPANS of it (open);
+    and the residual (K, S) of each match (squared, [length^2])."""
+    K, n, _ = E.shape
+    Ef = np.nan_to_num(E)
+    seg = np.hypot(*(np.roll(Ef, -1, axis=1) - Ef).transpose(2, 0, 1))          # (K, n)
+    cum = np.cumsum(seg, axis=1) - seg
+    cum = cum / np.maximum(cum[:, -1:] + seg[:, -1:], 1e-300)                    # (K, n) in [0, 1)
+    grid = np.arange(ARC_GRID) / ARC_GRID
+    idx = np.minimum((cum[:, None, :] < grid[None, :, None]).sum(-1), n - 1)   # (K, G): uniform in arc length
+    U = np.take_along_axis(Ef, idx[:, :, None], axis=1)
+    u = U[..., 0] + 1j * U[..., 1]                                            # (K, G)
+    f = _target_fractions(target)
+    spans = (1.0,) if target.closed else SPANS
+    cols = [np.round(ARC_GRID * (k / STARTS + d * s * f)).astype(int) % ARC_GRID
+            for s in spans for d in (1, -1) for k in range(STARTS)]
+    cols = np.stack(cols)                                                       # (S, M)
+    p = u[:, cols]                                                              # (K, S, M)
+    q = target.xy[:, 0] + 1j * target.xy[:, 1]
+    pc, qc = p - p.mean(-1, keepdims=True), q - q.mean()
+    with np.errstate(divide="ignore", invalid="ignore"):
+        z = (np.conj(pc) * qc).sum(-1) / (np.abs(pc) ** 2).sum(-1)
+    z = np.where(np.isfinite(z) & (z != 0), z, 1.0)
+    t = q.mean() - z * p.mean(-1)
+    res = (np.abs(z[..., None] * p + t[..., None] - q) ** 2).sum(-1)
+    return z, t, np.where(np.isfinite(res), res, np.inf)
+
+
 def _pose(xn, target: Target, branch, n: int, family: Family):
-    """Each shape moved, turned and scaled onto the targets: ROTATIONS starts matching the curve's centroid
-    and RMS radius to the targets', ranked by their error on a curve of n/2 samples; the best KEEP aligned
-    (``align``) and the best of those kept.
+    """Each shape moved, turned and scaled onto the targets: starts from matching arc-length fractions
+    (:func:`_arc_starts`), the best KEEP by their matching residual aligned (``align``), the best of
+    those kept.
 
     Returns (x (K, size), sum_sq (K,), order violation (K,))."""
     K = len(xn)
     nb = len(family.branches[0])
     phi = np.linspace(0.0, 2 * math.pi, n, endpoint=False)
     E, _ = family.points(xn, phi, branch)
-    with np.errstate(invalid="ignore"):
-        cE = np.nanmean(E, axis=1)
-        rE = np.sqrt(np.nanmean(((E - cE[:, None]) ** 2).sum(-1), axis=1))
-    cT = target.xy.mean(0)
-    rT = math.sqrt(((target.xy - cT) ** 2).sum(-1).mean())
-    psi = 2 * math.pi * np.arange(ROTATIONS) / ROTATIONS
-    with np.errstate(divide="ignore", invalid="ignore"):
-        z = (rT / rE)[:, None] * np.exp(1j * psi)[None, :]                     # (K, R)
-    z = np.where(np.isfinite(z), z, 1.0)
-    t = (cT[0] + 1j * cT[1]) - z * (cE[:, 0] + 1j * cE[:, 1])[:, None]
-    t = np.where(np.isfinite(t), t, 0.0)
-    xs = family.move(np.repeat(xn, ROTATIONS, axis=0), z.ravel(), t.ravel())
+    z, t, res = _arc_starts(E, target)
+    keep = np.argsort(res, axis=1, kind="stable")[:, :KEEP]                    # (K, KEEP)
+    r = np.arange(K)[:, None]
+    xs = family.move(np.repeat(xn, KEEP, axis=0), z[r, keep].ravel(), t[r, keep].ravel())
     br = np.broadcast_to(np.asarray(branch), (K, nb))
-    f0, _ = batch_error(xs, target, np.repeat(br, ROTATIONS, axis=0), max(n // 2, 16), family)
-    keep = np.argsort(f0.reshape(K, ROTATIONS), axis=1, kind="stable")[:, :KEEP]          # (K, KEEP)
-    xs = xs.reshape(K, ROTATIONS, -1)[np.arange(K)[:, None], keep].reshape(K * KEEP, -1)
     brk = np.repeat(br, KEEP, axis=0)
-    xs = align(xs, target, brk, n, steps=3, family=family)
+    xs = align(xs, target, brk, n, steps=ALIGN_STEPS, family=family)
     f, o = batch_error(xs, target, brk, n, family)
     f = np.where(np.isfinite(f), f, np.inf).reshape(K, KEEP)
     o = o.reshape(K, KEEP)
@@ -394,7 +444,25 @@ def _shape_objective(u, target: Target, cons: Constraints, branch, n: int, famil
     return f
 
 
+def search_target(target: Target) -> Target:
+    """The targets the global search sees: at most SEARCH_TARGETS of them, evenly spaced in the given
+    order (a dense path is represented by a subset; the polish and every reported error use all)."""
+    m = len(target.xy)
+    if m <= SEARCH_TARGETS:
+        return target
+    idx = np.unique(np.round(np.linspace(0, m - 1, SEARCH_TARGETS)).astype(int))
+    return Target(target.xy[idx], None if target.phi is None else target.phi[idx], target.closed)
+
+
 def restart(job: tuple) -> Design:
+    """One seeded restart (:func:`_restart`) with one BLAS thread (:mod:`analytic.synthesis.threads`)."""
+    import scipy.optimize  # noqa: F401 (its OpenBLAS must be loaded before its threads are set)
+    from analytic.synthesis.threads import one_blas_thread
+    with one_blas_thread():
+        return _restart(job)
+
+
+def _restart(job: tuple) -> Design:
     """One seeded restart: a computed atlas of random feasible shapes posed on the targets seeds the
     population, differential evolution searches the normalised shapes, the best distinct members of the
     final population are polished by least squares and the best kept. ``job`` = (family name, target,
@@ -410,27 +478,32 @@ def restart(job: tuple) -> Design:
     free = target.phi is None
     dim = family.shape_dim + (0 if free else 1)
     rng = np.random.default_rng(seed)
+    search = search_target(target)
 
     def obj(u, n):
-        return _shape_objective(u, target, cons, branch, n, family)
+        return _shape_objective(u, search, cons, branch, n, family)
 
     def to_x(u):
         if free:
-            return _pose(family.shape(u[None]), target, branch, 256, family)[0][0]
-        return _pose_timed(u[None], target, branch, family)[0][0]
-    U = rng.random((PRESCREEN, dim))
-    pre = shape_violation(family.shape(U[:, :family.shape_dim]), cons, branch, family)
-    # the computed atlas: random shapes, the least constraint-breaking posed and ranked by error
-    U = U[np.argsort(pre, kind="stable")][:max(popsize * 4, 200)]
-    f = obj(U, 96)
-    init = U[np.argsort(f, kind="stable")[:popsize]]
+            return _pose(family.shape(u[None]), search, branch, 256, family)[0][0]
+        return _pose_timed(u[None], search, branch, family)[0][0]
+    if PRESCREEN:
+        U = rng.random((PRESCREEN, dim))
+        pre = shape_violation(family.shape(U[:, :family.shape_dim]), cons, branch, family)
+        # the computed atlas: random shapes, the least constraint-breaking posed and ranked by error
+        U = U[np.argsort(pre, kind="stable")][:max(popsize * 4, 200)]
+        f = obj(U, 96)
+        init = U[np.argsort(f, kind="stable")[:popsize]]
+    else:                          # no atlas (for measuring what it brings): a random population
+        init = rng.random((popsize, dim))
 
     def stop(*_a, **_k):
         return deadline is not None and time.time() > deadline
     res = differential_evolution(
         lambda u: obj(u.T, 128), [(0.0, 1.0)] * dim, init=init,
         maxiter=generations, tol=0, atol=0, seed=int(rng.integers(2 ** 31)), polish=False,
-        vectorized=True, updating="deferred", mutation=(0.5, 1.0), recombination=0.9, callback=stop)
+        vectorized=True, updating="deferred", mutation=(0.5, 1.0), recombination=0.9, callback=stop,
+        strategy=DE_STRATEGY)
     # polish the best distinct members of the final population, keep the best polished one
     order = np.argsort(res.population_energies, kind="stable")
     picks = []
@@ -452,12 +525,12 @@ def _finish(x, branch, target: Target, cons: Constraints, family: Family, off: f
     nx = family.size
     if target.phi is None:
         e, ph = curve_distance(x, branch, target.xy, family=family)
-        if phis_fit is not None and order_violation(ph[None], target.closed)[0] > 0:
+        if phis_fit is not None and order_violation(ph[None], target.closed, ORDER_SLACK)[0] > 0:
             E, _ = family.points(np.asarray(x)[None, :nx], np.asarray(phis_fit)[None], branch)
             e2 = np.hypot(*(E[0] - target.xy).T)
             if np.all(np.isfinite(e2)):
                 e, ph = e2, np.asarray(phis_fit, dtype=float)
-        o = order_violation(ph[None], target.closed)[0]
+        o = order_violation(ph[None], target.closed, ORDER_SLACK)[0]
     else:
         e, ph = errors(x, branch, target, off, family)
         o = 0.0
@@ -467,12 +540,11 @@ def _finish(x, branch, target: Target, cons: Constraints, family: Family, off: f
 
 def polish(x0, branch, target: Target, cons: Constraints, family: Family = FOURBAR) -> Design:
     """Least squares on the design and its crank angles, the constraints as penalty residuals aimed
-    POLISH_MARGIN inside the bounds. Timing: the angles are the targets' plus one offset. Free timing: the
-    angle of the first target and the squares of the steps to each next one in the sense of travel
-    (``phi_{i+1} = phi_i + sense tau_i^2``), so the targets stay in order by construction (a step of
-    half a turn or more, and the steps' total against one turn, are penalties). A step that breaks a bound
-    is cut back to the last feasible point; the result replaces the start only if it ranks better
-    (:func:`rank_key`)."""
+    POLISH_MARGIN inside the bounds. Timing: the angles are the targets' plus one offset. Free timing:
+    each target's own crank angle (unwrapped in the sense of travel), and a penalty row per step that goes
+    backwards (the order; ``--closed``: the return from the last target to the first too), weighted like
+    the constraints. A step that breaks a bound is cut back to the last feasible point; the result
+    replaces the start only if it ranks better (:func:`rank_key`)."""
     from scipy.optimize import least_squares
 
     branch = _branch(branch)
@@ -485,37 +557,35 @@ def polish(x0, branch, target: Target, cons: Constraints, family: Family = FOURB
     x0 = np.asarray(x0, dtype=float)
     closed = target.closed
     _, ph0 = errors(x0[:nx], branch, target, x0[nx] if timing else 0.0, family)
-    if not timing:
-        d0 = _wrap(np.diff(ph0))
-        sense = -1.0 if d0.sum() < 0 else 1.0
-        tau0 = np.sqrt(np.maximum(sense * d0, 1e-4))          # a backward step starts just forward
-    low = np.tril(np.ones((m, m - 1)), -1)                     # low[k, i] = 1 where step i comes before k
+    sense = -1.0 if _wrap(np.diff(ph0)).sum() < 0 else 1.0
+    w = PENALTY
 
     def design(p):
         """(x, offset, crank angle of each target)."""
         if timing:
             return p[:nx], p[nx], target.phi + p[nx]
-        tau = p[nx + 1:]
-        return p[:nx], 0.0, p[nx] + sense * np.concatenate([[0.0], np.cumsum(tau * tau)])
+        return p[:nx], 0.0, p[nx:]
 
-    def order_rows(p):
-        if timing:
-            return np.zeros(0)
-        t2 = p[nx + 1:] ** 2
-        total = t2.sum()
-        over = max(total - 2 * math.pi, 0.0) + (max(math.pi - total, 0.0) if closed else 0.0)
-        return np.concatenate([np.maximum(t2 - math.pi, 0), [over]])
+    def steps(ph):
+        """Each step in the sense of travel (and the return, closed), [rad]; negative = backwards."""
+        d = np.diff(ph)
+        if closed:
+            d = np.concatenate([d, ph[:1] + sense * 2 * math.pi - ph[-1:]])
+        return sense * d
 
     def resid(p):
         x, _, ph = design(p)
         E, _ = family.points(x[None], ph[None], branch)
         r = ((E[0] - target.xy) / s).ravel()
         v = violation(x[None], tight, target, branch, family)[0]
-        return np.concatenate([np.nan_to_num(r, nan=10.0), [1e3 * v], order_rows(p)])
+        out = [np.nan_to_num(r, nan=10.0), [w * v]]
+        if not timing:
+            out.append(w * np.maximum(-steps(ph), 0))
+        return np.concatenate(out)
 
     def jac(p):
         """Forward differences, batched: the design columns (and the offset) in one call, each target's
-        own crank angle in another (chained to the steps exactly); the order rows exactly."""
+        own crank angle (which touches its own target only) in another; the order rows exactly."""
         x, off, ph = design(p)
         nd = nx + 1 if timing else nx
         h = 1e-7 * np.maximum(1.0, np.abs(p[:nd]))
@@ -526,35 +596,33 @@ def polish(x0, branch, target: Target, cons: Constraints, family: Family = FOURB
             PH[nx] += h[nx]
         E0, _ = family.points(x[None], ph[None], branch)
         E, _ = family.points(X, PH, branch)
-        rows = 2 * m + 1 + (0 if timing else m)
+        rows = 2 * m + 1 + (0 if timing else (m if closed else m - 1))
         J = np.zeros((rows, len(p)))
         J[:2 * m, :nd] = ((E - E0) / s).reshape(nd, -1).T / h
         v0 = violation(x[None], tight, target, branch, family)[0]
-        J[2 * m, :nx] = 1e3 * (violation(X[:nx], tight, target, branch, family) - v0) / h[:nx]
+        J[2 * m, :nx] = w * (violation(X[:nx], tight, target, branch, family) - v0) / h[:nx]
         if not timing:
             hp = 1e-7 * np.maximum(1.0, np.abs(ph))
             E1, _ = family.points(x[None], (ph + hp)[None], branch)
             dE = (E1[0] - E0[0]) / s / hp[:, None]                    # (m, 2): d position / d own angle
-            tau = p[nx + 1:]
-            dphi = low * (2 * sense * tau)[None, :]                   # (m, m-1): d angle_k / d tau_i
-            J[0:2 * m:2, nx] = dE[:, 0]
-            J[1:2 * m:2, nx] = dE[:, 1]
-            J[0:2 * m:2, nx + 1:] = dE[:, :1] * dphi
-            J[1:2 * m:2, nx + 1:] = dE[:, 1:] * dphi
-            t2 = tau * tau
-            big = t2 > math.pi
-            J[2 * m + 1 + np.flatnonzero(big), nx + 1 + np.flatnonzero(big)] = 2 * tau[big]
-            total = t2.sum()
-            g = (1.0 if total > 2 * math.pi else 0.0) - (1.0 if closed and total < math.pi else 0.0)
-            J[2 * m + m, nx + 1:] = g * 2 * tau
+            J[2 * np.arange(m), nx + np.arange(m)] = dE[:, 0]
+            J[2 * np.arange(m) + 1, nx + np.arange(m)] = dE[:, 1]
+            for i in np.flatnonzero(steps(ph) < 0):                    # step i: ph[i+1] - ph[i] (mod m)
+                J[2 * m + 1 + i, nx + (i + 1) % m] += -w * sense
+                J[2 * m + 1 + i, nx + i] += w * sense
         return np.nan_to_num(J)
 
-    p0 = np.concatenate([x0[:nx], [x0[nx]] if timing else np.concatenate([[ph0[0]], tau0])])
-    try:
-        r = least_squares(resid, p0, jac=jac, x_scale="jac", max_nfev=300, ftol=1e-13, xtol=1e-13, gtol=1e-13)
-        p = r.x
-    except (ValueError, np.linalg.LinAlgError):
-        p = p0
+    if timing:
+        p0 = np.concatenate([x0[:nx], [x0[nx]]])
+    else:                           # the nearest points' angles, unwrapped along the targets
+        p0 = np.concatenate([x0[:nx], ph0[0] + np.concatenate([[0.0], np.cumsum(_wrap(np.diff(ph0)))])])
+    p = p0
+    for method, evaluations in POLISH_STAGES:
+        try:
+            p = least_squares(resid, p, jac=jac, x_scale="jac", max_nfev=evaluations, ftol=1e-13, xtol=1e-13,
+                              gtol=1e-13, method=method).x
+        except (ValueError, np.linalg.LinAlgError):
+            break
 
     def finish(q):
         x, off, ph = design(q)
@@ -571,8 +639,8 @@ def polish(x0, branch, target: Target, cons: Constraints, family: Family = FOURB
                 hi = mid
         end = finish(p0 + lo * (p - p0))
     key = [(c[4] > 0, c[4] if c[4] > 0 else float(np.sum(c[2] ** 2))) for c in (start, end)]
-    x, off, e, ph, v, w = end if (np.all(np.isfinite(end[2])) and key[1] <= key[0]) else start
-    return Design(np.asarray(x, float).copy(), branch, float(off), e, ph, float(v), 0, w, {}, family)
+    x, off, e, ph, v, w_ = end if (np.all(np.isfinite(end[2])) and key[1] <= key[0]) else start
+    return Design(np.asarray(x, float).copy(), branch, float(off), e, ph, float(v), 0, w_, {}, family)
 
 
 def combos(types=("fourbar",)) -> list[tuple[str, tuple[int, ...]]]:
