@@ -62,6 +62,9 @@ class Mechanism:
                 raise ParameterError(f"{name}={values[name]:g} is not a valid length: it must be > 0 "
                                      f"[{definition.units}]{where}")
         geometry = linkfile.resolve(definition, values)
+        problem = kinematics.start_problem(geometry)
+        if problem:
+            raise ParameterError(f"{definition.source}: {problem}")
         mech = cls(definition, values, geometry, builtin, definition.description, None, dict(overrides or {}))
         if builtin is not None:
             builtin.parameters(values)                   # the dedicated model's own checks
@@ -201,18 +204,9 @@ class Mechanism:
 
     @functools.cached_property
     def size(self) -> float:
-        """The mechanism's size [m]: its longest link (every size field) or the spread of its ground points,
+        """The mechanism's size [m]: its longest link (every kind's ``extent``) or the spread of its ground points,
         whichever is larger; sets scale-relative tolerances and drawing sizes."""
-        lengths = []
-        for e in self.geometry.elements:
-            for fname, fld in kinds.get(e["kind"]).fields.items():
-                if fld.type == "size":
-                    lengths.append(abs(e[fname]))
-                elif fld.type == "lengths2":
-                    lengths += [abs(x) for x in e[fname]]
-        xy = np.array(list(self.geometry.ground.values()) or [(0.0, 0.0)])
-        spread = float(np.max(np.ptp(xy, axis=0))) if len(xy) > 1 else 0.0
-        return max(lengths + [spread, 1e-12])
+        return kinematics.size_of(self.geometry)
 
     # ------------------------------------------------------------------ motion and solving
     def drive(self, t) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -259,8 +253,9 @@ class Mechanism:
         n = flat[0].shape[1]
         want = None if outputs is None else {self.aliases.get(o, o) for o in outputs}
         extras = want is None or any(x in want for x in self.extra_outputs)
-        if jit.enabled(n) and jit.supports(self.geometry):
-            arrays, failed = jit.solve(self.geometry, *flat, want)
+        geometry = self.solving_geometry
+        if jit.enabled(n) and jit.supports(geometry):
+            arrays, failed = jit.solve(geometry, *flat, want)
         else:
             if n > BLOCK:
                 keep_freed_memory()
@@ -268,7 +263,7 @@ class Mechanism:
             for first in range(0, max(n, 1), BLOCK):
                 sl = slice(first, first + BLOCK)
                 with np.errstate(invalid="ignore", divide="ignore"):
-                    part, failed[sl], start = block(self.geometry, flat[0][:, sl], flat[1][:, sl],
+                    part, failed[sl], start = block(geometry, flat[0][:, sl], flat[1][:, sl],
                                                     flat[2][:, sl], want, start, extras)
                 if arrays is None:                          # the outputs are the rows of one array
                     arrays = dict(zip(part, np.empty((len(part), n))))
@@ -278,6 +273,13 @@ class Mechanism:
         labels = tuple(e["label"] for e in self.geometry.elements)
         aliases = self.aliases if want is None else {a: t for a, t in self.aliases.items() if t in arrays}
         return Solution(arrays, failed.reshape(shape), labels, aliases)
+
+    @functools.cached_property
+    def solving_geometry(self) -> linkfile.Geometry:
+        """The geometry the solver uses: :attr:`geometry` with the change points its dyads pass on their
+        declared branch (:mod:`analytic.solver.change_points`), found once per mechanism."""
+        from analytic.solver.change_points import schedule
+        return schedule(self)
 
     def solve_at(self, t) -> tuple[tuple[np.ndarray, np.ndarray, np.ndarray], Solution]:
         """The inputs' motion at times ``t`` and the solution there."""

@@ -9,6 +9,7 @@ Pure Python, no dependencies: front ends and summaries call it alike.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import re
 from dataclasses import dataclass
@@ -38,10 +39,14 @@ class Output:
     quantity: str
     si_unit: str
     owner: str
+    role: str = ""
+    """What owns it: ``point``, ``link``, ``slide``, ``drive``, ``transmission`` or ``extra`` (a kind's own)."""
+    of: str = ""
+    """The owner's name: the point, link, prismatic pair, the drive's link, the transmission angle's point."""
 
 
-def _entry(name: str, quantity: str, owner: str) -> Output:
-    return Output(name, quantity, SI_UNIT[quantity], owner)
+def _entry(name: str, quantity: str, owner: str, role: str, of: str) -> Output:
+    return Output(name, quantity, SI_UNIT[quantity], owner, role, of)
 
 
 def output_table(mech) -> dict[str, Output]:
@@ -53,23 +58,23 @@ def output_table(mech) -> dict[str, Output]:
     for p in mech.points:
         for prefix, q in (("x", LENGTH), ("y", LENGTH), ("vx", VELOCITY), ("vy", VELOCITY), ("ax", ACCELERATION),
                           ("ay", ACCELERATION)):
-            table[prefix + p] = _entry(prefix + p, q, f"point {p}")
+            table[prefix + p] = _entry(prefix + p, q, f"point {p}", "point", p)
     for ln in mech.links:
         for prefix, q in (("phi", ANGLE), ("omega", ANGULAR_VELOCITY), ("alpha", ANGULAR_ACCELERATION)):
-            table[prefix + ln] = _entry(prefix + ln, q, f"link {ln}")
+            table[prefix + ln] = _entry(prefix + ln, q, f"link {ln}", "link", ln)
     for j in mech.slides:
         for prefix, q in (("s", LENGTH), ("ds", VELOCITY), ("dds", ACCELERATION)):
-            table[prefix + j] = _entry(prefix + j, q, f"prismatic pair {j}")
+            table[prefix + j] = _entry(prefix + j, q, f"prismatic pair {j}", "slide", j)
     for e in mech.geometry.elements:
         for x in kinds.get(e["kind"]).extra_outputs(e):
-            table[x.name] = _entry(x.name, x.quantity, x.owner)
+            role, of = ("transmission", x.transmission) if x.transmission else ("extra", e["point"])
+            table[x.name] = _entry(x.name, x.quantity, x.owner, role, of)
     for i in mech.inputs:
         q = TORQUE if i.kind == "crank" else FORCE
-        table["tau" + i.link] = _entry("tau" + i.link, q, f"drive of link {i.link}")
+        table["tau" + i.link] = _entry("tau" + i.link, q, f"drive of link {i.link}", "drive", i.link)
     for alias, target in mech.aliases.items():
         if target in table:
-            t = table[target]
-            table[alias] = Output(alias, t.quantity, t.si_unit, t.owner)
+            table[alias] = dataclasses.replace(table[target], name=alias)
     return table
 
 
@@ -232,3 +237,63 @@ def figure_units(figs: dict, display: Display, first_input_kind: str = "crank") 
         if q and q != RATIO:
             out[key] = display.unit(q)
     return out
+
+
+# -------------------------------------------------------------------------------------- parameters
+_MOTION = {"crank": (ANGLE, ANGULAR_VELOCITY, ANGULAR_ACCELERATION), "slider": (LENGTH, VELOCITY, ACCELERATION)}
+"""The quantities of an input's motion law (start, rate, acceleration) by input kind."""
+
+
+def parameter_quantity(mech, name: str) -> str:
+    """The quantity of parameter ``name`` of ``mech``: what an input's motion law uses it for (a crank's
+    start angle, speed, acceleration; a slider's start, speed, acceleration), else what the file uses it as
+    (a length, an angle; a number written in degrees, ``"25deg"``, is an angle); ``""`` for a branch or a
+    pure number (a ratio, or a value used only inside other parameters' expressions)."""
+    for i in mech.inputs:
+        for q, p in zip(_MOTION.get(i.kind, ()), i.parameters):
+            if p == name:
+                return q
+    d = mech.definition
+    kind = d.parameter_kind[name]
+    if kind == "length":
+        return LENGTH
+    if kind == "angle":
+        return ANGLE
+    raw = d.parameters[name]
+    if kind == "number" and isinstance(raw, str):
+        from analytic.format import expr
+        q = expr.quantity(raw)
+        if q is not None and q[1]:
+            return ANGLE
+    return ""
+
+
+def parameter_si(mech, name: str) -> float:
+    """Parameter ``name`` in SI: lengths (and a slider's speed and acceleration) from the file's unit to
+    metres; angles are radians already; a pure number as it is."""
+    v = float(mech.values[name])
+    return v * mech.scale if parameter_quantity(mech, name) in (LENGTH, VELOCITY, ACCELERATION) else v
+
+
+def parameters_in(mech, display: Display) -> dict[str, float]:
+    """Every parameter's value in ``display`` units, in file order (see :func:`parameter_units`)."""
+    out = {}
+    for name in mech.definition.parameter_order:
+        q = parameter_quantity(mech, name)
+        out[name] = display.convert(q, parameter_si(mech, name)) if q else float(mech.values[name])
+    return out
+
+
+def parameter_units(mech, display: Display) -> dict[str, str]:
+    """{parameter: unit label in ``display`` units} (``""`` for a branch or a pure number)."""
+    out = {}
+    for name in mech.definition.parameter_order:
+        q = parameter_quantity(mech, name)
+        out[name] = display.unit(q) if q else ""
+    return out
+
+
+def parameters_text(mech, display: Display) -> str:
+    """The parameters as people read them: ``"l1=0.2 m, phi4_0=60 deg, omega2=60 rpm, branch=1"``."""
+    values, units = parameters_in(mech, display), parameter_units(mech, display)
+    return ", ".join(f"{k}={v:g}" + (f" {units[k]}" if units[k] else "") for k, v in values.items())

@@ -14,7 +14,7 @@ from pathlib import Path
 from analytic.closed_forms import fivebar
 from analytic.applications import figures
 from analytic.closed_forms import fourbar
-from analytic.format import linkfile
+from analytic.format import foreign, linkfile
 from analytic.closed_forms import sixbar
 from analytic._common import ParameterError
 from analytic.closed_forms import Builtin
@@ -45,11 +45,14 @@ def _library_definition(name: str) -> linkfile.Definition:
 
 
 def definition(name_or_path: str) -> linkfile.Definition:
-    """The definition of a built-in or library mechanism by name, or of a file by path."""
+    """The definition of a built-in or library mechanism by name, or of a file by path (a ``linkage/1`` file,
+    or a Pyslvs or PMKS file: :mod:`analytic.format.foreign`)."""
     if name_or_path in names():
         return _library_definition(name_or_path)
     p = Path(name_or_path)
-    if p.suffix.lower() in (".toml", ".json") or p.exists():
+    if p.exists() and foreign.detect(p):            # a Pyslvs or PMKS file, opened as it is
+        return foreign.definition(p)
+    if p.suffix.lower() in (".toml", ".json", ".pyslvs") or p.exists():
         if not p.exists():
             raise linkfile.FileError(f"{name_or_path}: no such file; give a mechanism file's path or one of "
                                      f"the names listed by 'linkage list'")

@@ -2,7 +2,8 @@
 project, the relevant test files run there, and the mutation is KILLED (good: a test failed) or SURVIVES
 (bad: nothing noticed it).
 
-Run:  python benchmarks/mutation.py [--only ID ...] [--list] [--keep] [--timeout S]
+Run:  PYTHONPATH=$PWD python benchmarks/mutation.py [--only ID ...] [--list] [--keep] [--timeout S]
+      [--without TEST_FILE ...]   (the kill count without some test files: what the suite caught before them)
 
 The copy holds the repository's tracked and untracked (not ignored) files, as ``git ls-files -co
 --exclude-standard`` lists them, in /tmp/mut-XXXX; the real files are never written. Each mutation is an
@@ -30,7 +31,7 @@ import subprocess
 import sys
 import tempfile
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -46,7 +47,15 @@ NEWTON = "tests/test_analytic_vs_newton.py"
 FD = "tests/test_rates_vs_finite_differences.py"
 GEOM = "tests/test_fourbar_geometry.py"
 PATHS = "tests/test_solver_paths.py"
-KIN_TESTS = [GS, LIB, NEWTON, FD, GEOM, CV]
+KINDS = "tests/test_kinds.py"
+KIN_TESTS = [GS, LIB, NEWTON, FD, GEOM, CV, KINDS]
+UNITS = "tests/test_units.py"
+INDEP = "tests/test_independent.py"
+EDGES = "tests/test_edges.py"
+NEAR = "tests/test_near_singular.py"
+TOML = "tests/test_export_toml_units.py"
+SWEEP = "tests/test_sweep.py"
+BAD = "tests/test_bad_inputs.py"
 
 
 @dataclass(frozen=True)
@@ -94,8 +103,7 @@ MUTATIONS = [
              "with module.OUTPUTS, the very tuple mutated: it should pin SPEC's literal column list"),
     Mutation("out-mu-general", "transmission angles muP dropped from every library mechanism's outputs "
              "(Mechanism.general_outputs)", "analytic/mechanism.py",
-             "        out += [f\"mu{e['point']}\" for e in self.geometry.elements if e[\"kind\"] == \"RRR\"]\n",
-             "", [CLI_A, GS, LIB, CV],
+             "        out += self.extra_outputs\n", "", [CLI_A, GS, LIB, CV],
              "tests/test_library.py's transmission-angle test iterates over general_outputs (empty after the "
              "mutation); a test should require muP among a library mechanism's outputs / analyze CSV columns"),
     Mutation("out-csv-columns", "mu columns left out of the analyze CSV (service.analysis_columns)",
@@ -103,25 +111,25 @@ MUTATIONS = [
              "**{k: np.asarray(a.solution[k]) for k in mech.outputs if not k.startswith(\"mu\")}}",
              [CLI_A], "tests/test_cli_analyze.py (CSV header of the four-bar)"),
     # --- a formula perturbed by 1e-6 relative (the numpy solver)
-    Mutation("kin-rrr-alpha", "RRR group: alpha of the first link x (1 + 1e-6) (kinematics._rrr)",
-             "analytic/solver/kinematics.py", "    al1 *= idet\n", "    al1 *= idet * (1.0 + 1e-6)\n", KIN_TESTS,
+    Mutation("kin-rrr-alpha", "RRR group: alpha of the first link x (1 + 1e-6) (kinds/rrr.py rrr)",
+             "analytic/kinds/rrr.py", "    al1 *= idet\n", "    al1 *= idet * (1.0 + 1e-6)\n", KIN_TESTS,
              "tests/test_library.py / test_analytic_vs_newton.py (accelerations to RATE_TOL 1e-9 of the peak)",
              mirror=[PATHS]),
-    Mutation("kin-rrr-omega", "RRR group: omega of the second link x (1 + 1e-6) (kinematics._rrr)",
-             "analytic/solver/kinematics.py", "    w2 *= idet\n", "    w2 *= idet * (1.0 + 1e-6)\n", KIN_TESTS,
+    Mutation("kin-rrr-omega", "RRR group: omega of the second link x (1 + 1e-6) (kinds/rrr.py rrr)",
+             "analytic/kinds/rrr.py", "    w2 *= idet\n", "    w2 *= idet * (1.0 + 1e-6)\n", KIN_TESTS,
              "tests/test_library.py / test_analytic_vs_newton.py (link rates to RATE_TOL 1e-9)", mirror=[PATHS]),
-    Mutation("kin-rpr-coriolis", "RPR group: Coriolis term 2 ds w x (1 + 1e-6) (kinematics._rpr)",
-             "analytic/solver/kinematics.py", "- 2.0 * ds * w + offset * w * w) / s",
-             "- 2.0 * (1.0 + 1e-6) * ds * w + offset * w * w) / s", KIN_TESTS,
+    Mutation("kin-rpr-coriolis", "RPR group: Coriolis term 2 ds w x (1 + 1e-6) (kinds/rpr.py, numpy)",
+             "analytic/kinds/rpr.py", "\n    a = (-adx * sn + ady * c - 2.0 * ds * w + offset * w * w) / s",
+             "\n    a = (-adx * sn + ady * c - 2.0 * (1.0 + 1e-6) * ds * w + offset * w * w) / s", KIN_TESTS,
              "tests/test_library.py (inverted_slider_crank, whitworth) or the five-bar's closed-form check",
              mirror=[PATHS]),
-    Mutation("kin-rrp-coriolis", "RRP group: Coriolis term 2 ds w x (1 + 1e-6) (kinematics._rrp)",
-             "analytic/solver/kinematics.py", "ax0, ay0 = C0[4] - 2.0 * ds * w * s, C0[5] + 2.0 * ds * w * c",
+    Mutation("kin-rrp-coriolis", "RRP group: Coriolis term 2 ds w x (1 + 1e-6) (kinds/rrp.py, numpy)",
+             "analytic/kinds/rrp.py", "ax0, ay0 = C0[4] - 2.0 * ds * w * s, C0[5] + 2.0 * ds * w * c",
              "ax0, ay0 = C0[4] - 2.0 * (1.0 + 1e-6) * ds * w * s, C0[5] + 2.0 * (1.0 + 1e-6) * ds * w * c",
-             KIN_TESTS, "a test with a block on a turning guide (RRP on a moving line): test_library if a library "
-                        "file has one, else nothing", mirror=[PATHS]),
-    Mutation("kin-crank-velocity", "crank tip velocity x (1 + 1e-6) (kinematics._crank)",
-             "analytic/solver/kinematics.py", "P[2] - qd * ry, P[3] + qd * rx, ax, ay)",
+             KIN_TESTS, "a block on a turning guide (RRP on a moving line): tests/kinds/rrp*.toml in test_kinds",
+             mirror=[PATHS]),
+    Mutation("kin-crank-velocity", "crank tip velocity x (1 + 1e-6) (kinds/crank.py)",
+             "analytic/kinds/crank.py", "P[2] - qd * ry, P[3] + qd * rx, ax, ay)",
              "P[2] - qd * (1.0 + 1e-6) * ry, P[3] + qd * (1.0 + 1e-6) * rx, ax, ay)", KIN_TESTS,
              "tests/test_library.py / test_analytic_vs_newton.py / test_general_solver.py (velocities to 1e-9)",
              mirror=[PATHS]),
@@ -129,7 +137,7 @@ MUTATIONS = [
     Mutation("torque-mass-1e-6", "inverse dynamics: every link's m (a - g).dv term x (1 + 1e-6) "
              "(torque.drive_forces)", "analytic/applications/torque.py", "tau = tau + b.m * ((agx - gx) * cvx",
              "tau = tau + b.m * (1.0 + 1e-6) * ((agx - gx) * cvx", [DYN, CV],
-             "tests/test_dynamics.py (the general inverse dynamics against analytic.closed_forms.dynamics.torques or the "
+             "tests/test_dynamics.py (the general inverse dynamics against tests/builtin_dynamics.py's torques or the "
              "power balance, at rounding level)"),
     Mutation("torque-com-1pct", "inverse dynamics: centre-of-mass offset 1 % too far (torque._com)",
              "analytic/applications/torque.py", "rx, ry = b.cx * c - b.cy * s, b.cx * s + b.cy * c",
@@ -154,8 +162,8 @@ MUTATIONS = [
              "sim/model/timestep.py", "omega = rate_scale(mech, revolutions)\n", "omega = rate_scale(mech, min(revolutions, 1.0))\n",
              [CV], "tests/test_cross_validation.py::test_the_step_follows_the_fastest_revolution_of_an_accelerating_run"),
     Mutation("regulariser-ignores-loads", "sim/model/build.py: the constraint regulariser not reduced for loads",
-             "sim/model/build.py", "return REGULARIZATION_SCALE / (1.0 + load / inertial) if inertial > 0",
-             "return REGULARIZATION_SCALE / (1.0 + 0 * load / inertial) if inertial > 0", [CV],
+             "sim/model/build.py", "scale = REGULARIZATION_SCALE / (1.0 + load / inertial) if inertial > 0",
+             "scale = REGULARIZATION_SCALE / (1.0 + 0 * load / inertial) if inertial > 0", [CV],
              "tests/test_cross_validation.py::test_loads_far_above_the_inertial_forces_keep_the_accuracy"),
     Mutation("regulariser-100x", "sim/model/build.py REGULARIZATION_SCALE 100x larger (1e-6 -> 1e-4, the old value)",
              "sim/model/build.py", "REGULARIZATION_SCALE = 1e-6\n", "REGULARIZATION_SCALE = 1e-4\n", [CV],
@@ -177,6 +185,121 @@ MUTATIONS = [
     Mutation("sheet-figures-from-samples", "sim/output/plot.py: the sheet's figures from the simulated samples",
              "sim/output/plot.py", "figs = service.figures(mech)", "figs = figures.of(mech, c.analytic)", ["tests/test_units.py"],
              "tests/test_units.py::test_plot_sheet_figures_are_analyze_figures_and_the_hand_value"),
+    # --- issue 20's survivors (an audit's six faults): loads, verdicts, mm guides, sweep metrics
+    Mutation("force-opposite", "sim/front/cli.py loads_from: the --force applied in the opposite direction (both sides "
+             "of compare read the same model)", "sim/front/cli.py", 'force = pair("--force", args.force) or (0.0, 0.0)',
+             'force = tuple(-v for v in pair("--force", args.force) or (0.0, 0.0))', [INDEP, CLI_S],
+             "tests/test_independent.py::test_a_force_on_the_output_point_is_applied_as_given (power balance)"),
+    Mutation("gravity-opposite", "sim/front/cli.py loads_from: --gravity applied upwards", "sim/front/cli.py",
+             'gravity = pair("--gravity", args.gravity)',
+             'gravity = tuple(-v for v in pair("--gravity", args.gravity)) if args.gravity else None', [INDEP, CLI_S],
+             "tests/test_independent.py::test_gravity_is_applied_downwards_as_given (tau = m g cx cos phi)"),
+    Mutation("cutting-assists", "sim/front/cli.py cutting_direction: the cutting force pushes the ram along its slow "
+             "stroke instead of resisting it", "sim/front/cli.py", "return -math.copysign(1.0, vx)",
+             "return math.copysign(1.0, vx)", [INDEP, CLI_S],
+             "tests/test_independent.py::test_a_cutting_force_resists_the_slow_stroke (work = F H)"),
+    Mutation("verdict-ignores-torque", "sim/run/compare.py: the verdict ignores the drive torque", "sim/run/compare.py",
+             "        ok &= passed\n", '        ok &= passed or kind == "force"\n', [CV, INDEP],
+             "tests/test_independent.py::test_the_verdict_fails_when_the_drive_torque_is_off"),
+    Mutation("verdict-ignores-loop", "sim/run/compare.py: the verdict ignores the loop violation", "sim/run/compare.py",
+             "    ok &= drive <= DRIVE_TOL and viol <= LOOP_TOL * mech.size and balance <= WORK_TOL",
+             "    ok &= drive <= DRIVE_TOL and balance <= WORK_TOL", [CV, INDEP],
+             "tests/test_independent.py::test_the_verdict_fails_when_a_loop_opens"),
+    Mutation("verdict-ignores-drive", "sim/run/compare.py: the verdict ignores the drive error", "sim/run/compare.py",
+             "    ok &= drive <= DRIVE_TOL and viol <= LOOP_TOL * mech.size and balance <= WORK_TOL",
+             "    ok &= viol <= LOOP_TOL * mech.size and balance <= WORK_TOL", [CV, INDEP],
+             "tests/test_independent.py::test_the_verdict_fails_when_the_drive_lags"),
+    Mutation("guide-through-unscaled", "analytic/format/linkfile.py resolve: a ground guide's through = [x, y] not "
+             "converted from the file's unit", "analytic/format/linkfile.py",
+             'tuple(num(c, "length", where) for c in v.through)', 'tuple(num(c, "number", where) for c in v.through)',
+             [INDEP, UNITS, LIB], "tests/test_independent.py::test_a_guide_through_coordinates_in_a_mm_file_is_in_mm"),
+    Mutation("sweep-fluct-over-max", "analytic/applications/studies.py: the fluctuation divided by the max speed, not "
+             "the mean", "analytic/applications/studies.py",
+             "fluct = (speed.max(axis=-1) - speed.min(axis=-1)) / mean",
+             "fluct = (speed.max(axis=-1) - speed.min(axis=-1)) / speed.max(axis=-1)", [INDEP, SWEEP],
+             "tests/test_independent.py::test_sweep_metrics_by_hand_from_analyze"),
+    Mutation("sweep-mu-max", "analytic/applications/studies.py: mu_min taken as the largest transmission angle",
+             "analytic/applications/studies.py", 'stats["mu_min"] = np.min([sol[n] for n in want[4:]], axis=(0, 2))',
+             'stats["mu_min"] = np.max([sol[n] for n in want[4:]], axis=(0, 2))', [INDEP, SWEEP],
+             "tests/test_independent.py::test_sweep_metrics_by_hand_from_analyze (the textbook extremes)"),
+    Mutation("set-overrides-vary", "sim/front/design.py: --set and --vary of one parameter accepted silently",
+             "sim/front/design.py", "            if name in mech.overrides:\n", "            if False:\n",
+             [INDEP, SWEEP], "tests/test_independent.py::test_set_and_vary_of_one_parameter_is_refused"),
+    Mutation("range-input-at-rest", "sim/service.py analyze: an input range samples the input at rest (zero rates "
+             "everywhere)", "sim/service.py", "q[:, 0], qd[:, 0], qdd[:, 0] = q1, first.motion.rate, 0.0",
+             "q[:, 0], qd[:, 0], qdd[:, 0] = q1, 0.0, 0.0", [INDEP, CLI_A],
+             "tests/test_independent.py::test_an_input_range_moves_the_input_at_its_speed"),
+    Mutation("compiled-never-taken", "analytic/mechanism.py: the compiled path never taken", "analytic/mechanism.py",
+             "if jit.enabled(n) and jit.supports(geometry):", "if False and jit.enabled(n) and jit.supports(geometry):",
+             [INDEP, PATHS], "tests/test_independent.py::test_the_compiled_path_is_taken_when_asked"),
+    Mutation("with-values-merge-order", "analytic/mechanism.py with_values: the old overrides win over the new",
+             "analytic/mechanism.py", "merged = {**self.overrides, **overrides}", "merged = {**overrides, **self.overrides}",
+             [INDEP], "tests/test_independent.py::test_with_values_keeps_the_new_values_over_the_old"),
+    # --- tolerances' scales and what a verdict measures
+    Mutation("velocity-scale-no-size", "sim/run/compare.py: a velocity's scale max(peak, Omega) (the size dropped)",
+             "sim/run/compare.py", "return VELOCITY_TOL * max(peak, L * omega)", "return VELOCITY_TOL * max(peak, omega)",
+             [CV, INDEP], "tests/test_independent.py::test_tolerances_follow_the_spec_scales"),
+    Mutation("slider-drive-error-unscaled", "sim/run/compare.py drive_error: a slider's error not over the size",
+             "sim/run/compare.py", "float(e) / (1.0 if i.kind == \"crank\" else mech.size)", "float(e)", [CV, INDEP],
+             "tests/test_independent.py::test_a_sliders_drive_error_is_measured_against_the_size"),
+    Mutation("load-work-dropped", "sim/run/compare.py work_balance: the load's work left out", "sim/run/compare.py",
+             "        work += tr.load[:-1] * (", "        work += 0.0 * tr.load[:-1] * (", [CV, CLI_S, INDEP],
+             "tests/test_cli_simulate.py (compare with a cutting force: the balance needs the load's work)"),
+    Mutation("angle-diff-unwrapped", "sim/run/compare.py: angle errors not wrapped into (-pi, pi]", "sim/run/compare.py",
+             "            diff = np.pi - np.mod(np.pi - diff, 2 * np.pi)", "            diff = diff", [CV, INDEP],
+             "a run whose angles cross +-pi at slightly different instants"),
+    Mutation("torque-floor-dropped", "sim/run/compare.py: a drive force's tolerance without its inertial floor",
+             "sim/run/compare.py", "return TORQUE_TOL * max(peak, TORQUE_FLOOR * force_scale)", "return TORQUE_TOL * peak",
+             [EDGES, INDEP], "tests/test_edges.py::test_a_parallelogram_is_simulated_through_its_change_points"),
+    Mutation("work-floor-dropped", "sim/run/compare.py: the work balance against the KE swing only (zero for a lone "
+             "crank)", "sim/run/compare.py", "WORK_FLOOR * float(np.max(np.abs(kinetic)))", "0.0 * float(np.max(np.abs(kinetic)))",
+             [EDGES], "tests/test_edges.py::test_a_lone_crank_at_constant_speed_passes_compare"),
+    # --- units of results
+    Mutation("param-si-unscaled", "analytic/quantities.py parameter_si: lengths not converted from the file's unit",
+             "analytic/quantities.py", "return v * mech.scale if parameter_quantity(mech, name)",
+             "return v if parameter_quantity(mech, name)", [UNITS],
+             "tests/test_units.py::test_analyze_header_shows_parameters_in_the_display_units"),
+    Mutation("json-parameters-raw", "sim/service.py analysis_record: parameters in file units whatever the units table "
+             "says", "sim/service.py", '"parameters": Q.parameters_in(mech, display), "samples"',
+             '"parameters": mech.parameters, "samples"', [UNITS],
+             "tests/test_units.py::test_json_parameters_are_in_the_units_the_table_names"),
+    Mutation("slider-range-in-metres", "sim/front/cli.py parse_range: a slider's --input-range read in m, not the "
+             "file's unit", "sim/front/cli.py", "scale = 1.0 if angle else mech.scale", "scale = 1.0", [UNITS],
+             "tests/test_units.py::test_check_prints_a_slider_range_in_the_file_unit_that_can_be_pasted"),
+    Mutation("summary-unconverted", "analytic/applications/figures.py _shown: summaries print SI numbers beside the "
+             "display unit", "analytic/applications/figures.py", 'lambda v, with_unit=1: f"{v * f:.6g}"',
+             'lambda v, with_unit=1: f"{v:.6g}"', [UNITS],
+             "tests/test_units.py::test_mm_file_summary_is_the_metre_design_times_1000"),
+    Mutation("deg-angular-acceleration", "analytic/quantities.py: angular accelerations not converted to deg/s^2",
+             "analytic/quantities.py", "if quantity == ANGLE or quantity == ANGULAR_ACCELERATION:",
+             "if quantity == ANGLE:", [UNITS], "tests/test_units.py (CSV alpha3 in deg/s^2 against the metre design)"),
+    Mutation("time-ratio-off-by-one", "analytic/applications/figures.py time_ratio: the samples counted one too many",
+             "analytic/applications/figures.py", "    n = len(vx) - 1\n", "    n = len(vx)\n", [UNITS],
+             "tests/test_units.py::test_plot_sheet_figures_are_analyze_figures_and_the_hand_value (K by hand)"),
+    Mutation("toml-deg-lost", "sim/output/tomlout.py: a changed angle written in radians though the file wrote degrees",
+             "sim/output/tomlout.py", '.rstrip().endswith("deg"):', '.rstrip().endswith("deg") and False:', [TOML],
+             "tests/test_export_toml_units.py"),
+    # --- edges
+    Mutation("inward-rounding-outward", "analytic/applications/figures.py round_inward: ends rounded outward",
+             "analytic/applications/figures.py",
+             "(math.ceil(x / quantum + INWARD) if up else math.floor(x / quantum - INWARD))",
+             "(math.floor(x / quantum) if up else math.ceil(x / quantum))", [EDGES, CV],
+             "tests/test_edges.py::test_check_prints_the_limits_rounded_inward (the cosine rule)"),
+    Mutation("fold-step-ignored", "sim/model/timestep.py: the step not shortened near a dead point's fold",
+             "sim/model/timestep.py", "    h *= fold_factor(mech, revolutions)\n", "", [EDGES],
+             "tests/test_edges.py::test_a_range_a_hundredth_of_a_degree_inside_passes"),
+    Mutation("fold-refusal-dropped", "sim/service.py check_fold: a range at the dead point simulated anyway",
+             "sim/service.py", "    if m >= FOLD_FLOOR and not close:\n", "    if True:\n", [EDGES],
+             "tests/test_edges.py::test_a_range_at_the_printed_limits_is_refused_with_how_far_to_stay_..."),
+    Mutation("change-point-never-flips", "analytic/kinds/rrr.py signs: the branch sign never flips at a change point",
+             "analytic/kinds/rrr.py", "return np.where(count % 2 == 0, 1.0, -1.0)", "return np.where(count % 2 == 0, 1.0, 1.0)",
+             [EDGES], "tests/test_edges.py::test_a_parallelogram_keeps_its_form_through_its_change_points (by hand)"),
+    Mutation("change-point-limit-crude", "analytic/kinds/rrr.py limit_rates: the mean of the two sides, not extrapolated",
+             "analytic/kinds/rrr.py", "lim = [(4.0 * x - y) / 3.0 for x, y in zip(*means)]", "lim = [x for x, y in zip(*means)]",
+             [EDGES], "tests/test_edges.py::test_the_crossed_form_is_smooth_too_... (finite differences)"),
+    Mutation("change-point-regulariser", "sim/model/build.py: the regulariser not shrunk for change points",
+             "sim/model/build.py", "        scale *= CHANGE_POINT_SCALE\n", "        scale *= 1.0\n", [EDGES],
+             "tests/test_edges.py::test_a_parallelogram_is_simulated_through_its_change_points"),
 ]
 
 
@@ -258,8 +381,13 @@ def main(argv=None) -> int:
     ap.add_argument("--no-baseline", action="store_true", help="skip the run of the unmutated copy")
     ap.add_argument("--no-mirror", action="store_true", help="skip tests/test_solver_paths.py runs")
     ap.add_argument("--keep", action="store_true", help="keep the temporary copy")
+    ap.add_argument("--without", nargs="*", default=[], metavar="TEST_FILE",
+                    help="leave these test files out of every mutation's tests (what the suite caught before them)")
     args = ap.parse_args(argv)
     muts = [m for m in MUTATIONS if not args.only or m.id in args.only]
+    if args.without:
+        gone = {str(Path(t)) for t in args.without}
+        muts = [replace(m, tests=[t for t in m.tests if t not in gone]) for m in muts]
     if args.list:
         for m in MUTATIONS:
             print(f"{m.id:<22s} {m.what}\n{'':<22s} tests: {' '.join(Path(t).name for t in m.tests)}")
@@ -294,6 +422,11 @@ def main(argv=None) -> int:
                 shutil.rmtree(work, ignore_errors=True)
                 continue
             path.write_text(text.replace(m.old, m.new))
+            if not m.tests:
+                rows.append((m, None, None, "SURVIVED (no tests)"))
+                print(f"{m.id:<22s} SURVIVED: no test file left", flush=True)
+                shutil.rmtree(work, ignore_errors=True)
+                continue
             res = pytest(work, m.tests, args.timeout, deselect)
             mir = pytest(work, m.mirror, args.timeout) if m.mirror and not args.no_mirror else None
             v = verdict(res)
@@ -329,7 +462,7 @@ def table(rows) -> None:
         first = res["failed"][0].replace("tests/", "") if res["failed"] else ""
         print(f"{m.id:<22s} {tests:<30s} {v:<16s} {res['wall']:6.0f} {res['cpu']:6.0f}  "
               f"{verdict(mir) if mir else '-':<9s} {first}")
-    survivors = [(m, v) for m, res, mir, v in rows if v == "SURVIVED"]
+    survivors = [(m, v) for m, res, mir, v in rows if v.startswith("SURVIVED")]
     killed = sum(1 for _, _, _, v in rows if v.startswith("killed"))
     print(f"\nkilled {killed} of {len(rows)}; survived {len(survivors)}")
     if survivors:

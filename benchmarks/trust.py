@@ -22,6 +22,11 @@ sim/run/compare.py (its own verdict ``passed`` is reported alongside):
     loops           <= 1e-6 of L
     drive error     <= 1e-4 rad (of L for a slider)
 
+    joint forces    <= 1e-4 of the run's peak joint force     (MuJoCo's, sim.run.forces.measure, against
+                       the analytic kinetostatics at the simulated inputs; couples and drive torques
+                       against the peak force times L, a drive against max(its peak, that); each drive
+                       against the power balance; the shaking force against momentum balance)
+
 with Omega = sim.run.compare.motion_scale(mech). Prints the pass rate (overall and per mechanism, target
 >= 99 %), the worst error/target per output kind, the failing designs with a reproduction command, the
 CPU cost per simulated revolution (target median <= 15 ms) and the chosen time steps.
@@ -58,6 +63,7 @@ VELOCITY = 1e-5       # of max(peak, motion scale)
 ACCELERATION = 1e-3   # of max(peak, motion scale squared)
 LOOP = 1e-6           # of the size
 DRIVE = 1e-4          # rad, or of the size for a slider
+FORCE = 1e-4          # of the peak joint force (a moment: of the peak force times the size)
 WORK = 1e-3           # of the kinetic-energy swing per revolution (--long)
 PASS_RATE = 0.99
 CPU_MS_PER_REV = 15.0
@@ -131,6 +137,51 @@ def error_series(mech, tr) -> tuple[dict, dict]:
         drive = np.maximum(drive, np.abs(tr.inputs[i.q] - tr.commanded[i.q]) / (1.0 if i.kind == "crank" else L))
     series["drive"], meta["drive"] = drive / DRIVE, ("drive", DRIVE)
     return series, meta
+
+
+def force_ratios(built, tr) -> dict:
+    """Error/target of MuJoCo's joint forces (sim.run.forces.measure) at every step against answers computed
+    here: each joint against the analytic kinetostatics at the simulated inputs, each drive against the
+    power balance (virtual work, analytic/applications/torque.py), the shaking force against momentum
+    balance (sum m (g - a_G) + the load). Empty where statics cannot give the joint forces."""
+    from analytic.applications import forces as F
+    from analytic.applications import torque
+    from sim.run import forces as simforces
+    mech, model = built.mech, built.model
+    try:
+        F.check_determinate(mech)
+    except F.StaticsError:
+        return {}
+    mj = simforces.measure(built, tr)
+    q, qd, qdd = (np.column_stack([tr.inputs[getattr(i, a)] for i in mech.inputs]) for a in ("q", "qd", "qdd"))
+    inertias = sim_model.body_inertias(model, mech.links)
+    g = tuple(float(x) for x in model.opt.gravity[:2])
+    load = tuple(float(x) for x in model.actuator("load").gear[:2])
+    an = F.solve(mech, q, qd, qdd, inertias, g, load, tr.load)
+    L = mech.size
+    peak = float(np.max(np.hypot(an.F[:, 0], an.F[:, 1])))
+    out = {"joint_forces": max(float(np.max(np.hypot(*(mj.F[k] - an.F[k])))) for k in range(len(an.joints)))
+           / peak / FORCE}
+    couples = [float(np.max(np.abs(mj.couples[k] - an.couples[k]))) for k in an.couples]
+    if couples:
+        out["joint_couples"] = max(couples) / (peak * L) / FORCE
+    power = torque.drive_forces(mech, q, qd, qdd, inertias, None, g, load, tr.load)
+    out["drive_forces"] = max(
+        float(np.max(np.abs(mj.drives[i.link] - power[i.link])))
+        / max(float(np.max(np.abs(power[i.link]))), peak * (L if i.kind == "crank" else 1.0)) / FORCE
+        for i in mech.inputs)
+    sol = mech.solve(q, qd, qdd)
+    sx = np.full(len(q), sum(b.m for b in inertias.values()) * g[0]) + load[0] * tr.load
+    sy = np.full(len(q), sum(b.m for b in inertias.values()) * g[1]) + load[1] * tr.load
+    for ln, b in inertias.items():
+        o = mech.link_origins[ln]
+        c, s_ = sol["cos" + ln], sol["sin" + ln]
+        rx, ry = b.cx * c - b.cy * s_, b.cx * s_ + b.cy * c
+        w, a = sol["omega" + ln], sol["alpha" + ln]
+        sx = sx - b.m * (sol["ax" + o] - a * ry - w * w * rx)
+        sy = sy - b.m * (sol["ay" + o] + a * rx - w * w * ry)
+    out["shaking_force"] = float(np.max(np.hypot(mj.shaking[0] - sx, mj.shaking[1] - sy))) / peak / FORCE
+    return out
 
 
 def judge(mech, tr, window: slice | None = None, series=None) -> dict:
@@ -317,9 +368,14 @@ def run(args) -> int:
             continue
         tr = c.trajectory
         j = judge(mech, tr)
+        forces = force_ratios(built, tr)
+        j["ratios"].update(forces)
+        for k, v in forces.items():
+            j["detail"][k] = (k, v * FORCE, FORCE)
         worst = max(j["ratios"], key=j["ratios"].get)
         rec.update(ok=max(j["ratios"].values()) <= 1.0, ratios=j["ratios"], detail=j["detail"],
                    kinds={n: kind_of(mech, n) for n in mech.outputs}, own_verdict=c.passed,
+                   forces=forces, own_forces=c.forces.worst / c.forces.tol if c.forces is not None else None,
                    torque={n: e["max"] / e["tol"] for n, e in c.errors.items() if n.startswith("tau")},
                    work=c.work_balance, h=tr.timestep, steps=tr.steps, cpu=tr.cpu_seconds,
                    cpu_total=time.process_time() - c0, worst=(worst, j["ratios"][worst]),
@@ -404,7 +460,7 @@ def report(args, names, results, refusals, refusals_by_mech, attempts, cap, wall
     print("\nworst error/target per output kind (<= 1 passes):")
     print(f"  {'kind':<18s} {'ratio':>10s} {'median':>10s}  where")
     for kind in ("angle", "position", "ang_velocity", "velocity", "ang_acceleration", "acceleration", "loop",
-                 "drive"):
+                 "drive", "joint_forces", "joint_couples", "drive_forces", "shaking_force"):
         if kind not in per_kind:
             continue
         ratio, r, out = per_kind[kind]
@@ -423,6 +479,25 @@ def report(args, names, results, refusals, refusals_by_mech, attempts, cap, wall
     if wk:
         print(f"  (info) work balance per revolution / {WORK:g}: median {np.median(wk) / WORK:.3g}, "
               f"max {max(wk) / WORK:.3g}")
+
+    forced = [r for r in results if r.get("forces")]
+    if forced:
+        print(f"\njoint forces against MuJoCo's (target {FORCE:g} of the peak joint force): "
+              f"{sum(max(r['forces'].values()) <= 1.0 for r in forced)}/{len(forced)} designs within it "
+              f"({len(results) - len(forced)} without: statically indeterminate or failed)")
+        for label, group in (("unloaded", [r for r in forced if r["loads"] is None]),
+                             ("loaded", [r for r in forced if r["loads"] is not None])):
+            if not group:
+                continue
+            parts = []
+            for key in ("joint_forces", "joint_couples", "drive_forces", "shaking_force"):
+                v = [FORCE * r["forces"][key] for r in group if key in r["forces"]]
+                if v:
+                    parts.append(f"{key} median {np.median(v):.2g} max {max(v):.2g}")
+            print(f"  {label} ({len(group)}): " + "; ".join(parts) + " (of the peak)")
+        own = [(r["own_forces"], FORCE * max(r["forces"].values())) for r in forced if r.get("own_forces") is not None]
+        if own:
+            print(f"  (check) sim.run.compare's forces verdict: worst {max(o for o, _ in own) * FORCE:.2g} of the peak")
 
     fails = [r for r in results if not r["ok"]]
     print(f"\nfailing designs: {len(fails)}")

@@ -8,7 +8,7 @@ MuJoCo and matplotlib are imported only by the functions that need them, so anal
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -188,11 +188,11 @@ def check_turns_fully(mech: Mechanism) -> None:
                              f"lengths")
     if not figures.turns_fully(mech, ranges):
         first = mech.inputs[0]
-        ends = ", ".join(sorted({f"{(math.degrees(a) + 180) % 360 - 180:.2f}deg" for r in ranges for a in r},
+        ends = ", ".join(sorted({f"{(math.degrees(a) + 180) % 360 - 180:.4f}deg" for r in ranges for a in r},
                                 key=lambda x: float(x[:-3])))
         reach = figures.describe_ranges(first, ranges) if ranges else "nowhere"
         raise ParameterError(f"the input {first.q} of the {mech.name} cannot turn fully (limit angles {ends}; "
-                             f"reachable {reach}): run it between the limits with an input range LO:HI")
+                             f"reachable {reach}, rounded inward): run it between the limits with an input range LO:HI")
 
 
 def analysis_record(mech: Mechanism, a: Analysis, samples: int, revolutions: float, display=None) -> dict:
@@ -204,7 +204,7 @@ def analysis_record(mech: Mechanism, a: Analysis, samples: int, revolutions: flo
     kind = mech.inputs[0].kind
     ranges = {k: display.convert(Q.quantity(mech, k), _span(a.solution[k])) for k in outs}
     return {"mechanism": mech.name, "units": units_table(mech, display, outs, a.figures),
-            "parameters": mech.parameters, "samples": samples, "revolutions": revolutions,
+            "parameters": Q.parameters_in(mech, display), "samples": samples, "revolutions": revolutions,
             "figures": Q.convert_figures(a.figures, display, kind), "ranges": ranges}
 
 
@@ -213,8 +213,17 @@ def units_table(mech: Mechanism, display, outputs=(), figures=None) -> dict:
     each output and figure of merit named."""
     from analytic import quantities as Q
     return {"file": mech.units, **{q: display.unit(q) for q in Q.SI_UNIT if q != Q.RATIO},
+            "parameters": Q.parameter_units(mech, display),
             "outputs": {k: display.unit(Q.quantity(mech, k)) for k in outputs},
             **({"figures": Q.figure_units(figures, display, mech.inputs[0].kind)} if figures else {})}
+
+
+def parameters_record(mech: Mechanism, display=None) -> dict:
+    """``parameters`` (values in ``display`` units, default SI) and ``parameter_units`` (their unit labels)
+    for a machine-readable record (the CSV sidecar)."""
+    from analytic import quantities as Q
+    display = display or Q.SI
+    return {"parameters": Q.parameters_in(mech, display), "parameter_units": Q.parameter_units(mech, display)}
 
 
 def _span(x) -> list[float]:
@@ -247,14 +256,57 @@ def check_singular(mech: Mechanism) -> None:
                                  f"undefined there; change a length or a phase")
         return
     from analytic.applications import figures
-    poses = figures.singular_poses(mech)
+    first = mech.inputs[0]
+    at_start = [x for x in change_points(mech) if abs(_wrapped(x - first.motion.q0, first)) < CHANGE_START]
+    if at_start:
+        at = f"{math.degrees(at_start[0]) % 360:.2f}deg" if first.kind == "crank" else f"{at_start[0]:.6g} m"
+        raise ParameterError(f"the {mech.name} starts at a change point ({first.q}={at}, where a dyad's links align): "
+                             f"there the loops' equations are singular at the simulation's first step, and the run "
+                             f"diverges or its errors ring far past compare's tolerances (measured); start it a "
+                             f"little away (e.g. {first.parameters[0] or 'its start'} = 1deg) to run through the "
+                             f"change point")
+    poses = [p for p in figures.singular_poses(mech) if not passes_smoothly(mech, p[1], p[0])]
     if poses:
         first = mech.inputs[0]
         x, label, _ = poses[0]
         at = f"{math.degrees(x) % 360:.2f}deg" if first.kind == "crank" else f"{x:.6g} m"
+        element = next(e for e in mech.geometry.elements if e["label"] == label)
+        if element.get("change") == -1:
+            raise ParameterError(f"the {mech.name} passes a change point at {first.q}={at} ({label} folds) where it is "
+                                 f"declared to switch form (change = -1: its branch sign kept), a kink in its motion; "
+                                 f"the simulation, carried on by its momentum, keeps the form there: declare change = 1 "
+                                 f"to simulate it, or run between two such angles with an input range")
         raise ParameterError(f"the {mech.name} passes through a singular pose at {first.q}={at} ({label} folds: "
                              f"a change point, where it may switch branch); the simulation cannot follow it: "
                              f"change a length by a little, or run between two such angles with an input range")
+
+
+CHANGE_START = 1e-6
+"""[rad, or m for a slider] A change point this close to the start is at the start."""
+
+
+def _wrapped(dx: float, first) -> float:
+    return (dx + math.pi) % (2 * math.pi) - math.pi if first.kind == "crank" else dx
+
+
+def change_points(mech: Mechanism) -> list[float]:
+    """The first input's values (over one turn from its start) where a dyad passes a change point on its
+    declared branch (:mod:`analytic.solver.change_points`)."""
+    return sorted(f for e in mech.solving_geometry.elements if e.get("flips") for f in e["flips"]["at"])
+
+
+def passes_smoothly(mech: Mechanism, label: str, x: float) -> bool:
+    """Whether element ``label`` passes its change point at first-input value ``x`` on its declared branch
+    (``change = 1``: scheduled in :attr:`Mechanism.solving_geometry`)."""
+    for e in mech.solving_geometry.elements:
+        flips = e.get("flips")
+        if e["label"] == label and flips:
+            period = flips["period"]
+            for f in flips["at"]:
+                gap = abs(x - f) if not period else abs((x - f + 0.5 * period) % period - 0.5 * period)
+                if gap < 1e-6 * (1.0 if period else mech.size):
+                    return True
+    return False
 
 
 def prepare(mech: Mechanism, revolutions: float, input_range=None) -> Mechanism:
@@ -267,12 +319,90 @@ def prepare(mech: Mechanism, revolutions: float, input_range=None) -> Mechanism:
         if len(mech.inputs) > 1:
             q = np.column_stack([q] + [np.full_like(q, i.motion.q0) for i in mech.inputs[1:]])
         mech.check_assembles(q)
+        check_fold(mech)
         return mech
     check_turns_fully(mech)
     check_singular(mech)
     t = np.linspace(0.0, mech.duration(min(revolutions, 1.0) if len(mech.inputs) == 1 else revolutions), 2001)
     mech.check_assembles(mech.drive(t)[0])
     return mech
+
+
+def check_fold(mech: Mechanism) -> None:
+    """Refuse a rocking run that comes so close to a dead point that the simulation cannot meet compare's
+    tolerances there (:data:`sim.model.timestep.FOLD_FLOOR`, ``FOLD_MARGIN``), naming how far inside to
+    stay and the range that can be run (rounded inward)."""
+    from analytic.applications import figures
+    from sim.model.timestep import FOLD_FLOOR, FOLD_MARGIN, fold_measure
+    m, label = fold_measure(mech)
+    lo, hi = mech.rock
+    first = mech.inputs[0]
+    crank = first.kind == "crank"
+    unit = 1.0 if crank else mech.size
+    dead = _dead_points_around(mech, lo, hi) if len(mech.inputs) == 1 else (None, None)
+    close = [d for d, end in zip(dead, (lo, hi)) if d is not None and abs(end - d) < FOLD_MARGIN * unit]
+    if m >= FOLD_FLOOR and not close:
+        return
+    fmt = (lambda v: f"{math.degrees(v):.4f}deg") if crank else (lambda v: f"{v / mech.scale:.6g} {mech.units}")
+    why = (f"near a fold the loops' drift and the drives' tracking error (~1e-6 rad) reach the outputs magnified by "
+           f"1/sin(transmission angle), past compare's tolerances; the simulation keeps sin >= {FOLD_FLOOR:g} and "
+           f"{FOLD_MARGIN:g} {'rad' if crank else 'of the size'} from a dead point")
+    if dead == (None, None):
+        raise ParameterError(f"the input range {fmt(lo)}:{fmt(hi)} brings {label} within sin = {m:.2g} of a fold: "
+                             f"{why}; narrow the range")
+    safe = [_fold_limit(mech, d, end, FOLD_FLOOR, FOLD_MARGIN * unit) if d is not None else end
+            for d, end in zip(dead, (lo, hi))]
+    a, b = max(lo, safe[0]), min(hi, safe[1])
+    if crank:
+        shown = f"{figures.round_inward(math.degrees(a), True, 2)}deg:{figures.round_inward(math.degrees(b), False, 2)}deg"
+    else:
+        shown = f"{figures.round_inward(a / mech.scale, True)}:{figures.round_inward(b / mech.scale, False)}"
+    near = [(d, end) for d, end in zip(dead, (lo, hi)) if d is not None]
+    d, end = min(near, key=lambda x: abs(x[1] - x[0]))
+    raise ParameterError(f"the input range {fmt(lo)}:{fmt(hi)} comes within {fmt(abs(end - d))} of the dead point at "
+                         f"{fmt(d)}, where {label} folds (sin of its transmission angle {m:.2g}): {why}; stay "
+                         f"{fmt(abs(safe[dead.index(d)] - d))} inside it: an input range of {shown}"
+                         + ("" if crank else f" [{mech.units}]"))
+
+
+def _dead_points_around(mech: Mechanism, lo: float, hi: float) -> tuple[float | None, float | None]:
+    """The dead points just below ``lo`` and just above ``hi`` (the ends of the assembly range holding the
+    rocking range), None where there is none (a crank that turns fully)."""
+    from analytic.applications import figures
+    plain = replace(mech, rock=None)
+    ranges = figures.assembly_ranges(plain)
+    if figures.turns_fully(plain, ranges):
+        return None, None
+    turn = 2 * math.pi if mech.inputs[0].kind == "crank" else 0.0
+    for a, b in ranges:
+        for k in ((range(-3, 4)) if turn else (0,)):
+            if a + k * turn <= lo + 1e-12 and hi - 1e-12 <= b + k * turn:
+                return a + k * turn, b + k * turn
+    return None, None
+
+
+def _fold_limit(mech: Mechanism, dead: float, end: float, floor: float, margin: float) -> float:
+    """The input value between the dead point ``dead`` and the range's ``end`` (or beyond it, towards the
+    middle) where the smallest singularity measure reaches ``floor``, at least ``margin`` from ``dead``."""
+    from analytic.applications import figures
+    plain = replace(mech, rock=None)
+    lo, hi = mech.rock
+    inner = 0.5 * (lo + hi)
+    far = inner if abs(inner - dead) > abs(end - dead) else end
+
+    def measure(x):
+        return figures.min_singularity(plain, plain.solve(np.array([x])))[0]
+
+    near = dead + math.copysign(margin, far - dead)
+    if measure(far) < floor:
+        return far
+    a, b = near, far
+    if measure(a) < floor:
+        for _ in range(60):                            # bisection: the measure grows away from the fold
+            mid = 0.5 * (a + b)
+            a, b = (mid, b) if measure(mid) < floor else (a, mid)
+        return b
+    return near
 
 
 def simulate(mech: Mechanism, revolutions: float = 1.0, settings=None, loads=None, input_range=None):
@@ -316,3 +446,371 @@ def mechanism_text(mech: Mechanism) -> str:
     """The mechanism's file (TOML) with its current parameter values written in."""
     from sim.output.tomlout import dump
     return dump(mech)
+
+
+# ------------------------------------------------------------------------------------------- forces
+@dataclass(frozen=True)
+class ForceRun:
+    """One run of ``linkage forces``: the motion (``t`` [s], the inputs ``q, qd, qdd`` of shape (N, k) and
+    their columns ``inputs``), the mass model, the loads applied (``loads``: a JSON-ready description), the
+    joint forces, and with balancing the counterweights (``balance``) and the forces with them (``balanced``)."""
+
+    mech: Mechanism
+    t: np.ndarray
+    q: np.ndarray
+    qd: np.ndarray
+    qdd: np.ndarray
+    inputs: dict
+    solution: object
+    inertias: dict
+    sources: dict
+    loads: dict
+    forces: object
+    balance: object = None
+    balanced: object = None
+
+
+def _visited(first, q1: np.ndarray, x: float) -> bool:
+    """Whether the first input's run ``q1`` passes the value ``x`` (a crank: any turn of it)."""
+    lo, hi = float(np.min(q1)), float(np.max(q1))
+    tol = 1e-9 * max(1.0, abs(lo), abs(hi))
+    if first.kind != "crank":
+        return lo - tol <= x <= hi + tol
+    k = math.ceil((lo - tol - x) / (2 * math.pi))
+    return x + 2 * math.pi * k <= hi + tol
+
+
+def check_forces_singular(mech: Mechanism, q: np.ndarray, sol=None) -> None:
+    """Refuse a run that passes a singular pose of a group (its joint forces are unbounded there), naming the
+    first input's value: the refined singular poses of the first input's range (one input), or the smallest
+    singularity measure over the run's samples."""
+    from analytic.applications import figures
+    first = mech.inputs[0]
+    if len(mech.inputs) == 1:
+        for x, label, _ in figures.singular_poses(mech):
+            if _visited(first, q[:, 0], x):
+                raise ParameterError(_singular_text(mech, x, label))
+    step = max(1, len(q) // 20001)
+    sub = mech.solve(q[::step], 1.0 if len(mech.inputs) == 1 else np.ones(len(mech.inputs)))
+    for label, m in figures.singularity(mech, sub).items():
+        m = np.where(np.isfinite(m), m, np.inf)
+        k = int(np.argmin(m))
+        if m[k] < figures.SINGULAR:
+            raise ParameterError(_singular_text(mech, float(q[::step][k, 0]), label))
+
+
+def _singular_text(mech: Mechanism, x: float, label: str) -> str:
+    from analytic.applications.forces import angle_text
+    first = mech.inputs[0]
+    return (f"the {mech.name} passes through a singular pose at {first.q}={angle_text(first, x)} ({label} folds): "
+            f"its joint forces are unbounded there; change a length by a little, or run between two such "
+            f"values with an input range")
+
+
+def _load_window(mech: Mechanism, q1: np.ndarray):
+    """1 where a cutting force acts (the output point's slow stroke along x), else 0: the simulation's switch
+    (sim.run.simulate.load_switch) on the first input's phase; and the window (lo, hi) [rad of phase]."""
+    from sim.model.drives import slow_stroke
+    lo, hi = slow_stroke(mech)
+    phase = np.mod(q1 - mech.inputs[0].motion.q0, 2 * math.pi)
+    on = ((phase >= lo) & (phase <= hi)) | ((phase + 2 * math.pi >= lo) & (phase + 2 * math.pi <= hi))
+    return on.astype(float), (lo, hi)
+
+
+def mass_sources(mech: Mechanism, given: dict | None) -> dict[str, str]:
+    """Where each link's mass comes from: --inertia, [inertia], [mass] or the default; "+ counterweight"."""
+    from analytic import mass
+    mats = mass.materials(mech)
+    weighted = {w.link for w in mass.counterweights(mech)}
+    out = {}
+    for ln in mech.links:
+        src = ("--inertia" if ln in (given or {}) else "[inertia]" if ln in mech.definition.inertia
+               else f"[mass] {mats[ln].shape}" if ln in mats else "default (1 kg/m bars)")
+        out[ln] = src + (" + counterweight" if ln in weighted else "")
+    return out
+
+
+def forces_run(mech: Mechanism, samples: int = 361, revolutions: float = 1.0, input_range=None,
+               gravity=None, force=(0.0, 0.0), slow_stroke_only: bool = False, inertias: dict | None = None,
+               balance=None) -> ForceRun:
+    """Every joint force of ``mech`` along its motion law: ``samples`` instants over ``revolutions`` of the
+    first input (or rocking over ``input_range``), with ``gravity`` (gx, gy) [m/s^2], ``force`` (Fx, Fy) [N]
+    on the output point (only on the slow stroke when ``slow_stroke_only``: a cutting force) and the mass
+    model with ``inertias`` ({link: Inertia}, SI) replacing links' own. ``balance``: None, or the links to
+    carry counterweights (an empty tuple: the default choice, see analytic.applications.balance)."""
+    from analytic import mass
+    from analytic.applications import balance as bal
+    from analytic.applications import forces as F
+    check_samples(samples)
+    check_revolutions(revolutions)
+    F.check_determinate(mech)
+    if input_range is not None:
+        lo, hi = check_range(mech, *input_range)
+        mech = mech.rocking(lo, hi)
+    else:
+        check_turns_fully(mech)
+    t = np.linspace(0.0, mech.duration(revolutions), samples)
+    q, qd, qdd = mech.drive(t)
+    mech.check_assembles(q)
+    check_forces_singular(mech, q)
+    sol = mech.solve(q, qd, qdd, outputs=F.wanted(mech))
+    model = mass.model(mech, inertias)
+    gx, gy = gravity if gravity is not None else (0.0, 0.0)
+    fx, fy = force
+    on, window = (_load_window(mech, q[:, 0]) if slow_stroke_only and (fx or fy) else (1.0, None))
+    result = F.solve(mech, q, qd, qdd, model, (gx, gy), (fx, fy), on, sol=sol)
+    bad = F.singular_samples(result)
+    if bad.any():
+        k = int(np.argmax(bad))
+        raise ParameterError(_singular_text(mech, float(q[k, 0]), "a group"))
+    point = mech.output_point
+    loads = {"gravity": list(gravity) if gravity is not None else None,
+             "force": ({"Fx": fx, "Fy": fy, "point": point, "link": mech.topology.carriers[point],
+                        "cutting": bool(slow_stroke_only),
+                        **({"window": list(window)} if window is not None else {})} if (fx or fy) else None)}
+    cols = {}
+    for k, inp in enumerate(mech.inputs):
+        cols[inp.q] = q[:, k]
+    balance_result = balanced = None
+    if balance is not None:
+        balance_result = bal.balance(mech, sol, model, tuple(balance) or None)
+        balanced = F.solve(mech, q, qd, qdd, bal.with_counterweights(model, balance_result.counterweights),
+                           (gx, gy), (fx, fy), on, sol=sol)
+    return ForceRun(mech, t, q, qd, qdd, cols, sol, model, mass_sources(mech, inertias), loads, result,
+                    balance_result, balanced)
+
+
+def force_peaks(run: ForceRun, forces=None) -> dict:
+    """Each joint's peak |F| [N] (a prismatic pair's also its peak |M| [N m]), each drive's peak and the
+    shaking force's and moment's, with the sample index where each occurs."""
+    f = forces or run.forces
+    out = {"joints": {}, "drives": {}, "shaking": {}}
+    mag = f.magnitude()
+    for k, j in enumerate(f.joints):
+        i = int(np.argmax(mag[k]))
+        entry = {"F": float(mag[k, i]), "at": i}
+        if j.kind == "prismatic":
+            m = np.abs(f.M(k))
+            entry.update({"M": float(m.max()), "at_M": int(np.argmax(m))})
+        out["joints"][j.name] = entry
+    for inp in run.mech.inputs:
+        d = np.abs(f.drives[inp.link])
+        out["drives"][inp.q] = {"value": float(d.max()), "at": int(np.argmax(d))}
+    sf = np.hypot(f.shaking[0], f.shaking[1])
+    sm = np.abs(f.shaking[2])
+    out["shaking"] = {"F": float(sf.max()), "at": int(np.argmax(sf)), "M": float(sm.max()), "at_M": int(np.argmax(sm)),
+                      "F_rms": float(np.sqrt(np.mean(sf * sf)))}
+    return out
+
+
+def forces_record(run: ForceRun, display=None) -> dict:
+    """The JSON of ``linkage forces --json`` (SPEC "Forces"): SI, world frame, arrays over the samples,
+    unless ``display`` converts lengths and angles (forces stay N, torques N m)."""
+    from analytic import quantities as Q
+    from analytic.applications.forces import centres
+    display = display or Q.SI
+    mech, f = run.mech, run.forces
+
+    def L(v):
+        return display.convert(Q.LENGTH, v)
+
+    def inp_q(inp):
+        return Q.ANGLE if inp.kind == "crank" else Q.LENGTH
+
+    com = centres(mech, run.solution, run.inertias)
+    links = {ln: {"m": b.m, "I": b.I, "cx": L(b.cx), "cy": L(b.cy), "xG": L(com[ln][0]), "yG": L(com[ln][1]),
+                  "source": run.sources[ln]} for ln, b in run.inertias.items()}
+    joints = []
+    for k, j in enumerate(f.joints):
+        entry = {"name": j.name, "point": j.point, "kind": "R" if j.kind == "revolute" else "P",
+                 "links": [j.a, j.b], "Fx": f.F[k, 0], "Fy": f.F[k, 1]}
+        if j.kind == "prismatic":
+            entry["M"] = f.M(k)
+        if j.input is not None:
+            entry["input"] = mech.inputs[j.input].q
+        joints.append(entry)
+    drives = {inp.q: f.drives[inp.link] for inp in mech.inputs}
+    record = {"mechanism": mech.name, "samples": len(run.t), "t": run.t,
+              "inputs": {inp.q: display.convert(inp_q(inp), run.inputs[inp.q]) for inp in mech.inputs},
+              "links": links, "joints": joints, "drives": drives,
+              "shaking": {"Fx": f.shaking[0], "Fy": f.shaking[1], "M": f.shaking[2]},
+              "loads": run.loads, "peaks": _peaks_at(run, force_peaks(run), display),
+              "units": {"file": mech.units, "length": display.unit(Q.LENGTH), "angle": display.unit(Q.ANGLE),
+                        "time": "s", "force": "N", "torque": "N m", "mass": "kg", "I": "kg m^2",
+                        "inputs": {inp.q: display.unit(inp_q(inp)) for inp in mech.inputs},
+                        "drives": {inp.q: "N m" if inp.kind == "crank" else "N" for inp in mech.inputs}}}
+    if run.balance is not None:
+        record["balance"] = balance_record(run, display)
+    return record
+
+
+def _peaks_at(run: ForceRun, peaks: dict, display) -> dict:
+    """The peaks with the first input's value (display units) beside each sample index ``at``/``at_M``."""
+    from analytic import quantities as Q
+    first = run.mech.inputs[0]
+    quantity = Q.ANGLE if first.kind == "crank" else Q.LENGTH
+
+    def value(i):
+        return display.convert(quantity, float(run.q[i, 0]))
+
+    def walk(d):
+        out = {}
+        for k, v in d.items():
+            out[k] = walk(v) if isinstance(v, dict) else v
+            if k in ("at", "at_M") and not isinstance(v, dict):
+                out[f"{first.q}{'' if k == 'at' else '_M'}"] = value(v)
+        return out
+    return walk(peaks)
+
+
+def balance_record(run: ForceRun, display=None) -> dict:
+    """The counterweights (mass [kg], position in the link's frame) and the shaking force before/after."""
+    from analytic import quantities as Q
+    display = display or Q.SI
+    b = run.balance
+    after = force_peaks(run, run.balanced)["shaking"]
+    before = force_peaks(run)["shaking"]
+    return {"method": b.method,
+            "counterweights": [{"link": w.link, "m": w.m, "at": [display.convert(Q.LENGTH, w.u),
+                                                                display.convert(Q.LENGTH, w.v)]}
+                               for w in b.counterweights],
+            "inertial_shaking": {"before": b.before, "after": b.after},
+            "shaking": {"before": {"rms": before["F_rms"], "peak": before["F"]},
+                        "after": {"rms": after["F_rms"], "peak": after["F"]}},
+            "shaking_force_after": {"Fx": run.balanced.shaking[0], "Fy": run.balanced.shaking[1]},
+            "drives_after": {inp.q: run.balanced.drives[inp.link] for inp in run.mech.inputs}}
+
+
+def forces_columns(run: ForceRun) -> tuple[dict, dict]:
+    """CSV columns of a forces run and their quantities: t, the inputs, each joint's ``Fx_J Fy_J F_J``
+    (``M_J`` for a prismatic pair), each drive ``tauL`` (L the input's link, as in simulate's CSV), the shaking
+    force and moment."""
+    from analytic import quantities as Q
+    mech, f = run.mech, run.forces
+    cols = {"t": run.t}
+    qty = {"t": Q.TIME}
+    for inp in mech.inputs:
+        cols[inp.q] = run.inputs[inp.q]
+        qty[inp.q] = Q.ANGLE if inp.kind == "crank" else Q.LENGTH
+    mag = f.magnitude()
+    for k, j in enumerate(f.joints):
+        for name, v in ((f"Fx_{j.name}", f.F[k, 0]), (f"Fy_{j.name}", f.F[k, 1]), (f"F_{j.name}", mag[k])):
+            cols[name], qty[name] = v, Q.FORCE
+        if j.kind == "prismatic":
+            cols[f"M_{j.name}"], qty[f"M_{j.name}"] = f.M(k), Q.TORQUE
+    for inp in mech.inputs:
+        cols[f"tau{inp.link}"] = f.drives[inp.link]                 # as simulate's CSV names a drive
+        qty[f"tau{inp.link}"] = Q.TORQUE if inp.kind == "crank" else Q.FORCE
+    for name, k, quantity in (("Fx_shaking", 0, Q.FORCE), ("Fy_shaking", 1, Q.FORCE), ("M_shaking", 2, Q.TORQUE)):
+        cols[name], qty[name] = f.shaking[k], quantity
+    return cols, qty
+
+
+def forces_table(run: ForceRun, display=None) -> str:
+    """What ``linkage forces`` prints: each joint's peak force and the first input's value where it occurs,
+    the drives' peaks, the shaking force's and moment's (lengths in ``display`` units, forces N, torques N m)."""
+    from analytic import quantities as Q
+    from analytic.applications.forces import angle_text
+    display = display or Q.SI
+    mech, f = run.mech, run.forces
+    first = mech.inputs[0]
+    q1 = run.q[:, 0]
+
+    def at(i):
+        if first.kind == "crank":
+            return angle_text(first, float(q1[i]))
+        return f"{display.convert(Q.LENGTH, float(q1[i])):.6g} {display.unit(Q.LENGTH)}"
+
+    peaks = force_peaks(run)
+    loads = run.loads
+    parts = []
+    if loads["gravity"]:
+        parts.append(f"gravity {loads['gravity'][0]:g},{loads['gravity'][1]:g} m/s^2")
+    if loads["force"]:
+        fl = loads["force"]
+        parts.append(f"{'cutting force' if fl['cutting'] else 'force'} {fl['Fx']:g},{fl['Fy']:g} N on {fl['point']} "
+                     f"(link {fl['link']})")
+    lines = [f"{mech.name}: joint forces over {len(run.t)} samples ({', '.join(parts) or 'inertia only'}); "
+             f"masses: {sum(b.m for b in run.inertias.values()):.4g} kg in {len(run.inertias)} links",
+             f"  {'joint':<12s} {'kind':<5s} {'links':<22s} {'peak |F| [N]':>13s}  at {first.q}"]
+    for k, j in enumerate(f.joints):
+        pk = peaks["joints"][j.name]
+        kind = "R" if j.kind == "revolute" else "P"
+        extra = ""
+        if j.kind == "prismatic":
+            extra = f"; couple peak {pk['M']:.4g} N m at {at(pk['at_M'])}"
+        if j.input is not None:
+            extra += " (driven)"
+        lines.append(f"  {j.name:<12s} {kind:<5s} {j.a + '-' + j.b:<22s} {pk['F']:13.5g}  {at(pk['at'])}{extra}")
+    for inp in mech.inputs:
+        d = peaks["drives"][inp.q]
+        unit = "N m" if inp.kind == "crank" else "N"
+        lines.append(f"  drive of {inp.q}: peak {'torque' if inp.kind == 'crank' else 'force'} {d['value']:.5g} "
+                     f"{unit} at {at(d['at'])}")
+    s = peaks["shaking"]
+    lines.append(f"  shaking force: peak {s['F']:.5g} N at {at(s['at'])} (RMS {s['F_rms']:.5g} N); shaking moment "
+                 f"about the origin: peak {s['M']:.5g} N m at {at(s['at_M'])}")
+    if run.balance is not None:
+        b = run.balance
+        lines.append(f"  balance ({b.method}): " + ("; ".join(
+            f"{w.m:.4g} kg on link {w.link} at ({display.convert(Q.LENGTH, w.u):.4g}, "
+            f"{display.convert(Q.LENGTH, w.v):.4g}) {display.unit(Q.LENGTH)}" for w in b.counterweights)
+            or "no counterweight helps"))
+        after = force_peaks(run, run.balanced)["shaking"]
+        lines.append(f"    shaking force of the inertia: RMS {b.before['rms']:.5g} -> {b.after['rms']:.5g} N, peak "
+                     f"{b.before['peak']:.5g} -> {b.after['peak']:.5g} N; with the loads: RMS {s['F_rms']:.5g} -> "
+                     f"{after['F_rms']:.5g} N")
+    return "\n".join(lines)
+
+
+def balanced_mechanism(mech: Mechanism, links=None) -> tuple[Mechanism, object]:
+    """``mech`` with the counterweights of :func:`analytic.applications.balance.balance` written into its
+    file's ``[mass.counterweights]`` (file units), so every model built from it (MuJoCo's included) carries
+    them; and the Balance."""
+    from dataclasses import replace
+    from analytic import mass
+    from analytic.applications import balance as bal
+    from analytic.applications import forces as F
+    t = np.linspace(0.0, mech.duration(1.0), 361)
+    q, qd, qdd = mech.drive(t)
+    mech.check_assembles(q)
+    sol = mech.solve(q, qd, qdd, outputs=F.wanted(mech))
+    result = bal.balance(mech, sol, mass.model(mech), tuple(links or ()) or None)
+    d = mech.definition
+    section = {k: v for k, v in (d.mass or {}).items()}
+    weights = {k: (list(v) if isinstance(v, list) else [v]) for k, v in section.get("counterweights", {}).items()}
+    s = mech.scale
+    for w in result.counterweights:
+        weights.setdefault(w.link, []).append({"m": w.m, "at": [w.u / s, w.v / s]})
+    section["counterweights"] = {k: (v[0] if len(v) == 1 else v) for k, v in weights.items()}
+    new = replace(d, mass=section)
+    return Mechanism.from_definition(new, mech.overrides, mech.builtin), result
+
+
+def simulated_forces_run(run: ForceRun, settings=None, loads=None):
+    """``run`` simulated in MuJoCo, its joint forces read at the run's samples and compared with the analytic
+    ones at the simulated inputs (:class:`sim.run.forces.Simulated`)."""
+    from sim.run import forces as simforces
+    return simforces.simulate_run(run, settings, loads)
+
+
+def simulated_forces(run: ForceRun, settings=None, loads=None, display=None) -> dict:
+    """The ``simulated`` object of ``linkage forces --simulate --json``: MuJoCo's answer in the fields of
+    :func:`forces_record` (at the run's samples, the inputs as simulated, the model's masses), the time step
+    and steps, the agreement with the analytic forces (``agreement``: each joint's largest difference [N] and
+    its share of the peak joint force, the drives' three answers, the shaking force) and ``passed``."""
+    from dataclasses import replace
+    from sim.model import body_inertias
+    s = simulated_forces_run(run, settings, loads)
+    mech, tr = run.mech, s.trajectory
+    q, qd, qdd = s.inputs
+    sol = {k: np.asarray(v)[s.steps] for k, v in tr.outputs.items() if k[:1] in ("x", "y", "c", "s")}
+    sim_run = replace(run, t=run.t[:len(s.steps)], q=q, qd=qd, qdd=qdd, inputs={inp.q: q[:, k] for k, inp in enumerate(mech.inputs)},
+                      solution=sol, inertias=body_inertias(s.built.model, mech.links), forces=s.forces,
+                      balance=None, balanced=None)
+    record = forces_record(sim_run, display)
+    for key in ("mechanism", "loads", "units"):
+        record.pop(key, None)
+    record.update({"timestep": s.built.timestep, "steps": int(tr.steps), "agreement": s.agreement.as_dict(),
+                   "passed": s.agreement.passed})
+    return record

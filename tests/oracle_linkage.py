@@ -11,6 +11,16 @@ two scalar constraint equations per element, in the element's own point (x, y):
 * ``RPR``     |R - P|^2 = l^2,  cross(R - P, Q - P) = l * offset
               (Q - P = s u + offset u_perp with u = (R - P)/l, so cross(u, Q - P) = offset)
 * ``point``   R = P + u e + v e_perp                   (e: unit vector P -> Q, or a named link's x-axis)
+* ``gear``    R = pivot + l (cos psi, sin psi), psi = phi_c + phase + ratio (phi_a - phi_c): the gear's
+              angle from the relation between the carrier's (c) and the mesh link's (a) angles, each
+              measured from its own points (a crank's: its input angle, counted in turns; a gear's: its
+              own psi; the ground's 0; any other link's atan2 of its frame, in (-pi, pi], relative to the
+              carrier when neither angle counts turns)
+* ``PRP``     cross(u1, C - O1) = offset1,  cross(u2, C - O2) = offset2   (C on both shifted guide lines)
+* ``RPP``     cross(u, C - O) = offset,  cross(v, P - C) = 0   (C on the shifted guide; the pin P on the slot
+              through C, v = u turned by the slot's angle); ``PPR`` the same with its pin Q
+* ``group``   per link p0, p1, p2...: |p1 - p0|^2 = L^2 and pk = p0 + u e + v e_perp (e: unit p0 -> p1), with
+              L, u, v measured here from the file's pose; two rows per point the group places
 
 All unknowns are solved together: ``F(x; q) = 0`` for all samples at once (batched 2n x 2n systems).
 
@@ -25,7 +35,8 @@ and the Jacobian J itself is F1 with unit seeds (forward-mode differentiation). 
 given guess (the caller perturbs the analytic solution) and the branch it lands on is then checked
 against the file's conventions independently of the solver: RRR branch +1 puts C left of P->Q
 (cross(Q - P, C - P) > 0); RRP branch +1 takes the intersection farther along the guide
-(dot(C - P, u) > 0); RPR branch +1 puts R on the side of Q (dot(R - P, Q - P) > 0).
+(dot(C - P, u) > 0); RPR branch +1 puts R on the side of Q (dot(R - P, Q - P) > 0); a group keeps the
+sign its equations' Jacobian (in the points it places, rows as written above) has at the file's pose.
 """
 
 from __future__ import annotations
@@ -95,6 +106,13 @@ def jsin(a: Jet) -> Jet:
     return Jet(s, c * a.c1, c * a.c2 - 0.5 * s * a.c1 * a.c1)
 
 
+def jatan2(ex: Jet, ey: Jet) -> Jet:
+    """The angle of a unit vector (ex, ey): e1 = th1 e_perp and e2 = th2 e_perp - th1^2 e / 2 give
+    th1 = cross(e0, e1), th2 = cross(e0, e2)."""
+    ex, ey = Jet.lift(ex), Jet.lift(ey)
+    return Jet(np.arctan2(ey.c0, ex.c0), ex.c0 * ey.c1 - ey.c0 * ex.c1, ex.c0 * ey.c2 - ey.c0 * ex.c2)
+
+
 def _cross(ax, ay, bx, by):
     return ax * by - ay * bx
 
@@ -110,6 +128,12 @@ def _unit(P, Q):
 
 
 # ---------------------------------------------------------------------------------------- equations
+def _slot(e, u):
+    """The slot's unit direction of an RPP or PPR: the guide's ``u`` turned by its ``angle``."""
+    ca, sa = math.cos(e["angle"]), math.sin(e["angle"])
+    return u[0] * ca - u[1] * sa, u[0] * sa + u[1] * ca
+
+
 def _guide(G, pts):
     """(origin, unit direction) of a guide: the line P->Q of two points, or a ground line."""
     if "points" in G:
@@ -143,7 +167,60 @@ def _frame(geometry, on, pts):
         if k == "RPR" and on in e["links"]:
             P = pts[e["pivot"]] if on == e["links"][0] else pts[e["through"]]
             return P, _unit(pts[e["pivot"]], pts[e["point"]])
+        if k == "gear" and e["link"] == on:
+            return pts[e["pivot"]], _unit(pts[e["pivot"]], pts[e["point"]])
+        if k == "PRP" and on in e["links"]:            # a block: its pin, along its guide
+            return pts[e["point"]], _guide(e["guide" + str(e["links"].index(on) + 1)], pts)[1]
+        if k in ("RPP", "PPR") and on in e["links"]:   # the link on the guide: C, along it; the pin block: its pin, along the slot
+            u = _guide(e["guide"], pts)[1]
+            on_guide = on == e["links"][1 if k == "RPP" else 0]
+            return (pts[e["point"]], u) if on_guide else (pts[e["through"]], _slot(e, u))
+        if k == "group" and on in e["links"]:
+            p0, p1 = e["links"][on][:2]
+            return pts[p0], _unit(pts[p0], pts[p1])
     raise ValueError(f"no link named {on!r}")
+
+
+def _link_angle(geometry, link, pts, Q):
+    """(angle of ``link`` as a Jet, whether it counts whole turns): the ground 0; a crank its input angle
+    (its equation is written with it); a gear its psi; any other link atan2 of its frame's x-axis."""
+    if link == "ground":
+        return Jet(0.0), True
+    for e in geometry.elements:
+        if e["kind"] == "crank" and e["link"] == link:
+            return Q[e["input"]], True
+        if e["kind"] == "gear" and e["link"] == link:
+            return _gear_angle(geometry, e, pts, Q), True
+    _, (ex, ey) = _frame(geometry, link, pts)
+    return jatan2(ex, ey), False
+
+
+def _gear_angle(geometry, e, pts, Q):
+    """psi = phi_c + phase + ratio (phi_a - phi_c) of a gear element (see the module docstring)."""
+    phi_c, turns_c = _link_angle(geometry, e["carrier"], pts, Q)
+    phi_a, turns_a = _link_angle(geometry, e["mesh"], pts, Q)
+    theta = phi_a - phi_c
+    if not (turns_a or turns_c):           # both in (-pi, pi]: their difference reduced to (-pi, pi]
+        theta = Jet(theta.c0 - 2 * np.pi * np.round(theta.c0 / (2 * np.pi)), theta.c1, theta.c2)
+    return phi_c + e["phase"] + e["ratio"] * theta
+
+
+def _group_rows(e, pts):
+    """A ``group``'s equations (see the module docstring): lengths and frame coordinates from its pose."""
+    pose = {p: (float(x), float(y)) for p, (x, y) in e["pose"].items()}
+    rows = []
+    for names in e["links"].values():
+        (ax, ay), (bx, by) = pose[names[0]], pose[names[1]]
+        L = math.hypot(bx - ax, by - ay)
+        P, Q = pts[names[0]], pts[names[1]]
+        rows.append(_dot(Q[0] - P[0], Q[1] - P[1], Q[0] - P[0], Q[1] - P[1]) - L * L)
+        ex, ey = _unit(P, Q)
+        for k in names[2:]:
+            rx, ry = pose[k][0] - ax, pose[k][1] - ay
+            u, v = ((bx - ax) * rx + (by - ay) * ry) / L, ((bx - ax) * ry - (by - ay) * rx) / L
+            R = pts[k]
+            rows += [R[0] - P[0] - (u * ex - v * ey), R[1] - P[1] - (u * ey + v * ex)]
+    return rows
 
 
 def residual(geometry, X, Q):
@@ -177,10 +254,25 @@ def residual(geometry, X, Q):
             P, Qp, l = pts[e["pivot"]], pts[e["through"]], e["length"]
             rows += [_dot(R[0] - P[0], R[1] - P[1], R[0] - P[0], R[1] - P[1]) - l * l,
                      _cross(R[0] - P[0], R[1] - P[1], Qp[0] - P[0], Qp[1] - P[1]) - l * e["offset"]]
+        elif kind == "PRP":
+            for g, off in (("guide1", "offset1"), ("guide2", "offset2")):
+                O, (ux, uy) = _guide(e[g], pts)
+                rows.append(_cross(ux, uy, R[0] - O[0], R[1] - O[1]) - e[off])
+        elif kind in ("RPP", "PPR"):
+            O, u = _guide(e["guide"], pts)
+            vx, vy = _slot(e, u)
+            P = pts[e["through"]]
+            rows += [_cross(u[0], u[1], R[0] - O[0], R[1] - O[1]) - e["offset"],
+                     _cross(vx, vy, P[0] - R[0], P[1] - R[1])]
         elif kind == "point":
             P, (ex, ey) = _frame(geometry, e["on"], pts)
             u, v = e["at"]
             rows += [R[0] - P[0] - (u * ex - v * ey), R[1] - P[1] - (u * ey + v * ex)]
+        elif kind == "gear":
+            P, psi = pts[e["pivot"]], _gear_angle(geometry, e, pts, Q)
+            rows += [R[0] - P[0] - e["length"] * jcos(psi), R[1] - P[1] - e["length"] * jsin(psi)]
+        elif kind == "group":
+            rows += _group_rows(e, pts)
         else:
             raise ValueError(f"unknown element kind {kind!r}")
     return rows
@@ -188,7 +280,7 @@ def residual(geometry, X, Q):
 
 # ------------------------------------------------------------------------------------------- solving
 def _names(geometry):
-    return [e["point"] for e in geometry.elements]
+    return [p for e in geometry.elements for p in e["places"]]
 
 
 def _pack(names, x, xd=None, xdd2=None):
@@ -262,6 +354,9 @@ def branch_violations(geometry, points):
     P = {n: (v[0], v[1]) for n, v in points.items()}
     bad = {}
     for e in geometry.elements:
+        if e["kind"] == "group":
+            bad[e["label"]] = _group_branch_violations(e, P)
+            continue
         R = P[e["point"]]
         if e["kind"] == "RRR":
             A, B = (P[n] for n in e["from"])
@@ -284,10 +379,32 @@ def branch_violations(geometry, points):
     return bad
 
 
+def _group_det(e, P):
+    """det of a group's equations' Jacobian in the points it places, at positions P {name: (x, y)}."""
+    unknown = list(e["places"])
+    n = 2 * len(unknown)
+    N = np.size(np.asarray(P[unknown[0]][0]))
+    cols = []
+    for c in range(n):
+        pts = {p: (Jet(np.asarray(xy[0], float)), Jet(np.asarray(xy[1], float))) for p, xy in P.items()}
+        p = unknown[c // 2]
+        x, y = pts[p]
+        pts[p] = (Jet(x.c0, float(c % 2 == 0)), Jet(y.c0, float(c % 2 == 1)))
+        cols.append(np.stack([np.broadcast_to(r.c1, (N,)) for r in _group_rows(e, pts)], -1))
+    return np.linalg.det(np.stack(cols, -1))
+
+
+def _group_branch_violations(e, P):
+    """Samples where a group's Jacobian determinant has another sign than at the file's pose."""
+    at_pose = _group_det(e, {p: (np.array([x]), np.array([y])) for p, (x, y) in e["pose"].items()})[0]
+    return int(np.sum(np.sign(_group_det(e, P)) != np.sign(at_pose)))
+
+
 def slides(geometry, points):
     """(s, ds, dds) of every prismatic pair, named after its block link, from the oracle's points:
     RRP: distance of C from the guide's origin along the guide; RPR: Q - P along the slot; slider: its
-    input, recovered from the point."""
+    input, recovered from the point; PRP: C from each guide's origin along it; RPP, PPR: C from the guide's
+    origin along the guide (the link on it), the pin - C along the slot (the block in it)."""
     J = {n: (Jet(v[0], v[2], 0.5 * v[4]), Jet(v[1], v[3], 0.5 * v[5])) for n, v in points.items()}
     out = {}
     for e in geometry.elements:
@@ -301,6 +418,21 @@ def slides(geometry, points):
             ux, uy = _unit(P, R)
             s = _dot(Qp[0] - P[0], Qp[1] - P[1], ux, uy)
             name = e["links"][1]
+        elif e["kind"] == "PRP":
+            for link, g in zip(e["links"], ("guide1", "guide2")):
+                O, (ux, uy) = _guide(e[g], J)
+                s = _dot(R[0] - O[0], R[1] - O[1], ux, uy)
+                out[link] = (s.c0, s.c1, 2.0 * s.c2)
+            continue
+        elif e["kind"] in ("RPP", "PPR"):
+            O, u = _guide(e["guide"], J)
+            vx, vy = _slot(e, u)
+            P = J[e["through"]]
+            on_guide, in_slot = e["links"] if e["kind"] == "PPR" else e["links"][::-1]
+            s = _dot(R[0] - O[0], R[1] - O[1], u[0], u[1])
+            out[on_guide] = (s.c0, s.c1, 2.0 * s.c2)
+            s = _dot(P[0] - R[0], P[1] - R[1], vx, vy)
+            name = in_slot
         else:
             continue
         out[name] = (s.c0, s.c1, 2.0 * s.c2)
@@ -333,4 +465,16 @@ def link_rates(geometry, points):
             out[e["links"][1]] = rates(*G["points"]) if "points" in G else (0.0, 0.0)
         elif k == "RPR":
             out[e["links"][0]] = out[e["links"][1]] = rates(e["pivot"], pt)
+        elif k == "gear":
+            out[e["link"]] = rates(e["pivot"], pt)
+        elif k == "PRP":                      # each block turns with its guide
+            for link, g in zip(e["links"], ("guide1", "guide2")):
+                G = e[g]
+                out[link] = rates(*G["points"]) if "points" in G else (0.0, 0.0)
+        elif k in ("RPP", "PPR"):             # both turn with the guide (the slot is fixed in the link on it)
+            G = e["guide"]
+            out[e["links"][0]] = out[e["links"][1]] = rates(*G["points"]) if "points" in G else (0.0, 0.0)
+        elif k == "group":
+            for ln, names in e["links"].items():
+                out[ln] = rates(names[0], names[1])
     return out

@@ -130,7 +130,7 @@ def test_a_value_that_cannot_turn_fully_shows_the_error_beside_its_field(page):
     error = page.locator('.param[data-name="l3"] .field-error')
     error.filter(has_text="cannot turn fully").wait_for()
     text = error.inner_text()
-    assert "reachable -104.48deg..-41.41deg or 41.41deg..104.48deg" in text and "\n" not in text.strip()
+    assert "reachable -104.47deg..-41.41deg or 41.41deg..104.47deg" in text and "\n" not in text.strip()
     assert page.locator('.param[data-name="l1"] .field-error').inner_text() == ""
     # rocking it between the limits brings the curves back
     r0 = revision(page)

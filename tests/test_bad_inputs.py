@@ -68,7 +68,7 @@ CASES = [
     ("unknown parameter", ["analyze", "slider_crank", "--set", "l1=0.1"], r"'l1' is not a parameter of slider_crank"),
     ("unsupported output type", ["plot", "fourbar", "--out", "x.bmp"], r"unsupported output type '\.bmp'"),
     ("no extension", ["analyze", "fourbar", "--csv", "x"], r"unsupported output type '\(no extension\)'"),
-    ("a change point", ["simulate", "fourbar", "--set", "l1=0.25"], r"singular pose at phi1=0\.00deg"),
+    ("a start at a change point", ["simulate", "fourbar", "--set", "l1=0.25"], r"starts at a change point \(phi1=0\.00deg"),
     ("a rocking range past a dead point", ["compare", "fourbar", "--set", "l1=0.2", "--set", "l3=0.1",
                                            "--input-range", "40deg:100deg"], r"cannot be assembled at phi1=40\.00deg"),
     ("a timestep far too large", ["compare", "fivebar", "--timestep", "0.05", "--set", "omega2=50", "--set", "omega4=50"],
@@ -314,5 +314,5 @@ def test_output_piped_into_head_n_0_ends_quietly(tmp_path):
 def test_a_failed_compare_at_a_given_time_step_says_why(tmp_path):
     r = run(tmp_path, "compare", "fourbar", "--timestep", "0.05")
     assert r.returncode == 1 and "FAILED" in r.stdout and "Traceback" not in r.stderr
-    assert re.fullmatch(r"linkage: the time step 0\.05 s given by --timestep is above the \S+ s this design needs "
-                        r"\(0\.03 rad per step\); drop --timestep\n", r.stderr), r.stderr
+    assert re.fullmatch(r"linkage: the time step 0\.05 s given by --timestep is above the \S+ s this design needs; "
+                        r"drop --timestep\n", r.stderr), r.stderr

@@ -11,7 +11,8 @@ from analytic.closed_forms import fivebar
 from analytic.closed_forms import fourbar
 from analytic.closed_forms import sixbar
 from analytic.applications import torque
-from analytic.closed_forms.dynamics import Inertia, body_motions, torques
+from analytic.mass import Inertia
+from builtin_dynamics import body_motions, torques
 from sim import model
 from sim import service
 
@@ -121,7 +122,7 @@ FIVE_INERTIAS = {"crank2": Inertia(0.2, 0.03, 0.01, 1e-4), "link3": Inertia(0.4,
 @pytest.mark.parametrize("name", ["fourbar", "sixbar", "fivebar"])
 def test_the_general_drive_forces_equal_the_built_in_torques(name):
     # Two independent routes: analytic.applications.torque works on any mechanism through the general solver and
-    # the file's link frames; analytic.closed_forms.dynamics on the built-ins' closed forms and their own body frames.
+    # the file's link frames; tests/builtin_dynamics.py on the built-ins' closed forms and their own body frames.
     mech = analytic.load(name, **({"alpha1": 2.0} if name != "fivebar" else {"omega4": 4 * math.pi, "alpha2": 1.0}))
     inertias = FIVE_INERTIAS if name == "fivebar" else INERTIAS[name]
     t = np.linspace(0.0, 0.9, 37)

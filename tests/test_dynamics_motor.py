@@ -14,7 +14,7 @@ from scipy.optimize import minimize_scalar
 import analytic
 from analytic.closed_forms import fourbar
 from analytic.applications import motor
-from analytic.closed_forms.dynamics import Inertia
+from analytic.mass import Inertia
 
 # hand-chosen mass model (link frames: origin at the link's first point, x along the link)
 INERTIAS = {"1": Inertia(m=0.3, cx=0.04, cy=0.01, I=4e-4),

@@ -148,7 +148,10 @@ def test_hostile_app_requests_get_4xx_never_5xx(server):
         if status >= 400:
             msg = json.loads(data)["error"]
             assert msg and "\n" not in msg, msg
-    assert 200 in statuses and any(400 <= s < 500 for s in statuses)
+    assert any(400 <= s < 500 for s in statuses)
+    # and it still answers a plain request (the random ones above may all be refused: which of them are
+    # depends on the library's files, which the mutated texts are drawn from)
+    assert _post(server, "/api/solve", json.dumps({"mechanism": "fourbar"}).encode())[0] == 200
 
 
 def test_twenty_simultaneous_simulate_requests_are_all_answered(server):

@@ -112,7 +112,7 @@ def test_nan_where_a_group_cannot_assemble_and_the_group_is_named():
     assert np.isnan(sol["phi3"][1]) and np.isfinite(sol["phi3"][0])
     assert sol.first_failure() == (1, "groups[1] (point C)")
     with pytest.raises(analytic.AssemblyError, match=r"at phi1=0\.00deg: groups\[1\] \(point C\) cannot close; "
-                                                    r"phi1 assembles in -104\.48deg\.\.-41\.41deg or 41\.41deg\.\.104\.48deg"):
+                                                    r"phi1 assembles in -104\.47deg\.\.-41\.41deg or 41\.41deg\.\.104\.47deg"):
         mech.check_assembles(np.radians([60.0, 0.0]))
 
 

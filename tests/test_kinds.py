@@ -9,7 +9,9 @@ For each example (both assembly branches where it has a ``branch`` parameter):
 * velocities and accelerations match five-point finite differences of positions and velocities;
 * the compiled path (when the kind has one and numba is installed) gives the numpy path's numbers;
 * the generated MuJoCo model compiles, closes its loops as built and passes ``compare`` over a short run;
-* every field of the kind, given a value of the wrong type, is refused in one line naming it.
+* every field of the kind, given a value of the wrong type, is refused in one line naming it;
+* its joint forces (its closed form, or the general Newton-Euler solve of its element) equal the independent
+  whole-linkage Newton-Euler oracle (``oracle_forces.py``) to 1e-9 of the peak force, under gravity and a load.
 """
 
 from __future__ import annotations
@@ -146,3 +148,17 @@ def test_a_field_of_the_wrong_type_is_refused_in_one_line_naming_it(path):
             linkfile.parse(json.dumps(bad), str(path), json_format=True)
         message = str(err.value)
         assert "\n" not in message and f"field {fname!r}" in message, (fname, message)
+
+
+@pytest.mark.parametrize("path, branch", CASES, ids=IDS)
+def test_its_joint_forces_equal_the_newton_euler_oracle(path, branch):
+    import oracle_forces
+    from analytic import mass
+    from analytic.applications import forces
+    m = _load(path, branch)
+    _, q, qd, qdd = drive(m, 61, rng_for(path.stem + "forces"))
+    peak = forces.peak(forces.solve(m, q, qd, qdd, mass.model(m)))
+    # gravity and a load of the order of the inertia forces; errors are relative to the peak joint force:
+    # rounding of two eliminations (per group vs one dense solve), times 1/sin of the transmission angle
+    worst = oracle_forces.compare(m, q, qd, qdd, (1.3, -9.81), (0.8 * peak, -0.6 * peak))
+    assert max(worst["joints"], worst["couples"], worst["drives"], worst["shaking"]) <= 1e-9, worst

@@ -23,9 +23,14 @@ import pytest
 import analytic
 from agreement import (FD_STEPS, FD_TOL, MIN_MU_DEG, MIN_SLIDE, POS_TOL, RATE_TOL, assert_agree, compare, drive,
                        period, rng_for)
+from analytic.applications import figures
 from analytic.solver import jit as _jit
 
 NAMES = analytic.names()
+MIN_SINGULARITY = min(math.sin(math.radians(MIN_MU_DEG)), MIN_SLIDE)
+"""The least singularity measure of a shipped file: the sin of an RRR's or RRP's angle clear of dead centre
+by MIN_MU_DEG, an RPR's block MIN_SLIDE of the size from its pivot (rates up to 1/0.05 = 20x their usual
+size); the measures are the kinds' own (analytic.applications.figures.singularity)."""
 
 # ------------------------------------------------------------------------------------- vs the oracle
 @pytest.fixture(params=["numpy", "compiled"])
@@ -155,7 +160,7 @@ def test_comparison_fails_when_input_accelerations_are_off_by_1e_6(name):
 def test_file_is_described_and_has_a_moving_output(name):
     m = analytic.load(name)
     assert m.description and "\n" not in m.description, name
-    assert m.output_point in {e["point"] for e in m.geometry.elements}, name
+    assert m.output_point in {p for e in m.geometry.elements for p in e["places"]}, name
 
 
 @pytest.mark.parametrize("name", NAMES)
@@ -164,19 +169,14 @@ def test_assembles_over_a_full_period_clear_of_dead_centres(name):
     t, *_ = drive(m, 721, endpoint=True)
     _, sol = m.solve_at(t)
     assert sol.valid.all(), (name, sol.first_failure())
-    rrr = [f"mu{e['point']}" for e in m.geometry.elements if e["kind"] == "RRR"]
-    if m.builtin is None:                 # a file mechanism reports every RRR group's transmission angle
-        assert set(rrr) <= set(m.outputs), (name, rrr)
-    for mu in rrr:
+    mus = list(m.transmission_angles.values())
+    if m.builtin is None:                 # a file mechanism reports every transmission angle its groups have
+        assert set(mus) <= set(m.outputs), (name, mus)
+    for mu in mus:
         assert np.degrees(np.min(sol[mu])) >= MIN_MU_DEG, (name, mu, np.degrees(np.min(sol[mu])))
-    for e in m.geometry.elements:
-        if e["kind"] == "RRP":       # singular when the rod stands square to the guide
-            rod, block = e["links"]
-            mu = np.degrees(np.arcsin(np.min(np.abs(np.cos(sol["phi" + rod] - sol["phi" + block])))))
-            assert mu >= MIN_MU_DEG, (name, e["label"], mu)
-        elif e["kind"] == "RPR":     # singular when the block reaches the pivot (the slot's rate ~ v / s)
-            s = np.min(np.abs(sol["s" + e["links"][1]]))
-            assert s >= MIN_SLIDE * m.size, (name, e["label"], s / m.size)
+    # every group's own singularity measure (its kind's: 0 where it folds, its rates growing as 1/measure)
+    for label, measure in figures.singularity(m, sol).items():
+        assert np.min(measure) >= MIN_SINGULARITY, (name, label, float(np.min(measure)))
 
 
 def _five_point(f, h):
@@ -192,7 +192,7 @@ def test_rates_match_finite_differences(name):
     h = T / FD_STEPS
     sols = [m.solve_at(t + k * h)[1] for k in (-2, -1, 0, 1, 2)]
     mid = sols[2]
-    for p in (e["point"] for e in m.geometry.elements):
+    for p in (p for e in m.geometry.elements for p in e["places"]):
         for d, dd in (("", "v"), ("v", "a")):
             fx = _five_point([s[f"{d}x{p}"] for s in sols], h)
             fy = _five_point([s[f"{d}y{p}"] for s in sols], h)

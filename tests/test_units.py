@@ -253,3 +253,79 @@ def test_sweep_csv_si_by_default_converted_with_units_and_its_sidecar(files):
     side, side_si = (json.loads((d / n).read_text()) for n in ("s_mm.csv.units.json", "s.csv.units.json"))
     assert side["units"]["x_max"] == "mm" and side["units"]["area"] == "mm^2" and side["si"] is False
     assert side_si["units"]["speed_mean"] == "m/s" and side_si["units"]["crank"] == "mm" and side_si["si"] is True
+
+
+# ------------------------------------------------------------------------------- parameters
+def header_values(line: str) -> dict[str, tuple[float, str]]:
+    """``name=value unit, ...`` of analyze's first line as {name: (value, unit)}."""
+    body = line.split(": ", 1)[1]
+    out = {}
+    for item in body.split(", "):
+        name, rest = item.split("=", 1)
+        parts = rest.split(" ", 1)
+        out[name] = (float(parts[0]), parts[1] if len(parts) > 1 else "")
+    return out
+
+
+def test_analyze_header_shows_parameters_in_the_display_units():
+    # fivebar's file: phi4_0 = 60 deg, omega2 = 2 pi rad/s = one turn a second = 60 rpm (by hand)
+    p = header_values(run("analyze", "fivebar", "--angles", "deg", "--speeds", "rpm").splitlines()[0])
+    assert p["phi4_0"][1] == "deg" and p["phi4_0"][0] == pytest.approx(60.0, rel=PRINTED)
+    assert p["omega2"] == (pytest.approx(60.0, rel=PRINTED), "rpm") and p["l1"] == (pytest.approx(0.2), "m")
+    assert p["alpha2"][1] == "deg/s^2"
+    # whitworth.toml is in mm (r = 150): in metres with --units m, above results in metres
+    out = run("analyze", "whitworth", "--units", "m").splitlines()
+    w = header_values(out[0])
+    assert w["r"] == (pytest.approx(0.15, rel=PRINTED), "m") and w["branch"] == (1.0, "")
+    assert w["omega1"] == (pytest.approx(2 * math.pi, rel=PRINTED), "rad/s")
+    assert " m " in line_with("\n".join(out), "slide sblock") + " "
+    # without options: the file's unit (mm), angles in rad
+    assert header_values(run("analyze", "whitworth").splitlines()[0])["rod"] == (pytest.approx(500.0), "mm")
+
+
+def test_json_parameters_are_in_the_units_the_table_names():
+    # whitworth: r = 150 mm, omega1 = 360 deg/s (the file's own values, by hand)
+    si = json.loads(run("analyze", "whitworth", "--json"))
+    shown = json.loads(run("analyze", "whitworth", "--json", "--units", "mm", "--angles", "deg"))
+    assert si["units"]["parameters"]["r"] == "m" and si["parameters"]["r"] == pytest.approx(0.15, rel=1e-15)
+    assert si["units"]["parameters"]["omega1"] == "rad/s" and si["parameters"]["omega1"] == pytest.approx(2 * math.pi)
+    assert shown["units"]["parameters"]["r"] == "mm" and shown["parameters"]["r"] == pytest.approx(150.0, rel=1e-15)
+    assert shown["units"]["parameters"]["omega1"] == "deg/s" and shown["parameters"]["omega1"] == pytest.approx(360.0)
+    assert shown["units"]["parameters"]["branch"] == "" and shown["parameters"]["branch"] == 1.0
+    cmp = json.loads(run("compare", "whitworth", "--json", "--units", "cm", "--speeds", "rpm"))
+    assert cmp["units"]["parameters"]["rod"] == "cm" and cmp["parameters"]["rod"] == pytest.approx(50.0, rel=1e-15)
+    assert cmp["units"]["parameters"]["omega1"] == "rpm" and cmp["parameters"]["omega1"] == pytest.approx(60.0)
+
+
+def test_a_parameter_written_in_degrees_is_an_angle():
+    # peaucellier.toml: swing = "25deg", used only inside other parameters' expressions
+    mech = analytic.load("peaucellier")
+    assert Q.parameter_quantity(mech, "swing") == Q.ANGLE
+    assert Q.parameters_in(mech, Q.Display("mm", "deg"))["swing"] == pytest.approx(25.0, rel=1e-14)
+
+
+def test_check_prints_a_slider_range_in_the_file_unit_that_can_be_pasted(tmp_path):
+    # tests/kinds/slider.toml (mm): the block B on a line at 10 deg through O, rod BC = 100 to the rocker DC = 40
+    # about D = (60, 80). Its range of s ends where C folds: |BD| = 140 or 60 (by hand below).
+    path = Path(__file__).parent / "kinds" / "slider.toml"
+    text = run("check", path)
+    line = line_with(text, "spiston assembles in")
+    m = re.search(r"assembles in (-?[\d.]+)\.\.(-?[\d.]+) mm", line)
+    assert m, line
+    lo, hi = float(m.group(1)), float(m.group(2))
+    c, s = math.cos(math.radians(10)), math.sin(math.radians(10))
+    # |B - D| = 140 with B = s (c, s), |D| = 100: s^2 - 2 s (60 c + 80 s) + 100^2 - 140^2 = 0, both roots
+    b = 60 * c + 80 * s
+    ends = sorted([b - math.sqrt(b * b - (100 ** 2 - 140 ** 2)), b + math.sqrt(b * b - (100 ** 2 - 140 ** 2))])
+    # printed to 6 digits (1e-4 mm here), rounded inward: strictly inside, by less than a printed digit
+    assert ends[0] < lo < ends[0] + 1e-4 and ends[1] - 1e-3 < hi < ends[1]
+    in_m = re.search(r"assembles in (-?[\d.]+)\.\.(-?[\d.]+) m ", line_with(run("check", path, "--units", "m"),
+                                                                          "spiston") + " ")
+    assert float(in_m.group(1)) == pytest.approx(lo / 1000, abs=2e-6)
+    # pasted into --input-range (file units, like --set): it assembles at both ends
+    csv_path = tmp_path / "s.csv"
+    run("analyze", path, "--input-range", f"{lo}:{hi}", "--samples", 5, "--csv", csv_path)
+    with open(csv_path) as f:
+        rows = list(csv.DictReader(f))
+    assert float(rows[0]["spiston"]) == pytest.approx(lo / 1000, rel=1e-12)      # SI: the mm value / 1000
+    assert float(rows[-1]["spiston"]) == pytest.approx(hi / 1000, rel=1e-12)

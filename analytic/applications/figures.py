@@ -104,17 +104,40 @@ def turns_fully(mech, ranges=None) -> bool:
     return len(ranges) == 1 and ranges[0][1] - ranges[0][0] >= hi - lo - 1e-9
 
 
-def describe_ranges(first, ranges) -> str:
-    """Ranges in words; a crank's are shifted so each starts in (-180, 180] deg, in increasing order."""
+def describe_ranges(first, ranges, display=None) -> str:
+    """Ranges in words, each end rounded inward (a crank's to 0.01 deg, a slider's to 6 significant digits
+    in ``display``'s length unit, default m, with the unit), so that a range copied into ``--input-range``
+    assembles at both ends; a crank's are shifted so each starts in (-180, 180] deg, in increasing order."""
     if first.kind != "crank":
-        return " or ".join(f"{a:.6g}..{b:.6g}" for a, b in ranges)
+        from analytic.quantities import LENGTH, SI
+        u = display or SI
+        f, unit = u.factor(LENGTH), u.unit(LENGTH)
+        return " or ".join(f"{round_inward(a * f, True)}..{round_inward(b * f, False)} {unit}" for a, b in ranges)
     shifted = []
     for a, b in ranges:
         k = math.floor((a + math.pi) / (2 * math.pi))
         if a - 2 * math.pi * k <= -math.pi:
             k -= 1
         shifted.append((a - 2 * math.pi * k, b - 2 * math.pi * k))
-    return " or ".join(f"{fmt_deg(a)}..{fmt_deg(b)}" for a, b in sorted(shifted))
+    return " or ".join(f"{round_inward(math.degrees(a), True, 2)}deg..{round_inward(math.degrees(b), False, 2)}deg"
+                       for a, b in sorted(shifted))
+
+
+INWARD = 1e-4
+"""[of the last printed digit] the least distance between a range's end and its printed value rounded
+inward (0.01 deg: 1e-6 deg), so that the printed end is strictly inside."""
+
+
+def round_inward(x: float, up: bool, decimals: int | None = None) -> str:
+    """``x`` printed to ``decimals`` decimals (None: 6 significant digits), rounded up (``up``: a range's
+    start) or down (its end) by at least INWARD of the last digit, so the printed value lies inside."""
+    if not math.isfinite(x):
+        return f"{x}"
+    if decimals is None:
+        decimals = 5 - math.floor(math.log10(abs(x))) if x != 0 else 6
+    quantum = 10.0 ** -decimals
+    v = (math.ceil(x / quantum + INWARD) if up else math.floor(x / quantum - INWARD)) * quantum
+    return f"{v + 0.0:.{max(decimals, 0)}f}"                    # + 0.0: no "-0.00"
 
 
 def singularity(mech, sol) -> dict[str, np.ndarray]:
@@ -317,7 +340,7 @@ def general_summary(mech, f: dict, u=None) -> list[str]:
     if "turns_fully" in f:
         first = mech.inputs[0]
         lines.append(f"  {first.q}: " + ("turns fully" if f["turns_fully"] else
-                                          "assembles in " + describe_ranges(first, f["input_ranges"])))
+                                          "assembles in " + describe_ranges(first, f["input_ranges"], u)))
         for s in f["singular_points"]:
             where = fmt_deg(s["at"]) if first.kind == "crank" else L(s["at"])
             lines.append(f"  singular pose at {first.q}={where}: {s['group']} folds (change point)")

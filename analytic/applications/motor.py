@@ -294,7 +294,7 @@ def reduce(mech, inertias: dict, flywheel: float = 0.0, gravity=(0.0, 0.0), forc
     mech : analytic.Mechanism
         One crank input that turns fully.
     inertias : dict
-        :class:`~analytic.closed_forms.dynamics.Inertia` per link name (links not named are massless).
+        :class:`~analytic.mass.Inertia` per link name (links not named are massless).
     flywheel : float
         Flywheel plus rotor inertia on the input link [kg m^2], >= 0.
     gravity, force : (x, y)

@@ -38,7 +38,7 @@ def drive_forces(mech, q, qd, qdd, inertias: dict, armature: dict | None = None,
     q, qd, qdd : array_like, shape (N,) or (N, n_inputs)
         The inputs' positions, rates and accelerations.
     inertias : dict
-        :class:`~analytic.closed_forms.dynamics.Inertia` per link name (links not named are massless).
+        :class:`~analytic.mass.Inertia` per link name (links not named are massless).
     armature : dict, optional
         Rotor inertia [kg m^2 or kg] of each input's drive, keyed by its link.
     gravity, force : (x, y)

@@ -1,5 +1,5 @@
 """The three built-in mechanisms' own textbook closed forms (seed 000's four-bar and shaper, seed 003's
-five-bar) and their inverse dynamics: independent checks of the general solver."""
+five-bar), the independent checks of the general solver (their inverse dynamics: tests/builtin_dynamics.py)."""
 
 from __future__ import annotations
 

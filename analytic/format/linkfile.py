@@ -20,7 +20,7 @@ from pathlib import Path
 
 from analytic import kinds, topology
 from analytic._common import FileError, ParameterError
-from analytic.format import expr
+from analytic.format import expr, joints
 from analytic.kinds.base import GROUND, REQUIRED, Guide
 
 FORMAT = "linkage/1"
@@ -33,7 +33,8 @@ LINK_NAME = re.compile(r"^[A-Za-z0-9_]+$")
 
 
 TOP_LEVEL = {"format", "name", "units", "description", "output", "parameters", "ground", "inputs", "groups",
-             "inertia"}
+             "inertia", "mass"} | set(joints.FIELDS)
+"""The links-and-joints form (:mod:`.joints`) adds ``links``, ``joints`` and ``pose``."""
 
 
 @dataclass(frozen=True)
@@ -85,6 +86,8 @@ class Definition:
     output: str
     inertia: dict = field(default_factory=dict)
     topology: topology.Topology | None = None
+    mass: dict = field(default_factory=dict)
+    """The ``[mass]`` section as written (numbers in file units; see :mod:`analytic.mass`)."""
 
     @property
     def scale(self) -> float:
@@ -152,6 +155,11 @@ def parse(raw: bytes | str, source: str = "<text>", json_format: bool | None = N
     return _check(data, source, default_name)
 
 
+def from_data(data: dict, source: str, default_name: str = "mechanism") -> Definition:
+    """A definition from a file's top-level table (either form), e.g. one converted from another tool's file."""
+    return _check(data, source, default_name)
+
+
 def _unique_keys(source: str):
     def hook(pairs):
         seen = {}
@@ -202,6 +210,14 @@ def _check(data: dict, source: str, default_name: str) -> Definition:
             raise _fail(source, f"parameters.{pname}", f"{_short(value)} must be a number or a string such as \"30deg\"")
         _scalar(value, f"parameters.{pname}", source)
 
+    labels, measured = None, None
+    if joints.is_form(data):                   # links and joints: converted into the elements below
+        from types import SimpleNamespace
+        values = parameter_values(SimpleNamespace(parameters=params, parameter_order=tuple(params), source=source,
+                                                  name=name))
+        converted = joints.convert(data, source, values)
+        data, labels, measured = converted.data, converted.labels, converted.kinds
+
     ground = data.get("ground", {})
     if not isinstance(ground, dict):
         raise _fail(source, "ground", "must be a table NAME = [x, y]")
@@ -219,7 +235,8 @@ def _check(data: dict, source: str, default_name: str) -> Definition:
         if not isinstance(items, list):
             raise _fail(source, section, f"must be an array of tables ([[{section}]])")
         for i, item in enumerate(items, 1):
-            elements.append(_element(item, f"{section}[{i}]", section, source))
+            where = labels[len(elements)] if labels else f"{section}[{i}]"
+            elements.append(_element(item, where, section, source))
     inputs = tuple(e for e in elements if kinds.get(e.kind).section == "inputs")
     groups = tuple(e for e in elements if kinds.get(e.kind).section == "groups")
     if not elements:
@@ -230,7 +247,10 @@ def _check(data: dict, source: str, default_name: str) -> Definition:
     except topology.StructureError as exc:
         raise _fail(source, exc.where, exc.what) from None
     order = tuple((inputs + groups)[i] for i in topo.order)
-    param_kinds = _parameter_kinds(source, params, ground, elements)
+    if measured is None:
+        param_kinds = _parameter_kinds(source, params, ground, elements)
+    else:                                      # derived fields mix the pose's lengths into angles: the
+        param_kinds = {**_parameter_kinds(source, params, {}, []), **measured}   # form says what each measures
     output = data.get("output", order[-1].places[-1])
     if not isinstance(output, str):
         raise _fail(source, "output", f"{_short(output)} must be one point name such as \"E\"")
@@ -251,10 +271,92 @@ def _check(data: dict, source: str, default_name: str) -> Definition:
                 raise _fail(source, f"inertia.{lname}.{key}", f"{_short(v)} must be a finite number")
             if key in ("m", "I") and not v > 0:
                 raise _fail(source, f"inertia.{lname}.{key}", f"{v!r} must be > 0")
+    mass = _check_mass(data.get("mass", {}), links, source)
     definition = Definition(name, source, units, description, dict(params), tuple(params), param_kinds,
-                            {k: tuple(v) for k, v in ground.items()}, inputs, groups, order, output, inertia, topo)
+                            {k: tuple(v) for k, v in ground.items()}, inputs, groups, order, output, inertia, topo,
+                            mass=mass)
     _check_mobility(definition)
     return definition
+
+
+MASS_FIELDS = {"shape": "", "density": "kg/m^3", "width": "file units", "thickness": "file units"}
+"""The material fields of ``[mass]`` (file-wide) and ``[mass.links.LINK]`` (one link), with their units."""
+
+
+def _key(k) -> str:
+    """A table key in a message: as written when it is a plain name, else quoted and cut."""
+    return k if isinstance(k, str) and LINK_NAME.match(k) and len(k) <= 60 else _short(k)
+
+
+def _check_mass(section, links: set, source: str) -> dict:
+    """The ``[mass]`` section checked (see :mod:`analytic.mass`): a shape "bar" or "plate", a density,
+    width and thickness > 0, per-link overrides of existing links, counterweights ``LINK = {m = kg,
+    at = [u, v]}`` (or a list of them); a density needs a width and a thickness. One line naming the link and field otherwise."""
+    if not isinstance(section, dict):
+        raise _fail(source, "mass", "must be a table (density = kg/m^3, width, thickness, shape = \"bar\" or "
+                                    "\"plate\", [mass.links.LINK], [mass.counterweights])")
+    unknown = sorted(set(section) - set(MASS_FIELDS) - {"links", "counterweights"})
+    if unknown:
+        raise _fail(source, f"mass.{_key(unknown[0])}", f"unknown field; [mass] takes {', '.join(MASS_FIELDS)}, "
+                                                         f"links and counterweights")
+
+    def material(table, where):
+        for key, v in table.items():
+            if key not in MASS_FIELDS:
+                raise _fail(source, f"{where}.{_key(key)}", f"unknown field; a link's material takes "
+                                                               f"{', '.join(MASS_FIELDS)}")
+            if key == "shape":
+                if v not in ("bar", "plate"):
+                    raise _fail(source, f"{where}.shape", f"{_short(v)} must be \"bar\" or \"plate\"")
+                continue
+            if isinstance(v, bool) or not isinstance(v, (int, float)) or not abs(v) <= MAX_MAGNITUDE:
+                raise _fail(source, f"{where}.{key}", f"{_short(v)} must be a finite number [{MASS_FIELDS[key]}]")
+            if not v > 0:
+                raise _fail(source, f"{where}.{key}", f"{v!r} must be > 0 [{MASS_FIELDS[key]}]")
+
+    top = {k: v for k, v in section.items() if k in MASS_FIELDS}
+    material(top, "mass")
+    per = section.get("links", {})
+    if not isinstance(per, dict):
+        raise _fail(source, "mass.links", "must be a table of links: [mass.links.LINK] with density, width, ...")
+    for ln, table in per.items():
+        if ln not in links:
+            raise _fail(source, f"mass.links.{_key(ln)}", f"no link named {ln!r}; links: {', '.join(sorted(links))}")
+        if not isinstance(table, dict):
+            raise _fail(source, f"mass.links.{ln}", "must be a table (density, width, thickness, shape)")
+        material(table, f"mass.links.{ln}")
+    for ln in sorted(links):
+        merged = {**top, **per.get(ln, {})}
+        where = f"mass.links.{ln}" if ln in per else "mass"
+        if "density" in merged:
+            for key in ("width", "thickness"):
+                if key not in merged:
+                    raise _fail(source, f"{where}", f"link {ln}: a density needs a {key} [file units]; give "
+                                                    f"{key} = ...")
+        elif merged:
+            raise _fail(source, f"{where}", f"link {ln}: {', '.join(sorted(merged))} without a density; give "
+                                            f"density = kg/m^3 (e.g. 7850 for steel)")
+    weights = section.get("counterweights", {})
+    if not isinstance(weights, dict):
+        raise _fail(source, "mass.counterweights", "must be a table LINK = {m = kg, at = [u, v]}")
+    for ln, entry in weights.items():
+        where = f"mass.counterweights.{_key(ln)}"
+        if ln not in links:
+            raise _fail(source, where, f"no link named {ln!r}; links: {', '.join(sorted(links))}")
+        for w in (entry if isinstance(entry, list) and entry else [entry]):
+            if not (isinstance(w, dict) and set(w) == {"m", "at"}):
+                raise _fail(source, where, "give {m = kg, at = [u, v]} (the point mass and where it sits in the "
+                                           "link's frame, file units), or a list of them")
+            m = w["m"]
+            if isinstance(m, bool) or not isinstance(m, (int, float)) or not abs(m) <= MAX_MAGNITUDE:
+                raise _fail(source, f"{where}.m", f"{_short(m)} must be a finite number [kg]")
+            if not m > 0:
+                raise _fail(source, f"{where}.m", f"{m!r} must be > 0 [kg]")
+            at = w["at"]
+            if not (isinstance(at, list) and len(at) == 2 and all(
+                    not isinstance(c, bool) and isinstance(c, (int, float)) and abs(c) <= MAX_MAGNITUDE for c in at)):
+                raise _fail(source, f"{where}.at", f"{_short(at)} must be [u, v]: two finite numbers [file units]")
+    return section
 
 
 def _element(item, where: str, section: str, source: str) -> Element:

@@ -15,6 +15,11 @@ MODULES = (
     "rrp",
     "rpr",
     "point",
+    "rpp",
+    "prp",
+    "ppr",
+    "gear",
+    "group",
 )
 """The kinds' modules, in the order the docs list them: adding a kind is one line here."""
 

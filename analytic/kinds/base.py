@@ -11,7 +11,9 @@ it, ``KIND``. The kind owns everything about its elements:
   numpy arrays, every sample at once), its singularity measure and any outputs of its own (the
   transmission angle of an RRR); its compiled row for the numba path where it has one (:attr:`Kind.jit`);
 * **simulation**: constraints the MuJoCo model needs besides the tree of revolute and slide joints and the
-  loop closures that the topology gives (:meth:`Kind.mjcf`, e.g. a gear's coupling).
+  loop closures that the topology gives (:meth:`Kind.mjcf`, e.g. a gear's coupling);
+* **forces**: its joint forces by statics (:meth:`Kind.forces`), in closed form where it has one; the default
+  solves the element's Newton-Euler equations assembled from the topology.
 
 Nothing outside a kind's module switches on its name: the format, the topology, the solver, the model
 builder and the outputs table ask the kind. Registering a kind is one line in :mod:`analytic.kinds`.
@@ -140,6 +142,21 @@ class ExtraOutput:
 
 
 @dataclass(frozen=True)
+class Wheel:
+    """A gear as drawn on a link: its pitch circle of ``radius`` [m] about ``centre`` (a point of ``link``)
+    with ``teeth`` teeth (inward for a ``ring``), the first centred ``phase`` [rad] from the direction
+    ``centre`` -> ``ref`` (a second point of the link; None: from +x, a gear fixed to the ground)."""
+
+    link: str
+    centre: str
+    ref: str | None
+    radius: float
+    teeth: int
+    phase: float
+    ring: bool = False
+
+
+@dataclass(frozen=True)
 class JitSpec:
     """A kind's compiled row (see :mod:`analytic.solver.jit`): ``layout(e, L, row, par)`` fills the kind's
     integer row and number row from a resolved element through the layout builder ``L``;
@@ -167,6 +184,9 @@ class State:
     links: dict = field(default_factory=dict)
     slides: dict = field(default_factory=dict)
     extras: dict = field(default_factory=dict)
+    angles: dict = field(default_factory=dict)
+    """Link angles [rad] counted in whole turns (not reduced to (-pi, pi]) where a kind knows them: a gear
+    sets its link's, for the gears that mesh with it ({link: array})."""
     start: dict | None = None
     """What the previous block of samples carried over (its ``carry``), for kinds that continue a motion
     from sample to sample (numerically solved groups); None for the first block."""
@@ -191,6 +211,10 @@ class Kind:
     motion_fields: tuple[str, str, str] = ()
     """For inputs: the fields of its motion law (start, rate, acceleration)."""
     jit: JitSpec | None = None
+    continuous: bool = False
+    """Whether its solve continues from sample to sample (a numerically solved group): the solver then takes
+    a solve's samples as a path from the inputs' start values and fills in samples where the inputs jump
+    (:func:`analytic.solver.kinematics.evaluate`), and batches solve such mechanisms design by design."""
 
     # ------------------------------------------------------------------------------------ format
     def places(self, f: dict) -> tuple[str, ...]:
@@ -216,6 +240,27 @@ class Kind:
     def check_resolved(self, e: dict) -> str | None:
         """A problem with the resolved numbers (one line naming the field), or None."""
         return None
+
+    def check_start(self, e: dict, st: "State") -> str | None:
+        """A problem with the resolved element given where the elements before it are at the start (``st``:
+        every element solved at the inputs' start values, one sample), one line naming the field, or None.
+        Asked when a mechanism is built, only of kinds that override it (a group's pose)."""
+        return None
+
+    def group_label(self, e: dict) -> str:
+        """What ``linkage check`` calls the resolved element's Assur group ("" for none)."""
+        return self.group_class
+
+    def extent(self, e: dict) -> float:
+        """The resolved element's longest link [m] (the mechanism's size is the largest of these and the
+        ground's spread): its ``size`` and ``lengths2`` fields."""
+        out = 0.0
+        for fname, fld in self.fields.items():
+            if fld.type == "size":
+                out = max(out, abs(e[fname]))
+            elif fld.type == "lengths2":
+                out = max([out] + [abs(x) for x in e[fname]])
+        return out
 
     # ---------------------------------------------------------------------------------- topology
     def structure(self, f: dict) -> Structure:
@@ -257,10 +302,28 @@ class Kind:
         """For inputs: the point it turns or slides about (its pivot, or the guide's origin)."""
         raise NotImplementedError
 
+    def wheels(self, e: dict, pose: dict) -> tuple[Wheel, ...]:
+        """Gears to draw on links (:class:`Wheel`), given the start pose ({point: (x, y)} [m])."""
+        return ()
+
+    def describe(self, e: dict, pose: dict, unit: tuple[float, str]) -> str:
+        """A line about the resolved element at a pose ({point: (x, y)} [m]) for ``linkage check`` (a gear
+        pair's pitch radii), lengths in ``unit`` (metres per unit, its name); "" for nothing to say."""
+        return ""
+
+    # ------------------------------------------------------------------------------------ forces
+    def forces(self, e: dict, ctx) -> None:
+        """Solve the forces in the joints the element adds (and its input's drive, its gear pairs' moments)
+        from the known loads on its links (``ctx``: :class:`analytic.applications.forces.Context`), and
+        record them with ``ctx.pin``, ``ctx.guide``, ``ctx.drive``, ``ctx.coupling``. The default assembles
+        the element's Newton-Euler equations from the topology and solves them per sample; a kind with a
+        closed form overrides it."""
+        ctx.generic(e)
+
     # -------------------------------------------------------------------------------- simulation
     def mjcf(self, e: dict, model) -> None:
         """Add constraints the MuJoCo model needs besides its joints and loop closures (``model`` is the
-        builder's context, :class:`sim.model.tree.Context`)."""
+        builder's context, :class:`sim.model.build.Context`)."""
 
 
 @dataclass(frozen=True)

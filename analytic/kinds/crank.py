@@ -53,6 +53,13 @@ class Crank(Kind):
         st.points[e["point"]] = (P[0] + rx, P[1] + ry, P[2] - qd * ry, P[3] + qd * rx, ax, ay)
         st.links[e["link"]] = (c, s, qd, qdd)
 
+    def forces(self, e, ctx):
+        """The pivot carries the crank's whole known load, the drive its moment about the pivot."""
+        link, pivot = e["link"], e["pivot"]
+        fx, fy = ctx.resultant(link)
+        ctx.pin(pivot, link, -fx, -fy)
+        ctx.drive(e, -ctx.moment(link, pivot))
+
 
 def _layout(e, L, row, par):
     row[2], row[4] = L.point(e["pivot"]), e["input"]

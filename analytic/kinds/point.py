@@ -41,6 +41,9 @@ class Point(Kind):
             O, c, s, w, a = line(st.points[p], st.points[q])
             st.points[e["point"]] = on_frame(O, c, s, w, a, u, v)
 
+    def forces(self, e, ctx):
+        """A rigid point adds no link and no joint: the loads at it are already its link's."""
+
 
 def _layout(e, L, row, par):
     if isinstance(e["on"], str):

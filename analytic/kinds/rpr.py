@@ -46,6 +46,25 @@ class RPR(Kind):
     def singularity(self, e, st, size):
         return np.abs(st.slides[e["links"][1]][0]) / size
 
+    def forces(self, e, ctx):
+        """Closed form. The block's moment about its pin Q gives the slot's couple M on it; with d = Q - P,
+        the slotted link's moment about its pivot P gives the slot's normal force N n on the block:
+        N (d . u) = M_slotted(P) - M (zero where the block passes the pivot); the pins carry the rest."""
+        slotted, block = e["links"]
+        p, q = e["pivot"], e["through"]
+        c, s = ctx.direction(block)
+        px, py = ctx.xy(p)
+        qx, qy = ctx.xy(q)
+        dx, dy = qx - px, qy - py
+        couple = -ctx.moment(block, q)
+        normal = ctx.moment(slotted, p) - couple
+        normal /= dx * c + dy * s
+        nx, ny = -s * normal, c * normal
+        ctx.guide(block, nx, ny, couple)
+        wb, wk = ctx.resultant(block), ctx.resultant(slotted)
+        ctx.pin(q, block, -wb[0] - nx, -wb[1] - ny)
+        ctx.pin(p, slotted, nx - wk[0], ny - wk[1])
+
 
 def rpr(P, Q, length, offset, branch):
     """Slotted link pivoted at P whose slot (shifted ``offset`` to the left) passes through Q.

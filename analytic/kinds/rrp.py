@@ -55,6 +55,26 @@ class RRP(Kind):
         c, s, _, _ = st.links[e["links"][1]]
         return np.abs((Cp[0] - P[0]) * c + (Cp[1] - P[1]) * s) / e["length"]
 
+    def forces(self, e, ctx):
+        """Closed form. The block's moment about its pin C gives the guide's couple; with r = C - P and the
+        guide's normal force N n (n the guide's left normal), the rod's moment about P gives
+        N = -(M_rod(P) + r x W_block) / (r . u) (zero denominator: the rod across the guide); the rod's pin C
+        and its pin at P carry the rest."""
+        rod, block = e["links"]
+        p, point = e["from"], e["point"]
+        c, s = ctx.direction(block)
+        px, py = ctx.xy(p)
+        cx, cy = ctx.xy(point)
+        rx, ry = cx - px, cy - py
+        wb, wr = ctx.resultant(block), ctx.resultant(rod)
+        normal = ctx.moment(rod, p) + rx * wb[1] - ry * wb[0]
+        normal /= -(rx * c + ry * s)
+        nx, ny = -s * normal, c * normal
+        ctx.guide(block, nx, ny, -ctx.moment(block, point))
+        fcx, fcy = -wb[0] - nx, -wb[1] - ny         # the rod's force on the block at C
+        ctx.pin(point, block, fcx, fcy, other=rod)
+        ctx.pin(p, rod, fcx - wr[0], fcy - wr[1])
+
 
 def rrp(P, guide, length, offset, branch):
     """C on the guide line (shifted ``offset`` to its left) with |C - P| = length; branch +1 takes the

@@ -1,8 +1,16 @@
 """``RRR``: a dyad of two links pinned at the point it places (circle-circle intersection).
 
 Fields: ``point``, ``from`` [P, Q] (the known points), ``lengths`` [a, b] (|P point|, |Q point|), ``links``
-[m, n] (the links P-point and Q-point), ``branch`` (+1: the point left of the directed line P -> Q).
+[m, n] (the links P-point and Q-point), ``branch`` (+1: the point left of the directed line P -> Q, at the
+first input's start), ``change`` (what the dyad does where it passes a change point, its links aligned
+while the input moves on: +1, the default, keeps its form and moves on smoothly, as a real linkage does
+(a parallelogram stays a parallelogram): its branch sign flips there; -1 keeps the branch sign, switching
+form (the parallelogram turns into the crossed form) with a kink in its motion).
 Its own output: ``muP`` (P the placed point), the transmission angle between the two links in [0, pi/2].
+
+Where the branch sign flips is the resolved element's ``flips`` (see :mod:`analytic.solver.change_points`):
+the sign at a sample follows from the first input's value there, so any set of samples is solved alike;
+at a change point itself the rates are the limits of the continuous motion (:func:`limit_rates`).
 """
 
 from __future__ import annotations
@@ -21,7 +29,8 @@ class RRR(Kind):
     summary = "links P-point and Q-point pinned at point (circle-circle)"
     group_class = "dyad RRR (class II)"
     fields = {"point": Field("new"), "from": Field("pair"), "lengths": Field("lengths2"),
-              "links": Field("links2", ("{from0}{point}", "{from1}{point}")), "branch": Field("branch", 1)}
+              "links": Field("links2", ("{from0}{point}", "{from1}{point}")), "branch": Field("branch", 1),
+              "change": Field("branch", 1)}
 
     def needs(self, f):
         return tuple(f["from"])
@@ -36,7 +45,11 @@ class RRR(Kind):
     def solve(self, e, st: State):
         p, q = e["from"]
         a, b = e["lengths"]
-        C_, (lm, ln), mu = rrr(st.points[p], st.points[q], a, b, e["branch"], st.extras_wanted)
+        flips = e.get("flips")
+        if flips:
+            C_, (lm, ln), mu = _through_change_points(e, st, flips)
+        else:
+            C_, (lm, ln), mu = rrr(st.points[p], st.points[q], a, b, e["branch"], st.extras_wanted)
         st.points[e["point"]] = C_
         st.links[e["links"][0]], st.links[e["links"][1]] = lm, ln
         if st.extras_wanted:
@@ -52,8 +65,33 @@ class RRR(Kind):
         c2, s2, _, _ = st.links[e["links"][1]]
         return np.abs(c1 * s2 - s1 * c2)            # sin of the transmission angle
 
+    def forces(self, e, ctx):
+        """Closed form. With r1 = C - P, r2 = C - Q and F the force link m puts on link n at C, the moments
+        about P of link m and about Q of link n give r1 x F = M_m(P), r2 x F = -M_n(Q): a 2x2 system of
+        determinant r1 x r2 (zero where the dyad folds); then P and Q carry the rest of each link's load."""
+        p, q = e["from"]
+        m, n = e["links"]
+        c = e["point"]
+        px, py = ctx.xy(p)
+        qx, qy = ctx.xy(q)
+        cx, cy = ctx.xy(c)
+        r1x, r1y, r2x, r2y = cx - px, cy - py, cx - qx, cy - qy
+        mm, mn = ctx.moment(m, p), ctx.moment(n, q)
+        det = r1x * r2y
+        det -= r1y * r2x
+        fx = mm * r2x
+        fx += mn * r1x
+        fx /= det
+        fy = mm * r2y
+        fy += mn * r1y
+        fy /= det
+        wm, wn = ctx.resultant(m), ctx.resultant(n)
+        ctx.pin(c, n, fx, fy, other=m)
+        ctx.pin(p, m, fx - wm[0], fy - wm[1])
+        ctx.pin(q, n, -fx - wn[0], -fy - wn[1])
 
-def rrr(P, Q, a, b, branch, mu=True):
+
+def rrr(P, Q, a, b, branch, mu=True, fold=0.0):
     """C with |C - P| = a, |C - Q| = b, left of P -> Q for branch +1.
 
     With d = Q - P, r1 = C - P = k1 d + k2 perp(d), where k1 = x / |d| and k2 = +-h / |d| (x along
@@ -76,8 +114,12 @@ def rrr(P, Q, a, b, branch, mu=True):
     k1 += 0.5
     k2 = inv * (a * a)
     k2 -= k1 * k1
+    if fold:                                         # at a change point passed: rounding below zero is zero
+        k2[(k2 < 0) & (k2 > -fold)] = 0.0
     np.sqrt(k2, out=k2)                              # NaN where the circles do not meet
-    if branch < 0:
+    if np.ndim(branch):                              # a sign per sample (through change points)
+        k2 *= branch
+    elif branch < 0:
         np.negative(k2, out=k2)
     r1x = k1 * dx
     r1x -= k2 * dy
@@ -124,6 +166,91 @@ def rrr(P, Q, a, b, branch, mu=True):
     dot += r1y * r2y
     det = k2 * L2
     return C, links, np.arctan2(np.abs(det, out=det), np.abs(dot, out=dot))
+
+
+# ------------------------------------------------------------------------------------ change points
+FOLD_ROUNDING = 1e-12
+"""At a change point the dyad's squared height (over |PQ|^2) is zero up to rounding (~1e-16 of a^2 / |PQ|^2);
+a value this far below zero is taken as zero there, so the fold itself assembles."""
+LIMIT_MEASURE = 1e-5
+"""Below this |sin| between the two links the rates are taken as the limits of the continuous motion:
+the closed form divides by it, and its rounding (1e-16 / sin^2 relative) would pass 1e-6 there."""
+LIMIT_STEP = 1e-3
+"""[rad of the links' relative motion] how far on each side of such a sample the motion is followed (its
+Taylor expansion from the sample's rates) to take the limit: the means of the two sides at this step and
+twice it, extrapolated (Richardson), give the limit to O(step^4) = 1e-12 relative; there sin is ~1e-3,
+where the closed form's rounding is 1e-10."""
+
+
+def signs(flips: dict, q) -> np.ndarray:
+    """The branch sign factor (+1 or -1) at first-input values ``q``: -1 after an odd number of the
+    ``flips["at"]`` values lie between the reference (the input's start, ``flips["ref"]``) and q, repeated
+    every ``flips["period"]`` (2 pi for a crank; None for a slider)."""
+    q = np.asarray(q, dtype=float)
+    ref, period = flips["ref"], flips["period"]
+    count = np.zeros(q.shape, dtype=np.int64)
+    for f in flips["at"]:
+        if period:
+            count += (np.floor((q - f) / period) - np.floor((ref - f) / period)).astype(np.int64)
+        else:
+            count += (q >= f).astype(np.int64) - int(ref >= f)
+    return np.where(count % 2 == 0, 1.0, -1.0)
+
+
+def _through_change_points(e, st: State, flips: dict):
+    """:func:`rrr` with the branch sign of each sample from the first input's value, and the rates at a
+    change point itself (|sin| < LIMIT_MEASURE) as the limits of the continuous motion."""
+    p, q = e["from"]
+    a, b = e["lengths"]
+    P, Q = st.points[p], st.points[q]
+    n = st.n
+    q1, qd1, qdd1 = (np.broadcast_to(x[0], (n,)) for x in (st.q, st.qd, st.qdd))
+    sign = e["branch"] * signs(flips, q1)
+    C_, links, mu = rrr(P, Q, a, b, sign, st.extras_wanted, FOLD_ROUNDING)
+    (c1, s1, _, _), (c2, s2, _, _) = links
+    at = np.flatnonzero(np.abs(c1 * s2 - s1 * c2) < LIMIT_MEASURE)
+    if at.size:
+        C_, links = limit_rates(e, flips, P, Q, (q1, qd1, qdd1), C_, links, at)
+    return C_, links, mu
+
+
+def limit_rates(e, flips, P, Q, inputs, C_, links, at):
+    """The rates at samples ``at`` (at a change point) as the limit of the rates a little before and a
+    little after along the motion (LIMIT_STEP): P, Q and the first input are advanced by their Taylor
+    expansions (velocity, acceleration) over times +-tau and +-2 tau, the dyad solved there on its own
+    branch, and the means of the two sides extrapolated to tau = 0.
+    Where P and Q do not move relative to each other, the dyad moves with them (its links at rest)."""
+    a, b = e["lengths"]
+    P_, Q_ = [np.array([np.broadcast_to(x, (len(C_[0]),))[at] for x in pt]) for pt in (P, Q)]
+    q1, qd1, qdd1 = (np.asarray(x)[at] for x in inputs)
+    dx, dy = Q_[0] - P_[0], Q_[1] - P_[1]
+    d = np.hypot(dx, dy)
+    rate = np.maximum(np.hypot(Q_[2] - P_[2], Q_[3] - P_[3]) / d, np.sqrt(np.hypot(Q_[4] - P_[4], Q_[5] - P_[5]) / d))
+    moving = rate > 0
+    tau = np.where(moving, LIMIT_STEP / np.where(moving, rate, 1.0), 0.0)
+    means = []
+    for k in (1.0, 2.0):                             # the means at tau and 2 tau: Richardson's extrapolation
+        sides = []
+        for t in (-k * tau, k * tau):
+            def ahead(X):
+                return (X[0] + X[2] * t + 0.5 * X[4] * t * t, X[1] + X[3] * t + 0.5 * X[5] * t * t,
+                        X[2] + X[4] * t, X[3] + X[5] * t, X[4], X[5])
+            sign = e["branch"] * signs(flips, q1 + qd1 * t + 0.5 * qdd1 * t * t)
+            C, (l1, l2), _ = rrr(ahead(P_), ahead(Q_), a, b, sign, False)
+            C = (C[0] - P_[0], C[1] - P_[1]) + C[2:]          # C relative to P: P moved along with the sides
+            sides.append(list(C) + list(l1) + list(l2))
+        means.append([0.5 * (x + y) for x, y in zip(*sides)])
+    lim = [(4.0 * x - y) / 3.0 for x, y in zip(*means)]
+    C_ = [np.array(x, dtype=float, copy=True) for x in C_]
+    links = [[np.array(x, dtype=float, copy=True) for x in link] for link in links]
+    moving = moving & np.all(np.isfinite(lim), axis=0)
+    for k in range(6):                               # positions too: sqrt(rounding) ~ 1e-8 at the fold itself
+        limit = lim[k] + P_[k] if k < 2 else lim[k]
+        C_[k][at] = np.where(moving, limit, C_[k][at] if k < 2 else P_[k])
+    for j in range(8):
+        link, k = divmod(j, 4)
+        links[link][k][at] = np.where(moving, lim[6 + j], links[link][k][at] if k < 2 else 0.0)
+    return tuple(C_), tuple(tuple(link) for link in links)
 
 
 # ----------------------------------------------------------------------------------- compiled row

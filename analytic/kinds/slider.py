@@ -57,6 +57,16 @@ class Slider(Kind):
         st.links[e["link"]] = (zero + c, zero + s, zero, zero)
         st.slides[e["link"]] = (x, xd, xdd)
 
+    def forces(self, e, ctx):
+        """The drive takes the block's known load along the guide, the guide the normal part and the
+        moment about the pin."""
+        block, point = e["link"], e["point"]
+        c, s = ctx.direction(block)
+        fx, fy = ctx.resultant(block)
+        normal = s * fx - c * fy                 # -(F . n), n = (-s, c): the guide's force along n
+        ctx.guide(block, -s * normal, c * normal, -ctx.moment(block, point))
+        ctx.drive(e, -(c * fx + s * fy))
+
 
 def _layout(e, L, row, par):
     row[4] = e["input"]

@@ -5,6 +5,9 @@ geometry of :func:`analytic.format.linkfile.resolve` whose numbers are arrays of
 (finite values, lengths > 0, branches +-1, a built-in's own checks) into a validity mask with the reason
 of each invalid design, the reason the one-at-a-time path (:meth:`Mechanism.with_values`) gives. Designs
 whose branches differ are kept in separate groups (a branch picks a root: it must be one number per call).
+A mechanism with a kind that continues its solution from sample to sample (a numerically solved group,
+:attr:`analytic.kinds.base.Kind.continuous`) is resolved and solved design by design: each design's samples
+are a path from its own pose, never a continuation of the previous design's.
 
 :func:`solve` evaluates :func:`analytic.solver.kinematics.evaluate` on blocks of designs: each block's geometry
 numbers are repeated per sample, so every group function does the same arithmetic as for one design, on
@@ -43,7 +46,8 @@ class Designs:
     """K designs of one mechanism.
 
     ``values``: every parameter, shape (K,) (file units; angles rad); ``groups``: (design indices,
-    Geometry) pairs, each geometry's numbers of shape (len(indices),) and its branches scalars;
+    Geometry) pairs, each geometry's numbers of shape (len(indices),) and its branches scalars (with a
+    continuous kind: one design per pair, its geometry's numbers scalars);
     ``valid``: (K,) bool; ``reasons``: per design, why it is invalid ("" where valid)."""
 
     base: Mechanism
@@ -267,6 +271,8 @@ def resolve(base: Mechanism, overrides: dict[str, object]) -> Designs:
             reasons[i] = "a parameter or field is not a finite number"
         except ParameterError as exc:
             reasons[i] = str(exc)
+    if any(kinds.get(e["kind"]).continuous for e in base.geometry.elements):
+        return _one_by_one(base, values, merged, ok, reasons)
     # group the designs by their branches (one root per call)
     with_branch = [i for i, e in enumerate(elements) if "branch" in e]
     key = np.stack([elements[i]["branch"] for i in with_branch], axis=1) if with_branch else np.zeros((k, 0))
@@ -280,6 +286,20 @@ def resolve(base: Mechanism, overrides: dict[str, object]) -> Designs:
         geo = linkfile.Geometry({g: _pick(xy, idx) for g, xy in ground.items()}, tuple(els),
                                 {n: v[idx] for n, v in values.items()})
         groups.append((idx, geo))
+    return Designs(base, {n: np.array(v) for n, v in values.items()}, tuple(groups), ok, tuple(reasons))
+
+
+def _one_by_one(base: Mechanism, values: dict, merged: dict, ok: np.ndarray, reasons: list) -> Designs:
+    """Designs resolved one at a time (a group of its own each, the geometry of :meth:`Mechanism.with_values`,
+    whose checks, such as a group's pose at the start, make a design invalid with their message)."""
+    groups = []
+    for i in np.flatnonzero(ok):
+        try:
+            mech = base.with_values(**{n: float(values[n][i]) for n in merged})
+        except ParameterError as exc:
+            ok[i], reasons[i] = False, str(exc)
+            continue
+        groups.append((np.array([i]), mech.geometry))
     return Designs(base, {n: np.array(v) for n, v in values.items()}, tuple(groups), ok, tuple(reasons))
 
 

@@ -5,27 +5,43 @@ points it places, dimensioned from one assembled pose. Each link with points ``p
 ``p1`` its base pair) contributes ``2 m - 3`` equations, written in the link's own frame so that a link
 cannot be mirrored:
 
-* ``g = (|p1 - p0|^2 - L^2) / 2 = 0`` (the base length ``L``),
+* ``g = (|p1 - p0|^2 - L^2) / (2 L) = 0`` (the base length ``L``; a length, in m),
 * ``pk - p0 - alpha_k d - beta_k perp(d) = 0`` for every further point (``d = p1 - p0``,
   ``perp(x, y) = (-y, x)``, ``alpha_k``, ``beta_k`` the point's coordinates in the frame spanned by ``d``).
 
-Only the base-length rows are nonlinear. A group has as many equations as unknown coordinates.
+A group has as many equations as unknown coordinates (``n``). The further points' rows are linear with
+constant coefficients, so they are eliminated once, when the group is built: every solution is
+``x = M k + N z`` (``k`` the known points' coordinates, ``N`` an orthonormal basis of the rows' null space,
+``M`` a particular solution), and only the base-length rows remain, one per link, in the ``L`` reduced
+coordinates ``z`` [m]. Every link's base vector is then affine in them: ``d = C k + E z``.
 
-Positions: a sequential continuation over a coarse grid of the samples (Newton from the previous node, the
-first node from the pose) holds the branch by continuity; then every sample is solved at once by batched
-Newton (``np.linalg.solve`` on ``(N, n, n)`` stacks) from the coarse solution interpolated linearly in the
-sample index (for long runs through a batched middle level of every 64th sample first, from which one
-Newton step per sample reaches rounding). The samples are therefore taken to be a path (a motion in time), as every command produces.
+Positions, along a path (the samples are a motion in time, as every command produces):
 
-Branch: the sign of ``det(J_u)``, the Jacobian of the equations in the unknown coordinates (for a dyad this
-is the side of ``P -> Q`` that ``C`` lies on, the ``branch`` of ``RRR``). It changes only through a singular
-pose; a coarse interval over which it changes, a sample whose Newton does not converge or that lands
-farther from its interpolated start than the coarse step and the coarse path's bend (a jump to another assembly) is not assembled:
-NaN, as the dyads leave where they cannot be assembled.
+1. **nodes**, sequentially: Newton from the previous node (the first from the pose or from where the
+   previous block ended); nodes are placed every 1/16 of the group's size of travel of the known points and
+   where they turn back (so that between two nodes the samples go one way), refined by halving where the
+   solution moves far between two nodes and, down to adjacent samples, where the group stops or starts
+   assembling; there the Jacobian is factorised with partial pivoting, which gives each node a row order;
+2. **every 32nd sample**, batched, by Newton from the nodes' solutions interpolated in the known points'
+   travel along the path (a parabola through three nodes on the same stretch);
+3. **every sample**, batched, from those likewise: Newton until the residual is below 1e-11 of the size (from
+   the parabola, usually at once), then one more step (rounding).
 
-Rates: exact linear solves with the same Jacobian, ``J_u v_u = -J_k v_k`` and
-``J_u a_u = -J_k a_k - (Jdot v)``, where ``Jdot v`` is ``|v1 - v0|^2`` on the base-length rows and zero on
-the linear rows.
+Branch: the sign of ``det(J_u)``, the Jacobian of all the equations in the unknown coordinates (for a dyad:
+which side of ``P -> Q`` the point lies on, the ``branch`` of ``RRR``); it equals the sign of the reduced
+Jacobian's determinant times a constant, and it changes only through a singular pose. A sample is not
+assembled (NaN, as the dyads leave where they cannot be assembled) where Newton does not converge, where the
+determinant has the other sign (the path went through a singular pose), or where the solution lies farther
+from its interpolated start than the nodes around it allow (a jump to another assembly). The known points
+jumping by more than a quarter of the size between two adjacent samples breaks the path there.
+
+Rates: exact linear solves with the reduced Jacobian ``J`` (rows ``d^T E / L``) factorised again at the
+solved points: ``J vz = -d.(C vk) / L`` and ``J az = -(|dv|^2 + d.(C ak)) / L`` with ``dv = C vk + E vz``.
+
+Every batched linear solve is an LU factorisation written over the samples (arrays (L, L, N), each entry a
+contiguous run of samples), in the row order of the node before each sample (rows copied run by run, no
+pivot search) and with partial pivoting where a multiplier would exceed 16; it costs a fraction of a LAPACK
+call per sample for these small systems, and the determinant comes with it.
 """
 
 from __future__ import annotations
@@ -37,13 +53,22 @@ import numpy as np
 
 from analytic._common import ParameterError
 
-NEWTON_STEPS = 12          # most Newton steps per sample: from an interpolated start it takes 2 to 4
-NEWTON_TOL = 1e-13         # converged when the largest step is below this fraction of the group's size
-RESIDUAL_CONVERGED = 2e-15  # residual at rounding level [fraction of size] (a few eps where coordinates
-#                             are of the order of the size; elsewhere the step test ends the iteration)
-RESIDUAL_TOL = 1e-10       # a converged sample whose residual exceeds this fraction of size is refused
-REFINE = 64                # samples per node of the batched middle level (when N > REFINE * coarse)
-BLOCK = 32768              # samples per batched block (bounds the (N, n, n) Jacobians' memory)
+NEWTON_STEPS = 12          # most Newton steps per sample: from an interpolated start it takes 0 to 2
+NEWTON_TOL = 1e-13         # one sample (nodes): converged when its step is below this fraction of the size
+RESIDUAL_CONVERGED = 4e-15  # residual at rounding level [fraction of size]: the rows are lengths of the
+#                             order of the size, each rounded to ~eps times a few terms
+NEWTON_LOOSE = 1e-11       # many samples: iterate to this residual [fraction of size], then one more step
+#                            (its error squared: rounding)
+RESIDUAL_TOL = 1e-10       # a sample whose residual after that step exceeds this fraction of size is refused
+SINGULAR_COND = 1e12       # a pose whose reduced Jacobian's condition number exceeds this is singular: a
+#                            Newton step there loses 12 of 16 digits
+NODE_TRAVEL = 1 / 16       # nodes every this fraction of the size of the known points' travel
+HOP = 1 / 4                # a node farther than this fraction of size from the previous one is refined
+JUMP = 1 / 4               # the known points moving farther than this fraction of size between two adjacent
+#                            samples break the path (the kinematics fills in inputs far apart first)
+REFINE = 32                # samples per node of the batched middle level
+BLOCK = 16384              # samples per batched block (bounds the (L, L, N) Jacobians' memory)
+GROWTH = 16.0              # largest multiplier accepted in an LU without pivot search (partial pivoting: 1)
 
 
 @dataclass(frozen=True)
@@ -56,44 +81,62 @@ class GeneralGroup:
         The outer points the group is pinned to, and the points it places.
     links : tuple of (str, tuple of str)
         Each link's name and its points, the first two its base pair.
-    length2 : ndarray, shape (L,)
-        Each link's base length squared [m^2].
-    i0, i1 : ndarray of int, shape (L,)
-        Each link's base pair, as indices into ``known + unknown``.
-    ek, e0, e1 : ndarray of int, shape (E,)
-        Each further point on a link, and that link's base pair.
-    alpha, beta : ndarray, shape (E,)
-        The further points' coordinates in the frame (d, perp(d)) of their link's base pair [-].
+    length : ndarray, shape (L,)
+        Each link's base length [m].
+    M : ndarray, shape (n, 2 nk)
+        Unknown coordinates of the particular solution of the linear rows, from the known coordinates.
+    N : ndarray, shape (n, L)
+        Orthonormal basis of the linear rows' null space: ``x = M k + N z``.
+    Cx, Cy : ndarray, shape (L, 2 nk)
+        The links' base vectors' x and y components from the known coordinates ...
+    Ex, Ey : ndarray, shape (L, L)
+        ... and from the reduced coordinates: ``d = C k + E z``.
+    z0 : ndarray, shape (L,)
+        The pose's reduced coordinates [m].
+    sign : int
+        The sign of the reduced Jacobian's determinant on the group's branch.
     branch : int
-        The sign of ``det(J_u)`` at the pose (+1 or -1).
+        The sign of ``det(J_u)`` at the pose (+1 or -1): the branch reported.
     size : float
         The largest distance between two points of the pose [m] (the scale of the tolerances).
     pose : ndarray, shape (n_points, 2)
         The assembled pose, points in the order ``known + unknown`` [m].
-    lin : ndarray, shape (2 E, n)
-        The Jacobian's constant rows (see :func:`_structure`).
     """
 
     known: tuple
     unknown: tuple
     links: tuple
-    length2: np.ndarray
-    i0: np.ndarray
-    i1: np.ndarray
-    ek: np.ndarray
-    e0: np.ndarray
-    e1: np.ndarray
-    alpha: np.ndarray
-    beta: np.ndarray
+    length: np.ndarray
+    M: np.ndarray
+    N: np.ndarray
+    Cx: np.ndarray
+    Cy: np.ndarray
+    Ex: np.ndarray
+    Ey: np.ndarray
+    z0: np.ndarray
+    sign: int
     branch: int
     size: float
     pose: np.ndarray
-    lin: np.ndarray
 
     @property
     def n(self) -> int:
         """The number of unknown coordinates (= equations)."""
         return 2 * len(self.unknown)
+
+    @property
+    def Jx(self) -> np.ndarray:
+        """Ex / L: row l of the reduced Jacobian is ``dx_l Jx[l] + dy_l Jy[l]``."""
+        return self.Ex / self.length[:, None]
+
+    @property
+    def Jy(self) -> np.ndarray:
+        return self.Ey / self.length[:, None]
+
+    @property
+    def dof(self) -> int:
+        """The number of reduced coordinates (= links = base-length rows)."""
+        return len(self.links)
 
 
 def make_group(links: Mapping[str, Sequence[str]], known: Sequence[str], unknown: Sequence[str],
@@ -130,8 +173,9 @@ def make_group(links: Mapping[str, Sequence[str]], known: Sequence[str], unknown
     P = np.array([[float(pose[p][0]), float(pose[p][1])] for p in names])
     if not np.all(np.isfinite(P)):
         raise ParameterError(f"{where}: the pose has a non-finite coordinate; give finite x, y")
+    nk, n = len(known), 2 * len(unknown)
     on_link = set()
-    i0, i1, L2, ek, e0, e1, al, be, link_list = [], [], [], [], [], [], [], [], []
+    base, further, link_list = [], [], []
     for name, pts in links.items():
         pts = tuple(pts)
         if len(pts) < 2 or len(set(pts)) != len(pts):
@@ -147,147 +191,562 @@ def make_group(links: Mapping[str, Sequence[str]], known: Sequence[str], unknown
         dd = float(d @ d)
         if dd <= 0.0:
             raise ParameterError(f"{where}: link {name!r}: points {pts[0]!r} and {pts[1]!r} coincide in the pose")
-        i0.append(a)
-        i1.append(b)
-        L2.append(dd)
+        base.append((a, b, dd))
         for p in pts[2:]:
             r = P[index[p]] - P[a]
-            ek.append(index[p])
-            e0.append(a)
-            e1.append(b)
-            al.append(float(r @ d) / dd)
-            be.append(float(d[0] * r[1] - d[1] * r[0]) / dd)
+            further.append((index[p], a, b, float(r @ d) / dd, float(d[0] * r[1] - d[1] * r[0]) / dd))
         link_list.append((str(name), pts))
     for p in unknown:
         if p not in on_link:
             raise ParameterError(f"{where}: unknown point {p!r} is on no link; add it to a link")
-    n_eq = len(i0) + 2 * len(ek)
-    if n_eq != 2 * len(unknown):
-        raise ParameterError(f"{where}: {n_eq} equations for {2 * len(unknown)} unknown coordinates; "
-                             "an Assur group has as many (check the links' points)")
+    n_eq = len(base) + 2 * len(further)
+    if n_eq != n:
+        raise ParameterError(f"{where}: not an Assur group: {n_eq} equations for {n} unknowns "
+                             "(each link of m points gives 2 m - 3; check the links' points)")
+    # the linear rows R [p] = 0 over every point's coordinates (known first), split into known and unknown
+    R = np.zeros((2 * len(further), 2 * len(names)))
+    eye, perp = np.eye(2), np.array([[0.0, -1.0], [1.0, 0.0]])
+    for e, (k, a, b, al, be) in enumerate(further):
+        M1 = al * eye + be * perp
+        for idx, blk in ((k, eye), (a, M1 - eye), (b, -M1)):
+            R[2 * e:2 * e + 2, 2 * idx:2 * idx + 2] += blk
+    Rk, Ru = R[:, :2 * nk], R[:, 2 * nk:]
+    L = len(base)
+    if len(further):
+        U, S, Vt = np.linalg.svd(Ru)
+        if S[-1] <= 1e-12 * S[0]:       # rank-deficient rigid-point rows: rounding level of the SVD
+            raise ParameterError(f"{where}: the links' further points do not fix them (a point given twice "
+                                 "on one frame?); check the links' points")
+        N = Vt[len(S):].T
+        M = -(Vt[:len(S)].T / S) @ (U.T @ Rk)
+    else:
+        N, M = np.eye(n), np.zeros((n, 2 * nk))
+    # the links' base vectors: selectors over (known, unknown) coordinates, then through x = M k + N z
+    Sel = np.zeros((2 * L, 2 * len(names)))
+    for i, (a, b, _) in enumerate(base):
+        for c in (0, 1):
+            Sel[c * L + i, 2 * b + c] += 1.0
+            Sel[c * L + i, 2 * a + c] -= 1.0
+    C = Sel[:, :2 * nk] + Sel[:, 2 * nk:] @ M
+    E = Sel[:, 2 * nk:] @ N
+    length = np.sqrt(np.array([dd for _, _, dd in base]))
+    k_pose = P[:nk].ravel()
+    z0 = N.T @ (P[nk:].ravel() - M @ k_pose)
     diff = P[:, None, :] - P[None, :, :]
     size = float(np.sqrt(np.max(np.sum(diff * diff, axis=-1))))
-    ia = lambda v: np.asarray(v, dtype=np.intp)  # noqa: E731
-    fa = lambda v: np.asarray(v, dtype=float)    # noqa: E731
-    arrays = (fa(L2), ia(i0), ia(i1), ia(ek), ia(e0), ia(e1), fa(al), fa(be))
-    lin = _structure(len(known), 2 * len(unknown), *arrays[3:])
-    g = GeneralGroup(known, unknown, tuple(link_list), *arrays, 1, size, P, lin)
-    J = _jac_u(g, P[None])[0]
-    det = np.linalg.det(J / size ** (len(i0) / g.n))
-    cond = np.linalg.cond(J) if np.isfinite(det) and det != 0.0 else np.inf
-    if not np.isfinite(cond) or cond > 1e12:  # 1e12: beyond this a Newton step loses 12 of 16 digits
-        raise ParameterError(f"{where}: the pose is singular for links {[n for n, _ in link_list]} "
-                             "(a locked or underconstrained group); give another pose or other links")
-    return GeneralGroup(known, unknown, tuple(link_list), *arrays, 1 if det > 0 else -1, size, P, lin)
+    g = GeneralGroup(known, unknown, tuple(link_list), length, M, N, C[:L], C[L:], E[:L], E[L:], z0, 1, 1,
+                     size, P)
+    J = _jac1(g, k_pose, z0)
+    cond = np.linalg.cond(J) if np.all(np.isfinite(J)) else np.inf
+    if not np.isfinite(cond) or cond > SINGULAR_COND:
+        raise ParameterError(f"{where}: the pose is singular for links {[name for name, _ in link_list]} "
+                             "(a locked or underconstrained group, or a group folded at a dead point); "
+                             "give another pose or other links")
+    sign = 1 if np.linalg.det(J) > 0 else -1
+    # the branch reported: sign of det of every equation's Jacobian in the unknown coordinates (the rows
+    # as the module docstring writes them: base lengths / L, then the further points' rows)
+    Ju = np.zeros((n, n))
+    for i, (a, b, _) in enumerate(base):
+        d = (P[b] - P[a]) / length[i]
+        if b >= nk:
+            Ju[i, 2 * (b - nk):2 * (b - nk) + 2] += d
+        if a >= nk:
+            Ju[i, 2 * (a - nk):2 * (a - nk) + 2] -= d
+    Ju[L:] = Ru
+    branch = 1 if np.linalg.det(Ju) > 0 else -1
+    return GeneralGroup(known, unknown, tuple(link_list), length, M, N, C[:L], C[L:], E[:L], E[L:], z0, sign,
+                        branch, size, P)
 
 
-def _perp(d):
-    return np.stack((-d[..., 1], d[..., 0]), axis=-1)
+# ------------------------------------------------------------------------------- one sample (nodes)
+def _base1(g: GeneralGroup, k, z):
+    return g.Cx @ k + g.Ex @ z, g.Cy @ k + g.Ey @ z
 
 
-def _residual(g: GeneralGroup, P):
-    """The equations at points P, shape (N, n_points, 2) -> (N, n)."""
-    d = P[:, g.i1] - P[:, g.i0]
-    quad = 0.5 * (d[..., 0] * d[..., 0] + d[..., 1] * d[..., 1] - g.length2)
-    de = P[:, g.e1] - P[:, g.e0]
-    lin = P[:, g.ek] - P[:, g.e0] - g.alpha[:, None] * de - g.beta[:, None] * _perp(de)
-    return np.concatenate((quad, lin.reshape(len(P), -1)), axis=1)
+def _jac1(g: GeneralGroup, k, z):
+    dx, dy = _base1(g, k, z)
+    return (dx[:, None] * g.Ex + dy[:, None] * g.Ey) / g.length[:, None]
 
 
-def _jvp(g: GeneralGroup, P, V):
-    """J(P) V: the equations' derivative along point rates V, both (N, n_points, 2) -> (N, n)."""
-    d = P[:, g.i1] - P[:, g.i0]
-    dv = V[:, g.i1] - V[:, g.i0]
-    quad = d[..., 0] * dv[..., 0] + d[..., 1] * dv[..., 1]
-    de = V[:, g.e1] - V[:, g.e0]
-    lin = V[:, g.ek] - V[:, g.e0] - g.alpha[:, None] * de - g.beta[:, None] * _perp(de)
-    return np.concatenate((quad, lin.reshape(len(P), -1)), axis=1)
+def _newton1(g: GeneralGroup, k, z):
+    """Newton for one sample (known coordinates k) from z: (z, converged on the branch)."""
+    z = np.array(z, dtype=float)
+    step = np.inf
+    with np.errstate(all="ignore"):
+        for it in range(NEWTON_STEPS + 1):
+            dx, dy = _base1(g, k, z)
+            F = (dx * dx + dy * dy - g.length * g.length) / (2.0 * g.length)
+            res = float(np.max(np.abs(F)))
+            if not np.isfinite(res):
+                return z, False
+            if res <= RESIDUAL_CONVERGED * g.size or step <= NEWTON_TOL * g.size:
+                J = (dx[:, None] * g.Ex + dy[:, None] * g.Ey) / g.length[:, None]
+                det = np.linalg.det(J)
+                return z, bool(res <= RESIDUAL_TOL * g.size and np.isfinite(det) and np.sign(det) == g.sign)
+            if it == NEWTON_STEPS:
+                return z, False
+            J = (dx[:, None] * g.Ex + dy[:, None] * g.Ey) / g.length[:, None]
+            try:
+                dz = np.linalg.solve(J, F)
+            except np.linalg.LinAlgError:
+                return z, False
+            z -= dz
+            step = float(np.max(np.abs(dz)))
+    return z, False
 
 
-def _jdot_v(g: GeneralGroup, V):
-    """(dJ/dt) v: |v1 - v0|^2 on the base-length rows, zero on the linear rows, (N, n)."""
-    dv = V[:, g.i1] - V[:, g.i0]
-    out = np.zeros((len(V), g.n))
-    out[:, :len(g.i0)] = dv[..., 0] * dv[..., 0] + dv[..., 1] * dv[..., 1]
+@dataclass(frozen=True)
+class _Path:
+    """The known points along a block: their coordinates K (2 nk, N), the travel [m] from the first sample
+    (the largest distance any known point has moved, summed over the samples) and where they jump."""
+
+    K: np.ndarray
+    travel: np.ndarray
+    jump: np.ndarray
+
+    turn: np.ndarray
+    """The samples where a known point turns back (its step makes an obtuse angle with the one before)."""
+
+    @staticmethod
+    def of(g: GeneralGroup, K) -> "_Path":
+        n = K.shape[1]
+        P = K.reshape(-1, 2, n)
+        d = np.diff(P, axis=2)
+        step = np.sqrt(np.max(np.sum(d * d, axis=1), axis=0)) if n > 1 else np.zeros(0)
+        moved = np.flatnonzero(step > 0.0)                  # a repeated sample does not hide a turn
+        dm = d[:, :, moved]
+        back = np.any(np.sum(dm[:, :, 1:] * dm[:, :, :-1], axis=1) < 0.0, axis=0)
+        turn = np.unique(np.r_[moved[:-1][back] + 1, moved[1:][back]])
+        return _Path(K, np.r_[0.0, np.cumsum(step)], np.r_[False, step > JUMP * g.size], turn)
+
+
+def _walk(g: GeneralGroup, path: _Path, a: int, za, b: int) -> list:
+    """Continue from sample a (solved, za) to sample b (either side of a), halving the step where Newton
+    fails or the solution moves far: the nodes decided, ``[(index, z, ok), ...]`` in walking order, b last
+    unless a node before it failed (then that one is last)."""
+    z, ok = _newton1(g, path.K[:, b], za)
+    far = (abs(path.travel[b] - path.travel[a]) > 2 * NODE_TRAVEL * g.size
+           or float(np.max(np.abs(z - za))) > HOP * g.size)
+    if ok and not far:
+        return [(b, z, True)]
+    if abs(b - a) == 1:                      # adjacent samples: nothing to halve
+        ok = ok and not path.jump[max(a, b)]
+        return [(b, z, ok)]
+    m = (a + b) // 2
+    first = _walk(g, path, a, za, m)
+    if not first[-1][2]:
+        return first
+    return first + _walk(g, path, m, first[-1][1], b)
+
+
+def _nodes(g: GeneralGroup, path: _Path, z_start):
+    """Sequential continuation over nodes along the block (module docstring, step 1): the node indices
+    (sorted), their reduced coordinates (n_nodes, L; NaN where not assembled) and whether each is."""
+    n = path.K.shape[1]
+    marks = np.floor(path.travel / (NODE_TRAVEL * g.size))
+    cand = np.flatnonzero(np.r_[True, marks[1:] != marks[:-1]] | path.jump)
+    cand = np.unique(np.r_[cand, path.turn, n - 1])          # nodes where the path turns back: between
+    #                                                          two nodes the samples go one way
+    found: dict[int, tuple] = {}
+    z, ok = _newton1(g, path.K[:, 0], z_start)
+    found[0] = (z, ok)
+    z_good, i_good = (z, 0) if ok else (np.asarray(z_start, dtype=float), None)
+    last_bad = None if ok else 0
+    for c in cand[1:]:
+        c = int(c)
+        if last_bad is None:                                   # on the branch: continue
+            decided = _walk(g, path, i_good, z_good, c)
+            for i, z, ok in decided:
+                found[i] = (z, ok)
+            i, z, ok = decided[-1]
+            if ok:
+                z_good, i_good = z, i
+            else:
+                last_bad = i
+            continue
+        z, ok = _newton1(g, path.K[:, c], z_good)             # after a gap: back on the branch here?
+        if not ok:
+            found[c] = (z, False)
+            last_bad = c
+            continue
+        found[c] = (z, True)
+        if c - last_bad > 1:                                   # where it starts again: back from here
+            for i, zb, okb in _walk(g, path, c, z, last_bad + 1):
+                found[i] = (zb, okb)
+        z_good, i_good, last_bad = z, c, None
+    idx = np.array(sorted(found), dtype=np.intp)
+    good = np.array([found[i][1] for i in idx], dtype=bool)
+    zs = np.array([found[i][0] for i in idx], dtype=float).reshape(len(idx), g.dof)
+    zs[~good] = np.nan
+    return idx, zs, good
+
+
+# ---------------------------------------------------------------------- many samples (batched)
+def _lu_pivoting(A):
+    """LU with partial pivoting of A (n, n, m), in place: (LU, perm, det) as :func:`lu` returns them."""
+    n, _, m = A.shape
+    perm = np.empty((n, m), dtype=np.intp)
+    perm[:] = np.arange(n)[:, None]
+    det = np.ones(m)
+    for k in range(n):
+        if k < n - 1:
+            p = np.argmax(np.abs(A[k:, k]), axis=0) + k
+            sw = np.flatnonzero(p != k)
+            if sw.size:
+                pk = p[sw]
+                row = A[k][:, sw]                              # (n, m'): a copy (advanced index)
+                A[k][:, sw] = A[pk, :, sw].T
+                A[pk, :, sw] = row.T
+                tmp = perm[pk, sw]
+                perm[pk, sw] = perm[k, sw]
+                perm[k, sw] = tmp
+                det[sw] = -det[sw]
+        piv = A[k, k]
+        det *= piv
+        if k < n - 1:
+            f = A[k + 1:, k] / piv
+            A[k + 1:, k] = f
+            A[k + 1:, k + 1:] -= f[:, None, :] * A[k, None, k + 1:]
+    return A, perm, det
+
+
+def parity(perm) -> np.ndarray:
+    """+1 or -1 per column of perm (n, m): the sign of each permutation."""
+    n = perm.shape[0]
+    inv = np.zeros(perm.shape[1], dtype=np.intp)
+    for i in range(n):
+        for j in range(i + 1, n):
+            inv += perm[i] > perm[j]
+    return 1.0 - 2.0 * (inv % 2)
+
+
+MAX_RUNS = 32
+"""Row orders that change at most this many times along the samples are applied run by run (row copies);
+beyond, sample by sample (a gather several times slower)."""
+
+
+def _runs(order):
+    """(start, end, order) of the runs of samples sharing one row order, or None if there are too many."""
+    m = order.shape[1]
+    cut = np.flatnonzero(np.any(order[:, 1:] != order[:, :-1], axis=0)) + 1
+    if cut.size > MAX_RUNS:
+        return None
+    edges = np.r_[0, cut, m]
+    return [(int(s), int(e), order[:, s]) for s, e in zip(edges[:-1], edges[1:])]
+
+
+def lu(A, order=None):
+    """LU factorisation of many small matrices at once.
+
+    Parameters
+    ----------
+    A : ndarray, shape (n, n, N)
+        N matrices, entry (i, j) of matrix s at ``A[i, j, s]`` (overwritten).
+    order : ndarray of int, shape (n, N), optional
+        A row order per matrix known to pivot well (that of a nearby matrix): the rows are taken in this
+        order and eliminated without searching for pivots, which is several times faster; a matrix whose
+        multipliers then exceed ``GROWTH`` is factorised again with partial pivoting. Also a list of runs
+        (start, end, order) of samples sharing one order. None: partial pivoting.
+
+    Returns
+    -------
+    (LU, perm, det)
+        ``LU`` (unit lower factor below the diagonal, upper factor on and above it), ``perm``: row i of the
+        factors of matrix s is its row ``perm[i, s]`` (an (n, N) array, or a list of runs (start, end,
+        order) of samples sharing one), and ``det`` (N,) the determinants. A singular matrix gives a zero or
+        non-finite pivot, and NaN or inf in what is solved with it.
+    """
+    if order is None:
+        return _lu_pivoting(A)
+    n, _, m = A.shape
+    A0 = A
+    runs = order if isinstance(order, list) else _runs(order)
+    if runs is None:
+        A = np.take_along_axis(A, order[:, None, :], axis=0)
+        det = parity(order)
+    else:
+        A = np.empty_like(A0)
+        det = np.empty(m)
+        for s, e, o in runs:
+            A[:, :, s:e] = A0[o, :, s:e]
+            det[s:e] = parity(o[:, None])[0]
+    growth = _eliminate(A, det)
+    perm = order if runs is None else runs
+    redo = np.flatnonzero(~(growth <= GROWTH))
+    if redo.size:
+        LU, p, d = _lu_pivoting(A0[:, :, redo])
+        A[:, :, redo], det[redo] = LU, d
+        perm = order_array(perm, m)
+        perm[:, redo] = p
+    return A, perm, det
+
+
+def _eliminate(A, det):
+    """Gaussian elimination without pivot search of A (n, n, m) in place (its rows already in their order),
+    ``det`` (m,) multiplied by the pivots; returns each matrix's largest multiplier (its element growth)."""
+    n = A.shape[0]
+    for k in range(n):
+        piv = A[k, k]
+        det *= piv
+        if k < n - 1:
+            f = A[k + 1:, k]
+            f /= piv
+            A[k + 1:, k + 1:] -= f[:, None, :] * A[k, None, k + 1:]
+    if n < 2:
+        return np.zeros(A.shape[2])
+    rows, cols = np.tril_indices(n, -1)
+    return np.max(np.abs(A[rows, cols]), axis=0)
+
+
+def _factor(g: GeneralGroup, dx, dy, order):
+    """The LU factorisation of the reduced Jacobian at base vectors (dx, dy), each (L, m), as
+    ``lu(_jacobian(g, dx, dy), order)`` returns it; built directly in the row order where that is given as
+    runs (no copy of the matrices)."""
+    if order is None:
+        return _lu_pivoting(_jacobian(g, dx, dy))
+    runs = order if isinstance(order, list) else _runs(order)
+    if runs is None:
+        return lu(_jacobian(g, dx, dy), order)
+    L, m = dx.shape
+    jx, jy = g.Jx, g.Jy
+    A = np.empty((L, L, m))
+    det = np.empty(m)
+    for s, e, o in runs:
+        blk = A[:, :, s:e]
+        np.multiply(dx[o, s:e][:, None, :], jx[o][:, :, None], out=blk)
+        blk += dy[o, s:e][:, None, :] * jy[o][:, :, None]
+        det[s:e] = parity(o[:, None])[0]
+    growth = _eliminate(A, det)
+    perm = runs
+    redo = np.flatnonzero(~(growth <= GROWTH))
+    if redo.size:
+        LU, p, d = _lu_pivoting(_jacobian(g, dx[:, redo], dy[:, redo]))
+        A[:, :, redo], det[redo] = LU, d
+        perm = order_array(runs, m)
+        perm[:, redo] = p
+    return A, perm, det
+
+
+def order_array(perm, m: int) -> np.ndarray:
+    """A row order as an (n, m) array (from a list of runs, or a copy of an array)."""
+    if not isinstance(perm, list):
+        return np.array(perm)
+    out = np.empty((len(perm[0][2]), m), dtype=np.intp)
+    for s, e, o in perm:
+        out[:, s:e] = o[:, None]
     return out
 
 
-def _structure(nk, n, ek, e0, e1, alpha, beta):
-    """The Jacobian's linear rows in the unknown coordinates, shape (2 E, n), which are constant."""
-    lin = np.zeros((2 * len(ek), n))
-    eye = np.eye(2)
-    perp = np.array([[0.0, -1.0], [1.0, 0.0]])
-    for e, (k, a, b) in enumerate(zip(ek, e0, e1)):
-        M1 = -alpha[e] * eye - beta[e] * perp       # d(row)/d(p1)
-        for idx, M in ((k, eye), (a, -eye - M1), (b, M1)):
-            if idx >= nk:
-                lin[2 * e:2 * e + 2, 2 * (idx - nk):2 * (idx - nk) + 2] += M
-    return lin
+def lu_solve(LU, perm, b):
+    """Solve with :func:`lu`'s factors: b (n, N) -> x (n, N)."""
+    n = LU.shape[0]
+    if isinstance(perm, list):
+        y = np.empty_like(b)
+        for s, e, o in perm:
+            y[:, s:e] = b[o, s:e]
+    else:
+        y = np.take_along_axis(b, perm, axis=0)
+    for j in range(n - 1):                          # column by column: one array operation per column
+        y[j + 1:] -= LU[j + 1:, j] * y[j]
+    for j in range(n - 1, -1, -1):
+        y[j] /= LU[j, j]
+        if j:
+            y[:j] -= LU[:j, j] * y[j]
+    return y
 
 
-def _jac_u(g: GeneralGroup, P):
-    """J_u: the equations' Jacobian in the unknown coordinates, (N, n, n).
-
-    Built entry by entry in an (n, n, N) array (each entry a contiguous run over the samples) and returned
-    as its (N, n, n) view, which ``np.linalg.solve`` reads through its strides.
-    """
-    nk, nq = len(g.known), len(g.i0)
-    J = np.empty((g.n, g.n, len(P)))
-    J[nq:] = g.lin[:, :, None]
-    J[:nq] = 0.0
-    for row, (a, b) in enumerate(zip(g.i0, g.i1)):
-        dx, dy = P[:, b, 0] - P[:, a, 0], P[:, b, 1] - P[:, a, 1]
-        if b >= nk:
-            J[row, 2 * (b - nk)] += dx
-            J[row, 2 * (b - nk) + 1] += dy
-        if a >= nk:
-            J[row, 2 * (a - nk)] -= dx
-            J[row, 2 * (a - nk) + 1] -= dy
-    return J.transpose(2, 0, 1)
+def _jacobian(g: GeneralGroup, dx, dy):
+    """The reduced Jacobian (L, L, N) from the base vectors' components (L, N)."""
+    jx, jy = g.Jx, g.Jy
+    J = dx[:, None, :] * jx[:, :, None]
+    J += dy[:, None, :] * jy[:, :, None]
+    return J
 
 
-def _solve(J, rhs):
-    """Batched J x = rhs; samples whose J is singular get NaN instead of raising."""
-    try:
-        return np.linalg.solve(J, rhs[..., None])[..., 0]
-    except np.linalg.LinAlgError:
-        det = np.linalg.det(J)
-        bad = ~(np.abs(det) > 0.0)
-        J = J.copy()
-        J[bad] = np.eye(J.shape[-1])
-        x = np.linalg.solve(J, rhs[..., None])[..., 0]
-        x[bad] = np.nan
-        return x
+def _residual(g: GeneralGroup, Bx, By, z):
+    """The base vectors (dx, dy) and the rows F = (|d|^2 - L^2) / (2 L) [m] at z, each (L, m)."""
+    dx = g.Ex @ z
+    dx += Bx
+    dy = g.Ey @ z
+    dy += By
+    F = dx * dx
+    F += dy * dy
+    F -= (g.length * g.length)[:, None]
+    F *= (0.5 / g.length)[:, None]
+    return dx, dy, F
 
 
-def _newton(g: GeneralGroup, Pk, x):
-    """Batched Newton on the unknown coordinates x (N, n) with known points Pk (N, nk, 2).
-
-    A sample has converged when its residual is at rounding level (base-length rows divided by the base
-    length, so every row is in [m]) or its last step is below ``NEWTON_TOL`` of size; only the samples not
-    yet converged are iterated. Returns the solution and a mask of the samples that converged.
-    """
-    N = len(x)
-    x = np.array(x, dtype=float)
-    inv_len = 1.0 / np.sqrt(g.length2)
-    done = np.zeros(N, dtype=bool)
-    act = np.arange(N)
-    step = np.full(N, np.inf)
+def _newton(g: GeneralGroup, Bx, By, z, order):
+    """Batched Newton on the reduced coordinates z (L, m), the known points' part of the base vectors
+    Bx, By (L, m) given (``order``: see :func:`lu`), until the residual is below NEWTON_LOOSE of size (the
+    correction in :func:`_finish` then squares what is left). Only the samples not yet there are iterated.
+    Returns z, whether each sample got there, and (dx, dy, F) at z where no sample took a step (else None)."""
+    m = z.shape[1]
+    z = np.array(z, dtype=float)
+    done = np.zeros(m, dtype=bool)
+    act = None                                  # None: every sample (no copies)
     with np.errstate(all="ignore"):
         for it in range(NEWTON_STEPS + 1):
-            P = np.concatenate((Pk[act], x[act].reshape(len(act), -1, 2)), axis=1)
-            F = _residual(g, P)
-            res = np.max(np.abs(np.concatenate((F[:, :len(g.i0)] * inv_len, F[:, len(g.i0):]), axis=1)), axis=1)
-            conv = (res <= RESIDUAL_CONVERGED * g.size) | (step[act] <= NEWTON_TOL * g.size)
-            done[act] = conv & (res <= RESIDUAL_TOL * g.size)
+            if act is None:
+                dx, dy, F = _residual(g, Bx, By, z)
+                od = order
+            else:
+                dx, dy, F = _residual(g, Bx[:, act], By[:, act], z[:, act])
+                od = None if order is None else order_array(order, m)[:, act]
+            res = np.max(np.abs(F), axis=0)
+            conv = res <= NEWTON_LOOSE * g.size
+            if act is None:
+                done[:] = conv
+            else:
+                done[act] = conv
             keep = ~conv & np.isfinite(res)
+            if it == 0 and conv.all():
+                return z, done, (dx, dy, F)
             if it == NEWTON_STEPS or not keep.any():
                 break
-            act, P, F = act[keep], P[keep], F[keep]
-            dx = _solve(_jac_u(g, P), -F)
-            x[act] += dx
-            step[act] = np.max(np.abs(dx), axis=1)
-    return x, done
+            if not keep.all():
+                sel = np.flatnonzero(keep)
+                act = sel if act is None else act[sel]
+                dx, dy, F = dx[:, sel], dy[:, sel], F[:, sel]
+                od = None if order is None else order_array(order, m)[:, act]
+            LU, perm, _ = _factor(g, dx, dy, od)
+            dz = lu_solve(LU, perm, F)
+            if act is None:
+                z -= dz
+            else:
+                z[:, act] -= dz
+    return z, done, None
+
+
+def _finish(g: GeneralGroup, K3, z, order, rates: bool, cache=None, B=None):
+    """At z (L, m), within NEWTON_LOOSE of the solution: one more Newton step (to rounding: the error is
+    squared), the residual after it, the determinant's sign against the branch, and (``rates``) the
+    velocities and accelerations, solved with the Jacobian factorised again where the points are (exact).
+
+    K3: known coordinates, velocities and accelerations (3, 2 nk, m); ``cache``: (dx, dy, F) at z if known;
+    ``B``: (C_x k, C_y k) if known. Returns z, whether each sample is assembled on the branch (the sign, the
+    residual below RESIDUAL_TOL of size), the row order of the factorisation, and (``rates``) (vz, az, (D,
+    dD, ddD)) with the links' base vectors and their rates, each a pair (x, y) of (L, m)."""
+    with np.errstate(all="ignore"):
+        Bx, By = (g.Cx @ K3[0], g.Cy @ K3[0]) if B is None else B
+        dx, dy, F = _residual(g, Bx, By, z) if cache is None else cache
+        LU, perm, det = _factor(g, dx, dy, order)
+        z = z - lu_solve(LU, perm, F)
+        dx, dy, F = _residual(g, Bx, By, z)             # the base vectors where the points are
+        if rates:
+            LU, perm, det = _factor(g, dx, dy, perm)
+        on = (np.sign(det) == g.sign) & (np.max(np.abs(F), axis=0) <= RESIDUAL_TOL * g.size)
+        if not rates:
+            return z, on, perm, None
+        inv = 1.0 / g.length[:, None]
+        vBx, vBy = g.Cx @ K3[1], g.Cy @ K3[1]
+        aBx, aBy = g.Cx @ K3[2], g.Cy @ K3[2]
+        vz = lu_solve(LU, perm, -(dx * vBx + dy * vBy) * inv)
+        vx = vBx + g.Ex @ vz
+        vy = vBy + g.Ey @ vz
+        az = lu_solve(LU, perm, -(vx * vx + vy * vy + dx * aBx + dy * aBy) * inv)
+        ax = aBx + g.Ex @ az
+        ay = aBy + g.Ey @ az
+    return z, on, perm, (vz, az, ((dx, dy), (vx, vy), (ax, ay)))
+
+
+@dataclass(frozen=True)
+class _Nodes:
+    """Solved samples along the path: indices (sorted), reduced coordinates (n_nodes, L; NaN where not
+    assembled), whether each is assembled, the row order its Jacobian pivots in (L, n_nodes), and whether the
+    path turns back there."""
+
+    index: np.ndarray
+    z: np.ndarray
+    good: np.ndarray
+    order: np.ndarray
+    turn: np.ndarray
+
+    def merged(self, other: "_Nodes") -> "_Nodes":
+        idx = np.r_[self.index, other.index]
+        k = np.argsort(idx, kind="stable")
+        return _Nodes(idx[k], np.r_[self.z, other.z][k], np.r_[self.good, other.good][k],
+                      np.c_[self.order, other.order][:, k], np.r_[self.turn, other.turn][k])
+
+
+def _interpolated(nodes: _Nodes, idx, travel):
+    """The start of every sample in idx (sorted): the nodes' solutions interpolated in the known points'
+    travel along the path (``travel``, one value per sample: a parameter that the sampling's density does not
+    bend), (L, m), by the parabola through the two nodes around it and the next one (the one before, at the
+    end, or where the path turns back; a straight line where neither is usable); whether the nodes around it
+    hold the branch; how far a solution may lie from its start (the nodes' distance plus their path's bend);
+    and the row orders of the nodes before the samples, as runs (see :func:`lu`)."""
+    zs, good, ix = nodes.z, nodes.good, nodes.index
+    n = len(ix)
+    if n == 1:
+        at = idx == ix[0]
+        return (np.repeat(zs.T, len(idx), axis=1), at & good[0], np.zeros(len(idx)),
+                [(0, len(idx), nodes.order[:, 0])])
+    zt = zs.T
+    X = travel[ix]
+    span = np.diff(X)
+    with np.errstate(all="ignore"):
+        a = zt[:, :-1]
+        slope = np.where(span > 0.0, (zt[:, 1:] - a) / span, 0.0)
+        curve = np.zeros_like(slope)
+        if n >= 3:
+            # the third node of each interval: the next one, or the one before (at the end, or where the path
+            # turns back at the next node); none (a straight line) where it turns back at both ends
+            turn = nodes.turn
+            ahead = np.r_[~turn[1:-1], False]
+            k = np.where(ahead, np.arange(2, n + 1) % n, np.r_[0, np.arange(n - 2)])
+            third = (ahead | ~turn[:-1]) & good[k] & (np.arange(n - 1) + ahead > 0)
+            curve = ((zt[:, k] - zt[:, 1:]) / (X[k] - X[1:]) - slope) / (X[k] - X[:-1])
+            curve = np.where(third & np.isfinite(curve), curve, 0.0)
+        hop = np.nan_to_num(np.max(np.abs(zt[:, 1:] - a), axis=0), nan=0.0)
+    dd = np.zeros(n + 1)
+    if n >= 3:
+        dd[1:-2] = np.nan_to_num(np.max(np.abs(zs[2:] - 2 * zs[1:-1] + zs[:-2]), axis=1), nan=0.0)
+    allow = hop + np.maximum.reduce([dd[:-2], dd[1:-1], dd[2:]])
+    both = good[:-1] & good[1:]
+    j = np.clip(np.searchsorted(ix, idx, side="right") - 1, 0, n - 2)
+    u = travel[idx] - np.take(X, j)
+    sj = np.take(span, j)
+    L = zt.shape[0]
+    coef = np.take(np.concatenate((curve, slope, a)), j, axis=1)   # np.take: several times faster than [:, j]
+    with np.errstate(all="ignore"):
+        z0 = coef[:L]
+        z0 *= u - sj
+        z0 += coef[L:2 * L]
+        z0 *= u
+        z0 += coef[2 * L:]                                   # Newton's form of the parabola
+    first, last = idx == np.take(ix, j), idx == np.take(ix, j + 1)
+    on_node = np.flatnonzero(first)                          # a node itself: its own solution
+    z0[:, on_node] = a[:, j[on_node]]
+    on_node = np.flatnonzero(last)
+    z0[:, on_node] = zt[:, j[on_node] + 1]
+    usable = np.where(first, np.take(good, j), np.where(last, np.take(good, j + 1), np.take(both, j)))
+    # the row orders: one run per stretch of samples whose node before has the same order
+    change = np.r_[True, np.any(nodes.order[:, 1:] != nodes.order[:, :-1], axis=0)]
+    moved = np.flatnonzero(np.diff(j)) + 1
+    cut = moved[change[j[moved]]]
+    edges = np.r_[0, cut, len(idx)]
+    runs = [(int(s0), int(e0), nodes.order[:, j[s0]]) for s0, e0 in zip(edges[:-1], edges[1:])]
+    if len(runs) > MAX_RUNS:
+        runs = order_array(runs, len(idx))
+    return z0, usable, np.take(allow, j), runs
+
+
+def _level(g: GeneralGroup, K3, nodes: _Nodes, idx, travel, rates: bool):
+    """Every sample of idx solved by batched Newton from the nodes (module docstring, steps 2 and 3):
+    z (L, m), whether each is assembled on the branch, the row order of its Jacobian (runs or an array, see
+    :func:`lu`) and the rates (see :func:`_finish`). The Jacobians are factorised in the nodes' row orders."""
+    z0, usable, allow, order = _interpolated(nodes, idx, travel)
+    if not usable.all():
+        z0[:, ~usable] = g.z0[:, None]
+    B = (g.Cx @ K3[0], g.Cy @ K3[0])
+    z, ok, cache = _newton(g, *B, z0, order)
+    z, on, perm, extra = _finish(g, K3, z, order, rates, cache, B)
+    with np.errstate(invalid="ignore"):
+        # a jump: farther from the interpolated start than the nodes around it allow; 1e-9 of size:
+        # rounding where the nodes coincide
+        ok &= usable & on & (np.max(np.abs(z - z0), axis=0) <= allow + 1e-9 * g.size)
+    return z, ok, perm, extra
 
 
 @dataclass(frozen=True)
@@ -304,59 +763,43 @@ class GroupSolution:
         True where the group is assembled on its branch.
     branch : int
         The branch held: the sign of ``det(J_u)`` at the pose.
+    end : ndarray, shape (L,), or None
+        The reduced coordinates at the last assembled sample (where a following block starts), or None.
     """
 
     points: dict
     links: dict
     assembled: np.ndarray
     branch: int
+    end: np.ndarray | None = None
 
 
-def _coarse_path(g: GeneralGroup, Pk, nodes, x):
-    """Sequential continuation over the coarse nodes from x (1, n) near the first: x at each node, and
-    whether it holds the branch."""
-    xs = np.full((len(nodes), g.n), np.nan)
-    good = np.zeros(len(nodes), dtype=bool)
-    with np.errstate(all="ignore"):
-        for j, i in enumerate(nodes):
-            y, ok = _newton(g, Pk[i:i + 1], x)
-            if ok[0]:
-                P = np.concatenate((Pk[i], y.reshape(-1, 2)))[None]
-                ok[0] = np.sign(np.linalg.det(_jac_u(g, P)[0])) == g.branch
-            if ok[0]:
-                xs[j], good[j], x = y[0], True, y
-    return xs, good
+def known_arrays(g: GeneralGroup, known: Mapping[str, Sequence], n: int | None = None) -> np.ndarray:
+    """The known points' coordinates, velocities and accelerations as one array (3, 2 nk, N)."""
+    arrays = [[np.asarray(c, dtype=float) for c in known[p]] for p in g.known]
+    if n is None:
+        n = max(max(np.size(c) for c in a) for a in arrays)
+    K3 = np.empty((3, 2 * len(g.known), n))
+    for j, a in enumerate(arrays):
+        for c in range(6):
+            K3[c // 2, 2 * j + c % 2] = a[c]
+    return K3
 
 
-def _from_nodes(g: GeneralGroup, Pk, nodes, xs, good, idx):
-    """Batched Newton at the sample indices idx from the solution xs at the nodes (sorted sample indices),
-    interpolated linearly in the sample index; NaN and False where it fails or jumps."""
-    nk = len(g.known)
-    # the largest second difference of the node path next to each interval (zero for fewer than 3 nodes)
-    dd = np.zeros(len(nodes) + 1)
-    if len(nodes) >= 3:
-        dd[1:-2] = np.nan_to_num(np.max(np.abs(xs[2:] - 2 * xs[1:-1] + xs[:-2]), axis=1), nan=0.0)
-    bend = np.maximum.reduce([dd[:-1], dd[1:], np.r_[dd[2:], 0.0]])
-    j = np.clip(np.searchsorted(nodes, idx, side="right") - 1, 0, max(len(nodes) - 2, 0))
-    j1 = np.minimum(j + 1, len(nodes) - 1)
-    span = np.maximum(nodes[j1] - nodes[j], 1)
-    t = ((idx - nodes[j]) / span)[:, None]
-    usable = good[j] & good[j1]
-    with np.errstate(all="ignore"):
-        x0 = (1.0 - t) * xs[j] + t * xs[j1]
-        hop = np.max(np.abs(xs[j1] - xs[j]), axis=1)
-        x, ok = _newton(g, Pk[idx], np.where(usable[:, None], x0, g.pose[nk:].ravel()))
-        # a jump: farther from the interpolated start than the two nodes are apart plus the nodes' second
-        # difference (a smooth path leaves the chord by about 1/8 of it, also where it turns back);
-        # 1e-9 of size: rounding where the nodes coincide
-        ok &= usable & (np.max(np.abs(x - x0), axis=1) <= hop + bend[j] + 1e-9 * g.size)
-    x[~ok] = np.nan
-    return x, ok
+def start_of(g: GeneralGroup, start, K3) -> np.ndarray:
+    """Reduced coordinates near the first sample: the pose's (start None), a previous run's end (an array of
+    L), or the unknown points' positions {point: (x, y)} [m]."""
+    if start is None:
+        return g.z0.copy()
+    if isinstance(start, np.ndarray):
+        return start.astype(float)
+    x = np.array([float(c) for p in g.unknown for c in start[p][:2]])
+    return g.N.T @ (x - g.M @ K3[0, :, 0])
 
 
-def solve_group(g: GeneralGroup, known: Mapping[str, Sequence[np.ndarray]], *, coarse: int = 512,
-                start: Mapping[str, Sequence[float]] | None = None) -> GroupSolution:
-    """Positions, velocities and accelerations of the group's unknown points over N samples.
+def solve_group(g: GeneralGroup, known: Mapping[str, Sequence[np.ndarray]], *,
+                start=None) -> GroupSolution:
+    """Positions, velocities and accelerations of the group's unknown points over N samples (a path).
 
     Parameters
     ----------
@@ -364,69 +807,88 @@ def solve_group(g: GeneralGroup, known: Mapping[str, Sequence[np.ndarray]], *, c
         The group; its pose is the assembly at the first sample.
     known : mapping of str to (x, y, vx, vy, ax, ay)
         Each known point's arrays, each shape (N,) (or scalars for a fixed point) [m, m/s, m/s^2].
-    coarse : int
-        The number of nodes of the sequential continuation (every sample when N <= coarse).
-    start : mapping of str to (x, y), optional
-        The unknown points near the first sample [m], on the group's branch: the previous run's last
-        sample when a long motion is solved in blocks (default: the group's pose).
+    start : None, ndarray of shape (L,), or mapping of str to (x, y)
+        Where the group is near the first sample, on its branch: None for its pose; a previous run's
+        :attr:`GroupSolution.end` (a long motion solved in blocks); or the unknown points' positions [m].
 
     Returns
     -------
     GroupSolution
     """
-    arrays = [np.broadcast_arrays(*[np.asarray(c, dtype=float) for c in known[p]]) for p in g.known]
-    N = max(np.size(a[0]) for a in arrays)
-    K = np.empty((3, N, len(g.known), 2))
-    for j, a in enumerate(arrays):
-        for c in range(6):
-            K[c // 2, :, j, c % 2] = a[c]
-    nodes = np.unique(np.r_[np.linspace(0, N - 1, min(N, coarse)).round().astype(np.intp), N - 1])
-    if start is None:
-        x_first = g.pose[len(g.known):].reshape(1, -1)
-    else:
-        x_first = np.array([[float(c) for p in g.unknown for c in start[p][:2]]])
-    xs, good = _coarse_path(g, K[0], nodes, x_first)
-    if N > REFINE * len(nodes):
+    K3 = known_arrays(g, known)
+    n = K3.shape[2]
+    path = _Path.of(g, K3[0])
+    idx, zs, good = _nodes(g, path, start_of(g, start, K3))
+    # the nodes' row orders: partial pivoting at their solutions
+    _, _, order, _ = _finish(g, K3[:, :, idx], np.where(good, zs.T, g.z0[:, None]), None, False)
+    nodes = _Nodes(idx, zs, good, order, np.isin(idx, path.turn))
+    if n > REFINE * len(idx):
         # a batched middle level: from it the interpolation is close enough for one Newton step per sample
-        mid = np.unique(np.r_[np.arange(0, N, REFINE), N - 1])
-        xs, good = _from_nodes(g, K[0], nodes, xs, good, mid)
-        nodes = mid
-    nk, nu = len(g.known), len(g.unknown)
-    out = np.full((3, N, nu, 2), np.nan)
-    assembled = np.zeros(N, dtype=bool)
-    for s in range(0, N, BLOCK):
-        idx = np.arange(s, min(N, s + BLOCK))
-        x, ok = _from_nodes(g, K[0], nodes, xs, good, idx)
-        with np.errstate(all="ignore"):
-            P = np.concatenate((K[0, idx], x.reshape(-1, nu, 2)), axis=1)
-            Ju = _jac_u(g, P)
-            V = np.concatenate((K[1, idx], np.zeros((len(idx), nu, 2))), axis=1)
-            v = _solve(Ju, -_jvp(g, P, V))
-            V[:, nk:] = v.reshape(-1, nu, 2)
-            A = np.concatenate((K[2, idx], np.zeros((len(idx), nu, 2))), axis=1)
-            a = _solve(Ju, -_jvp(g, P, A) - _jdot_v(g, V))
-        out[0, idx] = x.reshape(-1, nu, 2)
-        out[1, idx] = v.reshape(-1, nu, 2)
-        out[2, idx] = a.reshape(-1, nu, 2)
-        assembled[idx] = ok
-    out[:, ~assembled] = np.nan
-    points = {p: (out[0, :, i, 0], out[0, :, i, 1], out[1, :, i, 0], out[1, :, i, 1], out[2, :, i, 0],
-                  out[2, :, i, 1]) for i, p in enumerate(g.unknown)}
-    return GroupSolution(points, _link_rates(g, K, out), assembled, g.branch)
+        mid = np.setdiff1d(np.arange(0, n, REFINE), idx)
+        zm, okm, pm, _ = _level(g, K3[:, :, mid], nodes, mid, path.travel, rates=False)
+        nodes = nodes.merged(_Nodes(mid, np.where(okm, zm, np.nan).T, okm, order_array(pm, len(mid)),
+                                    np.zeros(len(mid), dtype=bool)))
+    L, nu = g.dof, len(g.unknown)
+    P = np.empty((nu, 6, n))                   # each point's x, y, vx, vy, ax, ay: contiguous rows
+    W = np.empty((L, 4, n))                    # each link's cos, sin, omega, alpha
+    assembled = np.empty(n, dtype=bool)
+    end = None
+    for s in range(0, n, BLOCK):
+        e = min(n, s + BLOCK)
+        k3 = K3[:, :, s:e]
+        z, ok, _, (vz, az, base) = _level(g, k3, nodes, np.arange(s, e), path.travel, rates=True)
+        for c, r in enumerate((z, vz, az)):
+            X = g.M @ k3[c]
+            X += g.N @ r
+            P[:, 2 * c, s:e], P[:, 2 * c + 1, s:e] = X[0::2], X[1::2]
+        W[:, :, s:e] = link_rates(*base, g.length)
+        assembled[s:e] = ok
+        if not ok.all():
+            P[:, :, s:e][:, :, ~ok] = np.nan
+            W[:, :, s:e][:, :, ~ok] = np.nan
+        if ok.any():
+            end = z[:, np.flatnonzero(ok)[-1]].copy()
+    points = {p: tuple(P[i]) for i, p in enumerate(g.unknown)}
+    links = {name: tuple(W[i]) for i, (name, _) in enumerate(g.links)}
+    return GroupSolution(points, links, assembled, g.branch, end)
 
 
-def _link_rates(g: GeneralGroup, K, out):
-    """Each link's (cos, sin, omega, alpha) from its base pair's positions and rates."""
-    nk = len(g.known)
+def link_rates(D, dD, ddD, length) -> np.ndarray:
+    """Links' (cos, sin, omega, alpha), shape (L, 4, m), from their base vectors D (whose lengths are
+    ``length`` (L,), to rounding: the points are solved) and its rates dD, ddD (pairs (x, y) of (L, m))."""
+    (dx, dy), (vx, vy), (ax, ay) = D, dD, ddD
+    out = np.empty((dx.shape[0], 4, dx.shape[1]))
+    inv = (1.0 / length)[:, None]
+    inv2 = inv * inv
+    with np.errstate(all="ignore"):
+        np.multiply(dx, inv, out=out[:, 0])
+        np.multiply(dy, inv, out=out[:, 1])
+        w = out[:, 2]
+        np.multiply(dx, vy, out=w)
+        w -= dy * vx
+        w *= inv2
+        a = out[:, 3]
+        np.multiply(dx, ay, out=a)
+        a -= dy * ax
+        a *= inv2
+    return out
 
-    def at(i, k):
-        return K[k, :, i] if i < nk else out[k, :, i - nk]
 
-    links = {}
-    for (name, _), a, b in zip(g.links, g.i0, g.i1):
-        d, dv, da = (at(b, k) - at(a, k) for k in range(3))
-        dx, dy = d[:, 0], d[:, 1]
-        L2 = dx * dx + dy * dy
-        L = np.sqrt(L2)
-        links[name] = (dx / L, dy / L, (dx * dv[:, 1] - dy * dv[:, 0]) / L2, (dx * da[:, 1] - dy * da[:, 0]) / L2)
-    return links
+def singularity(g: GeneralGroup, positions: Mapping[str, Sequence[np.ndarray]]) -> np.ndarray:
+    """The group's distance from a singular pose, in [0, 1]: |det| of the reduced Jacobian with each row
+    scaled to unit length (Hadamard's bound makes it at most 1; zero where the group folds). For a dyad it is
+    the sine of the angle between its two links, the RRR's transmission measure.
+
+    ``positions``: every point of the group (known and unknown) as (x, y, ...) arrays [m]."""
+    xy = {p: (np.asarray(positions[p][0], dtype=float), np.asarray(positions[p][1], dtype=float))
+          for p in g.known + g.unknown}
+    rows = []
+    for _, pts in g.links:
+        (x0, y0), (x1, y1) = xy[pts[0]], xy[pts[1]]
+        rows.append((x1 - x0, y1 - y0))
+    dx = np.array(np.broadcast_arrays(*[r[0] for r in rows]))
+    dy = np.array(np.broadcast_arrays(*[r[1] for r in rows]))
+    J = _jacobian(g, dx, dy)
+    with np.errstate(all="ignore"):
+        J /= np.sqrt(np.sum(J * J, axis=1, keepdims=True))
+        return np.abs(np.linalg.det(np.moveaxis(J, 2, 0)))

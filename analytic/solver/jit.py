@@ -74,8 +74,9 @@ def enabled(n: int | None = None) -> bool:
 
 
 def supports(geometry) -> bool:
-    """Whether every element of ``geometry`` has a compiled row."""
-    return all(kinds.get(e["kind"]).jit is not None for e in geometry.elements)
+    """Whether every element of ``geometry`` has a compiled row (an element passing change points, whose
+    branch sign follows the input, ``flips``, stays on numpy)."""
+    return all(kinds.get(e["kind"]).jit is not None and not e.get("flips") for e in geometry.elements)
 
 
 def codes() -> dict[str, int]:
@@ -144,7 +145,13 @@ def _kernel_source() -> tuple[str, str]:
     text = _TEMPLATE.format(imports="\n".join(imports), wraps="\n".join(wraps), dispatch="\n".join(dispatch),
                             copy=OUT_COPY, phi=OUT_PHI)
     digest = hashlib.sha256(text.encode())
-    for module in [C] + [sys.modules[type(kinds.get(n)).__module__] for n in codes()]:
+    modules = [C]
+    for n in codes():              # each kind's module, and those its kernel and helpers come from
+        kind = kinds.get(n)
+        own = sys.modules[type(kind).__module__]
+        modules += [own, inspect.getmodule(kind.jit.kernel)]
+        modules += [inspect.getmodule(getattr(own, h)) for h in kind.jit.helpers]
+    for module in dict.fromkeys(modules):
         digest.update(inspect.getsource(module).encode())
     return text, f"_linkage_kernel_{digest.hexdigest()[:16]}"
 

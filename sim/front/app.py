@@ -602,7 +602,11 @@ def initial_mechanism(name: str) -> dict:
         return {"name": name}
     if not Path(name).exists():
         raise ParameterError(f"{name!r} is neither a mechanism (linkage list) nor a linkage/1 file")
-    from analytic.format import linkfile
+    from analytic.format import foreign, linkfile
+    if foreign.detect(name):            # a Pyslvs or PMKS file: sent as its linkage/1 (links and joints) text
+        foreign.definition(name)        # a mechanism, or one line naming the file
+        text = foreign.dumps(foreign.read(name))
+        return {"name": service.load(name, text=text).name, "text": text}
     linkfile.read(name)                 # a regular UTF-8 file within the size cap, or one line saying why
     text = Path(name).read_bytes()[:linkfile.MAX_FILE_BYTES].decode("utf-8-sig")
     return {"name": service.load(name, text=text).name, "text": text}

@@ -33,15 +33,17 @@ class _Parser(argparse.ArgumentParser):
 
 # ------------------------------------------------------------------------------------ option values
 def parse_range(mech, text: str | None) -> tuple[float, float] | None:
-    """``LO:HI`` of the first input (a crank: radians, or degrees with a deg suffix; a slider: m)."""
+    """``LO:HI`` of the first input: a crank's in radians, or degrees with a deg suffix; a slider's in the
+    file's length unit (like ``--set``, and as ``linkage check`` prints it), returned in metres."""
     if not text:
         return None
     if ":" not in text:
         raise ParameterError(f"--input-range {text!r} is not LO:HI (e.g. -40deg:40deg)")
     lo, hi = text.split(":", 1)
     angle = mech.inputs[0].kind == "crank"
-    return (expr.parse_value("--input-range", lo, angle=None if angle else False),
-            expr.parse_value("--input-range", hi, angle=None if angle else False))
+    scale = 1.0 if angle else mech.scale
+    return (expr.parse_value("--input-range", lo, angle=None if angle else False) * scale,
+            expr.parse_value("--input-range", hi, angle=None if angle else False) * scale)
 
 
 def pair(option: str, text: str | None) -> tuple[float, float] | None:
@@ -60,7 +62,7 @@ def settings_from(args):
 
 def loads_from(args, mech):
     """The Loads of the command line: gravity, external or cutting force, links' inertias."""
-    from analytic.closed_forms.dynamics import Inertia
+    from analytic.mass import Inertia
     from sim.model import Loads
     gravity = pair("--gravity", args.gravity)
     force = pair("--force", args.force) or (0.0, 0.0)
@@ -118,7 +120,7 @@ def write_columns(path, mech, columns, display=None) -> None:
     from sim.output.units import SI, convert_columns
     display = display or SI
     write_csv(path, convert_columns(mech, columns, display))
-    write_text(f"{path}.units.json", json.dumps({"mechanism": mech.name, "parameters": mech.parameters,
+    write_text(f"{path}.units.json", json.dumps({"mechanism": mech.name, **service.parameters_record(mech, display),
                                                   "file_units": mech.units, "si": display.is_si,
                                                   "units": service.units_of(mech, columns, display)},
                                                  indent=2) + "\n")
@@ -136,17 +138,22 @@ def cmd_list(args) -> int:
 
 def cmd_check(args) -> int:
     from analytic.applications import figures
+    from sim.output.units import shown_units
     mech = mechanism_from(args)
-    print(structure_report(mech))
+    print(structure_report(mech, shown_units(args, mech)))
     if len(mech.inputs) == 1 and not figures.assembly_ranges(mech):
         raise ParameterError(f"{mech.definition.source}: the mechanism assembles at no value of "
                              f"{mech.inputs[0].q}; change the lengths (see the report above)")
     return 0
 
 
-def structure_report(mech) -> str:
+def structure_report(mech, display=None) -> str:
+    """``linkage check``'s report; lengths in ``display`` units (default the file's), a crank's angles in
+    deg; an input's range rounded inward, so that it can be pasted into ``--input-range``."""
     from analytic import kinds
     from analytic.applications import figures
+    from analytic.quantities import LENGTH, Display
+    display = display or Display(mech.units)
     d = mech.definition
     topo = mech.topology
     n, _, _ = topo.counts
@@ -158,25 +165,41 @@ def structure_report(mech) -> str:
     if topo.couplings:
         lines.append(f"  gear pairs: {len(topo.couplings)} ("
                      + ", ".join(f"{c.link}-{c.mesh} on {c.carrier}" for c in topo.couplings) + ")")
+    _, start = mech.solve_at([0.0])
+    if start.valid.all():                          # what the kinds say about their elements (pitch radii)
+        pose = {p: (float(start["x" + p][0]), float(start["y" + p][0])) for p in mech.points}
+        notes = (kinds.get(e["kind"]).describe(e, pose, (mech.scale, mech.units)) for e in mech.geometry.elements)
+        lines += [f"  {note}" for note in notes if note]
     lines.append(f"  independent loops: {len(topo.loops)}")
     lines.append(f"  mobility (Gruebler): {topo.gruebler()}; inputs: "
                  + ", ".join(f"{i.q} ({i.kind} at {i.joint})" for i in mech.inputs))
     lines.append("  solve order: " + " -> ".join(f"{'+'.join(e.places)} ({e.kind})" for e in d.order))
-    groups = [(e, kinds.get(e.kind).group_class) for e in d.order]
-    lines.append("  Assur groups: " + (", ".join(f"{'+'.join(e.places)}: {cls}" for e, cls in groups if cls)
+    groups = [(e, kinds.get(e.kind).group_label(r)) for e, r in zip(d.order, mech.geometry.elements)]
+    lines.append("  Assur groups: " + (", ".join(f"{'+'.join(e.places)} (links {', '.join(e.links())}): {cls}"
+                                                for e, cls in groups if cls)
                                       or "none"))
     if len(mech.inputs) == 1:
         ranges = figures.assembly_ranges(mech)
         first = mech.inputs[0]
+        crank = first.kind == "crank"
+
+        def at(x):                                   # an input value as people read it
+            if crank:
+                return f"{(math.degrees(x) + 180) % 360 - 180:.4f}deg"
+            return f"{display.convert(LENGTH, x):.6g} {display.unit(LENGTH)}"
+
         if figures.turns_fully(mech, ranges):
             lines.append(f"  {first.q} assembles over a full turn")
         elif ranges:
-            lines.append(f"  {first.q} assembles in {figures.describe_ranges(first, ranges)}; dead points at "
-                         + ", ".join(figures.describe_ranges(first, [(a, a)]).split("..")[0] for r in ranges for a in r))
+            lines.append(f"  {first.q} assembles in {figures.describe_ranges(first, ranges, display)} (ends rounded "
+                         f"inward); dead points at " + ", ".join(at(a) for r in ranges for a in r))
         else:
             lines.append(f"  {first.q} assembles nowhere: change the lengths")
         for x, label, _ in figures.singular_poses(mech):
-            lines.append(f"  singular pose at {first.q}={math.degrees(x) % 360:.2f}deg: {label} folds (change point)")
+            where = f"{math.degrees(x) % 360:.2f}deg" if crank else at(x)
+            how = ("passed on its declared branch, its form kept (change = 1)" if service.passes_smoothly(mech, label, x)
+                   else "the motion is undefined there")
+            lines.append(f"  singular pose at {first.q}={where}: {label} folds (change point; {how})")
     lines.append(f"  outputs: {len(mech.outputs)} ({' '.join(mech.outputs[:12])}{' ...' if len(mech.outputs) > 12 else ''})")
     return "\n".join(lines)
 
@@ -195,8 +218,9 @@ def cmd_analyze(args) -> int:
             record["csv"] = args.csv
         print(dumps(record))
     else:
-        p = ", ".join(f"{k}={v:g}" for k, v in mech.parameters.items())
-        print("\n".join([f"{mech.name}: {p}"] + figures.summary(mech, a.figures, shown_units(args, mech))))
+        from analytic.quantities import parameters_text
+        shown = shown_units(args, mech)
+        print("\n".join([f"{mech.name}: {parameters_text(mech, shown)}"] + figures.summary(mech, a.figures, shown)))
         if args.csv:
             print(f"wrote {args.csv} ({args.samples} rows)")
     return 0
@@ -231,9 +255,9 @@ def cmd_compare(args) -> int:
     if not c.passed and getattr(args, "timestep", None) is not None:
         from sim.model import choose_timestep
         chosen = choose_timestep(built.mech, args.revolutions)
-        if args.timestep > chosen:
-            print(f"linkage: the time step {args.timestep:g} s given by --timestep is above the {chosen:.3g} s this "
-                  f"design needs (0.03 rad per step); drop --timestep", file=sys.stderr)
+        if args.timestep > chosen * (1 + 1e-3):              # not a value that only prints the same
+            print(f"linkage: the time step {args.timestep:.4g} s given by --timestep is above the {chosen:.4g} s this "
+                  f"design needs; drop --timestep", file=sys.stderr)
     return 0 if c.passed else 1
 
 
@@ -245,7 +269,8 @@ def cmd_render(args) -> int:
     built, tr = service.simulate(mech, args.revolutions, settings_from(args), loads_from(args, mech),
                                  parse_range(mech, args.input_range))
     from sim.output.units import shown_units
-    stats = render(built, tr, str(path), args.fps, size, display=shown_units(args, built.mech))
+    stats = render(built, tr, str(path), args.fps, size, display=shown_units(args, built.mech),
+                   forces=args.forces)
     print(f"wrote {stats.path}: {stats.frames} frames {size[0]}x{size[1]} at {stats.stored_fps:g} fps "
           f"({stats.fps:.1f} frames/s rendered)")
     return 0
@@ -258,7 +283,11 @@ def cmd_plot(args) -> int:
     built, c = service.compare(mech, args.revolutions, settings_from(args), loads_from(args, mech),
                                parse_range(mech, args.input_range))
     from sim.output.units import shown_units
-    sheet(c, built, args.out, shown_units(args, built.mech))
+    if args.forces:
+        from sim.output.plot import force_sheet
+        force_sheet(c, built, args.out, shown_units(args, built.mech))
+    else:
+        sheet(c, built, args.out, shown_units(args, built.mech))
     print(f"wrote {args.out}")
     return 0
 
@@ -269,6 +298,9 @@ def cmd_export(args) -> int:
         raise ParameterError("give --mjcf PATH (the MuJoCo model) and/or --toml PATH (the mechanism file)")
     check_outputs(args, {"mjcf": (".xml",), "toml": (".toml",)})
     mech = mechanism_from(args)
+    if args.balance is not None:                   # counterweights written into the model (issue 17)
+        from sim.front.forces_cmd import balance_links
+        mech, _ = service.balanced_mechanism(mech, balance_links(args.balance))
     if args.mjcf:
         write_text(args.mjcf, service.export_mjcf(mech, settings_from(args), getattr(args, "revolutions", 1.0)))
         print(f"wrote {args.mjcf}")
@@ -384,6 +416,7 @@ def make_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("check", help="a mechanism's structure: links, joints, loops, mobility, solve order, range")
     add_common(p)
+    add_unit_options(p)
     p.set_defaults(func=cmd_check)
 
     p = sub.add_parser("analyze", help="closed-form kinematics over a run; summary, CSV or JSON")
@@ -413,6 +446,9 @@ def make_parser() -> argparse.ArgumentParser:
     add_common(p)
     add_sim_options(p)
     add_video_options(p)
+    p.add_argument("--forces", action="store_true",
+                   help="draw MuJoCo's joint forces as arrows (the first link's force on the second; scale in "
+                        "the legend)")
     add_unit_options(p)
     p.set_defaults(func=cmd_render)
 
@@ -420,6 +456,8 @@ def make_parser() -> argparse.ArgumentParser:
     add_common(p)
     add_sim_options(p)
     p.add_argument("--out", required=True, metavar="PATH", help="image file: .png, .svg or .pdf")
+    p.add_argument("--forces", action="store_true",
+                   help="the force sheet instead: bearing loads (polar), joint forces, drives, shaking force")
     add_unit_options(p)
     p.set_defaults(func=cmd_plot)
 
@@ -429,6 +467,8 @@ def make_parser() -> argparse.ArgumentParser:
     p.add_argument("--toml", metavar="PATH.toml", help="the mechanism file with the current parameter values")
     p.add_argument("--timestep", type=float, default=None, metavar="H", help="time step written into the model")
     p.add_argument("--integrator", default="rk4", help=argparse.SUPPRESS)
+    p.add_argument("--balance", nargs="?", const="", default=None, metavar="LINK,LINK",
+                   help="add counterweights that balance the shaking force ([mass.counterweights]; see forces)")
     p.set_defaults(func=cmd_export)
 
     p = sub.add_parser("run", help="the main job: simulate, cross-validate, render, plot and save")
@@ -449,6 +489,10 @@ def make_parser() -> argparse.ArgumentParser:
     # commands in their own modules: module.register(sub, add_common, add_sim_options, add_video_options)
     from sim.front import dynamics_cmd  # a motor drives the linkage (issue 18)
     dynamics_cmd.register(sub, add_common, add_sim_options, add_video_options)
+    from sim.front import forces_cmd  # joint forces, shaking, balancing (issue 17)
+    forces_cmd.register(sub, add_common, add_sim_options, add_video_options)
+    from sim.front import import_cmd  # Pyslvs and PMKS files (issue 16)
+    import_cmd.register(sub, add_common, add_sim_options, add_video_options)
     try:
         from sim.front import app
         app.register(sub)

@@ -27,7 +27,8 @@ MJCF_DIR = Path(mjcf.__file__).resolve().parent
 TEMPLATE = MJCF_DIR / "template.xml"
 
 REGULARIZATION_SCALE = 1e-6
-"""Scale applied to the compiled ``body_invweight0``: MuJoCo sizes each constraint's regulariser as
+"""Scale applied to the compiled ``body_invweight0`` (and ``tendon_invweight0``, which sizes a gear coupling's
+tendon equality the same way): MuJoCo sizes each constraint's regulariser as
 R = (1 - d) / d * invweight with the impedance d capped at 0.9999, so a share of about R / (J M^-1 J')
 of the constraint force leaks into loop violation. invweight0 is computed at the initial pose and serves
 only that purpose in a model without contacts; near a singular pose J M^-1 J' becomes small and the leak
@@ -129,7 +130,18 @@ def regularization(model, mech, loads) -> float:
     m = float(model.body_mass.sum())
     inertial = m * mech.size * motion_scale(mech) ** 2
     load = math.hypot(*loads.force) + (m * math.hypot(*loads.gravity) if loads.gravity is not None else 0.0)
-    return REGULARIZATION_SCALE / (1.0 + load / inertial) if inertial > 0 else REGULARIZATION_SCALE
+    scale = REGULARIZATION_SCALE / (1.0 + load / inertial) if inertial > 0 else REGULARIZATION_SCALE
+    if any(e.get("flips") for e in mech.solving_geometry.elements):
+        scale *= CHANGE_POINT_SCALE
+    return scale
+
+
+CHANGE_POINT_SCALE = 1e-4
+"""A further factor on the regulariser of a mechanism whose dyads pass change points on their declared
+branch (analytic.solver.change_points): there the loops' equations lose rank, J M^-1 J' vanishes and the
+leak R lambda of the other directions is all that holds the dyad; a parallelogram's errors through its
+change points were 30-200x the tolerances at 1 (whatever the step, h/4 to h), 0.3-2x at 1e-2 and
+< 0.03x at 1e-4."""
 
 
 def spanning_tree(mech):
@@ -236,7 +248,9 @@ def build_model(mech, settings, loads, h, sol, points, q_start, revolutions) -> 
         model = spec.compile()
     except ValueError as exc:
         raise ParameterError(f"MuJoCo cannot compile the {mech.name}: {str(exc).splitlines()[0]}") from None
-    model.body_invweight0[:] *= regularization(model, mech, loads)
+    scale = regularization(model, mech, loads)
+    model.body_invweight0[:] *= scale
+    model.tendon_invweight0[:] *= scale             # a tendon equality (a gear coupling) is sized by these
     drives = size_drives(model, mech, drives, loads, h)
     qpos0, qvel0 = initial_state(model, mech, order, frames, sol)
     act0, ctrl0 = initial_controls(model, mech, drives, q_start, loads)

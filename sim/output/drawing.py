@@ -39,6 +39,12 @@ class Scene:
     display: object
     input_name: str
     input_is_angle: bool
+    wheels: tuple = ()
+    """Gears drawn on links (:class:`analytic.kinds.base.Wheel`), from the kinds."""
+    force_scale: float = 0.0
+    """[m per N] The length of a joint-force arrow per newton (0: no arrows), see :func:`force_arrows`."""
+    force_ref: float = 0.0
+    """[N] The force of the legend's arrow: a round value near half the peak."""
 
 
 def poses(built, qpos_frames: np.ndarray) -> tuple[np.ndarray, dict[str, np.ndarray]]:
@@ -64,9 +70,18 @@ def poses(built, qpos_frames: np.ndarray) -> tuple[np.ndarray, dict[str, np.ndar
 def scene(built, xy: np.ndarray, display, path: np.ndarray | None = None) -> Scene:
     """The scene of a run whose points move through ``xy`` (frames, points, 2), the view holding them
     and the output point's whole recorded ``path`` (steps, 2) [m] (its tips may fall between frames)."""
+    from analytic import kinds
     from sim.service import link_drawing
     mech = built.mech
+    _, start = mech.solve_at([0.0])
+    pose = {p: (float(start["x" + p][0]), float(start["y" + p][0])) for p in mech.points}
+    wheels = tuple(w for e in mech.geometry.elements for w in kinds.get(e["kind"]).wheels(e, pose))
     every = xy.reshape(-1, 2) if path is None else np.vstack([xy.reshape(-1, 2), path])
+    index = {p: i for i, p in enumerate(mech.points)}
+    for w in wheels:                                   # a gear's teeth reach 2.5 modules past its pitch circle
+        reach = w.radius + 5.0 * w.radius / w.teeth
+        centre = xy[:, index[w.centre]]
+        every = np.vstack([every] + [centre + (dx * reach, dy * reach) for dx, dy in ((1, 0), (-1, 0), (0, 1), (0, -1))])
     finite = every[np.all(np.isfinite(every), axis=-1)]
     lo, hi = (finite.min(axis=0), finite.max(axis=0)) if len(finite) else (np.array([-1.0, -1]), np.array([1.0, 1]))
     pad = PAD * max(float(np.max(hi - lo)), 1e-9)
@@ -74,7 +89,26 @@ def scene(built, xy: np.ndarray, display, path: np.ndarray | None = None) -> Sce
     return Scene(tuple((d["name"], tuple(d["points"]), d["block"]) for d in link_drawing(mech)), tuple(mech.points),
                  tuple(mech.ground_points), mech.output_point,
                  (lo[0] - pad, lo[1] - pad, hi[0] + pad, hi[1] + pad), mech.size, display, first.q,
-                 first.kind == "crank")
+                 first.kind == "crank", wheels)
+
+
+ARROW_REACH = 0.4
+"""The peak joint force's arrow is this fraction of the mechanism's size long: linear in the force, so a
+peak that lasts an instant leaves short arrows elsewhere (the Jansen leg's forces are a twentieth of their
+peak away from 190-200 deg); the legend gives the scale."""
+FORCE_COLOR = "#c51b8a"
+
+
+def force_arrows(sc: Scene, peak: float) -> Scene:
+    """The scene with joint-force arrows: the peak force [N] drawn ARROW_REACH of the mechanism's size long,
+    the legend's arrow a round force (1, 2 or 5 x 10^k N) at most half the peak."""
+    from dataclasses import replace
+    if not (math.isfinite(peak) and peak > 0):
+        return sc
+    half = 0.5 * peak
+    ref = 10 ** math.floor(math.log10(half))
+    ref = max(m * ref for m in (1, 2, 5) if m * ref <= half * (1 + 1e-12))
+    return replace(sc, force_scale=ARROW_REACH * sc.size / peak, force_ref=ref)
 
 
 def nice_step(span: float) -> float:
@@ -117,14 +151,19 @@ class Painter:
         return np.column_stack([self.cx + self.s * xy[:, 0], self.cy - self.s * xy[:, 1]])
 
     def frame(self, xy: np.ndarray, angles: dict, trace: np.ndarray, path: np.ndarray, t: float, q: float,
-              markers=()) -> np.ndarray:
+              markers=(), arrows=None) -> np.ndarray:
         """One RGB frame (h, w, 3) uint8: ``xy`` the points at this frame (points, 2) [m], ``trace`` the
-        output point's path so far and ``path`` its whole path [m], ``t`` [s], ``q`` the input's value."""
+        output point's path so far and ``path`` its whole path [m], ``t`` [s], ``q`` the input's value;
+        ``arrows`` (joints, 4): each joint's point (x, y) [m] and force (Fx, Fy) [N], drawn to the scene's
+        force scale."""
         from PIL import Image, ImageDraw
         img = Image.new("RGB", (self.W, self.H), "white")
         d = ImageDraw.Draw(img, "RGBA")
         u, sc = self.u, self.sc
         self._grid(d)
+        colors = {name: COLORS[k % len(COLORS)] for k, (name, _, _) in enumerate(sc.links)}
+        for w in sc.wheels:
+            self._wheel(d, w, xy, colors.get(w.link, "#888888"))
         if len(path) > 1:
             d.line([tuple(p) for p in self.px(path)], fill=PATH_PALE, width=max(1, round(1.5 * u)))
         if len(trace) > 1:
@@ -140,12 +179,17 @@ class Painter:
         for p in sc.points:
             if p in at:
                 self._joint(d, p, at[p], p == sc.output_point, p in sc.ground)
+        if arrows is not None and sc.force_scale > 0:          # over the pins, so short ones still show
+            for x, y, fx, fy in arrows:
+                self._arrow(d, x, y, fx, fy)
         for mx, my in markers:
             c = self.px(np.array([[mx, my]]))[0]
             r = 6 * u
             d.line([(c[0] - r, c[1] - r), (c[0] + r, c[1] + r)], fill="#1a1a1a", width=round(2 * u))
             d.line([(c[0] - r, c[1] + r), (c[0] + r, c[1] - r)], fill="#1a1a1a", width=round(2 * u))
         self._legend(d)
+        if arrows is not None and sc.force_scale > 0:
+            self._force_legend(d)
         self._readout(d, t, q)
         self._scale_bar(d)
         return np.asarray(img.resize(self.size, Image.LANCZOS))
@@ -188,6 +232,35 @@ class Painter:
             for p in pts:                                     # round caps
                 d.ellipse([p[0] - r, p[1] - r, p[0] + r, p[1] + r], fill=color)
 
+    def _wheel(self, d, w, xy, color) -> None:
+        """A gear: its toothed outline about its centre, turned with its link (the direction centre -> ref);
+        external gears filled pale, ring gears (teeth inward) in outline with their rim."""
+        i = self.index[w.centre]
+        cx, cy = xy[i]
+        if not (math.isfinite(cx) and math.isfinite(cy)):
+            return
+        base = 0.0
+        if w.ref is not None:
+            rx, ry = xy[self.index[w.ref]]
+            base = math.atan2(ry - cy, rx - cx)
+        m = 2.0 * w.radius / w.teeth                       # the module: addendum m, dedendum 1.25 m
+        tip, root = (w.radius - m, w.radius + 1.25 * m) if w.ring else (w.radius + m, w.radius - 1.25 * m)
+        pitch = 2.0 * math.pi / w.teeth
+        outline = []
+        for k in range(w.teeth):                           # a trapezoid tooth per pitch, centred on its angle
+            a = base + w.phase + k * pitch
+            outline += [(root, a - 0.30 * pitch), (tip, a - 0.17 * pitch), (tip, a + 0.17 * pitch),
+                        (root, a + 0.30 * pitch), (root, a + 0.5 * pitch)]
+        pts = self.px(np.array([[cx + r * math.cos(a), cy + r * math.sin(a)] for r, a in outline]))
+        rgb = tuple(int(color[i:i + 2], 16) for i in (1, 3, 5))
+        width = max(1, round(1.5 * self.u))
+        if w.ring:
+            d.polygon([tuple(p) for p in pts], outline=color, width=width)
+            c, r = self.px(np.array([[cx, cy]]))[0], (root + 1.5 * m) * self.s
+            d.ellipse([c[0] - r, c[1] - r, c[0] + r, c[1] + r], outline=color, width=width)
+        else:
+            d.polygon([tuple(p) for p in pts], fill=rgb + (0x24,), outline=color, width=width)
+
     def _ground(self, d, p) -> None:
         u, (x, y) = self.u, p
         w = max(1, round(1.2 * u))
@@ -210,6 +283,39 @@ class Painter:
         x, y = 8 * u, 12 * u
         d.line([(x, y), (x + 22 * u, y)], fill=PATH, width=max(1, round(2.4 * u)))
         d.text((x + 27 * u, y), f"path of {self.sc.output_point}", fill="#333333", font=self.small, anchor="lm")
+
+    def _arrow(self, d, x: float, y: float, fx: float, fy: float) -> None:
+        """A force arrow from the joint at (x, y) [m]: (fx, fy) [N] at the scene's force scale, its head
+        sized to the frame; nothing under two pixels."""
+        if not all(math.isfinite(v) for v in (x, y, fx, fy)):
+            return
+        k = self.sc.force_scale * self.s
+        x0, y0 = self.cx + self.s * x, self.cy - self.s * y
+        dx, dy = k * fx, -k * fy
+        n = math.hypot(dx, dy)
+        if n < 2 * SUPERSAMPLE:
+            return
+        self._shaft(d, x0, y0, dx, dy, n)
+
+    def _shaft(self, d, x0, y0, dx, dy, n) -> None:
+        u = self.u
+        ux, uy = dx / n, dy / n
+        head = min(9 * u, 0.45 * n)
+        x1, y1 = x0 + dx, y0 + dy
+        xb, yb = x1 - head * ux, y1 - head * uy
+        d.line([(x0, y0), (xb, yb)], fill=FORCE_COLOR, width=max(1, round(2.2 * u)))
+        w = 0.45 * head
+        d.polygon([(x1, y1), (xb - w * uy, yb + w * ux), (xb + w * uy, yb - w * ux)], fill=FORCE_COLOR)
+
+    def _force_legend(self, d) -> None:
+        """Bottom left: an arrow of the scene's reference force, labelled, and what the arrows are."""
+        u, sc = self.u, self.sc
+        n = sc.force_ref * sc.force_scale * self.s
+        x0, y = 10 * u, self.H - 14 * u
+        self._shaft(d, x0, y, n, 0.0, n)
+        d.text((x0 + n + 6 * u, y), f"{sc.force_ref:g} N", fill="#222222", font=self.small, anchor="lm")
+        d.text((x0, y - 10 * u), "joint forces (first link on the second)", fill="#333333", font=self.small,
+               anchor="ls")
 
     def _readout(self, d, t: float, q: float) -> None:
         """The app's readout: ``phi1 = 123.4° · t = 0.412 s`` in the top right corner."""

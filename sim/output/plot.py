@@ -40,12 +40,12 @@ def panels(mech, display=None) -> list[tuple[str, list[tuple[str, str, float]], 
     outs = [n for n in mech.outputs]
     kinds = {n: output_kind(mech, n)[1] for n in outs}
     inputs = {i.q for i in mech.inputs} | {i.qd for i in mech.inputs} | {i.qdd for i in mech.inputs}
-    angles = [n for n in outs if kinds[n] == "angle" and not mech.aliases.get(n, n).startswith("mu")
-              and n not in inputs][:4]
+    role = {n: mech.table[n].role for n in outs}
+    angles = [n for n in outs if kinds[n] == "angle" and role[n] != "transmission" and n not in inputs][:4]
     rates = [n for n in outs if kinds[n] == "ang_velocity" and n not in inputs][:4]
     accs = [n for n in outs if kinds[n] == "ang_acceleration" and n not in inputs][:4]
-    mus = [n for n in outs if mech.aliases.get(n, n).startswith("mu")][:4]
-    slides = [n for n in outs if kinds[n] == "position" and mech.aliases.get(n, n)[1:] in mech.slides][:2]
+    mus = [n for n in outs if role[n] == "transmission"][:4]
+    slides = [n for n in outs if kinds[n] == "position" and role[n] == "slide"][:2]
     p = mech.output_point
     vel = [n for n in (f"vx{p}", f"vy{p}") if n in outs or not mech.builtin]
     acc = [n for n in (f"ax{p}", f"ay{p}") if n in outs or not mech.builtin]
@@ -71,7 +71,7 @@ def _series(ax, x, c: Comparison, lines, colors, mech) -> None:
     for (name, label, factor), color in zip(lines, colors):
         ref = np.asarray(c.analytic[name]) * factor
         sim = c.trajectory.outputs[name] * factor
-        if output_kind(mech, name)[1] == "angle" and not name.startswith("mu"):   # turning links
+        if output_kind(mech, name)[1] == "angle" and mech.table[name].role != "transmission":   # turning links
             ref, sim = np.degrees(np.unwrap(ref / DEG)), np.degrees(np.unwrap(sim / DEG))
         ax.plot(x, ref, color=color, lw=1.6, label=f"{label} analytic")
         ax.plot(x[::MARK_EVERY], sim[::MARK_EVERY], "o", ms=3.5, mfc="none", color=color, label=f"{label} MuJoCo")
@@ -143,7 +143,7 @@ def _error_panel(ax, x, c: Comparison, units, title, xlabel, u) -> None:
     for name, e in c.errors.items():
         if e["unit"] not in units:
             continue
-        if name.startswith("tau"):
+        if e["role"] == "drive":
             continue
         diff = np.abs(c.trajectory.outputs[name] - np.asarray(c.analytic[name]))
         if e["unit"] == "rad":
@@ -233,9 +233,10 @@ def _torque_panels(axes, x, c: Comparison, xlabel, colors, mech) -> None:
     qd_of = {f"tau{i.link}": i.qd for i in mech.inputs}
     for name, color in zip(names, colors):
         ref, sim = c.torques[name], tr.forces[name]
-        axes[0].plot(x, ref, color=color, lw=1.6, label=f"$\\tau_{{{name[3:]}}}$ analytic")
+        link = mech.table[name].of
+        axes[0].plot(x, ref, color=color, lw=1.6, label=f"$\\tau_{{{link}}}$ analytic")
         axes[0].plot(x[::MARK_EVERY], sim[::MARK_EVERY], "o", ms=3.5, mfc="none", color=color,
-                     label=f"$\\tau_{{{name[3:]}}}$ MuJoCo")
+                     label=f"$\\tau_{{{link}}}$ MuJoCo")
         axes[1].plot(x, np.abs(sim - ref), color=color, lw=1.0, label=name)
         axes[1].axhline(c.errors[name]["tol"], color=color, ls="--", lw=0.8)
         power = power + ref * tr.inputs[qd_of[name]]
@@ -262,3 +263,211 @@ def _torque_panels(axes, x, c: Comparison, xlabel, colors, mech) -> None:
               f"flywheel energy swing {np.ptp(energy):.4g} J",
               f"work balance {c.work_balance:.2e} of the KE swing per revolution"]
     axes[3].text(0.0, 1.0, "\n".join(lines), va="top", family="monospace", fontsize=9, transform=axes[3].transAxes)
+
+
+# ------------------------------------------------------------------------------------------ force sheet
+def force_sheet(c: Comparison, built, out: str, display=None):
+    """Draw the force sheet of comparison ``c`` (:func:`force_figure`) and save it atomically to ``out``
+    (.png/.svg/.pdf)."""
+    import matplotlib.pyplot as plt
+    fig = force_figure(c, built, display)
+    with atomic_path(out) as tmp:
+        fig.savefig(tmp, dpi=90)
+    plt.close(fig)
+    return out
+
+
+def force_figure(c: Comparison, built, display=None):
+    """The force sheet of comparison ``c`` as a matplotlib Figure: the bearing loads at the
+    ground pivots as polar diagrams (the locus of the force each pivot's bearing takes from its link), every
+    joint's force magnitude against the input, the prismatic pairs' normal forces and couples, each drive's
+    three answers (Newton-Euler, power balance, MuJoCo), the shaking force's locus and the shaking moment,
+    and MuJoCo's difference from the analytic forces against the tolerance; analytic forces as lines,
+    MuJoCo's as markers (sim.run.forces: at the simulated inputs, every step)."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from analytic.quantities import Display
+    from sim.run import forces as simforces
+
+    mech = built.mech
+    u = display or Display(mech.units)
+    x, xlabel = _input_angle(c, mech, u)
+    mj, an, _, power = simforces.both(built, c.trajectory)
+    colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    grounded = [k for k, j in enumerate(an.joints) if j.a == "ground"][:4]
+    slides = [k for k, j in enumerate(an.joints) if j.kind == "prismatic"]
+    revolute = [k for k, j in enumerate(an.joints) if j.kind == "revolute"]
+    draw = [lambda ax, k=k, n=n: _bearing_panel(ax, an, mj, k, colors[n % len(colors)]) for n, k in enumerate(grounded)]
+    draw.append(lambda ax: _magnitude_panel(ax, x, xlabel, an, mj, revolute, colors,
+                                            "Pin forces $|F|$ (revolute joints)"))
+    if slides:
+        draw.append(lambda ax: _slide_panel(ax, x, xlabel, an, mj, slides, colors))
+    draw += [lambda ax: _drive_panel(ax, x, xlabel, an, mj, power, mech, colors),
+             lambda ax: _shaking_locus(ax, an, mj, colors[0]),
+             lambda ax: _shaking_panel(ax, x, xlabel, an, mj, colors),
+             lambda ax: _force_error_panel(ax, x, xlabel, an, mj, mech, colors),
+             lambda ax: _force_summary(ax, c, built, an, mech, x, u),
+             lambda ax: _force_summary_agreement(ax, c)]
+    rows = math.ceil(len(draw) / 4)
+    fig, axes = plt.subplots(rows, 4, figsize=(17, 3.9 * rows), constrained_layout=True)
+    for n, ax in enumerate(axes.flat):
+        if n < len(draw):
+            draw[n](ax)
+        else:
+            ax.axis("off")
+    loads = built.loads
+    what = ", ".join(s for s in (f"gravity {loads.gravity[0]:g},{loads.gravity[1]:g} m/s$^2$" if loads.gravity else "",
+                                 f"force {loads.force[0]:g},{loads.force[1]:g} N on {mech.output_point}"
+                                 if any(loads.force) else "") if s) or "inertia only"
+    fig.suptitle(f"{mech.name}: joint forces ({what}); analytic kinetostatics (lines), MuJoCo (markers)",
+                 fontsize=14)
+    return fig
+
+
+def _bearing_panel(ax, an, mj, k, color) -> None:
+    """The polar diagram of ground joint ``k``: the load its bearing takes, -F (F: the ground on the link)."""
+    j = an.joints[k]
+    fx, fy = -an.F[k, 0], -an.F[k, 1]
+    ax.plot(fx, fy, color=color, lw=1.6, label="analytic")
+    ax.plot(-mj.F[k, 0][::MARK_EVERY], -mj.F[k, 1][::MARK_EVERY], "o", ms=3.5, mfc="none", color=color,
+            label="MuJoCo")
+    i = int(np.argmax(np.hypot(fx, fy)))
+    ax.annotate("", xy=(fx[i], fy[i]), xytext=(0.0, 0.0), arrowprops=dict(arrowstyle="->", color=color, lw=1.2))
+    ax.axhline(0.0, color="k", lw=0.6)
+    ax.axvline(0.0, color="k", lw=0.6)
+    ax.plot([0.0], [0.0], "k+", ms=8)
+    kind = "guide" if j.kind == "prismatic" else "bearing"
+    ax.set(title=f"{kind.capitalize()} {j.name}: load on the frame from link {j.b}\n(polar diagram; peak "
+                 f"{np.max(np.hypot(fx, fy)):.4g} N)", xlabel="$F_x$ [N]", ylabel="$F_y$ [N]")
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.legend(fontsize=7, loc="best")
+    ax.grid(alpha=0.3)
+
+
+def _magnitude_panel(ax, x, xlabel, an, mj, joints, colors, title) -> None:
+    for n, k in enumerate(joints):
+        color = colors[n % len(colors)]
+        j = an.joints[k]
+        ax.plot(x, np.hypot(an.F[k, 0], an.F[k, 1]), color=color, lw=1.4, label=f"{j.name} ({j.a}-{j.b})")
+        ax.plot(x[::MARK_EVERY], np.hypot(mj.F[k, 0], mj.F[k, 1])[::MARK_EVERY], "o", ms=3, mfc="none", color=color)
+    ax.set(title=title, xlabel=xlabel, ylabel="[N]")
+    if joints:
+        ax.legend(fontsize=7, ncol=2, loc="best")
+    ax.grid(alpha=0.3)
+
+
+def _slide_panel(ax, x, xlabel, an, mj, slides, colors) -> None:
+    """Each prismatic pair's normal force (signed, along the guide's normal) and, on the right axis, its couple."""
+    right = ax.twinx()
+    for n, k in enumerate(slides):
+        color = colors[n % len(colors)]
+        j = an.joints[k]
+        ax.plot(x, np.hypot(an.F[k, 0], an.F[k, 1]), color=color, lw=1.4, label=f"{j.name}: |N|")
+        ax.plot(x[::MARK_EVERY], np.hypot(mj.F[k, 0], mj.F[k, 1])[::MARK_EVERY], "o", ms=3, mfc="none", color=color)
+        right.plot(x, an.M(k), color=color, lw=1.0, ls="--", label=f"{j.name}: M")
+        right.plot(x[::MARK_EVERY], mj.M(k)[::MARK_EVERY], "s", ms=2.5, mfc="none", color=color)
+    ax.set(title="Prismatic pairs: normal force (solid), couple (dashed)", xlabel=xlabel, ylabel="|N| [N]")
+    right.set_ylabel("M [N m]")
+    lines = ax.get_legend_handles_labels()
+    more = right.get_legend_handles_labels()
+    ax.legend(lines[0] + more[0], lines[1] + more[1], fontsize=7, loc="best")
+    ax.grid(alpha=0.3)
+
+
+def _drive_panel(ax, x, xlabel, an, mj, power, mech, colors) -> None:
+    """Each drive's three answers: Newton-Euler (line), the power balance (dashed), MuJoCo (markers)."""
+    for n, inp in enumerate(mech.inputs):
+        color = colors[n % len(colors)]
+        ax.plot(x, an.drives[inp.link], color=color, lw=1.8, label=f"{inp.q}: Newton-Euler")
+        ax.plot(x, power[inp.link], color="k", lw=0.9, ls="--", label=f"{inp.q}: power balance")
+        ax.plot(x[::MARK_EVERY], mj.drives[inp.link][::MARK_EVERY], "o", ms=3.5, mfc="none", color=color,
+                label=f"{inp.q}: MuJoCo")
+    unit = "N m" if all(i.kind == "crank" for i in mech.inputs) else "N m or N"
+    ax.set(title="Drives: three answers", xlabel=xlabel, ylabel=f"[{unit}]")
+    ax.legend(fontsize=7, loc="best")
+    ax.grid(alpha=0.3)
+
+
+def _force_error_panel(ax, x, xlabel, an, mj, mech, colors) -> None:
+    """|MuJoCo - analytic| of every joint force over the peak joint force, with the tolerance."""
+    from sim.run.forces import FORCE_TOL
+    from analytic.applications.forces import peak
+    scale = peak(an) or 1.0
+    for k, j in enumerate(an.joints):
+        e = np.hypot(mj.F[k, 0] - an.F[k, 0], mj.F[k, 1] - an.F[k, 1]) / scale
+        ax.semilogy(x, np.maximum(e, 1e-18), lw=0.9, color=colors[k % len(colors)], label=j.name)
+    e = np.hypot(mj.shaking[0] - an.shaking[0], mj.shaking[1] - an.shaking[1]) / scale
+    ax.semilogy(x, np.maximum(e, 1e-18), lw=1.2, color="k", ls=":", label="shaking")
+    ax.axhline(FORCE_TOL, color="k", ls="--", lw=0.8)
+    ax.set_ylim(bottom=FORCE_TOL * 1e-7)
+    ax.set(title="MuJoCo - analytic (dashed: tolerance)", xlabel=xlabel, ylabel="|difference| / peak joint force")
+    ax.legend(fontsize=7, ncol=2, loc="lower right")
+    ax.grid(alpha=0.3, which="both")
+
+
+def _shaking_locus(ax, an, mj, color) -> None:
+    fx, fy = an.shaking[0], an.shaking[1]
+    ax.plot(fx, fy, color=color, lw=1.6, label="analytic")
+    ax.plot(mj.shaking[0][::MARK_EVERY], mj.shaking[1][::MARK_EVERY], "o", ms=3.5, mfc="none", color=color,
+            label="MuJoCo")
+    ax.axhline(0.0, color="k", lw=0.6)
+    ax.axvline(0.0, color="k", lw=0.6)
+    rms = float(np.sqrt(np.mean(fx * fx + fy * fy)))
+    ax.set(title=f"Shaking force on the frame (RMS {rms:.4g} N)", xlabel="$F_x$ [N]", ylabel="$F_y$ [N]")
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.legend(fontsize=7, loc="best")
+    ax.grid(alpha=0.3)
+
+
+def _shaking_panel(ax, x, xlabel, an, mj, colors) -> None:
+    ax.plot(x, np.hypot(an.shaking[0], an.shaking[1]), color=colors[0], lw=1.6, label="|shaking force| [N]")
+    ax.plot(x[::MARK_EVERY], np.hypot(mj.shaking[0], mj.shaking[1])[::MARK_EVERY], "o", ms=3.5, mfc="none",
+            color=colors[0])
+    right = ax.twinx()
+    right.plot(x, an.shaking[2], color=colors[1], lw=1.4, label="shaking moment [N m]")
+    right.plot(x[::MARK_EVERY], mj.shaking[2][::MARK_EVERY], "s", ms=3, mfc="none", color=colors[1])
+    right.set_ylabel("moment about the origin [N m]")
+    ax.set(title="Shaking force and moment", xlabel=xlabel, ylabel="[N]")
+    lines, more = ax.get_legend_handles_labels(), right.get_legend_handles_labels()
+    ax.legend(lines[0] + more[0], lines[1] + more[1], fontsize=7, loc="best")
+    ax.grid(alpha=0.3)
+
+
+def _force_summary(ax, c, built, an, mech, x, u) -> None:
+    """Each joint's peak force and the input where it occurs, each drive's peak."""
+    ax.axis("off")
+    first = mech.inputs[0]
+    deg = first.kind == "crank"
+    mag = an.magnitude()
+    lines = [f"peaks (analytic; at {first.q})"]
+    for k, j in enumerate(an.joints):
+        i = int(np.argmax(mag[k]))
+        at = f"{x[i] % 360:.1f} deg" if deg else f"{x[i]:.4g} {u.unit('length')}"
+        extra = f", M {np.max(np.abs(an.M(k))):.3g} N m" if j.kind == "prismatic" else ""
+        lines.append(f"{j.name:<8s} {j.kind[0].upper()} {j.a}-{j.b}: {mag[k, i]:.4g} N at {at}{extra}")
+    for inp in mech.inputs:
+        d = an.drives[inp.link]
+        lines.append(f"drive {inp.q}: {np.max(np.abs(d)):.4g} {'N m' if inp.kind == 'crank' else 'N'}")
+    ax.text(0.0, 1.0, "\n".join(textwrap.shorten(s, 58) for s in lines[:26]), va="top", family="monospace",
+            fontsize=8, transform=ax.transAxes)
+
+
+def _force_summary_agreement(ax, c) -> None:
+    ax.axis("off")
+    a = c.forces
+    if a is None:
+        ax.text(0.0, 1.0, "joint forces: not determined by statics\n(a redundant constraint)", va="top",
+                family="monospace", fontsize=9, transform=ax.transAxes)
+        return
+    lines = [f"MuJoCo vs analytic (tol {a.tol:.0e} of the peak)",
+             f"peak joint force {a.peak:.4g} N",
+             f"worst {a.worst:.2e} ({a.worst_of})",
+             f"median over the joints {a.median:.2e}",
+             f"shaking force {a.shaking['F_share']:.2e}, moment {a.shaking['M_share']:.2e}"]
+    for q, d in a.drives.items():
+        lines.append(f"drive {q}: MuJoCo {d['mujoco_share']:.1e},")
+        lines.append(f"  power balance {d['power_balance_share']:.1e} of its scale")
+    lines += ["", "forces: PASSED" if a.passed else "forces: FAILED",
+              "comparison: " + ("PASSED" if c.passed else "FAILED")]
+    ax.text(0.0, 1.0, "\n".join(lines), va="top", family="monospace", fontsize=9, transform=ax.transAxes)

@@ -154,15 +154,32 @@ def _trace(path: np.ndarray, k: int) -> np.ndarray:
     return pts if len(pts) and np.array_equal(pts[-1], path[k]) else np.vstack([pts, path[k:k + 1]])
 
 
+def joint_force_frames(built, tr, instants: np.ndarray) -> tuple[np.ndarray, float]:
+    """MuJoCo's force in every joint at the frame instants, blended linearly between the recorded steps
+    around each (as the poses), shape (frames, joints, 2) [N], and the peak over every step [N]: the force
+    ``links[0]`` exerts on ``links[1]`` (sim.run.forces.measure)."""
+    from sim.run import forces as simforces
+    f = simforces.measure(built, tr)
+    t = tr.t
+    k = np.clip(np.searchsorted(t, instants, side="right") - 1, 0, len(t) - 2)
+    w = np.clip((instants - t[k]) / (t[k + 1] - t[k]), 0.0, 1.0)
+    F = f.F[:, :, k] * (1.0 - w) + f.F[:, :, k + 1] * w                       # (joints, 2, frames)
+    mag = f.magnitude()
+    peak = float(np.nanmax(mag)) if mag.size else 0.0
+    return np.transpose(F, (2, 0, 1)), peak
+
+
 def render(built, tr, out: str, fps: float = 30.0, size: tuple[int, int] = (640, 480),
-           markers: tuple[tuple[float, float], ...] = (), display=None) -> RenderStats:
+           markers: tuple[tuple[float, float], ...] = (), display=None, forces: bool = False) -> RenderStats:
     """Render trajectory ``tr`` of model ``built`` to ``out`` (.mp4 or .gif), atomically, drawn as the
     app draws (sim/output/drawing.py): lengths in ``display`` units (analytic.quantities.Display; None: the file's).
 
-    ``markers`` are extra points [m] drawn as small crosses (e.g. a synthesis task's E1 and E2).
+    ``markers`` are extra points [m] drawn as small crosses (e.g. a synthesis task's E1 and E2). ``forces``:
+    MuJoCo's joint forces drawn as arrows at the joints, the peak force ARROW_REACH of the size long, with a
+    legend giving the scale.
     """
     from analytic.quantities import Display
-    from sim.output.drawing import Painter, poses, scene
+    from sim.output.drawing import Painter, force_arrows, poses, scene
 
     fps = stored_fps(out, fps)
     mech = built.mech
@@ -173,7 +190,14 @@ def render(built, tr, out: str, fps: float = 30.0, size: tuple[int, int] = (640,
                              f"--revolutions")
     xy, angles = poses(built, qpos)
     path = output_path(tr, mech)[:, :2]
-    painter = Painter(scene(built, xy, display or Display(mech.units), path), size)
+    sc = scene(built, xy, display or Display(mech.units), path)
+    arrows = None
+    if forces:
+        F, peak = joint_force_frames(built, tr, instants)
+        sc = force_arrows(sc, peak)
+        where = [mech.points.index(j.point) for j in mech.topology.joints]
+        arrows = np.concatenate([xy[:, where], F], axis=-1)                   # (frames, joints, 4)
+    painter = Painter(sc, size)
     whole = _trace(path, len(path) - 1)
     q = np.interp(instants, tr.t, tr.inputs[mech.inputs[0].q])
     progress = Progress(len(frames), f"rendering {Path(out).name}")
@@ -181,6 +205,7 @@ def render(built, tr, out: str, fps: float = 30.0, size: tuple[int, int] = (640,
     with atomic_path(out) as tmp, _Writer(tmp, fps, size) as writer:     # ffmpeg ends before tmp is removed
         for i, k in enumerate(frames):
             writer.append(painter.frame(xy[i], {ln: a[i] for ln, a in angles.items()}, _trace(path, k), whole,
-                                        float(instants[i]), float(q[i]), markers))
+                                        float(instants[i]), float(q[i]), markers,
+                                        None if arrows is None else arrows[i]))
             progress.update(i + 1)
     return RenderStats(len(frames), time.perf_counter() - t0, str(out), fps)

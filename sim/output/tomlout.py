@@ -57,15 +57,43 @@ def _source_text(mech) -> str | None:
 
 
 def _written(mech, name: str, old: str) -> str:
-    """The new value of parameter ``name`` as TOML, in the style of the ``old`` text: degrees stay
-    degrees, a branch an integer."""
+    """The new value of parameter ``name`` as TOML, in the style of the ``old`` text: a value written in
+    degrees (an angle, a speed, or a number used in other parameters' expressions) stays in degrees, a
+    branch an integer; the text reads back as exactly the same float."""
     v = mech.values[name]
     kind = mech.definition.parameter_kind[name]
     if kind == "branch":
         return str(int(v))
-    if kind == "angle" and old.strip("\"'").endswith("deg"):
-        return f'"{math.degrees(v):.15g}deg"'
+    if old.strip("\"'").rstrip().endswith("deg"):
+        deg = degrees_text(v)
+        if deg is not None:
+            return f'"{deg}deg"'
     return _value(float(v))
+
+
+def degrees_text(v: float) -> str | None:
+    """The shortest decimal text of ``v`` [rad] in degrees that reads back (``math.radians``, as the file's
+    ``"...deg"`` is read) as exactly ``v``; None if none within a few units in the last place does."""
+    if not math.isfinite(v):
+        return None
+    d = math.degrees(v)
+    candidates = [d]
+    up = down = d
+    for _ in range(4):                               # radians(degrees(v)) may miss v by an ulp or two
+        up, down = math.nextafter(up, math.inf), math.nextafter(down, -math.inf)
+        candidates += [up, down]
+    best = None
+    for c in candidates:
+        for digits in range(1, 18):
+            text = f"{c:.{digits}g}"
+            if math.radians(float(text)) == v:
+                if best is None or len(text) < len(best):
+                    best = text
+                break
+    if best is not None and "e" in best:              # the file's number pattern: plain decimals read best
+        plain = f"{float(best):.17f}".rstrip("0").rstrip(".")
+        best = plain if math.radians(float(plain)) == v else best
+    return best
 
 
 def edit_parameters(mech) -> str | None:
@@ -104,13 +132,14 @@ def edit_parameters(mech) -> str | None:
         return None
     same = all(math.isclose(values[k], mech.values[k], rel_tol=1e-12, abs_tol=1e-300) for k in mech.values)
     rest = all(getattr(back, f) == getattr(d, f) for f in ("name", "units", "parameter_order", "ground", "order",
-                                                         "output", "inertia"))
+                                                         "output", "inertia", "mass"))
     return out if same and rest and set(values) == set(mech.values) else None
 
 
 def generate(mech) -> str:
-    """The mechanism's definition generated as TOML; parameters hold their current values (file units,
-    angles in radians) so the file reproduces this exact design."""
+    """The mechanism's definition generated as TOML; parameters hold their current values (file units;
+    angles in radians, or in degrees where the file wrote them so and the value reads back exactly) so the
+    file reproduces this exact design."""
     d = mech.definition
     lines = ['format = "linkage/1"', f"name = {_value(d.name)}", f"units = {_value(d.units)}"]
     if d.description:
@@ -120,7 +149,10 @@ def generate(mech) -> str:
         lines += ["", "[parameters]"]
         for p in d.parameter_order:
             v = mech.values[p]
-            lines.append(f"{p} = {_value(int(v) if d.parameter_kind[p] == 'branch' else v)}")
+            raw = d.parameters[p]
+            deg = degrees_text(v) if isinstance(raw, str) and raw.strip().endswith("deg") else None
+            shown = f'"{deg}deg"' if deg is not None else _value(int(v) if d.parameter_kind[p] == 'branch' else v)
+            lines.append(f"{p} = {shown}")
     lines += ["", "[ground]"]
     for g, (x, y) in d.ground.items():
         lines.append(f"{g} = [{_value(x)}, {_value(y)}]")
@@ -134,4 +166,21 @@ def generate(mech) -> str:
         for link, entry in d.inertia.items():
             inner = ", ".join(f"{k} = {_value(float(x))}" for k, x in entry.items())
             lines.append(f"{json.dumps(link)} = {{ {inner} }}")
+    lines += _mass_section(d.mass)
     return "\n".join(lines) + "\n"
+
+
+def _mass_section(mass: dict) -> list[str]:
+    """The ``[mass]`` section (analytic.mass) as TOML lines: its fields, the links' and the counterweights'."""
+    if not mass:
+        return []
+    lines = ["", "[mass]"] + [f"{k} = {_value(v)}" for k, v in mass.items() if k not in ("links", "counterweights")]
+    for link, table in mass.get("links", {}).items():
+        lines += ["", f"[mass.links.{json.dumps(link)}]"] + [f"{k} = {_value(v)}" for k, v in table.items()]
+    if mass.get("counterweights"):
+        lines += ["", "[mass.counterweights]"]
+        for link, entry in mass["counterweights"].items():
+            items = [f"{{ m = {_value(float(w['m']))}, at = {_value([float(x) for x in w['at']])} }}"
+                     for w in (entry if isinstance(entry, list) else [entry])]
+            lines.append(f"{json.dumps(link)} = " + (items[0] if len(items) == 1 else "[" + ", ".join(items) + "]"))
+    return lines

@@ -220,3 +220,27 @@ def _check_run(built: Built, sens: np.ndarray, inputs: dict, viol: np.ndarray, h
                                   f"use --integrator {DEFAULT_INTEGRATOR} (the default) or a smaller --timestep")
         raise SimulationError(f"the {built.name} simulation {what} at t={k * h:.4f} s ({where}): the design is "
                               f"too close to a singular pose there to simulate; move it away or lower the speed")
+
+
+def replay(built: Built, tr: Trajectory, steps, read) -> tuple[np.ndarray, mujoco.MjData]:
+    """``read(data)`` (a flat array) at each recorded step in ``steps`` (indices into the trajectory), after
+    ``mj_forward`` on that step's state and controls: what the rollout computed at the step's start (its
+    sensors' instant), for what ``rollout`` does not return (constraint forces, ``cfrc_int``). Run only when
+    asked (joint forces), so an ordinary simulation costs nothing more. The equality constraints' problem
+    is quadratic, so Newton's solver reaches the same forces from any warm start. Returns the stacked reads
+    (len(steps), width) and the MjData of the last step (for the model's row layout)."""
+    model = built.model
+    steps = np.asarray(steps, dtype=int)
+    data = mujoco.MjData(model)
+    ctrl = controls(built, steps * built.timestep)
+    out = None
+    for row, k in enumerate(steps):
+        data.qpos[:], data.qvel[:], data.act[:] = tr.qpos[k], tr.qvel[k], tr.act[k]
+        data.ctrl[:] = ctrl[row]
+        data.time = k * built.timestep
+        mujoco.mj_forward(model, data)
+        values = read(data)
+        if out is None:
+            out = np.empty((len(steps), len(values)))
+        out[row] = values
+    return (out if out is not None else np.empty((0, 0))), data

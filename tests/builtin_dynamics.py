@@ -1,4 +1,7 @@
-"""Inverse dynamics: the driving torque of each crank from the kinematics, by virtual work.
+"""The built-ins' own inverse dynamics (their textbook closed forms and body frames), an independent check of
+the general drive forces (analytic/applications/torque.py) used by tests only.
+
+Inverse dynamics: the driving torque of each crank from the kinematics, by virtual work.
 
 For a mechanism with driven inputs q_j (one crank, or two for the five-bar) and rigid bodies k of mass
 m_k, centre of mass G_k and moment of inertia I_k about G_k (z axis), the torque on input j is
@@ -15,7 +18,6 @@ written per input, and stays regular where an input speed is zero.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -24,33 +26,12 @@ from analytic.closed_forms import fivebar
 from analytic.closed_forms import fourbar
 from analytic.closed_forms import sixbar
 from analytic._common import ParameterError
+from analytic.mass import Inertia  # noqa: F401  (the bodies' data, as the general code reads it)
 
-__all__ = ["Inertia", "Motion", "INPUTS", "torques", "body_motions"]
+__all__ = ["Motion", "INPUTS", "torques", "body_motions"]
 
 INPUTS = {"fourbar": ("1",), "sixbar": ("1",), "fivebar": ("2", "4")}
 """The driven inputs of each mechanism; their torques are named ``tau1`` or ``tau2``/``tau4``."""
-
-
-@dataclass(frozen=True)
-class Inertia:
-    """Inertial data of one body: mass ``m`` [kg], centre of mass ``(cx, cy)`` [m] in the body's frame
-    (the frames of the MJCF bodies: origin at the body's first joint, x along the link) and moment of
-    inertia ``I`` [kg m^2] about the centre of mass, about z."""
-
-    m: float
-    cx: float
-    cy: float
-    I: float
-
-    def __post_init__(self):
-        for name in ("m", "cx", "cy", "I"):
-            v = getattr(self, name)
-            if not (isinstance(v, (int, float)) and math.isfinite(v)):
-                raise ParameterError(f"inertia {name}={v!r} must be a finite number")
-        if self.m <= 0:
-            raise ParameterError(f"mass m={self.m!r} must be > 0 [kg]")
-        if self.I <= 0:
-            raise ParameterError(f"moment of inertia I={self.I!r} must be > 0 [kg m^2] (about the centre of mass)")
 
 
 @dataclass(frozen=True)

@@ -1,0 +1,174 @@
+"""Files of other linkage tools, opened as ``linkage/1`` mechanisms: Pyslvs-UI projects (``.pyslvs``, YAML),
+bare Pyslvs expressions (``M[J[...], ...]`` in a text file) and PMKS text files.
+
+:func:`detect` tells them apart (by extension, then content); :func:`read` turns one into a
+links-and-joints table (:mod:`analytic.format.joints`), which :func:`dumps` writes as a ``linkage/1`` TOML
+file (``linkage import``) and :func:`definition` reads as a mechanism (every command that takes MECH).
+
+Point names are the source's joints ``J0``, ``J1``, ... (neither tool names its joints), link names the
+source's (``ground`` stays ``ground``; PMKS' spellings of the ground become ``ground``; characters a name
+cannot hold become ``_``; a pin-in-slot joint ``Jn`` adds its block ``Jn_block``). Neither format has units:
+the file's unit is ``mm`` unless told otherwise. Inputs move at the format's defaults: a crank one turn
+per second (``omega = "360deg"``), a slider a tenth of the mechanism's size per second.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import re
+import stat
+from pathlib import Path
+
+from analytic._common import FileError
+from analytic.format import joints, pmks, pyslvs
+
+MAX_FILE_BYTES = 1 << 20          # as linkfile.MAX_FILE_BYTES
+PYSLVS_PROJECT, PYSLVS_EXPRESSION, PMKS_TEXT = "Pyslvs project", "Pyslvs expression", "PMKS text"
+UNITS = ("m", "mm", "cm", "in")   # as linkfile.UNITS
+DEFAULT_UNITS = "mm"
+
+
+def _raw(path: Path) -> bytes:
+    source = str(path)
+    try:
+        st = path.stat()
+        if not stat.S_ISREG(st.st_mode):
+            raise FileError(f"{source} is not a regular file; give a mechanism file")
+        with open(path, "rb") as fh:
+            raw = fh.read(MAX_FILE_BYTES + 1)
+    except OSError as exc:
+        raise FileError(f"{source}: cannot read it ({exc.strerror or exc})") from None
+    if len(raw) > MAX_FILE_BYTES:
+        raise FileError(f"{source} is over {MAX_FILE_BYTES} bytes; a mechanism file is at most that")
+    return raw
+
+
+def _text(raw: bytes, source: str) -> str:
+    try:
+        return raw.decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        raise FileError(f"{source}: not UTF-8 text (byte 0x{raw[exc.start]:02x} at offset {exc.start}); save it as "
+                        f"UTF-8") from None
+
+
+def detect(path: str | Path) -> str | None:
+    """Which tool's file ``path`` is: :data:`PYSLVS_PROJECT`, :data:`PYSLVS_EXPRESSION`, :data:`PMKS_TEXT`,
+    or None for a ``linkage/1`` file (``.toml``, ``.json``, or anything else that reads as none of them)."""
+    p = Path(path)
+    suffix = p.suffix.lower()
+    if suffix in (".toml", ".json"):
+        return None
+    if suffix == ".pyslvs":
+        return PYSLVS_PROJECT
+    if not p.is_file():
+        return None
+    try:
+        with open(p, "rb") as fh:
+            head = fh.read(MAX_FILE_BYTES)
+    except OSError:
+        return None
+    try:
+        text = head.decode("utf-8-sig")
+    except UnicodeDecodeError:
+        return None
+    if pyslvs.is_expression(text):
+        return PYSLVS_EXPRESSION
+    if re.search(r"(?m)^\s*mechanism\s*:", text) and "M[" in text:
+        return PYSLVS_PROJECT
+    if suffix == ".pmks":
+        raise FileError(f"{path}: a PMKS JSON file (.pmks) is not read; open it in PMKS and save the text form "
+                        f"(one joint per line)")
+    if pmks.looks_like(text):
+        return PMKS_TEXT
+    return None
+
+
+def _name(stem: str) -> str:
+    name = re.sub(r"[^A-Za-z0-9_]+", "_", stem).strip("_")
+    return name if name and name[0].isalpha() else f"m_{name}" if name else "imported"
+
+
+def _size(form: dict) -> float:
+    xy = list(form["pose"].values())
+    return max((math.dist(a, b) for i, a in enumerate(xy) for b in xy[i + 1:]), default=0.0)
+
+
+def read(path: str | Path, inputs: list[tuple[int, int]] | None = None, units: str = DEFAULT_UNITS,
+         kind: str | None = None) -> dict:
+    """The links-and-joints table of another tool's file (see the module docstring); ``inputs`` (Pyslvs
+    (base, driver) pairs) replace a project's and are needed for a bare expression."""
+    p = Path(path)
+    source = str(path)
+    kind = kind or detect(p)
+    if kind is None:
+        raise FileError(f"{source}: neither a Pyslvs project or expression nor a PMKS text file")
+    if units not in UNITS:
+        raise FileError(f"unit {units!r} is not one of {', '.join(UNITS)}")
+    raw = _raw(p)
+    if kind == PYSLVS_PROJECT:
+        expression, pairs = pyslvs.read_project(raw, source)
+        if inputs is not None:
+            pairs = inputs
+        form = pyslvs.to_form(pyslvs.parse_expression(expression, source), pairs, source)
+    elif kind == PYSLVS_EXPRESSION:
+        if not inputs:
+            raise FileError(f"{source}: a bare Pyslvs expression has no inputs; import it with 'linkage import "
+                            f"{source} --input BASE,DRIVER --out FILE.toml'")
+        form = pyslvs.to_form(pyslvs.parse_expression(_text(raw, source), source), inputs, source)
+    else:
+        if inputs:
+            raise FileError(f"{source}: a PMKS file names its own driving joint; --input is for Pyslvs expressions")
+        form = pmks.to_form(_text(raw, source), source)
+    if not form["inputs"]:
+        raise FileError(f"{source}: the project has no input; give one with --input BASE,DRIVER")
+    size = _size(form)
+    for item in form["inputs"]:
+        if item["kind"] == "slider":
+            item["v"] = float(f"{0.1 * size:.3g}")
+        else:
+            item["omega"] = joints.DEFAULT_OMEGA
+    out = {"format": "linkage/1", "name": _name(p.stem), "units": units,
+           "description": f"imported from the {kind} {p.name}"}
+    out.update(form)
+    return out
+
+
+def definition(path: str | Path, inputs=None, units: str = DEFAULT_UNITS):
+    """Another tool's file as a :class:`~analytic.format.linkfile.Definition`."""
+    from analytic.format import linkfile
+    return linkfile.from_data(read(path, inputs, units), str(path), _name(Path(path).stem))
+
+
+# --------------------------------------------------------------------------------------------- writing
+def _value(v) -> str:
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, int):
+        return str(v)
+    if isinstance(v, float):
+        return repr(v)
+    if isinstance(v, (list, tuple)):
+        return "[" + ", ".join(_value(x) for x in v) + "]"
+    if isinstance(v, dict):
+        return "{ " + ", ".join(f"{_key(k)} = {_value(x)}" for k, x in v.items()) + " }"
+    return json.dumps(str(v))
+
+
+def _key(k: str) -> str:
+    return k if re.match(r"^[A-Za-z0-9_-]+$", k) else json.dumps(k)
+
+
+def dumps(data: dict) -> str:
+    """A links-and-joints table as ``linkage/1`` TOML text."""
+    lines = []
+    for k in ("format", "name", "units", "description", "output"):
+        if k in data:
+            lines.append(f"{k} = {_value(data[k])}")
+    for k in ("parameters", "ground", "pose"):
+        if data.get(k):
+            lines += ["", f"[{k}]"] + [f"{_key(n)} = {_value(v)}" for n, v in data[k].items()]
+    for k in ("links", "joints", "inputs", "groups"):
+        for item in data.get(k, []):
+            lines += ["", f"[[{k}]]"] + [f"{_key(n)} = {_value(v)}" for n, v in item.items()]
+    return "\n".join(lines) + "\n"

@@ -1,0 +1,267 @@
+"""Pyslvs mechanisms: a bare expression (``M[J[R, P[0, 0], L[ground, L1]], ...]``) or a Pyslvs-UI project
+(``.pyslvs``, YAML), read into the links-and-joints form (:mod:`analytic.format.joints`).
+
+The expression grammar, as Pyslvs documents it (read from its parser's grammar; no code taken)::
+
+    mechanism : "M[" [joint ("," joint)* [","]] "]"
+    joint     : "J[" type ["," "A[" number "]"] ["," "color[" colour "]"] "," "P[" x "," y "]"
+                "," "L[" [name ("," name)* [","]] "]" "]"
+    type      : "RP" | "R" | "P"
+
+with ``#`` line comments and ``#[ ... #]`` block comments. Joints have no names: the n-th joint is point
+``Jn`` (``J0``, ``J1``, ...); links are the names in ``L[...]``, ``ground`` the frame. Meaning:
+
+* ``R`` with links a, b, c...: the links are pinned together at the point; with one link, a point on it;
+* ``P`` with links [guide, block]: the block slides on the guide without turning, along ``A[deg]`` (the
+  slide's direction in the drawn pose); the point is on the block;
+* ``RP`` with links [slot, pin, ...]: a pin in a slot: an implicit block ``Jn_block`` slides in the slot
+  link and the pin links are pinned to it at the point.
+
+A project's inputs are pairs ``(base, driver)`` of joint indices: ``base != driver`` turns the link both
+joints share about ``Jbase`` (the input is the angle of ``Jbase -> Jdriver``); ``base == driver`` drives the
+slider at ``Jbase`` along its guide.
+"""
+
+from __future__ import annotations
+
+import re
+
+from analytic._common import FileError
+from analytic.kinds.base import GROUND
+
+_NUMBER = re.compile(r"[-+]?(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][-+]?\d+)?")
+_NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
+_COLOUR = re.compile(r"\(\s*\d+\s*,\s*\d+\s*,\s*\d+\s*\)|[A-Za-z][A-Za-z-]*")
+_BLOCK_COMMENT = re.compile(r"#\[[\s\S]*#\][^\n]*")   # greedy, as Pyslvs' grammar
+_LINE_COMMENT = re.compile(r"#[^\n]*")
+
+
+def strip_comments(text: str) -> str:
+    """The text with its comments blanked out (line breaks kept, so positions stay where they were)."""
+    def blank(m):
+        return re.sub(r"[^\n]", " ", m.group(0))
+    return _LINE_COMMENT.sub(blank, _BLOCK_COMMENT.sub(blank, text))
+
+
+def is_expression(text: str) -> bool:
+    """Whether a text is a bare Pyslvs expression (``M[`` first, after comments)."""
+    return strip_comments(text).lstrip().startswith("M[")
+
+
+class _Parser:
+    def __init__(self, text: str, source: str):
+        self.s = strip_comments(text)
+        self.i = 0
+        self.source = source
+
+    def skip(self):
+        while self.i < len(self.s) and self.s[self.i].isspace():
+            self.i += 1
+
+    def fail(self, expected: str) -> FileError:
+        self.skip()
+        line = self.s.count("\n", 0, self.i) + 1
+        column = self.i - (self.s.rfind("\n", 0, self.i) + 1) + 1
+        near = self.s[self.i:self.i + 20].split("\n")[0] or "the end"
+        return FileError(f"{self.source}: not a Pyslvs expression: expected {expected} at line {line}, column "
+                         f"{column} (near {near!r}); the expression is M[J[type, P[x, y], L[links]], ...]")
+
+    def take(self, literal: str) -> bool:
+        self.skip()
+        if self.s.startswith(literal, self.i):
+            self.i += len(literal)
+            return True
+        return False
+
+    def need(self, literal: str):
+        if not self.take(literal):
+            raise self.fail(repr(literal))
+
+    def match(self, pattern: re.Pattern, expected: str) -> str:
+        self.skip()
+        m = pattern.match(self.s, self.i)
+        if not m:
+            raise self.fail(expected)
+        self.i = m.end()
+        return m.group(0)
+
+    def number(self) -> float:
+        return float(self.match(_NUMBER, "a number"))
+
+    def mechanism(self) -> list[tuple[str, float | None, tuple[float, float], list[str]]]:
+        self.need("M[")
+        joints = []
+        while not self.take("]"):
+            joints.append(self.joint())
+            if not self.take(","):
+                self.need("]")
+                break
+        self.skip()
+        if self.i != len(self.s):
+            raise self.fail("the end after M[...]")
+        return joints
+
+    def joint(self):
+        self.need("J[")
+        kind = "RP" if self.take("RP") else "R" if self.take("R") else "P" if self.take("P") else None
+        if kind is None:
+            raise self.fail("a joint type R, P or RP")
+        self.need(",")
+        angle = None
+        if self.take("A["):
+            angle = self.number()
+            self.need("]")
+            self.need(",")
+        if self.take("color["):
+            self.match(_COLOUR, "a colour")
+            self.need("]")
+            self.need(",")
+        self.need("P[")
+        x = self.number()
+        self.need(",")
+        y = self.number()
+        self.need("]")
+        self.need(",")
+        self.need("L[")
+        links = []
+        while not self.take("]"):
+            links.append(self.match(_NAME, "a link name"))
+            if not self.take(","):
+                self.need("]")
+                break
+        self.need("]")
+        return kind, angle, (x, y), links
+
+
+def parse_expression(text: str, source: str) -> list[tuple[str, float | None, tuple[float, float], list[str]]]:
+    """The joints of an expression: (type, angle in degrees or None, (x, y), links) each."""
+    return _Parser(text, source).mechanism()
+
+
+def to_form(joints, inputs, source: str) -> dict:
+    """The links-and-joints tables (``pose``, ``links``, ``joints``, ``inputs``) of a Pyslvs mechanism with
+    its input pairs (base, driver)."""
+    form, on, pjoints = form_of_joints(joints, source)
+    form["inputs"] = [_input(pair, joints, on, pjoints, source) for pair in inputs]
+    return form
+
+
+def form_of_joints(joints, source: str) -> tuple[dict, dict, list]:
+    """The ``pose``, ``links`` and ``joints`` tables of joints drawn at points, Pyslvs' and PMKS' way: each
+    (type R, P or RP; angle [deg] or None; (x, y); links, the guide first for P and RP) is point ``Jn``.
+    Also returns each point's links and the P joints."""
+    if not joints:
+        raise FileError(f"{source}: the expression has no joint")
+    pose, links, rjoints, pjoints = {}, {}, [], []
+    on: dict[str, list[str]] = {}                          # point -> links it is on (as the joints say)
+
+    def link(name):
+        if name != GROUND:
+            links.setdefault(name, [])
+        return name
+
+    for k, (kind, angle, xy, ls) in enumerate(joints):
+        p = f"J{k}"
+        pose[p] = list(xy)
+        if len(set(ls)) != len(ls):
+            raise FileError(f"{source}: joint {p} names a link twice ({', '.join(ls)}); name each once")
+        ls = [link(x) for x in ls]
+        if kind == "R":
+            if not ls:
+                raise FileError(f"{source}: joint {p} is a free point (L[] names no link), which a linkage cannot "
+                                f"move; put it on a link")
+            if len(ls) == 1:                                  # a point on one link (a tracer)
+                if ls[0] != GROUND:
+                    links[ls[0]].append(p)
+                on.setdefault(p, []).append(ls[0])
+            else:
+                rjoints.append({"kind": "R", "point": p, "links": ls})
+                on.setdefault(p, []).extend(ls)
+            continue
+        if angle is None:
+            raise FileError(f"{source}: joint {p} is a {kind} joint without its slide angle A[degrees]; add it")
+        if len(ls) < 2:
+            raise FileError(f"{source}: joint {p} is a {kind} joint on {len(ls)} link(s); a slider joins a guide link "
+                            f"and a block")
+        slot, pins = ls[0], ls[1:]
+        direction = {"angle": f"{angle:g}deg"}
+        if kind == "P":
+            if len(pins) > 1:
+                raise FileError(f"{source}: joint {p} is a P joint on {len(ls)} links ({', '.join(ls)}); a prismatic "
+                                f"pair joins two links: split it")
+            block = pins[0]
+            if block == GROUND:
+                slot, block = block, slot                     # a P joint is the same either way round
+            pjoints.append({"kind": "P", "point": p, "guide": slot, "block": block, **direction})
+            on.setdefault(p, []).append(block)
+            continue
+        block = f"{p}_block"
+        links[block] = [p]
+        pjoints.append({"kind": "P", "point": p, "guide": slot, "block": block, **direction})
+        rjoints.append({"kind": "R", "point": p, "links": [block] + pins})
+        on.setdefault(p, []).extend([block] + pins)
+    ground = [p for p, ls in on.items() if GROUND in ls and not any(j["point"] == p for j in rjoints)]
+    out_links = []
+    if ground:
+        out_links.append({"name": GROUND, "points": ground})
+    out_links += [{"name": n, **({"points": pts} if pts else {})} for n, pts in links.items()]
+    return {"pose": pose, "links": out_links, "joints": rjoints + pjoints}, on, pjoints
+
+
+def _input(pair, joints, on, pjoints, source: str) -> dict:
+    try:
+        base, driver = (int(x) for x in pair)
+    except (TypeError, ValueError):
+        raise FileError(f"{source}: input {pair!r} is not a pair of joint numbers (base, driver)") from None
+    n = len(joints)
+    for x in (base, driver):
+        if not 0 <= x < n:
+            raise FileError(f"{source}: input ({base}, {driver}): there is no joint {x} (joints J0 to J{n - 1})")
+    b, d = f"J{base}", f"J{driver}"
+    if base == driver:
+        pj = next((j for j in pjoints if j["point"] == b), None)
+        if pj is None:
+            raise FileError(f"{source}: input ({base}, {driver}) drives J{base} along a slot, but J{base} is no P or RP "
+                            f"joint")
+        if pj["guide"] != GROUND:
+            raise FileError(f"{source}: input ({base}, {driver}) drives the slider at {b} along link {pj['guide']}; "
+                            f"only a slider on a ground guide can be driven")
+        return {"kind": "slider", "point": b}
+    if GROUND not in on.get(b, []):
+        raise FileError(f"{source}: input ({base}, {driver}) turns about {b}, which is not on the ground; only a "
+                        f"crank about a ground pivot can be driven")
+    shared = [x for x in joints[base][3] if x in joints[driver][3] and x != GROUND]
+    if len(shared) != 1:
+        raise FileError(f"{source}: input ({base}, {driver}): {b} and {d} share {len(shared) or 'no'} moving link(s) "
+                        f"({', '.join(shared)}); the input turns the one link they share")
+    if shared[0] not in on.get(d, []) or shared[0] not in on.get(b, []):
+        raise FileError(f"{source}: input ({base}, {driver}): link {shared[0]} is the slot of a slider at {b} or {d}; "
+                        f"drive a link pinned at both")
+    return {"kind": "crank", "pivot": b, "point": d, "link": shared[0]}
+
+
+def read_project(raw: bytes, source: str) -> tuple[str, list]:
+    """The expression and the input pairs of a Pyslvs-UI project file (YAML; a pickled one is refused)."""
+    import yaml
+    if raw[:1] == b"\x80":
+        raise FileError(f"{source} is a pickled Pyslvs project (binary), which is never loaded (it could run code); "
+                        f"save it from Pyslvs-UI as a YAML project")
+    try:
+        text = raw.decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        raise FileError(f"{source}: not UTF-8 text (byte 0x{raw[exc.start]:02x} at offset {exc.start}); a Pyslvs "
+                        f"project is YAML") from None
+    try:
+        data = yaml.safe_load(text)
+    except yaml.YAMLError as exc:
+        mark = getattr(exc, "problem_mark", None)
+        where = f" (line {mark.line + 1})" if mark is not None else ""
+        raise FileError(f"{source}: not valid YAML{where}; a Pyslvs project is YAML") from None
+    except RecursionError:
+        raise FileError(f"{source}: nested too deeply; a Pyslvs project nests a few levels only") from None
+    if not isinstance(data, dict) or not isinstance(data.get("mechanism"), str):
+        raise FileError(f"{source}: a Pyslvs project needs 'mechanism: M[...]' (its expression)")
+    pairs = data.get("input") or []
+    if not isinstance(pairs, list) or len(pairs) > 100:
+        raise FileError(f"{source}: 'input' must be a list of [base, driver] pairs")
+    return data["mechanism"], pairs

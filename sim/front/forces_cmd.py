@@ -1,0 +1,76 @@
+"""`linkage forces MECH`: every joint's force, the drives, the shaking force and moment (SPEC, "Forces")."""
+
+from __future__ import annotations
+
+from analytic import ParameterError
+
+
+def register(sub, add_common, add_sim_options, add_video_options) -> None:
+    from sim.output.units import add_unit_options
+    p = sub.add_parser("forces", help="forces in every joint, the drives, the shaking force; balancing")
+    add_common(p)
+    add_sim_options(p)
+    p.add_argument("--samples", type=int, default=361, metavar="N", help="samples (default 361)")
+    p.add_argument("--json", action="store_true", help="print one JSON object (SI unless --units/--angles)")
+    p.add_argument("--csv", metavar="PATH", help="write every sample as CSV (units in PATH.units.json)")
+    p.add_argument("--balance", nargs="?", const="", default=None, metavar="LINK,LINK",
+                   help="counterweights minimising the RMS shaking force (a four-bar: full force balance); on the "
+                        "links named (default: those pivoted at the ground); before/after reported")
+    p.add_argument("--simulate", action="store_true",
+                   help="also run the MuJoCo model and compare its joint forces with the analytic ones")
+    add_unit_options(p)
+    p.set_defaults(func=cmd_forces)
+
+
+def balance_links(text: str | None):
+    """``--balance``: None (not asked), () (the default links) or the named links."""
+    if text is None:
+        return None
+    names = tuple(x.strip() for x in text.split(",") if x.strip())
+    if text.strip() and not names:
+        raise ParameterError(f"--balance {text!r}: give link names separated by commas (e.g. --balance 1,3)")
+    return names
+
+
+def cmd_forces(args) -> int:
+    import json
+    from sim import service
+    from sim.front.cli import check_outputs, loads_from, mechanism_from, parse_range, settings_from
+    from sim.output.io import write_csv, write_text
+    from sim.output.jsonout import dumps
+    from sim.output.units import machine_units, shown_units
+    check_outputs(args, {"csv": (".csv",)})
+    mech = mechanism_from(args)
+    loads = loads_from(args, mech)
+    run = service.forces_run(mech, args.samples, args.revolutions, parse_range(mech, args.input_range),
+                             loads.gravity, loads.force, loads.slow_stroke_only, loads.inertias,
+                             balance_links(args.balance))
+    display = machine_units(args)
+    simulated = service.simulated_forces(run, settings_from(args), loads, display) if args.simulate else None
+    if args.csv:
+        cols, qty = service.forces_columns(run)
+        write_csv(args.csv, {c: display.convert(qty[c], v) for c, v in cols.items()})
+        write_text(f"{args.csv}.units.json", json.dumps(
+            {"mechanism": mech.name, "parameters": mech.parameters, "file_units": mech.units, "si": display.is_si,
+             "units": {c: display.unit(q) for c, q in qty.items()}}, indent=2) + "\n")
+    if args.json:
+        record = service.forces_record(run, display)
+        if simulated is not None:
+            record["simulated"] = simulated
+        if args.csv:
+            record["csv"] = args.csv
+        print(dumps(record))
+    else:
+        print(service.forces_table(run, shown_units(args, mech)))
+        if simulated is not None:
+            a = simulated["agreement"]
+            plain = ", the file's masses without the counterweights" if run.balance is not None else ""
+            print(f"  MuJoCo ({simulated['steps']} steps of {simulated['timestep']:.3g} s{plain}): joint forces within "
+                  f"{a['worst']:.2e} of the peak {a['peak']:.4g} N ({a['worst_of']}; median {a['median']:.2e}), "
+                  f"tolerance {a['tol']:.0e}: {'PASSED' if simulated.get('passed') else 'FAILED'}")
+        if args.csv:
+            print(f"wrote {args.csv} ({len(run.t)} rows)")
+    return 0 if simulated is None or simulated.get("passed", False) else 1
+
+
+__all__ = ["register", "cmd_forces", "balance_links"]

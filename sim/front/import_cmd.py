@@ -1,0 +1,57 @@
+"""`linkage import SOURCE --out FILE.toml`: a Pyslvs project or expression, or a PMKS text file, written as a
+``linkage/1`` file in the links-and-joints form (SPEC, "linkages as users draw them")."""
+
+from __future__ import annotations
+
+from analytic import ParameterError
+from analytic.format import foreign, joints, linkfile
+
+
+def parse_input(text: str) -> tuple[int, int]:
+    """``BASE,DRIVER``: a Pyslvs input pair of joint numbers."""
+    parts = text.split(",")
+    try:
+        base, driver = (int(x) for x in parts)
+    except ValueError:
+        raise ParameterError(f"--input {text!r} is not BASE,DRIVER (two joint numbers, e.g. --input 0,1)") from None
+    if base < 0 or driver < 0:
+        raise ParameterError(f"--input {text!r}: joint numbers start at 0")
+    return base, driver
+
+
+def register(sub, add_common, add_sim_options, add_video_options) -> None:
+    p = sub.add_parser("import", help="write a Pyslvs project or expression, or a PMKS file, as a linkage/1 file")
+    p.add_argument("mechanism", metavar="SOURCE",
+                   help="a Pyslvs-UI project (.pyslvs), a text file holding a Pyslvs expression M[...], or a PMKS "
+                        "text file")
+    p.add_argument("--out", required=True, metavar="FILE.toml", help="the linkage/1 file to write")
+    p.add_argument("--input", dest="inputs", action="append", default=[], metavar="BASE,DRIVER",
+                   help="a Pyslvs input (repeatable): turn the link joints BASE and DRIVER share about BASE "
+                        "(BASE,BASE: drive the slider at BASE); replaces a project's inputs")
+    p.add_argument("--units", default=foreign.DEFAULT_UNITS, choices=foreign.UNITS,
+                   help=f"the length unit of the source's numbers (default {foreign.DEFAULT_UNITS}: neither "
+                        f"format stores one)")
+    p.set_defaults(func=cmd_import)
+
+
+def cmd_import(args) -> int:
+    from sim.front.cli import check_outputs
+    from sim.output.io import write_text
+    source = args.mechanism
+    check_outputs(args, {"out": (".toml",)})
+    kind = foreign.detect(source)
+    if kind is None:
+        raise ParameterError(f"{source}: not a Pyslvs project (.pyslvs), a Pyslvs expression (M[...]) or a PMKS text "
+                             f"file (joint lines such as 'ground,input,R,0,0')")
+    inputs = [parse_input(t) for t in args.inputs] or None
+    data = foreign.read(source, inputs, args.units, kind)
+    text = foreign.dumps(data)
+    d = linkfile.from_data(data, source)        # a mechanism (else one line naming the source), and the file
+    linkfile.parse(text, args.out)              # as written reads back as one
+    groups = joints.structure(data, source, linkfile.parameter_values(d))
+    write_text(args.out, text)
+    points = len(data["pose"])
+    print(f"wrote {args.out}: {kind} {source} as {points} points, {len(data['links'])} link entries, "
+          f"{len(data['joints'])} joints; units {args.units}")
+    print("  " + "; ".join(groups))
+    return 0

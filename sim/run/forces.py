@@ -1,0 +1,514 @@
+"""MuJoCo's joint forces: every joint of the topology, each drive, each gear pair and the shaking force and
+moment, read from the simulated model and compared with the analytic kinetostatics
+(:mod:`analytic.applications.forces`).
+
+Where each comes from, at a recorded instant (the step's state re-evaluated by ``mj_forward``, see
+:func:`sim.run.simulate.replay`):
+
+- a loop closure (a ``connect`` equality between site1 on one body and site2 on another): its constraint
+  force ``efc_force`` (3 world-frame rows, MuJoCo's residual is pos(site1) - pos(site2)) acts as +f on the
+  body of site1 and -f on the body of site2;
+- a tree joint (a hinge or a slide between a parent and a child body): the child's ``cfrc_int`` (by
+  ``mj_rnePostConstraint``, which the model's acceleration sensors trigger): the spatial force [torque,
+  force] the parent exerts on the child, in the world orientation about the subtree's centre of mass
+  ``subtree_com[body_rootid]``, moved here onto the joint's point. ``cfrc_int`` is the recursive
+  Newton-Euler sum over the child's subtree of (inertial force - external force), where the external forces
+  ``cfrc_ext`` hold the loops' constraint forces (measured: the connect's +f and -f appear there) and gravity
+  enters as the world's acceleration -g; the external load is a site actuator, which MuJoCo applies in joint
+  space (``qfrc_actuator``), not in ``cfrc_ext``: its wrench is taken out of ``cfrc_int`` here for every body
+  whose subtree carries it;
+- a drive: the actuator's force less its rotor's inertia (``armature x qacc``), i.e. what reaches the link,
+  as the analytic drive is defined (a crank's torque on its link, a slider's force on its block along the
+  guide);
+- a gear pair (a tendon equality over the hinges, sim.model.build.Context.couple): its constraint force
+  ``lambda`` (the tendon phi_link - (1 - ratio) phi_carrier - ratio phi_mesh gives couples lambda,
+  -ratio lambda, (ratio - 1) lambda on link, mesh and carrier: the analytic convention as it stands);
+- the shaking force and moment: minus what the ground exerts on the moving links, i.e. the tree joints at
+  the ground (their whole interaction wrench: bearing force, a drive's torque, a guide's couple, a gear's
+  couple on a ground hinge) and the loops closed at a ground point.
+
+The joints follow SPEC's convention: ``Fx, Fy`` is the force ``links[0]`` (``a``) exerts on ``links[1]``
+(``b``); a prismatic pair's is the whole force across the pair less a driven slider's push, so a force
+along an undriven guide (there should be none) shows up as an error, and ``M`` the couple the guide exerts on
+the block about the block's pin.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import mujoco
+import numpy as np
+
+from analytic.applications import forces as F
+from analytic.kinds import GROUND
+
+FORCE_TOL = 1e-4
+"""[of the peak joint force of the run] MuJoCo's joint forces against the analytic ones at the simulated
+inputs, per sample: what separates them is the simulated state's error (accelerations within 1e-3 of their
+scale by the verdict, measured 1e-7 to 5e-6: the joint forces are mostly inertial and scale with them) and
+the regulariser's leak, R / (J M^-1 J') ~ 1e-10 of the constraint force with R shrunk by
+sim.model.REGULARIZATION_SCALE (larger only near a singular pose). Couples, drive torques and gear moments
+are judged against the peak joint force times the size L (the scale of a moment), a drive also against its
+own peak where that is larger."""
+
+IDENTITY_TOL = 1e-8
+"""[of a drive's scale (as FORCE_TOL's)] the Newton-Euler drive against the power balance
+(analytic/applications/torque.py) at the same inputs: two eliminations of the same equations, whose rounding
+(measured 1e-15 of the peak on the library, tests/test_forces.py) grows as 1/sin of a group's transmission
+angle; what is left above that is a fault."""
+
+WORLD = "world"
+
+
+@dataclass(frozen=True)
+class Tree:
+    """A joint carried by a tree joint of the model: the child body, the parent body, the sign that turns
+    the child's interaction force into the force ``a`` exerts on ``b`` (+1 when the child is ``b``)."""
+
+    joint: int
+    child: int
+    parent: int
+    sign: float
+    slide: bool
+
+
+@dataclass(frozen=True)
+class Closure:
+    """A joint closed by a loop's connect: its efc rows come from equality ``eq``; ``sign`` turns +f (on the
+    body of site1) into the force ``a`` exerts on ``b``."""
+
+    joint: int
+    eq: int
+    sign: float
+    ground_body: int
+    """The body on the moving side when the other side is the ground (-1 otherwise)."""
+
+
+@dataclass(frozen=True)
+class Layout:
+    """Where every force of the model is read, built once per model."""
+
+    trees: tuple
+    closures: tuple
+    drives: tuple
+    """(input link, actuator id, dof, sign onto the driven link) of each input."""
+    couplings: tuple
+    """Equality id of each gear pair's tendon equality, in the topology's order."""
+    sites: tuple
+    """Site id of each joint's point (its carrier's site)."""
+    load_site: int
+    load_actuator: int
+    load_bodies: np.ndarray
+    """1 for every body whose subtree holds the load's site (its cfrc_int carries the load), else 0."""
+    roots: np.ndarray
+    """body_rootid of every body."""
+    ground_children: tuple
+
+
+def layout(built) -> Layout:
+    """The reading plan of ``built``'s model: which tree joint or loop carries each topology joint, with its
+    sign, the drives' actuators and dofs, the gear pairs' equalities, the load's site and carrier chain."""
+    model, mech = built.model, built.mech
+    topo = mech.topology
+    index = {j.name: k for k, j in enumerate(topo.joints)}
+
+    def body(link: str) -> int:
+        return model.body(WORLD if link == GROUND else link).id
+
+    trees = []
+    for parent, child, j in topo.tree:
+        sign = 1.0 if child == j.b else -1.0
+        trees.append(Tree(index[j.name], body(child), body(parent), sign, j.kind == "prismatic"))
+    closures = []
+    for lp, tl in zip(built.loops, topo.loops):
+        j = tl.joint
+        b1 = int(model.site_bodyid[model.site(lp.site1).id])
+        b2 = int(model.site_bodyid[model.site(lp.site2).id])
+        sign = 1.0 if b1 == body(j.b) else -1.0
+        if b1 != body(j.b) and b2 != body(j.b):
+            raise RuntimeError(f"loop {lp.name}: neither site is on link {j.b}")
+        moving = b2 if b1 == 0 else b1 if b2 == 0 else -1
+        closures.append(Closure(index[j.name], model.equality(lp.name).id, sign, moving))
+    drives = []
+    for d in built.drives:
+        jid = model.joint(d.joint).id
+        child = int(model.jnt_bodyid[jid])
+        jt = next(j for j in topo.joints if j.name == d.joint)
+        drives.append((d.input.link, model.actuator(d.actuator).id, int(model.jnt_dofadr[jid]),
+                       1.0 if child == body(jt.b) else -1.0))
+    couplings = []
+    for c in topo.couplings:
+        couplings.append(model.equality(f"couple_gear_{c.link}").id)
+    sites = tuple(model.site(j.point).id for j in topo.joints)
+    load_site = model.site(mech.output_point).id
+    carrier = int(model.site_bodyid[load_site])
+    chain = np.zeros(model.nbody)
+    b = carrier
+    while b != 0:
+        chain[b] = 1.0
+        b = int(model.body_parentid[b])
+    ground_children = tuple(t for t in trees if t.parent == 0)
+    return Layout(tuple(trees), tuple(closures), tuple(drives), tuple(couplings), sites, load_site,
+                  model.actuator("load").id, chain, np.asarray(model.body_rootid).copy(), ground_children)
+
+
+@dataclass(frozen=True)
+class Record:
+    """The raw MuJoCo quantities at each replayed instant (arrays over the instants first)."""
+
+    cfrc_int: np.ndarray      # (N, nbody, 6)
+    subtree_com: np.ndarray   # (N, nbody, 3)
+    site_xpos: np.ndarray     # (N, nsite, 3)
+    efc_force: np.ndarray     # (N, nefc)
+    efc_id: np.ndarray        # (nefc,)  equality id of each row (all rows are equality rows)
+    actuator_force: np.ndarray  # (N, nu)
+    qacc: np.ndarray          # (N, nv)
+    xaxis: np.ndarray         # (N, njnt, 3)
+
+
+def settle(model, data) -> None:
+    """Replace the primal solver's constraint forces of the current ``mj_forward`` by MuJoCo's constraint model
+    solved in its dual form, f = (A + R)^-1 (aref - J qacc_smooth), A = J M^-1 J' (MuJoCo's documented
+    unconstrained minimiser; all rows are equalities, so it is the solution), then qacc = qacc_smooth +
+    M^-1 J' f and ``mj_rnePostConstraint`` again so that ``cfrc_int`` and ``cfrc_ext`` hold these forces.
+
+    Why: the primal Newton solver returns an accurate qacc but gives the force as f = D (aref - J qacc) with
+    D = 1/R ~ 5e9 (the regulariser shrunk by sim.model.REGULARIZATION_SCALE): the force is a residual of
+    1e-10 times the accelerations, amplified by D, and its rounding left 7 % errors in a loop's force where
+    a drive's rotor torque (armature x qacc) reached 1e4 times the link torques (a rocking four-bar at its
+    turnaround), with M qacc - qfrc - J' f = 3e-3 N m. The dual solve is conditioned like A itself."""
+    n = data.nefc
+    if n:
+        nv = model.nv
+        if mujoco.mj_isSparse(model):
+            J = np.zeros((n, nv))
+            mujoco.mju_sparse2dense(J, data.efc_J, data.efc_J_rownnz[:n], data.efc_J_rowadr[:n],
+                                    data.efc_J_colind)
+        else:
+            J = data.efc_J[:n * nv].reshape(n, nv)
+        X = np.empty((n, nv))
+        mujoco.mj_solveM(model, data, X, J)                   # rows: M^-1 J_i'
+        A = J @ X.T
+        A.flat[::n + 1] += data.efc_R[:n]
+        rhs = data.efc_aref[:n] - J @ data.qacc_smooth
+        mujoco.mju_cholFactor(A, 0.0)                         # A + R is positive definite (R > 0)
+        f = np.empty(n)
+        mujoco.mju_cholSolve(f, A, rhs)
+        data.efc_force[:n] = f
+        data.qacc[:] = data.qacc_smooth + f @ X
+        data.qfrc_constraint[:] = f @ J
+    mujoco.mj_rnePostConstraint(model, data)
+
+
+def reader(model):
+    """The function :func:`sim.run.simulate.replay` calls at each instant: :func:`settle`, then a flat copy of
+    what :class:`Record` holds (the efc rows are all equality rows in a model without contacts or limits)."""
+    def read(data):
+        settle(model, data)
+        return np.concatenate([data.cfrc_int.ravel(), data.subtree_com.ravel(), data.site_xpos.ravel(),
+                               data.efc_force[:data.nefc], data.actuator_force, data.qacc, data.xaxis.ravel()])
+    return read
+
+
+def unpack(model, rows: np.ndarray, data) -> Record:
+    """Split the stacked reads of :func:`reader` into a :class:`Record`."""
+    n = len(rows)
+    nb, ns, nu, nv, nj = model.nbody, model.nsite, model.nu, model.nv, model.njnt
+    nefc = rows.shape[1] - (nb * 9 + ns * 3 + nu + nv + nj * 3)
+    sizes = [nb * 6, nb * 3, ns * 3, nefc, nu, nv, nj * 3]
+    parts = np.split(rows, np.cumsum(sizes)[:-1], axis=1)
+    types = np.asarray(data.efc_type[:nefc])
+    if np.any(types != mujoco.mjtConstraint.mjCNSTR_EQUALITY):
+        raise RuntimeError("the model has constraint rows other than equalities (contacts or limits)")
+    return Record(parts[0].reshape(n, nb, 6), parts[1].reshape(n, nb, 3), parts[2].reshape(n, ns, 3), parts[3],
+                  np.asarray(data.efc_id[:nefc]).copy(), parts[4], parts[5], parts[6].reshape(n, nj, 3))
+
+
+def record(built, tr, steps) -> Record:
+    """MuJoCo's raw force data at the trajectory's steps ``steps`` (indices)."""
+    from sim.run.simulate import replay
+    model = built.model
+    rows, data = replay(built, tr, steps, reader(model))
+    return unpack(model, rows, data)
+
+
+def _load_wrench(built, lay: Layout, rec: Record):
+    """The external load's force (Fx, Fy) [N] and its point (x, y) at each instant, as the load actuator
+    applied it (gear in the world frame times its force)."""
+    gear = built.model.actuator_gear[lay.load_actuator][:2]
+    force = rec.actuator_force[:, lay.load_actuator]
+    p = rec.site_xpos[:, lay.load_site, :2]
+    return gear[0] * force, gear[1] * force, p[:, 0], p[:, 1]
+
+
+def joint_forces(built, rec: Record) -> F.Forces:
+    """MuJoCo's answer for every joint of the topology, each drive and gear pair, the shaking force and
+    moment, at the recorded instants (SI, world frame; the analytic :class:`~analytic.applications.forces.Forces`
+    layout and sign convention)."""
+    model, mech = built.model, built.mech
+    lay = layout(built)
+    topo = mech.topology
+    n = rec.cfrc_int.shape[0]
+    nj = len(topo.joints)
+    Fo = np.full((nj, 2, n), np.nan)
+    couples: dict = {}
+    lx, ly, px, py = _load_wrench(built, lay, rec)
+    drives = {}
+    drive_of_joint = {}
+    for link, act, dof, sign in lay.drives:
+        delivered = rec.actuator_force[:, act] - model.dof_armature[dof] * rec.qacc[:, dof]
+        drives[link] = sign * delivered
+        k = next(i for i, j in enumerate(topo.joints) if j.input is not None and mech.inputs[j.input].link == link)
+        drive_of_joint[k] = drives[link]
+
+    def wrench(child: int):
+        """(Fx, Fy, Mz about the world origin) the parent exerts on ``child``, the load taken out."""
+        w = rec.cfrc_int[:, child]
+        c = rec.subtree_com[:, lay.roots[child]]
+        fx, fy, mz = w[:, 3].copy(), w[:, 4].copy(), w[:, 2] + c[:, 0] * w[:, 4] - c[:, 1] * w[:, 3]
+        if lay.load_bodies[child]:
+            fx -= lx
+            fy -= ly
+            mz -= px * ly - py * lx
+        return fx, fy, mz
+
+    for t in lay.trees:
+        fx, fy, mz = wrench(t.child)
+        j = topo.joints[t.joint]
+        p = rec.site_xpos[:, lay.sites[t.joint]]
+        mp = mz - (p[:, 0] * fy - p[:, 1] * fx)                 # about the joint's point
+        fx, fy, mp = t.sign * fx, t.sign * fy, t.sign * mp
+        if t.slide:
+            u = rec.xaxis[:, model.joint(j.name).id, :2]
+            if t.joint in drive_of_joint:
+                push = drive_of_joint[t.joint]
+                fx, fy = fx - push * u[:, 0], fy - push * u[:, 1]
+            couples[t.joint] = mp
+        Fo[t.joint, 0], Fo[t.joint, 1] = fx, fy
+    rows = {}
+    for r, eq in enumerate(rec.efc_id):
+        rows.setdefault(int(eq), []).append(r)
+    for c in lay.closures:
+        r = rows[c.eq]
+        Fo[c.joint, 0] = c.sign * rec.efc_force[:, r[0]]
+        Fo[c.joint, 1] = c.sign * rec.efc_force[:, r[1]]
+    couplings = np.array([rec.efc_force[:, rows[eq][0]] for eq in lay.couplings]).reshape(len(lay.couplings), n)
+    # what the ground exerts on the moving links: its tree joints' wrenches and the loops closed at the ground
+    gx, gy, gm = np.zeros(n), np.zeros(n), np.zeros(n)
+    for t in lay.ground_children:
+        fx, fy, mz = wrench(t.child)
+        gx, gy, gm = gx + fx, gy + fy, gm + mz
+    for c in lay.closures:
+        if c.ground_body < 0:
+            continue
+        j = topo.joints[c.joint]
+        on_moving = 1.0 if (j.b != GROUND) else -1.0          # +F_ab acts on b; -F_ab on a
+        fx, fy = on_moving * Fo[c.joint, 0], on_moving * Fo[c.joint, 1]
+        p = rec.site_xpos[:, lay.sites[c.joint]]
+        gx, gy, gm = gx + fx, gy + fy, gm + p[:, 0] * fy - p[:, 1] * fx
+    shaking = np.array([-gx, -gy, -gm])
+    return F.Forces(topo.joints, Fo, couples, drives, couplings, shaking, {})
+
+
+# ------------------------------------------------------------------------------------------ the answers
+def measure(built, tr, steps=None) -> F.Forces:
+    """MuJoCo's joint forces, drives, gear moments and shaking force of run ``tr`` at its steps ``steps``
+    (indices; default every step)."""
+    steps = np.arange(len(tr.t)) if steps is None else np.asarray(steps, dtype=int)
+    return joint_forces(built, record(built, tr, steps))
+
+
+def simulated_inputs(tr, mech, steps) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(q, qd, qdd) of every input at the steps, shape (N, n_inputs): as the simulation moved them."""
+    return tuple(np.column_stack([tr.inputs[getattr(i, a)][steps] for i in mech.inputs])
+                 for a in ("q", "qd", "qdd"))
+
+
+def analytic_at(built, tr, steps) -> tuple[F.Forces, tuple, dict]:
+    """The analytic kinetostatics at the simulated inputs of ``tr``'s steps, with the compiled model's masses,
+    gravity and the load as it was applied (its switch included); and the inputs, and the power balance's
+    drives (:func:`analytic.applications.torque.drive_forces`) at the same inputs."""
+    from analytic.applications import torque
+    from sim.model import body_inertias
+    model, mech = built.model, built.mech
+    q, qd, qdd = simulated_inputs(tr, mech, steps)
+    inertias = body_inertias(model, mech.links)
+    gravity = tuple(float(x) for x in model.opt.gravity[:2])
+    load = tuple(float(x) for x in model.actuator("load").gear[:2])
+    on = np.asarray(tr.load)[steps]
+    an = F.solve(mech, q, qd, qdd, inertias, gravity, load, on)
+    power = torque.drive_forces(mech, q, qd, qdd, inertias, None, gravity, load, on)
+    return an, (q, qd, qdd), power
+
+
+@dataclass(frozen=True)
+class Agreement:
+    """MuJoCo's forces against the analytic ones over a run: each joint's largest difference [N] (a prismatic
+    pair's couple [N m] too) and as a share of its scale, the drives' three answers, the gear moments and
+    the shaking force and moment; the worst share, the tolerance and the verdict."""
+
+    peak: float
+    """The peak analytic joint force [N] (the scale of every force)."""
+    size: float
+    joints: dict
+    drives: dict
+    couplings: tuple
+    shaking: dict
+    worst: float
+    worst_of: str
+    median: float
+    """The median over the joints of their largest difference as a share of the peak."""
+    tol: float = FORCE_TOL
+    identity: float = 0.0
+    """The largest Newton-Euler vs power-balance drive difference, as a share of its scale."""
+    passed: bool = False
+
+    def as_dict(self) -> dict:
+        return {"peak": self.peak, "joints": self.joints, "drives": self.drives, "couplings": list(self.couplings),
+                "shaking": self.shaking, "worst": self.worst, "worst_of": self.worst_of, "median": self.median,
+                "tol": self.tol, "identity": self.identity, "identity_tol": IDENTITY_TOL, "passed": self.passed}
+
+    def line(self) -> str:
+        """One line for a table: the worst share, where, the median and the tolerance."""
+        return (f"joint forces vs MuJoCo: worst {self.worst:.2e} of the peak {self.peak:.4g} N ({self.worst_of}), "
+                f"median {self.median:.2e} (tol {self.tol:.0e}); drive Newton-Euler vs power balance "
+                f"{self.identity:.1e}")
+
+
+def _err(a, b) -> float:
+    d = np.abs(np.asarray(a) - np.asarray(b))
+    return float(np.max(np.where(np.isfinite(d), d, np.inf))) if d.size else 0.0
+
+
+def agreement(mech, mj: F.Forces, an: F.Forces, power: dict) -> Agreement:
+    """Compare MuJoCo's forces ``mj`` with the analytic ``an`` (the same instants) and the power balance's
+    drives ``power``; every difference is judged against FORCE_TOL of its scale."""
+    peak = F.peak(an)
+    scale = peak if peak > 0 else 1.0
+    L = mech.size
+    shares, joints = {}, {}
+    for k, j in enumerate(an.joints):
+        e = float(np.max(np.hypot(*(mj.F[k] - an.F[k])))) if mj.F.shape[-1] else 0.0
+        e = e if math.isfinite(e) else math.inf
+        rec = {"max": e, "share": e / scale}
+        shares[j.name] = e / scale
+        if k in an.couples:
+            m = _err(mj.couples[k], an.couples[k])
+            rec.update({"M_max": m, "M_share": m / (scale * L)})
+            shares[f"M_{j.name}"] = m / (scale * L)
+        joints[j.name] = rec
+    drives, identity = {}, 0.0
+    for inp in mech.inputs:
+        ne = an.drives[inp.link]
+        own = float(np.nanmax(np.abs(ne))) if ne.size else 0.0
+        dscale = max(own, scale * (L if inp.kind == "crank" else 1.0))
+        m = _err(mj.drives[inp.link], ne)
+        pb = _err(power[inp.link], ne)
+        drives[inp.q] = {"peak": own, "mujoco_max": m, "mujoco_share": m / dscale, "power_balance_max": pb,
+                         "power_balance_share": pb / dscale}
+        shares[f"drive {inp.q}"] = m / dscale
+        identity = max(identity, pb / dscale)
+    couplings = []
+    for k in range(len(an.couplings)):
+        m = _err(mj.couplings[k], an.couplings[k])
+        couplings.append({"max": m, "share": m / (scale * L)})
+        shares[f"gear pair {k}"] = m / (scale * L)
+    fs = float(np.max(np.hypot(*(mj.shaking[:2] - an.shaking[:2])))) if an.shaking.shape[-1] else 0.0
+    fs = fs if math.isfinite(fs) else math.inf
+    ms = _err(mj.shaking[2], an.shaking[2])
+    shaking = {"F_max": fs, "F_share": fs / scale, "M_max": ms, "M_share": ms / (scale * L)}
+    shares["shaking force"] = fs / scale
+    shares["shaking moment"] = ms / (scale * L)
+    worst_of = max(shares, key=shares.get)
+    worst = shares[worst_of]
+    median = float(np.median([joints[j.name]["share"] for j in an.joints])) if an.joints else 0.0
+    passed = bool(worst <= FORCE_TOL and identity <= IDENTITY_TOL)
+    return Agreement(peak, L, joints, drives, tuple(couplings), shaking, worst, worst_of, median,
+                     FORCE_TOL, identity, passed)
+
+
+CHECKED_STEPS = 1000
+"""The most steps :func:`check` reads by default (evenly spread, both ends kept): every step of a one-turn run
+of nearly any design (the trust benchmark's: median 242, at most 874 steps a revolution), a bounded cost
+(50 us a step) for long runs, where the forces' error, smooth over the 0.03 rad steps, is sampled every few."""
+
+
+def spread(n: int, most: int = CHECKED_STEPS) -> np.ndarray:
+    """At most ``most`` step indices of ``n``, evenly spread, the first and the last included."""
+    if n <= most:
+        return np.arange(n)
+    return np.unique(np.round(np.linspace(0, n - 1, most)).astype(int))
+
+
+def check(built, tr, steps=None) -> Agreement | None:
+    """MuJoCo's joint forces of run ``tr`` against the analytic ones at its simulated inputs (by default every
+    step, at most CHECKED_STEPS of them: :func:`spread`); None where statics cannot give the joint forces (a redundant constraint: MuJoCo shares such a
+    load by its regulariser, the analytic solve refuses it)."""
+    mech = built.mech
+    try:
+        F.check_determinate(mech)
+    except F.StaticsError:
+        return None
+    mj, an, _, power = both(built, tr, spread(len(tr.t)) if steps is None else steps)
+    return agreement(mech, mj, an, power)
+
+
+def both(built, tr, steps=None) -> tuple[F.Forces, F.Forces, tuple, dict]:
+    """MuJoCo's forces and the analytic ones at the simulated inputs of ``tr``'s ``steps`` (default every
+    step), the inputs (q, qd, qdd) and the power balance's drives there: what a plot of them needs."""
+    steps = np.arange(len(tr.t)) if steps is None else np.asarray(steps, dtype=int)
+    mj = measure(built, tr, steps)
+    an, inputs, power = analytic_at(built, tr, steps)
+    return mj, an, inputs, power
+
+
+# ------------------------------------------------------------------------------- linkage forces --simulate
+@dataclass(frozen=True)
+class Simulated:
+    """A forces run (sim.service.ForceRun) simulated: the model, the trajectory, the steps that fall on the
+    run's samples, MuJoCo's forces there, the analytic forces at the simulated inputs and their agreement."""
+
+    built: object
+    trajectory: object
+    steps: np.ndarray
+    t: np.ndarray
+    inputs: tuple
+    """(q, qd, qdd) as simulated at the steps, shape (N, n_inputs) each."""
+    forces: F.Forces
+    analytic: F.Forces
+    agreement: Agreement
+
+
+def aligned_timestep(spacing: float, wanted: float) -> float:
+    """The largest time step <= ``wanted`` [s] that divides the samples' ``spacing`` [s] a whole number of
+    times, so every sample is a step's start."""
+    k = max(1, math.ceil(spacing / wanted - 1e-9))
+    return spacing / k
+
+
+def simulate_run(run, settings=None, loads=None) -> Simulated:
+    """Simulate ``run``'s mechanism over its run (its revolutions, or its rocking range) with ``loads``, the
+    time step chosen for the design (or ``settings.timestep``) shortened to fall on the run's samples, and
+    read MuJoCo's forces at those samples."""
+    from dataclasses import replace
+    from sim.model import Loads, Settings, build, choose_timestep
+    from sim.run.simulate import simulate
+    mech = run.mech
+    settings = settings or Settings()
+    loads = loads or Loads()
+    t = np.asarray(run.t)
+    revolutions = float(t[-1] / mech.duration(1.0))
+    spacing = float(t[1] - t[0])
+    wanted = settings.timestep or choose_timestep(mech, revolutions)
+    h = aligned_timestep(spacing, wanted)
+    built = build(mech, replace(settings, timestep=h), loads, revolutions)
+    tr = simulate(built, revolutions)
+    k = round(spacing / h)
+    steps = np.arange(len(t)) * k
+    if steps[-1] >= len(tr.t):
+        steps = steps[steps < len(tr.t)]
+    mj = measure(built, tr, steps)
+    an, inputs, power = analytic_at(built, tr, steps)
+    return Simulated(built, tr, steps, np.asarray(tr.t)[steps], inputs, mj, an, agreement(mech, mj, an, power))
