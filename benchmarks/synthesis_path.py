@@ -10,7 +10,10 @@ Deliberate differences from the command's defaults, per case, and why:
   lower, then that angle rounded down to 0.1 deg, so the reported design meets the bound ours meets (the
   Krill-Herd designs go down to 5.8 deg);
 * ``--region``: 3 target sizes unless the reported design's pivots lie farther out, then that distance
-  rounded up to 0.5 (Ullah and Kota's lie 3.7 sizes out).
+  rounded up to 0.5 (Ullah and Kota's lie 3.7 sizes out);
+* ``--unit mm`` for targets over 20 units across (McGarva's): read as metres, the design is too big for
+  MuJoCo's top camera (its orthographic fovy, the view's height in metres, must stay under 180), and the
+  errors are the same numbers in either unit.
 
 Ours must also meet the targets in their order round the loop (the command's ``--closed``); the table
 says whether the reported design does (``rep.order``: its nearest curve points in order or not).
@@ -62,6 +65,8 @@ def case_options(name: str) -> tuple[list[str], dict]:
     bound = min(30.0, math.floor(mu * 10) / 10)
     region = max(3.0, math.ceil(far * 2) / 2)
     opts = ["--closed", "--min-transmission", f"{bound:g}", "--region", f"{region:g}"]
+    if t.size > 20:
+        opts += ["--unit", "mm"]
     return opts, {"sum_sq": float(np.sum(d ** 2)), "mu": mu, "region": far, "M": len(t.xy),
                   "in_order": bool(sp.order_violation(ph[None], True)[0] == 0), "bound": bound}
 
@@ -74,8 +79,8 @@ def run(name: str, opts: list[str], seed: int, workers: int, extra=()) -> dict:
     t0 = time.perf_counter()
     r = subprocess.run(cmd, capture_output=True, text=True, env=env)
     wall = time.perf_counter() - t0
-    if r.returncode not in (0, 1):
-        raise SystemExit(f"{' '.join(cmd)} failed ({r.returncode}): {r.stderr.strip()}")
+    if r.returncode not in (0, 1) or not r.stdout.strip():
+        raise SystemExit(f"{' '.join(cmd)} failed ({r.returncode}): {r.stderr.strip().splitlines()[-1:]}")
     d = json.loads(r.stdout)["designs"][0]
     return {"sum_sq": d["error"]["sum_sq"], "ok": r.returncode == 0 and d["compare_passed"] and not d["failed"],
             "failed": d["failed"], "mu": d["parameters"]["mu_min_deg"], "cut": d["stats"]["stopped_by_budget"],

@@ -223,7 +223,11 @@ def check_path_design(job: tuple) -> dict:
         out["problem"] = (f"the general solver's curve leaves the synthesised one by {dev / size:.2g} of the "
                           f"targets' size (a branch changes over the turn)")
         return out
-    _, c = service.compare(mech, 1.0)
+    try:
+        _, c = service.compare(mech, 1.0)
+    except ValueError as e:                       # MuJoCo refuses the model (e.g. its camera for a huge design)
+        out["problem"] = f"MuJoCo cannot build its model: {str(e).splitlines()[0]}"
+        return out
     out["compare_passed"] = bool(c.passed)
     return out
 
