@@ -351,7 +351,7 @@ def _target_fractions(target: Target) -> np.ndarray:
     return cum[:len(xy)] / max(cum[-1], 1e-300)
 
 
-def _arc_starts(E: np.ndarray, target: Target) -> tuple[np.ndarray, np.ndarray]:
+def _arc_starts(E: np.ndarray, target: Target) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Similarities (z, t) (K, S) that put each sampled curve E (K, n, 2) on the targets when the targets,
     spaced by their polygon's length, are matched to the curve spaced by its arc length from STARTS
     starting points, in both senses, the targets spanning the whole curve (closed) or SPANS of it (open);
