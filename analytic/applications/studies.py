@@ -220,17 +220,36 @@ def _period_of_motions(base, ms) -> float:
 
 
 DESIGNS_PER_CHUNK = 2048
-"""Designs evaluated per batch call in :func:`sweep_mechanism` (with 361 samples: ~0.7 M samples)."""
+"""Designs evaluated per batch call in :func:`sweep_mechanism` (with 361 samples: ~0.7 M samples); also the
+unit of work handed to a worker process."""
+
+
+def recipe(base) -> tuple:
+    """What rebuilds ``base`` in another process (a built-in's closed form holds a module, which does not
+    pickle): (definition, overrides, built-in name or None, rocking range)."""
+    return (base.definition, dict(base.overrides), base.name if base.builtin is not None else None, base.rock)
+
+
+def rebuild(r) -> "object":
+    """The mechanism of :func:`recipe` ``r`` (or ``r`` itself when it is one)."""
+    if not isinstance(r, tuple):
+        return r
+    import analytic
+    from analytic.mechanism import Mechanism
+    definition, overrides, builtin, rock = r
+    mech = Mechanism.from_definition(definition, overrides, analytic.BUILTINS[builtin] if builtin else None)
+    return replace(mech, rock=rock)
 
 
 def sweep_mechanism(base, vary: dict[str, list[float]], samples: int = 360, keep_paths: int = 0,
-                    progress=None):
+                    progress=None, mapper=None):
     """Evaluate every combination of ``vary`` on top of mechanism ``base`` (any :class:`Mechanism`):
     its output point over the common period of its cranks. Returns (rows, paths) as :func:`sweep`, with
     ``mu_min`` (smallest transmission angle, rad; only for a mechanism with RRR groups) and ``period``
-    added to each row's values. The designs are solved many at a time (:mod:`analytic.solver.batch`); a row is
-    valid only if every sample assembled and every figure is finite."""
-    from analytic.solver import batch
+    added to each row's values. The designs are solved many at a time (:mod:`analytic.solver.batch`), in
+    chunks of DESIGNS_PER_CHUNK; ``mapper`` (an ordered ``map(fn, items)``, e.g. a process pool's) spreads
+    the chunks over workers, the rows coming back in the grid's order. A row is valid only if every sample
+    assembled and every figure is finite."""
     if not (isinstance(samples, int) and 8 <= samples <= 100_000):
         raise ParameterError(f"samples={samples!r} must be an integer in 8..100000")
     for name, values in vary.items():
@@ -243,53 +262,71 @@ def sweep_mechanism(base, vary: dict[str, list[float]], samples: int = 360, keep
     total = math.prod(len(vary[k]) for k in keys)
     mesh = np.meshgrid(*(np.asarray(vary[k], dtype=float) for k in keys), indexing="ij")
     columns = {k: m.ravel() for k, m in zip(keys, mesh)}      # the first parameter varies slowest
+    starts = range(0, total, DESIGNS_PER_CHUNK)
+    chunks = [{k: c[s:s + DESIGNS_PER_CHUNK] for k, c in columns.items()} for s in starts]
+    if mapper is None:
+        results = map(sweep_chunk, ((base, c, samples, keep_paths) for c in chunks))
+    else:
+        r = recipe(base)
+        results = mapper(sweep_chunk, [(r, c, samples, keep_paths) for c in chunks])
+    rows, paths = [], []
+    if progress is not None:
+        progress(0, total)
+    for start, (r_rows, r_paths) in zip(starts, results):
+        rows += r_rows
+        paths += r_paths[:max(keep_paths - len(paths), 0)]
+        if progress is not None:
+            progress(min(start + DESIGNS_PER_CHUNK, total), total)
+    return rows, paths
+
+
+def sweep_chunk(job):
+    """One chunk of :func:`sweep_mechanism`: ``job`` = (mechanism or its :func:`recipe`, {name: (k,)
+    values}, samples, keep_paths). Returns (rows, up to keep_paths paths of its valid rows)."""
+    from analytic.solver import batch
+    base, chunk, samples, keep_paths = job
+    base = rebuild(base)
     mus = list(base.transmission_angles.values())
     names = STATS + (("mu_min",) if mus else ()) + ("period",)
     p = base.output_point
     want = ["x" + p, "y" + p, "vx" + p, "vy" + p] + mus
     u = np.linspace(0.0, 1.0, samples + 1)
+    designs = batch.resolve(base, chunk)
+    reasons = list(designs.reasons)
+    T, why = _periods(designs)
+    for i in np.flatnonzero(designs.valid & ~np.isfinite(T)):
+        reasons[i] = why[i]
+    t = np.where(np.isfinite(T), T, 1.0)[:, None] * u
+    sol = batch.solve(replace(designs, valid=designs.valid & np.isfinite(T)), *batch.drive(designs, t),
+                      outputs=want)
+    x, y, vx, vy = (sol[k + p] for k in ("x", "y", "vx", "vy"))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        stats = _stats(x, y, vx, vy)
+        if mus:
+            stats["mu_min"] = np.min([sol[n] for n in want[4:]], axis=(0, 2))
+    stats["period"] = T
+    table = np.stack([stats[n] for n in names], axis=1)
+    bad = sol.failed >= 0
+    first = np.where(bad.any(axis=1), np.argmax(bad, axis=1), -1)     # first sample that failed
+    finite = np.all(np.isfinite(table), axis=1)
+    keys_ = list(chunk)
+    params_rows = np.column_stack([chunk[k] for k in keys_]).tolist()
+    table_rows = table.tolist()
+    nan_values = {n: float("nan") for n in names}
     rows, paths = [], []
-    for start in range(0, total, DESIGNS_PER_CHUNK):
-        if progress is not None:
-            progress(start, total)
-        chunk = {k: c[start:start + DESIGNS_PER_CHUNK] for k, c in columns.items()}
-        designs = batch.resolve(base, chunk)
-        reasons = list(designs.reasons)
-        T, why = _periods(designs)
-        for i in np.flatnonzero(designs.valid & ~np.isfinite(T)):
-            reasons[i] = why[i]
-        t = np.where(np.isfinite(T), T, 1.0)[:, None] * u
-        sol = batch.solve(replace(designs, valid=designs.valid & np.isfinite(T)), *batch.drive(designs, t),
-                          outputs=want)
-        x, y, vx, vy = (sol[k + p] for k in ("x", "y", "vx", "vy"))
-        with np.errstate(invalid="ignore", divide="ignore"):
-            stats = _stats(x, y, vx, vy)
-            if mus:
-                stats["mu_min"] = np.min([sol[n] for n in want[4:]], axis=(0, 2))
-        stats["period"] = T
-        table = np.stack([stats[n] for n in names], axis=1)
-        bad = sol.failed >= 0
-        first = np.where(bad.any(axis=1), np.argmax(bad, axis=1), -1)     # first sample that failed
-        finite = np.all(np.isfinite(table), axis=1)
-        keys_ = list(chunk)
-        params_rows = np.column_stack([chunk[k] for k in keys_]).tolist()
-        table_rows = table.tolist()
-        nan_values = {n: float("nan") for n in names}
-        for i in range(designs.count):
-            params = dict(zip(keys_, params_rows[i]))
-            if not reasons[i]:
-                if first[i] >= 0:
-                    j = int(first[i])
-                    reasons[i] = f"{sol.labels[int(sol.failed[i, j])]} cannot close at t={t[i, j]:.4g} s"
-                elif not finite[i]:
-                    what = ", ".join(n for n, v in zip(names, table_rows[i]) if not math.isfinite(v))
-                    reasons[i] = f"{what} not finite (a degenerate path: the output point does not move?)"
-            if reasons[i]:
-                rows.append(Row(params, False, reasons[i], dict(nan_values)))
-                continue
-            rows.append(Row(params, True, "", dict(zip(names, table_rows[i]))))
-            if len(paths) < keep_paths:
-                paths.append((params, t[i], x[i], y[i], np.hypot(vx[i], vy[i])))
-    if progress is not None:
-        progress(total, total)
+    for i in range(designs.count):
+        params = dict(zip(keys_, params_rows[i]))
+        if not reasons[i]:
+            if first[i] >= 0:
+                j = int(first[i])
+                reasons[i] = f"{sol.labels[int(sol.failed[i, j])]} cannot close at t={t[i, j]:.4g} s"
+            elif not finite[i]:
+                what = ", ".join(n for n, v in zip(names, table_rows[i]) if not math.isfinite(v))
+                reasons[i] = f"{what} not finite (a degenerate path: the output point does not move?)"
+        if reasons[i]:
+            rows.append(Row(params, False, reasons[i], dict(nan_values)))
+            continue
+        rows.append(Row(params, True, "", dict(zip(names, table_rows[i]))))
+        if len(paths) < keep_paths:
+            paths.append((params, t[i], x[i], y[i], np.hypot(vx[i], vy[i])))
     return rows, paths

@@ -1,17 +1,33 @@
-"""Four-bar path synthesis: many designs' coupler curves at once, a global search and a least-squares polish.
+"""Path synthesis: a linkage whose traced point passes through (or nearest to) target points, found by a
+seeded global search over normalised shapes and a least-squares polish, many designs evaluated at once.
 
-A design is the vector ``(ax, ay, theta0, d, a, b, c, ex, ey)`` [length unit of the targets, rad]: crank
-pivot A, ground angle theta0 of A->D, ground |AD| = d, crank AB = a, coupler BC = b, rocker DC = c, and the
-coupler point E = B + ex u + ey n in the coupler frame (u along B->C, n = u turned +90 deg); ``branch`` is
-+1 when C is left of the line B->D (the solver's RRR branch). The crank angle ``phi`` is B's absolute angle
-about A, from +x.
+The kinds of linkage (four-bar, slider-crank, Watt II and Stephenson III six-bars) are the families of
+:mod:`analytic.synthesis.curves`; this module is the same search for all of them.
 
-The crank turns fully on one branch and keeps the transmission angle mu (between coupler and rocker) in
-``[mu_min, 180 deg - mu_min]`` iff both extremes of |BD| (``|d - a|`` and ``d + a``) satisfy it; that closed
-form is the constraint used everywhere here (Grashof crank-rocker and double-crank pass, nothing else can).
+Error of a design (what ``sum_sq``, ``max`` and ``rms`` report):
 
-Free timing: the error of a target is its distance to the closed coupler curve. Timing: to the coupler point
-at the crank angle ``phi_i + phi_offset`` (the targets' input angles up to one common, free offset).
+* free timing: each target's distance to the coupler curve (the traced point over a full crank turn),
+  at the crank angle ``phis[i]`` where the curve passes nearest to it;
+* timing: each target's distance to the traced point at crank angle ``phi_i + phi_offset`` (the targets'
+  input angles, up to one common free offset).
+
+Order, open and closed targets (free timing): the targets are the points of a path, in the order given,
+and the coupler point must meet them in that order while the crank turns one way: the crank-angle steps
+from each target to the next, wrapped to (-180, 180] deg, all have the sign of the turning sense (so
+each step is less than half a turn).
+
+* open path (the default): the steps from the first target to the last must go less than a full turn;
+  the stretch from the last target back to the first is free (it may take any part of the turn: the ends
+  of the path are free, the targets may occupy a small part of the cycle);
+* closed path (``closed=True``): the targets go once round a loop, so the closing step from the last
+  target back to the first is a step like the others: the same sense and less than half a turn, and all
+  the steps together make exactly one turn.
+
+Constraints (every returned design; :func:`violation` measures them, :func:`failed_constraint` names the
+first broken): the crank turns fully on one branch with every transmission angle in [mu_min, 180 deg -
+mu_min] (the family's closed form or samples, see :mod:`analytic.synthesis.curves`), the longest link at
+most ``max_ratio`` times the shortest, the ground pivots within ``region`` target sizes of the targets'
+centre, the order above.
 """
 
 from __future__ import annotations
@@ -23,19 +39,58 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from analytic._common import ParameterError
+from analytic.synthesis.curves import FAMILIES, TYPES, Family, FourBar
 
-__all__ = ["Target", "Constraints", "Design", "coupler_points", "violation", "curve_distance",
-           "errors", "synthesize", "restart", "from_four_bar_rs"]
+__all__ = ["Target", "Constraints", "Design", "coupler_points", "violation", "curve_distance", "errors",
+           "order_violation", "synthesize", "restart", "jobs", "from_four_bar_rs", "failed_constraint"]
 
-NAMES = ("ax", "ay", "theta0", "d", "a", "b", "c", "ex", "ey")
+FOURBAR = FAMILIES["fourbar"]
+NAMES = FOURBAR.names
+STARTS = 8
+"""Free timing: starting points on each curve for matching the targets by arc length (:func:`_arc_starts`)."""
+SPANS = (1.0, 0.6, 0.35)
+"""Open targets: the fractions of the curve's length they are tried on."""
+ARC_GRID = 64
+"""Points of each curve, evenly spaced by arc length, the matches pick from."""
+KEEP = 2
+"""Starts (least matching residual) refined by nearest-point alignment."""
+ALIGN_STEPS = 5
+"""Rounds of nearest-point alignment."""
+SEARCH_TARGETS = 40
+"""Targets the global search uses at most (:func:`search_target`)."""
+PRESCREEN = 20000
+"""Random shapes drawn per restart; the least constraint-breaking are posed on the targets and the best
+seed the population (a computed atlas, see :func:`restart`)."""
+ORDER_WEIGHT = 0.1
+"""Search objective: error / size^2 plus this times the order violation (in half turns; the polish then
+puts the targets in order exactly)."""
+POLISH_STAGES = (("trf", 300),)
+"""The polish's least-squares runs in turn: (scipy method, residual evaluations at most)."""
+PENALTY = 1e3
+"""Weight of the constraint and order rows in the polish (against target distances / target size)."""
+DE_STRATEGY = "best1bin"
+"""scipy's differential-evolution strategy."""
+ORDER_SLACK = 1e-6
+"""[rad] A returned design may meet a target this much of a crank turn before the previous one (the
+polish's order penalty leaves steps back of that order; two targets met within 1e-6 rad are met
+together)."""
+TURN_ROUNDING = 1e-9
+"""[rad] A sum of wrapped steps is a whole number of turns up to rounding (1e-16 seen): below this, none."""
+FINAL_SAMPLES = 4096
+"""Crank angles at which a returned design's sampled constraints (six-bars' second dyad) are checked."""
+POLISH_MARGIN = (math.radians(0.02), 1e-4)
+"""The polish's penalties aim inside the bounds by this much (transmission angle [rad]; ratio and region,
+relative), so the penalty method's slight overshoot still lands inside them."""
 
 
 @dataclass(frozen=True)
 class Target:
-    """Target points ``xy`` (M, 2) [length]; ``phi`` (M,) input angles [rad] with timing, else None."""
+    """Target points ``xy`` (M, 2) [length]; ``phi`` (M,) input angles [rad] with timing, else None;
+    ``closed``: the points go once round a closed path (free timing; see the module doc)."""
 
     xy: np.ndarray
     phi: np.ndarray | None = None
+    closed: bool = False
 
     @property
     def centre(self) -> np.ndarray:
@@ -49,8 +104,8 @@ class Target:
 
 @dataclass(frozen=True)
 class Constraints:
-    """``mu_min``: least transmission angle [rad]; ``max_ratio``: longest/shortest of d, a, b, c;
-    ``region``: pivots and lengths within this many target sizes of the targets' centre."""
+    """``mu_min``: least transmission angle [rad]; ``max_ratio``: longest/shortest link;
+    ``region``: ground pivots within this many target sizes of the targets' centre."""
 
     mu_min: float = math.radians(30.0)
     max_ratio: float = 20.0
@@ -59,12 +114,13 @@ class Constraints:
 
 @dataclass(frozen=True)
 class Design:
-    """One synthesised design: ``x`` the 9 parameters, ``branch`` +-1, ``phi_offset`` (timing) [rad],
-    ``err`` (M,) the distance of each target [length], ``phis`` (M,) the crank angle of each target's
-    nearest (or timed) point [rad], ``violation`` (0 when every constraint holds), ``seed``."""
+    """One synthesised design: ``family``, ``x`` its parameters, ``branch`` one +-1 per dyad,
+    ``phi_offset`` (timing) [rad], ``err`` (M,) the distance of each target [length], ``phis`` (M,) the
+    crank angle of each target's nearest (or timed) point [rad], ``violation`` (0 when every constraint
+    holds), ``seed``, ``failed`` (the first broken constraint in words, '' if none)."""
 
     x: np.ndarray
-    branch: int
+    branch: tuple[int, ...]
     phi_offset: float
     err: np.ndarray
     phis: np.ndarray
@@ -72,137 +128,166 @@ class Design:
     seed: int
     failed: str = ""
     stats: dict = field(default_factory=dict)
+    family: Family = FOURBAR
 
     @property
     def sum_sq(self) -> float:
         return float(np.sum(self.err ** 2))
 
-    def parameters(self) -> dict[str, float]:
-        return {**{k: float(v) for k, v in zip(NAMES, self.x)}, "branch": int(self.branch)}
+    def parameters(self) -> dict:
+        return self.family.parameters(self.x, self.branch)
 
 
-def coupler_points(x: np.ndarray, phi: np.ndarray, branch) -> tuple[np.ndarray, np.ndarray]:
-    """Coupler point E of K designs at crank angles ``phi``.
-
-    Parameters
-    ----------
-    x : (K, 9) designs [length, rad]
-    phi : (K, N) or (N,) crank angles [rad]
-    branch : (K,) or scalar +-1
-
-    Returns
-    -------
-    E : (K, N, 2) [length], NaN where the loop does not close
-    ok : (K, N) bool, the loop closes
-    """
-    x = np.atleast_2d(np.asarray(x, dtype=float))
-    ax, ay, th, d, a, b, c, ex, ey = (x[:, i:i + 1] for i in range(9))
-    br = np.broadcast_to(np.asarray(branch, dtype=float).reshape(-1, 1), (x.shape[0], 1))
-    phi = np.asarray(phi, dtype=float)
-    bx, by = ax + a * np.cos(phi), ay + a * np.sin(phi)
-    dx, dy = ax + d * np.cos(th), ay + d * np.sin(th)
-    vx, vy = dx - bx, dy - by
-    r2 = vx * vx + vy * vy
-    r = np.sqrt(r2)
-    ca = (b * b + r2 - c * c) / (2 * b * r)                 # cos of the angle D-B-C
-    ok = np.abs(ca) <= 1.0
-    sa = br * np.sqrt(np.clip(1.0 - ca * ca, 0.0, None))
-    ux, uy = vx / r, vy / r                                  # unit B->D
-    cx, cy = ca * ux - sa * uy, sa * ux + ca * uy            # unit B->C (B->D turned by the branch's angle)
-    E = np.stack([bx + ex * cx - ey * cy, by + ex * cy + ey * cx], axis=-1)
-    E[~ok] = np.nan
-    return E, ok
+def coupler_points(x, phi, branch, family: Family = FOURBAR):
+    """The traced point of K designs at crank angles ``phi`` ((K, N) or (N,)); see
+    :meth:`analytic.synthesis.curves.Family.points`. Returns (E (K, N, 2), ok (K, N))."""
+    return family.points(x, phi, branch)
 
 
-def violation(x: np.ndarray, cons: Constraints, target: Target) -> np.ndarray:
-    """How far K designs break the constraints (0 = all hold; dimensionless, >= 0), (K,)."""
+def _branch(branch) -> tuple[int, ...]:
+    return tuple(int(b) for b in np.atleast_1d(branch))
+
+
+# --- constraints -------------------------------------------------------------------------------------
+def shape_violation(x, cons: Constraints, branch, family: Family = FOURBAR, n: int = 0) -> np.ndarray:
+    """(K,) the constraints a similarity does not change (turn, transmission, link ratio, positive
+    lengths); 0 = they hold, dimensionless. ``n``: samples where the family needs them (0: its default;
+    the final checks use 4096)."""
     x = np.atleast_2d(x)
-    d, a, b, c = x[:, 3], x[:, 4], x[:, 5], x[:, 6]
-    cm = math.cos(cons.mu_min)
+    L = x[:, list(family.links)]
     with np.errstate(divide="ignore", invalid="ignore"):
-        cos_lo = (b * b + c * c - (d - a) ** 2) / (2 * b * c)   # mu at |BD| least: must be <= cos mu_min
-        cos_hi = (b * b + c * c - (d + a) ** 2) / (2 * b * c)   # mu at |BD| most: must be >= -cos mu_min
-        L = np.stack([d, a, b, c], axis=1)
         ratio = L.max(axis=1) / L.min(axis=1)
-    s = max(target.size, 1e-300)
-    piv = np.stack([x[:, 0], x[:, 1], x[:, 0] + d * np.cos(x[:, 2]), x[:, 1] + d * np.sin(x[:, 2])], axis=1)
-    cen = np.tile(target.centre, 2)
-    out = (np.maximum(cos_lo - cm, 0) + np.maximum(-cm - cos_hi, 0)
-           + np.maximum(ratio / cons.max_ratio - 1, 0)
-           + np.maximum(np.abs(piv - cen).max(axis=1) / (cons.region * s) - 1, 0)
-           + np.maximum(-L.min(axis=1), 0) / s)
+        out = (family.excess(x, branch, cons.mu_min, n) + np.maximum(ratio / cons.max_ratio - 1, 0)
+               + np.maximum(-L.min(axis=1), 0) / np.maximum(L.max(axis=1), 1e-300))
     return np.where(np.isfinite(out), out, 1e3)
 
 
-def failed_constraint(x, cons: Constraints, target: Target) -> str:
+def region_violation(x, cons: Constraints, target: Target, family: Family = FOURBAR) -> np.ndarray:
+    """(K,) how far the ground pivots lie beyond ``region`` target sizes of the targets' centre."""
+    piv = family.pivots(x)
+    s = max(target.size, 1e-300)
+    far = np.abs(piv - target.centre).max(axis=(1, 2))
+    out = np.maximum(far / (cons.region * s) - 1, 0)
+    return np.where(np.isfinite(out), out, 1e3)
+
+
+def violation(x, cons: Constraints, target: Target, branch=(1,), family: Family = FOURBAR, n: int = 0) -> np.ndarray:
+    """How far K designs break the constraints (0 = all hold; dimensionless, >= 0), (K,)."""
+    return shape_violation(x, cons, branch, family, n) + region_violation(x, cons, target, family)
+
+
+def _wrap(a):
+    return np.angle(np.exp(1j * np.asarray(a, dtype=float)))
+
+
+def order_violation(phis, closed: bool, slack: float = 0.0) -> np.ndarray:
+    """(K,) how far matched crank angles ``phis`` (K, M) [rad] break the targets' order (module doc):
+    backward steps beyond ``slack`` [rad] in half turns, plus (closed) the steps' total's distance from one
+    turn or (open) its excess over one turn, in turns. 0 = in order. The search passes a slack of about
+    one curve sample (targets nearer together than the samples may pick them in either order)."""
+    phis = np.atleast_2d(phis)
+    d = _wrap(np.diff(phis, axis=1))
+    if closed:
+        d = np.concatenate([d, _wrap(phis[:, :1] - phis[:, -1:])], axis=1)
+    total = d.sum(axis=1)
+    s = np.where(total < 0, -1.0, 1.0)[:, None]
+    back = np.maximum(-s * d - slack, 0).sum(axis=1) / math.pi
+    tot = (s * d).sum(axis=1)
+    turn = np.abs(tot - 2 * math.pi) if closed else np.maximum(tot - 2 * math.pi, 0)
+    return back + np.maximum(turn - TURN_ROUNDING, 0) / (2 * math.pi)
+
+
+def _order_words(phis, closed: bool) -> str:
+    """Which targets break the order ('' if none)."""
+    if order_violation(phis[None], closed, ORDER_SLACK)[0] <= 0:
+        return ""
+    d = _wrap(np.diff(phis))
+    dd = np.concatenate([d, _wrap(phis[:1] - phis[-1:])]) if closed else d
+    s = -1.0 if dd.sum() < 0 else 1.0
+    bad = np.flatnonzero(s * dd < -ORDER_SLACK)
+    m = len(phis)
+    if bad.size:
+        i = int(bad[0])
+        return (f"the traced point meets targets {i + 1} and {(i + 1) % m + 1} out of order"
+                + (" (--closed: the last target and the first are neighbours too)" if i == m - 1 else ""))
+    return ("the traced point does not go round the targets once (--closed)" if closed
+            else "the targets take more than one crank turn")
+
+
+def failed_constraint(x, cons: Constraints, target: Target, branch=(1,), family: Family = FOURBAR,
+                      phis=None) -> str:
     """Words for the first constraint one design breaks ('' when none)."""
     x = np.asarray(x, dtype=float)
-    d, a, b, c = x[3:7]
-    cm = math.cos(cons.mu_min)
-    if min(d, a, b, c) <= 0:
+    L = x[list(family.links)]
+    if L.min() <= 0:
         return "a link length is not positive"
-    lo = (b * b + c * c - (d - a) ** 2) / (2 * b * c)
-    hi = (b * b + c * c - (d + a) ** 2) / (2 * b * c)
-    if lo > 1 or hi < -1:
-        return "the crank does not turn fully (not a Grashof crank-rocker or double-crank)"
-    if lo > cm or hi < -cm:
-        mu = math.degrees(min(math.acos(min(lo, 1)), math.pi - math.acos(max(hi, -1))))
-        return f"transmission angle {mu:.1f} deg is below --min-transmission {math.degrees(cons.mu_min):.1f} deg"
-    if max(d, a, b, c) / min(d, a, b, c) > cons.max_ratio:
+    mu = float(family.mu_min(x[None], branch)[0])
+    if not math.isfinite(mu):
+        why = {"fourbar": " (not a Grashof crank-rocker or double-crank)",
+               "slider_crank": " (the rod is shorter than the crank plus the offset)"}.get(
+            family.name, " (a loop cannot close over the whole turn)")
+        return "the crank does not turn fully on one branch" + why
+    if mu < cons.mu_min - 1e-12:       # the closed forms' rounding
+        return (f"transmission angle {math.degrees(mu):.1f} deg is below --min-transmission "
+                f"{math.degrees(cons.mu_min):.1f} deg")
+    if L.max() / L.min() > cons.max_ratio:
         return f"link-length ratio above {cons.max_ratio:g}"
-    if violation(x[None], cons, target)[0] > 0:
-        return f"a pivot lies outside {cons.region:g} target sizes of the targets' centre"
+    if region_violation(x[None], cons, target, family)[0] > 0:
+        return f"a ground pivot lies outside {cons.region:g} target sizes of the targets' centre"
+    if phis is not None and target.phi is None:
+        return _order_words(np.asarray(phis, dtype=float), target.closed)
     return ""
 
 
+# --- errors ------------------------------------------------------------------------------------------
 def _nearest_sample(E: np.ndarray, xy: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Squared distance (K, M) from each target to the nearest curve sample and that sample's index.
 
-    The search uses |e|^2 - 2 e.t (a matrix product; |t|^2 is the same for every sample), the returned
-    distance is recomputed directly at the chosen sample (no cancellation)."""
-    G = (E * E).sum(-1)[:, :, None] - 2.0 * (E @ xy.T)              # (K, N, M)
-    G = np.nan_to_num(G, nan=np.inf)
-    k = G.argmin(axis=1)
+    The search uses |e|^2 - 2 e.t on coordinates taken from the targets' mean (|t|^2 is the same for
+    every sample; a sample that does not close is put 1e150 away), laid out (K, M, N) so the arg-min runs
+    along contiguous memory; the returned distance is recomputed directly at the chosen sample."""
+    c = xy.mean(axis=0)
+    Ec = np.where(np.isnan(E), 1e150, E - c)
+    t = xy - c
+    G = (Ec * Ec).sum(-1)[:, None, :] - 2.0 * (t[None, :, 0, None] * Ec[:, None, :, 0]
+                                                + t[None, :, 1, None] * Ec[:, None, :, 1])   # (K, M, N)
+    k = G.argmin(axis=2)
     P = np.take_along_axis(E, k[:, :, None], axis=1)                  # (K, M, 2)
     d2 = ((P - xy[None]) ** 2).sum(-1)
     return np.where(np.isfinite(d2), d2, np.inf), k
 
 
-def batch_error(x: np.ndarray, target: Target, branch, n: int = 192) -> np.ndarray:
+def batch_error(x, target: Target, branch, n: int = 192, family: Family = FOURBAR):
     """Sum of squared distances (K,) from the targets to each design's curve sampled at n crank angles
-    (free timing), or to its timed points (timing: x carries a 10th column, the crank offset)."""
+    (free timing), or to its timed points (timing: x carries one more column, the crank offset), and the
+    order violation (K,) of the nearest samples' angles (0 with timing)."""
     x = np.atleast_2d(x)
+    nx = family.size
     if target.phi is not None:
-        E, _ = coupler_points(x[:, :9], x[:, 9:10] + target.phi[None, :], branch)
+        E, _ = family.points(x[:, :nx], x[:, nx:nx + 1] + target.phi[None, :], branch)
         e = ((E - target.xy[None]) ** 2).sum(-1).sum(-1)
-        return np.where(np.isfinite(e), e, np.inf)
-    out = np.empty(x.shape[0])
+        return np.where(np.isfinite(e), e, np.inf), np.zeros(len(x))
+    out, order = np.empty(x.shape[0]), np.empty(x.shape[0])
     phi = np.linspace(0.0, 2 * math.pi, n, endpoint=False)
     step = max(1, int(4e6 // (n * len(target.xy))))           # keep (K, N, M) arrays near 32 MB
+    br = np.asarray(branch)
     for i in range(0, x.shape[0], step):
-        E, _ = coupler_points(x[i:i + step], phi, branch[i:i + step] if np.ndim(branch) else branch)
-        out[i:i + step] = _nearest_sample(E, target.xy)[0].sum(-1)
-    return out
+        b = br[i:i + step] if br.ndim == 2 else br
+        E, _ = family.points(x[i:i + step], phi, b)
+        d2, k = _nearest_sample(E, target.xy)
+        out[i:i + step] = d2.sum(-1)
+        order[i:i + step] = order_violation(phi[k], target.closed, 1.5 * 2 * math.pi / n)
+    return out, order
 
 
-def similarity(x: np.ndarray, z: np.ndarray, t: np.ndarray) -> np.ndarray:
-    """Designs (K, 9) moved by the similarity p -> z p + t (complex z = scale e^(i angle), t) [length]."""
-    x = np.array(x, dtype=float)
-    A = (x[:, 0] + 1j * x[:, 1]) * z + t
-    x[:, 0], x[:, 1] = A.real, A.imag
-    x[:, 2] = x[:, 2] + np.angle(z)
-    x[:, 3:9] = x[:, 3:9] * np.abs(z)[:, None]
-    return x
-
-
-def align(x: np.ndarray, target: Target, branch, n: int = 160, steps: int = 2) -> np.ndarray:
+def align(x, target: Target, branch, n: int = 160, steps: int = 2, family: Family = FOURBAR):
     """Move, turn and scale K designs (free timing) so their curves lie nearest the targets: ``steps``
     rounds of nearest-sample correspondence and the least-squares similarity (Umeyama, in complex form)."""
     x = np.atleast_2d(np.asarray(x, dtype=float)).copy()
     phi = np.linspace(0.0, 2 * math.pi, n, endpoint=False)
     q = target.xy[:, 0] + 1j * target.xy[:, 1]
     for _ in range(steps):
-        E, _ = coupler_points(x, phi, branch)
+        E, _ = family.points(x, phi, branch)
         _, k = _nearest_sample(E, target.xy)
         P = np.take_along_axis(E, k[:, :, None], axis=1)          # (K, M, 2) corresponding curve points
         p = P[..., 0] + 1j * P[..., 1]
@@ -213,25 +298,25 @@ def align(x: np.ndarray, target: Target, branch, n: int = 160, steps: int = 2) -
         good = np.isfinite(z) & (np.abs(z) > 0.5) & (np.abs(z) < 2.0)
         z = np.where(good, z, 1.0)
         t = np.where(good, q.mean() - z * p.mean(axis=1), 0.0)
-        x = similarity(x, z, t)
+        x = family.move(x, z, t)
     return x
 
 
-def curve_distance(x, branch: int, xy: np.ndarray, n: int = 4096, iters: int = 60):
+def curve_distance(x, branch, xy: np.ndarray, n: int = 4096, iters: int = 60, family: Family = FOURBAR):
     """Distance from each target to one design's closed coupler curve: nearest of n samples, refined by
     a golden-section search over the neighbouring two sample intervals (vectorised over targets).
 
     Returns (dist (M,) [length], phi (M,) [rad])."""
-    x = np.asarray(x, dtype=float)[None, :9]
+    x = np.asarray(x, dtype=float)[None, :family.size]
     phi = np.linspace(0.0, 2 * math.pi, n, endpoint=False)
-    E, _ = coupler_points(x, phi, branch)
+    E, _ = family.points(x, phi, branch)
     _, k = _nearest_sample(E, xy)
     h = 2 * math.pi / n
     lo, hi = phi[k[0]] - h, phi[k[0]] + h
     g = (math.sqrt(5) - 1) / 2
 
     def f(p):
-        P, _ = coupler_points(x, p[None, :], branch)
+        P, _ = family.points(x, p[None, :], branch)
         v = ((P[0] - xy) ** 2).sum(-1)
         return np.where(np.isnan(v), np.inf, v)
     for _ in range(iters):
@@ -246,59 +331,89 @@ def curve_distance(x, branch: int, xy: np.ndarray, n: int = 4096, iters: int = 6
     return np.sqrt(np.where(use, d2s, d2)), np.where(use, phi[k[0]], p)
 
 
-def errors(x, branch: int, target: Target, phi_offset: float = 0.0):
-    """Each target's error [length] and crank angle [rad] for one design (see the module doc)."""
+def errors(x, branch, target: Target, phi_offset: float = 0.0, family: Family = FOURBAR):
+    """Each target's distance to the nearest point of the curve (free timing) or to its timed point
+    [length], and the crank angles [rad] (see the module doc)."""
     if target.phi is None:
-        return curve_distance(x, branch, target.xy)
+        return curve_distance(x, branch, target.xy, family=family)
     phis = target.phi + phi_offset
-    E, _ = coupler_points(np.asarray(x)[None, :9], phis[None], branch)
+    E, _ = family.points(np.asarray(x)[None, :family.size], phis[None], branch)
     return np.hypot(*(E[0] - target.xy).T), phis
 
 
 # --- normalised design space -------------------------------------------------------------------------
-
-RATIO = 6.0  # ground, coupler and rocker searched in [1/RATIO, RATIO] crank lengths (log scale)
-ROTATIONS = 8  # starting turns of each shape before the similarity alignment
-
-
-def _shape(u: np.ndarray) -> np.ndarray:
-    """(K, 5) unit-cube points -> designs with A at the origin, D on +x and a unit crank."""
-    x = np.zeros((len(u), 9))
-    x[:, 3:7] = 1.0
-    x[:, [3, 5, 6]] = np.exp((2 * u[:, 0:3] - 1) * math.log(RATIO))
-    x[:, 7:9] = (2 * u[:, 3:5] - 1) * 2 * RATIO ** 0.5
-    return x
+def _target_fractions(target: Target) -> np.ndarray:
+    """Each target's place along the targets' polygon as a fraction of its length (closed: the closing
+    side counted)."""
+    xy = target.xy
+    sides = np.hypot(*np.diff(np.vstack([xy, xy[:1]]) if target.closed else xy, axis=0).T)
+    cum = np.concatenate([[0.0], np.cumsum(sides)])
+    return cum[:len(xy)] / max(cum[-1], 1e-300)
 
 
-def _pose(xn: np.ndarray, target: Target, branch, n: int) -> tuple[np.ndarray, np.ndarray]:
-    """Each shape moved, turned and scaled onto the targets: ROTATIONS starts matching the curve's centroid
-    and RMS radius to the targets', each aligned (``align``); the best kept. Returns (x (K, 9), sum_sq (K,))."""
+def _arc_starts(E: np.ndarray, target: Target) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Similarities (z, t) (K, S) that put each sampled curve E (K, n, 2) on the targets when the targets,
+    spaced by their polygon's length, are matched to the curve spaced by its arc length from STARTS
+    starting points, in both senses, the targets spanning the whole curve (closed) or SPANS of it (open);
+    and the residual (K, S) of each match (squared, [length^2])."""
+    K, n, _ = E.shape
+    Ef = np.nan_to_num(E)
+    seg = np.hypot(*(np.roll(Ef, -1, axis=1) - Ef).transpose(2, 0, 1))          # (K, n)
+    cum = np.cumsum(seg, axis=1) - seg
+    cum = cum / np.maximum(cum[:, -1:] + seg[:, -1:], 1e-300)                    # (K, n) in [0, 1)
+    grid = np.arange(ARC_GRID) / ARC_GRID
+    idx = np.minimum((cum[:, None, :] < grid[None, :, None]).sum(-1), n - 1)   # (K, G): uniform in arc length
+    U = np.take_along_axis(Ef, idx[:, :, None], axis=1)
+    u = U[..., 0] + 1j * U[..., 1]                                            # (K, G)
+    f = _target_fractions(target)
+    spans = (1.0,) if target.closed else SPANS
+    cols = [np.round(ARC_GRID * (k / STARTS + d * s * f)).astype(int) % ARC_GRID
+            for s in spans for d in (1, -1) for k in range(STARTS)]
+    cols = np.stack(cols)                                                       # (S, M)
+    p = u[:, cols]                                                              # (K, S, M)
+    q = target.xy[:, 0] + 1j * target.xy[:, 1]
+    pc, qc = p - p.mean(-1, keepdims=True), q - q.mean()
+    with np.errstate(divide="ignore", invalid="ignore"):
+        z = (np.conj(pc) * qc).sum(-1) / (np.abs(pc) ** 2).sum(-1)
+    z = np.where(np.isfinite(z) & (z != 0), z, 1.0)
+    t = q.mean() - z * p.mean(-1)
+    res = (np.abs(z[..., None] * p + t[..., None] - q) ** 2).sum(-1)
+    return z, t, np.where(np.isfinite(res), res, np.inf)
+
+
+def _pose(xn, target: Target, branch, n: int, family: Family):
+    """Each shape moved, turned and scaled onto the targets: starts from matching arc-length fractions
+    (:func:`_arc_starts`), the best KEEP by their matching residual aligned (``align``), the best of
+    those kept.
+
+    Returns (x (K, size), sum_sq (K,), order violation (K,))."""
     K = len(xn)
+    nb = len(family.branches[0])
     phi = np.linspace(0.0, 2 * math.pi, n, endpoint=False)
-    E, _ = coupler_points(xn, phi, branch)
-    cE = np.nanmean(E, axis=1)
-    rE = np.sqrt(np.nanmean(((E - cE[:, None]) ** 2).sum(-1), axis=1))
-    cT = target.xy.mean(0)
-    rT = math.sqrt(((target.xy - cT) ** 2).sum(-1).mean())
-    psi = 2 * math.pi * np.arange(ROTATIONS) / ROTATIONS
-    z = (rT / rE)[:, None] * np.exp(1j * psi)[None, :]                     # (K, R)
-    t = (cT[0] + 1j * cT[1]) - z * (cE[:, 0] + 1j * cE[:, 1])[:, None]
-    xs = similarity(np.repeat(xn, ROTATIONS, axis=0), z.ravel(), t.ravel())
-    br = np.repeat(np.broadcast_to(np.asarray(branch), (K,)), ROTATIONS)
-    xs = align(xs, target, br, n, steps=3)
-    f = batch_error(xs, target, br, n).reshape(K, ROTATIONS)
-    f = np.where(np.isfinite(f), f, np.inf)
-    j = f.argmin(axis=1)
-    return xs.reshape(K, ROTATIONS, 9)[np.arange(K), j], f[np.arange(K), j]
+    E, _ = family.points(xn, phi, branch)
+    z, t, res = _arc_starts(E, target)
+    keep = np.argsort(res, axis=1, kind="stable")[:, :KEEP]                    # (K, KEEP)
+    r = np.arange(K)[:, None]
+    xs = family.move(np.repeat(xn, KEEP, axis=0), z[r, keep].ravel(), t[r, keep].ravel())
+    br = np.broadcast_to(np.asarray(branch), (K, nb))
+    brk = np.repeat(br, KEEP, axis=0)
+    xs = align(xs, target, brk, n, steps=ALIGN_STEPS, family=family)
+    f, o = batch_error(xs, target, brk, n, family)
+    f = np.where(np.isfinite(f), f, np.inf).reshape(K, KEEP)
+    o = o.reshape(K, KEEP)
+    score = f / max(target.size, 1e-300) ** 2 + ORDER_WEIGHT * o
+    j = np.argmin(score, axis=1)
+    r = np.arange(K)
+    return xs.reshape(K, KEEP, -1)[r, j], f[r, j], o[r, j]
 
 
-def _pose_timed(u: np.ndarray, target: Target, branch) -> tuple[np.ndarray, np.ndarray]:
-    """Timing: shapes (first 5 columns) with a crank offset (6th), posed by the exact least-squares
-    similarity onto the timed targets (the correspondences are known). Returns (x (K, 10) with the offset
-    last, sum_sq (K,)); a turn of the design adds its angle to the offset."""
-    xn = _shape(u[:, :5])
-    off = (2 * u[:, 5] - 1) * math.pi
-    E, _ = coupler_points(xn, off[:, None] + target.phi[None, :], branch)
+def _pose_timed(u, target: Target, branch, family: Family):
+    """Timing: shapes (first ``shape_dim`` columns) with a crank offset (the last), posed by the exact
+    least-squares similarity onto the timed targets (the correspondences are known). Returns (x (K, size
+    + 1) with the offset last, sum_sq (K,), zeros (K,)); a turn of the design adds its angle to the offset."""
+    xn = family.shape(u[:, :family.shape_dim])
+    off = (2 * u[:, family.shape_dim] - 1) * math.pi
+    E, _ = family.points(xn, off[:, None] + target.phi[None, :], branch)
     p = E[..., 0] + 1j * E[..., 1]
     q = target.xy[:, 0] + 1j * target.xy[:, 1]
     pc, qc = p - p.mean(1, keepdims=True), q - q.mean()
@@ -306,56 +421,89 @@ def _pose_timed(u: np.ndarray, target: Target, branch) -> tuple[np.ndarray, np.n
         z = (np.conj(pc) * qc[None]).sum(1) / (np.abs(pc) ** 2).sum(1)
     z = np.where(np.isfinite(z) & (z != 0), z, 1.0)
     t = q.mean() - z * p.mean(1)
-    x = np.column_stack([similarity(xn, z, t), off + np.angle(z)])
+    t = np.where(np.isfinite(t), t, 0.0)
+    x = np.column_stack([family.move(xn, z, t), off + np.angle(z)])
     e = (np.abs(z[:, None] * p + t[:, None] - q[None]) ** 2).sum(1)
-    return x, np.where(np.isfinite(e), e, np.inf)
+    return x, np.where(np.isfinite(e), e, np.inf), np.zeros(len(x))
 
 
-def _shape_objective(u, target, cons, branch, n):
-    """Deb's rule on the posed shapes (error / size^2; infeasible above 1e6 by violation)."""
-    xn = _shape(u[:, :5])
-    loose = Constraints(cons.mu_min, cons.max_ratio, 1e9)
-    v = violation(xn, loose, target)
+def _shape_objective(u, target: Target, cons: Constraints, branch, n: int, family: Family):
+    """Deb's rule on the posed shapes: error / size^2 plus the order violation where the constraints
+    hold; 1e6 + violation where they do not."""
+    xn = family.shape(u[:, :family.shape_dim])
+    v = shape_violation(xn, cons, branch, family)
     f = 1e6 + v
     ok = v == 0
     if ok.any():
-        x, e = _pose(xn[ok], target, branch, n) if target.phi is None else _pose_timed(u[ok], target, branch)
-        v2 = violation(x[:, :9], cons, target)
-        f[ok] = np.where(v2 == 0, np.minimum(e / target.size ** 2, 1e6), 1e6 + v2)
+        if target.phi is None:
+            x, e, o = _pose(xn[ok], target, branch, n, family)
+        else:
+            x, e, o = _pose_timed(u[ok], target, branch, family)
+        v2 = region_violation(x[:, :family.size], cons, target, family)
+        f[ok] = np.where(v2 == 0, np.minimum(e / target.size ** 2 + ORDER_WEIGHT * o, 1e6), 1e6 + v2)
     return f
 
 
-def restart(job: tuple) -> Design:
-    """One seeded restart: an atlas of random feasible designs, differential evolution from its best,
-    a least-squares polish of the best distinct members. ``job`` = (target, cons, seed, branch,
-    generations, popsize, deadline, n_polish).
+def search_target(target: Target) -> Target:
+    """The targets the global search sees: at most SEARCH_TARGETS of them, evenly spaced in the given
+    order (a dense path is represented by a subset; the polish and every reported error use all)."""
+    m = len(target.xy)
+    if m <= SEARCH_TARGETS:
+        return target
+    idx = np.unique(np.round(np.linspace(0, m - 1, SEARCH_TARGETS)).astype(int))
+    return Target(target.xy[idx], None if target.phi is None else target.phi[idx], target.closed)
 
-    Both search the 5 shape parameters (crank = 1), each shape posed onto the targets by a similarity:
-    free timing by nearest-point alignment, timing (plus a crank offset) by the exact least squares."""
+
+def restart(job: tuple) -> Design:
+    """One seeded restart (:func:`_restart`) with one BLAS thread (:mod:`analytic.synthesis.threads`)."""
+    import scipy.optimize  # noqa: F401 (its OpenBLAS must be loaded before its threads are set)
+    from analytic.synthesis.threads import one_blas_thread
+    with one_blas_thread():
+        return _restart(job)
+
+
+def _restart(job: tuple) -> Design:
+    """One seeded restart: a computed atlas of random feasible shapes posed on the targets seeds the
+    population, differential evolution searches the normalised shapes, the best distinct members of the
+    final population are polished by least squares and the best kept. ``job`` = (family name, target,
+    cons, seed, branch, generations, popsize, deadline, n_polish).
+
+    The search runs on the family's shape parameters (crank = 1, A at the origin), each shape posed onto
+    the targets by a similarity: free timing by nearest-point alignment, timing (plus a crank offset) by
+    the exact least squares."""
     from scipy.optimize import differential_evolution
 
-    target, cons, seed, branch, generations, popsize, deadline, n_polish = job
+    name, target, cons, seed, branch, generations, popsize, deadline, n_polish = job
+    family = FAMILIES[name]
     free = target.phi is None
-    dim = 5 if free else 6
+    dim = family.shape_dim + (0 if free else 1)
     rng = np.random.default_rng(seed)
-    obj = lambda u, n: _shape_objective(u, target, cons, branch, n)  # noqa: E731
-    if free:
-        to_x = lambda u: _pose(_shape(u[None]), target, branch, 256)[0][0]  # noqa: E731
-    else:
-        to_x = lambda u: _pose_timed(u[None], target, branch)[0][0]  # noqa: E731
-    U = rng.random((20000, dim))
-    pre = violation(_shape(U[:, :5]), Constraints(cons.mu_min, cons.max_ratio, 1e9), target)
-    # atlas: random designs, the least constraint-breaking ranked by error seed the population
-    U = U[np.argsort(pre, kind="stable")][:max(popsize * 4, 200)]
-    f = obj(U, 96)
-    init = U[np.argsort(f, kind="stable")[:popsize]]
+    search = search_target(target)
+
+    def obj(u, n):
+        return _shape_objective(u, search, cons, branch, n, family)
+
+    def to_x(u):
+        if free:
+            return _pose(family.shape(u[None]), search, branch, 256, family)[0][0]
+        return _pose_timed(u[None], search, branch, family)[0][0]
+    if PRESCREEN:
+        U = rng.random((PRESCREEN, dim))
+        pre = shape_violation(family.shape(U[:, :family.shape_dim]), cons, branch, family)
+        # the computed atlas: random shapes, the least constraint-breaking posed and ranked by error
+        U = U[np.argsort(pre, kind="stable")][:max(popsize * 4, 200)]
+        f = obj(U, 96)
+        init = U[np.argsort(f, kind="stable")[:popsize]]
+    else:                          # no atlas (for measuring what it brings): a random population
+        init = rng.random((popsize, dim))
 
     def stop(*_a, **_k):
         return deadline is not None and time.time() > deadline
     res = differential_evolution(
         lambda u: obj(u.T, 128), [(0.0, 1.0)] * dim, init=init,
         maxiter=generations, tol=0, atol=0, seed=int(rng.integers(2 ** 31)), polish=False,
-        vectorized=True, updating="deferred", mutation=(0.5, 1.0), recombination=0.9, callback=stop)
+        vectorized=True, updating="deferred", mutation=(0.5, 1.0), recombination=0.9, callback=stop,
+        strategy=DE_STRATEGY)
     # polish the best distinct members of the final population, keep the best polished one
     order = np.argsort(res.population_energies, kind="stable")
     picks = []
@@ -364,104 +512,189 @@ def restart(job: tuple) -> Design:
             break
         if all(np.abs(res.population[j] - res.population[p]).max() > 1e-3 for p in picks):
             picks.append(j)
-    cands = [polish(to_x(res.population[j]), branch, target, cons) for j in (picks or order[:1])]
-    d = min(cands, key=lambda c: (c.violation > 0, c.sum_sq))
+    cands = [polish(to_x(res.population[j]), branch, target, cons, family) for j in (picks or order[:1])]
+    d = min(cands, key=lambda c: (c.violation > 0, c.violation if c.violation > 0 else c.sum_sq))
     return Design(d.x, d.branch, d.phi_offset, d.err, d.phis, d.violation, int(seed), d.failed,
-                  {"de_generations": int(res.nit), "de_evaluations": int(res.nfev)})
+                  {"de_generations": int(res.nit), "de_evaluations": int(res.nfev),
+                   "stopped_by_budget": bool(stop())}, family)
 
 
-def polish(x0: np.ndarray, branch: int, target: Target, cons: Constraints) -> Design:
-    """Least squares on (design, each target's crank angle) with the constraints as penalty residuals;
-    the polished design is kept only if it stays feasible and improves the (refined) error."""
+def _finish(x, branch, target: Target, cons: Constraints, family: Family, off: float, phis_fit):
+    """Errors, violation and words of a final design: free timing takes each target's nearest curve
+    point when those are in order, else the fitted (ordered) angles ``phis_fit``."""
+    nx = family.size
+    if target.phi is None:
+        e, ph = curve_distance(x, branch, target.xy, family=family)
+        if phis_fit is not None and order_violation(ph[None], target.closed, ORDER_SLACK)[0] > 0:
+            E, _ = family.points(np.asarray(x)[None, :nx], np.asarray(phis_fit)[None], branch)
+            e2 = np.hypot(*(E[0] - target.xy).T)
+            if np.all(np.isfinite(e2)):
+                e, ph = e2, np.asarray(phis_fit, dtype=float)
+        o = order_violation(ph[None], target.closed, ORDER_SLACK)[0]
+    else:
+        e, ph = errors(x, branch, target, off, family)
+        o = 0.0
+    v = float(violation(np.asarray(x)[None, :nx], cons, target, branch, family, FINAL_SAMPLES)[0] + o)
+    return e, ph, v, failed_constraint(x, cons, target, branch, family, ph)
+
+
+def polish(x0, branch, target: Target, cons: Constraints, family: Family = FOURBAR) -> Design:
+    """Least squares on the design and its crank angles, the constraints as penalty residuals aimed
+    POLISH_MARGIN inside the bounds. Timing: the angles are the targets' plus one offset. Free timing:
+    each target's own crank angle (unwrapped in the sense of travel), and a penalty row per step that goes
+    backwards (the order; ``--closed``: the return from the last target to the first too), weighted like
+    the constraints. A step that breaks a bound is cut back to the last feasible point; the result
+    replaces the start only if it ranks better (:func:`rank_key`)."""
     from scipy.optimize import least_squares
 
+    branch = _branch(branch)
     timing = target.phi is not None
+    nx = family.size
+    tight = Constraints(cons.mu_min + POLISH_MARGIN[0], cons.max_ratio * (1 - POLISH_MARGIN[1]),
+                        cons.region * (1 - POLISH_MARGIN[1]))
     m = len(target.xy)
     s = target.size
-    e0, ph0 = errors(x0[:9], branch, target, x0[9] if timing else 0.0)
+    x0 = np.asarray(x0, dtype=float)
+    closed = target.closed
+    _, ph0 = errors(x0[:nx], branch, target, x0[nx] if timing else 0.0, family)
+    sense = -1.0 if _wrap(np.diff(ph0)).sum() < 0 else 1.0
+    w = PENALTY
 
     def design(p):
-        return p[:9], (p[9] if timing else 0.0), (target.phi + p[9] if timing else p[9:])
+        """(x, offset, crank angle of each target)."""
+        if timing:
+            return p[:nx], p[nx], target.phi + p[nx]
+        return p[:nx], 0.0, p[nx:]
+
+    def steps(ph):
+        """Each step in the sense of travel (and the return, closed), [rad]; negative = backwards."""
+        d = np.diff(ph)
+        if closed:
+            d = np.concatenate([d, ph[:1] + sense * 2 * math.pi - ph[-1:]])
+        return sense * d
 
     def resid(p):
         x, _, ph = design(p)
-        E, _ = coupler_points(x[None], ph[None], branch)
+        E, _ = family.points(x[None], ph[None], branch)
         r = ((E[0] - target.xy) / s).ravel()
-        v = violation(x[None], cons, target)[0]
-        return np.concatenate([np.nan_to_num(r, nan=10.0), [1e3 * v]])
+        v = violation(x[None], tight, target, branch, family)[0]
+        out = [np.nan_to_num(r, nan=10.0), [w * v]]
+        if not timing:
+            out.append(w * np.maximum(-steps(ph), 0))
+        return np.concatenate(out)
 
     def jac(p):
-        """Forward differences, batched: the 9 design columns (and the offset) in one call, the crank
-        angles' columns (each touches its own target only) in another."""
+        """Forward differences, batched: the design columns (and the offset) in one call, each target's
+        own crank angle (which touches its own target only) in another; the order rows exactly."""
         x, off, ph = design(p)
-        nd = 10 if timing else 9
+        nd = nx + 1 if timing else nx
         h = 1e-7 * np.maximum(1.0, np.abs(p[:nd]))
         X = np.repeat(x[None], nd, axis=0)
-        X[np.arange(9), np.arange(9)] += h[:9]
+        X[np.arange(nx), np.arange(nx)] += h[:nx]
         PH = np.repeat(ph[None], nd, axis=0)
         if timing:
-            PH[9] += h[9]
-        E0, _ = coupler_points(x[None], ph[None], branch)
-        E, _ = coupler_points(X, PH, branch)
-        J = np.zeros((2 * m + 1, len(p)))
+            PH[nx] += h[nx]
+        E0, _ = family.points(x[None], ph[None], branch)
+        E, _ = family.points(X, PH, branch)
+        rows = 2 * m + 1 + (0 if timing else (m if closed else m - 1))
+        J = np.zeros((rows, len(p)))
         J[:2 * m, :nd] = ((E - E0) / s).reshape(nd, -1).T / h
-        v0 = violation(x[None], cons, target)[0]
-        J[2 * m, :9] = 1e3 * (violation(X[:9], cons, target) - v0) / h[:9]
+        v0 = violation(x[None], tight, target, branch, family)[0]
+        J[2 * m, :nx] = w * (violation(X[:nx], tight, target, branch, family) - v0) / h[:nx]
         if not timing:
             hp = 1e-7 * np.maximum(1.0, np.abs(ph))
-            E1, _ = coupler_points(x[None], (ph + hp)[None], branch)
-            dE = (E1[0] - E0[0]) / s / hp[:, None]                    # (m, 2)
-            J[2 * np.arange(m), 9 + np.arange(m)] = dE[:, 0]
-            J[2 * np.arange(m) + 1, 9 + np.arange(m)] = dE[:, 1]
+            E1, _ = family.points(x[None], (ph + hp)[None], branch)
+            dE = (E1[0] - E0[0]) / s / hp[:, None]                    # (m, 2): d position / d own angle
+            J[2 * np.arange(m), nx + np.arange(m)] = dE[:, 0]
+            J[2 * np.arange(m) + 1, nx + np.arange(m)] = dE[:, 1]
+            for i in np.flatnonzero(steps(ph) < 0):                    # step i: ph[i+1] - ph[i] (mod m)
+                J[2 * m + 1 + i, nx + (i + 1) % m] += -w * sense
+                J[2 * m + 1 + i, nx + i] += w * sense
         return np.nan_to_num(J)
 
-    p0 = np.concatenate([x0[:9], [x0[9]] if timing else ph0])
-    try:
-        r = least_squares(resid, p0, jac=jac, x_scale="jac", max_nfev=300, ftol=1e-13, xtol=1e-13, gtol=1e-13)
-        p = r.x
-    except (ValueError, np.linalg.LinAlgError):
-        p = p0
-    x1, off1, _ = design(p)
-    e1, ph1 = errors(x1, branch, target, off1)
-    v1 = violation(x1[None], cons, target)[0]
-    v0 = violation(x0[None, :9], cons, target)[0]
-    if np.all(np.isfinite(e1)) and v1 <= v0 and np.sum(e1 ** 2) <= np.sum(e0 ** 2):
-        x, off, e, ph, v = x1, off1, e1, ph1, v1
-    else:
-        x, off, e, ph, v = x0[:9], (x0[9] if timing else 0.0), e0, ph0, v0
-    return Design(np.asarray(x, float).copy(), int(branch), float(off), e, ph, float(v), 0,
-                  failed_constraint(x, cons, target))
+    if timing:
+        p0 = np.concatenate([x0[:nx], [x0[nx]]])
+    else:                           # the nearest points' angles, unwrapped along the targets
+        p0 = np.concatenate([x0[:nx], ph0[0] + np.concatenate([[0.0], np.cumsum(_wrap(np.diff(ph0)))])])
+    p = p0
+    for method, evaluations in POLISH_STAGES:
+        try:
+            p = least_squares(resid, p, jac=jac, x_scale="jac", max_nfev=evaluations, ftol=1e-13, xtol=1e-13,
+                              gtol=1e-13, method=method).x
+        except (ValueError, np.linalg.LinAlgError):
+            break
+
+    def finish(q):
+        x, off, ph = design(q)
+        return (x, off) + _finish(x, branch, target, cons, family, off, None if timing else ph)
+    start = finish(p0)
+    end = finish(p)
+    if end[4] > 0 and start[4] == 0:        # back along the step to the last feasible point (bisection)
+        lo, hi = 0.0, 1.0
+        for _ in range(30):
+            mid = 0.5 * (lo + hi)
+            if finish(p0 + mid * (p - p0))[4] == 0:
+                lo = mid
+            else:
+                hi = mid
+        end = finish(p0 + lo * (p - p0))
+    key = [(c[4] > 0, c[4] if c[4] > 0 else float(np.sum(c[2] ** 2))) for c in (start, end)]
+    x, off, e, ph, v, w_ = end if (np.all(np.isfinite(end[2])) and key[1] <= key[0]) else start
+    return Design(np.asarray(x, float).copy(), branch, float(off), e, ph, float(v), 0, w_, {}, family)
+
+
+def combos(types=("fourbar",)) -> list[tuple[str, tuple[int, ...]]]:
+    """(family, branch) pairs the restarts cycle through, for ``--type`` names."""
+    out = []
+    for t in types:
+        for name in TYPES[t]:
+            out += [(name, b) for b in FAMILIES[name].branches]
+    return out
 
 
 def jobs(target: Target, cons: Constraints, seed: int, restarts: int, generations: int = 300,
-         popsize: int = 40, deadline: float | None = None, n_polish: int = 6) -> list[tuple]:
-    """The restarts' jobs: both branches, seeds spawned from ``seed`` (the same for any worker count)."""
+         popsize: int = 40, deadline: float | None = None, n_polish: int = 6, types=("fourbar",)) -> list[tuple]:
+    """The restarts' jobs: the families' branches in turn, seeds spawned from ``seed`` (the same for any
+    worker count)."""
     seeds = np.random.SeedSequence(seed).generate_state(restarts)
-    return [(target, cons, int(sd), (1 if i % 2 == 0 else -1), generations, popsize, deadline, n_polish)
-            for i, sd in enumerate(seeds)]
+    cs = combos(types)
+    return [(cs[i % len(cs)][0], target, cons, int(sd), cs[i % len(cs)][1], generations, popsize, deadline,
+             n_polish) for i, sd in enumerate(seeds)]
+
+
+def rank_key(i: int, d: Design):
+    """Best first: feasible, then by sum of squared distances (infeasible: by violation); ties by order."""
+    return (d.violation > 0, d.violation if d.violation > 0 else d.sum_sq, i)
 
 
 def synthesize(target: Target, cons: Constraints = Constraints(), seed: int = 0, restarts: int = 4,
                generations: int = 300, popsize: int = 40, budget: float | None = None, mapper=map,
-               progress=None, n_polish: int = 6) -> list[Design]:
+               progress=None, n_polish: int = 6, types=("fourbar",)) -> list[Design]:
     """Run ``restarts`` seeded restarts through ``mapper`` (``map`` or an executor's) and return the
-    designs best first (feasible first, then by sum of squared distances; ties by restart order)."""
+    designs best first (:func:`rank_key`)."""
     m = len(target.xy)
     if m < 4:
         raise ParameterError(f"{m} target points; path synthesis needs at least 4")
+    for t in types:
+        if t not in TYPES:
+            raise ParameterError(f"unknown linkage type {t!r}; use one of {', '.join(TYPES)}")
     deadline = None if budget is None else time.time() + float(budget)
     out = []
-    for i, d in enumerate(mapper(restart, jobs(target, cons, seed, restarts, generations, popsize, deadline, n_polish))):
+    js = jobs(target, cons, seed, restarts, generations, popsize, deadline, n_polish, types)
+    for i, d in enumerate(mapper(restart, js)):
         out.append((i, d))
         if progress is not None:
             progress(i + 1, restarts)
-    out.sort(key=lambda t: (t[1].violation > 0, t[1].sum_sq, t[0]))
+    out.sort(key=lambda t: rank_key(*t))
     return [d for _, d in out]
 
 
 def from_four_bar_rs(p1x, p1y, a, l1, l2, l3, l4, l5, g, stat: str) -> tuple[np.ndarray, int]:
     """A design given in four-bar-rs's parameters (crank pivot p1, ground angle a, ground l1, crank l2,
     coupler l3, follower l4, coupler point at l5 and angle g from the coupler line; stat c1* / c2*) as
-    this module's (x, branch): circuit 1 turns B->D counter-clockwise onto B->C, i.e. branch +1."""
+    this module's four-bar (x, branch): circuit 1 turns B->D counter-clockwise onto B->C, i.e. branch +1."""
     x = np.array([p1x, p1y, a, l1, l2, l3, l4, l5 * math.cos(g), l5 * math.sin(g)], dtype=float)
     return x, (1 if stat.lower().startswith("c1") else -1)
+
+
+assert isinstance(FOURBAR, FourBar)

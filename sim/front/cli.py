@@ -20,9 +20,10 @@ import analytic
 from analytic import ParameterError
 from analytic.format import expr
 from sim import service
-from sim.output.io import check_writable, write_csv
+from sim.output.io import write_csv
 from sim.output.jsonout import dumps
 from sim.output.units import add_unit_options
+from sim.front.common import _outputs, check_outputs, mechanism_from, sets_of  # noqa: F401 (used by command modules)
 
 
 class _Parser(argparse.ArgumentParser):
@@ -31,23 +32,6 @@ class _Parser(argparse.ArgumentParser):
 
 
 # ------------------------------------------------------------------------------------ option values
-def sets_of(items: list[str]) -> dict[str, str]:
-    """``--set NAME=VALUE`` items as {name: text}; a name given twice is an error."""
-    out: dict[str, str] = {}
-    for item in items or []:
-        if "=" not in item:
-            raise ParameterError(f"--set {item!r} is not NAME=VALUE (e.g. --set l1=0.12)")
-        name, text = (x.strip() for x in item.split("=", 1))
-        if name in out:
-            raise ParameterError(f"--set {name} is given twice ({out[name]} and {text}); give it once")
-        out[name] = text
-    return out
-
-
-def mechanism_from(args):
-    return service.load(args.mechanism, sets_of(args.sets))
-
-
 def parse_range(mech, text: str | None) -> tuple[float, float] | None:
     """``LO:HI`` of the first input: a crank's in radians, or degrees with a deg suffix; a slider's in the
     file's length unit (like ``--set``, and as ``linkage check`` prints it), returned in metres."""
@@ -127,39 +111,6 @@ def cutting_direction(mech) -> float:
     sol = mech.solve(q, math.copysign(1.0, first.motion.rate or 1.0))
     vx = float(np.nanmean(sol["vx" + mech.output_point]))
     return -math.copysign(1.0, vx)
-
-
-def _outputs(args) -> set[str]:
-    outs = set()
-    for name in ("csv", "out", "mjcf", "toml", "plot", "render"):
-        v = getattr(args, name, None)
-        if v:
-            outs.add(os.path.abspath(v))
-    return outs
-
-
-def check_outputs(args, suffixes: dict[str, tuple[str, ...]]) -> None:
-    """Every output path writable with the right type, and none of them one of the inputs."""
-    for name, sfx in suffixes.items():
-        v = getattr(args, name, None)
-        if v:
-            check_writable(v, sfx)
-    inputs = set()
-    mech = getattr(args, "mechanism", None)
-    if isinstance(mech, str) and os.path.exists(mech):
-        inputs.add(os.path.abspath(mech))
-    if getattr(args, "inertia", None):
-        inputs.add(os.path.abspath(args.inertia))
-    from analytic.registry import LIBRARY
-    library = os.path.realpath(LIBRARY)
-    for out in sorted(_outputs(args)):
-        if os.path.dirname(os.path.realpath(out)) == library:
-            raise ParameterError(f"{out} is in the shipped mechanism library, which is never written; "
-                                 f"choose an output outside {library}")
-    clash = {os.path.realpath(x) for x in inputs} & {os.path.realpath(x) for x in _outputs(args)}
-    if clash:
-        raise ParameterError(f"{sorted(clash)[0]} is an input of this command and would be overwritten; "
-                             f"choose another output name")
 
 
 def write_columns(path, mech, columns, display=None) -> None:

@@ -1,4 +1,6 @@
-"""Design commands: ``linkage synthesize two-position`` (seed 001) and ``linkage sweep`` (seed 003)."""
+"""Design commands: ``linkage synthesize two-position`` (seed 001) and ``linkage sweep`` (seed 003); the
+other synthesis problems register from their own modules. The use cases are :mod:`sim.design_service`'s:
+these functions parse the options, print and write files."""
 
 from __future__ import annotations
 
@@ -11,7 +13,8 @@ from analytic import ParameterError
 from analytic.format import expr
 from analytic.applications import studies
 from analytic.synthesis import two_position as synthesis
-from sim import service
+from sim import design_service
+from sim.front.common import check_outputs, mechanism_from
 from sim.output.jsonout import dumps
 from sim.output.io import check_writable, write_csv
 
@@ -26,33 +29,11 @@ def _point(option: str, text: str) -> tuple[float, float]:
     return expr.parse_value(option, parts[0], angle=False), expr.parse_value(option, parts[1], angle=False)
 
 
-def _check_scale(points: dict, unit: str) -> None:
-    """Refuse points whose distances span over 1000x: a coordinate typed in another unit (metres given
-    with --unit mm) makes a degenerate 'optimum' with links of a few thousandths of the others."""
-    names = list(points)
-    dist = {(a, b): math.dist(points[a], points[b]) for i, a in enumerate(names) for b in names[i + 1:]}
-    (a0, b0), lo = min(dist.items(), key=lambda kv: kv[1])
-    (a1, b1), hi = max(dist.items(), key=lambda kv: kv[1])
-    if lo < 1e-3 * hi:
-        raise ParameterError(f"{a0} and {b0} are {lo:.3g} {unit} apart but {a1} and {b1} {hi:.3g} {unit}: give every "
-                             f"coordinate in {unit} (--unit), with the points distinct")
-
-
 def _angle_range(option: str, text: str) -> tuple[float, float]:
     if ":" not in text:
         raise ParameterError(f"{option} {text!r} is not LO:HI (e.g. {option} -90deg:90deg)")
     lo, hi = text.split(":", 1)
     return expr.parse_value(option, lo), expr.parse_value(option, hi)
-
-
-def row(task: synthesis.Task, dsg: synthesis.Design) -> dict:
-    """A paper-style row: angles in degrees, lengths in the task's unit."""
-    g = "-"
-    if synthesis.feasibility(task, dsg) is None:
-        g = synthesis.grashof_chain(task, dsg)
-    return {"theta_deg": math.degrees(dsg.theta), "phi0_deg": math.degrees(dsg.phi0),
-            "psi0_deg": math.degrees(dsg.psi0), "l1": dsg.l1, "l2": dsg.l2, "l3": dsg.l3, "l4": dsg.l4,
-            "total": dsg.total, "grashof": g}
 
 
 def cmd_synthesize(args) -> int:
@@ -67,13 +48,9 @@ def cmd_synthesize(args) -> int:
                           D=_point("--D", args.D),
                           phi12=expr.parse_value("--crank-rotation", args.crank_rotation),
                           psi12=expr.parse_value("--rocker-rotation", args.rocker_rotation))
-    _check_scale({"--E1": task.E1, "--E2": task.E2, "--A": task.A, "--D": task.D}, args.unit)
     lo, hi = _angle_range("--theta-range", args.theta_range)
-    search = synthesis.optimum(task, lo, hi)
-    thetas = [math.radians(t) for t in synthesis.SEED_THETAS if lo <= math.radians(t) <= hi]
-    rows = [row(task, synthesis.design(task, th)) for th in thetas]
-    best = row(task, search.optimum) if search.optimum else None
-    excluded = [{"theta_deg": math.degrees(th), "reason": why} for th, why in search.excluded]
+    res = design_service.two_position(task, lo, hi, args.unit)
+    rows, best, excluded, search = res["rows"], res["optimum"], res["excluded"], res["search"]
     if args.json:
         print(dumps({"rows": rows, "optimum": best, "excluded": excluded, "unit": args.unit}))
     else:
@@ -161,76 +138,29 @@ def _simulate_partial(mech, revolutions):
 
 
 # ------------------------------------------------------------------------------------------- sweep
-def parse_vary(items: list[str], mech=None) -> dict[str, list[float]]:
-    """``NAME=V1,V2,...`` or ``NAME=start:stop:count`` (count evenly spaced values, ends included)."""
-    out: dict[str, list[float]] = {}
-    for item in items:
-        if "=" not in item:
-            raise ParameterError(f"--vary {item!r} is not NAME=V1,V2,... or NAME=start:stop:count")
-        name, text = (x.strip() for x in item.split("=", 1))
-        if name in out:
-            raise ParameterError(f"--vary {name} is given twice; give it once")
-        angle = None
-        if mech is not None:
-            service.parameter_value(mech, name, mech.values.get(name, 0.0))       # a known parameter
-            if name in mech.overrides:
-                raise ParameterError(f"--vary {name} and --set {name} both given: --vary would override "
-                                     f"--set; give only one")
-            angle = False if mech.definition.parameter_kind[name] == "length" else None
-        if text.count(":") == 2:
-            a, b, n = text.split(":")
-            start, stop = expr.parse_value(name, a, angle), expr.parse_value(name, b, angle)
-            try:
-                count = int(n)
-            except ValueError:
-                raise ParameterError(f"--vary {name}: count {n!r} must be an integer >= 1") from None
-            if not 1 <= count <= 1_000_000:
-                raise ParameterError(f"--vary {name}: count {count} must be in 1..1000000")
-            if count > 1 and not stop > start:
-                raise ParameterError(f"--vary {name}={text}: the range is empty or inverted (stop must exceed start)")
-            out[name] = [float(v) for v in np.linspace(start, stop, count)]
-        else:
-            vals = [v for v in text.split(",") if v.strip()]
-            if not vals:
-                raise ParameterError(f"--vary {name}: no values given")
-            out[name] = [expr.parse_value(name, v, angle) for v in vals]
-    return out
-
-
-MAX_COMBOS = 100_000
-SECONDS_PER_COMBO = 1e-4
-"""Measured cost of one combination at 360 samples (a five-bar, this machine, batch path: 10,000 in 0.7-1.3 s,
-benchmarks/batch.py): sets the estimate shown."""
+MAX_COMBOS = design_service.MAX_COMBOS
 
 
 def cmd_sweep(args) -> int:
-    from sim.front.cli import check_outputs, mechanism_from
     check_outputs(args, {"csv": (".csv",), "plot": (".png", ".svg", ".pdf")})
     base = mechanism_from(args)
-    if not args.vary:
-        raise ParameterError("give at least one --vary NAME=V1,V2,... (or NAME=start:stop:count)")
-    vary = parse_vary(args.vary, base)
-    n = math.prod(len(v) for v in vary.values())
-    if n > MAX_COMBOS and not args.yes:
-        raise ParameterError(f"the grid has {n:,} combinations (over {MAX_COMBOS:,}; about "
-                             f"{n * SECONDS_PER_COMBO:,.0f} s): narrow it, or add --yes")
+    vary = design_service.parse_vary(args.vary, base) if args.vary else {}
+    n = design_service.check_grid(vary, args.yes)
     if args.show < 0:
         raise ParameterError(f"--show {args.show} must be >= 0")
     from sim.output.progress import Progress
     bar = Progress(n, "sweep")
-    rows, paths = studies.sweep_mechanism(base, vary, args.samples, keep_paths=12 if args.plot else 0,
-                                          progress=bar.update)
+    rows, paths = design_service.sweep(base, vary, args.samples, keep_paths=12 if args.plot else 0,
+                                       progress=bar.update, workers=args.workers, scheduler=args.scheduler,
+                                       allow_large=args.yes)
     keys = list(vary)
-    stat_names = [s for s in list(studies.STATS) + ["mu_min", "period"] if any(s in r.values for r in rows)]
     if args.csv:
-        cols = {k: np.array([r.params[k] for r in rows]) for k in keys}
-        cols.update({s: np.array([r.values.get(s, np.nan) for r in rows]) for s in stat_names})
-        cols["valid"] = np.array([1.0 if r.valid else 0.0 for r in rows])
-        cols, units = _sweep_columns(base, keys, cols, _machine(args))
+        machine = _machine(args)
+        cols, units = design_service.sweep_columns(base, keys, rows, machine)
         write_csv(args.csv, cols)
         from sim.output.io import write_text
         write_text(f"{args.csv}.units.json", json.dumps({"mechanism": base.name, "file_units": base.units,
-                                                         "si": _machine(args).is_si, "units": units}, indent=2) + "\n")
+                                                         "si": machine.is_si, "units": units}, indent=2) + "\n")
     from sim.output.units import shown_units
     shown = shown_units(args, base)
     print(_sweep_table(rows, keys, limit=args.show, display=shown))
@@ -248,32 +178,6 @@ def cmd_sweep(args) -> int:
 def _machine(args):
     from sim.output.units import machine_units
     return machine_units(args)
-
-
-_SWEEP_QUANTITY = {"x_min": "length", "x_max": "length", "y_min": "length", "y_max": "length",
-                   "speed_mean": "velocity", "speed_min": "velocity", "speed_max": "velocity", "mu_min": "angle",
-                   "period": "time", "fluctuation": "ratio", "valid": "ratio"}
-
-
-def _sweep_columns(base, keys, cols: dict, display=None) -> tuple[dict, dict]:
-    """The sweep's CSV columns in ``display`` units (None: SI) and the unit of each: the varied values
-    as the file gives them (file units, angles in rad), the path's box and speeds by quantity, the area
-    in the length unit squared."""
-    from analytic.quantities import SI
-    u = display or SI
-    f = u.factor("length")
-    kinds = base.definition.parameter_kind
-    units = {k: (base.units if kinds.get(k) == "length" else "rad" if kinds.get(k) == "angle" else "") for k in keys}
-    out = {k: cols[k] for k in keys}
-    for name, v in cols.items():
-        if name in keys:
-            continue
-        if name == "area":
-            out[name], units[name] = v * f * f, f"{u.unit('length')}^2"
-        else:
-            q = _SWEEP_QUANTITY.get(name, "")
-            out[name], units[name] = (u.convert(q, v), u.unit(q)) if q else (v, "")
-    return out, units
 
 
 def _sweep_table(rows, keys, limit: int, display=None) -> str:
@@ -374,6 +278,9 @@ def register(sub, add_common, add_video_options) -> None:
     p.add_argument("--plot", metavar="PATH", help="families of paths and speed curves (.png/.svg/.pdf)")
     p.add_argument("--show", type=int, default=20, metavar="N", help="rows to print (default 20)")
     p.add_argument("--yes", action="store_true", help=f"allow grids over {MAX_COMBOS:,} combinations")
+    p.add_argument("--workers", type=int, default=1, help="processes for the grid's chunks (default 1)")
+    p.add_argument("--scheduler", metavar="ADDRESS", help="Dask scheduler address (or 'local': a local cluster "
+                                                          "of --workers processes)")
     from sim.output.units import add_unit_options
     add_unit_options(p)
     p.set_defaults(revolutions=1.0)

@@ -1,0 +1,511 @@
+"""Design use cases, for every front end (the ``linkage`` command now, the web app later): path, motion and
+function synthesis, seed 001's two-position method and parameter sweeps. Plain functions on arrays and
+:class:`analytic.Mechanism`; no argparse, no printing, no files written (the front ends write what these
+return). Errors are :class:`analytic.ParameterError` with one-line messages.
+
+Every synthesised design is checked before it is returned: its ``linkage/1`` text is read back by the
+general solver and passed through ``linkage compare`` (MuJoCo against the analytic solution). Synthesis
+restarts, those checks and sweep chunks run through :func:`sim.run.parallel.mapper` (``workers`` processes
+or a Dask ``scheduler``); their items carry their own seeds, so the answer does not depend on the count.
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from analytic import ParameterError
+from analytic.format import expr
+from analytic.synthesis import path as sp
+from analytic.synthesis.curves import FAMILIES, TYPES
+from sim.run.parallel import mapper
+
+__all__ = ["read_table", "check_repeats", "read_target", "PathOptions", "synthesize_path", "check_path_design",
+           "curve", "synthesize_motion", "synthesize_function", "two_position", "parse_vary", "sweep",
+           "sweep_columns", "MAX_COMBOS"]
+
+
+# ------------------------------------------------------------------------------------------- tables
+def read_table(path: str, columns: tuple[str, ...], angle_columns: tuple[str, ...], degrees: bool,
+               minimum: int) -> tuple[np.ndarray, list[int]]:
+    """Rows of the named ``columns`` of a CSV file, angles converted to rad; one-line ParameterError
+    naming the file, line and column of anything wrong.
+
+    Lines starting with ``#`` are comments. The first other line is the header naming the columns (any
+    order, others ignored); a file whose first line is already numbers has no header, and then must have
+    exactly the columns ``columns`` in that order (the literature's target files, benchmarks/data)."""
+    p = Path(path)
+    if not p.is_file():
+        raise ParameterError(f"{path}: no such file")
+    try:
+        lines = p.read_text().splitlines()
+    except (OSError, UnicodeDecodeError) as exc:
+        raise ParameterError(f"{path}: cannot read it ({exc})") from None
+    numbered = [(i + 1, r) for i, r in enumerate(csv.reader(lines))
+                if any(c.strip() for c in r) and not r[0].lstrip().startswith("#")]
+    if not numbered:
+        raise ParameterError(f"{path}: empty; give a header row {','.join(columns)} and one row per target")
+    head_line, head = numbered[0]
+    if _numeric(head):
+        if len(head) != len(columns):
+            raise ParameterError(f"{path}: line {head_line}: no header and {len(head)} column(s); a file "
+                                 f"without a header must have exactly the columns {','.join(columns)} (or add "
+                                 f"the header row {','.join(columns)})")
+        idx, body = list(range(len(columns))), numbered
+    else:
+        names = [h.strip().lower() for h in head]
+        for c in columns:
+            if c not in names:
+                raise ParameterError(f"{path}: line {head_line}: missing column {c!r} (header: {','.join(names)}); "
+                                     f"the header must name {','.join(columns)}")
+        idx, body = [names.index(c) for c in columns], numbered[1:]
+    out = []
+    for line, r in body:
+        vals = []
+        for c, j in zip(columns, idx):
+            text = r[j].strip() if j < len(r) else ""
+            try:
+                v = float(text)
+            except ValueError:
+                raise ParameterError(f"{path}: line {line}, column {c}: {text!r} is not a number") from None
+            if not math.isfinite(v):
+                raise ParameterError(f"{path}: line {line}, column {c}: {text!r} is not a finite number")
+            vals.append(math.radians(v) if (degrees and c in angle_columns) else v)
+        out.append((line, vals))
+    if len(out) < minimum:
+        raise ParameterError(f"{path}: {len(out)} row(s); this method needs at least {minimum}")
+    return np.array([v for _, v in out]), [line for line, _ in out]
+
+
+def _numeric(row) -> bool:
+    try:
+        [float(c) for c in row]
+    except ValueError:
+        return False
+    return True
+
+
+def check_repeats(path, data, lines, key, what) -> None:
+    """Refuse two rows that give the same target (to 1e-9 of the data's spread)."""
+    k = key(data)
+    scale = max(float(np.ptp(k, axis=0).max()), 1e-12)
+    for i in range(len(k)):
+        for j in range(i):
+            if np.all(np.abs(k[i] - k[j]) <= 1e-9 * scale):
+                raise ParameterError(f"{path}: lines {lines[j]} and {lines[i]} give the same {what}; remove one")
+
+
+def read_target(path: str, timing: bool = False, closed: bool = False) -> sp.Target:
+    """The target CSV (columns x,y and, with timing, phi in degrees) as a :class:`Target`."""
+    cols = ("x", "y", "phi") if timing else ("x", "y")
+    data, lines = read_table(path, cols, ("phi",), True, 4)
+    check_repeats(path, data, lines, lambda d: d[:, :2], "point")
+    if float(np.ptp(data[:, :2], axis=0).max()) <= 0:
+        raise ParameterError(f"{path}: all points coincide; give points spread over the path")
+    return sp.Target(data[:, :2].copy(), data[:, 2].copy() if timing else None, closed)
+
+
+def error_record(e) -> dict:
+    """``{"sum_sq", "max", "rms"}`` of errors ``e``."""
+    e = np.abs(np.asarray(e, dtype=float))
+    return {"sum_sq": float(np.sum(e ** 2)), "max": float(np.max(e)), "rms": float(np.sqrt(np.mean(e ** 2)))}
+
+
+# ---------------------------------------------------------------------------------- path synthesis
+@dataclass(frozen=True)
+class PathOptions:
+    """What a path synthesis run may change (SPEC, "Synthesis"): ``types`` (``--type``), ``seed``,
+    ``restarts`` (None: two per family branch for the four-bar and slider-crank, one for the six-bars),
+    differential-evolution ``generations`` and ``popsize`` per restart, ``budget`` [s] (None: none),
+    ``designs`` returned, ``min_transmission`` [deg], ``max_ratio``, ``region`` [target sizes],
+    ``workers``, ``scheduler``."""
+
+    types: tuple[str, ...] = ("fourbar",)
+    seed: int = 0
+    restarts: int | None = None
+    generations: int = 400
+    popsize: int = 40
+    budget: float | None = 120.0
+    designs: int = 1
+    min_transmission: float = 30.0
+    max_ratio: float = 20.0
+    region: float = 3.0
+    workers: int = 1
+    scheduler: str | None = None
+
+    def check(self) -> "PathOptions":
+        for t in self.types:
+            if t not in TYPES:
+                raise ParameterError(f"--type {t}: use one of {', '.join(TYPES)}")
+        for name in ("designs", "generations", "popsize", "workers"):
+            if getattr(self, name) < 1:
+                raise ParameterError(f"--{name} {getattr(self, name)} must be >= 1")
+        if self.restarts is not None and self.restarts < 1:
+            raise ParameterError(f"--restarts {self.restarts} must be >= 1")
+        if not (0 <= self.min_transmission < 90):
+            raise ParameterError(f"--min-transmission {self.min_transmission} must be in [0, 90) deg")
+        if not (self.max_ratio > 1 and math.isfinite(self.max_ratio)):
+            raise ParameterError(f"--max-ratio {self.max_ratio} must be a number > 1")
+        if not (self.region > 0 and math.isfinite(self.region)):
+            raise ParameterError(f"--region {self.region} must be a number > 0 (target sizes)")
+        if self.budget is not None and not (self.budget > 0):
+            raise ParameterError(f"--budget {self.budget} must be > 0 seconds")
+        return self
+
+    @property
+    def constraints(self) -> sp.Constraints:
+        return sp.Constraints(mu_min=math.radians(self.min_transmission), max_ratio=self.max_ratio,
+                              region=self.region)
+
+    @property
+    def restart_count(self) -> int:
+        if self.restarts is not None:
+            return self.restarts
+        n = len(sp.combos(self.types))
+        return n if n >= 4 else 2 * n
+
+
+def sense_of(d: sp.Design) -> float:
+    """+1 when the crank turns counter-clockwise from one target to the next (the order), else -1."""
+    if len(d.phis) > 1:
+        steps = np.angle(np.exp(1j * np.diff(d.phis)))
+        return 1.0 if steps.sum() >= 0 else -1.0
+    return 1.0
+
+
+def design_text(d: sp.Design, unit: str, target: sp.Target, seed: int) -> str:
+    """The ``linkage/1`` file of a design: the crank starts at the first target's angle and turns the
+    sense that meets the targets in order (timing: the sense of the targets' input angles)."""
+    fam = d.family
+    timing = "timed" if target.phi is not None else ("closed path" if target.closed else "open path")
+    desc = (f"{fam.label} path generator through {len(target.xy)} targets ({timing}), seed {seed}; "
+            f"traced point {'Q' if fam.name in ('watt', 'stephenson') else 'E'}")
+    return fam.text(d.x, d.branch, unit, f"path_{fam.name}", desc, float(d.phis[0]), sense_of(d) * 2 * math.pi)
+
+
+def check_path_design(job: tuple) -> dict:
+    """The checks of one synthesised design (a mapper item): ``job`` = (family name, x, branch, text,
+    phi1_0 [rad], sense, size [length]).
+
+    The design's file is read back and solved by the general solver over a full turn (3601 samples): it
+    must assemble everywhere, its traced point must coincide with the family's closed form to 1e-9 of the
+    targets' size (the same branches all the way round), and its transmission angles (the solver's RRR
+    outputs; a slider-crank's from its closed form) give ``mu_min_deg``. Then ``linkage compare`` over a
+    full turn: MuJoCo must follow it."""
+    from analytic.registry import from_text
+    from sim import service
+    name, x, branch, text, phi1_0, sense, size = job
+    fam = FAMILIES[name]
+    mech = from_text(text, f"<synthesised {name}>")
+    q = phi1_0 + sense * np.linspace(0.0, 2 * math.pi, 3601)
+    sol = mech.solve(q)
+    out = {"compare_passed": False, "compare_mode": "full turn", "solver_deviation": float("nan"),
+           "mu_min_deg": float("nan"), "problem": ""}
+    bad = sol.first_failure()
+    if bad is not None:
+        out["problem"] = f"the general solver cannot assemble it over the whole turn ({bad})"
+        return out
+    p = mech.output_point
+    E, _ = fam.points(np.asarray(x)[None], q, branch)
+    dev = np.hypot(sol["x" + p] / mech.scale - E[0, :, 0], sol["y" + p] / mech.scale - E[0, :, 1]).max()
+    out["solver_deviation"] = float(dev / size)
+    mus = [sol[m] for m in mech.transmission_angles.values()]
+    mu = min(float(np.min(v)) for v in mus) if mus else float(fam.mu_min(np.asarray(x)[None], branch)[0])
+    if fam.name == "slider_crank":
+        mu = min(mu, float(fam.mu_min(np.asarray(x)[None], branch)[0]))
+    out["mu_min_deg"] = math.degrees(mu)
+    # two double-precision evaluations of the same geometry: rounding only (1e-9 of size is far above it)
+    if not dev <= 1e-9 * size:
+        out["problem"] = (f"the general solver's curve leaves the synthesised one by {dev / size:.2g} of the "
+                          f"targets' size (a branch changes over the turn)")
+        return out
+    try:
+        _, c = service.compare(mech, 1.0)
+    except ValueError as e:                       # MuJoCo refuses the model (e.g. its camera for a huge design)
+        out["problem"] = f"MuJoCo cannot build its model: {str(e).splitlines()[0]}"
+        return out
+    out["compare_passed"] = bool(c.passed)
+    return out
+
+
+def curve(record: dict, n: int = 1441) -> np.ndarray:
+    """(n, 2) the traced point of a returned design over one turn [its length unit], for drawing."""
+    d: sp.Design = record["design"]
+    E, _ = d.family.points(d.x[None], np.linspace(0.0, 2 * math.pi, n), d.branch)
+    return E[0]
+
+
+def synthesize_path(target: sp.Target, options: PathOptions = PathOptions(), unit: str = "m",
+                    progress=None) -> list[dict]:
+    """Path synthesis (SPEC, "Synthesis"): the best ``options.designs`` designs, best first, each checked
+    (:func:`check_path_design`). A record: ``type`` (family), ``error`` {sum_sq, max, rms} and
+    ``error_unit``, ``parameters`` (the family's, its branch(es), ``phi1_0`` [rad], ``omega1`` [rad/s],
+    ``mu_min_deg``), ``compare_passed``, ``compare_mode``, ``failed`` ('' or the first broken constraint
+    or check), ``solver_deviation``, ``stats``, ``file`` (None: the front end sets it when it writes),
+    ``text`` (the ``linkage/1`` file) and ``design`` (the :class:`Design`, not serialisable)."""
+    options.check()
+    if target.phi is not None and target.closed:
+        raise ParameterError("--closed applies to free timing: with --timing the input angles (column phi) "
+                             "fix where the crank meets each target; drop one of the two")
+    if len(target.xy) < 4:
+        raise ParameterError(f"{len(target.xy)} target points; path synthesis needs at least 4")
+    restarts = max(options.restart_count, options.designs)
+    total = restarts + options.designs
+
+    def step(done, _n=None):
+        if progress is not None:
+            progress(done, total)
+    with mapper(options.workers, options.scheduler) as m:
+        designs = sp.synthesize(target, options.constraints, seed=options.seed, restarts=restarts,
+                                generations=options.generations, popsize=options.popsize, budget=options.budget,
+                                mapper=m, progress=step, types=options.types)[:options.designs]
+        texts = [design_text(d, unit, target, options.seed) for d in designs]
+        jobs = [(d.family.name, d.x, d.branch, t, float(d.phis[0]), sense_of(d), target.size)
+                for d, t in zip(designs, texts)]
+        checks = []
+        for i, c in enumerate(m(check_path_design, [j for j, d in zip(jobs, designs) if not d.failed])):
+            checks.append(c)
+            step(restarts + i + 1)
+    it = iter(checks)
+    found = []
+    for d, text, job in zip(designs, texts, jobs):
+        c = next(it) if not d.failed else {"compare_passed": False, "compare_mode": "not run: " + d.failed,
+                                           "solver_deviation": float("nan"), "problem": "",
+                                           "mu_min_deg": math.degrees(float(d.family.mu_min(d.x[None], d.branch)[0]))}
+        params = {**d.parameters(), "phi1_0": job[4], "omega1": job[5] * 2 * math.pi, "mu_min_deg": c["mu_min_deg"]}
+        found.append({"file": None, "type": d.family.name, "error": error_record(d.err), "error_unit": unit,
+                      "parameters": params, "compare_passed": c["compare_passed"], "compare_mode": c["compare_mode"],
+                      "failed": d.failed or c["problem"], "solver_deviation": c["solver_deviation"],
+                      "stats": d.stats, "text": text, "design": d})
+    return found
+
+
+# ------------------------------------------------------------------------------ exact synthesis
+MIN_ROWS = {"motion": 3, "function": 3}
+
+
+def check_fourbar(mech, link, inputs) -> tuple[bool, str]:
+    """``linkage compare`` of a four-bar: a full turn where the crank turns fully, else rocking over the
+    travel from the first target to the last. Returns (passed, what was compared)."""
+    from sim import service
+    q = np.linspace(0.0, 2 * math.pi, 721)
+    full = mech.solve(q).first_failure() is None
+    if full:
+        _, c = service.compare(mech, 1.0)
+    else:
+        sense = math.copysign(1.0, link.omega1)
+        travel = np.mod(sense * (np.asarray(inputs) - inputs[0]), 2 * math.pi)
+        ends = (inputs[0], inputs[0] + sense * travel.max())
+        _, c = service.compare(mech, 1.0, input_range=(min(ends), max(ends)))
+    return bool(c.passed), ("full turn" if full else "rocking between the first and last target")
+
+
+def read_poses(path: str, degrees: bool) -> np.ndarray:
+    """Poses x,y,theta (3 or more, distinct) from a CSV."""
+    data, lines = read_table(path, ("x", "y", "theta"), ("theta",), degrees, MIN_ROWS["motion"])
+    check_repeats(path, data, lines, lambda d: np.column_stack([d[:, :2], np.mod(d[:, 2], 2 * math.pi)]), "pose")
+    return data
+
+
+def read_pairs(path: str, degrees: bool) -> np.ndarray:
+    """(input, output) angle pairs (3 or more, distinct inputs) from a CSV."""
+    data, lines = read_table(path, ("input", "output"), ("input", "output"), degrees, MIN_ROWS["function"])
+    check_repeats(path, data, lines, lambda d: np.mod(d[:, :1], 2 * math.pi), "input angle")
+    return data
+
+
+def synthesize_motion(poses: np.ndarray, unit: str = "m", count: int = 3, circle_points=None) -> list[dict]:
+    """Burmester motion generation (3-5 poses exact, more by least squares): the designs best first, each
+    solved by the general solver at the poses and passed through ``linkage compare``."""
+    from analytic.synthesis import fourbar as synth_fourbar
+    from analytic.synthesis import motion as synthesis_motion
+    if count < 1:
+        raise ParameterError(f"--count {count} must be >= 1")
+    if circle_points is not None:
+        circle_points = np.asarray(circle_points, dtype=float).reshape(2, 2)
+        if len(poses) != 3:
+            raise ParameterError(f"--circle-points applies to 3 poses (given {len(poses)})")
+        if not np.all(np.isfinite(circle_points)):
+            raise ParameterError("--circle-points: give finite numbers")
+    designs, _ = synthesis_motion.synthesize(poses, circle_points=circle_points, count=count)
+    method = ("Burmester, exact" if len(poses) <= 5 else "Burmester dyads by least squares")
+    found = []
+    for d in designs:
+        text = synth_fourbar.text(d.linkage, unit, "motion_fourbar",
+                                  f"four-bar through {len(poses)} coupler poses ({method}); output E = the pose point")
+        mech = synth_fourbar.mechanism(d.linkage, unit)
+        sol = mech.solve(d.inputs)                           # the general solver at the poses' input angles
+        err = np.hypot(sol["xE"] / mech.scale - poses[:, 0], sol["yE"] / mech.scale - poses[:, 1])
+        ang = synthesis_motion._wrap((sol["phi2"] - sol["phi2"][0]) - (poses[:, 2] - poses[0, 2]))
+        passed, mode = check_fourbar(mech, d.linkage, d.inputs) if not d.defect else (False, "not run: " + d.defect)
+        params = {**d.linkage.parameters(), "mu_min_deg": math.degrees(d.mu_min),
+                  "angle_error_max": float(np.max(np.abs(ang)))}
+        found.append({"file": None, "error": error_record(err), "error_unit": unit, "parameters": params,
+                      "compare_passed": passed, "compare_mode": mode, "defect": d.defect,
+                      "inputs": [float(q) for q in d.inputs], "text": text})
+    return found
+
+
+def synthesize_function(pairs: np.ndarray, ground: float = 1.0, unit: str = "m") -> list[dict]:
+    """Freudenstein function generation (3 pairs exact, more by least squares): one design, solved by the
+    general solver at the given inputs and passed through ``linkage compare``."""
+    from analytic.synthesis import fourbar as synth_fourbar
+    from analytic.synthesis import function as synthesis_function
+    if not (math.isfinite(ground) and ground > 0):
+        raise ParameterError(f"--ground {ground!r} must be a length > 0")
+    f = synthesis_function.synthesize(pairs[:, 0], pairs[:, 1], ground)
+    text = synth_fourbar.text(f.linkage, unit, "function_fourbar",
+                              f"Freudenstein function generator through {len(pairs)} (input, output) pairs; "
+                              f"input offset {f.input_offset:g} rad, output offset {f.output_offset:g} rad")
+    mech = synth_fourbar.mechanism(f.linkage, unit)
+    sol = mech.solve(pairs[:, 0] + f.input_offset)            # the general solver at the given inputs
+    err = synthesis_function._wrap(sol["phi3"] - f.output_offset - pairs[:, 1])
+    passed, mode = check_fourbar(mech, f.linkage, pairs[:, 0] + f.input_offset) if not f.defect else (
+        False, "not run: " + f.defect)
+    params = {**f.linkage.parameters(), "K1": f.K[0], "K2": f.K[1], "K3": f.K[2],
+              "input_offset": f.input_offset, "output_offset": f.output_offset}
+    return [{"file": None, "error": error_record(err), "error_unit": "rad", "parameters": params,
+             "compare_passed": passed, "compare_mode": mode, "defect": f.defect, "text": text}]
+
+
+# --------------------------------------------------------------------------------- two-position
+def check_scale(points: dict, unit: str) -> None:
+    """Refuse points whose distances span over 1000x: a coordinate typed in another unit (metres given
+    with --unit mm) makes a degenerate 'optimum' with links of a few thousandths of the others."""
+    names = list(points)
+    dist = {(a, b): math.dist(points[a], points[b]) for i, a in enumerate(names) for b in names[i + 1:]}
+    (a0, b0), lo = min(dist.items(), key=lambda kv: kv[1])
+    (a1, b1), hi = max(dist.items(), key=lambda kv: kv[1])
+    if lo < 1e-3 * hi:
+        raise ParameterError(f"{a0} and {b0} are {lo:.3g} {unit} apart but {a1} and {b1} {hi:.3g} {unit}: give every "
+                             f"coordinate in {unit} (--unit), with the points distinct")
+
+
+def two_position_row(task, dsg) -> dict:
+    """A paper-style row: angles in degrees, lengths in the task's unit."""
+    from analytic.synthesis import two_position as synthesis
+    g = "-"
+    if synthesis.feasibility(task, dsg) is None:
+        g = synthesis.grashof_chain(task, dsg)
+    return {"theta_deg": math.degrees(dsg.theta), "phi0_deg": math.degrees(dsg.phi0),
+            "psi0_deg": math.degrees(dsg.psi0), "l1": dsg.l1, "l2": dsg.l2, "l3": dsg.l3, "l4": dsg.l4,
+            "total": dsg.total, "grashof": g}
+
+
+def two_position(task, lo: float, hi: float, unit: str) -> dict:
+    """Seed 001: the rows at the paper's coupler rotations in [lo, hi] [rad], the optimum (least total
+    length) and the rotations excluded with their reasons. ``search`` holds the optimiser's result."""
+    from analytic.synthesis import two_position as synthesis
+    check_scale({"--E1": task.E1, "--E2": task.E2, "--A": task.A, "--D": task.D}, unit)
+    search = synthesis.optimum(task, lo, hi)
+    thetas = [math.radians(t) for t in synthesis.SEED_THETAS if lo <= math.radians(t) <= hi]
+    rows = [two_position_row(task, synthesis.design(task, th)) for th in thetas]
+    best = two_position_row(task, search.optimum) if search.optimum else None
+    excluded = [{"theta_deg": math.degrees(th), "reason": why} for th, why in search.excluded]
+    return {"rows": rows, "optimum": best, "excluded": excluded, "unit": unit, "search": search}
+
+
+# ------------------------------------------------------------------------------------------ sweep
+MAX_COMBOS = 100_000
+SECONDS_PER_COMBO = 1e-4
+"""Measured cost of one combination at 360 samples (a five-bar, this machine, batch path: 10,000 in 0.7-1.3 s,
+benchmarks/batch.py): sets the estimate shown."""
+
+
+def parse_vary(items: list[str], mech=None) -> dict[str, list[float]]:
+    """``NAME=V1,V2,...`` or ``NAME=start:stop:count`` (count evenly spaced values, ends included)."""
+    from sim import service
+    out: dict[str, list[float]] = {}
+    for item in items:
+        if "=" not in item:
+            raise ParameterError(f"--vary {item!r} is not NAME=V1,V2,... or NAME=start:stop:count")
+        name, text = (x.strip() for x in item.split("=", 1))
+        if name in out:
+            raise ParameterError(f"--vary {name} is given twice; give it once")
+        angle = None
+        if mech is not None:
+            service.parameter_value(mech, name, mech.values.get(name, 0.0))       # a known parameter
+            if name in mech.overrides:
+                raise ParameterError(f"--vary {name} and --set {name} both given: --vary would override "
+                                     f"--set; give only one")
+            angle = False if mech.definition.parameter_kind[name] == "length" else None
+        if text.count(":") == 2:
+            a, b, n = text.split(":")
+            start, stop = expr.parse_value(name, a, angle), expr.parse_value(name, b, angle)
+            try:
+                count = int(n)
+            except ValueError:
+                raise ParameterError(f"--vary {name}: count {n!r} must be an integer >= 1") from None
+            if not 1 <= count <= 1_000_000:
+                raise ParameterError(f"--vary {name}: count {count} must be in 1..1000000")
+            if count > 1 and not stop > start:
+                raise ParameterError(f"--vary {name}={text}: the range is empty or inverted (stop must exceed start)")
+            out[name] = [float(v) for v in np.linspace(start, stop, count)]
+        else:
+            vals = [v for v in text.split(",") if v.strip()]
+            if not vals:
+                raise ParameterError(f"--vary {name}: no values given")
+            out[name] = [expr.parse_value(name, v, angle) for v in vals]
+    return out
+
+
+def check_grid(vary: dict, allow_large: bool = False) -> int:
+    """The number of combinations; refused over MAX_COMBOS unless ``allow_large``."""
+    if not vary:
+        raise ParameterError("give at least one --vary NAME=V1,V2,... (or NAME=start:stop:count)")
+    n = math.prod(len(v) for v in vary.values())
+    if n > MAX_COMBOS and not allow_large:
+        raise ParameterError(f"the grid has {n:,} combinations (over {MAX_COMBOS:,}; about "
+                             f"{n * SECONDS_PER_COMBO:,.0f} s): narrow it, or add --yes")
+    return n
+
+
+def sweep(base, vary: dict[str, list[float]], samples: int = 360, keep_paths: int = 0, progress=None,
+          workers: int = 1, scheduler: str | None = None, allow_large: bool = False):
+    """Every combination of ``vary`` on ``base`` (:func:`analytic.applications.studies.sweep_mechanism`),
+    its chunks spread over ``workers`` processes or a Dask ``scheduler``: the same rows in the same order
+    for any count. Returns (rows, paths)."""
+    from analytic.applications import studies
+    check_grid(vary, allow_large)
+    with mapper(workers, scheduler) as m:
+        return studies.sweep_mechanism(base, vary, samples, keep_paths=keep_paths, progress=progress,
+                                       mapper=m if (workers > 1 or scheduler) else None)
+
+
+SWEEP_QUANTITY = {"x_min": "length", "x_max": "length", "y_min": "length", "y_max": "length",
+                  "speed_mean": "velocity", "speed_min": "velocity", "speed_max": "velocity", "mu_min": "angle",
+                  "period": "time", "fluctuation": "ratio", "valid": "ratio"}
+
+
+def sweep_stat_names(rows) -> list[str]:
+    from analytic.applications import studies
+    return [s for s in list(studies.STATS) + ["mu_min", "period"] if any(s in r.values for r in rows)]
+
+
+def sweep_columns(base, keys, rows, display=None) -> tuple[dict, dict]:
+    """The sweep's columns in ``display`` units (None: SI) and the unit of each: the varied values as the
+    file gives them (file units, angles in rad), the path's box and speeds by quantity, the area in the
+    length unit squared, ``valid`` 1/0."""
+    from analytic.quantities import SI
+    stat_names = sweep_stat_names(rows)
+    cols = {k: np.array([r.params[k] for r in rows]) for k in keys}
+    cols.update({s: np.array([r.values.get(s, np.nan) for r in rows]) for s in stat_names})
+    cols["valid"] = np.array([1.0 if r.valid else 0.0 for r in rows])
+    u = display or SI
+    f = u.factor("length")
+    kinds = base.definition.parameter_kind
+    units = {k: (base.units if kinds.get(k) == "length" else "rad" if kinds.get(k) == "angle" else "") for k in keys}
+    out = {k: cols[k] for k in keys}
+    for name, v in cols.items():
+        if name in keys:
+            continue
+        if name == "area":
+            out[name], units[name] = v * f * f, f"{u.unit('length')}^2"
+        else:
+            q = SWEEP_QUANTITY.get(name, "")
+            out[name], units[name] = (u.convert(q, v), u.unit(q)) if q else (v, "")
+    return out, units
