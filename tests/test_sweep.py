@@ -104,3 +104,22 @@ def test_sweep_scheduler_that_cannot_be_reached():
     r = run("sweep", "fivebar", "--vary", "l1=0.2,0.25", "--scheduler", "tcp://127.0.0.1:9")
     assert r.returncode == 2 and "--scheduler tcp://127.0.0.1:9" in r.stderr
     assert len(r.stderr.strip().splitlines()) == 1
+
+
+def test_workers_start_cleanly_after_a_compiled_solve():
+    # a process that has run the compiled solver holds GNU OpenMP's threads: a worker forked from it was
+    # killed at once (BrokenProcessPool); the pool's workers come from a fork server instead
+    from analytic.solver import jit
+    if not jit.AVAILABLE:
+        pytest.skip("numba is not installed")
+    code = ("import os, numpy as np, analytic\n"
+            "os.environ['LINKAGE_JIT'] = '1'\n"
+            "from analytic.applications import studies\n"
+            "m = analytic.load('fivebar'); m.solve(*m.drive(np.linspace(0, 1, 5000)))\n"
+            "from sim.run.parallel import mapper\n"
+            "with mapper(2) as run:\n"
+            "    rows, _ = studies.sweep_mechanism(m, {'l2': [0.05, 0.06, 0.07]}, 90, mapper=run)\n"
+            "print(sum(r.valid for r in rows))\n")
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
+    assert r.returncode == 0, r.stderr[-2000:]
+    assert r.stdout.split()[-1] == "3"

@@ -9,6 +9,7 @@ carry their own seeds gives the same answer for any number of workers.
 from __future__ import annotations
 
 import contextlib
+import multiprocessing
 from concurrent.futures import ProcessPoolExecutor
 
 from analytic import ParameterError
@@ -51,5 +52,10 @@ def mapper(workers: int = 1, scheduler: str | None = None):
     if workers == 1:
         yield map
         return
-    with ProcessPoolExecutor(max_workers=workers) as pool:
+    # not fork: a process that has run the compiled solver holds GNU OpenMP's threads, and a child forked
+    # from it is killed ("fork() called from a process already using GNU OpenMP"); a fork server's children
+    # start from a clean process that imports what the mapped function needs
+    methods = multiprocessing.get_all_start_methods()
+    context = multiprocessing.get_context("forkserver" if "forkserver" in methods else "spawn")
+    with ProcessPoolExecutor(max_workers=workers, mp_context=context) as pool:
         yield pool.map
