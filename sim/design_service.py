@@ -99,14 +99,14 @@ def check_repeats(path, data, lines, key, what) -> None:
                 raise ParameterError(f"{path}: lines {lines[j]} and {lines[i]} give the same {what}; remove one")
 
 
-def read_target(path: str, timing: bool = False, closed: bool = False) -> sp.Target:
+def read_target(path: str, timing: bool = False, closed: bool = False, ordered: bool = True) -> sp.Target:
     """The target CSV (columns x,y and, with timing, phi in degrees) as a :class:`Target`."""
     cols = ("x", "y", "phi") if timing else ("x", "y")
     data, lines = read_table(path, cols, ("phi",), True, 4)
     check_repeats(path, data, lines, lambda d: d[:, :2], "point")
     if float(np.ptp(data[:, :2], axis=0).max()) <= 0:
         raise ParameterError(f"{path}: all points coincide; give points spread over the path")
-    return sp.Target(data[:, :2].copy(), data[:, 2].copy() if timing else None, closed)
+    return sp.Target(data[:, :2].copy(), data[:, 2].copy() if timing else None, closed, ordered)
 
 
 def error_record(e) -> dict:
@@ -181,7 +181,8 @@ def design_text(d: sp.Design, unit: str, target: sp.Target, seed: int) -> str:
     """The ``linkage/1`` file of a design: the crank starts at the first target's angle and turns the
     sense that meets the targets in order (timing: the sense of the targets' input angles)."""
     fam = d.family
-    timing = "timed" if target.phi is not None else ("closed path" if target.closed else "open path")
+    timing = ("timed" if target.phi is not None else "closed path" if target.closed
+              else "open path" if target.ordered else "any order")
     desc = (f"{fam.label} path generator through {len(target.xy)} targets ({timing}), seed {seed}; "
             f"traced point {'Q' if fam.name in ('watt', 'stephenson') else 'E'}")
     return fam.text(d.x, d.branch, unit, f"path_{fam.name}", desc, float(d.phis[0]), sense_of(d) * 2 * math.pi)
@@ -251,6 +252,9 @@ def synthesize_path(target: sp.Target, options: PathOptions = PathOptions(), uni
     if target.phi is not None and target.closed:
         raise ParameterError("--closed applies to free timing: with --timing the input angles (column phi) "
                              "fix where the crank meets each target; drop one of the two")
+    if not target.ordered and (target.phi is not None or target.closed):
+        raise ParameterError("--any-order applies to an open path with free timing: with --timing the input "
+                             "angles fix the order, and --closed asks for it; drop one of them")
     if len(target.xy) < 4:
         raise ParameterError(f"{len(target.xy)} target points; path synthesis needs at least 4")
     restarts = max(options.restart_count, options.designs)

@@ -21,7 +21,10 @@ each step is less than half a turn).
   of the path are free, the targets may occupy a small part of the cycle);
 * closed path (``closed=True``): the targets go once round a loop, so the closing step from the last
   target back to the first is a step like the others: the same sense and less than half a turn, and all
-  the steps together make exactly one turn.
+  the steps together make exactly one turn;
+* any order (``ordered=False``): no order at all, each target's distance to the curve alone (SPEC's free
+  timing error, the metric of the literature's benchmarks whose reported designs do not meet their targets
+  in order); the search still starts from shapes matched to the targets in their given order.
 
 Constraints (every returned design; :func:`violation` measures them, :func:`failed_constraint` names the
 first broken): the crank turns fully on one branch with every transmission angle in [mu_min, 180 deg -
@@ -86,11 +89,18 @@ relative), so the penalty method's slight overshoot still lands inside them."""
 @dataclass(frozen=True)
 class Target:
     """Target points ``xy`` (M, 2) [length]; ``phi`` (M,) input angles [rad] with timing, else None;
-    ``closed``: the points go once round a closed path (free timing; see the module doc)."""
+    ``closed``: the points go once round a closed path; ``ordered``: met in their order (free timing; see
+    the module doc)."""
 
     xy: np.ndarray
     phi: np.ndarray | None = None
     closed: bool = False
+    ordered: bool = True
+
+    @property
+    def in_order(self) -> bool:
+        """Whether the order is a constraint: free timing with ordered targets."""
+        return self.phi is None and self.ordered
 
     @property
     def centre(self) -> np.ndarray:
@@ -234,7 +244,7 @@ def failed_constraint(x, cons: Constraints, target: Target, branch=(1,), family:
         return f"link-length ratio above {cons.max_ratio:g}"
     if region_violation(x[None], cons, target, family)[0] > 0:
         return f"a ground pivot lies outside {cons.region:g} target sizes of the targets' centre"
-    if phis is not None and target.phi is None:
+    if phis is not None and target.in_order:
         return _order_words(np.asarray(phis, dtype=float), target.closed)
     return ""
 
@@ -276,7 +286,8 @@ def batch_error(x, target: Target, branch, n: int = 192, family: Family = FOURBA
         E, _ = family.points(x[i:i + step], phi, b)
         d2, k = _nearest_sample(E, target.xy)
         out[i:i + step] = d2.sum(-1)
-        order[i:i + step] = order_violation(phi[k], target.closed, 1.5 * 2 * math.pi / n)
+        order[i:i + step] = (order_violation(phi[k], target.closed, 1.5 * 2 * math.pi / n) if target.ordered
+                             else 0.0)
     return out, order
 
 
@@ -451,7 +462,7 @@ def search_target(target: Target) -> Target:
     if m <= SEARCH_TARGETS:
         return target
     idx = np.unique(np.round(np.linspace(0, m - 1, SEARCH_TARGETS)).astype(int))
-    return Target(target.xy[idx], None if target.phi is None else target.phi[idx], target.closed)
+    return Target(target.xy[idx], None if target.phi is None else target.phi[idx], target.closed, target.ordered)
 
 
 def restart(job: tuple) -> Design:
@@ -525,12 +536,15 @@ def _finish(x, branch, target: Target, cons: Constraints, family: Family, off: f
     nx = family.size
     if target.phi is None:
         e, ph = curve_distance(x, branch, target.xy, family=family)
-        if phis_fit is not None and order_violation(ph[None], target.closed, ORDER_SLACK)[0] > 0:
+        if not target.ordered:
+            o = 0.0
+        elif phis_fit is not None and order_violation(ph[None], target.closed, ORDER_SLACK)[0] > 0:
             E, _ = family.points(np.asarray(x)[None, :nx], np.asarray(phis_fit)[None], branch)
             e2 = np.hypot(*(E[0] - target.xy).T)
             if np.all(np.isfinite(e2)):
                 e, ph = e2, np.asarray(phis_fit, dtype=float)
-        o = order_violation(ph[None], target.closed, ORDER_SLACK)[0]
+        if target.ordered:
+            o = order_violation(ph[None], target.closed, ORDER_SLACK)[0]
     else:
         e, ph = errors(x, branch, target, off, family)
         o = 0.0
@@ -549,6 +563,7 @@ def polish(x0, branch, target: Target, cons: Constraints, family: Family = FOURB
 
     branch = _branch(branch)
     timing = target.phi is not None
+    ordered = target.in_order
     nx = family.size
     tight = Constraints(cons.mu_min + POLISH_MARGIN[0], cons.max_ratio * (1 - POLISH_MARGIN[1]),
                         cons.region * (1 - POLISH_MARGIN[1]))
@@ -579,7 +594,7 @@ def polish(x0, branch, target: Target, cons: Constraints, family: Family = FOURB
         r = ((E[0] - target.xy) / s).ravel()
         v = violation(x[None], tight, target, branch, family)[0]
         out = [np.nan_to_num(r, nan=10.0), [w * v]]
-        if not timing:
+        if ordered:
             out.append(w * np.maximum(-steps(ph), 0))
         return np.concatenate(out)
 
@@ -596,7 +611,7 @@ def polish(x0, branch, target: Target, cons: Constraints, family: Family = FOURB
             PH[nx] += h[nx]
         E0, _ = family.points(x[None], ph[None], branch)
         E, _ = family.points(X, PH, branch)
-        rows = 2 * m + 1 + (0 if timing else (m if closed else m - 1))
+        rows = 2 * m + 1 + (0 if not ordered else (m if closed else m - 1))
         J = np.zeros((rows, len(p)))
         J[:2 * m, :nd] = ((E - E0) / s).reshape(nd, -1).T / h
         v0 = violation(x[None], tight, target, branch, family)[0]
@@ -607,7 +622,7 @@ def polish(x0, branch, target: Target, cons: Constraints, family: Family = FOURB
             dE = (E1[0] - E0[0]) / s / hp[:, None]                    # (m, 2): d position / d own angle
             J[2 * np.arange(m), nx + np.arange(m)] = dE[:, 0]
             J[2 * np.arange(m) + 1, nx + np.arange(m)] = dE[:, 1]
-            for i in np.flatnonzero(steps(ph) < 0):                    # step i: ph[i+1] - ph[i] (mod m)
+            for i in (np.flatnonzero(steps(ph) < 0) if ordered else ()):  # step i: ph[i+1] - ph[i] (mod m)
                 J[2 * m + 1 + i, nx + (i + 1) % m] += -w * sense
                 J[2 * m + 1 + i, nx + i] += w * sense
         return np.nan_to_num(J)

@@ -65,7 +65,7 @@ def cmd_path(args) -> int:
     if args.plot:
         check_writable(args.plot, (".png", ".svg", ".pdf"))
     options = options_of(args)
-    target = design_service.read_target(args.target, args.timing, args.closed)
+    target = design_service.read_target(args.target, args.timing, args.closed, not args.any_order)
     bar = Progress(options.restart_count + options.designs, "synthesize path")
     found = design_service.synthesize_path(target, options, args.unit, progress=bar.update)
     names = out_names(args.out, len(found))
@@ -116,6 +116,9 @@ def register(problems, add_video_options) -> None:
     p.add_argument("--closed", action="store_true",
                    help="the targets go once round a closed path (the last and the first are neighbours); "
                         "default: an open path, met in order from the first to the last, the return free")
+    p.add_argument("--any-order", action="store_true",
+                   help="the targets need not be met in their order: each one's distance to the coupler curve "
+                        "alone (an open path)")
     p.add_argument("--type", choices=tuple(TYPES), default="fourbar",
                    help="fourbar, slider_crank, or sixbar (Watt II and Stephenson III both searched)")
     p.add_argument("--seed", type=int, default=0, help="random seed (same seed, same answer, any --workers)")
