@@ -265,6 +265,7 @@ def check_singular(mech: Mechanism) -> None:
                              f"diverges or its errors ring far past compare's tolerances (measured); start it a "
                              f"little away (e.g. {first.parameters[0] or 'its start'} = 1deg) to run through the "
                              f"change point")
+    check_change_swing(mech)
     poses = [p for p in figures.singular_poses(mech) if not passes_smoothly(mech, p[1], p[0])]
     if poses:
         first = mech.inputs[0]
@@ -279,6 +280,31 @@ def check_singular(mech: Mechanism) -> None:
         raise ParameterError(f"the {mech.name} passes through a singular pose at {first.q}={at} ({label} folds: "
                              f"a change point, where it may switch branch); the simulation cannot follow it: "
                              f"change a length by a little, or run between two such angles with an input range")
+
+
+CHANGE_SWING = 0.1
+"""[singularity measure, the sine of a dyad's transmission angle] The least a dyad that passes change points
+must swing away from its fold between them for the simulation to follow it: a parallelogram swings to 1 and
+passes; a Peaucellier cell whose rhombus stays within 1.9 deg of flat (0.033) over the whole turn, passing 4
+change points, opened its loops by 6 mm (the trust benchmark's seed 1, design 832)."""
+
+
+def check_change_swing(mech: Mechanism) -> None:
+    """Refuse a run in which a dyad passing change points stays near its fold over the whole turn."""
+    flipping = [e["label"] for e in mech.solving_geometry.elements if e.get("flips")]
+    if not flipping:
+        return
+    from analytic.applications import figures
+    t = np.linspace(0.0, mech.duration(1.0), 2001)
+    measures = figures.singularity(mech, mech.solve(*mech.drive(t)))
+    for label in flipping:
+        m = measures.get(label)
+        if m is not None and np.any(np.isfinite(m)) and float(np.nanmax(m)) < CHANGE_SWING:
+            deg = math.degrees(math.asin(min(1.0, float(np.nanmax(m)))))
+            raise ParameterError(f"the {mech.name}'s {label} stays within {deg:.2g} deg of folded over the whole "
+                                 f"turn while passing its change points: the simulation cannot hold a dyad that near "
+                                 f"its fold (its loops open); change a length so that it swings at least "
+                                 f"{math.degrees(math.asin(CHANGE_SWING)):.0f} deg away between them")
 
 
 CHANGE_START = 1e-6
