@@ -94,21 +94,26 @@ def main() -> None:
     ap.add_argument("--cases", default=",".join(CASES))
     ap.add_argument("--seeds", type=int, default=10)
     ap.add_argument("--workers", type=int, default=2)
+    ap.add_argument("--restarts", type=int, help="the command's --restarts (default: its own, 4)")
+    ap.add_argument("--verbose", action="store_true", help="every seed's error")
     ap.add_argument("--speedup", action="store_true",
                     help="also run each case's seed 0 on 1 worker: time ratio, and whether the answer is identical")
     a = ap.parse_args()
     print(f"{'target':8s} {'M':>4s} {'mu>=':>5s} {'reported':>10s} {'rep.order':>9s} {'ours best':>10s} "
-          f"{'ours/rep':>8s} {'spread':>7s} {'time mean/max [s]':>17s} {'ok':>5s} {'cut':>3s}"
+          f"{'ours/rep':>8s} {'spread':>7s} {'in 1%':>5s} {'time mean/max [s]':>17s} {'ok':>5s} {'cut':>3s}"
           + ("  1 worker [s]  speed-up  same" if a.speedup else ""), flush=True)
     for name in a.cases.split(","):
         opts, rep = case_options(name)
+        if a.restarts:
+            opts += ["--restarts", str(a.restarts)]
         res = [run(name, opts, s, a.workers) for s in range(a.seeds)]
         ok = [r for r in res if r["ok"]]
         best = min((r["sum_sq"] for r in ok), default=float("nan"))
         spread = max(r["sum_sq"] for r in ok) / best - 1 if ok else float("nan")
+        within = sum(r["sum_sq"] <= 1.01 * best for r in ok)
         times = [r["time"] for r in res]
         line = (f"{name:8s} {rep['M']:4d} {rep['bound']:5.1f} {rep['sum_sq']:10.5g} {str(rep['in_order']):>9s} "
-                f"{best:10.5g} {best / rep['sum_sq']:8.3f} {100 * spread:6.2f}% "
+                f"{best:10.5g} {best / rep['sum_sq']:8.3f} {100 * spread:6.2f}% {within:2d}/{len(res):<2d} "
                 f"{np.mean(times):8.1f}/{max(times):<8.1f} {len(ok):2d}/{len(res):<2d} {sum(r['cut'] for r in res):3d}")
         if a.speedup:
             one = run(name, opts, 0, 1)
@@ -116,6 +121,8 @@ def main() -> None:
             line += f"  {one['time']:12.1f}  {one['time'] / res[0]['time']:7.2f}x  {same}"
         print(line, flush=True)
         for s, r in enumerate(res):
+            if a.verbose:
+                print(f"  seed {s}: {r['sum_sq']:.6g} in {r['time']:.1f} s", flush=True)
             if not r["ok"]:
                 print(f"  seed {s}: {r['failed'] or 'compare failed'}", flush=True)
 
