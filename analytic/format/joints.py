@@ -15,7 +15,7 @@ ordinary form (``[ground]``, ``[[inputs]]``, ``[[groups]]``), so every command r
    other, solved in closed form (``RRR``, ``RRP``, ``RPR``, and the dyads with two prismatic pairs where
    those kinds are registered);
 4. where no dyad is left, the smallest set of links with as many constraints as freedoms: one general
-   Assur group (kind ``group``, revolute joints only);
+   Assur group (kind ``group``; its prismatic pairs as the group's ``slides``);
 5. every further point of a placed link: a ``point`` element in the link's frame.
 
 Lengths, offsets, start angles and local coordinates follow from the pose; where the pose uses parameters
