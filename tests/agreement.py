@@ -84,6 +84,9 @@ def compare(m, rng, geometry=None, qdd_scale=1.0) -> dict[str, float]:
     moving = [p for e in m.geometry.elements for p in e["places"]]
     guess = {p: (sol["x" + p] + rng.uniform(-1, 1, SAMPLES) * GUESS * size,
                  sol["y" + p] + rng.uniform(-1, 1, SAMPLES) * GUESS * size) for p in moving}
+    for name, (ln, p0, D) in oracle.axes(geometry).items():      # a group link's axis point (slides)
+        guess[name] = (sol["x" + p0] + D * np.cos(sol["phi" + ln]) + rng.uniform(-1, 1, SAMPLES) * GUESS * size,
+                       sol["y" + p0] + D * np.sin(sol["phi" + ln]) + rng.uniform(-1, 1, SAMPLES) * GUESS * size)
     pts, step = oracle.solve(geometry, q, qd, qdd * qdd_scale, guess)
     worst = {"newton_step": step / size, "branch": sum(oracle.branch_violations(geometry, pts).values())}
     pos = vel = acc = 0.0

@@ -20,7 +20,15 @@ two scalar constraint equations per element, in the element's own point (x, y):
 * ``RPP``     cross(u, C - O) = offset,  cross(v, P - C) = 0   (C on the shifted guide; the pin P on the slot
               through C, v = u turned by the slot's angle); ``PPR`` the same with its pin Q
 * ``group``   per link p0, p1, p2...: |p1 - p0|^2 = L^2 and pk = p0 + u e + v e_perp (e: unit p0 -> p1), with
-              L, u, v measured here from the file's pose; two rows per point the group places
+              L, u, v measured here from the file's pose; two rows per point the group places.
+              With ``slides`` (prismatic pairs), a link whose frame is not p0 -> p1 (a block: along its slide;
+              a link of one point: along the slide it guides) gets an axis point X (two more unknowns):
+              |X - p0|^2 = D^2 (D: the pose's size) and pk = p0 + u e + v e_perp for k >= 1 with
+              e = (X - p0) / D; each pair (block b, guide g: a link of the group, a placed link's points
+              P -> Q, or the ground) adds cross(R(rel) e_g, e_b) = 0 (the block keeps its angle rel to the
+              guide, both from the pose) and cross(e_b, B - O_g - c_u e_g - c_v e_g_perp) = 0 (the block's
+              point B on the guide's line through where the pose puts it; c: its pose coordinates in the
+              guide's frame)
 
 All unknowns are solved together: ``F(x; q) = 0`` for all samples at once (batched 2n x 2n systems).
 
@@ -176,8 +184,7 @@ def _frame(geometry, on, pts):
             on_guide = on == e["links"][1 if k == "RPP" else 0]
             return (pts[e["point"]], u) if on_guide else (pts[e["through"]], _slot(e, u))
         if k == "group" and on in e["links"]:
-            p0, p1 = e["links"][on][:2]
-            return pts[p0], _unit(pts[p0], pts[p1])
+            return _group_frame(e, on, pts)
     raise ValueError(f"no link named {on!r}")
 
 
@@ -205,8 +212,108 @@ def _gear_angle(geometry, e, pts, Q):
     return phi_c + e["phase"] + e["ratio"] * theta
 
 
+def _group_theta0(e) -> dict:
+    """Each group link's frame angle at the pose by the file's conventions, and which links need an axis
+    point (a block: its slide's angle; two or more points: p0 -> p1; one point: the slide it guides)."""
+    pose, sl = e["pose"], e.get("slides", {})
+    out, aux = {}, set()
+    for ln, names in e["links"].items():
+        if ln in sl:
+            out[ln] = float(sl[ln][2])
+            aux.add(ln)
+        elif len(names) >= 2:
+            (ax, ay), (bx, by) = pose[names[0]], pose[names[1]]
+            out[ln] = math.atan2(by - ay, bx - ax)
+        else:
+            out[ln] = float(next(a for g, _, a in sl.values() if g == ln))
+            aux.add(ln)
+    return out, aux
+
+
+def _size(e) -> float:
+    xy = np.array([[float(x), float(y)] for x, y in e["pose"].values()])
+    return float(np.max(np.hypot(*(xy[:, None, :] - xy[None, :, :]).transpose(2, 0, 1))))
+
+
+def axes(geometry) -> dict:
+    """The oracle's extra unknowns: an axis point per group link whose frame is not p0 -> p1,
+    {name: (link, origin point, distance D)}."""
+    out = {}
+    for e in geometry.elements:
+        if e["kind"] == "group" and e.get("slides"):
+            _, aux = _group_theta0(e)
+            for ln in aux:
+                out[f"axis_{e['label']}_{ln}"] = (ln, e["links"][ln][0], _size(e))
+    return out
+
+
+def _axis_name(e, ln):
+    return f"axis_{e['label']}_{ln}"
+
+
+def _group_frame(e, ln, pts):
+    """(origin, unit x-axis) of a group link's frame in the oracle's unknowns."""
+    names = e["links"][ln]
+    P = pts[names[0]]
+    if e.get("slides"):
+        _, aux = _group_theta0(e)
+        if ln in aux:
+            X, D = pts[_axis_name(e, ln)], _size(e)
+            return P, ((X[0] - P[0]) / D, (X[1] - P[1]) / D)
+    return P, _unit(P, pts[names[1]])
+
+
+def _slide_group_rows(e, pts):
+    """A ``group`` with ``slides`` (see the module docstring)."""
+    pose = {p: (float(x), float(y)) for p, (x, y) in e["pose"].items()}
+    th0, aux = _group_theta0(e)
+    D = _size(e)
+    rows = []
+    for ln, names in e["links"].items():
+        P, (ex, ey) = _group_frame(e, ln, pts)
+        c, s_ = math.cos(th0[ln]), math.sin(th0[ln])
+        ax, ay = pose[names[0]]
+        if ln in aux:
+            X = pts[_axis_name(e, ln)]
+            rows.append(_dot(X[0] - P[0], X[1] - P[1], X[0] - P[0], X[1] - P[1]) - D * D)
+            rest = names[1:]
+        else:
+            bx, by = pose[names[1]]
+            L = math.hypot(bx - ax, by - ay)
+            Q = pts[names[1]]
+            rows.append(_dot(Q[0] - P[0], Q[1] - P[1], Q[0] - P[0], Q[1] - P[1]) - L * L)
+            rest = names[2:]
+        for k in rest:
+            rx, ry = pose[k][0] - ax, pose[k][1] - ay
+            u, v = c * rx + s_ * ry, c * ry - s_ * rx
+            R = pts[k]
+            rows += [R[0] - P[0] - (u * ex - v * ey), R[1] - P[1] - (u * ey + v * ex)]
+    for b, (g, p, _) in e["slides"].items():
+        _, (bx_, by_) = _group_frame(e, b, pts)
+        if g is None:
+            O, (gx, gy), gth, (ox, oy) = (Jet(0.0), Jet(0.0)), (Jet(1.0), Jet(0.0)), 0.0, (0.0, 0.0)
+        elif isinstance(g, str):
+            O, (gx, gy) = _group_frame(e, g, pts)
+            gth, (ox, oy) = th0[g], pose[e["links"][g][0]]
+        else:
+            O, (gx, gy) = pts[g[0]], _unit(pts[g[0]], pts[g[1]])
+            (ox, oy), (qx, qy) = pose[g[0]], pose[g[1]]
+            gth = math.atan2(qy - oy, qx - ox)
+        rel = th0[b] - gth
+        cr, sr = math.cos(rel), math.sin(rel)
+        rows.append(_cross(gx * cr - gy * sr, gx * sr + gy * cr, bx_, by_))
+        rx, ry = pose[p][0] - ox, pose[p][1] - oy
+        cu, cv = math.cos(gth) * rx + math.sin(gth) * ry, math.cos(gth) * ry - math.sin(gth) * rx
+        B = pts[p]
+        lx, ly = O[0] + cu * gx - cv * gy, O[1] + cu * gy + cv * gx
+        rows.append(_cross(bx_, by_, B[0] - lx, B[1] - ly))
+    return rows
+
+
 def _group_rows(e, pts):
     """A ``group``'s equations (see the module docstring): lengths and frame coordinates from its pose."""
+    if e.get("slides"):
+        return _slide_group_rows(e, pts)
     pose = {p: (float(x), float(y)) for p, (x, y) in e["pose"].items()}
     rows = []
     for names in e["links"].values():
@@ -280,7 +387,7 @@ def residual(geometry, X, Q):
 
 # ------------------------------------------------------------------------------------------- solving
 def _names(geometry):
-    return [p for e in geometry.elements for p in e["places"]]
+    return [p for e in geometry.elements for p in e["places"]] + list(axes(geometry))
 
 
 def _pack(names, x, xd=None, xdd2=None):
@@ -380,8 +487,9 @@ def branch_violations(geometry, points):
 
 
 def _group_det(e, P):
-    """det of a group's equations' Jacobian in the points it places, at positions P {name: (x, y)}."""
-    unknown = list(e["places"])
+    """det of a group's equations' Jacobian in the points it places (and its axis points), at positions P
+    {name: (x, y)}."""
+    unknown = list(e["places"]) + [_axis_name(e, ln) for ln in (_group_theta0(e)[1] if e.get("slides") else ())]
     n = 2 * len(unknown)
     N = np.size(np.asarray(P[unknown[0]][0]))
     cols = []
@@ -396,7 +504,13 @@ def _group_det(e, P):
 
 def _group_branch_violations(e, P):
     """Samples where a group's Jacobian determinant has another sign than at the file's pose."""
-    at_pose = _group_det(e, {p: (np.array([x]), np.array([y])) for p, (x, y) in e["pose"].items()})[0]
+    pose = {p: (np.array([x]), np.array([y])) for p, (x, y) in e["pose"].items()}
+    if e.get("slides"):
+        th0, aux = _group_theta0(e)
+        for ln in aux:
+            (x, y), D = e["pose"][e["links"][ln][0]], _size(e)
+            pose[_axis_name(e, ln)] = (np.array([x + D * math.cos(th0[ln])]), np.array([y + D * math.sin(th0[ln])]))
+    at_pose = _group_det(e, pose)[0]
     return int(np.sum(np.sign(_group_det(e, P)) != np.sign(at_pose)))
 
 
@@ -408,6 +522,18 @@ def slides(geometry, points):
     J = {n: (Jet(v[0], v[2], 0.5 * v[4]), Jet(v[1], v[3], 0.5 * v[5])) for n, v in points.items()}
     out = {}
     for e in geometry.elements:
+        if e["kind"] == "group":
+            for b, (g, p, _) in e.get("slides", {}).items():
+                _, (ux, uy) = _group_frame(e, b, J)
+                if g is None:
+                    ox, oy = (float(c) for c in e["pose"][p])
+                    O = (Jet(ox), Jet(oy))
+                else:
+                    O = J[g[0] if isinstance(g, tuple) else e["links"][g][0]]
+                B = J[p]
+                s = _dot(B[0] - O[0], B[1] - O[1], ux, uy)
+                out[b] = (s.c0, s.c1, 2.0 * s.c2)
+            continue
         R = J[e["point"]]
         if e["kind"] in ("RRP", "slider"):
             O, (ux, uy) = _guide(e["guide"], J)
@@ -475,6 +601,7 @@ def link_rates(geometry, points):
             G = e["guide"]
             out[e["links"][0]] = out[e["links"][1]] = rates(*G["points"]) if "points" in G else (0.0, 0.0)
         elif k == "group":
+            aux = _group_theta0(e)[1] if e.get("slides") else ()
             for ln, names in e["links"].items():
-                out[ln] = rates(names[0], names[1])
+                out[ln] = rates(names[0], _axis_name(e, ln) if ln in aux else names[1])
     return out

@@ -15,7 +15,7 @@ ordinary form (``[ground]``, ``[[inputs]]``, ``[[groups]]``), so every command r
    other, solved in closed form (``RRR``, ``RRP``, ``RPR``, and the dyads with two prismatic pairs where
    those kinds are registered);
 4. where no dyad is left, the smallest set of links with as many constraints as freedoms: one general
-   Assur group (kind ``group``, revolute joints only);
+   Assur group (kind ``group``; its prismatic pairs as the group's ``slides``);
 5. every further point of a placed link: a ``point`` element in the link's frame.
 
 Lengths, offsets, start angles and local coordinates follow from the pose; where the pose uses parameters
@@ -1130,9 +1130,6 @@ class _Decomposer:
 
     def general(self, S: tuple[str, ...]):
         label = f"links {', '.join(S)}"
-        if any(s.guide in S or s.block in S for s in self.f.slides):
-            raise self.fail(label, f"these {len(S)} links form an Assur group with prismatic pairs, which this version "
-                                   f"cannot solve (the general group takes revolute joints only)")
         if "group" not in kinds.KINDS:
             raise self.fail(label, f"these {len(S)} links form an Assur group that is not a chain of dyads, and this "
                                    f"version has no general group kind to solve it")
@@ -1140,20 +1137,92 @@ class _Decomposer:
                and sum(p in self.points[ln] for ln in S) > 1]
         table = {}
         for ln in S:
-            pts = [p for p in self.points[ln] if p in self.placed or p in new]
-            if len(pts) < 2:
+            table[ln] = [p for p in self.points[ln] if p in self.placed or p in new]
+        slides = [s for s in self.f.slides if s.guide in S or s.block in S]
+        blocks = self.match_blocks(S, slides, label)
+        spec = {}
+        for s, b in zip(slides, blocks):
+            other = self.other(s, b)
+            where = f"{label} (the P joint at {s.point})"
+            if s.point in self.points[b] and s.point not in table[b]:
+                table[b].append(s.point)                       # the block's own point on the slide
+            if not table[b]:                                   # a block with no point: one where the pose has the joint
+                name = self.fresh(f"{b}_slot")
+                self.pose[name] = self.pose[s.point]
+                self.points[b].append(name)
+                table[b].append(name)
+            point = s.point if s.point in table[b] else table[b][0]
+            if other == GROUND:
+                guide = GROUND
+            elif other in S:
+                guide = other
+            else:
+                guide = self.guide_of(s, other, point, where)[0]
+            spec[b] = {"guide": guide, "point": point, "angle": self.out(s.angle, where, "the slide's angle")}
+        for ln in S:
+            if len(table[ln]) < 2 and ln not in spec and not any(v["guide"] == ln for v in spec.values()):
                 raise self.fail(label, f"link {ln!r} is joined at one point only inside the group; it cannot be "
                                        f"placed")
-            table[ln] = pts
-        where = f"{label} (points {', '.join(new)})"
-        pose = {p: self.xy(p, where) for p in dict.fromkeys(p for pts in table.values() for p in pts)}
-        self.emit({"kind": "group", "points": new, "links": table, "pose": pose}, label)
-        self.placed.update(new)
+            if not table[ln]:
+                raise self.fail(label, f"link {ln!r} carries no point of the group; give it a point where it is "
+                                       f"joined")
+        placed_here = [p for p in dict.fromkeys(p for pts in table.values() for p in pts) if p not in self.placed]
+        where = f"{label} (points {', '.join(placed_here)})"
+        used = list(dict.fromkeys(p for pts in table.values() for p in pts))
+        used += [p for v in spec.values() if isinstance(v["guide"], list) for p in v["guide"] if p not in used]
+        pose = {p: self.xy(p, where) for p in used}
+        item = {"kind": "group", "points": placed_here, "links": table, "pose": pose}
+        if spec:
+            item["slides"] = spec
+        self.emit(item, label)
+        self.placed.update(placed_here)
+        by_guide = {}
+        for s, b in zip(slides, blocks):
+            if isinstance(spec[b]["guide"], str):
+                by_guide.setdefault(spec[b]["guide"], s)
+        angle_of = {b: s.angle for s, b in zip(slides, blocks)}
         for ln, pts in table.items():
-            self.pair_frame(ln, pts[0], pts[1])
-        self.classes.append(f"group of {len(S)} links {', '.join(S)}")
+            if ln in angle_of:
+                self.set_frame(ln, pts[0], direction(angle_of[ln]))
+            elif len(pts) >= 2:
+                self.pair_frame(ln, pts[0], pts[1])
+            else:
+                self.set_frame(ln, pts[0], direction(by_guide[ln].angle))
+        kind = "group with prismatic pairs" if spec else "group"
+        self.classes.append(f"{kind} of {len(S)} links {', '.join(S)}")
         for ln in S:
             self.rigid(ln, label)
+
+    def match_blocks(self, S, slides, label) -> list[str]:
+        """For each prismatic pair of a group, the link of the group named as its block (its ``s`` is named
+        after it and its frame runs along the slide): each link the block of one pair at most, the joint's own
+        block where it can be."""
+        owner: dict[str, int] = {}
+
+        def options(k):
+            s = slides[k]
+            return [x for x in (s.block, s.guide) if x in S]
+
+        def place(k, seen):
+            for x in options(k):
+                if x in seen:
+                    continue
+                seen.add(x)
+                if x not in owner or place(owner[x], seen):
+                    owner[x] = k
+                    return True
+            return False
+
+        for k in range(len(slides)):
+            if not place(k, set()):
+                pts = ", ".join(s.point for s in slides)
+                raise self.fail(label, f"the prismatic pairs at {pts} need a block each among links "
+                                       f"{', '.join(S)} and these are too few (a link that slides on two guides "
+                                       f"in one group); make one of them an R joint on a block")
+        out = [""] * len(slides)
+        for x, k in owner.items():
+            out[k] = x
+        return out
 
 
 def _few(names, n: int = 8) -> str:

@@ -488,6 +488,8 @@ def _field(value, ftype: str, what: str, source: str):
                 raise FileError(f"{source}: {what}: {k} = {_short(xy)} must be [x, y]")
             out[k] = tuple(_scalar(v, f"{what}: {k}", source) for v in xy)
         return out
+    if ftype == "slidetable":
+        return _slidetable(value, what, source)
     if ftype == "guide":
         if isinstance(value, list):
             if len(value) != 2:
@@ -510,6 +512,29 @@ def _field(value, ftype: str, what: str, source: str):
             return Guide(through=through, angle=_scalar(value.get("angle", 0.0), what, source))
         raise FileError(f"{source}: {what}: a guide is [\"P\", \"Q\"] or {{through = ..., angle = ...}}")
     return _scalar(value, what, source)
+
+
+def _slidetable(value, what: str, source: str) -> dict:
+    """``{BLOCK = {guide = LINK or ["P", "Q"] or "ground", point = "P", angle = A}}``: a group's prismatic
+    pairs, as {block: (guide, point, angle)} (guide: a link name, a pair of points, or None for the ground)."""
+    form = (" a table BLOCK = {guide = \"LINK\" or [\"P\", \"Q\"] or \"ground\", point = \"P\", "
+            "angle = \"30deg\"}")
+    if not isinstance(value, dict):
+        raise FileError(f"{source}: {what}: give" + form)
+    out = {}
+    for block, t in value.items():
+        _link_name(block, what, source)
+        if not isinstance(t, dict) or set(t) - {"guide", "point", "angle"} or not {"guide", "point"} <= set(t):
+            raise FileError(f"{source}: {what}: slide of {block}: give" + form)
+        guide = t["guide"]
+        if isinstance(guide, list):
+            guide = _field(guide, "pair", f"{what}: slide of {block}: guide", source)
+        else:
+            guide = _link_name(guide, f"{what}: slide of {block}: guide", source)
+            guide = None if guide == GROUND else guide
+        out[block] = (guide, _name(t["point"], f"{what}: slide of {block}: point", source),
+                      _scalar(t.get("angle", 0.0), f"{what}: slide of {block}: angle", source))
+    return out
 
 
 def _check_names(source: str, params: dict, ground: dict, elements: list[Element]) -> None:
@@ -586,6 +611,9 @@ def _parameter_kinds(source: str, params: dict, ground: dict, elements: list[Ele
                 for xy in value.values():
                     for v in xy:
                         use(v, "length", where)
+            elif ftype == "slidetable":
+                for _, _, angle in value.values():
+                    use(angle, "angle", where)
             elif ftype == "guide":
                 if value.through is not None and not isinstance(value.through, str):
                     for v in value.through:
@@ -747,6 +775,8 @@ def resolve_field(v, ftype: str, num, where: str, source: str):
             return {"points": v.points}
         through = v.through if isinstance(v.through, str) else tuple(num(c, "length", where) for c in v.through)
         return {"through": through, "angle": num(v.angle, "angle", where)}
+    if ftype == "slidetable":
+        return {b: (g, p, num(a, "angle", where)) for b, (g, p, a) in v.items()}
     if ftype == "pose":
         return {p: (num(x, "length", where), num(y, "length", where)) for p, (x, y) in v.items()}
     if ftype in ("lengths2", "xy"):

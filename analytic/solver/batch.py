@@ -186,6 +186,11 @@ def _fields(d: linkfile.Definition, values: dict, k: int):
             if ftype in linkfile.NAMES:
                 out[fname] = v
                 continue
+            if ftype == "slidetable":
+                out[fname] = {b: (g, p, _num(d, a, "angle", values, k)) for b, (g, p, a) in v.items()}
+                for _, _, a in out[fname].values():
+                    ok &= np.isfinite(a)
+                continue
             if ftype == "pose":
                 out[fname] = {p: (_num(d, x, "length", values, k), _num(d, y, "length", values, k))
                               for p, (x, y) in v.items()}
