@@ -266,3 +266,41 @@ def test_mechanisms_lists_the_synthesis_types(server):
     conn.request("GET", "/api/mechanisms", headers={"Host": f"127.0.0.1:{server.port}"})
     body = json.loads(conn.getresponse().read())
     assert "fourbar" in body["synthesis"]["types"] and body["synthesis"]["max_budget"] > 0
+
+
+# ------------------------------------------------------------------------------------------ synthesis
+def test_the_synthesis_panel_finds_the_four_bar_that_drew_its_targets(server):
+    from analytic.synthesis import path as sp
+    # 8 targets once round the coupler curve of a known crank-rocker (a closed path); the panel must give
+    # a design through them within 1e-3 of their size, with its whole search run (the budget never binds:
+    # ~20 s here), so the answer does not depend on the machine's speed
+    x = np.array([0.0, 0.0, 0.0, 1.0, 0.35, 1.0, 0.9, 0.5, 0.3])
+    E, _ = sp.coupler_points(x[None], np.linspace(0, 2 * math.pi, 8, endpoint=False), 1)
+    xy = E[0]
+    size = float(np.ptp(xy, axis=0).max())
+    status, data = post(server, "/api/synthesize", {"targets": xy.tolist(), "type": "fourbar", "budget": 120,
+                                                        "closed": True})
+    assert status == 200, data
+    best = data["designs"][0]
+    assert best["compare_passed"] and not best["failed"]
+    # judged by the general solver on the returned file, not by the search's own numbers (20000 samples:
+    # their spacing is far below the 1e-3 bar)
+    from analytic.registry import from_text
+    mech = from_text(best["text"])
+    sol = mech.solve(np.linspace(0, 2 * math.pi, 20000))
+    P = np.column_stack([sol["x" + mech.output_point], sol["y" + mech.output_point]])
+    assert np.sqrt(((xy[:, None] - P[None]) ** 2).sum(-1)).min(1).max() < 1e-3 * size
+    # the curve the page draws is that curve: every target within a 1-degree sample's chord of it
+    C = np.column_stack([best["curve"]["x"], best["curve"]["y"]])
+    assert len(C) == 361 and np.sqrt(((xy[:, None] - C[None]) ** 2).sum(-1)).min(1).max() < 0.02 * size
+
+
+def test_target_files_are_read_in_their_unit_and_bad_ones_named(server):
+    status, data = post(server, "/api/targets", {"text": "x,y\n0,0\n10,0\n10,10\n0,10\n", "filename": "t.csv",
+                                                  "unit": "mm"})
+    assert status == 200
+    np.testing.assert_allclose(data["targets"], [[0, 0], [0.01, 0], [0.01, 0.01], [0, 0.01]], rtol=0, atol=1e-15)
+    assert "t.csv" in refused(server, "/api/targets", {"text": "x,z\n0,0\n", "filename": "t.csv"})
+    assert "targets" in refused(server, "/api/synthesize", {"targets": [[0, 0], [1, 0], [1, 1]]})
+    assert "type" in refused(server, "/api/synthesize", {"targets": [[0, 0], [1, 0], [1, 1], [0, 1]],
+                                                          "type": "cam"})

@@ -23,6 +23,7 @@ import re
 import sys
 import tempfile
 import threading
+import time
 import webbrowser
 from http import HTTPStatus
 from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
@@ -32,6 +33,7 @@ import numpy as np
 
 import analytic
 from analytic import ParameterError
+from analytic import quantities as Q
 from analytic.applications.figures import summary as figures_summary
 from analytic.format import expr
 from analytic.mechanism import Mechanism
@@ -107,6 +109,8 @@ FIELDS = {
     "dynamics": {"mechanism", "text", "set", "motor", "flywheel", "target_fluctuation", "start_speed",
                  "revolutions", "simulate", *LOAD_FIELDS},
     "open": {"text", "filename"},
+    "targets": {"text", "filename", "unit"},
+    "synthesize": {"targets", "type", "closed", "budget", "unit"},
 }
 """The fields each POST accepts; any other is refused, so a misspelt field is never silently ignored."""
 
@@ -367,8 +371,72 @@ def render_video(body: dict) -> bytes:
 
 
 def synthesis_types() -> tuple[str, ...]:
-    """The linkage types path synthesis offers."""
-    return ("fourbar",)
+    """The linkage types path synthesis offers (``linkage synthesize path --type``)."""
+    from analytic.synthesis.curves import TYPES
+    return tuple(TYPES)
+
+
+def length_unit(body: dict) -> str:
+    unit = body.get("unit", "m")
+    if unit not in Q.LENGTH_UNITS:
+        raise RequestError(400, f"unit must be one of {', '.join(Q.LENGTH_UNITS)} (got {_short(unit)})")
+    return unit
+
+
+def targets(body: dict) -> dict:
+    """Target points loaded on the page: a CSV's text (columns x,y in ``unit``, read as ``linkage synthesize
+    path`` reads its file) as points [m]."""
+    from sim import design_service
+    check_fields(body, "targets")
+    text, filename, unit = body.get("text"), body.get("filename", "targets.csv"), length_unit(body)
+    if not isinstance(text, str) or not isinstance(filename, str):
+        raise RequestError(400, "text must be the CSV's contents and filename its name, as strings")
+    base = Path(filename.replace("\\", "/")).name or "targets.csv"
+    with tempfile.TemporaryDirectory(prefix="linkage-app-") as folder:
+        path = Path(folder) / "targets.csv"
+        path.write_text(text, encoding="utf-8")
+        try:
+            target = design_service.read_target(str(path))
+        except ParameterError as exc:        # the message names the temporary file: name the user's instead
+            raise RequestError(400, str(exc).replace(str(path), base)) from None
+    if len(target.xy) > MAX_TARGETS:
+        raise RequestError(400, f"{base}: {len(target.xy)} target points; the page takes at most {MAX_TARGETS}")
+    return {"targets": (target.xy * Q.LENGTH_UNITS[unit]).tolist()}
+
+
+def synthesize(body: dict) -> dict:
+    """Path synthesis from the page: ``targets`` [[x, y], ...] [m], ``type``, ``closed``, ``budget`` [s]
+    (:func:`sim.design_service.synthesize_path`, in metres); each candidate with its error [m^2, m], its
+    least transmission angle, its checks, its ``linkage/1`` text and its coupler curve [m] to draw."""
+    from analytic.synthesis import path as sp
+    from sim import design_service
+    check_fields(body, "synthesize")
+    pts = body.get("targets")
+    if not (isinstance(pts, list) and 4 <= len(pts) <= MAX_TARGETS
+            and all(isinstance(p, list) and len(p) == 2 and all(isinstance(c, (int, float)) and not isinstance(c, bool)
+                                                               and math.isfinite(c) for c in p) for p in pts)):
+        raise RequestError(400, f"targets must be 4 to {MAX_TARGETS} points [[x, y], ...] in metres")
+    kind = body.get("type", "fourbar")
+    if kind not in synthesis_types():
+        raise RequestError(400, f"type must be one of {', '.join(synthesis_types())} (got {_short(kind)})")
+    budget = number(body, "budget", 30.0, 1.0, MAX_SYNTH_BUDGET)
+    xy = np.asarray(pts, dtype=float)
+    if float(np.ptp(xy, axis=0).max()) <= 0:
+        raise RequestError(400, "the target points all coincide: place them along the path")
+    target = sp.Target(xy, None, flag(body, "closed", False))
+    t0 = time.perf_counter()
+    found = design_service.synthesize_path(target, design_service.PathOptions(types=(kind,), budget=budget,
+                                                                             designs=3), "m")
+    phi = np.linspace(0.0, 2 * math.pi, 361)
+    designs = []
+    for k, f in enumerate(found):
+        d = f["design"]
+        E, _ = d.family.points(np.asarray(d.x)[None, :d.family.size], phi[None], d.branch)
+        designs.append({"name": f"synthesised_{k + 1}", "text": f["text"], "error": clean(f["error"]),
+                        "mu_min_deg": clean(f["parameters"].get("mu_min_deg")), "failed": f["failed"],
+                        "compare_passed": bool(f["compare_passed"]),
+                        "curve": {"x": clean(E[0, :, 0].tolist()), "y": clean(E[0, :, 1].tolist())}})
+    return {"designs": designs, "seconds": time.perf_counter() - t0}
 
 
 def flag(body: dict, key: str, default: bool) -> bool:
@@ -679,7 +747,8 @@ class AppServer(ThreadingHTTPServer):
 
 class Handler(BaseHTTPRequestHandler):
     """Routes: GET / and the static files, GET /api/mechanisms; POST /api/solve, /api/simulate,
-    /api/render, /api/forces, /api/dynamics, /api/open, /api/export/{csv,json,toml,mjcf}, /api/exit."""
+    /api/render, /api/forces, /api/dynamics, /api/open, /api/targets, /api/synthesize,
+    /api/export/{csv,json,toml,mjcf}, /api/exit."""
 
     server: AppServer
     server_version = "linkage-app"
@@ -746,7 +815,8 @@ class Handler(BaseHTTPRequestHandler):
         if path not in POSTS:
             raise RequestError(405 if path in FILES or path == "/api/mechanisms" else 404,
                                f"{path}: no such action (POST to /api/solve, /api/simulate, /api/render, "
-                               f"/api/forces, /api/dynamics, /api/open, /api/export/KIND or /api/exit)")
+                               f"/api/forces, /api/dynamics, /api/open, /api/targets, /api/synthesize, /api/export/KIND or "
+                               f"/api/exit)")
         body = self._body()
         if path == "/api/exit":
             self.stopping = True
@@ -803,7 +873,8 @@ class Handler(BaseHTTPRequestHandler):
             self.wfile.write(data)
 
 
-ACTIONS = {"/api/forces": forces, "/api/dynamics": dynamics, "/api/open": open_file}
+ACTIONS = {"/api/forces": forces, "/api/dynamics": dynamics, "/api/open": open_file, "/api/targets": targets,
+           "/api/synthesize": synthesize}
 """The panels' JSON actions (forces, dynamics, opening a file), by path."""
 POSTS = {"/api/solve", "/api/simulate", "/api/render", "/api/exit", *ACTIONS,
          *(f"/api/export/{k}" for k in ("csv", "json", "toml", "mjcf"))}
