@@ -21,7 +21,7 @@ import numpy as np
 from analytic import ParameterError
 from analytic.format import expr
 from analytic.synthesis import path as sp
-from analytic.synthesis.curves import FAMILIES, TYPES
+from analytic.synthesis.curves import DEFAULT_TYPE, FAMILIES, TYPES
 from sim.run.parallel import mapper
 
 __all__ = ["read_table", "check_repeats", "read_target", "PathOptions", "synthesize_path", "check_path_design",
@@ -124,7 +124,7 @@ class PathOptions:
     ``designs`` returned, ``min_transmission`` [deg], ``max_ratio``, ``region`` [target sizes],
     ``workers``, ``scheduler``."""
 
-    types: tuple[str, ...] = ("fourbar",)
+    types: tuple[str, ...] = (DEFAULT_TYPE,)
     seed: int = 0
     restarts: int | None = None
     generations: int = 400

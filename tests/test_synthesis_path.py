@@ -14,7 +14,6 @@ import pytest
 import analytic
 from analytic.synthesis import path as sp
 from sim.run.parallel import mapper
-from sim.front.synth_path_cmd import mu_min_deg as _mu_min_deg
 
 LIB = dict(l1=0.10, l2=0.30, l3=0.25, l4=0.30, ex=0.15, ey=0.10)   # the library four-bar's crank-rocker
 
@@ -22,6 +21,11 @@ LIB = dict(l1=0.10, l2=0.30, l3=0.25, l4=0.30, ex=0.15, ey=0.10)   # the library
 def lib_design(p):
     """The library four-bar (A at the origin, D = (l4, 0)) in this module's 9 parameters."""
     return np.array([0.0, 0.0, 0.0, p["l4"], p["l1"], p["l2"], p["l3"], p["ex"], p["ey"]])
+
+
+def _mu_min_deg(x) -> float:
+    """A four-bar's least transmission angle over a full crank turn [deg] by the search's closed form."""
+    return math.degrees(float(sp.FOURBAR.mu_min(np.asarray(x, dtype=float)[None], (1,))[0]))
 
 
 def run(*args):

@@ -546,6 +546,8 @@ FAMILIES = {"fourbar": FourBar(), "slider_crank": SliderCrank(),
                                                    label="Stephenson III six-bar")}
 TYPES = {"fourbar": ("fourbar",), "slider_crank": ("slider_crank",), "sixbar": ("watt", "stephenson")}
 """``--type`` -> the families searched."""
+DEFAULT_TYPE = "fourbar"
+"""The ``--type`` searched when none is named."""
 
 
 def family(name: str) -> Family:

@@ -416,7 +416,8 @@ def synthesize(body: dict) -> dict:
             and all(isinstance(p, list) and len(p) == 2 and all(isinstance(c, (int, float)) and not isinstance(c, bool)
                                                                and math.isfinite(c) for c in p) for p in pts)):
         raise RequestError(400, f"targets must be 4 to {MAX_TARGETS} points [[x, y], ...] in metres")
-    kind = body.get("type", "fourbar")
+    from analytic.synthesis.curves import DEFAULT_TYPE
+    kind = body.get("type", DEFAULT_TYPE)
     if kind not in synthesis_types():
         raise RequestError(400, f"type must be one of {', '.join(synthesis_types())} (got {_short(kind)})")
     budget = number(body, "budget", 30.0, 1.0, MAX_SYNTH_BUDGET)
@@ -946,8 +947,9 @@ def cmd_app(args) -> int:
 def register(sub) -> None:
     """Add ``linkage app [MECH] [--port N] [--no-browser]`` to the CLI's subcommands."""
     p = sub.add_parser("app", help="interactive page: parameters, curves, animation, simulation, exports")
-    p.add_argument("mechanism", metavar="MECH", nargs="?", default="fourbar",
-                   help="the mechanism to open: a name (linkage list) or a linkage/1 file (default fourbar)")
+    first = analytic.names()[0]
+    p.add_argument("mechanism", metavar="MECH", nargs="?", default=first,
+                   help=f"the mechanism to open: a name (linkage list) or a linkage/1 file (default {first})")
     p.add_argument("--port", type=int, default=DEFAULT_PORT, metavar="N",
                    help=f"port on 127.0.0.1 (default {DEFAULT_PORT}; 0 picks a free one)")
     p.add_argument("--no-browser", action="store_true", help="do not open a browser; just print the URL")

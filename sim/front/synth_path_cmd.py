@@ -4,13 +4,11 @@ module parses the options, writes the files and the plot, prints the table or JS
 
 from __future__ import annotations
 
-import math
 from pathlib import Path
 
-import numpy as np
 
 from analytic.format.linkfile import UNITS
-from analytic.synthesis.curves import TYPES
+from analytic.synthesis.curves import DEFAULT_TYPE, TYPES
 from sim import design_service
 from sim.output.io import atomic_path, check_writable, write_text
 from sim.output.jsonout import dumps
@@ -98,12 +96,6 @@ def cmd_path(args) -> int:
     return 0
 
 
-def mu_min_deg(x) -> float:
-    """A four-bar's least transmission angle over a full crank turn [deg] (NaN if the crank cannot turn)."""
-    from analytic.synthesis.curves import FAMILIES
-    return math.degrees(float(FAMILIES["fourbar"].mu_min(np.asarray(x, dtype=float)[None], (1,))[0]))
-
-
 def register(problems, add_video_options) -> None:
     """``synthesize path`` under ``linkage synthesize``."""
     p = problems.add_parser("path", help="four-bar, slider-crank or six-bar whose traced point passes through "
@@ -119,7 +111,7 @@ def register(problems, add_video_options) -> None:
     p.add_argument("--any-order", action="store_true",
                    help="the targets need not be met in their order: each one's distance to the coupler curve "
                         "alone (an open path)")
-    p.add_argument("--type", choices=tuple(TYPES), default="fourbar",
+    p.add_argument("--type", choices=tuple(TYPES), default=DEFAULT_TYPE,
                    help="fourbar, slider_crank, or sixbar (Watt II and Stephenson III both searched)")
     p.add_argument("--seed", type=int, default=0, help="random seed (same seed, same answer, any --workers)")
     p.add_argument("--budget", type=float, default=120.0, help="seconds at most (stops the search early; "
