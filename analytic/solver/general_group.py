@@ -46,7 +46,7 @@ call per sample for these small systems, and the determinant comes with it.
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -320,42 +320,53 @@ class _Path:
         return _Path(K, np.r_[0.0, np.cumsum(step)], np.r_[False, step > JUMP * g.size], turn)
 
 
-def _walk(g: GeneralGroup, path: _Path, a: int, za, b: int) -> list:
+@dataclass(frozen=True)
+class Stepper:
+    """What continuation along a path needs of a numeric group: ``newton(k, z)`` -> (z, converged) at the
+    known points' coordinates ``k`` from ``z``; ``far(za, z)`` how far a step moved the solution [length];
+    the group's ``size`` [length] and ``width`` (unknowns per sample)."""
+
+    newton: Callable
+    far: Callable
+    size: float
+    width: int
+
+
+def walk(s: Stepper, path: _Path, a: int, za, b: int) -> list:
     """Continue from sample a (solved, za) to sample b (either side of a), halving the step where Newton
     fails or the solution moves far: the nodes decided, ``[(index, z, ok), ...]`` in walking order, b last
     unless a node before it failed (then that one is last)."""
-    z, ok = _newton1(g, path.K[:, b], za)
-    far = (abs(path.travel[b] - path.travel[a]) > 2 * NODE_TRAVEL * g.size
-           or float(np.max(np.abs(z - za))) > HOP * g.size)
+    z, ok = s.newton(path.K[:, b], za)
+    far = (abs(path.travel[b] - path.travel[a]) > 2 * NODE_TRAVEL * s.size or s.far(za, z) > HOP * s.size)
     if ok and not far:
         return [(b, z, True)]
     if abs(b - a) == 1:                      # adjacent samples: nothing to halve
         ok = ok and not path.jump[max(a, b)]
         return [(b, z, ok)]
     m = (a + b) // 2
-    first = _walk(g, path, a, za, m)
+    first = walk(s, path, a, za, m)
     if not first[-1][2]:
         return first
-    return first + _walk(g, path, m, first[-1][1], b)
+    return first + walk(s, path, m, first[-1][1], b)
 
 
-def _nodes(g: GeneralGroup, path: _Path, z_start):
+def trace_nodes(s: Stepper, path: _Path, z_start):
     """Sequential continuation over nodes along the block (module docstring, step 1): the node indices
-    (sorted), their reduced coordinates (n_nodes, L; NaN where not assembled) and whether each is."""
+    (sorted), their solutions (n_nodes, width; NaN where not assembled) and whether each is."""
     n = path.K.shape[1]
-    marks = np.floor(path.travel / (NODE_TRAVEL * g.size))
+    marks = np.floor(path.travel / (NODE_TRAVEL * s.size))
     cand = np.flatnonzero(np.r_[True, marks[1:] != marks[:-1]] | path.jump)
     cand = np.unique(np.r_[cand, path.turn, n - 1])          # nodes where the path turns back: between
     #                                                          two nodes the samples go one way
     found: dict[int, tuple] = {}
-    z, ok = _newton1(g, path.K[:, 0], z_start)
+    z, ok = s.newton(path.K[:, 0], z_start)
     found[0] = (z, ok)
     z_good, i_good = (z, 0) if ok else (np.asarray(z_start, dtype=float), None)
     last_bad = None if ok else 0
     for c in cand[1:]:
         c = int(c)
         if last_bad is None:                                   # on the branch: continue
-            decided = _walk(g, path, i_good, z_good, c)
+            decided = walk(s, path, i_good, z_good, c)
             for i, z, ok in decided:
                 found[i] = (z, ok)
             i, z, ok = decided[-1]
@@ -364,21 +375,26 @@ def _nodes(g: GeneralGroup, path: _Path, z_start):
             else:
                 last_bad = i
             continue
-        z, ok = _newton1(g, path.K[:, c], z_good)             # after a gap: back on the branch here?
+        z, ok = s.newton(path.K[:, c], z_good)                 # after a gap: back on the branch here?
+        found[c] = (z, ok)
         if not ok:
-            found[c] = (z, False)
             last_bad = c
             continue
-        found[c] = (z, True)
         if c - last_bad > 1:                                   # where it starts again: back from here
-            for i, zb, okb in _walk(g, path, c, z, last_bad + 1):
+            for i, zb, okb in walk(s, path, c, z, last_bad + 1):
                 found[i] = (zb, okb)
         z_good, i_good, last_bad = z, c, None
     idx = np.array(sorted(found), dtype=np.intp)
     good = np.array([found[i][1] for i in idx], dtype=bool)
-    zs = np.array([found[i][0] for i in idx], dtype=float).reshape(len(idx), g.dof)
+    zs = np.array([found[i][0] for i in idx], dtype=float).reshape(len(idx), s.width)
     zs[~good] = np.nan
     return idx, zs, good
+
+
+def _nodes(g: GeneralGroup, path: _Path, z_start):
+    """:func:`trace_nodes` on the reduced coordinates of a revolute group."""
+    s = Stepper(lambda k, z: _newton1(g, k, z), lambda za, z: float(np.max(np.abs(z - za))), g.size, g.dof)
+    return trace_nodes(s, path, z_start)
 
 
 # ---------------------------------------------------------------------- many samples (batched)

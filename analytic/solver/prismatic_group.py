@@ -50,8 +50,6 @@ RESIDUAL_CONVERGED = 4e-15  # ... or its residual below this fraction of the siz
 NEWTON_LOOSE = 1e-11        # batched samples: iterate to this residual [fraction of size], then one more step
 RESIDUAL_TOL = 1e-10        # a sample whose residual after that exceeds this fraction of the size is refused
 SINGULAR_COND = 1e12        # a pose whose (scaled) Jacobian's condition number exceeds this is singular
-NODE_TRAVEL = gg.NODE_TRAVEL
-HOP = gg.HOP
 BLOCK = 16384
 
 
@@ -376,58 +374,10 @@ def _far(g, za, zb) -> float:
     return float(np.max(np.abs((zb - za) * g.scale)))
 
 
-def _walk(g, path, a, za, b):
-    """As :func:`general_group._walk`: continue from node a (solved, za) to b, halving where needed."""
-    z, ok = _newton1(g, path.K[:, b], za)
-    far = (abs(path.travel[b] - path.travel[a]) > 2 * NODE_TRAVEL * g.size or _far(g, za, z) > HOP * g.size)
-    if ok and not far:
-        return [(b, z, True)]
-    if abs(b - a) == 1:
-        return [(b, z, ok and not path.jump[max(a, b)])]
-    m = (a + b) // 2
-    first = _walk(g, path, a, za, m)
-    if not first[-1][2]:
-        return first
-    return first + _walk(g, path, m, first[-1][1], b)
-
-
 def _nodes(g, path, z_start):
-    """As :func:`general_group._nodes`: (indices, solutions (n_nodes, n), assembled)."""
-    n = path.K.shape[1]
-    marks = np.floor(path.travel / (NODE_TRAVEL * g.size))
-    cand = np.flatnonzero(np.r_[True, marks[1:] != marks[:-1]] | path.jump)
-    cand = np.unique(np.r_[cand, path.turn, n - 1])
-    found = {}
-    z, ok = _newton1(g, path.K[:, 0], z_start)
-    found[0] = (z, ok)
-    z_good, i_good = (z, 0) if ok else (np.asarray(z_start, dtype=float), None)
-    last_bad = None if ok else 0
-    for c in cand[1:]:
-        c = int(c)
-        if last_bad is None:
-            decided = _walk(g, path, i_good, z_good, c)
-            for i, zi, oki in decided:
-                found[i] = (zi, oki)
-            i, zi, oki = decided[-1]
-            if oki:
-                z_good, i_good = zi, i
-            else:
-                last_bad = i
-            continue
-        zi, oki = _newton1(g, path.K[:, c], z_good)
-        found[c] = (zi, oki)
-        if not oki:
-            last_bad = c
-            continue
-        if c - last_bad > 1:
-            for i, zb, okb in _walk(g, path, c, zi, last_bad + 1):
-                found[i] = (zb, okb)
-        z_good, i_good, last_bad = zi, c, None
-    idx = np.array(sorted(found), dtype=np.intp)
-    good = np.array([found[i][1] for i in idx], dtype=bool)
-    zs = np.array([found[i][0] for i in idx], dtype=float).reshape(len(idx), g.n)
-    zs[~good] = np.nan
-    return idx, zs, good
+    """:func:`general_group.trace_nodes` on the links' frames: (indices, solutions (n_nodes, n), assembled)."""
+    s = gg.Stepper(lambda k, z: _newton1(g, k, z), lambda za, z: _far(g, za, z), g.size, g.n)
+    return gg.trace_nodes(s, path, z_start)
 
 
 # ------------------------------------------------------------------------------ many samples (batched)
