@@ -5,6 +5,7 @@ Expectations come from hand geometry (the limit angles of a double rocker from t
 the comparison with the analytic solution; the work balance's scale from the energy of a lone crank."""
 
 import math
+import re
 
 import numpy as np
 import pytest
@@ -180,9 +181,11 @@ def test_a_dyad_that_stays_near_its_fold_while_passing_change_points_is_refused(
     # front, naming the dyad, how near it stays and what to change
     mech = service.load("peaucellier", {"r": 364.8848354350133, "arm": 908.7096774145596,
                                         "side": 552.3122769163549, "rod": 571.0464786411563})
-    with pytest.raises(ParameterError, match=r"groups\[4\] \(point P\) stays within 1\.9 deg of folded .* "
-                                             r"swings at least 6 deg"):
+    with pytest.raises(ParameterError, match=r"groups\[4\] \(point P\) stays within ([0-9.]+) deg of folded .* "
+                                             r"swings at least 6 deg") as info:
         service.prepare(mech, 1.0)
-    # the refusal reads what the analysis shows: the transmission angle at P never exceeds 1.9 deg
-    sol = mech.solve(*mech.drive(np.linspace(0.0, mech.duration(1.0), 721)))
-    assert np.nanmax(sol["muP"]) < math.radians(1.95)
+    # the refusal reads what the analysis shows: the largest transmission angle at P over the turn (its
+    # 2 printed digits: within 5 % of it)
+    said = float(re.search(r"within ([0-9.]+) deg", str(info.value)).group(1))
+    sol = mech.solve(*mech.drive(np.linspace(0.0, mech.duration(1.0), 2001)))
+    assert said == pytest.approx(math.degrees(np.nanmax(sol["muP"])), rel=0.05)
