@@ -142,3 +142,53 @@ def test_bad_groups_with_slides_are_one_line(slides, match):
         analytic.from_text(GROUP.format(slides=slides), "bad.toml").solve([[0.0]])
     msg = str(exc.value)
     assert "\n" not in msg and __import__("re").search(match, msg), msg
+
+
+SLIDER_CRANK = """
+format = "linkage/1"
+output = "Q"
+[ground]
+G1 = [0, 0]
+[[inputs]]
+kind = "crank"
+pivot = "G1"
+point = "P1"
+length = 0.1
+link = "1"
+omega = "360deg"
+[[groups]]
+{group}
+"""
+AS_GROUP = """kind = "group"
+points = ["Q"]
+links = {{ rod = ["P1", "Q"], blk = ["Q"] }}
+pose = {{ P1 = [0.1, 0], Q = [{qx!r}, {qy!r}] }}
+slides = {{ blk = {{ guide = "ground", point = "Q", angle = "30deg" }} }}"""
+AS_RRP = """kind = "RRP"
+point = "Q"
+from = "P1"
+length = 0.2
+guide = { through = [0, 0.15], angle = "30deg" }
+offset = 0
+links = ["rod", "blk"]
+branch = 1"""
+
+
+def test_the_singularity_measure_reads_like_a_dyads_transmission_sine():
+    # a slider-crank (crank 0.1, rod 0.2, guide at 30 deg through (0, 0.15)) written twice: as the RRP kind,
+    # whose measure is the sine of the rod's angle clear of the guide's normal (closed form), and as a group
+    # with one sliding block, measured on the 3 L frame coordinates; the RRP's dead point lies at -14.5 deg
+    from analytic.applications import figures
+    t, d = np.array([0.0, 0.15]), np.array([np.cos(np.pi / 6), np.sin(np.pi / 6)])
+    rel = t - np.array([0.1, 0.0])
+    s = -d @ rel + np.sqrt((d @ rel) ** 2 - rel @ rel + 0.04)       # the pose: |Q - P1| = 0.2 on the guide
+    qx, qy = (float(v) for v in t + s * d)
+    mechs = [analytic.from_text(SLIDER_CRANK.format(group=g), "sc.toml") for g in (AS_GROUP.format(qx=qx, qy=qy), AS_RRP)]
+    q = np.radians(np.array([-14.45, -14.0, -12.0, -5.0, 30.0, 120.0, 240.0]))
+    group, rrp = (next(iter(figures.singularity(m, m.solve(q)).values())) for m in mechs)
+    # same motion: the two solve the same linkage
+    assert np.max(np.abs(mechs[0].solve(q)["xQ"] - mechs[1].solve(q)["xQ"])) < 1e-12
+    # calibrated within 0.9-1.2 of the sine everywhere (2 sqrt 2 fits the limit at the fold; the 3 L
+    # coordinates' other singular values shift it by up to 13 % elsewhere), and vanishing with it
+    assert np.all((group / rrp > 0.9) & (group / rrp < 1.2)), group / rrp
+    assert rrp[0] < 0.05                                            # the first sample is near the fold

@@ -51,6 +51,10 @@ NEWTON_LOOSE = 1e-11        # batched samples: iterate to this residual [fractio
 RESIDUAL_TOL = 1e-10        # a sample whose residual after that exceeds this fraction of the size is refused
 SINGULAR_COND = 1e12        # a pose whose (scaled) Jacobian's condition number exceeds this is singular
 BLOCK = 16384
+DYAD_CALIBRATION = 2 * math.sqrt(2)
+"""The singularity measure's scale (:func:`singularity`): an RRP dyad written as a group reads its transmission
+sine (the RRP kind's measure) near its fold, the smallest singular value then being 0.34-0.36 of that sine
+(tests/test_prismatic_group.py)."""
 
 
 @dataclass(frozen=True)
@@ -487,9 +491,16 @@ def solve_group(g: PrismaticGroup, known: Mapping[str, Sequence[np.ndarray]], *,
 
 
 def singularity(g: PrismaticGroup, positions: Mapping[str, Sequence], angles: Mapping[str, tuple]) -> np.ndarray:
-    """|det| of the Jacobian with angles in units of the size and each row scaled to unit length, in [0, 1]
-    (0 where the group folds). ``positions``: the group's points (x, y, ...); ``angles``: its links' (cos,
-    sin, ...)."""
+    """The group's distance from a singular pose, in [0, 1] (0 where it folds): the smallest singular value of
+    the Jacobian with angles in units of the size and each row scaled to unit length, times
+    :data:`DYAD_CALIBRATION` (so that it reads like a dyad's transmission sine), at most 1. NaN where a point
+    is. ``positions``: the group's points (x, y, ...); ``angles``: its links' (cos, sin, ...).
+
+    Not the determinant (the revolute groups' measure, :func:`.general_group.singularity`): over the ``3 L``
+    frame coordinates it is the product of ``3 L`` singular values, all but one well away from 0 and below 1,
+    so it reads 2.5x lower than a dyad's sine for a slider-crank written as a group and about 50x lower for a
+    six-link group at the same distance from its fold (the smallest singular value bounds how much a
+    constraint error is magnified in the positions, whatever the group's size)."""
     L = len(g.links)
     cols = []
     for name, pts in g.links:
@@ -503,7 +514,11 @@ def singularity(g: PrismaticGroup, positions: Mapping[str, Sequence], angles: Ma
                                                 np.ravel(np.broadcast_to(positions[p][1], m)))])
     K = K.reshape(2 * len(g.known), -1) if len(g.known) else np.zeros((0, z.shape[1]))
     _, J = _residual(g, z, K, jac=True)
+    out = np.full(J.shape[0], np.nan)
     with np.errstate(all="ignore"):
         J = J / g.scale[None, None, :]
         J /= np.sqrt(np.sum(J * J, axis=2, keepdims=True))
-        return np.abs(np.linalg.det(J))
+        ok = np.all(np.isfinite(J), axis=(1, 2))
+    if ok.any():
+        out[ok] = np.minimum(DYAD_CALIBRATION * np.linalg.svd(J[ok], compute_uv=False)[:, -1], 1.0)
+    return out.reshape(m) if m else out[0]
