@@ -82,6 +82,14 @@ class Mechanism:
             raise ParameterError(f"input range {lo:g}:{hi:g}: the end must exceed the start")
         return replace(self, rock=(float(lo), float(hi)))
 
+    def starting_at(self, q0: float) -> "Mechanism":
+        """The same mechanism with its first input starting at ``q0`` (rad or m) instead of the file's start
+        value: the pose the branches are declared at and the motion's origin move there."""
+        elements = list(self.geometry.elements)
+        i = next(k for k, e in enumerate(elements) if kinds.get(e["kind"]).section == "inputs")
+        elements[i] = {**elements[i], kinds.get(elements[i]["kind"]).motion_fields[0]: float(q0)}
+        return replace(self, geometry=replace(self.geometry, elements=tuple(elements)))
+
     # ------------------------------------------------------------------ description
     @property
     def name(self) -> str:

@@ -257,14 +257,12 @@ def check_singular(mech: Mechanism) -> None:
         return
     from analytic.applications import figures
     first = mech.inputs[0]
-    at_start = [x for x in change_points(mech) if abs(_wrapped(x - first.motion.q0, first)) < CHANGE_START]
-    if at_start:
-        at = f"{math.degrees(at_start[0]) % 360:.2f}deg" if first.kind == "crank" else f"{at_start[0]:.6g} m"
-        raise ParameterError(f"the {mech.name} starts at a change point ({first.q}={at}, where a dyad's links align): "
-                             f"there the loops' equations are singular at the simulation's first step, and the run "
-                             f"diverges or its errors ring far past compare's tolerances (measured); start it a "
-                             f"little away (e.g. {first.parameters[0] or 'its start'} = 1deg) to run through the "
-                             f"change point")
+    at = _change_point_at_start(mech)
+    if at is not None:
+        shown = f"{math.degrees(at) % 360:.2f}deg" if first.kind == "crank" else f"{at:.6g} m"
+        raise ParameterError(f"the {mech.name} starts at a change point ({first.q}={shown}, where a dyad's links "
+                             f"align): the loops' equations are singular there at the simulation's first step; "
+                             f"start it a little away (e.g. {first.parameters[0] or 'its start'} = 1deg)")
     check_change_swing(mech)
     poses = [p for p in figures.singular_poses(mech) if not passes_smoothly(mech, p[1], p[0])]
     if poses:
@@ -309,6 +307,41 @@ def check_change_swing(mech: Mechanism) -> None:
 
 CHANGE_START = 1e-6
 """[rad, or m for a slider] A change point this close to the start is at the start."""
+CHANGE_SHIFT = math.radians(1.0)
+"""[rad] A crank that starts at a change point is simulated from this far past it, in its sense of turning
+(:func:`clear_of_change_point`). At the change point itself the loops' equations are singular at the
+simulation's first step: the run diverged or its errors rang far past compare's tolerances (measured); from
+1 deg on, the motion carries the linkage through the change point when the turn comes back to it."""
+
+
+def _change_point_at_start(mech: Mechanism) -> float | None:
+    """The change point the first input starts at, or None."""
+    first = mech.inputs[0]
+    at = [x for x in change_points(mech) if abs(_wrapped(x - first.motion.q0, first)) < CHANGE_START]
+    return at[0] if at else None
+
+
+def clear_of_change_point(mech: Mechanism) -> Mechanism:
+    """``mech``, or where its one crank starts at a change point and turns, the same mechanism starting
+    :data:`CHANGE_SHIFT` past it in its sense of turning (the same cycle, the change point passed at the end
+    of the turn; see :func:`start_note`)."""
+    if len(mech.inputs) != 1 or mech.rock is not None:
+        return mech
+    first = mech.inputs[0]
+    sense = first.motion.rate or first.motion.accel
+    if first.kind != "crank" or sense == 0 or _change_point_at_start(mech) is None:
+        return mech
+    return mech.starting_at(first.motion.q0 + math.copysign(CHANGE_SHIFT, sense))
+
+
+def start_note(mech: Mechanism, run: Mechanism) -> str | None:
+    """The sentence telling that ``run`` (what was simulated) starts elsewhere than ``mech``, or None."""
+    a, b = mech.inputs[0], run.inputs[0]
+    if mech.rock is not None or run.rock is not None or abs(a.motion.q0 - b.motion.q0) < 1e-12:
+        return None
+    return (f"the {mech.name} starts at a change point ({a.q}={math.degrees(a.motion.q0) % 360:.2f}deg); "
+            f"simulated from {math.degrees(b.motion.q0) % 360:.2f}deg, through the change point at the end of the "
+            f"turn (the loops' equations are singular at a change point, so no run starts on one)")
 
 
 def _wrapped(dx: float, first) -> float:
@@ -347,6 +380,7 @@ def prepare(mech: Mechanism, revolutions: float, input_range=None) -> Mechanism:
         mech.check_assembles(q)
         check_fold(mech)
         return mech
+    mech = clear_of_change_point(mech)
     check_turns_fully(mech)
     check_singular(mech)
     t = np.linspace(0.0, mech.duration(min(revolutions, 1.0) if len(mech.inputs) == 1 else revolutions), 2001)

@@ -170,9 +170,26 @@ def test_a_parallelogram_is_simulated_through_its_change_points():
     np.testing.assert_allclose(np.unwrap(tr.outputs["phi3"]), tr.inputs["phi1"], atol=1e-6)
 
 
-def test_a_run_starting_at_a_change_point_is_refused_saying_why_and_what_to_do():
+def test_a_run_starting_at_a_change_point_starts_past_it_and_passes_it_at_the_end_of_the_turn():
+    # the parallelogram drawn on its change point (phi1 = 0, C on the line A-D): the loops' equations are
+    # singular at a first step there, so the run starts 1 deg on in the crank's sense and meets that change
+    # point again at the end of its turn; the note says so
+    mech = service.load("fourbar", PARALLELOGRAM)
+    built, c = service.compare(mech, 1.0)
+    assert c.passed, {k: e for k, e in c.errors.items() if not e["passed"]}
+    assert built.mech.inputs[0].motion.q0 == pytest.approx(math.radians(1.0), abs=1e-12)
+    assert re.search(r"starts at a change point \(phi1=0\.00deg\); simulated from 1\.00deg",
+                     service.start_note(mech, built.mech))
+    tr = c.trajectory
+    # the whole turn, up to the file's start again (1 deg past it: 361 deg), both change points passed
+    phi1 = np.unwrap(tr.inputs["phi1"])
+    assert phi1[0] == pytest.approx(math.radians(1.0), abs=1e-9) and phi1[-1] >= math.radians(361.0) - 1e-9
+    assert np.allclose(sorted(abs(math.remainder(x, 2 * math.pi)) for x in c.change_points), [0.0, math.pi], atol=1e-7)
+    # its form kept through both (a parallelogram's rocker turns with the crank, by hand)
+    np.testing.assert_allclose(np.unwrap(tr.outputs["phi3"]), np.unwrap(tr.inputs["phi1"]), atol=1e-6)
+    # a crank at rest on its change point cannot be started past it: refused, saying what to do
     with pytest.raises(ParameterError, match=r"starts at a change point \(phi1=0\.00deg.*phi1_0 = 1deg"):
-        service.prepare(service.load("fourbar", PARALLELOGRAM), 1.0)
+        service.prepare(service.load("fourbar", {**PARALLELOGRAM, "omega1": 0.0}), 1.0)
 
 
 def test_a_dyad_that_stays_near_its_fold_while_passing_change_points_is_refused():

@@ -242,12 +242,20 @@ def cmd_simulate(args) -> int:
     return 0
 
 
+def _say_start(mech, run) -> None:
+    """A note on stderr where the run starts elsewhere than the file (a crank starting at a change point)."""
+    note = service.start_note(mech, run)
+    if note:
+        print(f"linkage: note: {note}", file=sys.stderr)
+
+
 def cmd_compare(args) -> int:
     from sim.run.compare import table
     mech = mechanism_from(args)
     built, c = service.compare(mech, args.revolutions, settings_from(args), loads_from(args, mech),
                                parse_range(mech, args.input_range))
     from sim.output.units import machine_units, shown_units
+    _say_start(mech, built.mech)
     if args.json:
         print(dumps(service.comparison_record(built, c, machine_units(args))))
     else:
@@ -269,6 +277,7 @@ def cmd_render(args) -> int:
     built, tr = service.simulate(mech, args.revolutions, settings_from(args), loads_from(args, mech),
                                  parse_range(mech, args.input_range))
     from sim.output.units import shown_units
+    _say_start(mech, built.mech)
     stats = render(built, tr, str(path), args.fps, size, display=shown_units(args, built.mech),
                    forces=args.forces)
     print(f"wrote {stats.path}: {stats.frames} frames {size[0]}x{size[1]} at {stats.stored_fps:g} fps "
@@ -378,6 +387,7 @@ def cmd_run(args) -> int:
         built, c = service.compare(mech, args.revolutions, settings_from(args), loads_from(args, mech),
                                    parse_range(mech, args.input_range))
         from sim.output.units import machine_units, shown_units
+        _say_start(mech, built.mech)
         shown = shown_units(args, mech)
         print(table(c, mech.size, shown, mech.output_point))
         files = [out_dir / f"{mech.name}.csv", out_dir / f"{mech.name}.png"]
