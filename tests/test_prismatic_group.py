@@ -192,3 +192,36 @@ def test_the_singularity_measure_reads_like_a_dyads_transmission_sine():
     # coordinates' other singular values shift it by up to 13 % elsewhere), and vanishing with it
     assert np.all((group / rrp > 0.9) & (group / rrp < 1.2)), group / rrp
     assert rrp[0] < 0.05                                            # the first sample is near the fold
+
+
+def _held_range_is_where_the_start_branch_goes(m):
+    # the range holding the start, against paths solved here from the start in 0.1 deg steps (the branch is
+    # carried by continuity along a path: a value's assembly depends on the path to it): up to 1e-6 rad
+    # inside either end every value assembles (past an end the solver's Newton and jump checks may give up
+    # anywhere up to the fold itself, ~0.1 deg on: no check there)
+    from analytic.applications import figures
+    q0 = m.inputs[0].motion.q0
+    turn = 2 * np.pi
+    held = [(a + turn * k, b + turn * k) for a, b in figures.assembly_ranges(m) for k in (-1, 0, 1)
+            if a + turn * k <= q0 <= b + turn * k]
+    assert len(held) == 1
+    a, b = held[0]
+    for end in (a, b):
+        n = int(abs(end - q0) / np.radians(0.1)) + 2
+        assert m.solve(np.linspace(q0, end - 1e-6 * np.sign(end - q0), n), outputs=()).valid.all()
+    return a, b
+
+
+@pytest.mark.parametrize("name", ["peas_slot_triad.txt", "moving_guide.txt", "peas_6link.txt"])
+def test_the_range_holding_the_start_ends_where_the_branch_from_the_start_does(name):
+    _held_range_is_where_the_start_branch_goes(form_and_mech(EXAMPLES / name)[1])
+
+
+@pytest.mark.skipif(not PEERS.exists(), reason="the peers' example collection is not on this machine")
+def test_a_scan_that_rejoins_after_a_gap_does_not_extend_the_start_range():
+    # PMKS's fivebarShouldRepeat: the forward scan from the start (-167.34 deg) fails at -91.8 deg, assembles
+    # again at 149.6 deg on another assembly and, near -200.06 deg where the start's branch ends, carried on
+    # into it: the range holding the start read 149.56 deg..268.05 deg; it is 160.06 deg..268.15 deg
+    m = analytic.registry.Mechanism.from_definition(foreign.definition(PEERS / "pmks/fivebarShouldRepeat.txt"), {})
+    a, b = _held_range_is_where_the_start_branch_goes(m)
+    assert np.degrees(a) % 360 == pytest.approx(160.057, abs=1e-3)

@@ -85,12 +85,57 @@ def assembly_ranges(mech, samples: int = SCAN) -> list[tuple[float, float]]:
     ranges = merged
     if len(ranges) == 1 and ranges[0][1] - ranges[0][0] >= hi - lo - GAP:
         return [(lo, hi)]
+    crank = mech.inputs[0].kind == "crank"
+    if any(kinds.get(e["kind"]).continuous for e in mech.geometry.elements):
+        return _with_held_range(mech, ok, ranges, lo, hi, samples)
     # a range wrapping round the turn's end joins the one at its start (cranks only)
-    if mech.inputs[0].kind == "crank" and len(ranges) > 1 and good[0] and good[-1]:
+    if crank and len(ranges) > 1 and good[0] and good[-1]:
         first = ranges.pop(0)
         last = ranges.pop()
         ranges.append((last[0], first[1] + 2 * math.pi))
     return ranges
+
+
+def _held_end(ok, q0: float, far: float, samples: int) -> float:
+    """How far from ``q0`` towards ``far`` the branch held by continuity from the start goes: a scan taken as
+    one path from the start, its first failure refined by finer scans of the step it lies in (each a path
+    from the start through the last good value), to 1e-12 rad (m)."""
+    q = np.linspace(q0, far, samples + 1)[1:]
+    good = ok(q)
+    if good.all():
+        return far
+    k = int(np.argmin(good))
+    a, b = (q0 if k == 0 else float(q[k - 1])), float(q[k])
+    while abs(b - a) > 1e-12:
+        sub = np.linspace(a, b, HELD_REFINE + 1)[1:]
+        g = ok(np.concatenate(([a], sub)))[1:]
+        j = int(np.argmin(g)) if not g.all() else len(sub) - 1
+        a, b = (a if j == 0 else float(sub[j - 1])), float(sub[j])
+    return a
+
+
+HELD_REFINE = 64
+"""Values per refining scan in :func:`_held_end` (each refines the failure's place 64-fold)."""
+
+
+def _with_held_range(mech, ok, ranges, lo: float, hi: float, samples: int) -> list[tuple[float, float]]:
+    """The ranges of a mechanism whose groups hold their branch by continuity (numerically solved groups):
+    the one holding the start comes from scans taken as paths from the start each way (the forward scan
+    alone can rejoin the branch after a gap on another assembly and carry it across a fold to the start's
+    branch); the others are the forward scan's, outside it."""
+    q0 = mech.inputs[0].motion.q0
+    crank = mech.inputs[0].kind == "crank"
+    a = _held_end(ok, q0, q0 - 2 * math.pi if crank else lo, samples)
+    b = _held_end(ok, q0, hi, samples)
+    if crank and (b >= hi or a <= q0 - 2 * math.pi or b - a >= 2 * math.pi - GAP):
+        return [(lo, hi)] if b - a >= 2 * math.pi - GAP else [(a + 2 * math.pi, b + 2 * math.pi)]
+    held = (a + 2 * math.pi, b + 2 * math.pi) if crank else (a, b)
+    gap = (b, a + 2 * math.pi) if crank else None
+    others = []
+    for r0, r1 in ranges:
+        parts = [(max(r0, gap[0]), min(r1, gap[1]))] if crank else [(r0, min(r1, a)), (max(r0, b), r1)]
+        others += [(x, y) for x, y in parts if y - x > GAP]
+    return sorted(others) + [held] if crank else sorted(others + [held])
 
 
 GAP = 1e-7

@@ -192,7 +192,7 @@ def structure_report(mech, display=None) -> str:
             lines.append(f"  {first.q} assembles over a full turn")
         elif ranges:
             lines.append(f"  {first.q} assembles in {figures.describe_ranges(first, ranges, display)} (ends rounded "
-                         f"inward); dead points at " + ", ".join(at(a) for r in ranges for a in r))
+                         f"inward); dead points at " + ", ".join(dict.fromkeys(at(a) for r in ranges for a in r)))
         else:
             lines.append(f"  {first.q} assembles nowhere: change the lengths")
         for x, label, _ in figures.singular_poses(mech):
