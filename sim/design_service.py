@@ -119,7 +119,7 @@ def error_record(e) -> dict:
 @dataclass(frozen=True)
 class PathOptions:
     """What a path synthesis run may change (SPEC, "Synthesis"): ``types`` (``--type``), ``seed``,
-    ``restarts`` (None: four per family branch for the four-bar and slider-crank, one for the six-bars),
+    ``restarts`` (None: eight per family branch for the four-bar and slider-crank, one for the six-bars),
     differential-evolution ``generations`` (None: the family's default, ``sp.generations_of``) and
     ``popsize`` per restart, ``budget`` [s] (None: none),
     ``designs`` returned, ``min_transmission`` [deg], ``max_ratio``, ``region`` [target sizes],
