@@ -166,7 +166,8 @@ class PathOptions:
     def restart_count(self) -> int:
         if self.restarts is not None:
             return self.restarts
-        return max(len(sp.combos(self.types)), sp.RESTARTS)
+        n = len(sp.combos(self.types))
+        return n if n >= 8 else sp.RESTARTS          # six-bars: one per chain and branches
 
 
 def sense_of(d: sp.Design) -> float:
