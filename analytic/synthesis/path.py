@@ -1,5 +1,6 @@
 """Path synthesis: a linkage whose traced point passes through (or nearest to) target points, found by a
-seeded global search over normalised shapes and a least-squares polish, many designs evaluated at once.
+seeded global search over normalised shapes, a least-squares polish and basin hopping on the best
+(:func:`hopping`), many designs evaluated at once.
 
 The kinds of linkage (four-bar, slider-crank, Watt II and Stephenson III six-bars) are the families of
 :mod:`analytic.synthesis.curves`; this module is the same search for all of them.
