@@ -94,7 +94,7 @@ def main() -> None:
     ap.add_argument("--cases", default=",".join(CASES))
     ap.add_argument("--seeds", type=int, default=10)
     ap.add_argument("--workers", type=int, default=2)
-    ap.add_argument("--restarts", type=int, help="the command's --restarts (default: its own, 4)")
+    ap.add_argument("--restarts", type=int, help="the command's --restarts (default: its own, 16)")
     ap.add_argument("--verbose", action="store_true", help="every seed's error")
     ap.add_argument("--speedup", action="store_true",
                     help="also run each case's seed 0 on 1 worker: time ratio, and whether the answer is identical")

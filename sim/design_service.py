@@ -119,15 +119,16 @@ def error_record(e) -> dict:
 @dataclass(frozen=True)
 class PathOptions:
     """What a path synthesis run may change (SPEC, "Synthesis"): ``types`` (``--type``), ``seed``,
-    ``restarts`` (None: two per family branch for the four-bar and slider-crank, one for the six-bars),
-    differential-evolution ``generations`` and ``popsize`` per restart, ``budget`` [s] (None: none),
+    ``restarts`` (None: eight per family branch for the four-bar and slider-crank, one for the six-bars),
+    differential-evolution ``generations`` (None: the family's default, ``sp.generations_of``) and
+    ``popsize`` per restart, ``budget`` [s] (None: none),
     ``designs`` returned, ``min_transmission`` [deg], ``max_ratio``, ``region`` [target sizes],
     ``workers``, ``scheduler``."""
 
     types: tuple[str, ...] = (DEFAULT_TYPE,)
     seed: int = 0
     restarts: int | None = None
-    generations: int = 400
+    generations: int | None = None
     popsize: int = 40
     budget: float | None = 120.0
     designs: int = 1
@@ -142,7 +143,7 @@ class PathOptions:
             if t not in TYPES:
                 raise ParameterError(f"--type {t}: use one of {', '.join(TYPES)}")
         for name in ("designs", "generations", "popsize", "workers"):
-            if getattr(self, name) < 1:
+            if getattr(self, name) is not None and getattr(self, name) < 1:
                 raise ParameterError(f"--{name} {getattr(self, name)} must be >= 1")
         if self.restarts is not None and self.restarts < 1:
             raise ParameterError(f"--restarts {self.restarts} must be >= 1")
@@ -166,7 +167,7 @@ class PathOptions:
         if self.restarts is not None:
             return self.restarts
         n = len(sp.combos(self.types))
-        return n if n >= 4 else 2 * n
+        return n if n >= 8 else sp.RESTARTS          # six-bars: one per chain and branches
 
 
 def sense_of(d: sp.Design) -> float:
@@ -266,7 +267,8 @@ def synthesize_path(target: sp.Target, options: PathOptions = PathOptions(), uni
     with mapper(options.workers, options.scheduler) as m:
         designs = sp.synthesize(target, options.constraints, seed=options.seed, restarts=restarts,
                                 generations=options.generations, popsize=options.popsize, budget=options.budget,
-                                mapper=m, progress=step, types=options.types)[:options.designs]
+                                mapper=m, progress=step, types=options.types,
+                                designs=options.designs)[:options.designs]
         texts = [design_text(d, unit, target, options.seed) for d in designs]
         jobs = [(d.family.name, d.x, d.branch, t, float(d.phis[0]), sense_of(d), target.size)
                 for d, t in zip(designs, texts)]

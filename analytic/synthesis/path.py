@@ -1,5 +1,6 @@
 """Path synthesis: a linkage whose traced point passes through (or nearest to) target points, found by a
-seeded global search over normalised shapes and a least-squares polish, many designs evaluated at once.
+seeded global search over normalised shapes, a least-squares polish and basin hopping on the best
+(:func:`hopping`), many designs evaluated at once.
 
 The kinds of linkage (four-bar, slider-crank, Watt II and Stephenson III six-bars) are the families of
 :mod:`analytic.synthesis.curves`; this module is the same search for all of them.
@@ -45,7 +46,7 @@ from analytic._common import ParameterError
 from analytic.synthesis.curves import FAMILIES, TYPES, Family, FourBar
 
 __all__ = ["Target", "Constraints", "Design", "coupler_points", "violation", "curve_distance", "errors",
-           "order_violation", "synthesize", "restart", "jobs", "from_four_bar_rs", "failed_constraint"]
+           "order_violation", "synthesize", "restart", "jobs", "hop", "from_four_bar_rs", "failed_constraint"]
 
 FOURBAR = FAMILIES["fourbar"]
 NAMES = FOURBAR.names
@@ -64,6 +65,9 @@ SEARCH_TARGETS = 40
 PRESCREEN = 20000
 """Random shapes drawn per restart; the least constraint-breaking are posed on the targets and the best
 seed the population (a computed atlas, see :func:`restart`)."""
+ATLAS = 200
+"""Of those, the least constraint-breaking shapes posed on the targets (the best ``popsize`` seed the
+population)."""
 ORDER_WEIGHT = 0.1
 """Search objective: error / size^2 plus this times the order violation (in half turns; the polish then
 puts the targets in order exactly)."""
@@ -81,6 +85,21 @@ TURN_ROUNDING = 1e-9
 """[rad] A sum of wrapped steps is a whole number of turns up to rounding (1e-16 seen): below this, none."""
 FINAL_SAMPLES = 4096
 """Crank angles at which a returned design's sampled constraints (six-bars' second dyad) are checked."""
+RESTARTS = 16
+"""Restarts at least where ``--restarts`` is not given (the four-bar and slider-crank: 8 per branch)."""
+GENERATIONS = {"fourbar": 80, "slider_crank": 80}
+"""Differential-evolution generations per restart where ``--generations`` is not given, by family (the
+others: 400). A four-bar's 5 shape parameters settle in their basin early: on the literature's targets
+(benchmarks/synthesis_path.py) every one of 16 restarts of mkh3 reached the same basin at 80 generations
+as at 150, and 150 as at 400; more, shorter restarts reach the best basin more often for the same time."""
+GENERATIONS_OTHER = 400
+HOP_ROUNDS = 4
+"""Rounds of basin hopping on the best design the restarts found (:func:`hop`)."""
+HOP_JUMPS = 16
+"""Perturbed copies of the best design polished per hopping round."""
+HOP_SIGMAS = (0.05, 0.1, 0.2)
+"""Relative sizes of the hops' perturbations, in turn (link lengths by a factor exp(sigma N(0, 1)), other
+lengths and the ground pivots by sigma times the mean link length, angles by sigma rad)."""
 POLISH_MARGIN = (math.radians(0.02), 1e-4)
 """The polish's penalties aim inside the bounds by this much (transmission angle [rad]; ratio and region,
 relative), so the penalty method's slight overshoot still lands inside them."""
@@ -476,7 +495,8 @@ def restart(job: tuple) -> Design:
 def _restart(job: tuple) -> Design:
     """One seeded restart: a computed atlas of random feasible shapes posed on the targets seeds the
     population, differential evolution searches the normalised shapes, the best distinct members of the
-    final population are polished by least squares and the best kept. ``job`` = (family name, target,
+    final population are polished by least squares on the search's targets (:func:`search_target`) and
+    the best kept. ``job`` = (family name, target,
     cons, seed, branch, generations, popsize, deadline, n_polish).
 
     The search runs on the family's shape parameters (crank = 1, A at the origin), each shape posed onto
@@ -502,7 +522,7 @@ def _restart(job: tuple) -> Design:
         U = rng.random((PRESCREEN, dim))
         pre = shape_violation(family.shape(U[:, :family.shape_dim]), cons, branch, family)
         # the computed atlas: random shapes, the least constraint-breaking posed and ranked by error
-        U = U[np.argsort(pre, kind="stable")][:max(popsize * 4, 200)]
+        U = U[np.argsort(pre, kind="stable")][:max(popsize * 4, ATLAS)]
         f = obj(U, 96)
         init = U[np.argsort(f, kind="stable")[:popsize]]
     else:                          # no atlas (for measuring what it brings): a random population
@@ -523,7 +543,7 @@ def _restart(job: tuple) -> Design:
             break
         if all(np.abs(res.population[j] - res.population[p]).max() > 1e-3 for p in picks):
             picks.append(j)
-    cands = [polish(to_x(res.population[j]), branch, target, cons, family) for j in (picks or order[:1])]
+    cands = [polish(to_x(res.population[j]), branch, search, cons, family) for j in (picks or order[:1])]
     d = min(cands, key=lambda c: (c.violation > 0, c.violation if c.violation > 0 else c.sum_sq))
     return Design(d.x, d.branch, d.phi_offset, d.err, d.phis, d.violation, int(seed), d.failed,
                   {"de_generations": int(res.nit), "de_evaluations": int(res.nfev),
@@ -658,6 +678,95 @@ def polish(x0, branch, target: Target, cons: Constraints, family: Family = FOURB
     return Design(np.asarray(x, float).copy(), branch, float(off), e, ph, float(v), 0, w_, {}, family)
 
 
+def perturb(x, sigma: float, rng: np.random.Generator, family: Family = FOURBAR) -> np.ndarray:
+    """One design (size, or size + 1 with a crank offset last) moved at random by a relative ``sigma``:
+    link lengths times exp(sigma N(0, 1)), the other lengths and the ground pivots plus sigma times the
+    mean link length times N(0, 1), angles (and the offset) plus sigma N(0, 1) [rad]."""
+    x = np.array(x, dtype=float)
+    nx = family.size
+    links = list(family.links)
+    ref = float(np.mean(np.abs(x[links])))
+    angles = [*family.angles, *range(nx, len(x))]
+    rest = [i for i in range(len(x)) if i not in links and i not in angles]
+    x[links] = x[links] * np.exp(sigma * rng.standard_normal(len(links)))
+    x[rest] = x[rest] + sigma * ref * rng.standard_normal(len(rest))
+    x[angles] = x[angles] + sigma * rng.standard_normal(len(angles))
+    return x
+
+
+def hop(job: tuple) -> Design:
+    """One basin hop (:func:`_hop`) with one BLAS thread (:mod:`analytic.synthesis.threads`)."""
+    import scipy.optimize  # noqa: F401 (its OpenBLAS must be loaded before its threads are set)
+    from analytic.synthesis.threads import one_blas_thread
+    with one_blas_thread():
+        return _hop(job)
+
+
+def _hop(job: tuple) -> Design:
+    """One seeded hop from a design: perturbed (:func:`perturb`), posed on the targets again (free
+    timing: nearest-point alignment) and polished (:func:`polish`). ``job`` = (family name, target, cons,
+    seed, branch, x (with the crank offset last, timing), sigma)."""
+    name, target, cons, seed, branch, x, sigma = job
+    family = FAMILIES[name]
+    x1 = perturb(x, sigma, np.random.default_rng(seed), family)
+    if target.phi is None:
+        x1 = align(x1[None], target, branch, 160, ALIGN_STEPS, family)[0]
+    return polish(x1, branch, target, cons, family)
+
+
+def _start(d: Design, target: Target) -> np.ndarray:
+    """A design's parameters as a polish starts from them (timing: the crank offset last)."""
+    return d.x if target.phi is None else np.concatenate([d.x, [d.phi_offset]])
+
+
+def hop_jobs(d: Design, target: Target, cons: Constraints, seeds) -> list[tuple]:
+    """The jobs of one hopping round from design ``d``: one per seed, the sizes HOP_SIGMAS in turn."""
+    return [(d.family.name, target, cons, int(sd), d.branch, _start(d, target), HOP_SIGMAS[i % len(HOP_SIGMAS)])
+            for i, sd in enumerate(seeds)]
+
+
+def refine(job: tuple) -> Design:
+    """The final polish of one design on all the targets, with one BLAS thread: ``job`` = (design, target,
+    cons); the design keeps its seed and stats."""
+    import scipy.optimize  # noqa: F401 (its OpenBLAS must be loaded before its threads are set)
+    from analytic.synthesis.threads import one_blas_thread
+    d, target, cons = job
+    with one_blas_thread():
+        c = polish(_start(d, target), d.branch, target, cons, d.family)
+    return Design(c.x, c.branch, c.phi_offset, c.err, c.phis, c.violation, d.seed, c.failed, d.stats, d.family)
+
+
+def hopping(best: Design, target: Target, cons: Constraints, seed: int, rounds: int, jumps: int, mapper=map,
+            deadline: float | None = None) -> Design:
+    """Basin hopping on the best design: ``rounds`` rounds of ``jumps`` seeded hops (:func:`hop`) from the
+    best so far, run through ``mapper`` (the same answer for any worker count); a hop replaces the best
+    when it ranks better (:func:`rank_key`). The deadline is a safety net: no round starts after it."""
+    seeds = np.random.SeedSequence([seed, 1]).generate_state(rounds * jumps).reshape(rounds, jumps) if rounds else ()
+    better, done, cut = 0, 0, False
+    for r in range(rounds):
+        if deadline is not None and time.time() > deadline:
+            cut = True
+            break
+        found = list(mapper(hop, hop_jobs(best, target, cons, seeds[r])))
+        done += 1
+        i, c = min(enumerate(found), key=lambda t: rank_key(*t))
+        if rank_key(0, c) < rank_key(0, best):
+            best = Design(c.x, c.branch, c.phi_offset, c.err, c.phis, c.violation, best.seed, c.failed,
+                          best.stats, best.family)
+            better += 1
+    stats = {**best.stats, "hop_rounds": done, "hop_improved": better,
+             "stopped_by_budget": bool(best.stats.get("stopped_by_budget")) or cut}
+    return Design(best.x, best.branch, best.phi_offset, best.err, best.phis, best.violation, best.seed,
+                  best.failed, stats, best.family)
+
+
+def evaluate(d: Design, target: Target, cons: Constraints) -> Design:
+    """One design's errors, violation and words on all the targets, not polished (free timing: each
+    target's nearest curve point)."""
+    e, ph, v, words = _finish(d.x, d.branch, target, cons, d.family, d.phi_offset, None)
+    return Design(d.x, d.branch, d.phi_offset, e, ph, v, d.seed, words, d.stats, d.family)
+
+
 def combos(types=("fourbar",)) -> list[tuple[str, tuple[int, ...]]]:
     """(family, branch) pairs the restarts cycle through, for ``--type`` names."""
     out = []
@@ -667,14 +776,21 @@ def combos(types=("fourbar",)) -> list[tuple[str, tuple[int, ...]]]:
     return out
 
 
-def jobs(target: Target, cons: Constraints, seed: int, restarts: int, generations: int = 300,
+def generations_of(name: str, generations: int | None = None) -> int:
+    """The differential-evolution generations of one family's restart: ``generations``, or where None
+    the family's default (:data:`GENERATIONS`)."""
+    return int(generations) if generations is not None else GENERATIONS.get(name, GENERATIONS_OTHER)
+
+
+def jobs(target: Target, cons: Constraints, seed: int, restarts: int, generations: int | None = None,
          popsize: int = 40, deadline: float | None = None, n_polish: int = 6, types=("fourbar",)) -> list[tuple]:
     """The restarts' jobs: the families' branches in turn, seeds spawned from ``seed`` (the same for any
-    worker count)."""
+    worker count); ``generations`` None: each family's default (:func:`generations_of`)."""
     seeds = np.random.SeedSequence(seed).generate_state(restarts)
     cs = combos(types)
-    return [(cs[i % len(cs)][0], target, cons, int(sd), cs[i % len(cs)][1], generations, popsize, deadline,
-             n_polish) for i, sd in enumerate(seeds)]
+    return [(cs[i % len(cs)][0], target, cons, int(sd), cs[i % len(cs)][1],
+             generations_of(cs[i % len(cs)][0], generations), popsize, deadline, n_polish)
+            for i, sd in enumerate(seeds)]
 
 
 def rank_key(i: int, d: Design):
@@ -683,10 +799,16 @@ def rank_key(i: int, d: Design):
 
 
 def synthesize(target: Target, cons: Constraints = Constraints(), seed: int = 0, restarts: int = 4,
-               generations: int = 300, popsize: int = 40, budget: float | None = None, mapper=map,
-               progress=None, n_polish: int = 6, types=("fourbar",)) -> list[Design]:
-    """Run ``restarts`` seeded restarts through ``mapper`` (``map`` or an executor's) and return the
-    designs best first (:func:`rank_key`)."""
+               generations: int | None = None, popsize: int = 40, budget: float | None = None, mapper=map,
+               progress=None, n_polish: int = 6, types=("fourbar",), hops: int = HOP_ROUNDS,
+               jumps: int = HOP_JUMPS, designs: int = 1) -> list[Design]:
+    """Run ``restarts`` seeded restarts through ``mapper`` (``map`` or an executor's), then ``hops``
+    rounds of basin hopping on the best (:func:`hopping`, ``jumps`` hops a round; it replaces the best),
+    and return the designs best first (:func:`rank_key`).
+
+    The restarts and hops polish on the search's targets (:func:`search_target`); where those are a
+    subset, the best ``designs`` are polished again on all the targets (:func:`refine`) and the others
+    only evaluated on them (:func:`evaluate`)."""
     m = len(target.xy)
     if m < 4:
         raise ParameterError(f"{m} target points; path synthesis needs at least 4")
@@ -701,7 +823,15 @@ def synthesize(target: Target, cons: Constraints = Constraints(), seed: int = 0,
         if progress is not None:
             progress(i + 1, restarts)
     out.sort(key=lambda t: rank_key(*t))
-    return [d for _, d in out]
+    found = [d for _, d in out]
+    search = search_target(target)
+    if hops and jumps:
+        found[0] = hopping(found[0], search, cons, seed, hops, jumps, mapper, deadline)
+    if search is not target:           # the restarts and hops saw a subset: the first designs polished on all
+        found = (list(mapper(refine, [(d, target, cons) for d in found[:designs]]))
+                 + [evaluate(d, target, cons) for d in found[designs:]])
+        found = [d for _, d in sorted(enumerate(found), key=lambda t: rank_key(*t))]
+    return found
 
 
 def from_four_bar_rs(p1x, p1y, a, l1, l2, l3, l4, l5, g, stat: str) -> tuple[np.ndarray, int]:

@@ -122,8 +122,9 @@ def register(problems, add_video_options) -> None:
                    help="ground pivots within this many target sizes of the targets' centre (default 3)")
     p.add_argument("--unit", choices=sorted(UNITS), default="m", help="length unit of x, y and the files")
     p.add_argument("--restarts", type=int, default=None,
-                   help="seeded restarts (default: 4, two per branch; sixbar: 8, one per chain and branches)")
-    p.add_argument("--generations", type=int, default=400, help="differential-evolution generations per restart")
+                   help="seeded restarts (default: 16, eight per branch; sixbar: 8, one per chain and branches)")
+    p.add_argument("--generations", type=int, default=None,
+                   help="differential-evolution generations per restart (default: 80; sixbar: 400)")
     p.add_argument("--popsize", type=int, default=40, help="differential-evolution population per restart")
     p.add_argument("--designs", type=int, default=1, help="designs to return, best first")
     p.add_argument("--workers", type=int, default=1, help="processes for the restarts and the compares")
