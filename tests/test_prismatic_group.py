@@ -99,7 +99,7 @@ def test_the_peers_examples_with_such_groups_import_and_move(name):
     assert joint_residuals(form, pts) <= JOINT_TOL
 
 
-GROUP = """
+CRANK = """
 format = "linkage/1"
 [ground]
 G1 = [0, 0]
@@ -109,7 +109,8 @@ pivot = "G1"
 point = "P1"
 length = 0.1
 link = "1"
-[[groups]]
+"""
+GROUP = CRANK + """[[groups]]
 kind = "point"
 point = "P2"
 on = "1"
@@ -144,18 +145,7 @@ def test_bad_groups_with_slides_are_one_line(slides, match):
     assert "\n" not in msg and __import__("re").search(match, msg), msg
 
 
-SLIDER_CRANK = """
-format = "linkage/1"
-output = "Q"
-[ground]
-G1 = [0, 0]
-[[inputs]]
-kind = "crank"
-pivot = "G1"
-point = "P1"
-length = 0.1
-link = "1"
-omega = "360deg"
+SLIDER_CRANK = 'output = "Q"\n' + CRANK + """omega = "360deg"
 [[groups]]
 {group}
 """
