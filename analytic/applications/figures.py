@@ -127,8 +127,8 @@ def _with_held_range(mech, ok, ranges, lo: float, hi: float, samples: int) -> li
     crank = mech.inputs[0].kind == "crank"
     a = _held_end(ok, q0, q0 - 2 * math.pi if crank else lo, samples)
     b = _held_end(ok, q0, hi, samples)
-    if crank and (b >= hi or a <= q0 - 2 * math.pi or b - a >= 2 * math.pi - GAP):
-        return [(lo, hi)] if b - a >= 2 * math.pi - GAP else [(a + 2 * math.pi, b + 2 * math.pi)]
+    if crank and b - a >= 2 * math.pi - GAP:          # either way reaches a full turn: it turns fully
+        return [(lo, hi)]
     held = (a + 2 * math.pi, b + 2 * math.pi) if crank else (a, b)
     gap = (b, a + 2 * math.pi) if crank else None
     others = []
