@@ -1,6 +1,7 @@
 """Path synthesis: a linkage whose traced point passes through (or nearest to) target points, found by a
-seeded global search over normalised shapes, a least-squares polish and basin hopping on the best
-(:func:`hopping`), many designs evaluated at once.
+seeded global search over normalised shapes, a least-squares polish, a multi-start stage of briefly
+polished random shapes (:func:`multistart`) and basin hopping on the best (:func:`hopping`), many designs
+evaluated at once.
 
 The kinds of linkage (four-bar, slider-crank, Watt II and Stephenson III six-bars) are the families of
 :mod:`analytic.synthesis.curves`; this module is the same search for all of them.
@@ -46,7 +47,7 @@ from analytic._common import ParameterError
 from analytic.synthesis.curves import FAMILIES, TYPES, Family, FourBar
 
 __all__ = ["Target", "Constraints", "Design", "coupler_points", "violation", "curve_distance", "errors",
-           "order_violation", "synthesize", "restart", "jobs", "hop", "from_four_bar_rs", "failed_constraint"]
+           "order_violation", "synthesize", "restart", "jobs", "hop", "multistart", "from_four_bar_rs", "failed_constraint"]
 
 FOURBAR = FAMILIES["fourbar"]
 NAMES = FOURBAR.names
@@ -100,6 +101,17 @@ HOP_JUMPS = 16
 HOP_SIGMAS = (0.05, 0.1, 0.2)
 """Relative sizes of the hops' perturbations, in turn (link lengths by a factor exp(sigma N(0, 1)), other
 lengths and the ground pivots by sigma times the mean link length, angles by sigma rad)."""
+MULTISTART = 12
+"""Multi-start stage (:func:`multistart`): random feasible shapes posed on the targets and polished
+briefly, this many per restart (the command's 16 restarts: 192)."""
+MULTISTART_POOL = 10
+"""Random feasible shapes drawn per start kept; the best posed of them are the starts."""
+SHORT_POLISH = 40
+"""Residual evaluations of the multi-start stage's brief polish."""
+MULTISTART_KEEP = 8
+"""One start in this many, the best after the brief polish, is polished in full."""
+MULTISTART_CHUNK = 16
+"""Starts per job of the multi-start stage (one seeded job draws, poses and briefly polishes them)."""
 POLISH_MARGIN = (math.radians(0.02), 1e-4)
 """The polish's penalties aim inside the bounds by this much (transmission angle [rad]; ratio and region,
 relative), so the penalty method's slight overshoot still lands inside them."""
@@ -572,13 +584,15 @@ def _finish(x, branch, target: Target, cons: Constraints, family: Family, off: f
     return e, ph, v, failed_constraint(x, cons, target, branch, family, ph)
 
 
-def polish(x0, branch, target: Target, cons: Constraints, family: Family = FOURBAR) -> Design:
+def polish(x0, branch, target: Target, cons: Constraints, family: Family = FOURBAR,
+           evaluations: int | None = None) -> Design:
     """Least squares on the design and its crank angles, the constraints as penalty residuals aimed
     POLISH_MARGIN inside the bounds. Timing: the angles are the targets' plus one offset. Free timing:
     each target's own crank angle (unwrapped in the sense of travel), and a penalty row per step that goes
     backwards (the order; ``--closed``: the return from the last target to the first too), weighted like
     the constraints. A step that breaks a bound is cut back to the last feasible point; the result
-    replaces the start only if it ranks better (:func:`rank_key`)."""
+    replaces the start only if it ranks better (:func:`rank_key`). ``evaluations``: one least-squares run
+    of at most this many residual evaluations instead of POLISH_STAGES (a brief polish)."""
     from scipy.optimize import least_squares
 
     branch = _branch(branch)
@@ -652,9 +666,9 @@ def polish(x0, branch, target: Target, cons: Constraints, family: Family = FOURB
     else:                           # the nearest points' angles, unwrapped along the targets
         p0 = np.concatenate([x0[:nx], ph0[0] + np.concatenate([[0.0], np.cumsum(_wrap(np.diff(ph0)))])])
     p = p0
-    for method, evaluations in POLISH_STAGES:
+    for method, most in (POLISH_STAGES if evaluations is None else (("trf", evaluations),)):
         try:
-            p = least_squares(resid, p, jac=jac, x_scale="jac", max_nfev=evaluations, ftol=1e-13, xtol=1e-13,
+            p = least_squares(resid, p, jac=jac, x_scale="jac", max_nfev=most, ftol=1e-13, xtol=1e-13,
                               gtol=1e-13, method=method).x
         except (ValueError, np.linalg.LinAlgError):
             break
@@ -736,6 +750,77 @@ def refine(job: tuple) -> Design:
     return Design(c.x, c.branch, c.phi_offset, c.err, c.phis, c.violation, d.seed, c.failed, d.stats, d.family)
 
 
+def multistart_chunk(job: tuple) -> list[Design]:
+    """One seeded job of the multi-start stage (:func:`multistart`), with one BLAS thread: ``job`` =
+    (family name, target, cons, seed, branch, count, deadline). Random shapes that meet the shape constraints are
+    drawn until there are ``count`` x MULTISTART_POOL (or 64 draws of that many are spent), posed on the
+    targets and ranked like the search's objective; the best ``count`` are posed finely and polished
+    briefly (SHORT_POLISH evaluations), none after the deadline. Returns those designs (the seed each
+    one's job's)."""
+    import scipy.optimize  # noqa: F401 (its OpenBLAS must be loaded before its threads are set)
+    from analytic.synthesis.threads import one_blas_thread
+    name, target, cons, seed, branch, count, deadline = job
+    family = FAMILIES[name]
+    free = target.phi is None
+    dim = family.shape_dim + (0 if free else 1)
+    rng = np.random.default_rng(seed)
+    want = count * MULTISTART_POOL
+    pool = []
+    for _ in range(64):
+        U = rng.random((want, dim))
+        pool.append(U[shape_violation(family.shape(U[:, :family.shape_dim]), cons, branch, family) == 0])
+        if sum(len(u) for u in pool) >= want:
+            break
+    U = np.concatenate(pool)[:want]
+    if not len(U) or (deadline is not None and time.time() > deadline):
+        return []
+    f = _shape_objective(U, target, cons, branch, 128, family)
+    U = U[np.argsort(f, kind="stable")[:count]]
+    X = (_pose(family.shape(U), target, branch, 256, family)[0] if free
+         else _pose_timed(U, target, branch, family)[0])
+    found = []
+    with one_blas_thread():
+        for x in X:
+            if deadline is not None and time.time() > deadline:
+                break
+            found.append(polish(x, branch, target, cons, family, SHORT_POLISH))
+    return [Design(d.x, d.branch, d.phi_offset, d.err, d.phis, d.violation, int(seed), d.failed,
+                   {"multistart": True}, family) for d in found]
+
+
+def multistart_count(name: str, restarts: int) -> int:
+    """Starts of the multi-start stage for one family: MULTISTART per restart for the four-bar and the
+    slider-crank (measured on the literature's four-bar targets), none for the six-bars (not measured)."""
+    return MULTISTART * restarts if name in ("fourbar", "slider_crank") else 0
+
+
+def multistart(target: Target, cons: Constraints, seed: int, restarts: int, types=("fourbar",), mapper=map,
+               deadline: float | None = None) -> list[Design]:
+    """The multi-start stage: many random shapes posed on the targets and polished briefly
+    (:func:`multistart_chunk`, the families' branches in turn, MULTISTART_CHUNK starts a job, seeds spawned
+    from ``seed``), then the best one in MULTISTART_KEEP polished in full (:func:`refine`). Returns those
+    designs, best first. The deadline (``--budget``) stops it between polishes; no full polish starts
+    after it.
+
+    It complements the restarts: differential evolution settles in the basin its (approximate, posed)
+    objective favours, and on some targets a deeper basin that objective cannot tell apart is reached from
+    random starts only (mkh1: none of 64 restarts, about 1 start in 30 polished briefly then in full)."""
+    cs = combos(types)
+    per = {c: multistart_count(c[0], restarts) // len(cs) for c in cs}
+    js = [(name, br, min(MULTISTART_CHUNK, n - k)) for (name, br), n in per.items() for k in range(0, n, MULTISTART_CHUNK)]
+    if not js or (deadline is not None and time.time() > deadline):
+        return []
+    seeds = np.random.SeedSequence([seed, 2]).generate_state(len(js))
+    short = [d for ds in mapper(multistart_chunk, [(name, target, cons, int(sd), br, k, deadline)
+                                                   for (name, br, k), sd in zip(js, seeds)]) for d in ds]
+    short = [d for _, d in sorted(enumerate(short), key=lambda t: rank_key(*t))]
+    keep = short[:max(1, len(short) // MULTISTART_KEEP)]
+    if deadline is not None and time.time() > deadline:
+        return keep
+    full = list(mapper(refine, [(d, target, cons) for d in keep]))
+    return [d for _, d in sorted(enumerate(full), key=lambda t: rank_key(*t))]
+
+
 def hopping(best: Design, target: Target, cons: Constraints, seed: int, rounds: int, jumps: int, mapper=map,
             deadline: float | None = None) -> Design:
     """Basin hopping on the best design: ``rounds`` rounds of ``jumps`` seeded hops (:func:`hop`) from the
@@ -801,10 +886,11 @@ def rank_key(i: int, d: Design):
 def synthesize(target: Target, cons: Constraints = Constraints(), seed: int = 0, restarts: int = 4,
                generations: int | None = None, popsize: int = 40, budget: float | None = None, mapper=map,
                progress=None, n_polish: int = 6, types=("fourbar",), hops: int = HOP_ROUNDS,
-               jumps: int = HOP_JUMPS, designs: int = 1) -> list[Design]:
-    """Run ``restarts`` seeded restarts through ``mapper`` (``map`` or an executor's), then ``hops``
-    rounds of basin hopping on the best (:func:`hopping`, ``jumps`` hops a round; it replaces the best),
-    and return the designs best first (:func:`rank_key`).
+               jumps: int = HOP_JUMPS, designs: int = 1, multistarts: bool = True) -> list[Design]:
+    """Run ``restarts`` seeded restarts through ``mapper`` (``map`` or an executor's) and (``multistarts``)
+    the multi-start stage (:func:`multistart`), then ``hops`` rounds of basin hopping on the best
+    (:func:`hopping`, ``jumps`` hops a round; it replaces the best), and return the designs best first
+    (:func:`rank_key`).
 
     The restarts and hops polish on the search's targets (:func:`search_target`); where those are a
     subset, the best ``designs`` are polished again on all the targets (:func:`refine`) and the others
@@ -822,9 +908,11 @@ def synthesize(target: Target, cons: Constraints = Constraints(), seed: int = 0,
         out.append((i, d))
         if progress is not None:
             progress(i + 1, restarts)
+    search = search_target(target)
+    if multistarts:
+        out += list(enumerate(multistart(search, cons, seed, restarts, types, mapper, deadline), len(out)))
     out.sort(key=lambda t: rank_key(*t))
     found = [d for _, d in out]
-    search = search_target(target)
     if hops and jumps:
         found[0] = hopping(found[0], search, cons, seed, hops, jumps, mapper, deadline)
     if search is not target:           # the restarts and hops saw a subset: the first designs polished on all
