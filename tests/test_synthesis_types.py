@@ -80,6 +80,74 @@ def test_transmission_angle_matches_the_solver(name, seed):
     assert abs(fam.mu_min(x[None], b)[0] - measured) < 1e-6
 
 
+def transmission_sampled(name, x, b, n=20001) -> float:
+    """The least transmission angle [rad] from solved poses (closed forms of ``points`` only, not the
+    constraint's): the four-bar's between C->B and C->D, the slider-crank's rod against the line's normal;
+    NaN where a pose does not close."""
+    fam = FAMILIES[name]
+    phi = np.linspace(0, 2 * math.pi, n, endpoint=False)
+    ax, ay, th = x[:3]
+    a = x[4] if name == "fourbar" else x[3]
+    B = np.column_stack([ax + a * np.cos(phi), ay + a * np.sin(phi)])
+    if name == "fourbar":
+        C = fam.points(np.r_[x[:7], x[5], 0.0][None], phi, b)[0][0]
+        D = np.array([ax + x[3] * math.cos(th), ay + x[3] * math.sin(th)])
+        u, v = B - C, D - C
+        mu = np.arccos(np.clip((u * v).sum(1) / np.hypot(*u.T) / np.hypot(*v.T), -1, 1))
+        return float(min(mu.min(), math.pi - mu.max()))
+    C = fam.points(np.r_[x[:5], x[5], x[4], 0.0][None], phi, b)[0][0]
+    rod = C - B
+    return float(np.arcsin(np.clip(np.abs(rod @ [math.cos(th), math.sin(th)]) / np.hypot(*rod.T), 0, 1)).min())
+
+
+@pytest.mark.parametrize("name", ["fourbar", "slider_crank"])
+def test_constraint_margins_hold_where_the_sampled_transmission_angle_does(name):
+    fam = FAMILIES[name]
+    rng = np.random.default_rng(5)
+    bound = math.radians(20.0)
+    cons = sp.Constraints(mu_min=bound)
+    t = sp.Target(np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]]))
+    seen = {True: 0, False: 0}
+    for _ in range(600 if name == "fourbar" else 200):
+        b = fam.branches[rng.integers(2)]
+        x = fam.shape(rng.random((1, fam.shape_dim)))[0]
+        mu = transmission_sampled(name, x, b)
+        if not math.isnan(mu) and abs(mu - bound) < 1e-4:
+            continue                                  # 20001 samples: within 1e-4 rad of the bound, either
+        m = sp.margins(x[None], cons, t, b, fam)[0]
+        holds = not math.isnan(mu) and mu >= bound
+        # the transmission margins are the first columns; all of them hold exactly where nothing is violated
+        assert bool(np.all(m[:2 if name == "fourbar" else 1] >= 0)) == holds
+        assert (sp.violation(x[None], cons, t, b, fam)[0] == 0) == bool(np.all(m >= 0))
+        seen[holds] += 1
+    assert min(seen.values()) > 20                   # both sides of the bound were drawn
+
+
+@pytest.mark.parametrize("branch,side", [(1, 1), (1, -1), (-1, 1), (-1, -1)])
+def test_fourbar_from_slider_crank_tends_to_its_curve(branch, side):
+    from analytic.synthesis.curves import fourbar_from_slider_crank
+    sc, fb = FAMILIES["slider_crank"], FAMILIES["fourbar"]
+    rng = np.random.default_rng(8)
+    xs = sc.shape(rng.random((1000, 4)))
+    xs[:, :3] = rng.normal(size=(1000, 3))
+    xs = xs[sc.excess(xs, (branch,), math.radians(30.0)) == 0]      # slider-cranks that turn, mu >= 30 deg
+    assert len(xs) > 100
+    phi = np.linspace(0, 2 * math.pi, 360, endpoint=False)
+    E0, ok = sc.points(xs, phi, (branch,))
+    assert ok.all()
+    dev = {}
+    for length in (100.0, 1000.0):
+        x, br = fourbar_from_slider_crank(xs, branch, length, side)
+        assert np.all(br == -side * branch)
+        E1, _ = fb.points(x, phi, br[:, None])
+        dev[length] = np.hypot(*(E1 - E0).transpose(2, 0, 1)).max(axis=1)
+    # the rocker's arc leaves the slider line by ~travel^2 / (8 length): the curves' gap shrinks as 1/length
+    # (ratio 10 up to the next order, 1/length^2: measured 9.83-10.18)
+    ratio = dev[100.0] / dev[1000.0]
+    assert np.all(np.isfinite(ratio)) and np.all((9 < ratio) & (ratio < 11))
+    assert dev[1000.0].max() < 0.01                  # crank 1, traced points <= 16 away: measured 0.005
+
+
 def test_sixbar_that_cannot_close_is_refused_like_the_solver_refuses_it():
     x, b = feasible("stephenson", 21)
     fam = FAMILIES["stephenson"]

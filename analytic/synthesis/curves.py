@@ -38,7 +38,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["Family", "FourBar", "SliderCrank", "SixBar", "FAMILIES", "family", "TYPES"]
+__all__ = ["Family", "FourBar", "SliderCrank", "SixBar", "FAMILIES", "family", "TYPES", "fourbar_from_slider_crank"]
 
 RATIO = 8.0
 """Normalised shapes: link lengths searched in [1/RATIO, RATIO] crank lengths (log scale)."""
@@ -96,10 +96,16 @@ def _fourbar_mu(d, a, b, c):
     return np.where(turns, mu, np.nan)
 
 
+def _fourbar_margins(d, a, b, c, cm):
+    """(K, 2) how far a four-bar loop's cos mu stays inside [-cm, cm] at its extremes (signed: >= 0
+    inside; smooth in the lengths)."""
+    lo, hi = _fourbar_cos(d, a, b, c)
+    return np.stack([cm - lo, hi + cm], axis=-1)
+
+
 def _fourbar_excess(d, a, b, c, cm):
     """How far a four-bar loop's cos mu leaves [-cm, cm] at its extremes (0 inside; continuous)."""
-    lo, hi = _fourbar_cos(d, a, b, c)
-    return np.maximum(lo - cm, 0) + np.maximum(-cm - hi, 0)
+    return np.maximum(-_fourbar_margins(d, a, b, c, cm), 0).sum(axis=-1)
 
 
 @dataclass(frozen=True)
@@ -136,6 +142,12 @@ class Family:
         """(K,) how far the designs break "the crank turns fully with every transmission angle in
         [mu_min, pi - mu_min]" (0: it holds; dimensionless, continuous). ``n``: crank angles sampled where
         a family has no closed form (0: SIXBAR_SAMPLES, each extreme refined by a parabola)."""
+        raise NotImplementedError
+
+    def margins(self, x, branch, mu_min: float, n: int = 0) -> np.ndarray:
+        """(K, C) the same constraint as :meth:`excess`, signed: each extreme's distance inside its bound
+        (>= 0 where it holds; smooth in x where the family has a closed form), for a constrained
+        optimiser. ``excess`` is 0 exactly where every margin is >= 0."""
         raise NotImplementedError
 
     def mu_min(self, x, branch, n: int = 4096) -> np.ndarray:
@@ -263,6 +275,10 @@ class FourBar(Family):
         x = np.atleast_2d(x)
         return _fourbar_excess(x[:, 3], x[:, 4], x[:, 5], x[:, 6], math.cos(mu_min))
 
+    def margins(self, x, branch, mu_min, n=0):
+        x = np.atleast_2d(x)
+        return _fourbar_margins(x[:, 3], x[:, 4], x[:, 5], x[:, 6], math.cos(mu_min))
+
     def mu_min(self, x, branch, n=4096):
         x = np.atleast_2d(x)
         return _fourbar_mu(x[:, 3], x[:, 4], x[:, 5], x[:, 6])
@@ -322,10 +338,13 @@ class SliderCrank(Family):
         return np.stack([x[:, :2], F], axis=1)
 
     def excess(self, x, branch, mu_min, n=0):
+        return np.maximum(-self.margins(x, branch, mu_min, n)[:, 0], 0)
+
+    def margins(self, x, branch, mu_min, n=0):
         x = np.atleast_2d(x)
         a, b, e = x[:, 3], x[:, 4], x[:, 5]
         with np.errstate(divide="ignore", invalid="ignore"):
-            return np.maximum((a + np.abs(e)) / b - math.cos(mu_min), 0)
+            return (math.cos(mu_min) - (a + np.abs(e)) / b)[:, None]
 
     def mu_min(self, x, branch, n=4096):
         x = np.atleast_2d(x)
@@ -376,6 +395,32 @@ point = "E"
 on = ["B", "C"]
 at = ["ex", "ey"]
 ''')
+
+
+def fourbar_from_slider_crank(xs, branch, length, side) -> tuple[np.ndarray, np.ndarray]:
+    """Four-bars near their slider-crank limit: each slider-crank ``xs`` (K, 8) on its ``branch`` (K,)
+    with the slider C replaced by a rocker of ``length`` (K,) [length] pivoted ``side`` (K,) (+1: on the
+    n0 side of the slider line) at that distance from the line, square to it over the middle of C's travel;
+    the crank, coupler and traced point kept. The longer the rocker, the nearer C's arc to the line and the
+    coupler curve to the slider-crank's. Returns (x (K, 9), branch (K,)): the branch on which C stays on
+    the slider-crank's side of B (C left of B->D iff -side w > 0, w = C - B along the line)."""
+    xs = np.atleast_2d(np.asarray(xs, dtype=float))
+    k = len(xs)
+    br, L, sd = (np.broadcast_to(np.asarray(v, dtype=float).reshape(-1), (k,)) for v in (branch, length, side))
+    ax, ay, th, a, b, e = (xs[:, i] for i in range(6))
+    phi = np.linspace(0.0, 2 * math.pi, 256, endpoint=False)
+    C, _ = FAMILIES["slider_crank"].points(np.column_stack([xs[:, :5], e, b, np.zeros(k)]), phi, br[:, None])
+    u0 = np.stack([np.cos(th), np.sin(th)], axis=1)
+    n0 = np.stack([-np.sin(th), np.cos(th)], axis=1)
+    travel = np.einsum("knj,kj->kn", C - np.stack([ax, ay], axis=1)[:, None], u0)
+    ok = np.isfinite(travel)
+    mid = 0.5 * (np.where(ok, travel, np.inf).min(axis=1) + np.where(ok, travel, -np.inf).max(axis=1))
+    mid = np.where(np.isfinite(mid), mid, 0.0)                 # a slider-crank that never closes: any point
+    D = np.stack([ax, ay], axis=1) + (e + sd * L)[:, None] * n0 + mid[:, None] * u0
+    AD = D - np.stack([ax, ay], axis=1)
+    x = np.column_stack([ax, ay, np.arctan2(AD[:, 1], AD[:, 0]), np.hypot(AD[:, 0], AD[:, 1]), a, b, L,
+                         xs[:, 6], xs[:, 7]])
+    return x, -sd * br
 
 
 @dataclass(frozen=True)
@@ -456,6 +501,15 @@ class SixBar(Family):
             worst = self._second_worst(x[ok], _signs(branch, len(x), 2)[ok], n or SIXBAR_SAMPLES)
             out[ok] = np.maximum(worst - cm, 0)
         return np.where(np.isfinite(out), out, 1e3)
+
+    def margins(self, x, branch, mu_min, n=0):
+        """The first loop's closed form and the second dyad's sampled worst (each extreme refined by a
+        parabola; smooth only between the samples)."""
+        x = np.atleast_2d(x)
+        cm = math.cos(mu_min)
+        first = _fourbar_margins(x[:, 3], x[:, 4], x[:, 5], x[:, 6], cm)
+        worst = self._second_worst(x, _signs(branch, len(x), 2), n or SIXBAR_SAMPLES)
+        return np.column_stack([first, cm - worst])
 
     def mu_min(self, x, branch, n=4096):
         x = np.atleast_2d(x)
