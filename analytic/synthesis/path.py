@@ -1,7 +1,8 @@
 """Path synthesis: a linkage whose traced point passes through (or nearest to) target points, found by a
-seeded global search over normalised shapes, a least-squares polish, a multi-start stage of briefly
-polished random shapes (:func:`multistart`) and basin hopping on the best (:func:`hopping`), many designs
-evaluated at once.
+seeded global search over normalised shapes, a least-squares polish (the constraints as penalties, then
+exact: :func:`polish`), a multi-start stage of briefly polished random shapes (:func:`multistart`), for
+the four-bar a stage from the slider-crank's best designs (:func:`slider_limit`), and basin hopping on
+the best (:func:`hopping`), many designs evaluated at once.
 
 The kinds of linkage (four-bar, slider-crank, Watt II and Stephenson III six-bars) are the families of
 :mod:`analytic.synthesis.curves`; this module is the same search for all of them.
@@ -115,9 +116,10 @@ MULTISTART_KEEP = 8
 """One start in this many, the best after the brief polish, is polished in full."""
 MULTISTART_CHUNK = 16
 """Starts per job of the multi-start stage (one seeded job draws, poses and briefly polishes them)."""
-LIMIT_MULTISTART = 6
+LIMIT_MULTISTART = 12
 """The slider-crank limit stage (:func:`slider_limit`): slider-crank starts per restart (Ullah and Kota's
-targets, 16 restarts: its four-bars reach the best basin for 6 of 6 seeds at 6, 5 of 6 at 3)."""
+targets, 16 restarts: its four-bars reached the best basin for 6 of 6 seeds at 6 and 5 of 6 at 3, but the
+command's seed 8 missed it at 6 and reaches it at 12)."""
 LIMIT_KEEP = 2
 """Of its slider-cranks, the best distinct ones turned into four-bars."""
 LIMIT_LENGTHS = (6.0, 12.0)
