@@ -708,6 +708,12 @@ def margins(x, cons: Constraints, target: Target, branch, family: Family = FOURB
     return np.where(np.isfinite(out), out, -1e3)
 
 
+def _inside(cons: Constraints, margin: tuple[float, float]) -> Constraints:
+    """The bounds a polish stage aims at: ``margin`` = (transmission angle [rad], ratio and region
+    relative) inside the constraints."""
+    return Constraints(cons.mu_min + margin[0], cons.max_ratio * (1 - margin[1]), cons.region * (1 - margin[1]))
+
+
 def _penalised(fit: _Fit, p0, cons: Constraints, evaluations: int | None):
     """The polish's first stage: least squares (POLISH_STAGES, or one run of ``evaluations``) on the
     residuals with the constraints as penalty rows aimed POLISH_MARGIN inside the bounds (the order: a
@@ -716,8 +722,7 @@ def _penalised(fit: _Fit, p0, cons: Constraints, evaluations: int | None):
     from scipy.optimize import least_squares
 
     family, target, branch = fit.family, fit.target, fit.branch
-    tight = Constraints(cons.mu_min + POLISH_MARGIN[0], cons.max_ratio * (1 - POLISH_MARGIN[1]),
-                        cons.region * (1 - POLISH_MARGIN[1]))
+    tight = _inside(cons, POLISH_MARGIN)
     ordered, w = target.in_order, PENALTY
 
     def resid(p):
@@ -753,8 +758,7 @@ def _constrained(fit: _Fit, p0, cons: Constraints):
     from scipy.optimize import minimize
 
     family, target, branch = fit.family, fit.target, fit.branch
-    tight = Constraints(cons.mu_min + SLSQP_MARGIN[0], cons.max_ratio * (1 - SLSQP_MARGIN[1]),
-                        cons.region * (1 - SLSQP_MARGIN[1]))
+    tight = _inside(cons, SLSQP_MARGIN)
 
     last: dict = {}
 
@@ -1079,7 +1083,8 @@ def synthesize(target: Target, cons: Constraints = Constraints(), seed: int = 0,
                progress=None, n_polish: int = 6, types=("fourbar",), hops: int = HOP_ROUNDS,
                jumps: int = HOP_JUMPS, designs: int = 1, multistarts: bool = True) -> list[Design]:
     """Run ``restarts`` seeded restarts through ``mapper`` (``map`` or an executor's) and (``multistarts``)
-    the multi-start stage (:func:`multistart`), then ``hops`` rounds of basin hopping on the best
+    the multi-start stage (:func:`multistart`; where the four-bar is searched, the slider-crank limit stage
+    too, :func:`slider_limit`), then ``hops`` rounds of basin hopping on the best
     (:func:`hopping`, ``jumps`` hops a round; it replaces the best), and return the designs best first
     (:func:`rank_key`).
 
