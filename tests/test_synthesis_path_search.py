@@ -171,7 +171,7 @@ def test_slider_crank_limit_reaches_a_deeper_basin_than_the_restarts():
     s, cons = ullah()
     start = sp.polish(np.array(ULLAH_RESTART), (-1,), s, cons)   # settled in its basin: a polish alone stays
     assert start.violation == 0
-    found = sp.slider_limit(s, cons, seed=0, restarts=8)         # 48 slider-crank starts, 8 four-bars
+    found = sp.slider_limit(s, cons, seed=0, restarts=8)         # 96 slider-crank starts, 8 four-bars
     assert len(found) == sp.LIMIT_KEEP * len(sp.LIMIT_LENGTHS) * 2
     best = found[0]
     assert best.violation == 0 and not best.failed and best.family.name == "fourbar"
