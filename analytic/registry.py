@@ -39,6 +39,16 @@ def names() -> tuple[str, ...]:
     return tuple(BUILTINS) + tuple(lib)
 
 
+def summary(name: str) -> tuple[str, int]:
+    """A library mechanism's description and number of inputs, read from its file without building its
+    definition (``linkage list`` stays at one file read per mechanism; the shipped files are checked
+    whole by the tests)."""
+    import tomllib
+    with open(LIBRARY / f"{name}.toml", "rb") as f:
+        raw = tomllib.load(f)
+    return str(raw.get("description", "")), len(raw.get("inputs", ()))
+
+
 @functools.lru_cache(maxsize=64)
 def _library_definition(name: str) -> linkfile.Definition:
     return linkfile.read(LIBRARY / f"{name}.toml")

@@ -19,6 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from analytic import ParameterError
+from analytic.applications import studies
 from analytic.format import expr
 from analytic.synthesis import path as sp
 from analytic.synthesis.curves import DEFAULT_TYPE, FAMILIES, TYPES
@@ -416,7 +417,7 @@ def two_position(task, lo: float, hi: float, unit: str) -> dict:
 
 
 # ------------------------------------------------------------------------------------------ sweep
-MAX_COMBOS = 100_000
+MAX_COMBOS = studies.MAX_COMBOS
 SECONDS_PER_COMBO = 1e-4
 """Measured cost of one combination at 360 samples (a five-bar, this machine, batch path: 10,000 in 0.7-1.3 s,
 benchmarks/batch.py): sets the estimate shown."""

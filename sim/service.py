@@ -28,8 +28,8 @@ def list_mechanisms() -> list[dict]:
     """Every mechanism addressable by name: name, description, number of inputs, built-in or not."""
     out = []
     for name in analytic.names():
-        d = analytic.definition(name)
-        out.append({"name": name, "description": d.description, "inputs": len(d.inputs),
+        description, inputs = analytic.registry.summary(name)
+        out.append({"name": name, "description": description, "inputs": inputs,
                     "builtin": name in analytic.BUILTINS})
     return out
 

@@ -3,8 +3,6 @@
 
 import csv
 import math
-import subprocess
-import sys
 
 import numpy as np
 import pytest
@@ -14,12 +12,14 @@ from analytic import ParameterError
 from analytic.solver import batch
 from analytic.applications import studies
 
+import cli_runner  # the command in this process (tests/cli_runner.py)
+
 MECHANISMS = ["fourbar", "fivebar", "slider_crank", "jansen", "watt_six_bar", "whitworth",
               "inverted_slider_crank", "stephenson_six_bar", "scotch_yoke", "elliptic_trammel"]
 
 
 def run(*args):
-    return subprocess.run([sys.executable, "-m", "sim", *args], capture_output=True, text=True, timeout=120)
+    return cli_runner.run(*args)
 
 
 def _random_designs(mech, k, seed):

@@ -3,16 +3,16 @@
 import csv
 import json
 import math
-import subprocess
-import sys
 
 import numpy as np
 import pytest
 
+import cli_runner  # the command in this process (tests/cli_runner.py)
+
 
 
 def run(*args):
-    return subprocess.run([sys.executable, "-m", "sim", *args], capture_output=True, text=True)
+    return cli_runner.run(*args)
 
 
 SPEC_COLUMNS = {   # SPEC.md's output names, written out here so that dropping one from the code fails

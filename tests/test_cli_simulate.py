@@ -1,15 +1,15 @@
 """``linkage simulate`` and ``linkage compare`` from the command line."""
 
 import json
-import subprocess
-import sys
 
 import numpy as np
 import pytest
 
+import cli_runner  # the command in this process (tests/cli_runner.py)
+
 
 def run(*args):
-    return subprocess.run([sys.executable, "-m", "sim", *args], capture_output=True, text=True)
+    return cli_runner.run(*args)
 
 
 def test_compare_json_has_the_documented_fields_and_passes():

@@ -3,8 +3,6 @@ written by ``linkage export --mjcf``, loaded through ``sim.load_exported`` and s
 the simulation computes, keeps its loops within compare's loop tolerance and its points on the analytic
 solution; the file is well-formed XML and tells a plain-MuJoCo reader what it cannot hold."""
 
-import subprocess
-import sys
 import xml.etree.ElementTree as ET
 from xml.dom import minidom
 from pathlib import Path
@@ -21,6 +19,8 @@ from sim.run.compare import LOOP_TOL, tolerance
 from sim.model import Settings, build, motion_scale
 from sim.service import export_mjcf
 from sim.run.simulate import controls, measure, steps_for
+
+import cli_runner  # the command in this process (tests/cli_runner.py)
 
 HERE = Path(__file__).parent
 REVOLUTIONS = {"moving_guide": 0.8}     # it assembles from 0 to 311.8 deg only (linkage check), not a full turn
@@ -45,8 +45,8 @@ def test_exported_model_replays_within_compare_tolerances(tmp_path, path):
     revolutions = REVOLUTIONS.get(Path(path).stem, 1.0)
     built = build(mech, Settings(), revolutions=revolutions)
     out = tmp_path / "m.xml"
-    r = subprocess.run([sys.executable, "-m", "sim", "export", path, "--mjcf", str(out), "--revolutions",
-                        str(revolutions)], capture_output=True, text=True, cwd=tmp_path, timeout=120)
+    r = cli_runner.run("export", path, "--mjcf", str(out), "--revolutions",
+                        str(revolutions), cwd=tmp_path)
     assert r.returncode == 0, r.stderr
     text = out.read_text()
     ET.fromstring(text.split("-->", 1)[1])                  # the document after the header comment
@@ -90,8 +90,7 @@ def test_plain_mujoco_misses_what_the_loader_holds(tmp_path):
 def test_a_comment_breaker_in_the_source_stays_well_formed(tmp_path):
     src = tmp_path / "a--b---.toml"
     src.write_bytes((LIBRARY / "fourbar.toml").read_bytes())
-    r = subprocess.run([sys.executable, "-m", "sim", "export", src.name, "--mjcf", "m.xml"], capture_output=True,
-                       text=True, cwd=tmp_path, timeout=120)
+    r = cli_runner.run("export", src.name, "--mjcf", "m.xml", cwd=tmp_path)
     assert r.returncode == 0, r.stderr
     minidom.parseString((tmp_path / "m.xml").read_text())
 
@@ -106,8 +105,7 @@ def test_export_toml_never_overwrites_an_input_or_the_library(tmp_path, target):
         (tmp_path / "mine.toml").write_bytes(before)
         (tmp_path / "alias.toml").symlink_to("mine.toml")
         args = ["mine.toml", "--toml", "alias.toml"]
-    r = subprocess.run([sys.executable, "-m", "sim", "export", *args], capture_output=True, text=True, cwd=tmp_path,
-                       timeout=120)
+    r = cli_runner.run("export", *args, cwd=tmp_path)
     assert r.returncode == 2 and r.stderr.startswith("linkage: error: ") and len(r.stderr.splitlines()) == 1
     assert lib.read_bytes() == before
     if target == "input":

@@ -5,12 +5,12 @@ as exactly the same number."""
 import math
 import random
 import re
-import subprocess
-import sys
 from pathlib import Path
 
 import analytic
 from sim.output.tomlout import degrees_text
+
+import cli_runner  # the command in this process (tests/cli_runner.py)
 
 LIB = Path(analytic.__file__).parent / "library"
 
@@ -18,8 +18,7 @@ LIB = Path(analytic.__file__).parent / "library"
 def export(tmp_path, name, *sets):
     out = tmp_path / f"{name}_out.toml"
     args = [a for s in sets for a in ("--set", s)]
-    r = subprocess.run([sys.executable, "-m", "sim", "export", name, *args, "--toml", str(out)], capture_output=True,
-                       text=True, timeout=120)
+    r = cli_runner.run("export", name, *args, "--toml", str(out))
     assert r.returncode == 0, r.stderr
     return out
 

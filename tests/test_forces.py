@@ -8,8 +8,6 @@ from __future__ import annotations
 import json
 import math
 import re
-import subprocess
-import sys
 
 import numpy as np
 import pytest
@@ -25,6 +23,8 @@ from analytic.mass import Inertia
 from analytic.format import linkfile
 from analytic.kinds.base import Field, Kind, LinkPart, Structure, line, on_frame
 from analytic.registry import LIBRARY
+
+import cli_runner  # the command in this process (tests/cli_runner.py)
 
 FORCE_TOL = 1e-9    # joint forces / peak joint force: rounding of two different eliminations (a per-group closed
                     # form vs one dense solve of 20-40 unknowns), amplified by the groups' 1/sin(transmission angle)
@@ -234,8 +234,7 @@ def test_least_squares_counterweights_minimise_the_rms_shaking_force(name):
 
 # ----------------------------------------------------------------------------------------- command
 def run(folder, *args, timeout=120):
-    return subprocess.run([sys.executable, "-m", "sim", *args], capture_output=True, text=True, cwd=folder,
-                          timeout=timeout)
+    return cli_runner.run(*args, cwd=folder)
 
 
 def test_the_json_contract(tmp_path):

@@ -7,8 +7,6 @@ from __future__ import annotations
 
 import json
 import math
-import subprocess
-import sys
 from pathlib import Path
 
 import mujoco
@@ -23,6 +21,8 @@ from sim import service
 from sim.model import Loads, Settings, body_inertias, build
 from sim.run import forces as SF
 from sim.run.simulate import replay, simulate
+
+import cli_runner  # the command in this process (tests/cli_runner.py)
 
 KINDS = Path(__file__).parent / "kinds"
 TOL = SF.FORCE_TOL   # the stated tolerance: MuJoCo's state error and regulariser leak over the peak joint force
@@ -226,8 +226,7 @@ def test_the_verdict_catches_a_wrong_sign(monkeypatch):
 
 # ------------------------------------------------------------------------------------------ commands
 def run(folder, *args, timeout=300):
-    return subprocess.run([sys.executable, "-m", "sim", *args], capture_output=True, text=True, cwd=folder,
-                          timeout=timeout)
+    return cli_runner.run(*args, cwd=folder)
 
 
 def test_forces_simulate_json(tmp_path):

@@ -7,8 +7,6 @@ one line naming the field.
 from __future__ import annotations
 
 import math
-import subprocess
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -18,6 +16,8 @@ import analytic
 from agreement import POS_TOL, RATE_TOL, drive
 from analytic import ParameterError
 from analytic.kinds.gear import pitch_radii
+
+import cli_runner  # the command in this process (tests/cli_runner.py)
 
 KINDS = Path(__file__).resolve().parent / "kinds"
 
@@ -105,8 +105,7 @@ def test_pitch_radii(ratio, d, want):
 
 
 def test_check_reports_the_pitch_radii_in_the_files_unit():
-    out = subprocess.run([sys.executable, "-m", "sim", "check", "planetary_linkage"], capture_output=True,
-                         text=True, timeout=120)
+    out = cli_runner.run("check", "planetary_linkage")
     assert out.returncode == 0, out.stderr
     assert ("gear planet-ground on arm: pitch radii 50 (planet) and 100 (ground) mm at centre distance 50 mm "
             "(internal, ground is the ring)") in out.stdout
@@ -148,8 +147,7 @@ def test_a_wrong_gear_is_refused_in_one_line_naming_the_field(text, message):
 def test_a_wrong_gear_file_exits_2_with_one_line(tmp_path):
     path = tmp_path / "bad.toml"
     path.write_text(GEAR.replace("ratio = -0.5", "ratio = 1"))
-    out = subprocess.run([sys.executable, "-m", "sim", "check", str(path)], capture_output=True, text=True,
-                         timeout=120)
+    out = cli_runner.run("check", str(path))
     assert out.returncode == 2 and out.stdout == ""
     assert out.stderr.count("\n") == 1 and "groups[1] (point C): field 'ratio'" in out.stderr, out.stderr
 

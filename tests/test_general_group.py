@@ -11,8 +11,6 @@ finite differences of it along the crank angle. The kind's tests use the whole-m
 
 import math
 import re
-import subprocess
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -31,6 +29,8 @@ from analytic.solver import general_group as gg
 from analytic.solver.general_group import make_group, solve_group
 from analytic.kinds.base import line, on_frame
 from analytic.kinds.rrr import rrr as _rrr
+
+import cli_runner  # the command in this process (tests/cli_runner.py)
 
 
 def _point(P, Q, u, v):
@@ -401,8 +401,7 @@ def test_linkage_check_reports_the_class_and_the_branch():
     for target, points, expect in (("stephenson_ii", "Q1+Q2+Q3+C", "triad (class III), branch -1"),
                                    (str(KINDS / "group__other.toml"), "Q1+Q2+Q3", "triad (class III), branch +1"),
                                    ("double_butterfly", "H+C3+D3+C4+D4", "6-link group (class III), branch -1")):
-        out = subprocess.run([sys.executable, "-m", "sim", "check", target], capture_output=True, text=True,
-                             timeout=120)
+        out = cli_runner.run("check", target)
         assert out.returncode == 0, out.stderr
         assert re.search(re.escape(points) + r" \(links [^)]*\): " + re.escape(expect), out.stdout), out.stdout
 
@@ -494,7 +493,7 @@ def test_bad_groups_are_refused_in_one_line_naming_the_field(change, words, tmp_
     assert re.search(words, msg), msg
     f = tmp_path / "bad.toml"
     f.write_text(text)
-    out = subprocess.run([sys.executable, "-m", "sim", "check", str(f)], capture_output=True, text=True, timeout=120)
+    out = cli_runner.run("check", str(f))
     assert out.returncode == 2 and "Traceback" not in out.stderr and len(out.stderr.strip().splitlines()) == 1
 
 

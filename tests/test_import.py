@@ -8,8 +8,6 @@ from __future__ import annotations
 
 import json
 import math
-import subprocess
-import sys
 import tomllib
 
 import numpy as np
@@ -21,11 +19,13 @@ from analytic.format import foreign, pmks, pyslvs
 from sim import service
 from test_joints_form import EXAMPLES, check_motion, solved_points
 
+import cli_runner  # the command in this process (tests/cli_runner.py)
+
 HAND_TOL = 1e-12     # / size: the solver against hand geometry (closed forms on both sides: rounding)
 
 
 def run(*args, cwd=None):
-    return subprocess.run([sys.executable, "-m", "sim", *args], capture_output=True, text=True, cwd=cwd)
+    return cli_runner.run(*args, cwd=cwd)
 
 
 def mech_of(name, inputs=None):

@@ -9,8 +9,6 @@ each P joint's guide, block and direction) and measures how far a solved motion 
 from __future__ import annotations
 
 import math
-import subprocess
-import sys
 import tomllib
 import types
 from pathlib import Path
@@ -21,6 +19,8 @@ import pytest
 import analytic
 from analytic import FileError, kinds
 from analytic.format import foreign
+
+import cli_runner  # the command in this process (tests/cli_runner.py)
 
 EXAMPLES = Path(__file__).parent / "peers_examples"
 POSE_TOL = 1e-9     # / size: the pose's positions through the derived lengths and angles (rounding, ~1e-15)
@@ -390,11 +390,10 @@ def test_not_a_mechanism_one_line_each():
 def test_cli_exit_2_one_line(tmp_path):
     bad = tmp_path / "bad.toml"
     bad.write_text(FOURBAR.replace('pivot = "A"', 'pivot = "C"'))
-    r = subprocess.run([sys.executable, "-m", "sim", "check", str(bad)], capture_output=True, text=True)
+    r = cli_runner.run("check", str(bad))
     assert r.returncode == 2 and r.stdout == ""
     assert r.stderr.count("\n") == 1 and "Traceback" not in r.stderr
-    r = subprocess.run([sys.executable, "-m", "sim", "check", str(EXAMPLES / "offset_block.txt")], capture_output=True,
-                       text=True)
+    r = cli_runner.run("check", str(EXAMPLES / "offset_block.txt"))
     assert r.returncode == 0
     assert "Assur groups: J2 (links coupler, output): dyad RRP (class II)" in r.stdout
 

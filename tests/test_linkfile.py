@@ -2,14 +2,14 @@
 clear line for every kind of mistake, naming the file, the element and the field."""
 
 import json
-import subprocess
-import sys
 
 import numpy as np
 import pytest
 
 import analytic
 from analytic import FileError, ParameterError
+
+import cli_runner  # the command in this process (tests/cli_runner.py)
 
 FOURBAR = (analytic.registry.LIBRARY / "fourbar.toml").read_text()
 
@@ -96,8 +96,8 @@ def test_two_cranks_make_two_inputs_and_mobility_two():
 
 
 def test_a_group_that_cannot_assemble_at_the_start_says_where_it_can():
-    r = subprocess.run([sys.executable, "-m", "sim", "analyze", "fourbar", "--set", "l1=0.2", "--set", "l3=0.1",
-                        "--set", "phi1_0=0"], capture_output=True, text=True)
+    r = cli_runner.run("analyze", "fourbar", "--set", "l1=0.2", "--set", "l3=0.1",
+                        "--set", "phi1_0=0")
     assert r.returncode == 2 and "Traceback" not in r.stderr
     assert "cannot turn fully" in r.stderr and "41.41deg..104.47deg" in r.stderr
 
@@ -105,13 +105,13 @@ def test_a_group_that_cannot_assemble_at_the_start_says_where_it_can():
 def test_a_file_is_checked_from_the_command_line(tmp_path):
     f = tmp_path / "mine.toml"
     f.write_text(FOURBAR.replace("l2 = 0.30", "l2 = 0.32"))
-    r = subprocess.run([sys.executable, "-m", "sim", "check", str(f)], capture_output=True, text=True)
+    r = cli_runner.run("check", str(f))
     assert r.returncode == 0, r.stderr
     assert "mobility (Gruebler): 3 x (4 - 1) - 2 x 4 = 1" in r.stdout
     assert "solve order: B (crank) -> C (RRR) -> E (point)" in r.stdout
     assert "phi1 assembles over a full turn" in r.stdout
     bad = tmp_path / "bad.toml"
     bad.write_text(FOURBAR.replace('kind = "RRR"', 'kind = "RRX"'))
-    r = subprocess.run([sys.executable, "-m", "sim", "analyze", str(bad)], capture_output=True, text=True)
+    r = cli_runner.run("analyze", str(bad))
     assert r.returncode == 2 and len(r.stderr.strip().splitlines()) == 1
     assert f"{bad}: groups[1]: unknown kind 'RRX'" in r.stderr

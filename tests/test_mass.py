@@ -5,8 +5,6 @@ rectangular plates, blocks, counterweights (parallel-axis theorem), the preceden
 from __future__ import annotations
 
 import math
-import subprocess
-import sys
 
 import numpy as np
 import pytest
@@ -16,6 +14,8 @@ from analytic import mass
 from analytic.mass import Inertia
 from analytic.format import linkfile
 from analytic.registry import LIBRARY
+
+import cli_runner  # the command in this process (tests/cli_runner.py)
 
 REL = 1e-12   # hand formula vs the model: rounding of a few sums of products (|values| ~ 1)
 
@@ -164,8 +164,7 @@ def test_a_bad_mass_section_is_one_line_naming_link_and_field(tmp_path, extra, p
     import re
     path = tmp_path / "m.toml"
     path.write_text(fourbar_text(extra))
-    r = subprocess.run([sys.executable, "-m", "sim", "forces", "m.toml"], capture_output=True, text=True,
-                       cwd=tmp_path, timeout=60)
+    r = cli_runner.run("forces", "m.toml", cwd=tmp_path)
     assert r.returncode == 2, r.stderr
     lines = r.stderr.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith("linkage: error: ") and "Traceback" not in r.stderr, r.stderr
@@ -175,8 +174,7 @@ def test_a_bad_mass_section_is_one_line_naming_link_and_field(tmp_path, extra, p
 
 def test_a_non_positive_inertia_on_the_command_line_names_the_link_and_field(tmp_path):
     (tmp_path / "i.json").write_text('{"2": {"m": 0, "cx": 0, "cy": 0, "I": 0.01}}')
-    r = subprocess.run([sys.executable, "-m", "sim", "forces", "fourbar", "--inertia", "i.json"], capture_output=True,
-                       text=True, cwd=tmp_path, timeout=60)
+    r = cli_runner.run("forces", "fourbar", "--inertia", "i.json", cwd=tmp_path)
     assert r.returncode == 2 and len(r.stderr.strip().splitlines()) == 1, r.stderr
     assert "--inertia 2: mass m=0 must be > 0" in r.stderr
 

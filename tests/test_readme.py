@@ -75,3 +75,17 @@ def test_readme_links_resolve_inside_the_repository():
     for target in re.findall(r"\]\(([^)#]+)(?:#[^)]*)?\)", text):
         if not target.startswith(("http://", "https://")):
             assert (README.parent / target).exists(), target
+
+
+def test_readme_python_script_prints_what_the_readme_shows(tmp_path, monkeypatch, capsys):
+    """The README's Python API script, run as written, prints its text block (numbers to their digits)."""
+    text = README.read_text()
+    section = text.split("## Python API", 1)[1]
+    code = re.search(r"```python\n(.*?)```", section, re.S).group(1)
+    expected = re.search(r"```text\n(.*?)```", section, re.S).group(1).splitlines()
+    monkeypatch.chdir(tmp_path)                        # a script writes nothing, and reads nothing from here
+    exec(compile(code, "README.md (Python API)", "exec"), {"__name__": "__readme__"})
+    got = capsys.readouterr().out.splitlines()
+    assert len(got) == len(expected), got
+    for g, w in zip(got, expected):
+        assert same_printout(g, w), (g, w)

@@ -12,9 +12,11 @@ from analytic import FiveBar, FourBar
 from analytic.closed_forms import fivebar
 from analytic.applications import studies
 
+import cli_runner  # the command in this process (tests/cli_runner.py)
+
 
 def run(*args):
-    return subprocess.run([sys.executable, "-m", "sim", *args], capture_output=True, text=True)
+    return cli_runner.run(*args)
 
 
 def test_common_period_of_two_cranks():

@@ -8,8 +8,6 @@ psi0 = 58.5103 matches) - a transposition of two digits in print, kept here as a
 
 import json
 import math
-import subprocess
-import sys
 
 import numpy as np
 import pytest
@@ -17,6 +15,8 @@ import pytest
 from analytic import ParameterError
 from analytic.closed_forms import fourbar
 from analytic.synthesis import two_position as synthesis
+
+import cli_runner  # the command in this process (tests/cli_runner.py)
 
 TABLE1 = [  # theta, phi0, psi0 [deg] as printed in seed 001
     (0.0, 61.1901, 53.6901), (5.0, 65.0004, 47.5008), (-5.0, 58.4204, 58.5103), (-15.0, 54.6004, 65.4251),
@@ -89,7 +89,7 @@ def test_bad_tasks(kw, pattern):
 
 
 def run(*args):
-    return subprocess.run([sys.executable, "-m", "sim", *args], capture_output=True, text=True)
+    return cli_runner.run(*args)
 
 
 def test_cli_json_has_rows_optimum_and_exclusions():

@@ -4,8 +4,6 @@ angles (an independent check of the closed forms used in synthesis), defects ref
 
 import json
 import math
-import subprocess
-import sys
 
 import numpy as np
 import pytest
@@ -16,13 +14,15 @@ from analytic.synthesis import fourbar as synth_fourbar
 from analytic.synthesis import function as synthesis_function
 from analytic.synthesis import motion as synthesis_motion
 
+import cli_runner  # the command in this process (tests/cli_runner.py)
+
 KNOWN = dict(l1=0.10, l2=0.30, l3=0.25, l4=0.30, ex=0.15, ey=0.10)
 """The library four-bar's own crank-rocker (A = (0, 0), D = (l4, 0)): a reference whose poses any design
 must reproduce."""
 
 
 def run(*args):
-    return subprocess.run([sys.executable, "-m", "sim", *args], capture_output=True, text=True, timeout=300)
+    return cli_runner.run(*args)
 
 
 def wrap(x):

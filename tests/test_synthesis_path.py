@@ -5,8 +5,6 @@ bad target files refused with one line."""
 
 import json
 import math
-import subprocess
-import sys
 
 import numpy as np
 import pytest
@@ -14,6 +12,8 @@ import pytest
 import analytic
 from analytic.synthesis import path as sp
 from sim.run.parallel import mapper
+
+import cli_runner  # the command in this process (tests/cli_runner.py)
 
 LIB = dict(l1=0.10, l2=0.30, l3=0.25, l4=0.30, ex=0.15, ey=0.10)   # the library four-bar's crank-rocker
 
@@ -29,7 +29,7 @@ def _mu_min_deg(x) -> float:
 
 
 def run(*args):
-    return subprocess.run([sys.executable, "-m", "sim", *args], capture_output=True, text=True, timeout=300)
+    return cli_runner.run(*args)
 
 
 @pytest.mark.parametrize("branch", [1, -1])

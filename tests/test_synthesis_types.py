@@ -8,8 +8,6 @@ their full-turn constraint against the solver's assembly over the turn."""
 
 import json
 import math
-import subprocess
-import sys
 
 import numpy as np
 import pytest
@@ -20,10 +18,11 @@ from analytic.synthesis.curves import FAMILIES
 from sim import design_service
 from sim.run.parallel import mapper
 
+import cli_runner  # the command in this process (tests/cli_runner.py)
+
 
 def run(*args, timeout=600):
-    return subprocess.run([sys.executable, "-m", "sim", *map(str, args)], capture_output=True, text=True,
-                          timeout=timeout)
+    return cli_runner.run(*map(str, args))
 
 
 def feasible(name, seed, mu_deg=35.0):

@@ -10,8 +10,6 @@ import csv
 import json
 import math
 import re
-import subprocess
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -20,6 +18,8 @@ import pytest
 import analytic
 from analytic import quantities as Q
 from analytic.applications import figures
+
+import cli_runner  # the command in this process (tests/cli_runner.py)
 
 LIB = Path(analytic.__file__).parent / "library"
 HOEKENS_M = ["--set", "crank=0.05", "--set", "ground=0.1", "--set", "coupler=0.125", "--set", "rocker=0.125",
@@ -33,7 +33,7 @@ PRINTED = 5e-6
 
 
 def run(*args, ok=(0,)):
-    p = subprocess.run([sys.executable, "-m", "sim", *map(str, args)], capture_output=True, text=True, timeout=300)
+    p = cli_runner.run(*map(str, args))
     assert p.returncode in ok, p.stderr
     return p.stdout
 

@@ -2,19 +2,19 @@
 moves; videos drawn like the app (content checks, not golden pixels)."""
 
 import json
-import subprocess
-import sys
 from pathlib import Path
 
 import numpy as np
 
 import analytic
 
+import cli_runner  # the command in this process (tests/cli_runner.py)
+
 LIB = Path(analytic.__file__).parent / "library"
 
 
 def run(*args, ok=(0,)):
-    p = subprocess.run([sys.executable, "-m", "sim", *map(str, args)], capture_output=True, text=True, timeout=300)
+    p = cli_runner.run(*map(str, args))
     assert p.returncode in ok, p.stderr
     return p.stdout
 

@@ -24,6 +24,8 @@ from analytic._common import ParameterError
 __all__ = ["grid", "common_period", "sweep", "CHUNK"]
 
 CHUNK = 256
+MAX_COMBOS = 100_000
+"""Largest sweep grid evaluated without an explicit yes (about a minute of work)."""
 """Parameter sets per chunk: 256 x 360 samples x ~40 temporaries of 8 bytes = ~30 MB at most."""
 MAX_DENOMINATOR = 64
 """A speed ratio is taken as the nearest fraction p/q with q <= 64 to find the common period."""

@@ -41,7 +41,6 @@ from sim import service
 from sim.output.jsonout import clean
 from sim.output.units import output_kind
 
-DEFAULT_PORT = 8765
 MAX_BODY = 1_000_000
 WORKERS = 16
 """Requests served at once; more wait in the listen queue (a page uses a few keep-alive connections)."""
@@ -943,14 +942,3 @@ def cmd_app(args) -> int:
     print("linkage app: stopped")
     return 0
 
-
-def register(sub) -> None:
-    """Add ``linkage app [MECH] [--port N] [--no-browser]`` to the CLI's subcommands."""
-    p = sub.add_parser("app", help="interactive page: parameters, curves, animation, simulation, exports")
-    first = analytic.names()[0]
-    p.add_argument("mechanism", metavar="MECH", nargs="?", default=first,
-                   help=f"the mechanism to open: a name (linkage list) or a linkage/1 file (default {first})")
-    p.add_argument("--port", type=int, default=DEFAULT_PORT, metavar="N",
-                   help=f"port on 127.0.0.1 (default {DEFAULT_PORT}; 0 picks a free one)")
-    p.add_argument("--no-browser", action="store_true", help="do not open a browser; just print the URL")
-    p.set_defaults(func=cmd_app)

@@ -541,11 +541,8 @@ def make_parser() -> argparse.ArgumentParser:
     forces_cmd.register(sub, add_common, add_sim_options, add_video_options)
     from sim.front import import_cmd  # Pyslvs and PMKS files (issue 16)
     import_cmd.register(sub, add_common, add_sim_options, add_video_options)
-    try:
-        from sim.front import app
-        app.register(sub)
-    except ImportError:
-        pass
+    from sim.front import app_cmd  # the web app; its server is imported when it runs
+    app_cmd.register(sub)
     return parser
 
 

@@ -13,7 +13,6 @@ from analytic import ParameterError
 from analytic.format import expr
 from analytic.applications import studies
 from analytic.synthesis import two_position as synthesis
-from sim import design_service
 from sim.front.common import check_outputs, mechanism_from
 from sim.output.jsonout import dumps
 from sim.output.io import check_writable, write_csv
@@ -37,6 +36,7 @@ def _angle_range(option: str, text: str) -> tuple[float, float]:
 
 
 def cmd_synthesize(args) -> int:
+    from sim import design_service
     if args.problem != "two-position":
         raise ParameterError(f"unknown synthesis problem {args.problem!r}: use two-position")
     if args.render:
@@ -138,10 +138,11 @@ def _simulate_partial(mech, revolutions):
 
 
 # ------------------------------------------------------------------------------------------- sweep
-MAX_COMBOS = design_service.MAX_COMBOS
+MAX_COMBOS = studies.MAX_COMBOS
 
 
 def cmd_sweep(args) -> int:
+    from sim import design_service
     check_outputs(args, {"csv": (".csv",), "plot": (".png", ".svg", ".pdf")})
     base = mechanism_from(args)
     vary = design_service.parse_vary(args.vary, base) if args.vary else {}

@@ -9,7 +9,6 @@ import math
 from analytic import ParameterError
 from analytic.format import expr
 from analytic import quantities as Q
-from analytic.applications import motor as amotor
 
 RPM = 2 * math.pi / 60
 
@@ -23,8 +22,9 @@ def parse_speed(option: str, text: str) -> float:
     return expr.parse_value(option, t, angle=False) * scale
 
 
-def parse_motor(text: str) -> amotor.LinearMotor:
-    """``T0,W0``: stall torque [N m], no-load speed [rad/s or rpm]."""
+def parse_motor(text: str):
+    """``T0,W0``: stall torque [N m], no-load speed [rad/s or rpm]: an ``analytic.applications.motor.LinearMotor``."""
+    from analytic.applications import motor as amotor
     parts = text.split(",")
     if len(parts) != 2:
         raise ParameterError(f"--motor {text!r} is not T0,W0 (stall torque N m, no-load speed rad/s or rpm; "
@@ -33,8 +33,9 @@ def parse_motor(text: str) -> amotor.LinearMotor:
                               parse_speed("--motor W0", parts[1]))
 
 
-def read_table(path: str) -> amotor.TableMotor:
-    """A torque-speed table: CSV with a header ``omega,tau`` (rad/s, N m) or ``rpm,tau``."""
+def read_table(path: str):
+    """A torque-speed table: CSV with a header ``omega,tau`` (rad/s, N m) or ``rpm,tau`` (a ``TableMotor``)."""
+    from analytic.applications import motor as amotor
     try:
         with open(path, newline="") as f:
             rows = list(csv.reader(f))
@@ -266,6 +267,7 @@ def smotor_tol() -> float:
 
 
 def _motor_text(m) -> str:
+    from analytic.applications import motor as amotor
     if isinstance(m, amotor.LinearMotor):
         return f"a linear motor T0={m.T0:g} N m, W0={m.W0:g} rad/s ({m.W0 / RPM:.4g} rpm)"
     return f"a table motor ({len(m.omega)} rows, stall {m.stall:g} N m)"

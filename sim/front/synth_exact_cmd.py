@@ -5,9 +5,11 @@ from __future__ import annotations
 
 from analytic import ParameterError
 from analytic.format.linkfile import UNITS
-from sim import design_service
+from sim.front.lazy import lazy
 from sim.output.io import check_writable, write_text
 from sim.output.jsonout import dumps
+
+design_service = lazy("sim.design_service")  # scipy's optimisers: loaded by the command, not by its options
 
 
 def _designs_out(args, kind: str, found: list[dict]) -> int:

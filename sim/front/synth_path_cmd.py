@@ -9,10 +9,12 @@ from pathlib import Path
 
 from analytic.format.linkfile import UNITS
 from analytic.synthesis.curves import DEFAULT_TYPE, TYPES
-from sim import design_service
+from sim.front.lazy import lazy
 from sim.output.io import atomic_path, check_writable, write_text
 from sim.output.jsonout import dumps
 from sim.output.progress import Progress
+
+design_service = lazy("sim.design_service")  # scipy's optimisers: loaded by the command, not by its options
 
 
 def out_names(out: str | None, k: int) -> list[str | None]:

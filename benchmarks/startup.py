@@ -1,0 +1,55 @@
+"""CPU time of a command line's start and of short commands (issue 30's targets), in fresh processes.
+
+Run:  python benchmarks/startup.py [--repeats 5] [--tree PATH]
+
+Each command runs as ``python -m sim ...`` in a new interpreter; the figure is its CPU time (user +
+system, from ``resource.getrusage(RUSAGE_CHILDREN)``), the least of the repeats, so that another process
+on the machine changes it little (it still shares caches and cores: the machine's load is printed).
+``--tree`` measures another checkout of the project (e.g. a worktree of an older commit) the same way.
+
+Targets (issue 30): ``list`` and ``check`` at most 0.3 s, ``compare fourbar`` at most 1.5 s, a numerically
+solved group's compare (``stephenson_ii``) at most 2.5 s.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import resource
+import subprocess
+import sys
+
+COMMANDS = [("list", 0.3), ("check fourbar", 0.3), ("analyze fourbar", None),
+            ("compare fourbar", 1.5), ("compare stephenson_ii", 2.5)]
+
+
+def cpu_of(argv: list[str], env: dict, cwd: str) -> float:
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    subprocess.run(argv, env=env, cwd=cwd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, check=False)
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+
+
+def main() -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--repeats", type=int, default=5)
+    ap.add_argument("--tree", default=os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+    args = ap.parse_args()
+    env = dict(os.environ, PYTHONPATH=args.tree)
+    env.setdefault("MUJOCO_GL", "egl")
+    print(f"tree {args.tree}; load average {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores; "
+          f"least of {args.repeats} runs")
+    cpu_of([sys.executable, "-c", "pass"], env, args.tree)           # warm the file cache
+    bare = min(cpu_of([sys.executable, "-c", "pass"], env, args.tree) for _ in range(args.repeats))
+    print(f"  {'python -c pass':<24s} {bare:6.3f} s CPU")
+    for command, target in COMMANDS:
+        argv = [sys.executable, "-m", "sim", *command.split()]
+        cpu_of(argv, env, args.tree)
+        best = min(cpu_of(argv, env, args.tree) for _ in range(args.repeats))
+        verdict = "" if target is None else f"  (target {target:g} s: {'met' if best <= target else 'MISSED'})"
+        print(f"  {command:<24s} {best:6.3f} s CPU{verdict}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
