@@ -541,6 +541,8 @@ def make_parser() -> argparse.ArgumentParser:
     forces_cmd.register(sub, add_common, add_sim_options, add_video_options)
     from sim.front import import_cmd  # Pyslvs and PMKS files (issue 16)
     import_cmd.register(sub, add_common, add_sim_options, add_video_options)
+    from sim.front import tolerance_cmd  # tolerance and sensitivity (issue 29)
+    tolerance_cmd.register(sub, add_common, add_sim_options, add_video_options)
     from sim.front import app_cmd  # the web app; its server is imported when it runs
     app_cmd.register(sub)
     return parser
