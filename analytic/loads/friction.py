@@ -63,7 +63,8 @@ class Friction:
 
 def parse(section, sc: Scales, joints) -> Friction | None:
     """The ``[friction]`` table: a default ``mu`` and ``pin_radius`` (file units) for every joint and
-    per-joint overrides ``joints = {NAME = {mu = ..., pin_radius = ...}}`` (NAME a joint's name or its point)."""
+    per-joint overrides ``joints = {NAME = {mu = ..., pin_radius = ...}}`` (NAME a joint's name: that joint;
+    or a point's that names no joint: every joint at it)."""
     if section is None:
         return None
     if not isinstance(section, dict):
@@ -95,9 +96,11 @@ def parse(section, sc: Scales, joints) -> Friction | None:
             raise sc.fail(where, "give {mu = ..., pin_radius = ...}")
         over[name] = values(table, where)
     pins, slides = [], []
+    named = {j.name for j in joints}
     for k, j in enumerate(joints):
         mu, r = mu0, r0
-        for key in (j.point, j.name):
+        # a key that names a joint means that joint only; a point's name (not a joint's) every joint there
+        for key in ((j.point,) if j.point not in named else ()) + (j.name,):
             if key in over:
                 mu = over[key][0] if over[key][0] is not None else mu
                 r = over[key][1] if over[key][1] is not None else r
