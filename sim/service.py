@@ -528,6 +528,11 @@ class ForceRun:
     forces: object
     balance: object = None
     balanced: object = None
+    loaded: object = None
+    """The kinetostatics with the file's and the command line's loads (:class:`analytic.loads.kinetostatics.Loaded`)."""
+    loadset: object = None
+    energy: dict | None = None
+    """Each load's work per cycle, friction's dissipation and the energy balance (sim.loads.energy_of)."""
 
 
 def _visited(first, q1: np.ndarray, x: float) -> bool:
@@ -592,12 +597,14 @@ def mass_sources(mech: Mechanism, given: dict | None) -> dict[str, str]:
 
 def forces_run(mech: Mechanism, samples: int = 361, revolutions: float = 1.0, input_range=None,
                gravity=None, force=(0.0, 0.0), slow_stroke_only: bool = False, inertias: dict | None = None,
-               balance=None) -> ForceRun:
+               balance=None, extra_loads=(), at=None) -> ForceRun:
     """Every joint force of ``mech`` along its motion law: ``samples`` instants over ``revolutions`` of the
     first input (or rocking over ``input_range``), with ``gravity`` (gx, gy) [m/s^2], ``force`` (Fx, Fy) [N]
     on the output point (only on the slow stroke when ``slow_stroke_only``: a cutting force) and the mass
     model with ``inertias`` ({link: Inertia}, SI) replacing links' own. ``balance``: None, or the links to
-    carry counterweights (an empty tuple: the default choice, see analytic.applications.balance)."""
+    carry counterweights (an empty tuple: the default choice, see analytic.applications.balance).
+    ``extra_loads``: the command line's loads (analytic.loads dataclasses) besides the file's ``[[loads]]``
+    and ``[friction]`` (SPEC "Loads"); ``at``: one value of the first input [rad or m] instead of a run."""
     from analytic import mass
     from analytic.applications import balance as bal
     from analytic.applications import forces as F
@@ -609,16 +616,19 @@ def forces_run(mech: Mechanism, samples: int = 361, revolutions: float = 1.0, in
         mech = mech.rocking(lo, hi)
     else:
         check_turns_fully(mech)
-    t = np.linspace(0.0, mech.duration(revolutions), samples)
+    from sim import loads as L
+    t, cycles = L.run_times(mech, samples, revolutions, at)
     q, qd, qdd = mech.drive(t)
     mech.check_assembles(q)
     check_forces_singular(mech, q)
-    sol = mech.solve(q, qd, qdd, outputs=F.wanted(mech))
+    sol = mech.solve(q, qd, qdd, outputs=L.K.full_wanted(mech))
     model = mass.model(mech, inertias)
     gx, gy = gravity if gravity is not None else (0.0, 0.0)
     fx, fy = force
     on, window = (_load_window(mech, q[:, 0]) if slow_stroke_only and (fx or fy) else (1.0, None))
-    result = F.solve(mech, q, qd, qdd, model, (gx, gy), (fx, fy), on, sol=sol)
+    loadset = L.loadset(mech, extra_loads)
+    loaded = L.K.solve(mech, q, qd, qdd, t, model, loadset, (gx, gy), (fx, fy), on, sol=sol)
+    result = loaded.forces
     bad = F.singular_samples(result)
     if bad.any():
         k = int(np.argmax(bad))
@@ -634,10 +644,11 @@ def forces_run(mech: Mechanism, samples: int = 361, revolutions: float = 1.0, in
     balance_result = balanced = None
     if balance is not None:
         balance_result = bal.balance(mech, sol, model, tuple(balance) or None)
-        balanced = F.solve(mech, q, qd, qdd, bal.with_counterweights(model, balance_result.counterweights),
-                           (gx, gy), (fx, fy), on, sol=sol)
+        balanced = L.K.solve(mech, q, qd, qdd, t, bal.with_counterweights(model, balance_result.counterweights),
+                             loadset, (gx, gy), (fx, fy), on, sol=sol).forces
+    energy = L.energy_of(mech, loaded, loadset, model, (gx, gy), (fx, fy), on, cycles)
     return ForceRun(mech, t, q, qd, qdd, cols, sol, model, mass_sources(mech, inertias), loads, result,
-                    balance_result, balanced)
+                    balance_result, balanced, loaded, loadset, energy)
 
 
 def force_peaks(run: ForceRun, forces=None) -> dict:
@@ -694,14 +705,23 @@ def forces_record(run: ForceRun, display=None) -> dict:
               "inputs": {inp.q: display.convert(inp_q(inp), run.inputs[inp.q]) for inp in mech.inputs},
               "links": links, "joints": joints, "drives": drives,
               "shaking": {"Fx": f.shaking[0], "Fy": f.shaking[1], "M": f.shaking[2]},
-              "loads": run.loads, "peaks": _peaks_at(run, force_peaks(run), display),
+              "loads": loads_table(run, display), "peaks": _peaks_at(run, force_peaks(run), display),
               "units": {"file": mech.units, "length": display.unit(Q.LENGTH), "angle": display.unit(Q.ANGLE),
                         "time": "s", "force": "N", "torque": "N m", "mass": "kg", "I": "kg m^2",
                         "inputs": {inp.q: display.unit(inp_q(inp)) for inp in mech.inputs},
                         "drives": {inp.q: "N m" if inp.kind == "crank" else "N" for inp in mech.inputs}}}
     if run.balance is not None:
         record["balance"] = balance_record(run, display)
+    if run.energy is not None:
+        from sim import loads as L
+        L.add_to_record(record, run, display)
     return record
+
+
+def loads_table(run: ForceRun, display=None) -> list:
+    """The JSON ``loads`` table (SPEC "Loads"): every load applied with its link, point and work per cycle."""
+    from sim import loads as L
+    return L.table(run, display)
 
 
 def _peaks_at(run: ForceRun, peaks: dict, display) -> dict:
@@ -820,6 +840,8 @@ def forces_table(run: ForceRun, display=None) -> str:
         lines.append(f"    shaking force of the inertia: RMS {b.before['rms']:.5g} -> {b.after['rms']:.5g} N, peak "
                      f"{b.before['peak']:.5g} -> {b.after['peak']:.5g} N; with the loads: RMS {s['F_rms']:.5g} -> "
                      f"{after['F_rms']:.5g} N")
+    from sim import loads as L
+    lines += L.summary(run)
     return "\n".join(lines)
 
 

@@ -253,8 +253,9 @@ def test_the_json_contract(tmp_path):
         assert len(j["Fx"]) == len(j["Fy"]) == 37 and (("M" in j) == (j["kind"] == "P"))
     assert list(d["drives"]) == ["phi1"] and len(d["drives"]["phi1"]) == 37
     assert set(d["shaking"]) == {"Fx", "Fy", "M"}
-    assert d["loads"]["gravity"] == [0.0, -9.81]
-    assert d["loads"]["force"]["point"] == "C" and d["loads"]["force"]["link"] == m.topology.carriers["C"]
+    by_name = {ld["name"]: ld for ld in d["loads"]}                     # SPEC "Loads": a list, each named
+    assert by_name["gravity"]["g"] == [0.0, -9.81]
+    assert by_name["force"]["point"] == "C" and by_name["force"]["link"] == m.topology.carriers["C"]
     assert d["units"]["force"] == "N" and d["units"]["length"] == "m" and d["units"]["drives"]["phi1"] == "N m"
     # the numbers are the analytic ones (SI)
     t = np.array(d["t"])

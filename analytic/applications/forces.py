@@ -452,7 +452,7 @@ def wanted(mech) -> list[str]:
 
 
 def solve(mech, q, qd, qdd, inertias: dict, gravity=(0.0, 0.0), force=(0.0, 0.0), force_on=1.0,
-          point: str | None = None, sol=None, block: int = BLOCK) -> Forces:
+          point: str | None = None, sol=None, block: int = BLOCK, applied=()) -> Forces:
     """Every joint force, drive and the shaking force and moment of ``mech`` along a motion.
 
     Parameters
@@ -469,6 +469,9 @@ def solve(mech, q, qd, qdd, inertias: dict, gravity=(0.0, 0.0), force=(0.0, 0.0)
         ``force_on`` (a scalar or an array over the samples: a cutting force's switch).
     sol : Solution, optional
         The kinematics at these inputs, with at least :func:`wanted`'s outputs (solved here when None).
+    applied : sequence of :class:`analytic.loads.Application`
+        Further wrenches on links (arrays over the samples; on the ground: reactions the frame feels, added
+        to the shaking force and moment): the file's loads, friction.
 
     Returns
     -------
@@ -501,6 +504,8 @@ def solve(mech, q, qd, qdd, inertias: dict, gravity=(0.0, 0.0), force=(0.0, 0.0)
             on = force_on[sl]
             ctx.step = Step(-2, {}, (), (), ())
             ctx._push(carrier, point, fx * on, fy * on)
+        for a in applied:
+            _apply(ctx, a)
         for step in reversed(p.steps):
             ctx.step = step
             kinds.get(step.element["kind"]).forces(step.element, ctx)
@@ -510,6 +515,28 @@ def solve(mech, q, qd, qdd, inertias: dict, gravity=(0.0, 0.0), force=(0.0, 0.0)
             out["shaking"][k, sl] = ctx.ground[k]
     drives = {inp.link: out["drives"][i] for i, inp in enumerate(p.inputs)}
     return Forces(p.joints, out["F"], out["M"], drives, out["couplings"], out["shaking"], dict(inertias))
+
+
+def _apply(ctx: Context, a) -> None:
+    """Add a load's wrench (an :class:`analytic.loads.Application`) on this block to its link's known loads,
+    or to what the ground feels."""
+    sl = ctx.sl
+
+    def part(v):                                       # arrays over all samples, or a constant
+        return np.asarray(v, dtype=float)[sl] if np.ndim(v) else float(v)
+
+    fx, fy, px, py, m = (part(v) for v in (a.fx, a.fy, a.px, a.py, a.couple))
+    if a.link == GROUND:
+        g = ctx.ground
+        g[0] = g[0] + fx
+        g[1] = g[1] + fy
+        g[2] = g[2] + (px * fy - py * fx) + m
+        return
+    ox, oy = ctx.xy(ctx.plan.origins[a.link])
+    F = ctx.F[a.link]
+    F[0] = F[0] + fx
+    F[1] = F[1] + fy
+    ctx.M[a.link] = ctx.M[a.link] + (px - ox) * fy - (py - oy) * fx + m
 
 
 def _loads(ctx: Context, mech, inertias, gx, gy) -> None:

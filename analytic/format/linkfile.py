@@ -15,7 +15,7 @@ import math
 import re
 import stat
 import tomllib
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 from analytic import kinds, topology
@@ -33,7 +33,7 @@ LINK_NAME = re.compile(r"^[A-Za-z0-9_]+$")
 
 
 TOP_LEVEL = {"format", "name", "units", "description", "output", "parameters", "ground", "inputs", "groups",
-             "inertia", "mass"} | set(joints.FIELDS)
+             "inertia", "mass", "force_units", "loads", "friction"} | set(joints.FIELDS)
 """The links-and-joints form (:mod:`.joints`) adds ``links``, ``joints`` and ``pose``."""
 
 
@@ -88,6 +88,10 @@ class Definition:
     topology: topology.Topology | None = None
     mass: dict = field(default_factory=dict)
     """The ``[mass]`` section as written (numbers in file units; see :mod:`analytic.mass`)."""
+    force_units: str = "N"
+    loads: tuple = ()
+    """The ``[[loads]]`` tables as written (checked; resolved by :func:`analytic.loads.resolve`)."""
+    friction: dict | None = None
 
     @property
     def scale(self) -> float:
@@ -276,6 +280,12 @@ def _check(data: dict, source: str, default_name: str) -> Definition:
                             {k: tuple(v) for k, v in ground.items()}, inputs, groups, order, output, inertia, topo,
                             mass=mass)
     _check_mobility(definition)
+    if any(k in data for k in ("force_units", "loads", "friction")):   # SPEC "Loads": checked here, used later
+        from analytic import loads
+        definition = replace(definition, force_units=loads.check_units(source, data.get("force_units")),
+                             loads=tuple(data.get("loads", ())) if isinstance(data.get("loads", ()), list)
+                             else data.get("loads"), friction=data.get("friction"))
+        loads.parse(definition, parameter_values(definition))
     return definition
 
 

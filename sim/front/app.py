@@ -510,7 +510,7 @@ def forces(body: dict) -> dict:
     run = service.forces_run(mech, samples, revolutions, rng, loads.gravity, loads.force, loads.slow_stroke_only)
     rec = service.forces_record(run)
     out = {"mechanism": mech.name, "samples": samples, "revolutions": revolutions,
-           **force_series(rec, digits), "peaks": clean(rec["peaks"]), "loads": clean(rec["loads"]),
+           **force_series(rec, digits), "peaks": clean(rec["peaks"]), "loads": clean(run.loads),
            "units": clean(rec["units"]), "simulated": None}
     if simulate_too:
         sim = service.simulated_forces(run, loads=loads)

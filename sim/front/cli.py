@@ -64,8 +64,10 @@ def loads_from(args, mech):
     """The Loads of the command line: gravity, external or cutting force, links' inertias."""
     from analytic.mass import Inertia
     from sim.model import Loads
+    from sim.front.loads_opts import command_loads
     gravity = pair("--gravity", args.gravity)
-    force = pair("--force", args.force) or (0.0, 0.0)
+    force_text, extra = command_loads(args, mech)           # --force FX,FY@POINT[:LINK], --torque T@LINK
+    force = pair("--force", force_text) or (0.0, 0.0)
     cutting = args.cutting_force
     slow = False
     if cutting is not None:
@@ -99,7 +101,7 @@ def loads_from(args, mech):
                 raise ParameterError(f"--inertia {link}: give m, cx, cy and I (got {sorted(data)})") from None
             except ParameterError as exc:
                 raise ParameterError(f"--inertia {link}: {exc}") from None
-    return Loads(gravity=gravity, force=force, slow_stroke_only=slow, inertias=inertias)
+    return Loads(gravity=gravity, force=force, slow_stroke_only=slow, inertias=inertias, extra=extra)
 
 
 def cutting_direction(mech) -> float:
@@ -431,9 +433,12 @@ def add_sim_options(p) -> None:
     p.add_argument("--integrator", default=DEFAULT_INTEGRATOR, choices=INTEGRATOR_NAMES,
                    help=f"MuJoCo integrator (default {DEFAULT_INTEGRATOR})")
     p.add_argument("--gravity", metavar="GX,GY", help="gravity in the plane [m/s^2], e.g. 0,-9.81")
-    p.add_argument("--force", metavar="FX,FY", help="constant external force on the output point [N]")
+    p.add_argument("--force", metavar="FX,FY[@POINT[:LINK]]",
+                   help="constant external force [N] on the output point, or at POINT on LINK (default: its carrier)")
     p.add_argument("--cutting-force", metavar="F",
                    help="a force F [N] resisting the output point's slow (cutting) stroke along x")
+    from sim.front.loads_opts import add_options
+    add_options(p)
     p.add_argument("--input-range", metavar="LO:HI",
                    help="rock the first input between LO and HI (e.g. a crank that cannot turn fully)")
     p.add_argument("--inertia", metavar="PATH.json",
@@ -462,6 +467,8 @@ def make_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("analyze", help="closed-form kinematics over a run; summary, CSV or JSON")
     add_common(p)
     p.add_argument("--samples", type=int, default=361, metavar="N", help="samples (default 361)")
+    from sim.front.loads_opts import add_options
+    add_options(p)
     p.add_argument("--input-range", metavar="LO:HI", help="sample the first input between LO and HI instead")
     p.add_argument("--csv", metavar="PATH", help="write every sample as CSV (units in PATH.units.json)")
     p.add_argument("--json", action="store_true", help="print one JSON object")

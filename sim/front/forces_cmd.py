@@ -18,6 +18,8 @@ def register(sub, add_common, add_sim_options, add_video_options) -> None:
                         "links named (default: those pivoted at the ground); before/after reported")
     p.add_argument("--simulate", action="store_true",
                    help="also run the MuJoCo model and compare its joint forces with the analytic ones")
+    from sim.front.loads_opts import add_at
+    add_at(p)
     add_unit_options(p)
     p.set_defaults(func=cmd_forces)
 
@@ -41,10 +43,15 @@ def cmd_forces(args) -> int:
     from sim.output.units import machine_units, shown_units
     check_outputs(args, {"csv": (".csv",)})
     mech = mechanism_from(args)
+    from sim.front.loads_opts import at_value
     loads = loads_from(args, mech)
+    at = at_value(args, mech)
+    if at is not None and (args.simulate or args.balance is not None or args.input_range):
+        raise ParameterError("--at evaluates one pose: it does not combine with --simulate, --balance or "
+                             "--input-range")
     run = service.forces_run(mech, args.samples, args.revolutions, parse_range(mech, args.input_range),
                              loads.gravity, loads.force, loads.slow_stroke_only, loads.inertias,
-                             balance_links(args.balance))
+                             balance_links(args.balance), loads.extra, at)
     display = machine_units(args)
     simulated = service.simulated_forces(run, settings_from(args), loads, display) if args.simulate else None
     if args.csv:

@@ -52,6 +52,7 @@ class Loads:
     force: tuple[float, float] = (0.0, 0.0)
     slow_stroke_only: bool = False
     inertias: dict | None = None
+    extra: tuple = ()
 
     def __post_init__(self):
         for name, v in (("gravity", self.gravity), ("force", self.force)):

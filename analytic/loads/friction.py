@@ -1,0 +1,120 @@
+"""``[friction]``: Coulomb friction in the joints (SPEC "Loads").
+
+A pin (revolute) of radius r with coefficient mu resists the relative rotation with the moment
+Mf = -mu r |F| sign(omega_b - omega_a) that its ``a`` link exerts on its ``b`` link (the friction-circle
+model: the bearing force is tangent to a circle of radius mu r, for small mu), F the pin's force. A prismatic
+pair resists the sliding with the force -mu |N| sign(ds) along the guide at the block's pin, N its normal
+force. Both depend on the reactions they change, so the kinetostatics is solved again with the friction
+loads of the previous solve until they stop changing (a fixed point: :func:`analytic.loads.kinetostatics.solve`).
+At rest in a joint (relative rate 0) the friction is taken as 0 (static friction is indeterminate there).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from analytic.kinds import GROUND
+from analytic.loads.common import Application, Scales
+
+FIELDS = {"mu", "pin_radius", "joints"}
+JOINT_FIELDS = {"mu", "pin_radius"}
+
+
+@dataclass(frozen=True)
+class Friction:
+    """``pins``: (joint index, mu, r [m]); ``slides``: (joint index, mu); only joints with friction."""
+
+    pins: tuple
+    slides: tuple
+
+    def __bool__(self) -> bool:
+        return bool(self.pins or self.slides)
+
+    def loads(self, state, joints, F) -> tuple[list, dict, dict]:
+        """The friction wrenches for the joint forces ``F`` (n_joints, 2, N): the applications, each pin's Mf
+        [N m] (on b by a) and each prismatic pair's friction force along its guide [N] (on the block)."""
+        apps, Mf, Ft = [], {}, {}
+        for k, mu, r in self.pins:
+            j = joints[k]
+            rel = state.omega(j.b) - state.omega(j.a)
+            m = -mu * r * np.hypot(F[k, 0], F[k, 1]) * np.sign(rel)
+            Mf[k] = m
+            z = np.zeros(state.n)
+            apps.append(Application(j.b, z, z, z, z, m))
+            apps.append(Application(j.a, z, z, z, z, -m))
+        for k, mu in self.slides:
+            j = joints[k]
+            _, _, c, s, _ = state.frame(j.b)                      # a block's angle is its guide's
+            normal = np.abs(-s * F[k, 0] + c * F[k, 1])
+            ds = np.asarray(state.sol["ds" + j.slide])
+            f = -mu * normal * np.sign(ds)
+            Ft[k] = f
+            px, py = state.xy(j.point)
+            apps.append(Application(j.b, f * c, f * s, px, py))
+            apps.append(Application(j.a, -f * c, -f * s, px, py))
+        return apps, Mf, Ft
+
+    def record(self, joints) -> dict:
+        return {"pins": {joints[k].name: {"mu": mu, "pin_radius": r} for k, mu, r in self.pins},
+                "prismatic": {joints[k].name: {"mu": mu} for k, mu in self.slides}}
+
+
+def parse(section, sc: Scales, joints) -> Friction | None:
+    """The ``[friction]`` table: a default ``mu`` and ``pin_radius`` (file units) for every joint and
+    per-joint overrides ``joints = {NAME = {mu = ..., pin_radius = ...}}`` (NAME a joint's name: that joint;
+    or a point's that names no joint: every joint at it)."""
+    if section is None:
+        return None
+    if not isinstance(section, dict):
+        raise sc.fail("friction", "must be a table (mu = ..., pin_radius = ..., joints = {NAME = {mu = ...}})")
+    unknown = sorted(set(section) - FIELDS)
+    if unknown:
+        raise sc.fail(f"friction.{unknown[0]}", f"unknown field; [friction] takes {', '.join(sorted(FIELDS))}")
+
+    def values(table, where):
+        mu = sc.number(table["mu"], f"{where}.mu") if "mu" in table else None
+        r = sc.number(table["pin_radius"], f"{where}.pin_radius") * sc.length if "pin_radius" in table else None
+        if mu is not None and not 0 <= mu <= 2:
+            raise sc.fail(f"{where}.mu", f"{mu:g} must be in [0, 2] (a Coulomb coefficient)")
+        if r is not None and not r >= 0:
+            raise sc.fail(f"{where}.pin_radius", "must be >= 0")
+        return mu, r
+
+    mu0, r0 = values(section, "friction")
+    per = section.get("joints", {})
+    if not isinstance(per, dict):
+        raise sc.fail("friction.joints", "must be a table NAME = {mu = ..., pin_radius = ...}")
+    over = {}
+    names = {j.name for j in joints} | {j.point for j in joints}
+    for name, table in per.items():
+        where = f"friction.joints.{name}"
+        if name not in names:
+            raise sc.fail(where, f"no joint or point named {name!r}; joints: {', '.join(j.name for j in joints)}")
+        if not isinstance(table, dict) or set(table) - JOINT_FIELDS:
+            raise sc.fail(where, "give {mu = ..., pin_radius = ...}")
+        over[name] = values(table, where)
+    pins, slides = [], []
+    named = {j.name for j in joints}
+    for k, j in enumerate(joints):
+        mu, r = mu0, r0
+        # a key that names a joint means that joint only; a point's name (not a joint's) every joint there
+        for key in ((j.point,) if j.point not in named else ()) + (j.name,):
+            if key in over:
+                mu = over[key][0] if over[key][0] is not None else mu
+                r = over[key][1] if over[key][1] is not None else r
+        if not mu:
+            continue
+        if j.kind == "revolute":
+            if r is None:
+                raise sc.fail("friction.pin_radius", f"joint {j.name} has mu = {mu:g} but no pin_radius: give "
+                                                     f"pin_radius (file length unit)")
+            if r > 0:
+                pins.append((k, mu, r))
+        else:
+            slides.append((k, mu))
+    return Friction(tuple(pins), tuple(slides))
+
+
+__all__ = ["Friction", "parse", "FIELDS", "GROUND"]

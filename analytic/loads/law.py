@@ -1,0 +1,233 @@
+"""How a load's value follows the motion (SPEC "Loads"): a constant, an expression of the inputs and time,
+or a table (input -> value, interpolated linearly, periodic over a crank's turn); optionally active only over
+a range of the first input (``active = "LO:HI"``) and only while its point moves one way (``stroke``)."""
+
+from __future__ import annotations
+
+import ast
+import csv
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from analytic.format import expr
+from analytic.loads.common import Scales
+
+LAW_FIELDS = ("magnitude", "table", "active", "stroke")
+STROKES = {"+x": (0, 1.0), "-x": (0, -1.0), "+y": (1, 1.0), "-y": (1, -1.0), "+": (2, 1.0), "-": (2, -1.0)}
+"""stroke -> (axis: 0 x, 1 y, 2 the link's rotation; sign)."""
+MAX_ROWS = 100000
+
+_NUMPY = {"sqrt": np.sqrt, "sin": np.sin, "cos": np.cos, "tan": np.tan, "asin": np.arcsin, "acos": np.arccos,
+          "atan": np.arctan, "atan2": np.arctan2, "hypot": np.hypot, "abs": np.abs, "min": np.minimum,
+          "max": np.maximum, "radians": np.radians, "degrees": np.degrees}
+
+
+@dataclass(frozen=True)
+class Law:
+    """A value over the samples, in SI once multiplied by ``unit`` (newtons, N m or N/m^2 per file unit).
+
+    ``constant`` (file units) or ``expression`` (text) or ``table`` ((x, y): x the first input in rad or m,
+    y file units; ``periodic`` for a crank); ``active`` (lo, hi) of the first input [rad or m]; ``stroke``
+    (axis, sign) or None."""
+
+    unit: float
+    constant: float | None = None
+    expression: str | None = None
+    table: tuple | None = None
+    periodic: bool = False
+    active: tuple | None = None
+    stroke: tuple | None = None
+    crank: bool = True
+
+    def value(self, state, variables: dict | None = None) -> np.ndarray:
+        """The law's value [SI] at every sample of ``state`` before the stroke condition."""
+        n = state.n
+        q1 = state.q[:, 0]
+        if self.constant is not None:
+            v = np.full(n, self.constant)
+        elif self.expression is not None:
+            v = np.broadcast_to(evaluate(self.expression, variables or {}), (n,)).astype(float)
+        else:
+            x, y = self.table
+            v = np.interp(q1, x, y, period=2 * math.pi) if self.periodic else np.interp(q1, x, y)
+        v = v * self.unit
+        if self.active is not None:
+            lo, hi = self.active
+            if self.crank:
+                on = np.mod(q1 - lo, 2 * math.pi) <= (hi - lo) + 1e-12
+            else:
+                on = (q1 >= lo) & (q1 <= hi)
+            v = np.where(on, v, 0.0)
+        return v
+
+    def gate(self, v, velocity=None, omega=None):
+        """``v`` where the stroke condition holds (the point's velocity (vx, vy), or the link's rate, of the
+        wanted sign), 0 elsewhere."""
+        if self.stroke is None:
+            return v
+        axis, sign = self.stroke
+        rate = omega if axis == 2 else velocity[axis]
+        return np.where(sign * rate > 0, v, 0.0)
+
+    def record(self) -> dict:
+        out = {}
+        if self.constant is not None:
+            out["magnitude"] = self.constant
+        elif self.expression is not None:
+            out["magnitude"] = self.expression
+        else:
+            out["table"] = len(self.table[0])
+        return out
+
+
+def evaluate(text: str, values: dict):
+    """An expression of arrays (numpy): the same grammar as the file's values (:mod:`analytic.format.expr`)."""
+    tree = expr._parse(text)
+
+    def walk(node):
+        if isinstance(node, ast.Expression):
+            return walk(node.body)
+        if isinstance(node, ast.Constant):
+            return float(node.value)
+        if isinstance(node, ast.Name):
+            if node.id in expr.CONSTANTS:
+                return expr.CONSTANTS[node.id]
+            if node.id not in values:
+                raise ValueError(f"{text!r} uses {node.id!r}, which is neither an input, t nor a parameter "
+                                 f"(inputs: {', '.join(k for k in values if k != 't')})")
+            return values[node.id]
+        if isinstance(node, ast.UnaryOp):
+            v = walk(node.operand)
+            return -v if isinstance(node.op, ast.USub) else v
+        if isinstance(node, ast.BinOp):
+            a, b = walk(node.left), walk(node.right)
+            op = type(node.op)
+            with np.errstate(all="ignore"):
+                if op is ast.Add:
+                    return a + b
+                if op is ast.Sub:
+                    return a - b
+                if op is ast.Mult:
+                    return a * b
+                if op is ast.Div:
+                    return np.divide(a, b)
+                return np.power(a, b)
+        if isinstance(node, ast.Call) and node.func.id == expr._DEG_MARK:
+            return np.radians(walk(node.args[0]))
+        if isinstance(node, ast.Call):
+            with np.errstate(all="ignore"):
+                return _NUMPY[node.func.id](*[walk(a) for a in node.args])
+        raise ValueError(f"{text!r} is not a valid expression")
+
+    out = np.asarray(walk(tree), dtype=float)
+    if not np.all(np.isfinite(out)):
+        raise ValueError(f"{text!r} is not finite at every sample (a division by zero or a root of a negative)")
+    return out
+
+
+def parse(item: dict, where: str, sc: Scales, unit: float, required: bool = True, stroke_ok=True) -> Law:
+    """The law of a load's fields ``magnitude`` / ``table`` / ``active`` / ``stroke``."""
+    inputs = sc.input_names
+    crank = not inputs or inputs[0][2] == "crank"
+    has_m, has_t = "magnitude" in item, "table" in item
+    if has_m == has_t:
+        if not required and not has_m:
+            return None
+        raise sc.fail(where, "give either magnitude = (a number or an expression of the inputs and t) or "
+                             "table = \"file.csv\" (rows: input, value)")
+    active = stroke = None
+    if "active" in item:
+        active = _range(item["active"], f"{where}.active", sc, crank)
+    if "stroke" in item:
+        if not stroke_ok or item["stroke"] not in STROKES or (item["stroke"] in ("+", "-")) != (stroke_ok == "turn"):
+            allowed = "\"+\" or \"-\" (the link's turning)" if stroke_ok == "turn" else "\"+x\", \"-x\", \"+y\" or \"-y\""
+            raise sc.fail(f"{where}.stroke", f"{item['stroke']!r}: use {allowed}")
+        stroke = STROKES[item["stroke"]]
+    if has_t:
+        x, y = _table(item["table"], f"{where}.table", sc, crank)
+        return Law(unit, table=(x, y), periodic=crank, active=active, stroke=stroke, crank=crank)
+    m = item["magnitude"]
+    if isinstance(m, str) and expr.quantity(m) is None:
+        try:
+            names = expr.names_in(m)
+        except ValueError as exc:
+            raise sc.fail(f"{where}.magnitude", str(exc)) from None
+        known = set(sc.parameters) | {"t"} | {n for q, qd, _ in inputs for n in (q, qd)}
+        for k, (_, _, kind) in enumerate(inputs, 1):
+            known |= {f"phi{k}", f"omega{k}"} if kind == "crank" else {f"s{k}", f"ds{k}"}
+        unknown = sorted(names - known)
+        if unknown:
+            raise sc.fail(f"{where}.magnitude", f"{unknown[0]!r} is neither an input ({', '.join(sorted(known - set(sc.parameters)))}), "
+                                                f"t nor a parameter")
+        if not (names - set(sc.parameters)):
+            return Law(unit, constant=sc.number(m, f"{where}.magnitude"), active=active, stroke=stroke, crank=crank)
+        return Law(unit, expression=m, active=active, stroke=stroke, crank=crank)
+    return Law(unit, constant=sc.number(m, f"{where}.magnitude"), active=active, stroke=stroke, crank=crank)
+
+
+def _range(text, where, sc: Scales, crank: bool):
+    if not isinstance(text, str) or ":" not in text:
+        raise sc.fail(where, f"{text!r} must be \"LO:HI\" of the first input (e.g. \"120deg:240deg\")")
+    lo, hi = text.split(":", 1)
+    a = sc.number(lo.strip(), where, angle=None if crank else False)
+    b = sc.number(hi.strip(), where, angle=None if crank else False)
+    if not crank:
+        a, b = a * sc.length, b * sc.length
+    if not b > a:
+        raise sc.fail(where, f"{text!r}: HI must exceed LO")
+    if crank and b - a > 2 * math.pi + 1e-12:
+        raise sc.fail(where, f"{text!r} spans more than a turn")
+    return a, b
+
+
+def _table(value, where, sc: Scales, crank: bool):
+    """(x, y) of a table: inline rows [[input, value], ...] or a CSV file (relative to the mechanism file's
+    folder) of such rows, a header row allowed; the input in degrees (a crank) or file units (a slider)."""
+    rows = []
+    if isinstance(value, str):
+        path = Path(value)
+        if not path.is_absolute():
+            path = Path(sc.folder) / path
+        try:
+            with open(path, newline="") as fh:
+                for k, row in enumerate(csv.reader(fh), 1):
+                    if k > MAX_ROWS:
+                        raise sc.fail(where, f"{value}: more than {MAX_ROWS} rows")
+                    if not row or not "".join(row).strip():
+                        continue
+                    try:
+                        rows.append((float(row[0]), float(row[1])))
+                    except (ValueError, IndexError):
+                        if rows or k > 1:
+                            raise sc.fail(where, f"{value} row {k}: {','.join(row)!r} is not two numbers "
+                                                 f"(input, value)") from None
+        except OSError as exc:
+            raise sc.fail(where, f"cannot read {value} ({exc.strerror or exc})") from None
+    elif isinstance(value, list):
+        for k, row in enumerate(value, 1):
+            if not (isinstance(row, list) and len(row) == 2):
+                raise sc.fail(where, f"row {k}: {row!r} must be [input, value]")
+            rows.append((sc.number(row[0], f"{where}[{k}]"), sc.number(row[1], f"{where}[{k}]")))
+    else:
+        raise sc.fail(where, "give a CSV file name or rows [[input, value], ...]")
+    if len(rows) < 2:
+        raise sc.fail(where, "needs at least two rows (input, value)")
+    x = np.array([r[0] for r in rows])
+    y = np.array([r[1] for r in rows])
+    if not (np.all(np.isfinite(x)) and np.all(np.isfinite(y))):
+        raise sc.fail(where, "every input and value must be finite")
+    if np.any(np.diff(x) <= 0):
+        k = int(np.argmax(np.diff(x) <= 0)) + 2
+        raise sc.fail(where, f"row {k}: the inputs must increase")
+    if crank:
+        x = np.radians(x)
+        if x[-1] - x[0] > 2 * math.pi + 1e-9:
+            raise sc.fail(where, "a crank's table spans at most 360 deg (it repeats every turn)")
+        if x[-1] - x[0] > 2 * math.pi - 1e-9:          # the 360 deg row repeats the 0 deg one
+            x, y = x[:-1], y[:-1]
+    else:
+        x = x * sc.length
+    return x, y

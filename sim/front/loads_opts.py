@@ -1,0 +1,86 @@
+"""The command line's loads (SPEC "Loads"): ``--force FX,FY@POINT[:LINK]`` (a constant world-frame force [N]
+at a named point, on the named link or the point's carrier), ``--torque T@LINK`` (a constant couple [N m],
++ counter-clockwise, repeatable) and ``--at VALUE`` (one pose). ``--force FX,FY`` without ``@`` keeps its
+meaning (on the file's output point), read by :func:`sim.front.cli.loads_from`."""
+
+from __future__ import annotations
+
+from analytic import ParameterError
+from analytic.format import expr
+from analytic.kinds import GROUND
+
+
+def add_options(p) -> None:
+    p.add_argument("--torque", action="append", default=[], metavar="T@LINK",
+                   help="a constant couple T [N m] (+ counter-clockwise) on link LINK (repeatable)")
+
+
+def add_at(p) -> None:
+    p.add_argument("--at", metavar="VALUE",
+                   help="one pose: the first input's angle (rad, or deg with a deg suffix) or a slider's position "
+                        "(file units)")
+
+
+def split_force(text: str | None) -> tuple[str | None, str | None, str | None]:
+    """``FX,FY@POINT[:LINK]`` -> ("FX,FY", POINT, LINK or None); without ``@``: (text, None, None)."""
+    if text is None or "@" not in text:
+        return text, None, None
+    value, where = text.split("@", 1)
+    point, _, link = where.partition(":")
+    if not point.strip():
+        raise ParameterError(f"--force {text!r}: give the point after @ (e.g. --force -500,0@C:piston)")
+    return value, point.strip(), (link.strip() or None)
+
+
+def command_loads(args, mech) -> tuple[str | None, tuple]:
+    """The ``--force`` text that keeps today's meaning (None when it names a point) and the loads the
+    command line adds (analytic.loads dataclasses)."""
+    from analytic.loads import force as LF
+    from analytic.loads import torque as LT
+    extra = []
+    text, point, link = split_force(getattr(args, "force", None))
+    if point is not None:
+        if getattr(args, "cutting_force", None) is not None:
+            raise ParameterError("give either --force or --cutting-force, not both")
+        fx, fy = _pair("--force", text)
+        topo = mech.topology
+        if point not in topo.points:
+            raise ParameterError(f"--force ...@{point}: no point named {point!r}; points: {', '.join(topo.points)}")
+        link = link or topo.carriers[point]
+        if link == GROUND or link not in topo.links:
+            raise ParameterError(f"--force ...@{point}:{link}: no moving link named {link!r}; links: "
+                                 f"{', '.join(topo.links)}")
+        if point not in topo.links[link].points:
+            raise ParameterError(f"--force ...@{point}:{link}: {point} is not a point of link {link}; its points: "
+                                 f"{', '.join(topo.links[link].points)}")
+        extra.append(LF.constant("force", link, point, fx, fy))
+        text = None
+    for k, item in enumerate(getattr(args, "torque", None) or [], 1):
+        if "@" not in item:
+            raise ParameterError(f"--torque {item!r}: write T@LINK (e.g. --torque -2.5@4)")
+        value, ln = item.split("@", 1)
+        ln = ln.strip()
+        if ln not in mech.topology.links:
+            raise ParameterError(f"--torque {item!r}: no moving link named {ln!r}; links: "
+                                 f"{', '.join(mech.topology.links)}")
+        extra.append(LT.constant(f"torque{k}" if len(args.torque) > 1 else "torque", ln,
+                                 expr.parse_value("--torque", value.strip(), angle=False)))
+    return text, tuple(extra)
+
+
+def at_value(args, mech) -> float | None:
+    """``--at``: the first input's value [rad or m] (a slider's given in file units)."""
+    text = getattr(args, "at", None)
+    if text is None:
+        return None
+    first = mech.inputs[0]
+    if first.kind == "crank":
+        return expr.parse_value("--at", text, angle=None)
+    return expr.parse_value("--at", text, angle=False) * mech.scale
+
+
+def _pair(option, text):
+    parts = text.split(",")
+    if len(parts) != 2:
+        raise ParameterError(f"{option} {text!r} is not two numbers FX,FY (e.g. {option} -500,0@C)")
+    return expr.parse_value(option, parts[0], angle=False), expr.parse_value(option, parts[1], angle=False)

@@ -1,0 +1,119 @@
+"""The loads of a run as the commands report them (SPEC "Loads"): which loads act (the file's ``[[loads]]``
+and ``[friction]``, the command line's ``--force FX,FY@POINT[:LINK]`` and ``--torque T@LINK``, the shorthands
+``--gravity``/``--force``/``--cutting-force``), each one's work per cycle, friction's dissipation and the
+energy balance; and one pose (``--at``)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from analytic import ParameterError
+from analytic import loads as AL
+from analytic.loads import kinetostatics as K
+
+__all__ = ["K", "run_times", "at_time", "loadset", "energy_of", "table", "add_to_record", "summary"]
+
+
+def at_time(mech, value: float) -> float:
+    """The time [s] at which the first input passes ``value`` [rad or m] (its first pass at or after t = 0 for
+    a crank): a constant-speed input's."""
+    first = mech.inputs[0]
+    m = first.motion
+    if m.rock is not None or m.accel != 0.0 or m.rate == 0.0:
+        raise ParameterError(f"--at needs the first input {first.q} to move at a constant, non-zero speed "
+                             f"(not rocking, no acceleration); give its speed with --set")
+    t = (value - m.q0) / m.rate
+    if first.kind == "crank":
+        t = math.fmod(t, 2 * math.pi / abs(m.rate))
+        t = t + 2 * math.pi / abs(m.rate) if t < 0 else t
+    return float(t)
+
+
+def run_times(mech, samples: int, revolutions: float, at=None) -> tuple[np.ndarray, float]:
+    """The run's instants and how many cycles they span (0 for one pose)."""
+    if at is not None:
+        return np.array([at_time(mech, at)]), 0.0
+    return np.linspace(0.0, mech.duration(revolutions), samples), float(revolutions)
+
+
+def loadset(mech, extra=()):
+    """The file's loads with the command line's ``extra``, resolved for ``mech`` (SI)."""
+    return AL.resolve(mech, tuple(extra))
+
+
+def energy_of(mech, loaded, ls, inertias, gravity, force, on, cycles: float) -> dict | None:
+    """Work per cycle of every load, friction's dissipation and the energy balance (None for one pose)."""
+    if not cycles:
+        return None
+    st = loaded.state
+    p = mech.output_point
+    fx, fy = force
+    force_power = None
+    if fx or fy:
+        force_power = np.asarray(on) * (fx * np.asarray(st.sol["vx" + p]) + fy * np.asarray(st.sol["vy" + p]))
+        force_power = np.broadcast_to(force_power, (st.n,))
+    return K.balance(mech, loaded, ls, inertias, gravity, cycles, force_power)
+
+
+def table(run, display=None) -> list:
+    """The JSON ``loads`` table: every load applied, each ``{"name", "kind", "link", "point" or "at",
+    "work_per_cycle"}`` (J; positions in the display's length unit, SI by default) and its law's fields; the
+    shorthands as ``gravity`` and ``force`` (the latter with ``Fx, Fy``, ``cutting`` and a cutting window)."""
+    from analytic import quantities as Q
+    display = display or Q.SI
+    per = (run.energy or {}).get("work_per_cycle", {})
+    scale = 1.0 / display.convert(Q.LENGTH, 1.0)
+    out = []
+    old = run.loads or {}
+    if old.get("gravity"):
+        out.append({"name": "gravity", "kind": "gravity", "link": None, "g": list(old["gravity"]),
+                    "work_per_cycle": (run.energy or {}).get("gravity_work_per_cycle")})
+    if old.get("force"):
+        f = old["force"]
+        out.append({"name": "force", "kind": "force", "link": f["link"], "point": f["point"], "Fx": f["Fx"],
+                    "Fy": f["Fy"], "cutting": f["cutting"], **({"window": f["window"]} if "window" in f else {}),
+                    "work_per_cycle": (run.energy or {}).get("force_work_per_cycle")})
+    for ld in run.loadset.loads if run.loadset else ():
+        out.append({**ld.record(scale), "work_per_cycle": per.get(ld.name)})
+    return out
+
+
+def add_to_record(record: dict, run, display=None) -> None:
+    """Friction (each pin's ``Mf`` in its joint entry, ``friction.dissipated_per_cycle``) and the energy
+    balance into a forces JSON record."""
+    loaded = run.loaded
+    if loaded is not None and run.loadset is not None and run.loadset.friction:
+        for k, m in loaded.Mf.items():
+            record["joints"][k]["Mf"] = m
+        for k, f in loaded.Ft.items():
+            record["joints"][k]["Ff"] = f
+        record["friction"] = {"dissipated_per_cycle": run.energy["friction_dissipated_per_cycle"]
+                              if run.energy else None, "iterations": loaded.iterations,
+                              **run.loadset.friction.record(loaded.forces.joints)}
+    elif run.energy is not None:
+        record["friction"] = {"dissipated_per_cycle": 0.0}
+    if run.energy is not None:
+        record["energy"] = {**run.energy["energy"], "power_residual": run.energy["power_residual"]}
+
+
+def summary(run) -> list[str]:
+    """Lines for the forces table: the loads and their work per cycle, friction, the energy balance."""
+    lines = []
+    e = run.energy
+    for ld in run.loadset.loads if run.loadset else ():
+        w = e["work_per_cycle"].get(ld.name) if e else None
+        where = getattr(getattr(ld, "end", None), "point", None) or ""
+        lines.append(f"  load {ld.name} ({ld.kind} on {ld.link}{' at ' + where if where else ''})"
+                     + (f": work per cycle {w:.5g} J" if w is not None else ""))
+    if e is not None and run.loadset is not None and run.loadset.friction:
+        lines.append(f"  friction: dissipates {e['friction_dissipated_per_cycle']:.5g} J per cycle "
+                     f"({run.loaded.iterations} solves)")
+    if e is not None and (run.loadset or e["friction_dissipated_per_cycle"]):
+        b = e["energy"]
+        lines.append(f"  energy per cycle: drive {b['drive_work']:.5g} J + loads {b['loads_work']:.5g} J = "
+                     f"friction {b['friction_dissipated']:.5g} + dampers {b['damper_dissipated']:.5g} + kinetic "
+                     f"{b['kinetic_change']:.3g} + springs {b['spring_change']:.3g} (residual {b['residual']:.2g} J; "
+                     f"power balance {e['power_residual']:.1e} of its scale)")
+    return lines

@@ -1,0 +1,229 @@
+"""Loads in the file and on the command line (SPEC "Loads"): forces and torques on any link, laws over the
+motion, force units; checked by hand statics, virtual work and the energy balance (nothing from the code
+under test)."""
+
+from __future__ import annotations
+
+import json
+import math
+import subprocess
+import sys
+import textwrap
+
+import numpy as np
+import pytest
+
+import analytic
+from analytic import loads, mass
+from analytic.loads import kinetostatics as K
+
+PRESS = textwrap.dedent("""\
+    format = "linkage/1"
+    name = "press"
+    units = "mm"
+    output = "C"
+    {top}
+    [parameters]
+    r = 50.0
+    l = 150.0
+    e = 20.0
+    omega1 = "{omega}"
+
+    [ground]
+    A = [0, 0]
+
+    [[inputs]]
+    kind = "crank"
+    pivot = "A"
+    point = "B"
+    length = "r"
+    link = "1"
+    phi0 = "30deg"
+    omega = "omega1"
+
+    [[groups]]
+    kind = "RRP"
+    point = "C"
+    from = "B"
+    length = "l"
+    guide = {{ through = "A", angle = "0deg" }}
+    offset = "e"
+    links = ["2", "piston"]
+    branch = 1
+    """)
+
+
+def write(tmp_path, text, name="m.toml"):
+    p = tmp_path / name
+    p.write_text(text)
+    return p
+
+
+def linkage(*args):
+    return subprocess.run([sys.executable, "-m", "sim", *map(str, args)], capture_output=True, text=True, timeout=300)
+
+
+def solve_file(path, samples=73, extra=()):
+    m = analytic.load(str(path))
+    t = np.linspace(0.0, m.duration(1.0), samples)
+    q, qd, qdd = m.drive(t)
+    ls = loads.resolve(m, extra)
+    inert = mass.model(m)
+    return m, t, (q, qd, qdd), K.solve(m, q, qd, qdd, t, inert, ls), ls, inert
+
+
+PUNCH = """
+[[loads]]
+name = "punch"
+kind = "force"
+link = "piston"
+point = "C"
+direction = [-1, 0]
+magnitude = {P}
+"""
+
+
+def test_wrist_pin_carries_the_piston_load_by_hand_statics(tmp_path):
+    # An offset press in mm turning 1 deg/s: the inertia forces are ~m r w^2 ~ 1e-5 N, so statics holds. The
+    # rod is a two-force member: the piston's balance along x gives the rod force R = P / |cos(beta)| (beta the
+    # rod's angle), which is the wrist-pin force; the crank's torque is R (B - A) x e_rod.
+    P = 500.0
+    path = write(tmp_path, PRESS.format(top="", omega="1deg") + PUNCH.format(P=P))
+    m, t, (q, qd, qdd), res, _, _ = solve_file(path)
+    sol = m.solve(q)
+    bx, by, cx, cy = (np.asarray(sol[k]) for k in ("xB", "yB", "xC", "yC"))
+    ex, ey = (cx - bx) / np.hypot(cx - bx, cy - by), (cy - by) / np.hypot(cx - bx, cy - by)
+    R = P / ex                                                    # compression along B -> C
+    f = res.forces
+    kC = f.index("C")
+    # 1e-6 of P bounds the inertia forces (~1e-5 N) left in at 1 deg/s
+    assert np.allclose(np.hypot(*f.F[kC]), np.abs(R), rtol=0, atol=1e-6 * P)
+    T_hand = R * (bx * ey - by * ex)                              # (B - A) x (R e), A at the origin
+    assert np.allclose(f.drives["1"], T_hand, rtol=0, atol=1e-6 * P * 0.05)
+    # the issue's defect: the same force on the rod's end (the output point's carrier) loads the pin C only
+    # with the guide's normal force (the piston, unloaded, balances the pin by the guide alone): no x part
+    on_rod = K.solve(m, q, qd, qdd, t, mass.model(m), loads.LoadSet(
+        (loads.force.constant("f", "2", "C", -P, 0.0),)))
+    assert np.max(np.abs(on_rod.forces.F[kC, 0])) < 1e-6 * P     # inertia only (1e-5 N)
+    assert np.all(np.hypot(*on_rod.forces.F[kC]) < np.abs(R))
+
+
+def test_command_line_force_at_a_point_on_a_link_equals_the_file_load(tmp_path):
+    path = write(tmp_path, PRESS.format(top="", omega="1deg"))
+    cli = json.loads(linkage("forces", path, "--samples", 19, "--force", "-500,0@C:piston", "--json").stdout)
+    path2 = write(tmp_path, PRESS.format(top="", omega="1deg") + PUNCH.format(P=500), "f.toml")
+    fil = json.loads(linkage("forces", path2, "--samples", 19, "--json").stdout)
+    for a, b in zip(cli["joints"], fil["joints"]):
+        assert np.allclose(a["Fx"], b["Fx"], rtol=1e-12, atol=1e-9)  # the same load, two ways of giving it
+    entry = next(ld for ld in cli["loads"] if ld["name"] == "force")
+    assert entry["kind"] == "force" and entry["link"] == "piston" and entry["point"] == "C"
+    assert set(entry) >= {"name", "kind", "link", "point", "work_per_cycle"}
+
+
+def test_torque_on_the_rocker_by_virtual_work(tmp_path):
+    # A resisting torque T3 on a four-bar's rocker at negligible speed: the crank needs T1 = -T3 dphi3/dphi1;
+    # dphi3/dphi1 here by central differences of the rocker's angle (the geometry, not the force solve).
+    m0 = analytic.load("fourbar").with_values(omega1=1e-3)
+    T3 = -2.5
+    extra = (loads.torque.constant("brake", "3", T3),)
+    t = np.linspace(0.0, m0.duration(1.0), 37)
+    q, qd, qdd = m0.drive(t)
+    res = K.solve(m0, q, qd, qdd, t, mass.model(m0), loads.resolve(m0, extra))
+    h = 1e-6
+    d3 = (np.unwrap(np.asarray(m0.solve(q + h)["phi3"])) - np.unwrap(np.asarray(m0.solve(q - h)["phi3"]))) / (2 * h)
+    # central differences: error ~h^2 phi3''' ~1e-12; the inertia left at 1e-3 rad/s: ~1e-7 N m
+    assert np.allclose(res.forces.drives["1"], -T3 * d3, rtol=0, atol=1e-6)
+
+
+def test_force_units_lbf_scale_every_force(tmp_path):
+    # The same press and load, once in N and once in lbf: every joint force scales by 4.4482216152605 N/lbf
+    # (the international pound-force, exactly 0.45359237 kg x 9.80665 m/s^2)
+    pn = write(tmp_path, PRESS.format(top="", omega="1deg") + PUNCH.format(P=100), "n.toml")
+    pl = write(tmp_path, PRESS.format(top='force_units = "lbf"', omega="1deg") + PUNCH.format(P=100), "l.toml")
+    _, _, _, rn, _, _ = solve_file(pn)
+    _, _, _, rl, _, _ = solve_file(pl)
+    k = rn.forces.index("C")
+    # the 1 deg/s inertia (1e-5 N) is the only part that does not scale
+    assert np.allclose(np.hypot(*rl.forces.F[k]), 4.4482216152605 * np.hypot(*rn.forces.F[k]), rtol=1e-6)
+    assert 0.45359237 * 9.80665 == pytest.approx(4.4482216152605, rel=1e-14)
+
+
+def test_a_punching_force_active_over_part_of_the_stroke_does_the_work_of_its_window(tmp_path):
+    # A punch of 1000 N against the piston's motion only while it moves in +x (the press stroke) and only
+    # between 120 and 240 deg of the crank (the piston turns back near 185 deg, inside the window): its work is
+    # -1000 N x the piston's travel in +x inside the window (read off the geometry), per cycle.
+    text = PRESS.format(top="", omega="360deg") + textwrap.dedent("""
+        [[loads]]
+        name = "punch"
+        kind = "force"
+        link = "piston"
+        point = "C"
+        direction = [-1, 0]
+        magnitude = 1000
+        active = "120deg:240deg"
+        stroke = "+x"
+        """)
+    path = write(tmp_path, text)
+    m, t, _, res, ls, inert = solve_file(path, samples=7201)
+    b = K.balance(m, res, ls, inert)
+    phi = np.radians(np.linspace(120, 240, 20001))
+    xs = np.asarray(m.solve(phi)["xC"])
+    dx = np.diff(xs)
+    travel_plus = np.sum(dx[dx > 0])                              # [m] the +x travel inside the window
+    expected = -1000.0 * travel_plus
+    # the trapezoidal rule over 7201 samples at the window's two jumps: ~2 samples x 1000 N x 0.05 mm
+    assert b["work_per_cycle"]["punch"] == pytest.approx(expected, rel=2e-3)
+    assert expected < -1.0 and np.any(dx < 0)                      # a real stroke, and a reversal inside
+    # the drive supplies it: energy balance over the cycle (kinetic energy returns to its start)
+    e = b["energy"]
+    assert e["drive_work"] == pytest.approx(-e["loads_work"], rel=1e-3)  # the same trapezoid error at the jumps
+    assert b["power_residual"] < 1e-9                              # pointwise power balance: rounding only
+
+
+def test_expression_and_table_laws_agree_with_their_hand_values(tmp_path):
+    # A torque 3 sin(phi1) N mm (the mm file's moment unit) on the crank, and the same as a 5 deg table: the
+    # drive must cancel it at 1e-3 rad/s
+    text = PRESS.format(top="", omega="0.001") + textwrap.dedent("""
+        [[loads]]
+        name = "wave"
+        kind = "torque"
+        link = "1"
+        magnitude = "3*sin(phi1)"
+        """)
+    m, t, (q, _, _), res, ls, _ = solve_file(write(tmp_path, text), samples=37)
+    ref = K.solve(m, *m.drive(t), t, mass.model(m), loads.LoadSet())
+    # the same inertia in both: only rounding (1e-10 N m) is left
+    assert np.allclose(res.forces.drives["1"] - ref.forces.drives["1"], -3e-3 * np.sin(q[:, 0]), atol=1e-12)
+    rows = "\n".join(f"{a},{3 * math.sin(math.radians(a))}" for a in range(0, 361, 5))
+    (tmp_path / "wave.csv").write_text("phi,T\n" + rows + "\n")
+    text2 = text.replace('magnitude = "3*sin(phi1)"', 'table = "wave.csv"')
+    m2, _, _, res2, _, _ = solve_file(write(tmp_path, text2, "t.toml"), samples=37)
+    # every sample (30, 40, ... deg) is a node of the 5 deg table: the table's value is sin's there (rounding)
+    assert np.allclose(res2.forces.drives["1"], res.forces.drives["1"], atol=1e-12)
+    # between nodes, linear interpolation: at 32.5 deg the chord lies below sin by ~3 (5 deg)^2 / 8 sin
+    mid = K.solve(m2, *m2.drive(np.array([math.radians(2.5) / 1e-3])), np.array([math.radians(2.5) / 1e-3]),
+                  mass.model(m2), loads.resolve(m2))
+    chord = 3e-3 * (math.sin(math.radians(30)) + math.sin(math.radians(35))) / 2
+    hand = -chord + (ref.forces.drives["1"][0])             # inertia as at 30 deg (1e-10 N m apart)
+    assert mid.forces.drives["1"][0] == pytest.approx(hand, abs=1e-9)
+
+
+@pytest.mark.parametrize("body,needle", [
+    ('[[loads]]\nname = "x"\nkind = "rope"\nlink = "2"\n', "loads[1] (x).kind"),
+    ('[[loads]]\nname = "x"\nkind = "force"\nlink = "9"\npoint = "C"\ndirection = [1, 0]\nmagnitude = 1\n',
+     "loads[1] (x).link"),
+    ('[[loads]]\nname = "x"\nkind = "force"\nlink = "2"\npoint = "A"\ndirection = [1, 0]\nmagnitude = 1\n',
+     "loads[1] (x).point"),
+    ('[[loads]]\nname = "x"\nkind = "force"\nlink = "2"\npoint = "C"\ndirection = [0, 0]\nmagnitude = 1\n',
+     "loads[1] (x).direction"),
+    ('[[loads]]\nname = "x"\nkind = "torque"\nlink = "2"\nmagnitude = "3*psi"\n', "loads[1] (x).magnitude"),
+])
+def test_bad_loads_are_one_line_naming_the_field(tmp_path, body, needle):
+    path = write(tmp_path, PRESS.format(top="", omega="1deg") + body)
+    r = linkage("forces", path, "--samples", 5)
+    assert r.returncode == 2 and needle in r.stderr and len(r.stderr.strip().splitlines()) == 1, r.stderr
+
+
+def test_force_units_unknown_is_refused(tmp_path):
+    r = linkage("forces", write(tmp_path, PRESS.format(top='force_units = "kgf"', omega="1deg")), "--samples", 5)
+    assert r.returncode == 2 and "force_units" in r.stderr and "lbf" in r.stderr
