@@ -293,22 +293,71 @@ def synthesize_path(target: sp.Target, options: PathOptions = PathOptions(), uni
 
 # ------------------------------------------------------------------------------ exact synthesis
 MIN_ROWS = {"motion": 3, "function": 3}
+MOTION_POOL = 2000
+"""Motion synthesis: candidate four-bars (pairs of dyads) ranked before the limits pick the returned ones."""
+DISTINCT = 0.02
+"""Two returned designs are distinct when a ground pivot or a link length differs by more than this share of
+the task's size (closer ones are one design found twice: a neighbouring grid point of the same basin)."""
 
 
-def check_fourbar(mech, link, inputs) -> tuple[bool, str]:
-    """``linkage compare`` of a four-bar: a full turn where the crank turns fully, else rocking over the
-    travel from the first target to the last. Returns (passed, what was compared)."""
+def working_range(link, inputs) -> tuple[float, float]:
+    """The crank's travel from the first target to the last in its turning sense, (lo, hi) [rad]."""
+    sense = math.copysign(1.0, link.omega1)
+    inputs = np.asarray(inputs, dtype=float)
+    travel = np.mod(sense * (inputs - inputs[0]), 2 * math.pi)
+    ends = (float(inputs[0]), float(inputs[0] + sense * travel.max()))
+    return min(ends), max(ends)
+
+
+def check_fourbar(mech, lo: float, hi: float) -> tuple[bool, str]:
+    """``linkage compare`` of an exact design over its working range (the file's ``input_range``): MuJoCo
+    rocking the crank from ``lo`` to ``hi`` [rad] must follow the general solver."""
     from sim import service
-    q = np.linspace(0.0, 2 * math.pi, 721)
-    full = mech.solve(q).first_failure() is None
-    if full:
-        _, c = service.compare(mech, 1.0)
-    else:
-        sense = math.copysign(1.0, link.omega1)
-        travel = np.mod(sense * (np.asarray(inputs) - inputs[0]), 2 * math.pi)
-        ends = (inputs[0], inputs[0] + sense * travel.max())
-        _, c = service.compare(mech, 1.0, input_range=(min(ends), max(ends)))
-    return bool(c.passed), ("full turn" if full else "rocking between the first and last target")
+    _, c = service.compare(mech, 1.0, input_range=(lo, hi))
+    return bool(c.passed), "rocking over the working range (the file's input_range)"
+
+
+def _fourbar_lengths(link) -> tuple[float, float, float, float]:
+    return (link.l1, link.l2, link.l3, math.dist(link.A, link.D))
+
+
+def _travel_box(link, lo: float, hi: float, n: int = 91) -> float:
+    """The larger side of the bounding box of A, B, C, D, E over [lo, hi] (closed form, for ranking; the
+    returned designs are measured by the general solver)."""
+    q = np.linspace(lo, hi, n)
+    A, D = np.asarray(link.A, dtype=float), np.asarray(link.D, dtype=float)
+    B = A + link.l1 * np.stack([np.cos(q), np.sin(q)], -1)
+    d = D - B
+    L2 = np.sum(d * d, axis=1)
+    x = (link.l2 ** 2 - link.l3 ** 2 + L2) / (2 * L2)
+    with np.errstate(invalid="ignore"):
+        h = np.sqrt(link.l2 ** 2 / L2 - x * x)
+    C = B + x[:, None] * d + link.branch * h[:, None] * np.stack([-d[:, 1], d[:, 0]], -1)
+    u = (C - B) / link.l2
+    E = B + link.ex * u + link.ey * np.stack([-u[:, 1], u[:, 0]], -1)
+    P = np.concatenate([A[None], D[None], B, C, E])
+    return float(np.nanmax(np.ptp(P, axis=0))) if np.all(np.isfinite(P)) else math.inf
+
+
+def _distinct(link, chosen: list, scale: float) -> bool:
+    """Whether ``link`` differs from every chosen linkage by more than DISTINCT of ``scale`` in a pivot or a
+    link length (the same four-bar with its dyads swapped counts as the same)."""
+    def key(k):
+        return np.array([*k.A, *k.D, k.l1, k.l2, k.l3])
+
+    def swapped(k):
+        return np.array([*k.D, *k.A, k.l3, k.l2, k.l1])
+    v = key(link)
+    return all(np.abs(v - key(c)).max() > DISTINCT * scale and np.abs(v - swapped(c)).max() > DISTINCT * scale
+               for c in chosen)
+
+
+def _exact_record(link, text: str, unit: str, m, error: dict, error_unit: str, params: dict, passed: bool,
+                  mode: str, evaluations: int, notes: list[str], **extra) -> dict:
+    from analytic.synthesis import constraints as sc
+    return {"file": None, "error": error, "error_unit": error_unit, "parameters": params,
+            "compare_passed": passed, "compare_mode": mode, **sc.record(m), "evaluations": int(evaluations),
+            "notes": notes, "defect": "", **extra, "text": text}
 
 
 def read_poses(path: str, degrees: bool) -> np.ndarray:
@@ -325,11 +374,32 @@ def read_pairs(path: str, degrees: bool) -> np.ndarray:
     return data
 
 
-def synthesize_motion(poses: np.ndarray, unit: str = "m", count: int = 3, circle_points=None) -> list[dict]:
-    """Burmester motion generation (3-5 poses exact, more by least squares): the designs best first, each
-    solved by the general solver at the poses and passed through ``linkage compare``."""
+def _region_centres(poses: np.ndarray, limits, per_side: int = 9) -> np.ndarray | None:
+    """3 poses with a region for A or D: a grid of centre points over each region (their circle points follow
+    exactly), so designs with pivots there are among the candidates whatever the circle-point grid holds."""
+    boxes = [r for r in limits.regions if r.name in ("A", "D")]
+    if len(poses) != 3 or not boxes:
+        return None
+    pts = []
+    for r in boxes:
+        X, Y = np.meshgrid(np.linspace(r.x0, r.x1, per_side), np.linspace(r.y0, r.y1, per_side))
+        pts.append(np.column_stack([X.ravel(), Y.ravel()]))
+    return np.concatenate(pts)
+
+
+def synthesize_motion(poses: np.ndarray, unit: str = "m", count: int = 3, circle_points=None,
+                      limits=None) -> tuple[list[dict], list[dict]]:
+    """Burmester motion generation (3-5 poses exact, more by least squares) under ``limits``
+    (:class:`analytic.synthesis.constraints.Limits`): up to ``count`` distinct designs, best first (the
+    least pose error, then the smallest), each one's file holding its working range (the crank's travel from
+    the first pose to the last), measured there by the general solver (:func:`constraints.measure`) and
+    passed through ``linkage compare`` over it. Returns (designs, rejected): the candidates turned down, each
+    ``{"parameters", "why"}`` (at most ``count`` of them, the best first)."""
+    from analytic.synthesis import constraints as sc
     from analytic.synthesis import fourbar as synth_fourbar
     from analytic.synthesis import motion as synthesis_motion
+    limits = (limits or sc.Limits()).check()
+    limits.check_names(("A", "D"), "a four-bar (A: the crank's pivot, D: the rocker's)")
     if count < 1:
         raise ParameterError(f"--count {count} must be >= 1")
     if circle_points is not None:
@@ -338,45 +408,109 @@ def synthesize_motion(poses: np.ndarray, unit: str = "m", count: int = 3, circle
             raise ParameterError(f"--circle-points applies to 3 poses (given {len(poses)})")
         if not np.all(np.isfinite(circle_points)):
             raise ParameterError("--circle-points: give finite numbers")
-    designs, _ = synthesis_motion.synthesize(poses, circle_points=circle_points, count=count)
+    designs, cand = synthesis_motion.synthesize(poses, circle_points=circle_points, count=MOTION_POOL,
+                                                centres=None if circle_points is not None
+                                                else _region_centres(poses, limits))
     method = ("Burmester, exact" if len(poses) <= 5 else "Burmester dyads by least squares")
-    found = []
+    scale = float(max(np.ptp(poses[:, :2], axis=0).max(), 1e-12))
+    mu_lim = math.radians(limits.min_transmission) - 1e-9
+
+    def rank(d):
+        rms = float(np.sqrt(np.mean(d.errors ** 2)))
+        return (bool(d.defect), round(rms / scale, 9), _travel_box(d.linkage, *working_range(d.linkage, d.inputs)))
+    designs = sorted(designs, key=rank)
+    found, rejected, chosen = [], [], []
     for d in designs:
+        if len(found) >= count:
+            break
+        lo, hi = working_range(d.linkage, d.inputs)
+        why = d.defect or ("" if d.mu_min >= mu_lim else
+                           f"transmission angle {math.degrees(d.mu_min):.1f} deg over the working range: below "
+                           f"--min-transmission {limits.min_transmission:g} deg")
+        m = None
+        if not why:
+            mech = synth_fourbar.mechanism(d.linkage, unit)
+            try:
+                m = sc.measure(mech, lo, hi, lengths=_fourbar_lengths(d.linkage))
+                why = sc.broken(m, limits, unit)
+            except ParameterError as e:
+                why = str(e)
+        if why:
+            if len(rejected) < count:
+                rejected.append({"parameters": d.linkage.parameters(), "why": why})
+            continue
+        if not _distinct(d.linkage, chosen, scale):
+            continue
         text = synth_fourbar.text(d.linkage, unit, "motion_fourbar",
-                                  f"four-bar through {len(poses)} coupler poses ({method}); output E = the pose point")
+                                  f"four-bar through {len(poses)} coupler poses ({method}); output E = the pose "
+                                  f"point; the crank rocks over input_range, its travel from the first pose to "
+                                  f"the last", (lo, hi))
         mech = synth_fourbar.mechanism(d.linkage, unit)
         sol = mech.solve(d.inputs)                           # the general solver at the poses' input angles
         err = np.hypot(sol["xE"] / mech.scale - poses[:, 0], sol["yE"] / mech.scale - poses[:, 1])
         ang = synthesis_motion._wrap((sol["phi2"] - sol["phi2"][0]) - (poses[:, 2] - poses[0, 2]))
-        passed, mode = check_fourbar(mech, d.linkage, d.inputs) if not d.defect else (False, "not run: " + d.defect)
-        params = {**d.linkage.parameters(), "mu_min_deg": math.degrees(d.mu_min),
+        passed, mode = check_fourbar(synth_fourbar.mechanism(d.linkage, unit), lo, hi)
+        params = {**d.linkage.parameters(), "mu_min_deg": m.transmission_deg[0],
                   "angle_error_max": float(np.max(np.abs(ang)))}
-        found.append({"file": None, "error": error_record(err), "error_unit": unit, "parameters": params,
-                      "compare_passed": passed, "compare_mode": mode, "defect": d.defect,
-                      "inputs": [float(q) for q in d.inputs], "text": text})
-    return found
+        notes = [f"the crank turns {'counter-clockwise' if d.linkage.omega1 > 0 else 'clockwise'} from "
+                 f"{math.degrees(d.inputs[0]):.2f} deg (pose 1) to {math.degrees(d.inputs[-1]):.2f} deg (pose "
+                 f"{len(poses)}); branch {d.linkage.branch:+d} (C {'left' if d.linkage.branch > 0 else 'right'} "
+                 f"of B->D) at every pose"]
+        found.append(_exact_record(d.linkage, text, unit, m, error_record(err), unit, params, passed, mode,
+                                   len(designs), notes, inputs=[float(q) for q in d.inputs]))
+        chosen.append(d.linkage)
+    return found, rejected
 
 
-def synthesize_function(pairs: np.ndarray, ground: float = 1.0, unit: str = "m") -> list[dict]:
-    """Freudenstein function generation (3 pairs exact, more by least squares): one design, solved by the
-    general solver at the given inputs and passed through ``linkage compare``."""
+def synthesize_function(pairs: np.ndarray, ground: float = 1.0, unit: str = "m",
+                        limits=None) -> tuple[list[dict], list[dict]]:
+    """Freudenstein function generation (3 pairs exact, more by least squares): the one design the pairs
+    and the ground length determine, under ``limits``; its file holds its working range (the crank's
+    travel from the first pair to the last), where it is measured by the general solver and passed through
+    ``linkage compare``. Returns (designs, rejected) as :func:`synthesize_motion`: the design, or none and
+    why. Where Freudenstein's solution has a negative crank (or rocker) length, the crank (rocker) points the
+    other way: its link angle is the given angle + 180 deg, said in ``notes``."""
+    from analytic.synthesis import constraints as sc
     from analytic.synthesis import fourbar as synth_fourbar
     from analytic.synthesis import function as synthesis_function
+    limits = (limits or sc.Limits()).check()
+    limits.check_names(("A", "D"), "a function generator (A: the crank's pivot, D: the rocker's)")
     if not (math.isfinite(ground) and ground > 0):
         raise ParameterError(f"--ground {ground!r} must be a length > 0")
     f = synthesis_function.synthesize(pairs[:, 0], pairs[:, 1], ground)
-    text = synth_fourbar.text(f.linkage, unit, "function_fourbar",
-                              f"Freudenstein function generator through {len(pairs)} (input, output) pairs; "
-                              f"input offset {f.input_offset:g} rad, output offset {f.output_offset:g} rad")
-    mech = synth_fourbar.mechanism(f.linkage, unit)
-    sol = mech.solve(pairs[:, 0] + f.input_offset)            # the general solver at the given inputs
-    err = synthesis_function._wrap(sol["phi3"] - f.output_offset - pairs[:, 1])
-    passed, mode = check_fourbar(mech, f.linkage, pairs[:, 0] + f.input_offset) if not f.defect else (
-        False, "not run: " + f.defect)
+    inputs = pairs[:, 0] + f.input_offset
+    lo, hi = working_range(f.linkage, inputs)
+    notes = []
+    if f.input_offset:
+        notes.append("input offset 180 deg: Freudenstein's crank length came out negative, so the crank AB points "
+                     "opposite to the given input angle: the file's phi1 = input + 180 deg")
+    if f.output_offset:
+        notes.append("output offset 180 deg: the rocker length came out negative, so the rocker DC points opposite "
+                     "to the given output angle: output = phi3 - 180 deg")
+    notes.append(f"the crank turns {'counter-clockwise' if f.linkage.omega1 > 0 else 'clockwise'} from pair 1 to "
+                 f"pair {len(pairs)}; branch {f.linkage.branch:+d} (C {'left' if f.linkage.branch > 0 else 'right'} "
+                 f"of B->D)")
     params = {**f.linkage.parameters(), "K1": f.K[0], "K2": f.K[1], "K3": f.K[2],
               "input_offset": f.input_offset, "output_offset": f.output_offset}
-    return [{"file": None, "error": error_record(err), "error_unit": "rad", "parameters": params,
-             "compare_passed": passed, "compare_mode": mode, "defect": f.defect, "text": text}]
+    why, m = f.defect, None
+    if not why:
+        try:
+            m = sc.measure(synth_fourbar.mechanism(f.linkage, unit), lo, hi, lengths=_fourbar_lengths(f.linkage))
+            why = sc.broken(m, limits, unit)
+        except ParameterError as e:
+            why = str(e)
+    if why:
+        return [], [{"parameters": params, "why": why, "notes": notes}]
+    text = synth_fourbar.text(f.linkage, unit, "function_fourbar",
+                              f"Freudenstein function generator through {len(pairs)} (input, output) pairs; "
+                              f"input offset {math.degrees(f.input_offset):g} deg, output offset "
+                              f"{math.degrees(f.output_offset):g} deg; the crank rocks over input_range, its "
+                              f"travel from the first pair to the last", (lo, hi))
+    mech = synth_fourbar.mechanism(f.linkage, unit)
+    sol = mech.solve(inputs)                                   # the general solver at the given inputs
+    err = synthesis_function._wrap(sol["phi3"] - f.output_offset - pairs[:, 1])
+    passed, mode = check_fourbar(mech, lo, hi)
+    return [_exact_record(f.linkage, text, unit, m, error_record(err), "rad", params, passed, mode, 1, notes)], []
 
 
 # --------------------------------------------------------------------------------- two-position

@@ -35,6 +35,9 @@ LINK_NAME = re.compile(r"^[A-Za-z0-9_]+$")
 TOP_LEVEL = {"format", "name", "units", "description", "output", "parameters", "ground", "inputs", "groups",
              "inertia", "mass", "force_units", "loads", "friction"} | set(joints.FIELDS)
 """The links-and-joints form (:mod:`.joints`) adds ``links``, ``joints`` and ``pose``."""
+TOP_LEVEL = TOP_LEVEL | {"input_range"}
+"""``input_range = "LO:HI"``: the first input's working range (as ``--input-range`` takes it; a synthesised
+motion or function generator's travel): every command rocks over it unless given ``--input-range``."""
 
 
 @dataclass(frozen=True)
@@ -92,6 +95,8 @@ class Definition:
     loads: tuple = ()
     """The ``[[loads]]`` tables as written (checked; resolved by :func:`analytic.loads.resolve`)."""
     friction: dict | None = None
+    input_range: str = ""
+    """The file's ``input_range`` ("LO:HI", '' if none): the working range commands default to."""
 
     @property
     def scale(self) -> float:
@@ -199,6 +204,9 @@ def _check(data: dict, source: str, default_name: str) -> Definition:
     description = data.get("description", "")
     if not isinstance(description, str):
         raise _fail(source, "description", "must be a string")
+    input_range = data.get("input_range", "")
+    if not (isinstance(input_range, str) and (not input_range or input_range.count(":") == 1)):
+        raise _fail(source, "input_range", f"{_short(input_range)} is not \"LO:HI\" (e.g. \"10deg:80deg\")")
 
     params = data.get("parameters", {})
     if not isinstance(params, dict):
@@ -278,7 +286,7 @@ def _check(data: dict, source: str, default_name: str) -> Definition:
     mass = _check_mass(data.get("mass", {}), links, source)
     definition = Definition(name, source, units, description, dict(params), tuple(params), param_kinds,
                             {k: tuple(v) for k, v in ground.items()}, inputs, groups, order, output, inertia, topo,
-                            mass=mass)
+                            mass=mass, input_range=input_range)
     _check_mobility(definition)
     if any(k in data for k in ("force_units", "loads", "friction")):   # SPEC "Loads": checked here, used later
         from analytic import loads

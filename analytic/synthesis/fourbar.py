@@ -50,8 +50,10 @@ def branch_of(B, C, D) -> int:
     return 1 if cross > 0 else -1
 
 
-def text(link: Linkage, units: str, name: str, description: str) -> str:
-    """The ``linkage/1`` TOML of ``link`` (every number written with 17 significant digits)."""
+def text(link: Linkage, units: str, name: str, description: str, input_range: tuple[float, float] | None = None) -> str:
+    """The ``linkage/1`` TOML of ``link`` (every number written with 17 significant digits); ``input_range``
+    (lo, hi) [rad]: the crank's working range, written as the file's ``input_range`` (every command rocks
+    over it)."""
     if units not in UNITS:
         raise ParameterError(f"unknown unit {units!r}; use one of {', '.join(UNITS)}")
     for k, v in link.parameters().items():
@@ -61,12 +63,13 @@ def text(link: Linkage, units: str, name: str, description: str) -> str:
 
     def g(v):
         return repr(float(v))
+    rng = "" if input_range is None else f'input_range = "{g(input_range[0])}:{g(input_range[1])}"  # [rad]\n'
     return f'''format = "linkage/1"
 name = "{name}"
 units = "{units}"
 description = "{description}"
 output = "E"
-
+{rng}
 [parameters]
 ax = {g(p["ax"])}
 ay = {g(p["ay"])}

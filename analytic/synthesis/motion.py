@@ -338,7 +338,20 @@ def _closed_form_errors(poses, link: Linkage, q):
     return np.hypot(*(E - P).T), _wrap((ang - ang[0]) - (th - th[0]))
 
 
-def synthesize(poses, circle_points=None, count: int = 5) -> tuple[list[Design], list[Dyad]]:
+def dyads_of_centres(poses, centres) -> list[Dyad]:
+    """3 poses: the dyad of each given centre point (fixed frame), its circle point by the 2x2 solve of
+    (beta_j - G_j^T c) . z = gamma_j . c - alpha_j; centres whose system is singular are skipped."""
+    P, _ = _poses(poses)
+    if len(P) != 3:
+        raise ParameterError("centre points give their dyads directly for exactly 3 poses")
+    alpha, beta, gamma, G = dyad_equations(poses)
+    c = np.asarray(centres, dtype=float).reshape(-1, 2)
+    z = _circle_of(alpha, beta, gamma, G, c)
+    ok = np.all(np.isfinite(z), axis=1) & (np.abs(residuals(poses, c, z)).max(axis=1) <= 1e-9 * _size(poses) ** 2)
+    return [Dyad(tuple(map(float, ci)), tuple(map(float, zi))) for ci, zi in zip(c[ok], z[ok])]
+
+
+def synthesize(poses, circle_points=None, count: int = 5, centres=None) -> tuple[list[Design], list[Dyad]]:
     """Four-bars whose coupler takes ``poses`` (rows x, y, theta [length unit, rad]) in order.
 
     Parameters
@@ -349,6 +362,8 @@ def synthesize(poses, circle_points=None, count: int = 5) -> tuple[list[Design],
         For 3 poses: the circle points to use (fixed frame, at pose 1); default a grid around the poses.
     count : int
         How many designs to return at most.
+    centres : array_like, (m, 2), optional
+        For 3 poses: centre points (ground pivots) whose dyads join the candidates (:func:`dyads_of_centres`).
 
     Returns
     -------
@@ -358,6 +373,8 @@ def synthesize(poses, circle_points=None, count: int = 5) -> tuple[list[Design],
     """
     P, th = _poses(poses)
     cand = dyads(poses, circle_points)
+    if centres is not None and len(P) == 3:
+        cand = cand + dyads_of_centres(poses, centres)
     if len(cand) < 1 or (len(P) == 5 and len(cand) < 2):
         raise ParameterError(f"the {len(P)} poses have {len(cand)} real Burmester dyad(s): no four-bar takes "
                              f"the coupler through them")

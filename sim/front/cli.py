@@ -34,7 +34,9 @@ class _Parser(argparse.ArgumentParser):
 # ------------------------------------------------------------------------------------ option values
 def parse_range(mech, text: str | None) -> tuple[float, float] | None:
     """``LO:HI`` of the first input: a crank's in radians, or degrees with a deg suffix; a slider's in the
-    file's length unit (like ``--set``, and as ``linkage check`` prints it), returned in metres."""
+    file's length unit (like ``--set``, and as ``linkage check`` prints it), returned in metres. Without
+    ``text``: the file's own ``input_range`` (a synthesised rocking design's working range), if any."""
+    text = text or mech.definition.input_range
     if not text:
         return None
     if ":" not in text:

@@ -4,36 +4,43 @@
 from __future__ import annotations
 
 from analytic import ParameterError
-from analytic.format.linkfile import UNITS
 from sim.front.lazy import lazy
 from sim.output.io import check_writable, write_text
+from sim.front.synth_options import add_limits, add_units, limits_of, measure_words
 from sim.output.jsonout import dumps
 
 design_service = lazy("sim.design_service")  # scipy's optimisers: loaded by the command, not by its options
 
 
-def _designs_out(args, kind: str, found: list[dict]) -> int:
-    """Write the best design, print a table or JSON; exit 1 when none is free of defects and passes
-    compare."""
-    ok = [d for d in found if not d["defect"] and d["compare_passed"]]
-    best = ok[0] if ok else (found[0] if found else None)
+def _designs_out(args, kind: str, found: list[dict], rejected: list[dict]) -> int:
+    """Write the best design, print a table or JSON (SPEC: ``designs``, each with its measures; ``rejected``:
+    the candidates turned down and why); exit 1 when no design meets the limits and passes compare."""
+    import sys
+    ok = [d for d in found if d["compare_passed"]]
+    best = ok[0] if ok else None
     if best is not None and args.out:
         write_text(args.out, best["text"])
         best["file"] = args.out
     if args.json:
-        print(dumps({"designs": [{k: v for k, v in d.items() if k != "text"} for d in found]}))
+        print(dumps({"designs": [{k: v for k, v in d.items() if k != "text"} for d in found],
+                     "rejected": rejected}))
     else:
         for n, d in enumerate(found, 1):
             e = d["error"]
-            state = "ok" if not d["defect"] and d["compare_passed"] else (d["defect"] or "compare failed")
             print(f"{n}. error max {e['max']:.3e} rms {e['rms']:.3e} {d['error_unit']}; "
-                  f"compare {'passed' if d['compare_passed'] else 'FAILED'} ({d['compare_mode']}); {state}")
+                  f"{measure_words(d, args.unit)}; compare {'passed' if d['compare_passed'] else 'FAILED'} "
+                  f"({d['compare_mode']}); {'ok' if d['compare_passed'] else 'compare failed'}")
             print("   " + ", ".join(f"{k}={v:.6g}" for k, v in d["parameters"].items()))
+            for note in d["notes"]:
+                print("   note: " + note)
         if best is not None and args.out:
-            print(f"wrote {args.out}")
-    if not ok:
-        why = (best["defect"] or "it fails linkage compare") if best else "no candidate"
-        print(f"linkage: no {kind} design meets the constraints; the best found: {why}")
+            print(f"wrote {args.out} (its input_range is the working range: every command runs it so)")
+    if best is None:
+        why = rejected[0]["why"] if rejected else ("it fails linkage compare" if found else "no candidate")
+        for note in (rejected[0].get("notes", []) if rejected and not found else []):
+            print("note: " + note, file=sys.stderr if args.json else sys.stdout)
+        print(f"linkage: no {kind} design meets the constraints; the best candidate: {why}",
+              file=sys.stderr if args.json else sys.stdout)
         return 1
     return 0
 
@@ -55,24 +62,24 @@ def cmd_motion(args) -> int:
         except ValueError:
             raise ParameterError(f"--circle-points {args.circle_points!r} is not X1,Y1,X2,Y2 (crank and "
                                  f"rocker circle points at pose 1, in --unit)") from None
-    found = design_service.synthesize_motion(poses, args.unit, args.count, circle)
-    return _designs_out(args, "motion", found)
+    found, rejected = design_service.synthesize_motion(poses, args.unit, args.count, circle, limits_of(args))
+    return _designs_out(args, "motion", found, rejected)
 
 
 def cmd_function(args) -> int:
     if args.out:
         check_writable(args.out, (".toml",))
     pairs = design_service.read_pairs(args.pairs, args.angles == "deg")
-    found = design_service.synthesize_function(pairs, args.ground, args.unit)
-    return _designs_out(args, "function", found)
+    found, rejected = design_service.synthesize_function(pairs, args.ground, args.unit, limits_of(args))
+    return _designs_out(args, "function", found, rejected)
 
 
 def register(problems, add_video_options) -> None:
     """``synthesize motion`` and ``synthesize function`` under ``linkage synthesize``."""
-    units = sorted(UNITS)
     p = problems.add_parser("motion", help="four-bar through 3-5 coupler poses (Burmester), more by least squares")
     p.add_argument("poses", metavar="POSES.csv", help="CSV with columns x,y,theta (one pose per row, in order)")
-    p.add_argument("--unit", choices=units, default="m", help="length unit of x, y and of the file written")
+    add_units(p, "length unit of x, y and of the file written")
+    add_limits(p, "A (the crank's), D (the rocker's)")
     p.add_argument("--angles", choices=("deg", "rad"), default="deg", help="unit of theta (default deg)")
     p.add_argument("--count", type=int, default=3, help="designs to return, best first (default 3)")
     p.add_argument("--circle-points", metavar="X1,Y1,X2,Y2",
@@ -83,7 +90,8 @@ def register(problems, add_video_options) -> None:
     p = problems.add_parser("function", help="four-bar function generator through (input, output) pairs (Freudenstein)")
     p.add_argument("pairs", metavar="PAIRS.csv", help="CSV with columns input,output: crank and rocker angles "
                                                       "from the line A->D")
-    p.add_argument("--unit", choices=units, default="m", help="length unit of the file written")
+    add_units(p, "length unit of --ground and of the file written")
+    add_limits(p, "A (the crank's, at the origin), D (the rocker's, at (ground, 0))")
     p.add_argument("--angles", choices=("deg", "rad"), default="deg", help="unit of the angles (default deg)")
     p.add_argument("--ground", type=float, default=1.0, help="ground link |AD| in --unit (default 1)")
     p.add_argument("--out", metavar="FILE.toml", help="write the design as a linkage/1 file")

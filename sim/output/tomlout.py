@@ -145,6 +145,8 @@ def generate(mech) -> str:
     if d.description:
         lines.append(f"description = {_value(d.description)}")
     lines.append(f"output = {_value(d.output)}")
+    if getattr(d, "input_range", ""):
+        lines.append(f"input_range = {_value(d.input_range)}")
     if d.parameters:
         lines += ["", "[parameters]"]
         for p in d.parameter_order:

@@ -1,0 +1,41 @@
+"""Options every ``linkage synthesize`` type shares (SPEC, "Synthesis constraints and budgets"): the length
+unit of its inputs and files (``--units``, ``--unit`` kept as an alias) and the limits every returned design
+meets (``--min-transmission``, ``--max-size``, ``--pivot-region``, ``--grashof``)."""
+
+from __future__ import annotations
+
+from analytic.format.linkfile import UNITS
+from analytic.synthesis import constraints as sc
+
+
+def add_units(p, help_text: str) -> None:
+    """``--units`` (and its alias ``--unit``): the length unit of the inputs and of the files written."""
+    p.add_argument("--units", "--unit", dest="unit", choices=sorted(UNITS), default="m", help=help_text)
+
+
+def add_limits(p, pivots: str) -> None:
+    """The limits every returned design meets; ``pivots`` names the ground pivots a region may name."""
+    p.add_argument("--min-transmission", metavar="DEG", default="30",
+                   help="least transmission angle over the working range [deg; 30 or 30deg] (default 30)")
+    p.add_argument("--max-size", metavar="L", type=float, default=None,
+                   help="largest side of the mechanism's bounding box over its working range (file units)")
+    p.add_argument("--pivot-region", metavar="NAME=x0:x1,y0:y1", action="append", default=[],
+                   help=f"a box the ground pivot NAME must lie in (file units; repeatable; pivots: {pivots})")
+    p.add_argument("--grashof", choices=sc.GRASHOF, default="any",
+                   help="the four-bar type wanted: crank-rocker (the crank turns fully), double-crank, any")
+
+
+def limits_of(args) -> sc.Limits:
+    """The command line's :class:`analytic.synthesis.constraints.Limits` (bad values: ParameterError)."""
+    return sc.Limits(sc.parse_angle_deg("--min-transmission", args.min_transmission), args.max_size,
+                     tuple(sc.parse_region(t) for t in args.pivot_region), args.grashof).check()
+
+
+def measure_words(d: dict, unit: str) -> str:
+    """The measures one design prints: transmission range, size, working input range, Grashof type."""
+    import math
+    lo, hi = d["transmission_deg"]
+    a, b = (math.degrees(v) for v in d["input_range"])
+    g = f"; {d['grashof']}" if d.get("grashof") else ""
+    return (f"transmission {lo:.1f}-{hi:.1f} deg, size {d['size']:.4g} {unit}, input range "
+            f"{a:.2f}deg:{b:.2f}deg{g}")
