@@ -111,6 +111,8 @@ FIELDS = {
     "open": {"text", "filename"},
     "targets": {"text", "filename", "unit"},
     "synthesize": {"targets", "type", "closed", "budget", "unit"},
+    "drag": {"mechanism", "text", "set", "samples", "revolutions", "input_range", "outputs", "figures", "digits",
+             "point", "target", "input", "locked", "round"},
 }
 """The fields each POST accepts; any other is refused, so a misspelt field is never silently ignored."""
 
@@ -874,7 +876,49 @@ class Handler(BaseHTTPRequestHandler):
             self.wfile.write(data)
 
 
-ACTIONS = {"/api/forces": forces, "/api/dynamics": dynamics, "/api/open": open_file, "/api/targets": targets,
+def drag(body: dict) -> dict:
+    """A point dragged on the drawing (:func:`sim.front.drag.drag`): ``point``, ``target`` [x, y] m, the
+    pose's ``input`` values, ``locked`` parameters, ``round`` (a step in file units, or absent). Answers the
+    drag (the new ``set`` and ``text``, the input value to show, where the point is, whether it got there,
+    one line) and the solve of the new values, in one round trip; a drag whose values cannot run the cycle
+    keeps the old ones and says why."""
+    from sim.front import drag as dragging
+    check_fields(body, "drag")
+    mech = mechanism_of(body)
+    point = body.get("point")
+    if not isinstance(point, str):
+        raise RequestError(400, "point must be the dragged point's name")
+    target = pair_of(body, "target", "[0.1, 0.2]")
+    if target is None:
+        raise RequestError(400, "target must be [x, y] in metres")
+    q = body.get("input")
+    if not (isinstance(q, list) and len(q) == len(mech.inputs) and all(
+            isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) for v in q)):
+        raise RequestError(400, f"input must be the pose's {len(mech.inputs)} input value(s) [rad or m], e.g. [0.5]")
+    locked = body.get("locked", [])
+    if not (isinstance(locked, list) and all(isinstance(n, str) for n in locked)):
+        raise RequestError(400, "locked must be a list of parameter names")
+    step = body.get("round")
+    step = None if step is None else float(number(body, "round", 1.0, 1e-12, 1e12))
+    text = body.get("text")
+    d = dragging.drag(mech, text, point, target, q, locked, step)
+    new_set = {**body.get("set", {}), **d.values}
+    answer = {"point": d.point, "set": new_set, "text": d.text, "input": d.input, "position": list(d.position),
+              "reached": d.reached, "message": d.message, "changed": d.values}
+    solve_body = {k: v for k, v in body.items() if k in FIELDS["solve"]}
+    solve_body["set"] = new_set
+    if d.text is not None:
+        solve_body["text"] = d.text
+    try:
+        solved = solve(solve_body) if (d.values or d.text is not None) else None
+    except (ParameterError, RequestError, ValueError) as exc:
+        answer.update(set=body.get("set", {}), text=None, input=None, reached=False, changed={},
+                      message=f"{point} stops here: {_first_line(str(exc))}")
+        solved = None
+    return {"drag": answer, "solve": solved}
+
+
+ACTIONS = {"/api/drag": drag, "/api/forces": forces, "/api/dynamics": dynamics, "/api/open": open_file, "/api/targets": targets,
            "/api/synthesize": synthesize}
 """The panels' JSON actions (forces, dynamics, opening a file), by path."""
 POSTS = {"/api/solve", "/api/simulate", "/api/render", "/api/exit", *ACTIONS,
