@@ -23,7 +23,6 @@ import re
 import sys
 import tempfile
 import threading
-import time
 import webbrowser
 from http import HTTPStatus
 from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
@@ -406,12 +405,13 @@ def targets(body: dict) -> dict:
     return {"targets": (target.xy * Q.LENGTH_UNITS[unit]).tolist()}
 
 
-def synthesize(body: dict) -> dict:
+def synthesize(body: dict, server: "AppServer") -> dict:
     """Path synthesis from the page: ``targets`` [[x, y], ...] [m], ``type``, ``closed``, ``budget`` [s]
-    (:func:`sim.design_service.synthesize_path`, in metres); each candidate with its error [m^2, m], its
-    least transmission angle, its checks, its ``linkage/1`` text and its coupler curve [m] to draw."""
-    from analytic.synthesis import path as sp
-    from sim import design_service
+    (:func:`sim.design_service.synthesize_path`, in metres), run as a job the page can cancel
+    (:class:`sim.front.synth_job.Job`: its own process group, killed at the budget plus 1 s); each distinct
+    candidate with its error [m^2, m], its least transmission angle, its checks, its ``linkage/1`` text and its
+    coupler curve [m] to draw; ``seconds``: the wall time from the request to the answer."""
+    from sim.front import synth_job
     check_fields(body, "synthesize")
     pts = body.get("targets")
     if not (isinstance(pts, list) and 4 <= len(pts) <= MAX_TARGETS
@@ -426,20 +426,37 @@ def synthesize(body: dict) -> dict:
     xy = np.asarray(pts, dtype=float)
     if float(np.ptp(xy, axis=0).max()) <= 0:
         raise RequestError(400, "the target points all coincide: place them along the path")
-    target = sp.Target(xy, None, flag(body, "closed", False))
-    t0 = time.perf_counter()
-    found = design_service.synthesize_path(target, design_service.PathOptions(types=(kind,), budget=budget,
-                                                                             designs=3), "m")
-    phi = np.linspace(0.0, 2 * math.pi, 361)
-    designs = []
-    for k, f in enumerate(found):
-        d = f["design"]
-        E, _ = d.family.points(np.asarray(d.x)[None, :d.family.size], phi[None], d.branch)
-        designs.append({"name": f"synthesised_{k + 1}", "text": f["text"], "error": clean(f["error"]),
-                        "mu_min_deg": clean(f["parameters"].get("mu_min_deg")), "failed": f["failed"],
-                        "compare_passed": bool(f["compare_passed"]),
-                        "curve": {"x": clean(E[0, :, 0].tolist()), "y": clean(E[0, :, 1].tolist())}})
-    return {"designs": designs, "seconds": time.perf_counter() - t0}
+    closed = flag(body, "closed", False)
+    with server.synthesis_lock:
+        if server.synthesis is not None and server.synthesis.running:
+            raise RequestError(409, "a synthesis is already running: cancel it first")
+        job = server.synthesis = synth_job.Job({"targets": xy.tolist(), "type": kind, "closed": closed}, budget)
+    out = job.wait()
+    if out["state"] == "cancelled":
+        raise RequestError(409, f"synthesis cancelled after {out['seconds']:.1f} s")
+    if out["state"] != "done":
+        raise RequestError(400, out["error"] or "the synthesis failed")
+    return {**out["answer"], "seconds": out["seconds"], "budget": budget}
+
+
+def synthesis_status(server: "AppServer") -> dict:
+    """What the running synthesis is doing: ``state`` (idle when none runs), ``stage`` (starting, search,
+    check), ``done`` of ``total``, ``elapsed`` and ``budget`` [s]."""
+    job = server.synthesis
+    if job is None:
+        return {"state": "idle"}
+    st = job.status()
+    return {**st, "state": "running" if job.running else "idle", "last": st["state"]}
+
+
+def cancel_synthesis(server: "AppServer") -> dict:
+    """Stop the running synthesis now: its process group (the job and its workers) is killed before this
+    answers."""
+    job = server.synthesis
+    if job is None or not job.running:
+        return {"cancelled": False, "state": "idle"}
+    job.cancel()
+    return {"cancelled": True, "state": "idle", "elapsed": job.seconds}
 
 
 def flag(body: dict, key: str, default: bool) -> bool:
@@ -728,6 +745,8 @@ class AppServer(ThreadingHTTPServer):
         self.origins = {f"http://{h}" for h in self.hosts}
         self.initial = initial
         self.page = page(initial)
+        self.synthesis = None                   # the page's synthesis job (sim.front.synth_job.Job), if any
+        self.synthesis_lock = threading.Lock()
 
     @property
     def url(self) -> str:
@@ -744,6 +763,8 @@ class AppServer(ThreadingHTTPServer):
         _trim()
 
     def server_close(self) -> None:
+        if self.synthesis is not None and self.synthesis.running:
+            self.synthesis.cancel()
         super().server_close()
         self.pool.shutdown(wait=False, cancel_futures=True)
 
@@ -830,6 +851,12 @@ class Handler(BaseHTTPRequestHandler):
             return 200, _json_bytes(simulate(body)), "application/json", {}
         if path == "/api/render":
             return 200, render_video(body), "video/mp4", {}
+        if path == "/api/synthesize":
+            return 200, _json_bytes(synthesize(body, self.server)), "application/json", {}
+        if path == "/api/synthesize/status":
+            return 200, _json_bytes(synthesis_status(self.server)), "application/json", {}
+        if path == "/api/synthesize/cancel":
+            return 200, _json_bytes(cancel_synthesis(self.server)), "application/json", {}
         if path in ACTIONS:
             return 200, _json_bytes(ACTIONS[path](body)), "application/json", {}
         data, ctype, filename = export(path.rsplit("/", 1)[1], body)
@@ -918,10 +945,11 @@ def drag(body: dict) -> dict:
     return {"drag": answer, "solve": solved}
 
 
-ACTIONS = {"/api/drag": drag, "/api/forces": forces, "/api/dynamics": dynamics, "/api/open": open_file, "/api/targets": targets,
-           "/api/synthesize": synthesize}
+ACTIONS = {"/api/drag": drag, "/api/forces": forces, "/api/dynamics": dynamics, "/api/open": open_file,
+           "/api/targets": targets}
 """The panels' JSON actions (forces, dynamics, opening a file), by path."""
-POSTS = {"/api/solve", "/api/simulate", "/api/render", "/api/exit", *ACTIONS,
+POSTS = {"/api/solve", "/api/simulate", "/api/render", "/api/exit", "/api/synthesize", "/api/synthesize/status",
+         "/api/synthesize/cancel", *ACTIONS,
          *(f"/api/export/{k}" for k in ("csv", "json", "toml", "mjcf"))}
 
 

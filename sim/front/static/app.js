@@ -1206,22 +1206,43 @@
     }
   }
 
+  // The search runs as a server job: the bar follows its real stages (the search's restarts, then each
+  // candidate's MuJoCo check) polled from /api/synthesize/status; Cancel kills it (and its workers) at once.
+  const STAGES = { starting: "starting", search: "searching", check: "checking the candidates in MuJoCo" };
+  function synthProgress(s) {
+    const bar = $("#synth-progress");
+    if (s.state !== "running") return;
+    const frac = s.total ? s.done / s.total : 0;
+    bar.value = s.stage === "check" ? 0.8 + 0.2 * frac : s.stage === "search" ? 0.8 * frac : 0;
+    const what = s.stage === "search" ? `${STAGES.search}: restart ${s.done} of ${s.total}`
+      : s.stage === "check" ? `${STAGES.check}: ${s.done} of ${s.total}` : "starting the search";
+    $("#synth-status").textContent = `${what} · ${s.elapsed.toFixed(1)} s of the ${fmt(s.budget, 3)} s budget`;
+  }
+
   async function synthesize() {
     const st = $("#synth-status");
     st.classList.remove("bad");
     const budget = Number($("#synth-budget").value);
     const bar = $("#synth-progress");
     const button = $("#synth-run");
+    const cancel = $("#synth-cancel");
     button.disabled = true;
+    cancel.hidden = false;
+    cancel.disabled = false;
     bar.hidden = false;
     bar.value = 0;
-    const started = performance.now();
-    // the search runs to its time budget (or until its restarts are done): the bar shows the time used
-    const timer = setInterval(() => {
-      const s = (performance.now() - started) / 1000;
-      bar.value = Number.isFinite(budget) && budget > 0 ? Math.min(0.99, s / budget) : 0;
-      st.textContent = `searching… ${s.toFixed(0)} s of the ${fmt(budget, 3)} s budget, then each candidate is simulated`;
-    }, 250);
+    st.textContent = "starting the search";
+    let polling = true;
+    const poll = async () => {
+      while (polling) {
+        try {
+          const res = await api("/api/synthesize/status", {});
+          if (polling) synthProgress(await res.json());
+        } catch (err) { /* the answer comes through the request itself */ }
+        await new Promise((r) => setTimeout(r, 250));
+      }
+    };
+    poll();
     try {
       const res = await api("/api/synthesize", { targets: state.synth.targets, type: $("#synth-type").value,
         closed: $("#synth-closed").checked, budget: Number.isFinite(budget) ? budget : $("#synth-budget").value,
@@ -1233,17 +1254,30 @@
       if (state.solve) state.geometry = geometry(state.solve);
       synthTable(data);
       drawFrame();
-      st.textContent = `${data.designs.length} candidates in ${fmt(data.seconds, 3)} s`
-        + (data.service ? "" : "");
+      const n = data.designs.length;
+      const dropped = (data.asked || n) - n;
+      st.textContent = `${n} distinct candidate${n === 1 ? "" : "s"} in ${fmt(data.seconds, 3)} s `
+        + `(budget ${fmt(data.budget, 3)} s)` + (dropped ? `; ${dropped} repeat${dropped > 1 ? "s" : ""} of a better one dropped` : "");
       bar.value = 1;
     } catch (err) {
       st.textContent = err.message || String(err);
-      st.classList.add("bad");
+      st.classList.toggle("bad", !/cancelled/.test(st.textContent));
     } finally {
-      clearInterval(timer);
+      polling = false;
       button.disabled = false;
+      cancel.hidden = true;
       bar.hidden = true;
       bumpRevision();
+    }
+  }
+
+  async function cancelSynthesis() {
+    $("#synth-cancel").disabled = true;
+    try {
+      const res = await api("/api/synthesize/cancel", {});
+      window.linkageCancel = await res.json();
+    } catch (err) {
+      $("#synth-status").textContent = err.message || String(err);
     }
   }
 
@@ -1946,6 +1980,7 @@
     $("#synth-clear").addEventListener("click", () => { state.synth.targets = []; synthTargetsChanged(); });
     $("#synth-file").addEventListener("change", (e) => { if (e.target.files[0]) loadTargets(e.target.files[0]); e.target.value = ""; });
     $("#synth-run").addEventListener("click", synthesize);
+    $("#synth-cancel").addEventListener("click", cancelSynthesis);
     $("#simulate").addEventListener("click", simulate);
     $("#render").addEventListener("click", renderVideo);
     document.querySelectorAll("[data-export]").forEach((b) => b.addEventListener("click", () => download(b.dataset.export)));
