@@ -23,7 +23,6 @@ import re
 import sys
 import tempfile
 import threading
-import time
 import webbrowser
 from http import HTTPStatus
 from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
@@ -110,6 +109,8 @@ FIELDS = {
     "open": {"text", "filename"},
     "targets": {"text", "filename", "unit"},
     "synthesize": {"targets", "type", "closed", "budget", "unit"},
+    "drag": {"mechanism", "text", "set", "samples", "revolutions", "input_range", "outputs", "figures", "digits",
+             "point", "target", "input", "locked", "round"},
 }
 """The fields each POST accepts; any other is refused, so a misspelt field is never silently ignored."""
 
@@ -403,12 +404,13 @@ def targets(body: dict) -> dict:
     return {"targets": (target.xy * Q.LENGTH_UNITS[unit]).tolist()}
 
 
-def synthesize(body: dict) -> dict:
+def synthesize(body: dict, server: "AppServer") -> dict:
     """Path synthesis from the page: ``targets`` [[x, y], ...] [m], ``type``, ``closed``, ``budget`` [s]
-    (:func:`sim.design_service.synthesize_path`, in metres); each candidate with its error [m^2, m], its
-    least transmission angle, its checks, its ``linkage/1`` text and its coupler curve [m] to draw."""
-    from analytic.synthesis import path as sp
-    from sim import design_service
+    (:func:`sim.design_service.synthesize_path`, in metres), run as a job the page can cancel
+    (:class:`sim.front.synth_job.Job`: its own process group, killed at the budget plus 1 s); each distinct
+    candidate with its error [m^2, m], its least transmission angle, its checks, its ``linkage/1`` text and its
+    coupler curve [m] to draw; ``seconds``: the wall time from the request to the answer."""
+    from sim.front import synth_job
     check_fields(body, "synthesize")
     pts = body.get("targets")
     if not (isinstance(pts, list) and 4 <= len(pts) <= MAX_TARGETS
@@ -423,20 +425,37 @@ def synthesize(body: dict) -> dict:
     xy = np.asarray(pts, dtype=float)
     if float(np.ptp(xy, axis=0).max()) <= 0:
         raise RequestError(400, "the target points all coincide: place them along the path")
-    target = sp.Target(xy, None, flag(body, "closed", False))
-    t0 = time.perf_counter()
-    found = design_service.synthesize_path(target, design_service.PathOptions(types=(kind,), budget=budget,
-                                                                             designs=3), "m")
-    phi = np.linspace(0.0, 2 * math.pi, 361)
-    designs = []
-    for k, f in enumerate(found):
-        d = f["design"]
-        E, _ = d.family.points(np.asarray(d.x)[None, :d.family.size], phi[None], d.branch)
-        designs.append({"name": f"synthesised_{k + 1}", "text": f["text"], "error": clean(f["error"]),
-                        "mu_min_deg": clean(f["parameters"].get("mu_min_deg")), "failed": f["failed"],
-                        "compare_passed": bool(f["compare_passed"]),
-                        "curve": {"x": clean(E[0, :, 0].tolist()), "y": clean(E[0, :, 1].tolist())}})
-    return {"designs": designs, "seconds": time.perf_counter() - t0}
+    closed = flag(body, "closed", False)
+    with server.synthesis_lock:
+        if server.synthesis is not None and server.synthesis.running:
+            raise RequestError(409, "a synthesis is already running: cancel it first")
+        job = server.synthesis = synth_job.Job({"targets": xy.tolist(), "type": kind, "closed": closed}, budget)
+    out = job.wait()
+    if out["state"] == "cancelled":
+        raise RequestError(409, f"synthesis cancelled after {out['seconds']:.1f} s")
+    if out["state"] != "done":
+        raise RequestError(400, out["error"] or "the synthesis failed")
+    return {**out["answer"], "seconds": out["seconds"], "budget": budget}
+
+
+def synthesis_status(server: "AppServer") -> dict:
+    """What the running synthesis is doing: ``state`` (idle when none runs), ``stage`` (starting, search,
+    check), ``done`` of ``total``, ``elapsed`` and ``budget`` [s]."""
+    job = server.synthesis
+    if job is None:
+        return {"state": "idle"}
+    st = job.status()
+    return {**st, "state": "running" if job.running else "idle", "last": st["state"]}
+
+
+def cancel_synthesis(server: "AppServer") -> dict:
+    """Stop the running synthesis now: its process group (the job and its workers) is killed before this
+    answers."""
+    job = server.synthesis
+    if job is None or not job.running:
+        return {"cancelled": False, "state": "idle"}
+    job.cancel()
+    return {"cancelled": True, "state": "idle", "elapsed": job.seconds}
 
 
 def flag(body: dict, key: str, default: bool) -> bool:
@@ -725,6 +744,8 @@ class AppServer(ThreadingHTTPServer):
         self.origins = {f"http://{h}" for h in self.hosts}
         self.initial = initial
         self.page = page(initial)
+        self.synthesis = None                   # the page's synthesis job (sim.front.synth_job.Job), if any
+        self.synthesis_lock = threading.Lock()
 
     @property
     def url(self) -> str:
@@ -741,6 +762,8 @@ class AppServer(ThreadingHTTPServer):
         _trim()
 
     def server_close(self) -> None:
+        if self.synthesis is not None and self.synthesis.running:
+            self.synthesis.cancel()
         super().server_close()
         self.pool.shutdown(wait=False, cancel_futures=True)
 
@@ -827,6 +850,12 @@ class Handler(BaseHTTPRequestHandler):
             return 200, _json_bytes(simulate(body)), "application/json", {}
         if path == "/api/render":
             return 200, render_video(body), "video/mp4", {}
+        if path == "/api/synthesize":
+            return 200, _json_bytes(synthesize(body, self.server)), "application/json", {}
+        if path == "/api/synthesize/status":
+            return 200, _json_bytes(synthesis_status(self.server)), "application/json", {}
+        if path == "/api/synthesize/cancel":
+            return 200, _json_bytes(cancel_synthesis(self.server)), "application/json", {}
         if path in ACTIONS:
             return 200, _json_bytes(ACTIONS[path](body)), "application/json", {}
         data, ctype, filename = export(path.rsplit("/", 1)[1], body)
@@ -873,10 +902,53 @@ class Handler(BaseHTTPRequestHandler):
             self.wfile.write(data)
 
 
-ACTIONS = {"/api/forces": forces, "/api/dynamics": dynamics, "/api/open": open_file, "/api/targets": targets,
-           "/api/synthesize": synthesize}
+def drag(body: dict) -> dict:
+    """A point dragged on the drawing (:func:`sim.front.drag.drag`): ``point``, ``target`` [x, y] m, the
+    pose's ``input`` values, ``locked`` parameters, ``round`` (a step in file units, or absent). Answers the
+    drag (the new ``set`` and ``text``, the input value to show, where the point is, whether it got there,
+    one line) and the solve of the new values, in one round trip; a drag whose values cannot run the cycle
+    keeps the old ones and says why."""
+    from sim.front import drag as dragging
+    check_fields(body, "drag")
+    mech = mechanism_of(body)
+    point = body.get("point")
+    if not isinstance(point, str):
+        raise RequestError(400, "point must be the dragged point's name")
+    target = pair_of(body, "target", "[0.1, 0.2]")
+    if target is None:
+        raise RequestError(400, "target must be [x, y] in metres")
+    q = body.get("input")
+    if not (isinstance(q, list) and len(q) == len(mech.inputs) and all(
+            isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) for v in q)):
+        raise RequestError(400, f"input must be the pose's {len(mech.inputs)} input value(s) [rad or m], e.g. [0.5]")
+    locked = body.get("locked", [])
+    if not (isinstance(locked, list) and all(isinstance(n, str) for n in locked)):
+        raise RequestError(400, "locked must be a list of parameter names")
+    step = body.get("round")
+    step = None if step is None else float(number(body, "round", 1.0, 1e-12, 1e12))
+    text = body.get("text")
+    d = dragging.drag(mech, text, point, target, q, locked, step)
+    new_set = {**body.get("set", {}), **d.values}
+    answer = {"point": d.point, "set": new_set, "text": d.text, "input": d.input, "position": list(d.position),
+              "reached": d.reached, "message": d.message, "changed": d.values}
+    solve_body = {k: v for k, v in body.items() if k in FIELDS["solve"]}
+    solve_body["set"] = new_set
+    if d.text is not None:
+        solve_body["text"] = d.text
+    try:
+        solved = solve(solve_body) if (d.values or d.text is not None) else None
+    except (ParameterError, RequestError, ValueError) as exc:
+        answer.update(set=body.get("set", {}), text=None, input=None, reached=False, changed={},
+                      message=f"{point} stops here: {_first_line(str(exc))}")
+        solved = None
+    return {"drag": answer, "solve": solved}
+
+
+ACTIONS = {"/api/drag": drag, "/api/forces": forces, "/api/dynamics": dynamics, "/api/open": open_file,
+           "/api/targets": targets}
 """The panels' JSON actions (forces, dynamics, opening a file), by path."""
-POSTS = {"/api/solve", "/api/simulate", "/api/render", "/api/exit", *ACTIONS,
+POSTS = {"/api/solve", "/api/simulate", "/api/render", "/api/exit", "/api/synthesize", "/api/synthesize/status",
+         "/api/synthesize/cancel", *ACTIONS,
          *(f"/api/export/{k}" for k in ("csv", "json", "toml", "mjcf"))}
 
 

@@ -51,6 +51,9 @@
     dynamics: null,
     dynamicsCharts: [],
     synth: { targets: [], result: null, selected: 0, charts: [] },
+    drag: null,                         // the point being dragged: {point, before, moved, input}
+    undo: [],                           // snapshots before each drag (values, file text, frame)
+    redo: [],
   };
 
   // ------------------------------------------------------------------------------------------ api
@@ -171,7 +174,7 @@
     }
     clearErrors();
     syncParameters(data.parameters);
-    state.geometry = geometry(data);
+    if (!state.drag || !state.geometry) state.geometry = geometry(data);    // the view holds still under a drag
     updateCharts();
     drawFrame();
     if (full) showFigures(data);
@@ -261,6 +264,16 @@
     row.querySelector(".hint").textContent = p.kind === "branch"
       ? "branch: +1 or -1"
       : `range ${fmt(p.min, 4)} … ${fmt(p.max, 4)}${unit}${p.derived ? " · derived from the others until set" : ""}`;
+    if (p.kind === "length") {                  // a locked length stays when a point is dragged
+      const lock = document.createElement("label");
+      lock.className = "lock";
+      lock.title = `keep ${p.name} when dragging points`;
+      const check = document.createElement("input");
+      check.type = "checkbox";
+      check.dataset.lock = p.name;
+      lock.append(check, " lock");
+      row.querySelector(".hint").append(" ", lock);
+    }
     slider.addEventListener("input", () => {
       state.set[p.name] = Number(slider.value);
       box.value = fmt(Number(slider.value));
@@ -1193,22 +1206,43 @@
     }
   }
 
+  // The search runs as a server job: the bar follows its real stages (the search's restarts, then each
+  // candidate's MuJoCo check) polled from /api/synthesize/status; Cancel kills it (and its workers) at once.
+  const STAGES = { starting: "starting", search: "searching", check: "checking the candidates in MuJoCo" };
+  function synthProgress(s) {
+    const bar = $("#synth-progress");
+    if (s.state !== "running") return;
+    const frac = s.total ? s.done / s.total : 0;
+    bar.value = s.stage === "check" ? 0.8 + 0.2 * frac : s.stage === "search" ? 0.8 * frac : 0;
+    const what = s.stage === "search" ? `${STAGES.search}: restart ${s.done} of ${s.total}`
+      : s.stage === "check" ? `${STAGES.check}: ${s.done} of ${s.total}` : "starting the search";
+    $("#synth-status").textContent = `${what} · ${s.elapsed.toFixed(1)} s of the ${fmt(s.budget, 3)} s budget`;
+  }
+
   async function synthesize() {
     const st = $("#synth-status");
     st.classList.remove("bad");
     const budget = Number($("#synth-budget").value);
     const bar = $("#synth-progress");
     const button = $("#synth-run");
+    const cancel = $("#synth-cancel");
     button.disabled = true;
+    cancel.hidden = false;
+    cancel.disabled = false;
     bar.hidden = false;
     bar.value = 0;
-    const started = performance.now();
-    // the search runs to its time budget (or until its restarts are done): the bar shows the time used
-    const timer = setInterval(() => {
-      const s = (performance.now() - started) / 1000;
-      bar.value = Number.isFinite(budget) && budget > 0 ? Math.min(0.99, s / budget) : 0;
-      st.textContent = `searching… ${s.toFixed(0)} s of the ${fmt(budget, 3)} s budget, then each candidate is simulated`;
-    }, 250);
+    st.textContent = "starting the search";
+    let polling = true;
+    const poll = async () => {
+      while (polling) {
+        try {
+          const res = await api("/api/synthesize/status", {});
+          if (polling) synthProgress(await res.json());
+        } catch (err) { /* the answer comes through the request itself */ }
+        await new Promise((r) => setTimeout(r, 250));
+      }
+    };
+    poll();
     try {
       const res = await api("/api/synthesize", { targets: state.synth.targets, type: $("#synth-type").value,
         closed: $("#synth-closed").checked, budget: Number.isFinite(budget) ? budget : $("#synth-budget").value,
@@ -1220,17 +1254,30 @@
       if (state.solve) state.geometry = geometry(state.solve);
       synthTable(data);
       drawFrame();
-      st.textContent = `${data.designs.length} candidates in ${fmt(data.seconds, 3)} s`
-        + (data.service ? "" : "");
+      const n = data.designs.length;
+      const dropped = (data.asked || n) - n;
+      st.textContent = `${n} distinct candidate${n === 1 ? "" : "s"} in ${fmt(data.seconds, 3)} s `
+        + `(budget ${fmt(data.budget, 3)} s)` + (dropped ? `; ${dropped} repeat${dropped > 1 ? "s" : ""} of a better one dropped` : "");
       bar.value = 1;
     } catch (err) {
       st.textContent = err.message || String(err);
-      st.classList.add("bad");
+      st.classList.toggle("bad", !/cancelled/.test(st.textContent));
     } finally {
-      clearInterval(timer);
+      polling = false;
       button.disabled = false;
+      cancel.hidden = true;
       bar.hidden = true;
       bumpRevision();
+    }
+  }
+
+  async function cancelSynthesis() {
+    $("#synth-cancel").disabled = true;
+    try {
+      const res = await api("/api/synthesize/cancel", {});
+      window.linkageCancel = await res.json();
+    } catch (err) {
+      $("#synth-status").textContent = err.message || String(err);
     }
   }
 
@@ -1604,6 +1651,217 @@
     clock = { wall: performance.now(), sim: data ? data.t[state.frame] || 0 : 0 };
   }
 
+
+  // -------------------------------------------------------------------------------- dragging
+  // Grab a point of the drawing and drag it: /api/drag changes the file's values that place it (the
+  // server inverts the file's parameterisation: sim/front/drag.py) and answers the new values with their
+  // solve, so each step is one round trip; the input's tip scrubs the pose. Undo/redo restores the values
+  // (and the file's text where a links-and-joints pose was changed) as they were before each drag.
+  const HIT_PX = 10;
+  const dragCh = { busy: false, next: null };
+
+  function framePoints() {
+    const data = state.solve;
+    if (!data || !state.geometry) return [];
+    const v = view();
+    const i = state.frame;
+    const out = [];
+    for (const name of data.describe.points) {
+      const q = data.points[name];
+      if (!q || q.x[i] === null || q.y[i] === null) continue;
+      out.push({ name, px: v.X(q.x[i]), py: v.Y(q.y[i]) });
+    }
+    return out;
+  }
+
+  function pointAt(e) {
+    const r = canvas.getBoundingClientRect();
+    const px = e.clientX - r.left; const py = e.clientY - r.top;
+    let best = null; let bestD = HIT_PX;
+    for (const p of framePoints()) {
+      const d = Math.hypot(p.px - px, p.py - py);
+      if (d <= bestD) { best = p.name; bestD = d; }
+    }
+    return best;
+  }
+
+  function gridStep() {                         // [m] a tenth of the axes' step, round in the file's unit
+    const v = view();
+    const [xa] = v.inv(MARGIN.left, 0); const [xb] = v.inv(MARGIN.left + v.w, 0);
+    const L = lengthUnit();
+    return niceStep((xb - xa) * L.f) / 10 / L.f;
+  }
+
+  function worldAt(e) {
+    const r = canvas.getBoundingClientRect();
+    let [x, y] = view().inv(e.clientX - r.left, e.clientY - r.top);
+    if ($("#snap-grid").checked) {
+      const g = gridStep();
+      x = Math.round(x / g) * g; y = Math.round(y / g) * g;
+    }
+    return [x, y];
+  }
+
+  function poseInputs() {
+    const data = state.solve;
+    return data.describe.inputs.map((inp) => data.inputs[inp.q][state.frame]);
+  }
+
+  function snapshot() {
+    return { set: { ...state.set }, text: state.mech.text, frame: state.frame };
+  }
+
+  function dragStart(e) {
+    if (state.tab === "synthesis" || !state.solve || e.button !== 0) return;
+    const name = pointAt(e);
+    if (!name) return;
+    e.preventDefault();
+    canvas.setPointerCapture(e.pointerId);
+    state.playing = false;
+    $("#play").textContent = "Play";
+    state.drag = { point: name, before: snapshot(), moved: false, input: poseInputs() };
+    canvas.style.cursor = "grabbing";
+    dragNote(`dragging ${name}`, false);
+  }
+
+  function dragMove(e) {
+    if (!state.drag) {
+      if (state.tab !== "synthesis" && state.solve) canvas.style.cursor = pointAt(e) ? "grab" : "";
+      return;
+    }
+    state.drag.moved = true;
+    dragSend(worldAt(e));
+  }
+
+  function dragEnd() {
+    const d = state.drag;
+    if (!d) return;
+    state.drag = null;
+    canvas.style.cursor = "";
+    if (state.solve) { state.geometry = geometry(state.solve); drawFrame(); }
+    const changed = JSON.stringify(d.before.set) !== JSON.stringify(state.set) || d.before.text !== state.mech.text;
+    if (changed) {
+      state.undo.push(d.before);
+      state.redo = [];
+      undoButtons();
+    }
+    if (changed) {                                  // the figures of merit once the values have settled
+      const full = channels.full;
+      clearTimeout(full.timer);
+      full.timer = setTimeout(() => send("full"), FIGURES_DELAY_MS);
+    }
+  }
+
+  async function dragSend(target) {
+    if (dragCh.busy) { dragCh.next = target; return; }
+    dragCh.busy = true;
+    dragCh.next = null;
+    const d = state.drag;
+    const version = ++state.version;
+    state.holdUntil = performance.now() + HOLD_MS;
+    const locked = [...document.querySelectorAll("#params input[data-lock]:checked")].map((c) => c.dataset.lock);
+    const body = requestBody({ samples: SAMPLES, figures: false, digits: DRAG_DIGITS, outputs: wantedOutputs(),
+      point: d ? d.point : "", target, input: d ? d.input : poseInputs(), locked });
+    if ($("#round-values").checked) body.round = gridStep() * lengthUnit().f;
+    try {
+      const started = performance.now();
+      const res = await api("/api/drag", body);
+      const answer = await res.json();
+      const received = performance.now();
+      applyDrag(answer, version);
+      const done = performance.now();
+      window.linkageTiming = { kind: "drag", request_ms: received - started, draw_ms: done - received };
+    } catch (err) {
+      dragNote(err.message || String(err), true);
+      bumpRevision();
+    } finally {
+      dragCh.busy = false;
+      if (dragCh.next && state.drag) dragSend(dragCh.next);
+    }
+  }
+
+  function applyDrag(answer, version) {
+    const g = answer.drag;
+    window.linkageDrag = g;
+    clearSimulation();
+    staleDynamics();
+    $("#video").hidden = true;
+    state.set = g.set;
+    if (g.text !== null) setText(g.text);
+    for (const [name, v] of Object.entries(g.changed)) showValue(name, v);
+    if (answer.solve) {
+      $("#figures").classList.add("pending");
+      applySolve(answer.solve, version, false, false);
+    }
+    if (g.input !== null) setFrame(nearestFrame(g.input));
+    drawFrame();
+    moveCursors();
+    dragNote(g.message, !g.reached);
+    bumpRevision();
+  }
+
+  function nearestFrame(q) {
+    const data = state.solve;
+    const qs = data.inputs[data.describe.inputs[0].q];
+    const crank = data.describe.inputs[0].kind === "crank";
+    let best = state.frame; let bestD = Infinity;
+    for (let i = 0; i < qs.length; i++) {
+      let dq = qs[i] - q;
+      if (crank) dq = Math.abs(Math.atan2(Math.sin(dq), Math.cos(dq)));
+      else dq = Math.abs(dq);
+      if (dq < bestD) { bestD = dq; best = i; }
+    }
+    return best;
+  }
+
+  function setText(text) {                      // the file's new text: later requests and the picker carry it
+    state.mech.text = text;
+    const opt = $("#mechanism").selectedOptions[0];
+    if (opt && opt.dataset.text !== undefined) opt.dataset.text = text;
+  }
+
+  function showValue(name, v) {
+    const box = document.querySelector(`#params input[name="${CSS.escape(name)}"]`);
+    const slider = document.querySelector(`#params input[data-param="${CSS.escape(name)}"]`);
+    if (box) box.value = fmt(v);
+    if (slider) moveSlider(slider, name, v);
+  }
+
+  function dragNote(text, bad) {
+    const el = $("#drag-note");
+    el.textContent = text;
+    el.classList.toggle("bad", !!bad);
+  }
+
+  function restore(entry) {
+    state.set = { ...entry.set };
+    if (entry.text !== state.mech.text && entry.text !== null) setText(entry.text);
+    for (const [name, v] of Object.entries(state.set)) if (Number.isFinite(Number(v))) showValue(name, Number(v));
+    const frame = entry.frame;
+    edited();
+    state.frame = frame;
+    undoButtons();
+  }
+
+  function undo() {
+    if (!state.undo.length) return;
+    state.redo.push(snapshot());
+    restore(state.undo.pop());
+    dragNote("undone", false);
+  }
+
+  function redo() {
+    if (!state.redo.length) return;
+    state.undo.push(snapshot());
+    restore(state.redo.pop());
+    dragNote("redone", false);
+  }
+
+  function undoButtons() {
+    $("#undo").disabled = !state.undo.length;
+    $("#redo").disabled = !state.redo.length;
+  }
+
   // ------------------------------------------------------------------------------ mechanisms
   async function loadMechanisms() {
     const res = await fetch("/api/mechanisms");
@@ -1636,6 +1894,9 @@
 
   function openMechanism(name, text) {
     state.mech = { name, text };
+    state.undo = [];
+    state.redo = [];
+    if ($("#undo")) undoButtons();
     state.set = {};
     state.lastEdited = null;
     state.inputRange = "";
@@ -1704,9 +1965,22 @@
     $("#dynamics-run").addEventListener("click", () => runDynamics(false));
     $("#dynamics-size").addEventListener("click", () => runDynamics(true));
     canvas.addEventListener("click", pickTarget);
+    canvas.addEventListener("pointerdown", dragStart);
+    canvas.addEventListener("pointermove", dragMove);
+    canvas.addEventListener("pointerup", dragEnd);
+    canvas.addEventListener("pointercancel", dragEnd);
+    $("#undo").addEventListener("click", undo);
+    $("#redo").addEventListener("click", redo);
+    document.addEventListener("keydown", (e) => {
+      if (!(e.ctrlKey || e.metaKey) || e.target.matches("input[type=text], textarea")) return;
+      const key = e.key.toLowerCase();
+      if (key === "z" && !e.shiftKey) { e.preventDefault(); undo(); }
+      else if (key === "y" || (key === "z" && e.shiftKey)) { e.preventDefault(); redo(); }
+    });
     $("#synth-clear").addEventListener("click", () => { state.synth.targets = []; synthTargetsChanged(); });
     $("#synth-file").addEventListener("change", (e) => { if (e.target.files[0]) loadTargets(e.target.files[0]); e.target.value = ""; });
     $("#synth-run").addEventListener("click", synthesize);
+    $("#synth-cancel").addEventListener("click", cancelSynthesis);
     $("#simulate").addEventListener("click", simulate);
     $("#render").addEventListener("click", renderVideo);
     document.querySelectorAll("[data-export]").forEach((b) => b.addEventListener("click", () => download(b.dataset.export)));
@@ -1738,6 +2012,12 @@
     state.playing = false;
     $("#stopped").hidden = false;
   }
+
+  // for tests and the drag benchmark: a world point [m] as client pixels of the page, and back
+  window.linkageCanvas = {
+    toClient(x, y) { const r = canvas.getBoundingClientRect(); const v = view(); return [r.left + v.X(x), r.top + v.Y(y)]; },
+    toWorld(cx, cy) { const r = canvas.getBoundingClientRect(); return view().inv(cx - r.left, cy - r.top); },
+  };
 
   function start() {
     wire();

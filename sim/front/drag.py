@@ -1,0 +1,355 @@
+"""Dragging a point on the app's drawing: the file's values that place it, changed so that it lands where
+it was dragged to (the inverse of the file's parameterisation).
+
+A point is placed by its element (a ground entry, an input, an Assur group, a point on a link) or, in the
+links-and-joints form, by its ``[pose]`` entry. The values that can move it are the parameters its fields
+name (a length, an offset, a ground coordinate, a coupler point's ``at``; every parameter an expression
+there uses), the pose coordinates written as numbers in a links-and-joints file, and for the point at an
+input's tip the input itself (dragging it scrubs the pose). Locked parameters stay. The new values are
+found by damped least squares with the smallest change (Gauss-Newton on the point's solved position at the
+pose's input value, derivatives by finite differences), so the same code serves every kind of element; a
+step that would break assembly is cut back, and a drag that cannot be followed stops at the limit with one
+line saying why.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import re
+import tomllib
+
+import numpy as np
+
+from analytic import ParameterError, kinds
+from analytic.format import expr
+from analytic.mechanism import Mechanism, block
+from sim import service
+
+TOLERANCE = 1e-9
+"""Fraction of the mechanism's size within which a point counts as placed (the solver's own closure is
+~1e-12 of the size; finite-difference derivatives leave ~1e-8 of a step, which the iterations remove)."""
+MAX_ITERATIONS = 40
+SKIP_FIELDS = {"point", "points", "link", "links", "from", "on", "pivot", "through", "branch", "change", "kind"}
+"""Fields that name points, links or the branch: never a continuous value to change."""
+
+
+@dataclasses.dataclass(frozen=True)
+class Variable:
+    """One value a drag may change: a named parameter (``kind="parameter"``), a number in the file's
+    ``[pose]``/``[ground]`` table (``kind="pose"``, ``name`` the point, ``axis`` 0 for x, 1 for y), or the
+    first input's value (``kind="input"``: the pose shown, not the file)."""
+
+    kind: str
+    name: str
+    axis: int = 0
+    section: str = ""
+
+
+@dataclasses.dataclass(frozen=True)
+class Drag:
+    """What a drag did. ``values``: every named parameter it changed (file units, angles in rad);
+    ``text``: the file's new text where pose numbers changed (else None); ``input``: the input value to show
+    (rad or m; None: unchanged); ``position``: where the point is now [m]; ``reached``: within TOLERANCE of
+    the target; ``message``: one line (why it stopped short, or what changed)."""
+
+    point: str
+    values: dict
+    text: str | None
+    input: float | None
+    position: tuple[float, float]
+    reached: bool
+    message: str
+
+
+# ------------------------------------------------------------------------------------ what moves P
+def _names(value, params: dict) -> list[str]:
+    """The parameter names a field's value uses (a bare name or an expression's names), in order."""
+    if dataclasses.is_dataclass(value) and not isinstance(value, type):
+        return [n for f in dataclasses.fields(value) for n in _names(getattr(value, f.name), params)]
+    if isinstance(value, (list, tuple)):
+        return [n for v in value for n in _names(v, params)]
+    if isinstance(value, dict):
+        return [n for v in value.values() for n in _names(v, params)]
+    if isinstance(value, str):
+        if expr.NAME.match(value):
+            return [value] if value in params else []
+        try:
+            return sorted(n for n in expr.names_in(value) if n in params)
+        except (ValueError, ParameterError, SyntaxError):
+            return []
+    return []
+
+
+def file_data(text: str | None) -> dict | None:
+    """A file's text as its table (TOML, or JSON when it starts with '{'); None for a library mechanism."""
+    if text is None:
+        return None
+    return json.loads(text) if text.lstrip().startswith("{") else tomllib.loads(text)
+
+
+def variables(mech: Mechanism, point: str, data: dict | None, locked=()) -> tuple[list[Variable], list[str]]:
+    """(the values that can move ``point``, the branch parameters of the element that places it)."""
+    d = mech.definition
+    params = {k: v for k, v in d.parameter_kind.items() if k not in locked}
+    out: list[Variable] = []
+    branches: list[str] = []
+
+    def add(var: Variable) -> None:
+        if var not in out:
+            out.append(var)
+
+    pose_form = data is not None and ("pose" in data or "links" in data)
+    if pose_form:
+        for section in ("ground", "pose"):
+            xy = (data.get(section) or {}).get(point)
+            if isinstance(xy, list) and len(xy) == 2:
+                for axis, v in enumerate(xy):
+                    if isinstance(v, (int, float)) and not isinstance(v, bool):
+                        add(Variable("pose", point, axis, section))
+                    else:
+                        for n in _names(v, params):
+                            add(Variable("parameter", n))
+    if point in d.ground and not pose_form:
+        for n in _names(d.ground[point], params):
+            if params[n] != "branch":
+                add(Variable("parameter", n))
+    for e in d.order:
+        if point not in e.places:
+            continue
+        kind = kinds.get(e.kind)
+        motion = set(getattr(kind, "motion_fields", ()) or ())
+        if kind.section == "inputs" and len(mech.inputs) == 1:
+            add(Variable("input", mech.inputs[0].q))
+        for field, value in e.fields.items():
+            if field in motion or field in SKIP_FIELDS:
+                if field == "branch":
+                    branches += [n for n in _names(value, params) if params[n] == "branch"]
+                continue
+            if pose_form:                 # the pose places it; a number here was worked out from the pose
+                continue
+            for n in _names(value, params):
+                if params[n] != "branch":
+                    add(Variable("parameter", n))
+    return out, branches
+
+
+# ---------------------------------------------------------------------------------- evaluation
+def set_pose(data: dict, var: Variable, value: float) -> dict:
+    section = dict(data[var.section])
+    xy = list(section[var.name])
+    xy[var.axis] = float(value)
+    section[var.name] = xy
+    return {**data, var.section: section}
+
+
+class _Model:
+    """The mechanism with some of its values replaced, solved for one point at one input value."""
+
+    def __init__(self, mech: Mechanism, values: dict, data: dict | None, point: str, q: np.ndarray):
+        self.mech, self.values, self.data, self.point, self.q = mech, dict(values), data, point, q
+        # no change point on the way round: the file's geometry as it is (the schedule of change points costs
+        # ~1.5 ms a build and would be empty again for values this close)
+        self.plain = all(not e.get("flips") for e in mech.solving_geometry.elements)
+
+    def build(self, vars_: list[Variable], x: np.ndarray) -> tuple[Mechanism, np.ndarray, dict | None]:
+        values = dict(self.values)
+        data = self.data
+        q = self.q.copy()
+        for var, v in zip(vars_, x):
+            if var.kind == "parameter":
+                values[var.name] = float(v)
+            elif var.kind == "input":
+                q[0] = float(v)
+            else:
+                data = set_pose(data, var, v)
+        if data is not self.data:
+            mech = service.load("<upload>", values, text=json.dumps(data))
+        else:
+            mech = self.mech.with_values(**{k: v for k, v in values.items() if v != self.mech.values.get(k)}) \
+                if values != self.mech.values else self.mech
+        return mech, q, data
+
+    def place(self, vars_: list[Variable], x: np.ndarray) -> np.ndarray:
+        """The point's position [m] at these values; raises ParameterError where it cannot be assembled."""
+        mech, q, _ = self.build(vars_, x)
+        p = self.point
+        want = {"x" + p, "y" + p}
+        if self.plain:
+            zero = np.zeros((len(q), 1))
+            with np.errstate(invalid="ignore", divide="ignore"):
+                out, failed, _ = block(mech.geometry, q[:, None], zero, zero, want, None, False)
+            if failed[0] >= 0:
+                raise ParameterError(f"{mech.geometry.elements[failed[0]]['label']} cannot close")
+            xy = np.array([float(np.ravel(out["x" + p])[0]), float(np.ravel(out["y" + p])[0])])
+        else:
+            sol = mech.solve(q[None, :], outputs=tuple(want))
+            failure = sol.first_failure()
+            if failure is not None:
+                raise ParameterError(f"{failure[1]} cannot close")
+            xy = np.array([float(np.ravel(sol["x" + p])[0]), float(np.ravel(sol["y" + p])[0])])
+        if not np.all(np.isfinite(xy)):
+            raise ParameterError(f"{p} cannot be assembled")
+        return xy
+
+
+def start_values(mech: Mechanism, data: dict | None, vars_: list[Variable], q: np.ndarray) -> np.ndarray:
+    out = []
+    for var in vars_:
+        if var.kind == "parameter":
+            out.append(mech.values[var.name])
+        elif var.kind == "input":
+            out.append(q[0])
+        else:
+            out.append(float(data[var.section][var.name][var.axis]))
+    return np.array(out, dtype=float)
+
+
+def is_angle(mech: Mechanism, var: Variable) -> bool:
+    if var.kind == "input":
+        return mech.inputs[0].kind == "crank"
+    return var.kind == "parameter" and mech.definition.parameter_kind.get(var.name) == "angle"
+
+
+def scales(mech: Mechanism, vars_: list[Variable]) -> np.ndarray:
+    """Each value's natural size, so a least-norm step weighs a length against an angle fairly: 1 rad, the
+    mechanism's size in file units (a slider input's value is in metres)."""
+    size = mech.size / mech.scale
+    return np.array([1.0 if is_angle(mech, v) else mech.size if v.kind == "input" else size for v in vars_])
+
+
+# ----------------------------------------------------------------------------------- the drag
+def solve_drag(model: _Model, vars_: list[Variable], x0: np.ndarray, target: np.ndarray, scale: np.ndarray,
+               size: float) -> tuple[np.ndarray, np.ndarray, str | None]:
+    """Damped Gauss-Newton with least-norm steps: (values, position, why it stopped short or None)."""
+    x = x0.copy()
+    p = model.place(vars_, x)
+    why = None
+    for _ in range(MAX_ITERATIONS):
+        r = p - target
+        if np.hypot(*r) <= TOLERANCE * size:
+            break
+        J = np.empty((2, len(x)))
+        for j in range(len(x)):
+            h = 1e-7 * scale[j]
+            xs = x.copy()
+            xs[j] += h
+            try:
+                J[:, j] = (model.place(vars_, xs) - p) / h
+            except ParameterError:
+                xs[j] -= 2 * h
+                J[:, j] = (p - model.place(vars_, xs)) / h
+        dz = np.linalg.lstsq(J * scale, -r, rcond=1e-10)[0]
+        step = dz * scale
+        t, moved = 1.0, False
+        while t > 1e-4:
+            try:
+                pn = model.place(vars_, x + t * step)
+                if np.hypot(*(pn - target)) < np.hypot(*r):
+                    x, p, moved = x + t * step, pn, True
+                    break
+            except ParameterError as exc:
+                why = str(exc)
+            t *= 0.5
+        if not moved:
+            break
+    return x, p, why
+
+
+def drag(mech: Mechanism, text: str | None, point: str, target, q, locked=(), round_to: float | None = None) -> Drag:
+    """Move ``point`` of ``mech`` (loaded from ``text``, None for a library mechanism, with its values) to
+    ``target`` [m] in the pose at input values ``q``; ``locked``: parameters to keep; ``round_to``: round
+    the changed lengths and coordinates to multiples of this [file units] (the point then lands near)."""
+    if point not in mech.points:
+        raise ParameterError(f"point {point!r} is not a point of {mech.name}; points: {' '.join(mech.points)}")
+    q = np.atleast_1d(np.asarray(q, dtype=float)).copy()
+    if q.shape != (len(mech.inputs),) or not np.all(np.isfinite(q)):
+        raise ParameterError(f"input must give {len(mech.inputs)} finite input value(s) for the pose")
+    target = np.asarray(target, dtype=float)
+    data = file_data(text)
+    vars_, branches = variables(mech, point, data, locked)
+    model = _Model(mech, mech.values, data, point, q)
+    size = mech.size
+    try:
+        here = model.place([], np.array([]))
+    except ParameterError as exc:
+        raise ParameterError(f"{point} is not assembled in this pose ({exc}): pick another pose") from None
+    if not vars_:
+        return Drag(point, {}, None, None, (float(here[0]), float(here[1])), False,
+                    f"{point}: no value of the file places it freely"
+                    f"{' (its values are locked)' if locked else ''}: edit the file or unlock a parameter")
+    scale = scales(mech, vars_)
+    x0 = start_values(mech, data, vars_, q)
+    x, p, why = solve_drag(model, vars_, x0, target, scale, size)
+    flipped = None
+    if np.hypot(*(p - target)) > TOLERANCE * size and branches:       # across the line: the other branch
+        for b in branches:
+            other = _Model(mech.with_values(**{b: -mech.values[b]}), {**mech.values, b: -mech.values[b]}, data,
+                           point, q)
+            try:
+                xb, pb, whyb = solve_drag(other, vars_, x0, target, scale, size)
+            except ParameterError:
+                continue
+            if np.hypot(*(pb - target)) < np.hypot(*(p - target)):
+                x, p, why, model, flipped = xb, pb, whyb, other, b
+    if round_to:
+        xr = np.array([round(v / round_to) * round_to if var.kind != "input" and not is_angle(mech, var) else v
+                       for var, v in zip(vars_, x)])
+        try:
+            p, x = model.place(vars_, xr), xr
+        except ParameterError:
+            pass
+    reached = bool(np.hypot(*(p - target)) <= TOLERANCE * size)
+    final, _, new_data = model.build(vars_, x)
+    values = {k: v for k, v in final.values.items() if k in mech.values and v != mech.values[k]}
+    new_text = None
+    if new_data is not data and new_data is not None:
+        new_text = rewrite_pose(text, data, new_data)
+    q_new = next((float(v) for var, v in zip(vars_, x) if var.kind == "input"), None)
+    names = [var.name if var.kind != "pose" else f"{var.section}.{var.name}[{var.axis}]" for var in vars_]
+    if reached or round_to and np.hypot(*(p - target)) < round_to * mech.scale:
+        message = f"{point}: {', '.join(dict.fromkeys(names))} changed" + (f"; {flipped} flipped" if flipped else "")
+    else:
+        held = [n for n in locked if n in mech.values]
+        if why:
+            message = f"{point} stops at the limit: beyond it {why}"
+        else:
+            message = (f"{point} stops at the limit: it moves only as {', '.join(dict.fromkeys(names))} "
+                       f"change{'s' if len(set(names)) == 1 else ''} (the file's other values that place it are "
+                       f"numbers{', or locked: ' + ', '.join(held) if held else ''})")
+    return Drag(point, values, new_text, q_new, (float(p[0]), float(p[1])), reached, message)
+
+
+# ------------------------------------------------------------------------------ the file's text
+def rewrite_pose(text: str, old: dict, new: dict) -> str:
+    """``text`` with the ``[pose]``/``[ground]`` entries that differ between ``old`` and ``new`` written
+    anew (each on its own line, the rest of the file as it was); JSON is written whole."""
+    if text.lstrip().startswith("{"):
+        return json.dumps(new, indent=2) + "\n"
+    lines = text.splitlines(keepends=True)
+    for section in ("ground", "pose"):
+        for name, xy in (new.get(section) or {}).items():
+            if (old.get(section) or {}).get(name) == xy:
+                continue
+            lines = _replace_entry(lines, section, name, xy)
+    return "".join(lines)
+
+
+def _toml_value(v) -> str:
+    return repr(float(v)) if isinstance(v, (int, float)) and not isinstance(v, bool) else json.dumps(v)
+
+
+def _replace_entry(lines: list[str], section: str, name: str, xy) -> list[str]:
+    header = re.compile(r"^\s*\[\s*" + re.escape(section) + r"\s*\]\s*(#.*)?$")
+    entry = re.compile(r"^(\s*)(" + re.escape(name) + r'|"' + re.escape(name) + r'")\s*=\s*\[[^\]]*\](.*)$', re.S)
+    inside = False
+    for k, line in enumerate(lines):
+        if re.match(r"^\s*\[", line):
+            inside = bool(header.match(line))
+            continue
+        m = entry.match(line) if inside else None
+        if m:
+            value = "[" + ", ".join(_toml_value(round(float(v), 9)) for v in xy) + "]"
+            lines[k] = f"{m.group(1)}{m.group(2)} = {value}{m.group(3)}"
+            return lines
+    raise ParameterError(f"cannot find {section}.{name} written as [x, y] on one line: edit the file by hand")

@@ -1,0 +1,184 @@
+"""The app's path synthesis as a job it can stop: the search runs in a child process of its own session
+(so the job and every worker process it starts are one process group, killed together), reports its real
+stages as it goes, and is killed at its deadline (the budget, plus GRACE) or when the page cancels it.
+
+The child is ``python -m sim.front.synth_job``: it reads one JSON request on stdin ({"targets": [[x, y],
+...] m, "type", "closed", "budget" s, "deadline": epoch seconds by which it must be done}), writes one JSON
+line per stage ({"stage": "search", "done": i, "total": n}, {"stage": "check", ...}) and a last line
+{"result": {"designs": [...]}} or {"error": "one line"}.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import signal
+import subprocess
+import sys
+import threading
+import time
+
+import numpy as np
+
+GRACE = 1.0
+"""[s] How long past its budget a job may run before it is killed (the issue's bound: budget plus 1 s)."""
+DESIGNS = 3
+"""Candidates asked of the search; those that repeat an earlier one are dropped (:func:`distinct`)."""
+SAME_CURVE = 1e-3
+"""Two candidates whose coupler curves lie within this fraction of the targets' size of each other (each
+sample of one to the nearest of the other, both ways) are the same design to the user's eye."""
+
+
+# ------------------------------------------------------------------------------------ the child
+def distinct(designs: list[dict], size: float) -> list[dict]:
+    """``designs`` (best first, each with its ``curve`` {x, y}) without those whose curve repeats an earlier
+    one's (within SAME_CURVE of ``size``, whatever the samples' phase or direction)."""
+    kept: list[tuple[dict, np.ndarray]] = []
+    for d in designs:
+        c = np.column_stack([np.asarray(d["curve"]["x"], float), np.asarray(d["curve"]["y"], float)])
+        c = c[np.all(np.isfinite(c), axis=1)]
+        same = False
+        for _, k in kept:
+            if len(c) and len(k):
+                gap = np.sqrt(((c[:, None] - k[None]) ** 2).sum(-1))
+                if max(gap.min(1).max(), gap.min(0).max()) <= SAME_CURVE * size:
+                    same = True
+                    break
+        if not same:
+            kept.append((d, c))
+    return [d for d, _ in kept]
+
+
+def run(request: dict, emit) -> dict:
+    """The search of one request, its stages sent to ``emit``; the answer the page draws."""
+    from analytic.synthesis import path as sp
+    from sim import design_service
+    from sim.output.jsonout import clean
+    xy = np.asarray(request["targets"], dtype=float)
+    target = sp.Target(xy, None, bool(request["closed"]))
+    budget = max(0.1, float(request["deadline"]) - time.time())      # the process start came out of it
+    options = design_service.PathOptions(types=(request["type"],), budget=budget, designs=DESIGNS)
+    restarts = max(options.restart_count, options.designs)
+
+    def progress(done: int, total: int) -> None:
+        if done <= restarts:
+            emit({"stage": "search", "done": done, "total": restarts})
+        else:
+            emit({"stage": "check", "done": done - restarts, "total": total - restarts})
+
+    emit({"stage": "search", "done": 0, "total": restarts})
+    found = design_service.synthesize_path(target, options, "m", progress=progress)
+    phi = np.linspace(0.0, 2 * math.pi, 361)
+    designs = []
+    for k, f in enumerate(found):
+        d = f["design"]
+        E, _ = d.family.points(np.asarray(d.x)[None, :d.family.size], phi[None], d.branch)
+        designs.append({"name": f"synthesised_{k + 1}", "text": f["text"], "error": clean(f["error"]),
+                        "mu_min_deg": clean(f["parameters"].get("mu_min_deg")), "failed": f["failed"],
+                        "compare_passed": bool(f["compare_passed"]),
+                        "curve": {"x": clean(E[0, :, 0].tolist()), "y": clean(E[0, :, 1].tolist())}})
+    size = float(np.ptp(xy, axis=0).max())
+    kept = distinct(designs, size)
+    for k, d in enumerate(kept):
+        d["name"] = f"synthesised_{k + 1}"
+    return {"designs": kept, "asked": len(designs)}
+
+
+def main() -> int:
+    request = json.loads(sys.stdin.readline())
+
+    def emit(obj: dict) -> None:
+        sys.stdout.write(json.dumps(obj, allow_nan=False) + "\n")
+        sys.stdout.flush()
+    try:
+        emit({"result": run(request, emit)})
+    except Exception as exc:                   # ParameterError and any failure: one line for the page
+        emit({"error": (str(exc).strip().splitlines() or [type(exc).__name__])[0]})
+    return 0
+
+
+# ----------------------------------------------------------------------------------- the server
+class Job:
+    """One synthesis running in its own process group. ``wait()`` gives its answer (or raises JobError);
+    ``status()`` what it is doing now; ``cancel()`` kills it and its workers at once."""
+
+    def __init__(self, request: dict, budget: float):
+        self.started = time.monotonic()
+        self.budget = float(budget)
+        self.state = "running"          # running, done, failed, cancelled, over budget
+        self.stage = {"stage": "starting", "done": 0, "total": 0}
+        self.answer: dict | None = None
+        self.error: str | None = None
+        self._lock = threading.Lock()
+        self._done = threading.Event()
+        env = {**os.environ, "PYTHONUNBUFFERED": "1"}
+        self.proc = subprocess.Popen([sys.executable, "-m", "sim.front.synth_job"], stdin=subprocess.PIPE,
+                                     stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True,
+                                     start_new_session=True, env=env)
+        self.proc.stdin.write(json.dumps({**request, "deadline": time.time() + self.budget}) + "\n")
+        self.proc.stdin.close()
+        threading.Thread(target=self._read, daemon=True, name="linkage-synthesis-reader").start()
+        threading.Thread(target=self._watch, daemon=True, name="linkage-synthesis-deadline").start()
+
+    @property
+    def elapsed(self) -> float:
+        return time.monotonic() - self.started
+
+    def _finish(self, state: str, answer: dict | None = None, error: str | None = None) -> None:
+        with self._lock:
+            if self._done.is_set():
+                return
+            self.state, self.answer, self.error = state, answer, error
+            self.seconds = self.elapsed
+            self._done.set()
+
+    def _read(self) -> None:
+        for line in self.proc.stdout:
+            try:
+                msg = json.loads(line)
+            except ValueError:
+                continue
+            if "result" in msg:
+                self._finish("done", msg["result"])
+            elif "error" in msg:
+                self._finish("failed", error=msg["error"])
+            else:
+                with self._lock:
+                    self.stage = msg
+        self.proc.wait()
+        self._finish("failed", error="the synthesis process ended without an answer")
+
+    def _watch(self) -> None:
+        if not self._done.wait(self.budget + GRACE):
+            self._kill()
+            self._finish("over budget", error=f"the search ran past its {self.budget:g} s budget and was stopped "
+                                              f"at {self.budget + GRACE:g} s: no design was finished; raise the "
+                                              f"budget")
+
+    def _kill(self) -> None:
+        try:
+            os.killpg(self.proc.pid, signal.SIGKILL)     # the job and every worker it started
+        except (ProcessLookupError, PermissionError):
+            pass
+        self.proc.wait()
+
+    def cancel(self) -> None:
+        self._kill()
+        self._finish("cancelled", error="cancelled")
+
+    def wait(self) -> dict:
+        self._done.wait()
+        return {"state": self.state, "answer": self.answer, "error": self.error, "seconds": self.seconds}
+
+    def status(self) -> dict:
+        with self._lock:
+            return {"state": self.state, "elapsed": self.elapsed, "budget": self.budget, **self.stage}
+
+    @property
+    def running(self) -> bool:
+        return not self._done.is_set()
+
+
+if __name__ == "__main__":
+    sys.exit(main())
