@@ -45,7 +45,7 @@ from analytic.applications import motor as am  # noqa: E402
 from sim import model as M  # noqa: E402
 from sim.run import motor as sm  # noqa: E402
 from sim import service  # noqa: E402
-from sim.front.cli import cutting_direction  # noqa: E402
+from sim.front.cli.options import cutting_direction  # noqa: E402
 
 _spec = importlib.util.spec_from_file_location("_trust", HERE / "trust.py")
 trust = importlib.util.module_from_spec(_spec)

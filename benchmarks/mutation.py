@@ -178,7 +178,7 @@ MUTATIONS = [
     Mutation("display-rpm-inverted", "analytic/quantities.py: rpm per rad/s inverted", "analytic/quantities.py",
              "RPM = 60.0 / (2.0 * math.pi)", "RPM = 2.0 * math.pi / 60.0", ["tests/test_units.py"],
              "tests/test_units.py (CSV --speeds rpm: 360 deg/s is 60 rpm)"),
-    Mutation("inertia-option-in-si", "sim/front/cli.py: --inertia read in SI, not in the file's unit", "sim/front/cli.py",
+    Mutation("inertia-option-in-si", "sim/front/cli/options.py: --inertia read in SI, not in the file's unit", "sim/front/cli/options.py",
              "inertias[link] = Inertia(m=given.m, cx=given.cx * s, cy=given.cy * s, I=given.I * s * s)",
              "inertias[link] = given", ["tests/test_units.py"],
              "tests/test_units.py::test_inertia_file_is_read_in_the_file_unit_like_the_inertia_table"),
@@ -186,16 +186,16 @@ MUTATIONS = [
              "sim/output/plot.py", "figs = service.figures(mech)", "figs = figures.of(mech, c.analytic)", ["tests/test_units.py"],
              "tests/test_units.py::test_plot_sheet_figures_are_analyze_figures_and_the_hand_value"),
     # --- issue 20's survivors (an audit's six faults): loads, verdicts, mm guides, sweep metrics
-    Mutation("force-opposite", "sim/front/cli.py loads_from: the --force applied in the opposite direction (both sides "
-             "of compare read the same model)", "sim/front/cli.py", 'force = pair("--force", args.force) or (0.0, 0.0)',
-             'force = tuple(-v for v in pair("--force", args.force) or (0.0, 0.0))', [INDEP, CLI_S],
+    Mutation("force-opposite", "sim/front/cli/options.py loads_from: the --force applied in the opposite direction (both sides "
+             "of compare read the same model)", "sim/front/cli/options.py", 'force = pair("--force", force_text) or (0.0, 0.0)',
+             'force = tuple(-v for v in pair("--force", force_text) or (0.0, 0.0))', [INDEP, CLI_S],
              "tests/test_independent.py::test_a_force_on_the_output_point_is_applied_as_given (power balance)"),
-    Mutation("gravity-opposite", "sim/front/cli.py loads_from: --gravity applied upwards", "sim/front/cli.py",
+    Mutation("gravity-opposite", "sim/front/cli/options.py loads_from: --gravity applied upwards", "sim/front/cli/options.py",
              'gravity = pair("--gravity", args.gravity)',
              'gravity = tuple(-v for v in pair("--gravity", args.gravity)) if args.gravity else None', [INDEP, CLI_S],
              "tests/test_independent.py::test_gravity_is_applied_downwards_as_given (tau = m g cx cos phi)"),
-    Mutation("cutting-assists", "sim/front/cli.py cutting_direction: the cutting force pushes the ram along its slow "
-             "stroke instead of resisting it", "sim/front/cli.py", "return -math.copysign(1.0, vx)",
+    Mutation("cutting-assists", "sim/front/cli/options.py cutting_direction: the cutting force pushes the ram along its slow "
+             "stroke instead of resisting it", "sim/front/cli/options.py", "return -math.copysign(1.0, vx)",
              "return math.copysign(1.0, vx)", [INDEP, CLI_S],
              "tests/test_independent.py::test_a_cutting_force_resists_the_slow_stroke (work = F H)"),
     Mutation("verdict-ignores-torque", "sim/run/compare.py: the verdict ignores the drive torque", "sim/run/compare.py",
@@ -222,8 +222,8 @@ MUTATIONS = [
              "analytic/applications/studies.py", 'stats["mu_min"] = np.min([sol[n] for n in want[4:]], axis=(0, 2))',
              'stats["mu_min"] = np.max([sol[n] for n in want[4:]], axis=(0, 2))', [INDEP, SWEEP],
              "tests/test_independent.py::test_sweep_metrics_by_hand_from_analyze (the textbook extremes)"),
-    Mutation("set-overrides-vary", "sim/front/design.py: --set and --vary of one parameter accepted silently",
-             "sim/front/design.py", "            if name in mech.overrides:\n", "            if False:\n",
+    Mutation("set-overrides-vary", "sim/design_service.py: --set and --vary of one parameter accepted silently",
+             "sim/design_service.py", "            if name in mech.overrides:\n", "            if False:\n",
              [INDEP, SWEEP], "tests/test_independent.py::test_set_and_vary_of_one_parameter_is_refused"),
     Mutation("range-input-at-rest", "sim/service.py analyze: an input range samples the input at rest (zero rates "
              "everywhere)", "sim/service.py", "q[:, 0], qd[:, 0], qdd[:, 0] = q1, first.motion.rate, 0.0",
@@ -263,8 +263,8 @@ MUTATIONS = [
              "says", "sim/service.py", '"parameters": Q.parameters_in(mech, display), "samples"',
              '"parameters": mech.parameters, "samples"', [UNITS],
              "tests/test_units.py::test_json_parameters_are_in_the_units_the_table_names"),
-    Mutation("slider-range-in-metres", "sim/front/cli.py parse_range: a slider's --input-range read in m, not the "
-             "file's unit", "sim/front/cli.py", "scale = 1.0 if angle else mech.scale", "scale = 1.0", [UNITS],
+    Mutation("slider-range-in-metres", "sim/front/cli/options.py parse_range: a slider's --input-range read in m, not the "
+             "file's unit", "sim/front/cli/options.py", "scale = 1.0 if angle else mech.scale", "scale = 1.0", [UNITS],
              "tests/test_units.py::test_check_prints_a_slider_range_in_the_file_unit_that_can_be_pasted"),
     Mutation("summary-unconverted", "analytic/applications/figures.py _shown: summaries print SI numbers beside the "
              "display unit", "analytic/applications/figures.py", 'lambda v, with_unit=1: f"{v * f:.6g}"',

@@ -13,7 +13,8 @@ import analytic
 from analytic.applications import motor as am
 from sim import model as M
 from sim.run import motor as sm
-from sim.front.cli import cutting_direction, main
+from sim.front.cli import main
+from sim.front.cli.options import cutting_direction
 
 
 def _shaper_loads(F=20.0):
@@ -125,7 +126,7 @@ def test_cli_rpm_and_csv(tmp_path, capsys):
     data = np.genfromtxt(path, delimiter=",", names=True)
     assert set(data.dtype.names) == {"t", "phi", "omega", "torque"}
     assert np.all(np.diff(data["t"]) > 0) and data["omega"][0] == 0.0      # from rest, in time order
-    from sim.front.dynamics_cmd import parse_motor
+    from sim.front.cli.dynamics import parse_motor
     assert parse_motor("0.5,120rpm").W0 == pytest.approx(4 * math.pi, rel=1e-15)   # 120 rpm = 4 pi rad/s
 
 

@@ -218,7 +218,7 @@ def test_sweep_table_in_the_file_unit_and_plot_colours_distinct(files):
         # columns: crank, x lo, x hi, y lo, y hi, area, |v| mean, min, max, fluctuation; printed to 5 digits
         factor = np.array([1000] * 5 + [1e6] + [1000] * 3 + [1])
         np.testing.assert_allclose(ra, np.array(rb) * factor, rtol=1e-4)
-    from sim.front.design import family_styles
+    from sim.front.cli.sweep import family_styles
     styles = family_styles(45)
     assert len(set(styles)) == 45 and len({c for c, _ in styles[:20]}) == 20
 

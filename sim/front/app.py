@@ -491,7 +491,7 @@ def loads_of(body: dict, mech: Mechanism):
     cutting = float(number(body, "cutting", 0.0, 0.0, MAX_LOAD))
     if force != (0.0, 0.0):
         raise RequestError(400, "give either force or cutting (a force on the slow stroke), not both")
-    from sim.front.cli import cutting_direction
+    from sim.front.cli.options import cutting_direction
     return Loads(gravity=gravity, force=(cutting_direction(mech) * cutting, 0.0), slow_stroke_only=True)
 
 

@@ -98,7 +98,7 @@ def cmd_path(args) -> int:
     return 0
 
 
-def register(problems, add_video_options) -> None:
+def register(problems) -> None:
     """``synthesize path`` under ``linkage synthesize``."""
     p = problems.add_parser("path", help="four-bar, slider-crank or six-bar whose traced point passes through "
                                          "target points")

@@ -4,9 +4,10 @@ tolerance drives each (SPEC, "Tolerance")."""
 from __future__ import annotations
 
 from analytic import ParameterError
+from sim.front.cli.options import add_common
 
 
-def register(sub, add_common, add_sim_options, add_video_options) -> None:
+def register(sub) -> None:
     from sim.output.units import add_unit_options
     p = sub.add_parser("tolerance", help="Monte Carlo and Sobol tolerance analysis: path deviation, transmission, "
                                          "drive torque and joint forces under the parameters' tolerances")
@@ -52,7 +53,7 @@ def _drop_option(p, option: str) -> None:
 
 def cmd_tolerance(args) -> int:
     from sim import tolerance_service as ts
-    from sim.front.cli import check_outputs, loads_from, mechanism_from, parse_range
+    from sim.front.cli.options import check_outputs, loads_from, mechanism_from, parse_range
     from sim.output.jsonout import dumps
     from sim.output.units import machine_units, shown_units
     check_outputs(args, {"plot": (".png", ".svg", ".pdf")})

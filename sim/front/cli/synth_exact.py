@@ -6,7 +6,7 @@ from __future__ import annotations
 from analytic import ParameterError
 from sim.front.lazy import lazy
 from sim.output.io import check_writable, write_text
-from sim.front.synth_options import add_limits, add_units, limits_of, measure_words
+from sim.front.cli.synth_options import add_limits, add_units, limits_of, measure_words
 from sim.output.jsonout import dumps
 
 design_service = lazy("sim.design_service")  # scipy's optimisers: loaded by the command, not by its options
@@ -74,7 +74,7 @@ def cmd_function(args) -> int:
     return _designs_out(args, "function", found, rejected)
 
 
-def register(problems, add_video_options) -> None:
+def register(problems) -> None:
     """``synthesize motion`` and ``synthesize function`` under ``linkage synthesize``."""
     p = problems.add_parser("motion", help="four-bar through 3-5 coupler poses (Burmester), more by least squares")
     p.add_argument("poses", metavar="POSES.csv", help="CSV with columns x,y,theta (one pose per row, in order)")

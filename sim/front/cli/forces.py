@@ -3,9 +3,10 @@
 from __future__ import annotations
 
 from analytic import ParameterError
+from sim.front.cli.options import add_common, add_sim_options
 
 
-def register(sub, add_common, add_sim_options, add_video_options) -> None:
+def register(sub) -> None:
     from sim.output.units import add_unit_options
     p = sub.add_parser("forces", help="forces in every joint, the drives, the shaking force; balancing")
     add_common(p)
@@ -18,7 +19,7 @@ def register(sub, add_common, add_sim_options, add_video_options) -> None:
                         "links named (default: those pivoted at the ground); before/after reported")
     p.add_argument("--simulate", action="store_true",
                    help="also run the MuJoCo model and compare its joint forces with the analytic ones")
-    from sim.front.loads_opts import add_at
+    from sim.front.cli.loads_opts import add_at
     add_at(p)
     add_unit_options(p)
     p.set_defaults(func=cmd_forces)
@@ -37,13 +38,13 @@ def balance_links(text: str | None):
 def cmd_forces(args) -> int:
     import json
     from sim import service
-    from sim.front.cli import check_outputs, loads_from, mechanism_from, parse_range, settings_from
+    from sim.front.cli.options import check_outputs, loads_from, mechanism_from, parse_range, settings_from
     from sim.output.io import write_csv, write_text
     from sim.output.jsonout import dumps
     from sim.output.units import machine_units, shown_units
     check_outputs(args, {"csv": (".csv",)})
     mech = mechanism_from(args)
-    from sim.front.loads_opts import at_value
+    from sim.front.cli.loads_opts import at_value
     loads = loads_from(args, mech)
     at = at_value(args, mech)
     if at is not None and (args.simulate or args.balance is not None or args.input_range):

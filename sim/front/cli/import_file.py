@@ -19,7 +19,7 @@ def parse_input(text: str) -> tuple[int, int]:
     return base, driver
 
 
-def register(sub, add_common, add_sim_options, add_video_options) -> None:
+def register(sub) -> None:
     p = sub.add_parser("import", help="write a Pyslvs project or expression, or a PMKS file, as a linkage/1 file")
     p.add_argument("mechanism", metavar="SOURCE",
                    help="a Pyslvs-UI project (.pyslvs), a text file holding a Pyslvs expression M[...], or a PMKS "
@@ -35,7 +35,7 @@ def register(sub, add_common, add_sim_options, add_video_options) -> None:
 
 
 def cmd_import(args) -> int:
-    from sim.front.cli import check_outputs
+    from sim.front.cli.options import check_outputs
     from sim.output.io import write_text
     source = args.mechanism
     check_outputs(args, {"out": (".toml",)})

@@ -9,6 +9,7 @@ import math
 from analytic import ParameterError
 from analytic.format import expr
 from analytic import quantities as Q
+from sim.front.cli.options import add_common, add_sim_options, add_video_options
 
 RPM = 2 * math.pi / 60
 
@@ -73,7 +74,7 @@ def add_motor_options(p, two: bool = True) -> None:
     p.add_argument("--start-speed", metavar="W", default="0", help="input speed at t = 0 [rad/s or rpm] (default 0)")
 
 
-def register(sub, add_common, add_sim_options, add_video_options) -> None:
+def register(sub) -> None:
     from sim.output.units import add_unit_options
     p = sub.add_parser("dynamics", help="a motor drives the linkage: speed fluctuation, start-up, flywheel")
     add_common(p, revolutions=10.0)
@@ -94,7 +95,7 @@ def motor_run(args, mech, check=True):
     or target fluctuation and start speed of ``args`` (:func:`add_motor_options`) and the loads of the
     simulation options."""
     from sim.run import motor as smotor
-    from sim.front.cli import loads_from, settings_from
+    from sim.front.cli.options import loads_from, settings_from
     target = (expr.parse_value("--target-fluctuation", args.target_fluctuation, angle=False)
               if args.target_fluctuation is not None else None)
     if len(args.motor) > 1 or len(args.flywheel) > 1:
@@ -122,7 +123,7 @@ def check_motor_args(args) -> None:
 
 def cmd_dynamics(args) -> int:
     from sim.run import motor as smotor
-    from sim.front.cli import check_outputs, mechanism_from
+    from sim.front.cli.options import check_outputs, mechanism_from
     from sim.output.io import write_csv, write_text
     from sim.output.jsonout import dumps
     from sim.output.units import machine_units, shown_units
@@ -198,7 +199,7 @@ def _named(text: str, mech, option: str) -> tuple[str, str]:
 
 def _two_motors(args, mech, target, display) -> int:
     from sim.run import motor as smotor
-    from sim.front.cli import loads_from, settings_from
+    from sim.front.cli.options import loads_from, settings_from
     from sim.output.jsonout import dumps
     names = [i.q for i in mech.inputs]
     if args.motor_table or target is not None or args.plot or args.csv or args.render:

@@ -1,0 +1,119 @@
+"""The ``linkage`` command (also ``python -m sim``): argument parsing over :mod:`sim.service`.
+
+One module per command in this package, each with ``register(sub)`` (its options; it imports nothing
+heavy, so that building the parser stays cheap) and the function that runs it; what they share is in
+:mod:`sim.front.cli.options`. This module assembles the parser from :data:`COMMANDS` and runs one command.
+
+Every user error ends in one line on stderr and exit code 2, never a traceback. MuJoCo, matplotlib and
+scipy are imported only by the commands that need them.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import os
+import sys
+import threading
+import warnings
+
+from analytic import ParameterError
+
+COMMANDS = ("listing", "check", "analyze", "simulate", "compare", "render", "plot", "export", "run",
+            "synthesize", "sweep", "dynamics", "forces", "import_file", "tolerance", "app")
+"""The command modules of this package, in the order ``linkage --help`` lists them."""
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message):            # argparse's own errors: one line, exit 2
+        self.exit(2, f"linkage: error: {message}\n")
+
+
+def make_parser() -> argparse.ArgumentParser:
+    parser = _Parser(prog="linkage", description="Planar linkage kinematics, MuJoCo simulation and rendering.")
+    sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
+    for name in COMMANDS:
+        importlib.import_module(f"sim.front.cli.{name}").register(sub)
+    return parser
+
+
+def _join_negative_values(parser: argparse.ArgumentParser, argv: list[str]) -> list[str]:
+    """``--force -10,0`` as ``--force=-10,0``: argparse would take ``-10,0`` for an option. Any value
+    that starts with '-' followed by a digit or '.' is joined to the option before it."""
+    takes_value = set()
+    for action in _all_actions(parser):
+        if action.option_strings and action.nargs is None and not isinstance(
+                action, (argparse._StoreTrueAction, argparse._StoreFalseAction, argparse._HelpAction)):
+            takes_value.update(action.option_strings)
+    out, i = [], 0
+    while i < len(argv):
+        tok = argv[i]
+        if tok in takes_value and i + 1 < len(argv) and len(argv[i + 1]) > 1 and argv[i + 1][0] == "-" \
+                and (argv[i + 1][1].isdigit() or argv[i + 1][1] == "."):
+            out.append(f"{tok}={argv[i + 1]}")
+            i += 2
+            continue
+        out.append(tok)
+        i += 1
+    return out
+
+
+def _all_actions(parser):
+    for action in parser._actions:
+        yield action
+        if isinstance(action, argparse._SubParsersAction):
+            for sub in action.choices.values():
+                yield from _all_actions(sub)
+
+
+class Terminated(BaseException):
+    """SIGTERM, raised in the main thread so that partial outputs are removed on the way out."""
+
+
+def _on_sigterm(signum, frame):
+    raise Terminated()
+
+
+def main(argv: list[str] | None = None) -> int:
+    import signal
+    main_thread = threading.current_thread() is threading.main_thread()
+    previous = signal.signal(signal.SIGTERM, _on_sigterm) if main_thread else None
+    try:
+        with warnings.catch_warnings():
+            # numpy's RuntimeWarnings (sqrt of a negative, 0/0) mark poses where a group does not assemble;
+            # the solver flags those samples itself (Solution.valid) and every command reports them in words
+            warnings.simplefilter("ignore", RuntimeWarning)
+            return _main(argv)
+    finally:
+        if main_thread:
+            signal.signal(signal.SIGTERM, previous)
+
+
+def _main(argv: list[str] | None) -> int:
+    try:
+        parser = make_parser()
+        argv = _join_negative_values(parser, list(sys.argv[1:] if argv is None else argv))
+        args = parser.parse_args(argv)
+        return args.func(args)
+    except ParameterError as exc:
+        print(f"linkage: error: {exc}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print("linkage: interrupted", file=sys.stderr)
+        return 130
+    except Terminated:
+        print("linkage: terminated", file=sys.stderr)
+        return 143
+    except BrokenPipeError:
+        # the reader went away (e.g. | head): stop quietly, and keep Python from complaining at exit
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        return 0
+    except OSError as exc:
+        where = f" {exc.filename}" if exc.filename else ""
+        print(f"linkage: error:{where} {exc.strerror or exc}", file=sys.stderr)
+        return 2
+    except MemoryError:
+        print("linkage: error: out of memory: reduce --samples, --revolutions or the sweep grid", file=sys.stderr)
+        return 2
+

@@ -1,0 +1,45 @@
+"""``linkage analyze MECH``: closed-form kinematics over a run; a summary, CSV or JSON."""
+
+from __future__ import annotations
+
+
+
+from sim import service
+from sim.output.jsonout import dumps
+from sim.output.units import add_unit_options
+from sim.front.cli.options import (add_common, check_outputs, mechanism_from, parse_range, write_columns)
+
+
+def register(sub) -> None:
+    p = sub.add_parser("analyze", help="closed-form kinematics over a run; summary, CSV or JSON")
+    add_common(p)
+    p.add_argument("--samples", type=int, default=361, metavar="N", help="samples (default 361)")
+    from sim.front.cli.loads_opts import add_options
+    add_options(p)
+    p.add_argument("--input-range", metavar="LO:HI", help="sample the first input between LO and HI instead")
+    p.add_argument("--csv", metavar="PATH", help="write every sample as CSV (units in PATH.units.json)")
+    p.add_argument("--json", action="store_true", help="print one JSON object")
+    add_unit_options(p)
+    p.set_defaults(func=run)
+
+
+def run(args) -> int:
+    mech = mechanism_from(args)
+    check_outputs(args, {"csv": (".csv",)})
+    a = service.analyze(mech, args.samples, args.revolutions, parse_range(mech, args.input_range))
+    from analytic.applications import figures
+    from sim.output.units import machine_units, shown_units
+    if args.csv:
+        write_columns(args.csv, mech, service.analysis_columns(mech, a), machine_units(args))
+    if args.json:
+        record = service.analysis_record(mech, a, args.samples, args.revolutions, machine_units(args))
+        if args.csv:
+            record["csv"] = args.csv
+        print(dumps(record))
+    else:
+        from analytic.quantities import parameters_text
+        shown = shown_units(args, mech)
+        print("\n".join([f"{mech.name}: {parameters_text(mech, shown)}"] + figures.summary(mech, a.figures, shown)))
+        if args.csv:
+            print(f"wrote {args.csv} ({args.samples} rows)")
+    return 0

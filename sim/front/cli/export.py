@@ -1,0 +1,40 @@
+"""``linkage export MECH``: the generated MuJoCo model (MJCF) and/or the mechanism file."""
+
+from __future__ import annotations
+
+import argparse
+
+
+from analytic import ParameterError
+from sim import service
+from sim.front.cli.options import (add_common, check_outputs, mechanism_from, settings_from)
+
+
+def register(sub) -> None:
+    p = sub.add_parser("export", help="write the generated MuJoCo model (MJCF) and/or the mechanism file")
+    add_common(p)
+    p.add_argument("--mjcf", metavar="PATH.xml", help="the MuJoCo model, its home keyframe closing every loop")
+    p.add_argument("--toml", metavar="PATH.toml", help="the mechanism file with the current parameter values")
+    p.add_argument("--timestep", type=float, default=None, metavar="H", help="time step written into the model")
+    p.add_argument("--integrator", default="rk4", help=argparse.SUPPRESS)
+    p.add_argument("--balance", nargs="?", const="", default=None, metavar="LINK,LINK",
+                   help="add counterweights that balance the shaking force ([mass.counterweights]; see forces)")
+    p.set_defaults(func=run)
+
+
+def run(args) -> int:
+    from sim.output.io import write_text
+    if not (args.mjcf or args.toml):
+        raise ParameterError("give --mjcf PATH (the MuJoCo model) and/or --toml PATH (the mechanism file)")
+    check_outputs(args, {"mjcf": (".xml",), "toml": (".toml",)})
+    mech = mechanism_from(args)
+    if args.balance is not None:                   # counterweights written into the model (issue 17)
+        from sim.front.cli.forces import balance_links
+        mech, _ = service.balanced_mechanism(mech, balance_links(args.balance))
+    if args.mjcf:
+        write_text(args.mjcf, service.export_mjcf(mech, settings_from(args), getattr(args, "revolutions", 1.0)))
+        print(f"wrote {args.mjcf}")
+    if args.toml:
+        write_text(args.toml, service.mechanism_text(mech))
+        print(f"wrote {args.toml}")
+    return 0

@@ -1,0 +1,212 @@
+"""What the command modules share: the common options and their values (``--set``, the input range, the
+simulation settings and loads), the checks of output paths, and CSV columns with their units sidecar.
+
+Every command module imports this one and nothing else of the command line, so that the modules form no
+circle: :mod:`sim.front.cli` assembles the parser from the command modules, which import this.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import os
+import sys
+
+import numpy as np
+
+from analytic import ParameterError
+from analytic.format import expr
+from sim import service
+from sim.output.io import check_writable, write_csv
+
+
+def sets_of(items: list[str]) -> dict[str, str]:
+    """``--set NAME=VALUE`` items as {name: text}; a name given twice is an error."""
+    out: dict[str, str] = {}
+    for item in items or []:
+        if "=" not in item:
+            raise ParameterError(f"--set {item!r} is not NAME=VALUE (e.g. --set l1=0.12)")
+        name, text = (x.strip() for x in item.split("=", 1))
+        if name in out:
+            raise ParameterError(f"--set {name} is given twice ({out[name]} and {text}); give it once")
+        out[name] = text
+    return out
+
+
+def mechanism_from(args):
+    return service.load(args.mechanism, sets_of(args.sets))
+
+
+def _outputs(args) -> set[str]:
+    outs = set()
+    for name in ("csv", "out", "mjcf", "toml", "plot", "render"):
+        v = getattr(args, name, None)
+        if v:
+            outs.add(os.path.abspath(v))
+    return outs
+
+
+def check_outputs(args, suffixes: dict[str, tuple[str, ...]]) -> None:
+    """Every output path writable with the right type, and none of them one of the inputs."""
+    for name, sfx in suffixes.items():
+        v = getattr(args, name, None)
+        if v:
+            check_writable(v, sfx)
+    inputs = set()
+    mech = getattr(args, "mechanism", None)
+    if isinstance(mech, str) and os.path.exists(mech):
+        inputs.add(os.path.abspath(mech))
+    if getattr(args, "inertia", None):
+        inputs.add(os.path.abspath(args.inertia))
+    from analytic.registry import LIBRARY
+    library = os.path.realpath(LIBRARY)
+    for out in sorted(_outputs(args)):
+        if os.path.dirname(os.path.realpath(out)) == library:
+            raise ParameterError(f"{out} is in the shipped mechanism library, which is never written; "
+                                 f"choose an output outside {library}")
+    clash = {os.path.realpath(x) for x in inputs} & {os.path.realpath(x) for x in _outputs(args)}
+    if clash:
+        raise ParameterError(f"{sorted(clash)[0]} is an input of this command and would be overwritten; "
+                             f"choose another output name")
+
+
+def parse_range(mech, text: str | None) -> tuple[float, float] | None:
+    """``LO:HI`` of the first input: a crank's in radians, or degrees with a deg suffix; a slider's in the
+    file's length unit (like ``--set``, and as ``linkage check`` prints it), returned in metres. Without
+    ``text``: the file's own ``input_range`` (a synthesised rocking design's working range), if any."""
+    text = text or mech.definition.input_range
+    if not text:
+        return None
+    if ":" not in text:
+        raise ParameterError(f"--input-range {text!r} is not LO:HI (e.g. -40deg:40deg)")
+    lo, hi = text.split(":", 1)
+    angle = mech.inputs[0].kind == "crank"
+    scale = 1.0 if angle else mech.scale
+    return (expr.parse_value("--input-range", lo, angle=None if angle else False) * scale,
+            expr.parse_value("--input-range", hi, angle=None if angle else False) * scale)
+
+
+def pair(option: str, text: str | None) -> tuple[float, float] | None:
+    if text is None:
+        return None
+    parts = text.split(",")
+    if len(parts) != 2:
+        raise ParameterError(f"{option} {text!r} is not two numbers X,Y (e.g. {option} 0,-9.81)")
+    return expr.parse_value(option, parts[0], angle=False), expr.parse_value(option, parts[1], angle=False)
+
+
+def settings_from(args):
+    from sim.model import Settings
+    return Settings(timestep=args.timestep, integrator=args.integrator)
+
+
+def loads_from(args, mech):
+    """The Loads of the command line: gravity, external or cutting force, links' inertias."""
+    from analytic.mass import Inertia
+    from sim.model import Loads
+    from sim.front.cli.loads_opts import command_loads
+    gravity = pair("--gravity", args.gravity)
+    force_text, extra = command_loads(args, mech)           # --force FX,FY@POINT[:LINK], --torque T@LINK
+    force = pair("--force", force_text) or (0.0, 0.0)
+    cutting = args.cutting_force
+    slow = False
+    if cutting is not None:
+        cutting = expr.parse_value("--cutting-force", cutting, angle=False)
+        if cutting < 0:
+            raise ParameterError(f"--cutting-force {cutting:g} must be >= 0 [N] (it always resists the motion)")
+        if args.force:
+            raise ParameterError("give either --force or --cutting-force, not both")
+        force, slow = (cutting_direction(mech) * cutting, 0.0), True
+    inertias = None
+    if args.inertia:
+        if os.path.abspath(args.inertia) in _outputs(args):
+            raise ParameterError(f"--inertia {args.inertia} is also an output of this command; it would be "
+                                 f"overwritten: choose another output name")
+        try:
+            with open(args.inertia) as f:
+                raw = json.load(f)
+        except (OSError, ValueError) as exc:
+            raise ParameterError(f"--inertia {args.inertia}: cannot read it as JSON ({exc})") from None
+        if not isinstance(raw, dict):
+            raise ParameterError(f"--inertia {args.inertia}: expected an object of links")
+        inertias = {}
+        for link, data in raw.items():
+            if not isinstance(data, dict):
+                raise ParameterError(f"--inertia {link}: give an object with m, cx, cy and I")
+            try:
+                given = Inertia(**data)            # file units, like the file's [inertia]: m kg, cx cy, I kg unit^2
+                s = mech.scale
+                inertias[link] = Inertia(m=given.m, cx=given.cx * s, cy=given.cy * s, I=given.I * s * s)
+            except TypeError:
+                raise ParameterError(f"--inertia {link}: give m, cx, cy and I (got {sorted(data)})") from None
+            except ParameterError as exc:
+                raise ParameterError(f"--inertia {link}: {exc}") from None
+    return Loads(gravity=gravity, force=force, slow_stroke_only=slow, inertias=inertias, extra=extra)
+
+
+def cutting_direction(mech) -> float:
+    """-1 or +1: the x direction that resists the output point during its slow (cutting) stroke."""
+    from sim.model import slow_stroke
+    lo, hi = slow_stroke(mech)
+    first = mech.inputs[0]
+    q = first.motion.q0 + np.linspace(lo, hi, 50)[1:-1]
+    sol = mech.solve(q, math.copysign(1.0, first.motion.rate or 1.0))
+    vx = float(np.nanmean(sol["vx" + mech.output_point]))
+    return -math.copysign(1.0, vx)
+
+
+def write_columns(path, mech, columns, display=None) -> None:
+    """CSV (SPEC column names in the header) plus a sidecar ``PATH.units.json`` with each column's unit:
+    SI unless ``display`` (from --units/--angles/--speeds) says otherwise."""
+    from sim.output.io import write_text
+    from sim.output.units import SI, convert_columns
+    display = display or SI
+    write_csv(path, convert_columns(mech, columns, display))
+    write_text(f"{path}.units.json", json.dumps({"mechanism": mech.name, **service.parameters_record(mech, display),
+                                                  "file_units": mech.units, "si": display.is_si,
+                                                  "units": service.units_of(mech, columns, display)},
+                                                 indent=2) + "\n")
+
+
+def say_start(mech, run) -> None:
+    """A note on stderr where the run starts elsewhere than the file (a crank starting at a change point)."""
+    note = service.start_note(mech, run)
+    if note:
+        print(f"linkage: note: {note}", file=sys.stderr)
+
+
+def add_common(p: argparse.ArgumentParser, revolutions: float = 1.0, mechanism: bool = True) -> None:
+    if mechanism:
+        p.add_argument("mechanism", metavar="MECH",
+                       help="a built-in or library name (linkage list) or a linkage/1 file (.toml/.json)")
+    p.add_argument("--set", dest="sets", action="append", default=[], metavar="NAME=VALUE",
+                   help="override a parameter (repeatable); an angle may end in deg")
+    p.add_argument("--revolutions", type=float, default=revolutions, metavar="R",
+                   help=f"revolutions of the first input (default {revolutions:g})")
+
+
+def add_sim_options(p) -> None:
+    from sim.front.defaults import DEFAULT_INTEGRATOR, INTEGRATOR_NAMES
+    p.add_argument("--timestep", type=float, default=None, metavar="H",
+                   help="physics time step [s] (default: chosen from the design's fastest rate)")
+    p.add_argument("--integrator", default=DEFAULT_INTEGRATOR, choices=INTEGRATOR_NAMES,
+                   help=f"MuJoCo integrator (default {DEFAULT_INTEGRATOR})")
+    p.add_argument("--gravity", metavar="GX,GY", help="gravity in the plane [m/s^2], e.g. 0,-9.81")
+    p.add_argument("--force", metavar="FX,FY[@POINT[:LINK]]",
+                   help="constant external force [N] on the output point, or at POINT on LINK (default: its carrier)")
+    p.add_argument("--cutting-force", metavar="F",
+                   help="a force F [N] resisting the output point's slow (cutting) stroke along x")
+    from sim.front.cli.loads_opts import add_options
+    add_options(p)
+    p.add_argument("--input-range", metavar="LO:HI",
+                   help="rock the first input between LO and HI (e.g. a crank that cannot turn fully)")
+    p.add_argument("--inertia", metavar="PATH.json",
+                   help='links\' inertial data: {"2": {"m": 0.5, "cx": 0.15, "cy": 0, "I": 0.004}, ...}')
+
+
+def add_video_options(p, out_required: bool = True) -> None:
+    if out_required:
+        p.add_argument("--out", required=True, metavar="PATH", help="video file, .mp4 (H.264) or .gif")
+    p.add_argument("--fps", type=float, default=30.0, metavar="F", help="frames per second (default 30)")
+    p.add_argument("--size", default="640x480", metavar="WxH", help="frame size in pixels (default 640x480)")

@@ -1,0 +1,93 @@
+"""``linkage run [MECH ...]``: the main job: simulate, cross-validate, render, plot and save."""
+
+from __future__ import annotations
+
+import os
+import sys
+
+
+import analytic
+from analytic import ParameterError
+from sim import service
+from sim.output.units import add_unit_options
+from sim.front.cli.options import (add_sim_options, add_video_options, loads_from,
+                                   parse_range, say_start, sets_of, settings_from, write_columns)
+
+
+def register(sub) -> None:
+    p = sub.add_parser("run", help="the main job: simulate, cross-validate, render, plot and save")
+    p.add_argument("mechanisms", nargs="*", metavar="MECH", help="mechanisms (default: the three built-ins)")
+    p.add_argument("--set", dest="sets", action="append", default=[], metavar="NAME=VALUE",
+                   help="override a parameter (only with a single mechanism)")
+    p.add_argument("--revolutions", type=float, default=1.0, metavar="R", help="revolutions (default 1)")
+    p.add_argument("--out-dir", default="renders", metavar="DIR", help="output folder (default renders/)")
+    p.add_argument("--format", choices=("mp4", "gif"), default="mp4", help="video format (default mp4)")
+    p.add_argument("--no-video", action="store_true", help="skip the animations")
+    add_sim_options(p)
+    add_video_options(p, out_required=False)
+    add_unit_options(p)
+    p.set_defaults(func=run)
+
+
+def run(args) -> int:
+    """The main job: simulate, cross-validate, render, plot and write CSV for each mechanism."""
+    import time
+    from pathlib import Path
+    from sim.run.compare import table
+    from sim.output.plot import sheet
+    from sim.output.render import check_video_args, parse_size, render
+    names = args.mechanisms or list(analytic.BUILTINS)
+    if len(set(names)) != len(names):
+        raise ParameterError("a mechanism is named twice; name each once")
+    if (args.sets or args.inertia or args.cutting_force is not None or args.input_range) and len(names) != 1:
+        raise ParameterError("--set, --inertia, --cutting-force and --input-range apply to one mechanism at a time: "
+                             "name it (e.g. linkage run fourbar --set l1=0.12)")
+    out_dir = Path(args.out_dir)
+    if out_dir.exists() and not out_dir.is_dir():
+        raise ParameterError(f"--out-dir {out_dir} is a file, not a folder; choose a folder")
+    mechs = []
+    for name in names:
+        mech = service.load(name, sets_of(args.sets))
+        mechs.append((mech, service.prepare(mech, args.revolutions, parse_range(mech, args.input_range))))
+    ext = "." + args.format
+    size = parse_size(args.size)
+    try:
+        out_dir.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise ParameterError(f"--out-dir {out_dir}: cannot create it ({exc.strerror or exc})") from None
+    if not os.access(out_dir, os.W_OK):
+        raise ParameterError(f"--out-dir {out_dir} is not writable; choose another folder")
+    if not args.no_video:
+        check_video_args(str(out_dir / f"{mechs[0][0].name}{ext}"), args.fps, args.size)
+    t_start = time.perf_counter()
+    results = []
+    for k, (mech, _) in enumerate(mechs):
+        if len(mechs) > 1 and sys.stderr.isatty():
+            sys.stderr.write(f"[{k + 1}/{len(mechs)}] {mech.name}\n")
+        built, c = service.compare(mech, args.revolutions, settings_from(args), loads_from(args, mech),
+                                   parse_range(mech, args.input_range))
+        from sim.output.units import machine_units, shown_units
+        say_start(mech, built.mech)
+        shown = shown_units(args, mech)
+        print(table(c, mech.size, shown, mech.output_point))
+        files = [out_dir / f"{mech.name}.csv", out_dir / f"{mech.name}.png"]
+        write_columns(files[0], mech, service.trajectory_columns(c.trajectory), machine_units(args))
+        sheet(c, built, str(files[1]), shown)
+        if not args.no_video:
+            render(built, c.trajectory, str(out_dir / f"{mech.name}{ext}"), args.fps, size, display=shown)
+            files.append(out_dir / f"{mech.name}{ext}")
+        results.append((mech, c, files))
+        print()
+    print(f"summary ({time.perf_counter() - t_start:.1f} s):")
+    for mech, c, files in results:
+        from sim.run.compare import errors_in
+        from sim.output.units import shown_units
+        u = shown_units(args, mech)
+        worst = max(c.errors, key=lambda k: c.errors[k]["max"] / c.errors[k]["tol"])
+        e = errors_in({worst: c.errors[worst]}, u)[worst]
+        print(f"  {mech.name:<8s} {'PASSED' if c.passed else 'FAILED'}  worst {worst}: {e['max']:.2e} {e['unit']} "
+              f"(tol {e['tol']:.1e}); loop {u.convert('length', c.max_loop_violation):.1e} {u.unit('length')}; "
+              f"drive {c.drive_error:.1e}")
+        for f in files:
+            print(f"           {f}")
+    return 0 if all(c.passed for _, c, _ in results) else 1
