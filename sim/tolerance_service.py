@@ -97,10 +97,10 @@ def cycle_of(mech, loads=None, input_range=None):
 
 def tolerance(mech, items: list[str], samples: int = 1000, seed: int = 1, outputs: str | None = None,
               sobol: bool = False, scheduler: str | None = None, loads=None, input_range=None,
-              workers: int = 1) -> T.Result:
+              workers: int = 1, progress=None) -> T.Result:
     """Monte Carlo, first-order propagation and (``sobol``) Sobol indices of ``mech`` under the tolerances
     ``items`` (``--tol`` texts); the designs in chunks on ``workers`` processes or a Dask ``scheduler``
-    address (``"local"``: a LocalCluster here)."""
+    address (``"local"``: a LocalCluster here); ``progress(done, total)`` as designs are evaluated."""
     from sim.run.parallel import mapper
     tols = tolerances_of(mech, items)
     if not tols:
@@ -111,7 +111,7 @@ def tolerance(mech, items: list[str], samples: int = 1000, seed: int = 1, output
     nominal, cycle = cycle_of(mech, loads, input_range)
     with mapper(workers, scheduler) as m:
         return T.analyse(nominal, tols, cycle, outs, samples, seed, sobol,
-                         m if (workers > 1 or scheduler) else None)
+                         m if (workers > 1 or scheduler) else None, progress)
 
 
 def _parameter_si(mech, name: str) -> float:
