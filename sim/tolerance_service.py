@@ -140,7 +140,8 @@ def tolerance_record(result: T.Result, mech, display=None) -> dict:
             return _num(display.convert(q, v)) if v is not None and math.isfinite(v) else None
         outputs[o] = {"nominal": c(s.nominal), "mean": c(s.mean), "std": c(s.std), "p05": c(s.p05),
                       "p95": c(s.p95), "first_order_std": c(s.first_order_std),
-                      "sobol": s.sobol,
+                      "sobol": None if s.sobol is None else {p: {k: _num(x) for k, x in v.items()}
+                                                             for p, v in s.sobol.items()},
                       "rates": {p: c(r / _parameter_si(mech, p)) for p, r in s.rates.items()},
                       "shares": s.shares}
     tols = {}

@@ -212,6 +212,9 @@ def test_mm_file_tolerances_are_in_file_units_and_the_json_si(tmp_path):
         for key in ("std", "first_order_std", "p95"):
             # same draws (same seed, same widths in file units), same geometry: rounding only
             assert da["outputs"][name][key] == pytest.approx(db["outputs"][name][key], rel=1e-9), (name, key)
+        # rates per SI unit of the parameter (the same physical step; its rounding ~ 1e-16 / 1e-3 std ~ 1e-10)
+        assert da["outputs"][name]["rates"]["l1"] == pytest.approx(db["outputs"][name]["rates"]["l1"], rel=1e-6)
+    assert da["tolerances"]["l1"]["half_width"] == pytest.approx(0.0005, rel=1e-12)    # SI in the JSON
 
 
 MM_FOURBAR = """

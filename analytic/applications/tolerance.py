@@ -254,10 +254,14 @@ def evaluate_chunk(job):
         torque, joint = np.full(k, np.nan), np.full(k, np.nan)
         names = F.wanted(base)
         for i in np.flatnonzero(ok):
-            mech = base.with_values(**{name: float(v[i]) for name, v in chunk.items()})
-            model = mass.model(mech, cycle.inertias)
-            f = F.solve(mech, cycle.q, qd[i], qdd[i], model, cycle.gravity, cycle.force, cycle.force_on,
-                        sol={name: sol[name][i] for name in names})
+            try:
+                mech = base.with_values(**{name: float(v[i]) for name, v in chunk.items()})
+                model = mass.model(mech, cycle.inertias)
+                f = F.solve(mech, cycle.q, qd[i], qdd[i], model, cycle.gravity, cycle.force, cycle.force_on,
+                            sol={name: sol[name][i] for name in names})
+            except ParameterError as exc:                    # this design's own checks, or its statics
+                reasons[i] = str(exc)
+                continue
             if F.singular_samples(f).any():
                 reasons[i] = "a singular pose: its joint forces are unbounded"
                 continue
