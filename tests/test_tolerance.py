@@ -122,6 +122,39 @@ def test_path_deviation_of_a_slider_crank_rod_tolerance_is_the_hand_computed_dis
     assert s.p95 == pytest.approx(k * v * 0.95, rel=0.03)       # percentiles of U(0, kV)
 
 
+def test_speed_tolerance_scales_inertia_forces_as_its_square_and_leaves_the_poses():
+    # with inertia loads only and a constant input speed, every acceleration is omega^2 times a function of
+    # the pose, so every force and drive torque is too: d(peak)/d(omega) = 2 peak / omega; the poses (at the
+    # same input values) do not move at all
+    mech = service.load("fourbar")
+    w = float(mech.values["omega1"])
+    r = ts.tolerance(mech, ["omega1=±1%", "l1=±0.0001"], samples=50, seed=1)
+    for name in ("peak_torque", "peak_joint_force"):
+        s = r.summaries[name]
+        # central differences of a quadratic are exact; rounding ~ 1e-16 / (1e-3 x 0.6 % of omega): 1e-6
+        assert s.rates["omega1"] == pytest.approx(2 * s.nominal / w, rel=1e-6), name
+    for name in ("path_deviation", "transmission_min"):
+        assert abs(r.summaries[name].rates["omega1"]) < 1e-9, name
+
+
+def test_nominal_forces_are_those_of_linkage_forces_with_its_loads():
+    # the nominal design through the tolerance path (batch kinematics, each design's own mass model, the
+    # cutting force's window and gravity from the command's loads) against `linkage forces` (one mechanism,
+    # its own kinematics): the same numbers to rounding
+    from sim.model import Loads
+    from sim.front.cli import cutting_direction
+    mech = service.load("sixbar")
+    force = (cutting_direction(mech) * 500.0, 0.0)
+    loads = Loads(gravity=(0.0, -9.81), force=force, slow_stroke_only=True)
+    r = ts.tolerance(mech, ["l1=±0.0001"], samples=10, seed=1, outputs="peak_torque,peak_joint_force",
+                     loads=loads)
+    run_ = service.forces_run(mech, 361, 1.0, None, (0.0, -9.81), force, True)
+    peaks = service.force_peaks(run_)
+    assert r.summaries["peak_torque"].nominal == pytest.approx(peaks["drives"]["phi1"]["value"], rel=1e-9)
+    assert r.summaries["peak_joint_force"].nominal == pytest.approx(
+        max(j["F"] for j in peaks["joints"].values()), rel=1e-9)
+
+
 # ------------------------------------------------------------------------------ Sobol indices
 def test_sobol_indices_of_an_additive_function_are_its_variance_shares():
     # y = 2 a + b, a uniform on [-1, 1] (variance 1/3), b normal with sigma 0.5: variances 4/3 and 1/4;
