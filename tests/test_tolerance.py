@@ -287,6 +287,22 @@ at = [150, 100]
 
 
 # ------------------------------------------------------------------------------ bad input
+def test_tolerance_forms():
+    nominal = {"l1": 0.1, "phi1_0": 0.5, "n": 3.0}
+    kinds = {"l1": "length", "phi1_0": "angle", "n": "number"}
+    cases = {"l1=±0.002": ("uniform", 0.002), "l1=+-0.002": ("uniform", 0.002), "l1=+/-2e-3": ("uniform", 0.002),
+             "l1=±5%": ("uniform", 0.005), "l1=normal:0.001": ("normal", 0.001), "l1=normal:2%": ("normal", 0.002),
+             "phi1_0=±1deg": ("uniform", math.radians(1)), "phi1_0=±10%": ("uniform", 0.05),
+             "n = normal: 0.5": ("normal", 0.5)}
+    for text, (dist, width) in cases.items():
+        t = T.parse(text, nominal, kinds)
+        assert (t.dist, t.name) == (dist, text.split("=")[0].strip()), text
+        assert t.width == pytest.approx(width, rel=1e-12), text
+    # standard deviations: uniform on [-V, V] has V/sqrt(3); normal has sigma
+    assert T.parse("l1=±0.003", nominal, kinds).std == pytest.approx(0.003 / math.sqrt(3), rel=1e-15)
+    assert T.parse("l1=normal:0.003", nominal, kinds).std == 0.003
+
+
 @pytest.mark.parametrize("tol, words", [
     ("l9=±0.1", ["l9", "not a parameter"]),
     ("l1=0.1", ["l1", "±V"]),

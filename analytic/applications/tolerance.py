@@ -492,8 +492,8 @@ def analyse(base, tols, cycle: Cycle, outputs, samples: int = 1000, seed: int = 
             linearised[o] = nominal[o] + deltas @ rate[o]
             contrib = np.abs(rate[o]) * sigma
             fo = float(math.sqrt(np.sum(contrib ** 2)))
-        total = float(np.sum(contrib ** 2))
-        shares = {t.name: (float(c * c / total) if total > 0 else 0.0) for t, c in zip(tols, contrib)}
+        variance = float(np.sum(contrib ** 2))
+        shares = {t.name: (float(c * c / variance) if variance > 0 else 0.0) for t, c in zip(tols, contrib)}
         rates_o = {t.name: float(r) for t, r in zip(tols, rate[o])}
         summaries[o] = Summary(nominal[o], *_stats(values[o]), fo, rates_o, shares, sob[o])
     return Result(base.name, tols, outputs, seed, deltas, values, reasons, summaries, evaluations, dropped,
