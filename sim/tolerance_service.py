@@ -42,11 +42,22 @@ def _forces_ok(mech) -> bool:
     return True
 
 
+def _unapplied_loads(mech) -> str:
+    """The file's load tables this command does not apply to its forces yet ("" if none): ``[[loads]]`` and
+    ``[friction]`` (SPEC "Loads"; the tolerance forces take gravity, the output point's force, the cutting
+    force and the masses)."""
+    d = mech.definition
+    return " and ".join(n for n, v in (("[[loads]]", getattr(d, "loads", ())), ("[friction]", getattr(d, "friction", None)))
+                        if v)
+
+
 def outputs_of(mech, text: str | None) -> tuple[str, ...]:
     """``--outputs a,b,...`` (None: the defaults the mechanism has), checked against what it has."""
     has = T.available(mech, _forces_ok(mech))
     if text is None:
-        return tuple(o for o in T.DEFAULT_OUTPUTS if o in has)
+        outs = tuple(o for o in T.DEFAULT_OUTPUTS if o in has)
+        _check_loads(mech, outs)
+        return outs
     names = [x.strip() for x in text.split(",") if x.strip()]
     if not names:
         raise ParameterError(f"--outputs {text!r}: give output names separated by commas; choose from "
@@ -60,7 +71,18 @@ def outputs_of(mech, text: str | None) -> tuple[str, ...]:
             raise ParameterError(f"--outputs {n}: the {mech.name} has no {n}: {why}; drop it")
     if len(set(names)) != len(names):
         raise ParameterError(f"--outputs {text}: an output is named twice")
+    _check_loads(mech, names)
     return tuple(names)
+
+
+def _check_loads(mech, outputs) -> None:
+    """Refuse force outputs that would leave out the file's own load tables (never a silently wrong peak)."""
+    missing = _unapplied_loads(mech)
+    forces = [o for o in outputs if o in ("peak_torque", "peak_joint_force")]
+    if missing and forces:
+        rest = ",".join(o for o in outputs if o not in forces) or "path_deviation"
+        raise ParameterError(f"the {mech.name}'s {missing} are not applied by tolerance's forces yet, so "
+                             f"{' and '.join(forces)} would leave them out: give --outputs {rest}")
 
 
 def tolerances_of(mech, items: list[str]) -> tuple[T.Tolerance, ...]:
@@ -97,10 +119,10 @@ def cycle_of(mech, loads=None, input_range=None):
 
 def tolerance(mech, items: list[str], samples: int = 1000, seed: int = 1, outputs: str | None = None,
               sobol: bool = False, scheduler: str | None = None, loads=None, input_range=None,
-              workers: int = 1) -> T.Result:
+              workers: int = 1, progress=None) -> T.Result:
     """Monte Carlo, first-order propagation and (``sobol``) Sobol indices of ``mech`` under the tolerances
     ``items`` (``--tol`` texts); the designs in chunks on ``workers`` processes or a Dask ``scheduler``
-    address (``"local"``: a LocalCluster here)."""
+    address (``"local"``: a LocalCluster here); ``progress(done, total)`` as designs are evaluated."""
     from sim.run.parallel import mapper
     tols = tolerances_of(mech, items)
     if not tols:
@@ -111,7 +133,7 @@ def tolerance(mech, items: list[str], samples: int = 1000, seed: int = 1, output
     nominal, cycle = cycle_of(mech, loads, input_range)
     with mapper(workers, scheduler) as m:
         return T.analyse(nominal, tols, cycle, outs, samples, seed, sobol,
-                         m if (workers > 1 or scheduler) else None)
+                         m if (workers > 1 or scheduler) else None, progress)
 
 
 def _parameter_si(mech, name: str) -> float:
@@ -140,7 +162,8 @@ def tolerance_record(result: T.Result, mech, display=None) -> dict:
             return _num(display.convert(q, v)) if v is not None and math.isfinite(v) else None
         outputs[o] = {"nominal": c(s.nominal), "mean": c(s.mean), "std": c(s.std), "p05": c(s.p05),
                       "p95": c(s.p95), "first_order_std": c(s.first_order_std),
-                      "sobol": s.sobol,
+                      "sobol": None if s.sobol is None else {p: {k: _num(x) for k, x in v.items()}
+                                                             for p, v in s.sobol.items()},
                       "rates": {p: c(r / _parameter_si(mech, p)) for p, r in s.rates.items()},
                       "shares": s.shares}
     tols = {}

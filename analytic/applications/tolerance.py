@@ -36,7 +36,7 @@ import numpy as np
 from analytic._common import ParameterError
 
 __all__ = ["Tolerance", "Cycle", "Summary", "Result", "OUTPUTS", "DEFAULT_OUTPUTS", "parse", "available",
-           "draw", "evaluate", "evaluate_chunk", "rates", "saltelli", "sobol_indices", "analyse", "CHUNK",
+           "draw", "evaluate", "evaluate_chunk", "rates", "saltelli", "sobol_base", "sobol_indices", "analyse", "CHUNK",
            "STEP", "CYCLE_SAMPLES"]
 
 OUTPUTS = ("path_deviation", "transmission_min", "transmission_max", "peak_torque", "peak_joint_force",
@@ -254,10 +254,14 @@ def evaluate_chunk(job):
         torque, joint = np.full(k, np.nan), np.full(k, np.nan)
         names = F.wanted(base)
         for i in np.flatnonzero(ok):
-            mech = base.with_values(**{name: float(v[i]) for name, v in chunk.items()})
-            model = mass.model(mech, cycle.inertias)
-            f = F.solve(mech, cycle.q, qd[i], qdd[i], model, cycle.gravity, cycle.force, cycle.force_on,
-                        sol={name: sol[name][i] for name in names})
+            try:
+                mech = base.with_values(**{name: float(v[i]) for name, v in chunk.items()})
+                model = mass.model(mech, cycle.inertias)
+                f = F.solve(mech, cycle.q, qd[i], qdd[i], model, cycle.gravity, cycle.force, cycle.force_on,
+                            sol={name: sol[name][i] for name in names})
+            except ParameterError as exc:                    # this design's own checks, or its statics
+                reasons[i] = str(exc)
+                continue
             if F.singular_samples(f).any():
                 reasons[i] = "a singular pose: its joint forces are unbounded"
                 continue
@@ -279,20 +283,27 @@ def evaluate_chunk(job):
     return values, tuple(reasons), paths
 
 
-def evaluate(base, values: dict[str, np.ndarray], cycle: Cycle, outputs, mapper=None, keep_paths=False):
+def evaluate(base, values: dict[str, np.ndarray], cycle: Cycle, outputs, mapper=None, keep_paths=False,
+             progress=None):
     """Every design of ``values`` ({name: (K,)} file units) along ``cycle``, in chunks of CHUNK, through
-    ``mapper`` (an ordered ``map``; None: in this process). Returns as :func:`evaluate_chunk`, for all K."""
+    ``mapper`` (an ordered ``map``; None: in this process); ``progress(designs done)`` after each chunk.
+    Returns as :func:`evaluate_chunk`, for all K."""
     from analytic.applications.studies import recipe
     k = len(next(iter(values.values())))
     starts = range(0, k, CHUNK)
     outputs = tuple(outputs)
     if mapper is None:
         jobs = ((base, {n: v[s:s + CHUNK] for n, v in values.items()}, cycle, outputs, keep_paths) for s in starts)
-        results = list(map(evaluate_chunk, jobs))
+        done = map(evaluate_chunk, jobs)
     else:
         r = recipe(base)
-        results = list(mapper(evaluate_chunk, [(r, {n: v[s:s + CHUNK] for n, v in values.items()}, cycle, outputs,
-                                                keep_paths) for s in starts]))
+        done = mapper(evaluate_chunk, [(r, {n: v[s:s + CHUNK] for n, v in values.items()}, cycle, outputs,
+                                        keep_paths) for s in starts])
+    results = []
+    for s, chunk_result in zip(starts, done):
+        results.append(chunk_result)
+        if progress is not None:
+            progress(min(s + CHUNK, k))
     out = {o: np.concatenate([r[0][o] for r in results]) for o in outputs}
     reasons = tuple(x for r in results for x in r[1])
     paths = np.concatenate([r[2] for r in results]) if keep_paths else None
@@ -428,11 +439,17 @@ def _stats(v: np.ndarray) -> tuple[float, float, float, float]:
     return float(np.mean(v)), std, float(np.percentile(v, 5)), float(np.percentile(v, 95))
 
 
+def sobol_base(samples: int) -> int:
+    """The Saltelli design's base size for ``samples``: the power of 2 >= samples (at least 16)."""
+    return 1 << max(4, math.ceil(math.log2(samples)))
+
+
 def analyse(base, tols, cycle: Cycle, outputs, samples: int = 1000, seed: int = 1, sobol: bool = False,
-            mapper=None) -> Result:
+            mapper=None, progress=None) -> Result:
     """Monte Carlo, first-order propagation and (``sobol``) Sobol indices of ``outputs`` of ``base`` under
     the tolerances ``tols`` along ``cycle``. The draws depend only on ``seed``: the same answer for any
-    ``mapper``. See the module docstring for what each estimate is."""
+    ``mapper``. ``progress(done, total)``: designs evaluated so far. See the module docstring for what each
+    estimate is."""
     tols = tuple(tols)
     outputs = tuple(outputs)
     if not tols:
@@ -443,19 +460,24 @@ def analyse(base, tols, cycle: Cycle, outputs, samples: int = 1000, seed: int = 
         raise ParameterError(f"--tol {twice} is given twice; give each parameter's tolerance once")
     if not (isinstance(samples, int) and 2 <= samples <= 1_000_000):
         raise ParameterError(f"--samples {samples!r} must be an integer in 2..1000000")
+    d = len(tols)
+    total = 2 * d + 1 + samples + (sobol_base(samples) * (d + 2) if sobol else 0)
+
+    def step(offset):
+        return None if progress is None else (lambda done: progress(offset + done, total))
     nominal, rate, jac = rates(base, tols, cycle, outputs, mapper)
     deltas = draw(tols, samples, seed)
-    values, reasons, _ = evaluate(base, _designs(base, tols, deltas), cycle, outputs, mapper)
+    values, reasons, _ = evaluate(base, _designs(base, tols, deltas), cycle, outputs, mapper,
+                                  progress=step(2 * d + 1))
     sigma = np.array([t.std for t in tols])
     linearised = {}
     summaries = {}
     sob: dict[str, dict | None] = {o: None for o in outputs}
     evaluations = dropped = 0
     if sobol:
-        base_n = 1 << max(4, math.ceil(math.log2(samples)))
-        x = saltelli(tols, base_n, seed)
+        x = saltelli(tols, sobol_base(samples), seed)
         evaluations = x.shape[0]
-        y, _, _ = evaluate(base, _designs(base, tols, x), cycle, outputs, mapper)
+        y, _, _ = evaluate(base, _designs(base, tols, x), cycle, outputs, mapper, progress=step(2 * d + 1 + samples))
         for o in outputs:
             sob[o], dropped_o = sobol_indices(tols, y[o], seed)
             dropped = max(dropped, dropped_o)
@@ -470,8 +492,8 @@ def analyse(base, tols, cycle: Cycle, outputs, samples: int = 1000, seed: int = 
             linearised[o] = nominal[o] + deltas @ rate[o]
             contrib = np.abs(rate[o]) * sigma
             fo = float(math.sqrt(np.sum(contrib ** 2)))
-        total = float(np.sum(contrib ** 2))
-        shares = {t.name: (float(c * c / total) if total > 0 else 0.0) for t, c in zip(tols, contrib)}
+        variance = float(np.sum(contrib ** 2))
+        shares = {t.name: (float(c * c / variance) if variance > 0 else 0.0) for t, c in zip(tols, contrib)}
         rates_o = {t.name: float(r) for t, r in zip(tols, rate[o])}
         summaries[o] = Summary(nominal[o], *_stats(values[o]), fo, rates_o, shares, sob[o])
     return Result(base.name, tols, outputs, seed, deltas, values, reasons, summaries, evaluations, dropped,

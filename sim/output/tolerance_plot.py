@@ -24,7 +24,14 @@ def histogram(result, name: str, mech, display, ax=None):
     unit = display.unit(q)
     lin = result.linearised[name] * display.factor(q) if name in result.linearised else np.empty(0)
     both = np.concatenate([v, lin[np.isfinite(lin)]])
-    edges = np.histogram_bin_edges(both, bins=min(60, max(10, int(math.sqrt(max(v.size, 1)))))) if both.size else 10
+    edges, clipped = 10, ""
+    if both.size:
+        lo, hi = np.percentile(both, [0.5, 99.5])        # a few near-singular designs would squash the rest
+        if not hi > lo:
+            lo, hi = both.min(), both.max()
+        clipped = " (the outer 1 % not shown)" if (both.min() < lo or both.max() > hi) else ""
+        edges = np.histogram_bin_edges(both, bins=min(60, max(10, int(math.sqrt(max(v.size, 1))))),
+                                       range=(lo, hi) if hi > lo else None)
     if v.size:
         ax.hist(v, bins=edges, density=True, color="tab:blue", alpha=0.6, label=f"Monte Carlo ({v.size} designs)")
     f = display.factor(q)
@@ -37,7 +44,7 @@ def histogram(result, name: str, mech, display, ax=None):
             ax.axvline(p * f, color="k", lw=0.8, ls=":")
     ax.set_xlabel(f"{name} [{unit}]" if unit else name)
     ax.set_ylabel("density")
-    ax.set_title(f"{name}: mean {s.mean * f:.4g}, std {s.std * f:.3g} (5-95 %: dotted)", fontsize=9)
+    ax.set_title(f"{name}: mean {s.mean * f:.4g}, std {s.std * f:.3g} (5-95 %: dotted){clipped}", fontsize=9)
     ax.legend(fontsize=7, loc="best")
     return ax
 

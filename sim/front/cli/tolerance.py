@@ -61,8 +61,10 @@ def cmd_tolerance(args) -> int:
         raise ParameterError("give at least one --tol NAME=±V (e.g. --tol l1=±0.1; +-0.1 also works)")
     mech = mechanism_from(args)
     loads = loads_from(args, mech)
+    from sim.output.progress import Progress
+    bar = Progress(args.samples, "tolerance")
     result = ts.tolerance(mech, args.tol, args.samples, args.seed, args.outputs, args.sobol, args.scheduler, loads,
-                          parse_range(mech, args.input_range), args.workers)
+                          parse_range(mech, args.input_range), args.workers, bar.update)
     if args.plot:
         from sim.output.tolerance_plot import sheet
         sheet(result, mech, args.plot, shown_units(args, mech))
