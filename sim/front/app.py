@@ -430,7 +430,8 @@ def synthesize(body: dict, server: "AppServer") -> dict:
     with server.synthesis_lock:
         if server.synthesis is not None and server.synthesis.running:
             raise RequestError(409, "a synthesis is already running: cancel it first")
-        job = server.synthesis = synth_job.Job({"targets": xy.tolist(), "type": kind, "closed": closed}, budget)
+        job = server.synthesis = synth_job.Job({"targets": xy.tolist(), "type": kind, "closed": closed,
+                                                    "workers": synth_job.WORKERS}, budget)
     out = job.wait()
     if out["state"] == "cancelled":
         raise RequestError(409, f"synthesis cancelled after {out['seconds']:.1f} s")
