@@ -26,6 +26,9 @@ GRACE = 1.0
 WORKERS = max(1, min(4, (os.cpu_count() or 1) // 2))
 """Processes the app's search uses: half the cores (the page and the server keep the rest), at most 4; the
 answer does not depend on it (each restart carries its own seed)."""
+SEARCH_SHARE = 0.75
+"""The share of what is left of the budget when the child starts that the search itself gets: the rest is
+for the candidates' checks (a MuJoCo run each) that follow it."""
 DESIGNS = 3
 """Candidates asked of the search; those that repeat an earlier one are dropped (:func:`distinct`)."""
 SAME_CURVE = 1e-3
@@ -66,7 +69,8 @@ def run(request: dict, emit) -> dict:
     from sim.output.jsonout import clean
     xy = np.asarray(request["targets"], dtype=float)
     target = sp.Target(xy, None, bool(request["closed"]))
-    budget = max(0.1, float(request["deadline"]) - time.time())      # the process start came out of it
+    # the process start came out of the budget; the candidates' MuJoCo checks follow the search
+    budget = max(0.1, SEARCH_SHARE * (float(request["deadline"]) - time.time()))
     options = design_service.PathOptions(types=(request["type"],), budget=budget, designs=DESIGNS,
                                          workers=int(request.get("workers", 1)))
     restarts = max(options.restart_count, options.designs)
