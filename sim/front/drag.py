@@ -306,7 +306,7 @@ def drag(mech: Mechanism, text: str | None, point: str, target, q, locked=(), ro
     if new_data is not data and new_data is not None:
         new_text = rewrite_pose(text, data, new_data)
     q_new = next((float(v) for var, v in zip(vars_, x) if var.kind == "input"), None)
-    names = [var.name if var.kind != "pose" else f"{var.section}.{var.name}[{var.axis}]" for var in vars_]
+    names = [var.name if var.kind != "pose" else f"{var.name}'s {var.section}" for var in vars_]
     if reached or round_to and np.hypot(*(p - target)) < round_to * mech.scale:
         message = f"{point}: {', '.join(dict.fromkeys(names))} changed" + (f"; {flipped} flipped" if flipped else "")
     else:

@@ -1716,7 +1716,7 @@
     const name = pointAt(e);
     if (!name) return;
     e.preventDefault();
-    canvas.setPointerCapture(e.pointerId);
+    try { canvas.setPointerCapture(e.pointerId); } catch (err) { /* a synthetic event: no pointer to capture */ }
     state.playing = false;
     $("#play").textContent = "Play";
     state.drag = { point: name, before: snapshot(), moved: false, input: poseInputs() };
