@@ -110,6 +110,7 @@ FIELDS = {
     "open": {"text", "filename"},
     "targets": {"text", "filename", "unit"},
     "synthesize": {"targets", "type", "closed", "budget", "unit"},
+    "draw": {"drawing"},
     "drag": {"mechanism", "text", "set", "samples", "revolutions", "input_range", "outputs", "figures", "digits",
              "point", "target", "input", "locked", "round"},
 }
@@ -946,7 +947,15 @@ def drag(body: dict) -> dict:
     return {"drag": answer, "solve": solved}
 
 
-ACTIONS = {"/api/drag": drag, "/api/forces": forces, "/api/dynamics": dynamics, "/api/open": open_file,
+def draw(body: dict) -> dict:
+    """A linkage drawn on the empty page (:func:`sim.front.draw.check`): its ``linkage/1`` text, mobility,
+    Assur groups, or the one line that says what is wrong and the names it concerns."""
+    from sim.front import draw as drawing
+    check_fields(body, "draw")
+    return drawing.check(body.get("drawing"))
+
+
+ACTIONS = {"/api/draw": draw, "/api/drag": drag, "/api/forces": forces, "/api/dynamics": dynamics, "/api/open": open_file,
            "/api/targets": targets}
 """The panels' JSON actions (forces, dynamics, opening a file), by path."""
 POSTS = {"/api/solve", "/api/simulate", "/api/render", "/api/exit", "/api/synthesize", "/api/synthesize/status",
