@@ -1,8 +1,9 @@
 """Direct manipulation and synthesis control in a real browser (Playwright driving Debian's /usr/bin/chromium):
 a joint of the four-bar and of a Pyslvs import dragged with the mouse, the new values checked against the
 geometry (circle distances from the other joints, which this file works out), undo and redo, a locked length
-stopping at the limit, the input's tip scrubbing the pose, snap to grid, and a synthesis cancelled from the
-page with the server idle within 1 s. Screenshots of each go to $LINKAGE_SCREENSHOTS when it is set."""
+stopping at the limit, the input's tip scrubbing the pose, snap to grid, a four-bar drawn on the empty page
+and saved, a rigid drawing named on the canvas, and a synthesis cancelled from the page with the server
+idle within 1 s. Screenshots of each go to $LINKAGE_SCREENSHOTS when it is set."""
 
 import math
 import os
@@ -185,6 +186,75 @@ def test_dragging_a_joint_of_a_pyslvs_import_rewrites_its_pose(page):
     shot(page, "drag_pyslvs_J2")
     page.keyboard.press("Control+z")
     page.wait_for_function(f"Math.abs(window.linkageState.points.J2.x[40] - {target[0]}) > 1e-4")
+
+
+def draw_click(pg, x, y):
+    """Click the drawing at world (x, y) [m] and wait for the page's answer (the drawing checked)."""
+    cx, cy = pg.evaluate("([x, y]) => window.linkageCanvas.toClient(x, y)", [x, y])
+    r0 = pg.evaluate("+document.body.dataset.revision")
+    pg.mouse.click(cx, cy)
+    pg.wait_for_function(f"+document.body.dataset.revision > {r0}")
+
+
+def tool(pg, name):
+    pg.check(f"input[name=draw-tool][value={name}]")
+
+
+def test_draw_a_four_bar_on_an_empty_page_save_it_and_open_it(page, tmp_path):
+    from sim import service
+    page.click("#draw-new")
+    page.check("#snap-grid")                                  # 5 mm grid: the pose is exactly the clicks
+    pts = {"O1": (0.0, 0.0), "O2": (0.08, 0.0), "A": (0.02, 0.035), "B": (0.09, 0.06)}
+    tool(page, "ground")
+    draw_click(page, *pts["O1"])
+    draw_click(page, *pts["O2"])
+    tool(page, "joint")
+    draw_click(page, *pts["A"])
+    draw_click(page, *pts["B"])
+    tool(page, "link")
+    for a, b in (("O1", "A"), ("A", "B"), ("B", "O2")):
+        cx, cy = page.evaluate("([x, y]) => window.linkageCanvas.toClient(x, y)", list(pts[a]))
+        page.mouse.click(cx, cy)                              # the first end: no request yet
+        draw_click(page, *pts[b])
+    assert "mark the driven link" in page.inner_text("#draw-note")
+    tool(page, "input")
+    draw_click(page, 0.01, 0.0175)                            # the middle of O1-A
+    page.wait_for_function("window.linkageDrawing && window.linkageDrawing.error === null")
+    assert "B (links L2, L3): dyad RRR (class II)" in page.inner_text("#draw-note")
+    shot(page, "draw_fourbar")
+    with page.expect_download() as dl:
+        page.click("#draw-save")
+    saved = tmp_path / dl.value.suggested_filename
+    dl.value.save_as(saved)
+    assert saved.name == "drawn.toml"
+    data = tomllib.loads(saved.read_text())
+    for name, (x, y) in pts.items():                          # mm, the clicks on the grid
+        assert data["pose"][name] == pytest.approx([x * 1e3, y * 1e3], abs=1e-9)
+    m = service.load(str(saved))
+    assert [i.point for i in m.inputs] == ["A"] and set(m.points) == set(pts)
+    page.click("#draw-open")
+    page.wait_for_function("window.linkageState.mechanism === 'drawn' && window.linkageState.figures")
+    assert "turns fully" in page.inner_text("#figures")
+    shot(page, "draw_opened")
+
+
+def test_a_rigid_drawing_is_named_on_the_canvas(page):
+    page.click("#draw-new")
+    tool(page, "ground")
+    draw_click(page, 0.0, 0.0)
+    draw_click(page, 0.1, 0.0)
+    tool(page, "joint")
+    draw_click(page, 0.05, 0.06)
+    tool(page, "link")
+    for a, b in (((0.0, 0.0), (0.05, 0.06)), ((0.05, 0.06), (0.1, 0.0))):
+        cx, cy = page.evaluate("([x, y]) => window.linkageCanvas.toClient(x, y)", list(a))
+        page.mouse.click(cx, cy)
+        draw_click(page, *b)
+    page.wait_for_function("window.linkageDrawing && window.linkageDrawing.mobility === 0")
+    note = page.locator("#draw-note")
+    assert "rigid structure" in note.inner_text() and "bad" in note.get_attribute("class")
+    assert page.evaluate("window.linkageDrawing.names") == ["L1", "L2"]
+    shot(page, "draw_rigid")
 
 
 def test_cancel_a_synthesis_from_the_page_and_the_server_is_idle_within_a_second(page, server):

@@ -139,7 +139,7 @@ def check(drawing: dict) -> dict:
     try:
         mech = service.load("<drawn>", text=text)
     except ParameterError as exc:
-        message = str(exc).replace("<drawn>: ", "").replace("<drawn>", "the drawing")
+        message = re.sub(r"<(drawn|upload)>:? ?", "", str(exc))
         names = [n for n in list(points) + [lk for lk, _ in links] if re.search(rf"\b{re.escape(n)}\b", message)]
         return {**out, "error": message.splitlines()[0], "names": names}
     d = mech.definition
