@@ -272,8 +272,8 @@
       const check = document.createElement("input");
       check.type = "checkbox";
       check.dataset.lock = p.name;
-      lock.append(check, " lock");
-      row.querySelector(".hint").append(" ", lock);
+      lock.append(check, "lock");
+      row.querySelector(".hint").before(lock);
     }
     slider.addEventListener("input", () => {
       state.set[p.name] = Number(slider.value);
