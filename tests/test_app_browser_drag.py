@@ -130,6 +130,23 @@ def test_dragging_the_four_bars_coupler_joint_sets_its_link_lengths_then_undo_an
     assert box(page, "l2") == pytest.approx(np.hypot(*(target - B)), rel=BOX)
 
 
+def test_the_forces_panel_follows_a_drag(page):
+    page.click("#tab-forces")
+    page.wait_for_function("window.linkageForces && window.linkageForces.joints")
+    pause_at(page, 20)
+    drag(page, "C", 30, 20, steps=3)
+    values = {k: box(page, k) for k in ("l2", "l3")}
+    page.wait_for_function(f"window.linkageState.parameters.l2 === {page.evaluate('window.linkageDrag.set.l2')}")
+    # the panel's last answer is the one for the dragged values: the server's forces for them, sent anew
+    expected = app.forces({"mechanism": "fourbar", "set": page.evaluate("window.linkageDrag.set"), "samples": 361})
+    # the page asks for 7 significant digits of each series' peak (DRAG_DIGITS): half a unit in the 7th
+    peak = max(abs(v) for v in expected["joints"][0]["F"])
+    page.wait_for_function("([j, v, tol]) => window.linkageForces && "
+                           "Math.abs(window.linkageForces.joints[j].F[100] - v) <= tol",
+                           arg=[0, expected["joints"][0]["F"][100], 1e-6 * peak])
+    assert values["l2"] != pytest.approx(0.3, rel=BOX)
+
+
 def test_a_locked_length_stops_the_drag_at_the_limit_and_says_why(page):
     pause_at(page, 90)
     page.check('#params input[data-lock="l3"]')

@@ -2028,6 +2028,7 @@
     if (answer.solve) {
       $("#figures").classList.add("pending");
       applySolve(answer.solve, version, false, false);
+      if (state.tab === "forces") requestForces();     // the joint forces follow the drag (one request at a time)
     }
     if (g.input !== null) setFrame(nearestFrame(g.input));
     drawFrame();
