@@ -933,7 +933,7 @@ def drag(body: dict) -> dict:
     d = dragging.drag(mech, text, point, target, q, locked, step)
     new_set = {**body.get("set", {}), **d.values}
     answer = {"point": d.point, "target": list(target), "set": new_set, "text": d.text, "input": d.input, "position": list(d.position),
-              "reached": d.reached, "message": d.message, "changed": d.values}
+              "reached": d.reached, "scrub": d.scrub, "message": d.message, "changed": d.values}
     solve_body = {k: v for k, v in body.items() if k in FIELDS["solve"]}
     solve_body["set"] = new_set
     if d.text is not None:

@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import dataclasses
 import json
+import math
 import re
 import tomllib
 
@@ -60,6 +61,8 @@ class Drag:
     position: tuple[float, float]
     reached: bool
     message: str
+    scrub: bool = False
+    """Only the input moved (a locked or pose-given crank): the pose turns to the pointer, off its circle."""
 
 
 # ------------------------------------------------------------------------------------ what moves P
@@ -131,6 +134,10 @@ def variables(mech: Mechanism, point: str, data: dict | None, locked=()) -> tupl
             for n in _names(value, params):
                 if params[n] != "branch":
                     add(Variable("parameter", n))
+    if pose_form and any(v.kind == "input" for v in out):
+        # the input's tip of a links-and-joints file: its pose would move the crank and the coupler at once;
+        # the drag turns the input (the lengths follow from the pose: drag the pivot or the far joints)
+        out = [v for v in out if v.kind == "input"]
     return out, branches
 
 
@@ -307,6 +314,12 @@ def drag(mech: Mechanism, text: str | None, point: str, target, q, locked=(), ro
         new_text = rewrite_pose(text, data, new_data)
     q_new = next((float(v) for var, v in zip(vars_, x) if var.kind == "input"), None)
     names = [var.name if var.kind != "pose" else f"{var.name}'s {var.section}" for var in vars_]
+    scrub = all(var.kind == "input" for var in vars_)
+    if scrub and not reached:
+        first = mech.inputs[0]
+        shown = f"{math.degrees(q_new):.1f} deg" if first.kind == "crank" else f"{q_new:.6g} m"
+        return Drag(point, values, new_text, q_new, (float(p[0]), float(p[1])), False,
+                    f"{point}: {first.q} turned to {shown} (its length stays)", True)
     if reached or round_to and np.hypot(*(p - target)) < round_to * mech.scale:
         message = f"{point}: {', '.join(dict.fromkeys(names))} changed" + (f"; {flipped} flipped" if flipped else "")
     else:

@@ -2033,7 +2033,7 @@
     if (g.input !== null) setFrame(nearestFrame(g.input));
     drawFrame();
     moveCursors();
-    dragNote(g.message, !g.reached);
+    dragNote(g.message, !g.reached && !g.scrub);
     bumpRevision();
   }
 
