@@ -66,6 +66,31 @@ def test_distinct_drops_a_repeat_whatever_its_phase_or_direction():
     assert synth_job.distinct([a, same], size=2.0 * 1e3) == [a]     # within 1e-3 of a large size: the same
 
 
+def test_the_stages_reported_are_the_searchs_own(monkeypatch):
+    from sim import design_service
+    seen = {}
+
+    def fake(target, options, unit, progress=None):         # the service's calls, in its order
+        seen["budget"], seen["workers"] = options.budget, options.workers
+        n = max(options.restart_count, options.designs)
+        for i in range(1, n + 1):
+            progress(i, n + options.designs)
+        for i in range(options.designs):
+            progress(n + i + 1, n + options.designs)
+        return []
+    monkeypatch.setattr(design_service, "synthesize_path", fake)
+    events = []
+    out = synth_job.run({"targets": ellipse(), "type": "fourbar", "closed": True, "workers": 2,
+                         "deadline": time.time() + 8.0}, events.append)
+    assert out == {"designs": [], "asked": 0}
+    n = design_service.PathOptions(types=("fourbar",), designs=synth_job.DESIGNS).restart_count
+    stages = [(e["stage"], e["done"], e["total"]) for e in events]
+    assert stages == ([("search", i, n) for i in range(n)] + [("polish", 0, 0)]
+                      + [("check", i + 1, synth_job.DESIGNS) for i in range(synth_job.DESIGNS)])
+    # the search gets its share of what is left of the budget; the checks the rest
+    assert 0.7 * 8.0 <= seen["budget"] <= synth_job.SEARCH_SHARE * 8.0 and seen["workers"] == 2
+
+
 @pytest.mark.slow
 def test_cancel_stops_the_search_and_its_processes_within_a_second(server):
     answer = {}

@@ -4,7 +4,8 @@ stages as it goes, and is killed at its deadline (the budget, plus GRACE) or whe
 
 The child is ``python -m sim.front.synth_job``: it reads one JSON request on stdin ({"targets": [[x, y],
 ...] m, "type", "closed", "workers", "deadline": epoch seconds by which it must be done}), writes one JSON
-line per stage ({"stage": "search", "done": i, "total": n}, {"stage": "check", ...}) and a last line
+line per stage ({"stage": "search", "done": i, "total": n}, {"stage": "polish"}, {"stage": "check", ...}) and
+a last line
 {"result": {"designs": [...]}} or {"error": "one line"}.
 """
 
@@ -76,8 +77,10 @@ def run(request: dict, emit) -> dict:
     restarts = max(options.restart_count, options.designs)
 
     def progress(done: int, total: int) -> None:
-        if done <= restarts:
+        if done < restarts:
             emit({"stage": "search", "done": done, "total": restarts})
+        elif done == restarts:          # then the multi-starts, basin hopping and the polish of the best
+            emit({"stage": "polish", "done": 0, "total": 0})
         else:
             emit({"stage": "check", "done": done - restarts, "total": total - restarts})
 

@@ -1211,13 +1211,16 @@
 
   // The search runs as a server job: the bar follows its real stages (the search's restarts, then each
   // candidate's MuJoCo check) polled from /api/synthesize/status; Cancel kills it (and its workers) at once.
-  const STAGES = { starting: "starting", search: "searching", check: "checking the candidates in MuJoCo" };
+  const STAGES = { starting: "starting", search: "searching", polish: "multi-starts, basin hopping and polishing the best",
+    check: "checking the candidates in MuJoCo" };
   function synthProgress(s) {
     const bar = $("#synth-progress");
     if (s.state !== "running") return;
     const frac = s.total ? s.done / s.total : 0;
-    bar.value = s.stage === "check" ? 0.8 + 0.2 * frac : s.stage === "search" ? 0.8 * frac : 0;
+    bar.value = s.stage === "check" ? 0.85 + 0.15 * frac : s.stage === "polish" ? 0.7
+      : s.stage === "search" ? 0.7 * frac : 0;
     const what = s.stage === "search" ? `${STAGES.search}: restart ${s.done} of ${s.total}`
+      : s.stage === "polish" ? STAGES.polish
       : s.stage === "check" ? `${STAGES.check}: ${s.done} of ${s.total}` : "starting the search";
     $("#synth-status").textContent = `${what} · ${s.elapsed.toFixed(1)} s of the ${fmt(s.budget, 3)} s budget`;
   }
