@@ -174,6 +174,17 @@ def test_bad_drags_are_one_line_naming_the_field(fourbar):
         app.drag({"mechanism": "fourbar", "point": "C", "target": [0.3, 0.2], "input": 0.0})
 
 
+def test_a_crank_dragged_past_turning_fully_stops_at_the_grashof_limit():
+    # l1 + l4 <= l2 + l3 keeps the seed four-bar's crank turning (l1 <= 0.25 with l2 0.3, l3 0.25, l4 0.3)
+    answer = app.drag({"mechanism": "fourbar", "point": "B", "target": [0.0, 0.4], "input": [1.0],
+                       "samples": 361, "figures": False})
+    g = answer["drag"]
+    assert "stops at the limit" in g["message"] and "cannot turn fully" in g["message"] and not g["reached"]
+    l1 = g["set"]["l1"]
+    assert 0.25 - 0.3 / 256 <= l1 <= 0.25                 # within a halving step (of the 0.1 -> 0.4 way) of it
+    assert answer["solve"]["parameters"]["l1"] == l1
+
+
 def test_the_api_answers_the_drag_with_the_solve_of_the_new_values():
     q_index = 60
     first = app.solve({"mechanism": "fourbar", "samples": 361, "figures": False})

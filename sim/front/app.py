@@ -772,9 +772,9 @@ class AppServer(ThreadingHTTPServer):
 
 
 class Handler(BaseHTTPRequestHandler):
-    """Routes: GET / and the static files, GET /api/mechanisms; POST /api/solve, /api/simulate,
-    /api/render, /api/forces, /api/dynamics, /api/open, /api/targets, /api/synthesize,
-    /api/export/{csv,json,toml,mjcf}, /api/exit."""
+    """Routes: GET / and the static files, GET /api/mechanisms; POST /api/solve, /api/drag, /api/draw,
+    /api/simulate, /api/render, /api/forces, /api/dynamics, /api/open, /api/targets, /api/synthesize (and
+    its /status and /cancel), /api/export/{csv,json,toml,mjcf}, /api/exit."""
 
     server: AppServer
     server_version = "linkage-app"
@@ -840,9 +840,9 @@ class Handler(BaseHTTPRequestHandler):
         path = self.path.split("?", 1)[0]
         if path not in POSTS:
             raise RequestError(405 if path in FILES or path == "/api/mechanisms" else 404,
-                               f"{path}: no such action (POST to /api/solve, /api/simulate, /api/render, "
-                               f"/api/forces, /api/dynamics, /api/open, /api/targets, /api/synthesize, /api/export/KIND or "
-                               f"/api/exit)")
+                               f"{path}: no such action (POST to /api/solve, /api/drag, /api/draw, /api/simulate, "
+                               f"/api/render, /api/forces, /api/dynamics, /api/open, /api/targets, /api/synthesize, "
+                               f"/api/synthesize/status, /api/synthesize/cancel, /api/export/KIND or /api/exit)")
         body = self._body()
         if path == "/api/exit":
             self.stopping = True
@@ -941,10 +941,40 @@ def drag(body: dict) -> dict:
     try:
         solved = solve(solve_body) if (d.values or d.text is not None) else None
     except (ParameterError, RequestError, ValueError) as exc:
-        answer.update(set=body.get("set", {}), text=None, input=None, reached=False, changed={},
-                      message=f"{point} stops here: {_first_line(str(exc))}")
-        solved = None
+        reason = _first_line(str(exc))
+        limit = drag_limit(mech, body, solve_body, d.values) if d.text is None else None
+        if limit is None:
+            answer.update(set=body.get("set", {}), text=None, input=None, reached=False, changed={}, position=None,
+                          message=f"{point} stops here: {reason}")
+            solved = None
+        else:
+            values, solved = limit
+            answer.update(set={**body.get("set", {}), **values}, changed=values, reached=False, position=None,
+                          message=f"{point} stops at the limit: beyond it {reason}")
     return {"drag": answer, "solve": solved}
+
+
+LIMIT_STEPS = 8
+"""Halvings of the way from the values before a drag step to those it asked for, when those cannot run the
+cycle: the step stops within 1/256 of the way of the limit."""
+
+
+def drag_limit(mech: Mechanism, body: dict, solve_body: dict, values: dict):
+    """(values, solve) as far along the way from ``mech``'s values to ``values`` as the cycle still runs (the
+    input turns fully, every group closes), or None when none of it does or a branch had to flip."""
+    if not values or any(mech.definition.parameter_kind.get(k) == "branch" for k in values):
+        return None
+    old = mech.values
+    lo, hi, best = 0.0, 1.0, None
+    for _ in range(LIMIT_STEPS):
+        mid = 0.5 * (lo + hi)
+        trial = {k: old[k] + mid * (v - old[k]) for k, v in values.items()}
+        try:
+            best = trial, solve({**solve_body, "set": {**body.get("set", {}), **trial}})
+            lo = mid
+        except (ParameterError, RequestError, ValueError):
+            hi = mid
+    return best
 
 
 def draw(body: dict) -> dict:
