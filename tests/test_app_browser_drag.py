@@ -268,6 +268,18 @@ def test_a_rigid_drawing_is_named_on_the_canvas(page):
         page.mouse.click(cx, cy)
         draw_click(page, *b)
     page.wait_for_function("window.linkageDrawing && window.linkageDrawing.mobility === 0")
+    tool(page, "joint")                                       # a placed joint moves with the pointer
+    page.check("#snap-grid")
+    ax, ay = page.evaluate("([x, y]) => window.linkageCanvas.toClient(x, y)", [0.05, 0.06])
+    bx, by = page.evaluate("([x, y]) => window.linkageCanvas.toClient(x, y)", [0.06, 0.08])
+    r0 = page.evaluate("+document.body.dataset.revision")
+    page.mouse.move(ax, ay)
+    page.mouse.down()
+    page.mouse.move(bx, by, steps=4)
+    page.mouse.up()
+    page.wait_for_function(f"+document.body.dataset.revision > {r0}")
+    moved = page.evaluate("window.linkageDrawingSent.points.A")
+    assert (moved["x"], moved["y"]) == pytest.approx((0.06, 0.08), abs=1e-12)      # on the 5 mm grid
     note = page.locator("#draw-note")
     assert "rigid structure" in note.inner_text() and "bad" in note.get_attribute("class")
     assert page.evaluate("window.linkageDrawing.names") == ["L1", "L2"]

@@ -1675,8 +1675,8 @@
     document.body.classList.add("drawing");
     $("#draw-tools").hidden = false;
     $("#draw-note").hidden = false;
-    drawNote("click to place ground pivots; pick “joint” for moving joints, “link” to join two points "
-      + "(Shift+click adds a point to the last link), “input” for the driven link", false);
+    drawNote("click to place ground pivots (drag one to move it); pick “joint” for moving joints, “link” to join "
+      + "two points (Shift+click adds a point to the last link), “input” for the driven link", false);
     drawFrame();
     bumpRevision();
   }
@@ -1730,7 +1730,11 @@
     const tool = drawTool();
     const hit = drawHit(e);
     if (tool === "ground" || tool === "joint") {
-      if (hit) return;
+      if (hit) {                                  // a placed point: move it with the pointer
+        d.moving = hit;
+        try { canvas.setPointerCapture(e.pointerId); } catch (err) { /* a synthetic event */ }
+        return;
+      }
       const [x, y] = worldAt(e);
       const ground = tool === "ground";
       let name;
@@ -1782,7 +1786,9 @@
     const d = state.draw;
     if (!Object.keys(d.points).length) { d.result = null; drawFrame(); bumpRevision(); return; }
     try {
-      const res = await api("/api/draw", { drawing: drawingBody() });
+      const body = drawingBody();
+      window.linkageDrawingSent = body;
+      const res = await api("/api/draw", { drawing: body });
       const r = await res.json();
       if (state.draw !== d) return;
       d.result = r;
@@ -1963,7 +1969,19 @@
   }
 
   function dragMove(e) {
-    if (state.draw) { canvas.style.cursor = "crosshair"; return; }
+    if (state.draw) {
+      const d = state.draw;
+      if (d.moving) {
+        const [x, y] = worldAt(e);
+        d.points[d.moving].x = x;
+        d.points[d.moving].y = y;
+        drawFrame();
+      } else {
+        const tool = drawTool();
+        canvas.style.cursor = (tool === "ground" || tool === "joint") && drawHit(e) ? "grab" : "crosshair";
+      }
+      return;
+    }
     if (!state.drag) {
       if (state.tab !== "synthesis" && state.solve) canvas.style.cursor = pointAt(e) ? "grab" : "";
       return;
@@ -1973,6 +1991,10 @@
   }
 
   function dragEnd() {
+    if (state.draw) {
+      if (state.draw.moving) { state.draw.moving = null; drawCheck(); }
+      return;
+    }
     const d = state.drag;
     if (!d) return;
     state.drag = null;
