@@ -130,6 +130,17 @@ def test_dragging_the_four_bars_coupler_joint_sets_its_link_lengths_then_undo_an
     assert box(page, "l2") == pytest.approx(np.hypot(*(target - B)), rel=BOX)
 
 
+def test_a_number_box_edit_is_one_undo_step(page):
+    page.fill('#params input[name="l1"]', "0.12")
+    page.press('#params input[name="l1"]', "Tab")             # the edit ends: one step
+    page.wait_for_function("window.linkageState.parameters.l1 === 0.12 && !document.querySelector('#undo').disabled")
+    page.click("#undo")
+    page.wait_for_function("window.linkageState.parameters.l1 === 0.1")
+    assert box(page, "l1") == pytest.approx(0.1, rel=BOX) and page.is_disabled("#undo")
+    page.click("#redo")
+    page.wait_for_function("window.linkageState.parameters.l1 === 0.12")
+
+
 def test_the_forces_panel_follows_a_drag(page):
     page.click("#tab-forces")
     page.wait_for_function("window.linkageForces && window.linkageForces.joints")

@@ -53,7 +53,8 @@
     synth: { targets: [], result: null, selected: 0, charts: [] },
     draw: null,                         // the drawing on the empty page (null: not drawing)
     drag: null,                         // the point being dragged: {point, before, moved, input}
-    undo: [],                           // snapshots before each drag (values, file text, frame)
+    undo: [],                           // snapshots before each drag or edit (values, file text, frame)
+    editBefore: null,                   // the snapshot a slider or number-box edit started from
     redo: [],
   };
 
@@ -275,13 +276,25 @@
       lock.append(check, "lock");
       row.querySelector(".hint").before(lock);
     }
+    // an edit by slider or number box is one undo step, from where it started to where it ended
+    const start = () => { state.editBefore = snapshot(); };
+    const begin = () => { if (!state.editBefore) start(); };
+    const end = () => { const before = state.editBefore; state.editBefore = null; if (before) pushUndo(before); };
+    for (const el of [slider, box]) {
+      el.addEventListener("pointerdown", start);
+      el.addEventListener("focus", start);
+      el.addEventListener("change", end);
+      el.addEventListener("blur", () => { state.editBefore = null; });
+    }
     slider.addEventListener("input", () => {
+      begin();
       state.set[p.name] = Number(slider.value);
       box.value = fmt(Number(slider.value));
       state.lastEdited = p.name;
       edited();
     });
     box.addEventListener("input", () => {
+      begin();
       const text = box.value.trim();
       state.set[p.name] = text;
       const v = Number(text);
@@ -2000,12 +2013,7 @@
     state.drag = null;
     canvas.style.cursor = "";
     if (state.solve) { state.geometry = geometry(state.solve); drawFrame(); }
-    const changed = JSON.stringify(d.before.set) !== JSON.stringify(state.set) || d.before.text !== state.mech.text;
-    if (changed) {
-      state.undo.push(d.before);
-      state.redo = [];
-      undoButtons();
-    }
+    const changed = pushUndo(d.before);
     if (changed) {                                  // the figures of merit once the values have settled
       const full = channels.full;
       clearTimeout(full.timer);
@@ -2119,6 +2127,16 @@
     dragNote("redone", false);
   }
 
+  function pushUndo(before) {                    // an undo step where the values or the file changed
+    const changed = JSON.stringify(before.set) !== JSON.stringify(state.set) || before.text !== state.mech.text;
+    if (changed) {
+      state.undo.push(before);
+      state.redo = [];
+      undoButtons();
+    }
+    return changed;
+  }
+
   function undoButtons() {
     $("#undo").disabled = !state.undo.length;
     $("#redo").disabled = !state.redo.length;
@@ -2156,6 +2174,7 @@
 
   function openMechanism(name, text) {
     if (state.draw) leaveDrawing();
+    state.editBefore = null;
     state.mech = { name, text };
     state.undo = [];
     state.redo = [];
