@@ -2,7 +2,8 @@
 library mechanism dragged round a small circle; each step is a pointer move on the canvas -> /api/drag (the
 file's values inverted and solved on the server) -> the redraw of the animation, curves and figures -> the
 next animation frame. Prints per mechanism the median and the 95th percentile, with the request's and the
-drawing's shares of the median, then the same over all steps::
+drawing's shares of the median and the server's CPU time for the same requests replayed in one thread (the
+part of a step that does not depend on how loaded the machine is), then the same over all steps::
 
     python benchmarks/app_drag.py [--mechanisms fourbar,jansen] [--steps 30] [--screenshot PNG]
 
@@ -78,10 +79,22 @@ def measure(page, name: str, steps: int) -> tuple[str, list[float], list[dict]]:
         total, timing = page.evaluate(STEP, [x + radius * math.sin(a), y + radius * (1 - math.cos(a))])
         if k >= 3:                                       # the first moves warm up the page's code paths
             totals.append(total)
-            parts.append(timing or {})
+            parts.append({**(timing or {}), "body": page.evaluate("window.linkageDragBody")})
         time.sleep(0.016)                                # a drag's events come a frame apart
     page.mouse.up()
     return point, totals, parts
+
+
+def server_cpu(parts: list[dict]) -> float:
+    """Median CPU time [ms] of the server's work for the same drag requests (/api/drag and the JSON of its
+    answer), replayed in this thread: what the step costs without the other processes' load."""
+    out = []
+    for p in parts:
+        if p.get("body"):
+            c0 = time.thread_time()
+            app._json_bytes(app.drag(p["body"]))
+            out.append((time.thread_time() - c0) * 1e3)
+    return statistics.median(out) if out else float("nan")
 
 
 def main() -> int:
@@ -95,22 +108,26 @@ def main() -> int:
 
     srv = app.AppServer(0, {"name": "fourbar"})
     threading.Thread(target=srv.serve_forever, daemon=True).start()
-    every = []
+    every, cpus = [], []
     with sync_playwright() as pw:
         browser = pw.chromium.launch(executable_path=CHROMIUM, args=ARGS)
         page = browser.new_page(viewport={"width": 1440, "height": 900})
         page.goto(srv.url)
         page.wait_for_function("window.linkageState && window.linkageState.figures")
-        print(f"{'mechanism':20s} {'point':6s} {'median':>8s} {'p95':>8s} {'request':>8s} {'drawing':>8s}  [ms]")
+        print(f"{'mechanism':20s} {'point':6s} {'median':>8s} {'p95':>8s} {'request':>8s} {'drawing':>8s} "
+              f"{'server CPU':>10s}  [ms]")
         for name in args.mechanisms.split(","):
             point, totals, parts = measure(page, name, args.steps)
             every += totals
             req = statistics.median(p.get("request_ms", float("nan")) for p in parts)
             draw = statistics.median(p.get("draw_ms", float("nan")) for p in parts)
+            cpu = server_cpu(parts)
+            cpus.append(cpu)
             print(f"{name:20s} {point:6s} {statistics.median(totals):8.1f} {percentile(totals, 0.95):8.1f} "
-                  f"{req:8.1f} {draw:8.1f}", flush=True)
+                  f"{req:8.1f} {draw:8.1f} {cpu:10.1f}", flush=True)
         print(f"{'all':20s} {'':6s} {statistics.median(every):8.1f} {percentile(every, 0.95):8.1f}   "
-              f"({len(every)} steps; target 16 ms median, 33 ms p95)")
+              f"({len(every)} steps; target 16 ms median, 33 ms p95); server CPU per step: median over the "
+              f"mechanisms {statistics.median(cpus):.1f} ms, at most {max(cpus):.1f}")
         if args.screenshot:
             page.screenshot(path=args.screenshot)
         browser.close()

@@ -2032,6 +2032,7 @@
     const body = requestBody({ samples: SAMPLES, figures: false, digits: DRAG_DIGITS, outputs: wantedOutputs(),
       point: d ? d.point : "", target, input: d ? d.input : poseInputs(), locked });
     if ($("#round-values").checked) body.round = gridStep() * lengthUnit().f;
+    window.linkageDragBody = body;                  // for the drag benchmark's replay
     try {
       const started = performance.now();
       const res = await api("/api/drag", body);
