@@ -966,15 +966,18 @@ def drag_limit(mech: Mechanism, body: dict, solve_body: dict, values: dict):
         return None
     old = mech.values
     lo, hi, best = 0.0, 1.0, None
-    for _ in range(LIMIT_STEPS):
+    for _ in range(LIMIT_STEPS):                    # the analysis alone decides; the answer is solved once
         mid = 0.5 * (lo + hi)
         trial = {k: old[k] + mid * (v - old[k]) for k, v in values.items()}
+        b = {**solve_body, "set": {**body.get("set", {}), **trial}}
         try:
-            best = trial, solve({**solve_body, "set": {**body.get("set", {}), **trial}})
-            lo = mid
+            analysis(mechanism_of(b), b, figures=False)
+            best, lo = b, mid
         except (ParameterError, RequestError, ValueError):
             hi = mid
-    return best
+    if best is None:
+        return None
+    return {k: best["set"][k] for k in values}, solve(best)
 
 
 def draw(body: dict) -> dict:
