@@ -142,6 +142,19 @@ def test_a_pyslvs_import_drags_its_pose_and_keeps_the_rest_of_the_file():
     assert [ln for ln in d.text.splitlines() if not ln.startswith("J2 =")] == old_lines
 
 
+def test_the_input_tip_of_a_pyslvs_import_turns_the_input_and_leaves_the_pose():
+    from analytic.format import foreign
+    text = foreign.dumps(foreign.read(str(PEERS / "fourbar.pyslvs")))
+    m = service.load("<upload>", text=text)
+    J0 = np.array(D.file_data(text)["pose"]["J0"]) * 1e-3
+    target = J0 + 0.01 * np.array([math.cos(2.0), math.sin(2.0)])      # inside the crank's circle: unreachable
+    d = D.drag(m, text, "J1", target, [m.inputs[0].motion.q0])
+    assert d.text is None and d.values == {} and d.scrub and "turned to 114.6 deg" in d.message
+    assert d.input == pytest.approx(2.0, abs=1e-6)                      # the crank points at the pointer
+    r = np.hypot(*(np.array(d.position) - J0))
+    assert r == pytest.approx(0.025, rel=1e-5)                          # on the crank's own circle (25 mm)
+
+
 def test_rewrite_pose_touches_only_the_entry_and_keeps_comments():
     text = '[pose]\nA = [0, 0]   # the pivot\nB = [1, 2]\n\n[ground]\nB = [5, 5]\n'
     old = D.file_data(text)
@@ -159,6 +172,17 @@ def test_bad_drags_are_one_line_naming_the_field(fourbar):
         app.drag({"mechanism": "fourbar", "point": "C", "target": [0], "input": [0.0]})
     with pytest.raises(app.RequestError, match="input must be the pose's 1 input"):
         app.drag({"mechanism": "fourbar", "point": "C", "target": [0.3, 0.2], "input": 0.0})
+
+
+def test_a_crank_dragged_past_turning_fully_stops_at_the_grashof_limit():
+    # l1 + l4 <= l2 + l3 keeps the seed four-bar's crank turning (l1 <= 0.25 with l2 0.3, l3 0.25, l4 0.3)
+    answer = app.drag({"mechanism": "fourbar", "point": "B", "target": [0.0, 0.4], "input": [1.0],
+                       "samples": 361, "figures": False})
+    g = answer["drag"]
+    assert "stops at the limit" in g["message"] and "cannot turn fully" in g["message"] and not g["reached"]
+    l1 = g["set"]["l1"]
+    assert 0.25 - 0.3 / 256 <= l1 <= 0.25                 # within a halving step (of the 0.1 -> 0.4 way) of it
+    assert answer["solve"]["parameters"]["l1"] == l1
 
 
 def test_the_api_answers_the_drag_with_the_solve_of_the_new_values():

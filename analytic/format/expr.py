@@ -9,6 +9,7 @@ file is ever executed.
 from __future__ import annotations
 
 import ast
+import functools
 import math
 import re
 
@@ -58,7 +59,10 @@ def _depth(node, level: int = 0) -> int:
     return max((_depth(c, level + 1) for c in ast.iter_child_nodes(node)), default=level)
 
 
+@functools.lru_cache(maxsize=4096)
 def _parse(text: str) -> ast.Expression:
+    """The checked tree of an expression; cached (a file's expressions are parsed again for every set of
+    values: a slider move, each step of a drag). The trees are only read, never changed."""
     if len(text) > MAX_LENGTH:
         raise ValueError(f"{_short(text)} is too long: an expression is at most {MAX_LENGTH} characters")
     source = _DEG.sub(lambda m: f"{_DEG_MARK}({m.group(1)})", text)

@@ -109,6 +109,7 @@ FIELDS = {
     "open": {"text", "filename"},
     "targets": {"text", "filename", "unit"},
     "synthesize": {"targets", "type", "closed", "budget", "unit"},
+    "draw": {"drawing"},
     "drag": {"mechanism", "text", "set", "samples", "revolutions", "input_range", "outputs", "figures", "digits",
              "point", "target", "input", "locked", "round"},
 }
@@ -429,7 +430,8 @@ def synthesize(body: dict, server: "AppServer") -> dict:
     with server.synthesis_lock:
         if server.synthesis is not None and server.synthesis.running:
             raise RequestError(409, "a synthesis is already running: cancel it first")
-        job = server.synthesis = synth_job.Job({"targets": xy.tolist(), "type": kind, "closed": closed}, budget)
+        job = server.synthesis = synth_job.Job({"targets": xy.tolist(), "type": kind, "closed": closed,
+                                                    "workers": synth_job.WORKERS}, budget)
     out = job.wait()
     if out["state"] == "cancelled":
         raise RequestError(409, f"synthesis cancelled after {out['seconds']:.1f} s")
@@ -769,9 +771,9 @@ class AppServer(ThreadingHTTPServer):
 
 
 class Handler(BaseHTTPRequestHandler):
-    """Routes: GET / and the static files, GET /api/mechanisms; POST /api/solve, /api/simulate,
-    /api/render, /api/forces, /api/dynamics, /api/open, /api/targets, /api/synthesize,
-    /api/export/{csv,json,toml,mjcf}, /api/exit."""
+    """Routes: GET / and the static files, GET /api/mechanisms; POST /api/solve, /api/drag, /api/draw,
+    /api/simulate, /api/render, /api/forces, /api/dynamics, /api/open, /api/targets, /api/synthesize (and
+    its /status and /cancel), /api/export/{csv,json,toml,mjcf}, /api/exit."""
 
     server: AppServer
     server_version = "linkage-app"
@@ -837,9 +839,9 @@ class Handler(BaseHTTPRequestHandler):
         path = self.path.split("?", 1)[0]
         if path not in POSTS:
             raise RequestError(405 if path in FILES or path == "/api/mechanisms" else 404,
-                               f"{path}: no such action (POST to /api/solve, /api/simulate, /api/render, "
-                               f"/api/forces, /api/dynamics, /api/open, /api/targets, /api/synthesize, /api/export/KIND or "
-                               f"/api/exit)")
+                               f"{path}: no such action (POST to /api/solve, /api/drag, /api/draw, /api/simulate, "
+                               f"/api/render, /api/forces, /api/dynamics, /api/open, /api/targets, /api/synthesize, "
+                               f"/api/synthesize/status, /api/synthesize/cancel, /api/export/KIND or /api/exit)")
         body = self._body()
         if path == "/api/exit":
             self.stopping = True
@@ -929,8 +931,8 @@ def drag(body: dict) -> dict:
     text = body.get("text")
     d = dragging.drag(mech, text, point, target, q, locked, step)
     new_set = {**body.get("set", {}), **d.values}
-    answer = {"point": d.point, "set": new_set, "text": d.text, "input": d.input, "position": list(d.position),
-              "reached": d.reached, "message": d.message, "changed": d.values}
+    answer = {"point": d.point, "target": list(target), "set": new_set, "text": d.text, "input": d.input, "position": list(d.position),
+              "reached": d.reached, "scrub": d.scrub, "message": d.message, "changed": d.values}
     solve_body = {k: v for k, v in body.items() if k in FIELDS["solve"]}
     solve_body["set"] = new_set
     if d.text is not None:
@@ -938,13 +940,54 @@ def drag(body: dict) -> dict:
     try:
         solved = solve(solve_body) if (d.values or d.text is not None) else None
     except (ParameterError, RequestError, ValueError) as exc:
-        answer.update(set=body.get("set", {}), text=None, input=None, reached=False, changed={},
-                      message=f"{point} stops here: {_first_line(str(exc))}")
-        solved = None
+        reason = _first_line(str(exc))
+        limit = drag_limit(mech, body, solve_body, d.values) if d.text is None else None
+        if limit is None:
+            answer.update(set=body.get("set", {}), text=None, input=None, reached=False, changed={}, position=None,
+                          message=f"{point} stops here: {reason}")
+            solved = None
+        else:
+            values, solved = limit
+            answer.update(set={**body.get("set", {}), **values}, changed=values, reached=False, position=None,
+                          message=f"{point} stops at the limit: beyond it {reason}")
     return {"drag": answer, "solve": solved}
 
 
-ACTIONS = {"/api/drag": drag, "/api/forces": forces, "/api/dynamics": dynamics, "/api/open": open_file,
+LIMIT_STEPS = 8
+"""Halvings of the way from the values before a drag step to those it asked for, when those cannot run the
+cycle: the step stops within 1/256 of the way of the limit."""
+
+
+def drag_limit(mech: Mechanism, body: dict, solve_body: dict, values: dict):
+    """(values, solve) as far along the way from ``mech``'s values to ``values`` as the cycle still runs (the
+    input turns fully, every group closes), or None when none of it does or a branch had to flip."""
+    if not values or any(mech.definition.parameter_kind.get(k) == "branch" for k in values):
+        return None
+    old = mech.values
+    lo, hi, best = 0.0, 1.0, None
+    for _ in range(LIMIT_STEPS):                    # the analysis alone decides; the answer is solved once
+        mid = 0.5 * (lo + hi)
+        trial = {k: old[k] + mid * (v - old[k]) for k, v in values.items()}
+        b = {**solve_body, "set": {**body.get("set", {}), **trial}}
+        try:
+            analysis(mechanism_of(b), b, figures=False)
+            best, lo = b, mid
+        except (ParameterError, RequestError, ValueError):
+            hi = mid
+    if best is None:
+        return None
+    return {k: best["set"][k] for k in values}, solve(best)
+
+
+def draw(body: dict) -> dict:
+    """A linkage drawn on the empty page (:func:`sim.front.draw.check`): its ``linkage/1`` text, mobility,
+    Assur groups, or the one line that says what is wrong and the names it concerns."""
+    from sim.front import draw as drawing
+    check_fields(body, "draw")
+    return drawing.check(body.get("drawing"))
+
+
+ACTIONS = {"/api/draw": draw, "/api/drag": drag, "/api/forces": forces, "/api/dynamics": dynamics, "/api/open": open_file,
            "/api/targets": targets}
 """The panels' JSON actions (forces, dynamics, opening a file), by path."""
 POSTS = {"/api/solve", "/api/simulate", "/api/render", "/api/exit", "/api/synthesize", "/api/synthesize/status",

@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import dataclasses
 import json
+import math
 import re
 import tomllib
 
@@ -30,6 +31,15 @@ TOLERANCE = 1e-9
 """Fraction of the mechanism's size within which a point counts as placed (the solver's own closure is
 ~1e-12 of the size; finite-difference derivatives leave ~1e-8 of a step, which the iterations remove)."""
 MAX_ITERATIONS = 40
+MAX_CALLS = 40
+"""Placements one solve of a drag may spend (a free drag takes ~10; creeping along an assembly limit, where
+steps keep failing, would take hundreds: ~0.5 ms each, and a drag step has ~16 ms)."""
+FLIP_MISS = 1e-3
+"""A miss above this fraction of the size tries the element's other branch too (the pointer crossed the
+line of its two joints); below it the miss is a lock's or a limit's, which the other branch does not mend."""
+STEP_DONE = 1e-10
+"""A step this small (in the values' natural sizes, :func:`scales`) ends the iterations: the point is as near
+the target as the free values let it come."""
 SKIP_FIELDS = {"point", "points", "link", "links", "from", "on", "pivot", "through", "branch", "change", "kind"}
 """Fields that name points, links or the branch: never a continuous value to change."""
 
@@ -60,6 +70,8 @@ class Drag:
     position: tuple[float, float]
     reached: bool
     message: str
+    scrub: bool = False
+    """Only the input moved (a locked or pose-given crank): the pose turns to the pointer, off its circle."""
 
 
 # ------------------------------------------------------------------------------------ what moves P
@@ -131,6 +143,10 @@ def variables(mech: Mechanism, point: str, data: dict | None, locked=()) -> tupl
             for n in _names(value, params):
                 if params[n] != "branch":
                     add(Variable("parameter", n))
+    if pose_form and any(v.kind == "input" for v in out):
+        # the input's tip of a links-and-joints file: its pose would move the crank and the coupler at once;
+        # the drag turns the input (the lengths follow from the pose: drag the pivot or the far joints)
+        out = [v for v in out if v.kind == "input"]
     return out, branches
 
 
@@ -151,6 +167,7 @@ class _Model:
         # no change point on the way round: the file's geometry as it is (the schedule of change points costs
         # ~1.5 ms a build and would be empty again for values this close)
         self.plain = all(not e.get("flips") for e in mech.solving_geometry.elements)
+        self.calls = 0
 
     def build(self, vars_: list[Variable], x: np.ndarray) -> tuple[Mechanism, np.ndarray, dict | None]:
         values = dict(self.values)
@@ -172,6 +189,7 @@ class _Model:
 
     def place(self, vars_: list[Variable], x: np.ndarray) -> np.ndarray:
         """The point's position [m] at these values; raises ParameterError where it cannot be assembled."""
+        self.calls += 1
         mech, q, _ = self.build(vars_, x)
         p = self.point
         want = {"x" + p, "y" + p}
@@ -225,7 +243,10 @@ def solve_drag(model: _Model, vars_: list[Variable], x0: np.ndarray, target: np.
     x = x0.copy()
     p = model.place(vars_, x)
     why = None
+    spent = model.calls
     for _ in range(MAX_ITERATIONS):
+        if model.calls - spent > MAX_CALLS:                      # creeping along a limit: stop there
+            break
         r = p - target
         if np.hypot(*r) <= TOLERANCE * size:
             break
@@ -240,12 +261,14 @@ def solve_drag(model: _Model, vars_: list[Variable], x0: np.ndarray, target: np.
                 xs[j] -= 2 * h
                 J[:, j] = (p - model.place(vars_, xs)) / h
         dz = np.linalg.lstsq(J * scale, -r, rcond=1e-10)[0]
+        if np.linalg.norm(dz) < STEP_DONE:                     # the least miss: a limit, a lock
+            break
         step = dz * scale
-        t, moved = 1.0, False
+        t, moved, before = 1.0, False, np.hypot(*r)
         while t > 1e-4:
             try:
                 pn = model.place(vars_, x + t * step)
-                if np.hypot(*(pn - target)) < np.hypot(*r):
+                if np.hypot(*(pn - target)) < before:
                     x, p, moved = x + t * step, pn, True
                     break
             except ParameterError as exc:
@@ -280,13 +303,24 @@ def drag(mech: Mechanism, text: str | None, point: str, target, q, locked=(), ro
                     f"{' (its values are locked)' if locked else ''}: edit the file or unlock a parameter")
     scale = scales(mech, vars_)
     x0 = start_values(mech, data, vars_, q)
+    first = mech.inputs[0]
+    if first.kind == "crank" and point == first.point:
+        # the crank's tip: start from the pointer's angle about the pivot (the scrub in closed form)
+        s = mech.solve(q[None, :], outputs=("x" + first.joint, "y" + first.joint))
+        pivot = np.array([float(np.ravel(s["x" + first.joint])[0]), float(np.ravel(s["y" + first.joint])[0])])
+        turn = math.atan2(*(target - pivot)[::-1]) - math.atan2(*(here - pivot)[::-1])
+        for k, var in enumerate(vars_):
+            if var.kind == "input":
+                x0[k] += (turn + math.pi) % (2 * math.pi) - math.pi
     x, p, why = solve_drag(model, vars_, x0, target, scale, size)
     flipped = None
-    if np.hypot(*(p - target)) > TOLERANCE * size and branches:       # across the line: the other branch
+    if np.hypot(*(p - target)) > FLIP_MISS * size and branches:       # across the line: the other branch
         for b in branches:
             other = _Model(mech.with_values(**{b: -mech.values[b]}), {**mech.values, b: -mech.values[b]}, data,
                            point, q)
             try:
+                if np.hypot(*(other.place(vars_, x0) - target)) >= np.hypot(*(p - target)):
+                    continue                            # the other branch starts farther off than this ends
                 xb, pb, whyb = solve_drag(other, vars_, x0, target, scale, size)
             except ParameterError:
                 continue
@@ -306,18 +340,31 @@ def drag(mech: Mechanism, text: str | None, point: str, target, q, locked=(), ro
     if new_data is not data and new_data is not None:
         new_text = rewrite_pose(text, data, new_data)
     q_new = next((float(v) for var, v in zip(vars_, x) if var.kind == "input"), None)
-    names = [var.name if var.kind != "pose" else f"{var.section}.{var.name}[{var.axis}]" for var in vars_]
+    names = [var.name if var.kind != "pose" else f"{var.name}'s {var.section}" for var in vars_]
+    scrub = all(var.kind == "input" for var in vars_)
+    if scrub and not reached:
+        first = mech.inputs[0]
+        shown = f"{math.degrees(q_new):.1f} deg" if first.kind == "crank" else f"{q_new:.6g} m"
+        return Drag(point, values, new_text, q_new, (float(p[0]), float(p[1])), False,
+                    f"{point}: {first.q} turned to {shown} (its length stays)", True)
     if reached or round_to and np.hypot(*(p - target)) < round_to * mech.scale:
         message = f"{point}: {', '.join(dict.fromkeys(names))} changed" + (f"; {flipped} flipped" if flipped else "")
     else:
         held = [n for n in locked if n in mech.values]
         if why:
-            message = f"{point} stops at the limit: beyond it {why}"
+            message = f"{point} stops at the limit: beyond it {plain(why, mech)}"
         else:
             message = (f"{point} stops at the limit: it moves only as {', '.join(dict.fromkeys(names))} "
                        f"change{'s' if len(set(names)) == 1 else ''} (the file's other values that place it are "
                        f"numbers{', or locked: ' + ', '.join(held) if held else ''})")
     return Drag(point, values, new_text, q_new, (float(p[0]), float(p[1])), reached, message)
+
+
+def plain(why: str, mech: Mechanism) -> str:
+    """A loader's or solver's line as the drag's reason: without the file's path, an expression named by its
+    field instead of quoted whole."""
+    why = why.replace(f"{mech.definition.source}: ", "").replace("<upload>: ", "")
+    return re.sub(r"'[^']{24,}'(?:\s*\(\d+ characters\))?", "its expression", why)
 
 
 # ------------------------------------------------------------------------------ the file's text

@@ -3,8 +3,9 @@
 stages as it goes, and is killed at its deadline (the budget, plus GRACE) or when the page cancels it.
 
 The child is ``python -m sim.front.synth_job``: it reads one JSON request on stdin ({"targets": [[x, y],
-...] m, "type", "closed", "budget" s, "deadline": epoch seconds by which it must be done}), writes one JSON
-line per stage ({"stage": "search", "done": i, "total": n}, {"stage": "check", ...}) and a last line
+...] m, "type", "closed", "workers", "deadline": epoch seconds by which it must be done}), writes one JSON
+line per stage ({"stage": "search", "done": i, "total": n}, {"stage": "polish"}, {"stage": "check", ...}) and
+a last line
 {"result": {"designs": [...]}} or {"error": "one line"}.
 """
 
@@ -23,6 +24,12 @@ import numpy as np
 
 GRACE = 1.0
 """[s] How long past its budget a job may run before it is killed (the issue's bound: budget plus 1 s)."""
+WORKERS = max(1, min(4, (os.cpu_count() or 1) // 2))
+"""Processes the app's search uses: half the cores (the page and the server keep the rest), at most 4; the
+answer does not depend on it (each restart carries its own seed)."""
+SEARCH_SHARE = 0.75
+"""The share of what is left of the budget when the child starts that the search itself gets: the rest is
+for the candidates' checks (a MuJoCo run each) that follow it."""
 DESIGNS = 3
 """Candidates asked of the search; those that repeat an earlier one are dropped (:func:`distinct`)."""
 SAME_CURVE = 1e-3
@@ -40,14 +47,20 @@ def distinct(designs: list[dict], size: float) -> list[dict]:
         c = c[np.all(np.isfinite(c), axis=1)]
         same = False
         for _, k in kept:
-            if len(c) and len(k):
-                gap = np.sqrt(((c[:, None] - k[None]) ** 2).sum(-1))
-                if max(gap.min(1).max(), gap.min(0).max()) <= SAME_CURVE * size:
-                    same = True
-                    break
+            if len(c) > 1 and len(k) > 1 and max(_gap(c, k), _gap(k, c)) <= SAME_CURVE * size:
+                same = True
+                break
         if not same:
             kept.append((d, c))
     return [d for d, _ in kept]
+
+
+def _gap(a: np.ndarray, b: np.ndarray) -> float:
+    """The farthest any sample of polyline ``a`` lies from polyline ``b`` (distance to its segments)."""
+    p0, d = b[:-1], np.diff(b, axis=0)
+    rel = a[:, None] - p0[None]
+    t = np.clip((rel * d[None]).sum(-1) / np.maximum((d * d).sum(-1), 1e-300)[None], 0.0, 1.0)
+    return float(np.sqrt(((rel - t[..., None] * d[None]) ** 2).sum(-1)).min(1).max())
 
 
 def run(request: dict, emit) -> dict:
@@ -57,13 +70,17 @@ def run(request: dict, emit) -> dict:
     from sim.output.jsonout import clean
     xy = np.asarray(request["targets"], dtype=float)
     target = sp.Target(xy, None, bool(request["closed"]))
-    budget = max(0.1, float(request["deadline"]) - time.time())      # the process start came out of it
-    options = design_service.PathOptions(types=(request["type"],), budget=budget, designs=DESIGNS)
+    # the process start came out of the budget; the candidates' MuJoCo checks follow the search
+    budget = max(0.1, SEARCH_SHARE * (float(request["deadline"]) - time.time()))
+    options = design_service.PathOptions(types=(request["type"],), budget=budget, designs=DESIGNS,
+                                         workers=int(request.get("workers", 1)))
     restarts = max(options.restart_count, options.designs)
 
     def progress(done: int, total: int) -> None:
-        if done <= restarts:
+        if done < restarts:
             emit({"stage": "search", "done": done, "total": restarts})
+        elif done == restarts:          # then the multi-starts, basin hopping and the polish of the best
+            emit({"stage": "polish", "done": 0, "total": 0})
         else:
             emit({"stage": "check", "done": done - restarts, "total": total - restarts})
 

@@ -51,8 +51,10 @@
     dynamics: null,
     dynamicsCharts: [],
     synth: { targets: [], result: null, selected: 0, charts: [] },
+    draw: null,                         // the drawing on the empty page (null: not drawing)
     drag: null,                         // the point being dragged: {point, before, moved, input}
-    undo: [],                           // snapshots before each drag (values, file text, frame)
+    undo: [],                           // snapshots before each drag or edit (values, file text, frame)
+    editBefore: null,                   // the snapshot a slider or number-box edit started from
     redo: [],
   };
 
@@ -271,16 +273,28 @@
       const check = document.createElement("input");
       check.type = "checkbox";
       check.dataset.lock = p.name;
-      lock.append(check, " lock");
-      row.querySelector(".hint").append(" ", lock);
+      lock.append(check, "lock");
+      row.querySelector(".hint").before(lock);
+    }
+    // an edit by slider or number box is one undo step, from where it started to where it ended
+    const start = () => { state.editBefore = snapshot(); };
+    const begin = () => { if (!state.editBefore) start(); };
+    const end = () => { const before = state.editBefore; state.editBefore = null; if (before) pushUndo(before); };
+    for (const el of [slider, box]) {
+      el.addEventListener("pointerdown", start);
+      el.addEventListener("focus", start);
+      el.addEventListener("change", end);
+      el.addEventListener("blur", () => { state.editBefore = null; });
     }
     slider.addEventListener("input", () => {
+      begin();
       state.set[p.name] = Number(slider.value);
       box.value = fmt(Number(slider.value));
       state.lastEdited = p.name;
       edited();
     });
     box.addEventListener("input", () => {
+      begin();
       const text = box.value.trim();
       state.set[p.name] = text;
       const v = Number(text);
@@ -314,6 +328,7 @@
   // deg or rad and angular speeds in rpm as toggled (analytic/quantities.py does the same for the CLI).
   const METRES = { m: 1, mm: 1e-3, cm: 1e-2, in: 0.0254 };
   function lengthUnit() {
+    if (state.draw) return { unit: "mm", f: 1000 };
     const u = (state.solve && state.solve.describe.units) || (state.describe && state.describe.units) || "m";
     return { unit: u, f: 1 / (METRES[u] || 1) };
   }
@@ -1181,6 +1196,7 @@
   }
 
   function pickTarget(e) {
+    if (state.draw) return;
     if (state.tab !== "synthesis" || !state.geometry) return;
     const r = canvas.getBoundingClientRect();
     const px = e.clientX - r.left; const py = e.clientY - r.top;
@@ -1208,13 +1224,16 @@
 
   // The search runs as a server job: the bar follows its real stages (the search's restarts, then each
   // candidate's MuJoCo check) polled from /api/synthesize/status; Cancel kills it (and its workers) at once.
-  const STAGES = { starting: "starting", search: "searching", check: "checking the candidates in MuJoCo" };
+  const STAGES = { starting: "starting", search: "searching", polish: "multi-starts, basin hopping and polishing the best",
+    check: "checking the candidates in MuJoCo" };
   function synthProgress(s) {
     const bar = $("#synth-progress");
     if (s.state !== "running") return;
     const frac = s.total ? s.done / s.total : 0;
-    bar.value = s.stage === "check" ? 0.8 + 0.2 * frac : s.stage === "search" ? 0.8 * frac : 0;
+    bar.value = s.stage === "check" ? 0.85 + 0.15 * frac : s.stage === "polish" ? 0.7
+      : s.stage === "search" ? 0.7 * frac : 0;
     const what = s.stage === "search" ? `${STAGES.search}: restart ${s.done} of ${s.total}`
+      : s.stage === "polish" ? STAGES.polish
       : s.stage === "check" ? `${STAGES.check}: ${s.done} of ${s.total}` : "starting the search";
     $("#synth-status").textContent = `${what} · ${s.elapsed.toFixed(1)} s of the ${fmt(s.budget, 3)} s budget`;
   }
@@ -1475,6 +1494,7 @@
   }
 
   function drawFrame() {
+    if (state.draw) { drawDrawing(); return; }
     const data = state.solve;
     if (!data || !state.geometry) return;
     const W = canvas.clientWidth; const H = canvas.clientHeight;
@@ -1652,6 +1672,242 @@
   }
 
 
+
+  // --------------------------------------------------------------------------------- drawing
+  // A linkage drawn from an empty page: ground pivots and joints placed with clicks, joined into links, one
+  // link marked as the driven input. Each change asks /api/draw for the links-and-joints file, its mobility
+  // and its Assur groups (or the one line that says what is wrong, whose names are marked in red).
+  const DRAW_VIEW = { x0: -0.05, x1: 0.2, y0: -0.06, y1: 0.14, n: 1 };     // [m] the empty page's extent
+
+  function startDrawing() {
+    state.playing = false;
+    $("#play").textContent = "Play";
+    state.draw = { points: {}, links: [], input: null, pending: null, result: null, counts: { O: 0, J: 0, L: 0 } };
+    state.savedGeometry = state.geometry;
+    state.geometry = { ...DRAW_VIEW };
+    document.body.classList.add("drawing");
+    $("#draw-tools").hidden = false;
+    $("#draw-note").hidden = false;
+    drawNote("click to place ground pivots (drag one to move it); pick “joint” for moving joints, “link” to join "
+      + "two points (Shift+click adds a point to the last link), “input” for the driven link", false);
+    drawFrame();
+    bumpRevision();
+  }
+
+  function leaveDrawing() {
+    state.draw = null;
+    document.body.classList.remove("drawing");
+    $("#draw-tools").hidden = true;
+    $("#draw-note").hidden = true;
+    state.geometry = state.solve ? geometry(state.solve) : state.savedGeometry;
+    drawFrame();
+    bumpRevision();
+  }
+
+  function drawTool() { return document.querySelector("input[name=draw-tool]:checked").value; }
+
+  function drawHit(e) {
+    const r = canvas.getBoundingClientRect();
+    const px = e.clientX - r.left; const py = e.clientY - r.top;
+    const v = view();
+    let best = null; let bestD = HIT_PX;
+    for (const [name, p] of Object.entries(state.draw.points)) {
+      const d = Math.hypot(v.X(p.x) - px, v.Y(p.y) - py);
+      if (d <= bestD) { best = name; bestD = d; }
+    }
+    return best;
+  }
+
+  function drawLinkHit(e) {
+    const r = canvas.getBoundingClientRect();
+    const px = e.clientX - r.left; const py = e.clientY - r.top;
+    const v = view();
+    let best = null; let bestD = HIT_PX;
+    for (const link of state.draw.links) {
+      const pts = link.points.map((n) => state.draw.points[n]);
+      for (let i = 0; i < pts.length; i++) {
+        for (let j = i + 1; j < pts.length; j++) {
+          const ax = v.X(pts[i].x); const ay = v.Y(pts[i].y); const bx = v.X(pts[j].x); const by = v.Y(pts[j].y);
+          const L2 = (bx - ax) ** 2 + (by - ay) ** 2 || 1;
+          const t = Math.max(0, Math.min(1, ((px - ax) * (bx - ax) + (py - ay) * (by - ay)) / L2));
+          const d = Math.hypot(px - ax - t * (bx - ax), py - ay - t * (by - ay));
+          if (d <= bestD) { best = link.name; bestD = d; }
+        }
+      }
+    }
+    return best;
+  }
+
+  function drawClick(e) {
+    const d = state.draw;
+    const tool = drawTool();
+    const hit = drawHit(e);
+    if (tool === "ground" || tool === "joint") {
+      if (hit) {                                  // a placed point: move it with the pointer
+        d.moving = hit;
+        try { canvas.setPointerCapture(e.pointerId); } catch (err) { /* a synthetic event */ }
+        return;
+      }
+      const [x, y] = worldAt(e);
+      const ground = tool === "ground";
+      let name;
+      if (ground) name = `O${++d.counts.O}`;
+      else { const k = d.counts.J++; name = k < 26 ? String.fromCharCode(65 + k) : `J${k - 25}`; }
+      d.points[name] = { x, y, ground };
+    } else if (tool === "link") {
+      if (!hit) return;
+      const last = d.links[d.links.length - 1];
+      if (e.shiftKey && last) {
+        if (!last.points.includes(hit)) last.points.push(hit);
+      } else if (d.pending === null) {
+        d.pending = hit;
+        drawFrame();
+        return;
+      } else if (d.pending !== hit) {
+        d.links.push({ name: `L${++d.counts.L}`, points: [d.pending, hit] });
+        d.pending = null;
+      } else {
+        d.pending = null;
+      }
+    } else if (tool === "input") {
+      const link = drawLinkHit(e);
+      if (!link) return;
+      d.input = link;
+    } else if (tool === "erase") {
+      if (hit) {
+        delete d.points[hit];
+        for (const link of d.links) link.points = link.points.filter((p) => p !== hit);
+        d.links = d.links.filter((link) => link.points.length >= 2);
+      } else {
+        const link = drawLinkHit(e);
+        if (!link) return;
+        d.links = d.links.filter((l) => l.name !== link);
+      }
+      if (d.input && !d.links.some((l) => l.name === d.input)) d.input = null;
+      d.pending = null;
+    }
+    drawFrame();
+    drawCheck();
+  }
+
+  function drawingBody() {
+    const d = state.draw;
+    return { points: d.points, links: d.links.map((l) => ({ name: l.name, points: [...l.points] })), input: d.input };
+  }
+
+  async function drawCheck() {
+    const d = state.draw;
+    if (!Object.keys(d.points).length) { d.result = null; drawFrame(); bumpRevision(); return; }
+    try {
+      const body = drawingBody();
+      window.linkageDrawingSent = body;
+      const res = await api("/api/draw", { drawing: body });
+      const r = await res.json();
+      if (state.draw !== d) return;
+      d.result = r;
+      window.linkageDrawing = r;
+      if (r.error) drawNote(r.error, true);
+      else {
+        const groups = r.groups.map((g) => `${g.places.join("+")} (links ${g.links.join(", ")}): ${g.class}`).join("; ");
+        drawNote(`mobility ${r.mobility}, one input · Assur groups: ${groups || "none"} · Analyse opens it, Save writes it`, false);
+      }
+    } catch (err) {
+      if (state.draw !== d) return;
+      d.result = { error: err.message || String(err), names: [] };
+      window.linkageDrawing = d.result;
+      drawNote(d.result.error, true);
+    }
+    drawFrame();
+    bumpRevision();
+  }
+
+  function drawNote(text, bad) {
+    const el = $("#draw-note");
+    el.textContent = text;
+    el.classList.toggle("bad", !!bad);
+  }
+
+  function drawingText() {
+    const r = state.draw && state.draw.result;
+    if (!r || !r.text || r.error) {
+      drawNote(r && r.error ? `fix the drawing first: ${r.error}` : "draw a linkage first", true);
+      return null;
+    }
+    return r.text;
+  }
+
+  function saveDrawing() {
+    const text = drawingText();
+    if (!text) return;
+    const url = URL.createObjectURL(new Blob([text], { type: "application/toml" }));
+    const a = document.createElement("a");
+    a.href = url; a.download = "drawn.toml";
+    document.body.appendChild(a); a.click(); a.remove();
+    setTimeout(() => URL.revokeObjectURL(url), 1000);
+  }
+
+  function analyseDrawing() {
+    const text = drawingText();
+    if (!text) return;
+    leaveDrawing();
+    addUploadOption("drawn", text, "drawing");
+    openMechanism("drawn", text);
+  }
+
+  function drawDrawing() {
+    const d = state.draw;
+    const W = canvas.clientWidth; const H = canvas.clientHeight;
+    ctx.clearRect(0, 0, W, H);
+    const v = view();
+    drawAxes(v);
+    ctx.save();
+    ctx.beginPath(); ctx.rect(MARGIN.left, MARGIN.top, v.w, v.h); ctx.clip();
+    const bad = new Set((d.result && d.result.error && d.result.names) || []);
+    const at = (n) => { const p = d.points[n]; return p ? [v.X(p.x), v.Y(p.y)] : null; };
+    d.links.forEach((link, k) => {
+      const pts = link.points.map(at).filter(Boolean);
+      const color = bad.has(link.name) ? "#b42318" : COLORS[k % COLORS.length];
+      ctx.save();
+      ctx.lineJoin = "round"; ctx.lineCap = "round";
+      ctx.strokeStyle = color; ctx.fillStyle = `${color}2e`;
+      ctx.lineWidth = link.name === d.input ? 8 : 5;
+      ctx.beginPath();
+      const poly = pts.length >= 3 ? hull(pts) : pts;
+      poly.forEach((p, j) => (j ? ctx.lineTo(p[0], p[1]) : ctx.moveTo(p[0], p[1])));
+      if (pts.length >= 3) { ctx.closePath(); ctx.fill(); }
+      ctx.stroke();
+      const cx = pts.reduce((s, p) => s + p[0], 0) / pts.length;
+      const cy = pts.reduce((s, p) => s + p[1], 0) / pts.length;
+      ctx.fillStyle = color; ctx.font = "11px system-ui, sans-serif";
+      ctx.fillText(link.name === d.input ? `${link.name} (input ↻)` : link.name, cx + 6, cy + 14);
+      ctx.restore();
+    });
+    for (const [name, p] of Object.entries(d.points)) {
+      const q = at(name);
+      if (p.ground) drawGround(q);
+      drawJoint(name, q, false, p.ground);
+      if (bad.has(name) || name === d.pending) {
+        ctx.save();
+        ctx.strokeStyle = name === d.pending ? "#1f5fbf" : "#b42318"; ctx.lineWidth = 2;
+        ctx.beginPath(); ctx.arc(q[0], q[1], 9, 0, 2 * Math.PI); ctx.stroke();
+        ctx.restore();
+      }
+    }
+    ctx.restore();
+    if (d.result && d.result.error) {                 // the error on the canvas itself
+      ctx.save();
+      ctx.font = "12px system-ui, sans-serif"; ctx.fillStyle = "#b42318";
+      const words = d.result.error.split(" ");
+      let line = ""; let y = MARGIN.top + 18;
+      for (const w of words) {
+        if (ctx.measureText(`${line} ${w}`).width > v.w - 20 && line) { ctx.fillText(line, MARGIN.left + 10, y); line = w; y += 15; }
+        else line = line ? `${line} ${w}` : w;
+      }
+      ctx.fillText(line, MARGIN.left + 10, y);
+      ctx.restore();
+    }
+  }
+
   // -------------------------------------------------------------------------------- dragging
   // Grab a point of the drawing and drag it: /api/drag changes the file's values that place it (the
   // server inverts the file's parameterisation: sim/front/drag.py) and answers the new values with their
@@ -1712,11 +1968,12 @@
   }
 
   function dragStart(e) {
+    if (state.draw) { if (e.button === 0) drawClick(e); return; }
     if (state.tab === "synthesis" || !state.solve || e.button !== 0) return;
     const name = pointAt(e);
     if (!name) return;
     e.preventDefault();
-    canvas.setPointerCapture(e.pointerId);
+    try { canvas.setPointerCapture(e.pointerId); } catch (err) { /* a synthetic event: no pointer to capture */ }
     state.playing = false;
     $("#play").textContent = "Play";
     state.drag = { point: name, before: snapshot(), moved: false, input: poseInputs() };
@@ -1725,6 +1982,19 @@
   }
 
   function dragMove(e) {
+    if (state.draw) {
+      const d = state.draw;
+      if (d.moving) {
+        const [x, y] = worldAt(e);
+        d.points[d.moving].x = x;
+        d.points[d.moving].y = y;
+        drawFrame();
+      } else {
+        const tool = drawTool();
+        canvas.style.cursor = (tool === "ground" || tool === "joint") && drawHit(e) ? "grab" : "crosshair";
+      }
+      return;
+    }
     if (!state.drag) {
       if (state.tab !== "synthesis" && state.solve) canvas.style.cursor = pointAt(e) ? "grab" : "";
       return;
@@ -1734,17 +2004,16 @@
   }
 
   function dragEnd() {
+    if (state.draw) {
+      if (state.draw.moving) { state.draw.moving = null; drawCheck(); }
+      return;
+    }
     const d = state.drag;
     if (!d) return;
     state.drag = null;
     canvas.style.cursor = "";
     if (state.solve) { state.geometry = geometry(state.solve); drawFrame(); }
-    const changed = JSON.stringify(d.before.set) !== JSON.stringify(state.set) || d.before.text !== state.mech.text;
-    if (changed) {
-      state.undo.push(d.before);
-      state.redo = [];
-      undoButtons();
-    }
+    const changed = pushUndo(d.before);
     if (changed) {                                  // the figures of merit once the values have settled
       const full = channels.full;
       clearTimeout(full.timer);
@@ -1763,6 +2032,7 @@
     const body = requestBody({ samples: SAMPLES, figures: false, digits: DRAG_DIGITS, outputs: wantedOutputs(),
       point: d ? d.point : "", target, input: d ? d.input : poseInputs(), locked });
     if ($("#round-values").checked) body.round = gridStep() * lengthUnit().f;
+    window.linkageDragBody = body;                  // for the drag benchmark's replay
     try {
       const started = performance.now();
       const res = await api("/api/drag", body);
@@ -1792,11 +2062,12 @@
     if (answer.solve) {
       $("#figures").classList.add("pending");
       applySolve(answer.solve, version, false, false);
+      if (state.tab === "forces") requestForces();     // the joint forces follow the drag (one request at a time)
     }
     if (g.input !== null) setFrame(nearestFrame(g.input));
     drawFrame();
     moveCursors();
-    dragNote(g.message, !g.reached);
+    dragNote(g.message, !g.reached && !g.scrub);
     bumpRevision();
   }
 
@@ -1857,6 +2128,16 @@
     dragNote("redone", false);
   }
 
+  function pushUndo(before) {                    // an undo step where the values or the file changed
+    const changed = JSON.stringify(before.set) !== JSON.stringify(state.set) || before.text !== state.mech.text;
+    if (changed) {
+      state.undo.push(before);
+      state.redo = [];
+      undoButtons();
+    }
+    return changed;
+  }
+
   function undoButtons() {
     $("#undo").disabled = !state.undo.length;
     $("#redo").disabled = !state.redo.length;
@@ -1893,6 +2174,8 @@
   }
 
   function openMechanism(name, text) {
+    if (state.draw) leaveDrawing();
+    state.editBefore = null;
     state.mech = { name, text };
     state.undo = [];
     state.redo = [];
@@ -1970,6 +2253,10 @@
     canvas.addEventListener("pointerup", dragEnd);
     canvas.addEventListener("pointercancel", dragEnd);
     $("#undo").addEventListener("click", undo);
+    $("#draw-new").addEventListener("click", startDrawing);
+    $("#draw-save").addEventListener("click", saveDrawing);
+    $("#draw-open").addEventListener("click", analyseDrawing);
+    $("#draw-exit").addEventListener("click", leaveDrawing);
     $("#redo").addEventListener("click", redo);
     document.addEventListener("keydown", (e) => {
       if (!(e.ctrlKey || e.metaKey) || e.target.matches("input[type=text], textarea")) return;

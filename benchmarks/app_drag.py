@@ -1,0 +1,139 @@
+"""Drag-step latency of ``linkage app`` in a real browser (Playwright + /usr/bin/chromium): a joint of each
+library mechanism dragged round a small circle; each step is a pointer move on the canvas -> /api/drag (the
+file's values inverted and solved on the server) -> the redraw of the animation, curves and figures -> the
+next animation frame. Prints per mechanism the median and the 95th percentile, with the request's and the
+drawing's shares of the median and the server's CPU time for the same requests replayed in one thread (the
+part of a step that does not depend on how loaded the machine is), then the same over all steps::
+
+    python benchmarks/app_drag.py [--mechanisms fourbar,jansen] [--steps 30] [--screenshot PNG]
+
+Target (issue 31): 16 ms median, 33 ms p95 (one frame at 60 Hz, two at most).
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import statistics
+import sys
+import threading
+import time
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+
+import analytic  # noqa: E402
+from sim.front import app  # noqa: E402
+
+CHROMIUM = "/usr/bin/chromium"
+ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
+        "--disable-component-update", "--no-first-run"]
+
+STEP = """async ([x, y]) => {
+  const canvas = document.querySelector("#view");
+  const r0 = +document.body.dataset.revision;
+  const t0 = performance.now();
+  canvas.dispatchEvent(new PointerEvent("pointermove", { clientX: x, clientY: y, bubbles: true, pointerId: 1 }));
+  await new Promise((resolve) => {
+    const obs = new MutationObserver(() => {
+      if (+document.body.dataset.revision > r0) { obs.disconnect(); resolve(); }
+    });
+    obs.observe(document.body, { attributes: true, attributeFilter: ["data-revision"] });
+  });
+  await new Promise((resolve) => requestAnimationFrame(() => resolve()));
+  return [performance.now() - t0, window.linkageTiming];
+}"""
+
+
+def pick_point(page) -> str:
+    """The first point a drag can move freely: not on the ground, not an input's tip."""
+    d = page.evaluate("window.linkageState.describe")
+    tips = {i["point"] for i in d["inputs"]}
+    return next(p for p in d["points"] if p not in d["ground"] and p not in tips)
+
+
+def percentile(values: list[float], q: float) -> float:
+    s = sorted(values)
+    k = (len(s) - 1) * q
+    lo, hi = math.floor(k), math.ceil(k)
+    return s[lo] + (s[hi] - s[lo]) * (k - lo)
+
+
+def measure(page, name: str, steps: int) -> tuple[str, list[float], list[dict]]:
+    page.evaluate("(n) => { const s = document.querySelector('#mechanism'); s.value = n; "
+                  "s.dispatchEvent(new Event('change')); }", name)
+    page.wait_for_function(f"window.linkageState && window.linkageState.mechanism === {name!r} && "
+                           "window.linkageState.figures && !document.querySelector('#figures.pending')")
+    page.click("#play")                                  # paused: the pose the drag starts from holds still
+    page.fill("#scrub", "30")
+    page.dispatch_event("#scrub", "input")
+    point = pick_point(page)
+    x, y = page.evaluate(f"""(() => {{ const s = window.linkageState, i = 30;
+        return window.linkageCanvas.toClient(s.points[{point!r}].x[i], s.points[{point!r}].y[i]); }})()""")
+    page.mouse.move(x, y)
+    page.mouse.down()
+    radius = 6.0                                         # [px] a small circle: every step reachable
+    totals, parts = [], []
+    for k in range(steps + 3):
+        a = 2 * math.pi * k / 12
+        total, timing = page.evaluate(STEP, [x + radius * math.sin(a), y + radius * (1 - math.cos(a))])
+        if k >= 3:                                       # the first moves warm up the page's code paths
+            totals.append(total)
+            parts.append({**(timing or {}), "body": page.evaluate("window.linkageDragBody")})
+        time.sleep(0.016)                                # a drag's events come a frame apart
+    page.mouse.up()
+    return point, totals, parts
+
+
+def server_cpu(parts: list[dict]) -> float:
+    """Median CPU time [ms] of the server's work for the same drag requests (/api/drag and the JSON of its
+    answer), replayed in this thread: what the step costs without the other processes' load."""
+    out = []
+    for p in parts:
+        if p.get("body"):
+            c0 = time.thread_time()
+            app._json_bytes(app.drag(p["body"]))
+            out.append((time.thread_time() - c0) * 1e3)
+    return statistics.median(out) if out else float("nan")
+
+
+def main() -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--mechanisms", default=",".join(analytic.names()),
+                    help="comma-separated library mechanisms (default: all)")
+    ap.add_argument("--steps", type=int, default=30)
+    ap.add_argument("--screenshot", metavar="PNG", help="the page after the last mechanism's drag")
+    args = ap.parse_args()
+    from playwright.sync_api import sync_playwright
+
+    srv = app.AppServer(0, {"name": "fourbar"})
+    threading.Thread(target=srv.serve_forever, daemon=True).start()
+    every, cpus = [], []
+    with sync_playwright() as pw:
+        browser = pw.chromium.launch(executable_path=CHROMIUM, args=ARGS)
+        page = browser.new_page(viewport={"width": 1440, "height": 900})
+        page.goto(srv.url)
+        page.wait_for_function("window.linkageState && window.linkageState.figures")
+        print(f"{'mechanism':20s} {'point':6s} {'median':>8s} {'p95':>8s} {'request':>8s} {'drawing':>8s} "
+              f"{'server CPU':>10s}  [ms]")
+        for name in args.mechanisms.split(","):
+            point, totals, parts = measure(page, name, args.steps)
+            every += totals
+            req = statistics.median(p.get("request_ms", float("nan")) for p in parts)
+            draw = statistics.median(p.get("draw_ms", float("nan")) for p in parts)
+            cpu = server_cpu(parts)
+            cpus.append(cpu)
+            print(f"{name:20s} {point:6s} {statistics.median(totals):8.1f} {percentile(totals, 0.95):8.1f} "
+                  f"{req:8.1f} {draw:8.1f} {cpu:10.1f}", flush=True)
+        print(f"{'all':20s} {'':6s} {statistics.median(every):8.1f} {percentile(every, 0.95):8.1f}   "
+              f"({len(every)} steps; target 16 ms median, 33 ms p95); server CPU per step: median over the "
+              f"mechanisms {statistics.median(cpus):.1f} ms, at most {max(cpus):.1f}")
+        if args.screenshot:
+            page.screenshot(path=args.screenshot)
+        browser.close()
+    srv.shutdown()
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
