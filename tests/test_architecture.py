@@ -35,6 +35,7 @@ FRONT_DEBT = {
     "sim/front/cli/synth_path.py": {"analytic.format.linkfile", "analytic.synthesis.curves"},
     "sim/front/cli/synthesize.py": {"analytic.format.expr", "analytic.synthesis.two_position", "sim.model.build",
                                    "sim.run.simulate"},
+    "sim/front/draw.py": {"analytic.kinds"},
     "sim/front/drag.py": {"analytic.format.expr", "analytic.kinds", "analytic.mechanism"},
     "sim/front/synth_job.py": {"analytic.synthesis.path"},
 }
