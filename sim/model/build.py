@@ -114,6 +114,8 @@ class Built:
     loadset: object = None
     """The file's and the command line's loads (analytic.loads.LoadSet), carried as xfrc_applied
     (sim.model.loads); None when there are none."""
+    native: tuple = ()
+    """Loads carried as MuJoCo tendons instead (a motor-driven run: sim.model.loads.add_native)."""
 
     @property
     def name(self) -> str:
@@ -165,8 +167,10 @@ def spanning_tree(mech):
     return topo.tree, tuple(loop.joint for loop in topo.loops)
 
 
-def build(mech, settings: Settings = Settings(), loads: Loads = Loads(), revolutions: float = 1.0) -> Built:
-    """Generate and compile the model of ``mech`` with its initial state from the analytic solver."""
+def build(mech, settings: Settings = Settings(), loads: Loads = Loads(), revolutions: float = 1.0,
+          native: bool = False) -> Built:
+    """Generate and compile the model of ``mech`` with its initial state from the analytic solver; ``native``:
+    linear springs and dampers as MuJoCo tendons (a motor-driven run, sim.model.loads.add_native)."""
     if settings.timestep is None:
         settings = replace(settings, timestep=choose_timestep(mech, revolutions))
     if mech.size < MIN_SIZE:
@@ -180,10 +184,10 @@ def build(mech, settings: Settings = Settings(), loads: Loads = Loads(), revolut
     if not sol.valid.all():
         mech.check_assembles(q0)
     points = {p: (float(sol["x" + p][0]), float(sol["y" + p][0])) for p in mech.points}
-    return build_model(mech, settings, loads, h, sol, points, (q0[0], qd0[0], qdd0[0]), revolutions)
+    return build_model(mech, settings, loads, h, sol, points, (q0[0], qd0[0], qdd0[0]), revolutions, native)
 
 
-def build_model(mech, settings, loads, h, sol, points, q_start, revolutions) -> Built:
+def build_model(mech, settings, loads, h, sol, points, q_start, revolutions, native=False) -> Built:
     spec = mujoco.MjSpec.from_file(str(TEMPLATE))
     spec.modelname = mech.name
     size = mech.size
@@ -239,6 +243,9 @@ def build_model(mech, settings, loads, h, sol, points, q_start, revolutions) -> 
     from analytic import kinds
     for e in mech.geometry.elements:                   # constraints a kind adds (a gear's coupling)
         kinds.get(e["kind"]).mjcf(e, context)
+    from sim.model import loads as ML
+    loadset = ML.loadset_of(mech, loads)
+    carried = ML.add_native(context, bodies, loadset, sol) if native and loadset else ()
     add_inertias(spec, mech, points, frames, loads)
     drives = add_drives(spec, mech, order, q_start, h)
     add_load(spec, mech, loads)
@@ -253,11 +260,9 @@ def build_model(mech, settings, loads, h, sol, points, q_start, revolutions) -> 
         model = spec.compile()
     except ValueError as exc:
         raise ParameterError(f"MuJoCo cannot compile the {mech.name}: {str(exc).splitlines()[0]}") from None
-    from sim.model import loads as ML
-    loadset = ML.loadset_of(mech, loads)
     window = slow_stroke(mech) if loads.slow_stroke_only else None
     draft = Built(mech, model, settings, loads, tuple(drives), tuple(loops), tuple(mech.links), None, None, None,
-                  None, window, xml, loadset)
+                  None, window, xml, loadset, carried)
     extra = ML.drive_loads(draft, revolutions) if loadset else None
     scale = regularization(model, mech, loads, extra)
     model.body_invweight0[:] *= scale
@@ -266,7 +271,7 @@ def build_model(mech, settings, loads, h, sol, points, q_start, revolutions) -> 
     qpos0, qvel0 = initial_state(model, mech, order, frames, sol)
     act0, ctrl0 = initial_controls(model, mech, drives, q_start, loads, extra)
     built = Built(mech, model, settings, loads, tuple(drives), tuple(loops), tuple(mech.links),
-                  qpos0, qvel0, act0, ctrl0, window, xml, loadset)
+                  qpos0, qvel0, act0, ctrl0, window, xml, loadset, carried)
     return built
 
 

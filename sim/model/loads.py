@@ -64,17 +64,24 @@ def applications(built, t, q=None, qd=None, qdd=None):
     sol = mech.solve(q, qd, qdd, outputs=K.full_wanted(mech))
     state = AL.State(mech, sol, q, qd, t)
     variables = state.variables(AL.scales(mech.definition, mech.parameters))
-    apps = [a for ld in ls.loads for a in ld.applications(state, variables)]
+    skip = set(getattr(built, "native", ()) or ())
+    apps = [a for ld in ls.loads if ld.name not in skip for a in ld.applications(state, variables)]
     return apps, state, inertias, {}
 
 
-def wrenches(built, t) -> Wrenches:
-    """The loads as ``xfrc_applied`` at step start times ``t`` (see the module's note)."""
+def wrenches(built, t, q=None, qd=None) -> Wrenches:
+    """The loads as ``xfrc_applied`` at step start times ``t`` (see the module's note), along the commanded
+    motion or at the inputs ``q``, ``qd`` (a motor-driven run: its state at each step)."""
     from analytic.applications.forces import centres
     model, mech = built.model, built.mech
     t = np.atleast_1d(np.asarray(t, dtype=float))
     n = len(t)
-    apps, state, inertias, Ft = applications(built, t)
+    if q is None:
+        apps, state, inertias, Ft = applications(built, t)
+    else:
+        q = np.asarray(q, dtype=float).reshape(n, -1)
+        apps, state, inertias, Ft = applications(built, t, q, np.asarray(qd, dtype=float).reshape(n, -1),
+                                                 np.zeros_like(q))
     com = centres(mech, state.sol, inertias)
     xfrc = np.zeros((n, model.nbody, 6))
     ground = np.zeros((n, 3))
@@ -149,3 +156,65 @@ def step_work(built, tr) -> np.ndarray:
         turn = np.diff(np.unwrap(np.arctan2(np.asarray(tr.outputs["sin" + ln]), np.asarray(tr.outputs["cos" + ln]))))
         work += xfrc[:, b, 0] * np.diff(gx) + xfrc[:, b, 1] * np.diff(gy) + xfrc[:, b, 5] * turn
     return work
+
+
+def native_kinds():
+    from analytic.loads import damper, spring, torsion_spring
+    return spring.Spring, torsion_spring.TorsionSpring, damper.Damper
+
+
+def add_native(context, bodies, loadset, sol) -> tuple:
+    """For a motor-driven run (sim.run.motor), where the motion is not known in advance: linear springs and
+    dampers between two ends as MuJoCo spatial tendons (stiffness, spring length, damping) between sites at
+    the ends, torsion springs and dampers at a pin as fixed tendons over the hinges that turn the two links
+    (their relative angle), so MuJoCo's integrator evaluates them within its steps from its own state. Their
+    forces then act in joint space (``qfrc_passive``), not in ``cfrc_ext``: only the motor runs, which read no
+    joint forces, use this. Returns the names of the loads so carried (they are left out of the wrenches)."""
+    import mujoco
+    from analytic.loads import damper, spring, torsion_spring
+    from sim.model.frames import local
+    spec, mech = context.spec, context.mech
+    native = []
+
+    def site(e, tag):
+        link = e.link
+        if e.point is not None:
+            x, y = context.points[e.point] if e.point in context.points else mech.geometry.ground[e.point]
+            lx, ly = local(context.frames[link], x, y) if link != GROUND else (x, y)
+        else:
+            lx, ly = e.u, e.v
+        return bodies[link].add_site(name=f"load_{tag}", pos=[lx, ly, 0], size=[1e-3, 1e-3, 1e-3], group=4)
+
+    for ld in loadset.loads:
+        if isinstance(ld, (spring.Spring, damper.Damper)) and ld.ends is not None and getattr(ld, "table", None) is None:
+            t = spec.add_tendon(name=f"load_{ld.name}")
+            s1, s2 = site(ld.ends[0], f"{ld.name}_1"), site(ld.ends[1], f"{ld.name}_2")
+            t.wrap_site(s1.name)
+            t.wrap_site(s2.name)
+            if isinstance(ld, spring.Spring):
+                t.stiffness = [ld.stiffness, 0.0, 0.0]
+                t.springlength = [ld.free_length, ld.free_length]
+            else:
+                t.damping = [ld.damping, 0.0, 0.0]
+            native.append(ld.name)
+        elif isinstance(ld, torsion_spring.TorsionSpring) or (isinstance(ld, damper.Damper) and ld.ends is None):
+            l0, l1 = ld.links
+            terms = dict(context.angle_terms(l1))
+            for j, c in context.angle_terms(l0).items():
+                terms[j] = terms.get(j, 0.0) - c
+            t = spec.add_tendon(name=f"load_{ld.name}")
+            for j, c in terms.items():
+                if c != 0.0:
+                    t.wrap_joint(j, c)
+            if isinstance(ld, torsion_spring.TorsionSpring):
+                def phi(ln):
+                    return 0.0 if ln == GROUND else float(np.arctan2(sol["sin" + ln][0], sol["cos" + ln][0]))
+                d = phi(l1) - phi(l0) - ld.free_angle
+                theta0 = float(np.pi - np.mod(np.pi - d, 2 * np.pi))
+                t.stiffness = [ld.stiffness, 0.0, 0.0]
+                t.springlength = [-theta0, -theta0]
+            else:
+                t.damping = [ld.damping, 0.0, 0.0]
+            native.append(ld.name)
+    del mujoco
+    return tuple(native)
