@@ -117,3 +117,52 @@ def summary(run) -> list[str]:
                      f"{b['kinetic_change']:.3g} + springs {b['spring_change']:.3g} (residual {b['residual']:.2g} J; "
                      f"power balance {e['power_residual']:.1e} of its scale)")
     return lines
+
+
+def dynamics_loads(d) -> tuple[list, dict] | None:
+    """The ``loads`` table and the energy balance of a motor run (sim.run.motor.Dynamics) over its last
+    revolution: a load of the pose does the work of its generalized force over a turn (the periodic grid's
+    rectangle rule, spectral for a smooth load), a damper -integral of C(u) w(u) du with the run's speed;
+    motor + loads (+ gravity and the shorthand force) = the change of kinetic energy + residual."""
+    import math
+    r = d.run
+    red = r.reduced
+    terms = red.loads
+    if terms is None:
+        return None
+    u = terms.u
+    du = 2 * math.pi / len(u)
+    last0 = 2 * math.pi * (r.revolutions - 1)
+    w = r.speed_at(last0 + u)
+    from analytic.loads import damper as D
+    ls = d.built.loadset if d.built is not None else AL.resolve(d.mech)
+    kinds = {ld.name: ld for ld in (ls.loads if ls else ())}
+    table, total = [], 0.0
+    for name, Q in terms.per_load.items():
+        ld = kinds.get(name)
+        W = float(np.sum(Q * w) * du) if isinstance(ld, D.Damper) else float(np.sum(Q) * du)
+        total += W
+        entry = ld.record(d.mech.scale / d.mech.scale) if ld is not None else {"name": name}
+        table.append({**entry, "work_per_cycle": W})
+    Qrest = red._Qg(u) + red.on(u) * red._QF(u)
+    W_rest = float(np.sum(Qrest) * du)
+    ta, tb = r.last_revolution
+    wa, wb = float(r.dense(ta)[1]), float(r.dense(tb)[1])
+    J0 = float(red.J(np.array([0.0]))[0])
+    dT = 0.5 * J0 * (wb * wb - wa * wa)
+    residual = r.energy_per_cycle + total + W_rest - dT
+    return table, {"motor_work": r.energy_per_cycle, "loads_work": total + W_rest, "kinetic_change": dT,
+                   "residual": residual, "per": "last revolution"}
+
+
+def whole_cycles(mech, sol, t, revolutions: float):
+    """The run's samples with the last left out where it repeats the first (a whole number of cycles sampled
+    start..end inclusive), so a fit over them weighs every angle once (issue 27: the counterweight fitted over
+    37 samples holding the start angle twice was 0.6 % heavy)."""
+    from analytic.loads.kinetostatics import full_wanted
+    n = len(t)
+    if n < 3 or abs(revolutions - round(revolutions)) > 1e-12 or round(revolutions) < 1:
+        return sol
+    if not math.isclose(float(t[-1]), mech.duration(revolutions), rel_tol=1e-12):
+        return sol
+    return {k: np.asarray(sol[k])[:-1] for k in full_wanted(mech) if k in sol}

@@ -643,7 +643,7 @@ def forces_run(mech: Mechanism, samples: int = 361, revolutions: float = 1.0, in
         cols[inp.q] = q[:, k]
     balance_result = balanced = None
     if balance is not None:
-        balance_result = bal.balance(mech, sol, model, tuple(balance) or None)
+        balance_result = bal.balance(mech, L.whole_cycles(mech, sol, t, revolutions), model, tuple(balance) or None)
         balanced = L.K.solve(mech, q, qd, qdd, t, bal.with_counterweights(model, balance_result.counterweights),
                              loadset, (gx, gy), (fx, fy), on, sol=sol).forces
     energy = L.energy_of(mech, loaded, loadset, model, (gx, gy), (fx, fy), on, cycles)
@@ -853,7 +853,7 @@ def balanced_mechanism(mech: Mechanism, links=None) -> tuple[Mechanism, object]:
     from analytic import mass
     from analytic.applications import balance as bal
     from analytic.applications import forces as F
-    t = np.linspace(0.0, mech.duration(1.0), 361)
+    t = np.linspace(0.0, mech.duration(1.0), 360, endpoint=False)      # a turn, its start angle once
     q, qd, qdd = mech.drive(t)
     mech.check_assembles(q)
     sol = mech.solve(q, qd, qdd, outputs=F.wanted(mech))

@@ -227,3 +227,61 @@ def test_bad_loads_are_one_line_naming_the_field(tmp_path, body, needle):
 def test_force_units_unknown_is_refused(tmp_path):
     r = linkage("forces", write(tmp_path, PRESS.format(top='force_units = "kgf"', omega="1deg")), "--samples", 5)
     assert r.returncode == 2 and "force_units" in r.stderr and "lbf" in r.stderr
+
+
+def test_pressure_table_times_area_pushes_the_piston(tmp_path):
+    # An indicator diagram in N/mm^2 (the mm file's pressure unit) on a 1000 mm^2 piston: the load is p(phi) x A
+    # along -x, so the rod force is p A / cos(beta) (hand statics as above), with p interpolated in the table
+    rows = "crank,p\n0,0\n90,1.5\n180,0.5\n270,0.2\n"
+    (tmp_path / "ind.csv").write_text(rows)
+    text = PRESS.format(top="", omega="1deg") + textwrap.dedent("""
+        [[loads]]
+        name = "gas"
+        kind = "pressure"
+        link = "piston"
+        area = 1000
+        table = "ind.csv"
+        direction = [-1, 0]
+        """)
+    m, t, (q, _, _), res, _, _ = solve_file(write(tmp_path, text), samples=37)
+    phi = np.degrees(np.mod(q[:, 0], 2 * math.pi))
+    p_hand = np.interp(phi, [0, 90, 180, 270, 360], [0, 1.5, 0.5, 0.2, 0])       # N/mm^2, periodic
+    sol = m.solve(q)
+    bx, by, cx, cy = (np.asarray(sol[k]) for k in ("xB", "yB", "xC", "yC"))
+    ex = (cx - bx) / np.hypot(cx - bx, cy - by)
+    R = p_hand * 1000.0 / ex
+    # inertia at 1 deg/s: 1e-5 N
+    assert np.allclose(np.hypot(*res.forces.F[res.forces.index("C")]), np.abs(R), atol=1e-4)
+    assert np.max(np.abs(R)) > 1000                                    # 1.5 N/mm^2 x 1000 mm^2 = 1500 N
+
+
+def test_at_one_pose_equals_the_runs_sample(tmp_path):
+    path = write(tmp_path, PRESS.format(top="", omega="360deg") + PUNCH.format(P=500))
+    one = json.loads(linkage("forces", path, "--at", "90deg", "--json").stdout)
+    run = json.loads(linkage("forces", path, "--samples", 361, "--json").stdout)
+    assert one["samples"] == 1 and one["inputs"]["phi1"][0] == pytest.approx(math.radians(90), abs=1e-12)
+    k = 60                                                             # 30 deg + 60 x 1 deg
+    assert run["inputs"]["phi1"][k] == pytest.approx(math.radians(90), abs=1e-12)
+    # the same pose, time and speed: the same numbers up to rounding
+    assert one["drives"]["phi1"][0] == pytest.approx(run["drives"]["phi1"][k], rel=1e-9)
+    assert "energy" not in one                                          # one pose has no cycle
+    r = linkage("forces", path, "--at", "90deg", "--simulate")
+    assert r.returncode == 2 and "--at" in r.stderr
+
+
+def test_analyze_at_one_angle_by_the_four_bar_geometry():
+    # SPEC four-bar defaults: l1 0.10, l2 0.30, l3 0.25, l4 0.30; C is where the circles about B (l2) and D (l3)
+    # meet, left of B -> D (branch +1): the triangle B-C-D by the law of cosines
+    r = linkage("analyze", "fourbar", "--at", "30deg", "--json")
+    assert r.returncode == 0, r.stderr
+    out = json.loads(r.stdout)["outputs"]
+    b = np.array([0.1 * math.cos(math.radians(30)), 0.1 * math.sin(math.radians(30))])
+    d = np.array([0.30, 0.0])
+    bd = d - b
+    L = np.linalg.norm(bd)
+    a = (0.30 ** 2 - 0.25 ** 2 + L ** 2) / (2 * L)                 # from B along B -> D
+    h = math.sqrt(0.30 ** 2 - a ** 2)
+    c = b + a * bd / L + h * np.array([-bd[1], bd[0]]) / L           # the left side
+    assert out["phi1"] == pytest.approx(math.radians(30), abs=1e-15)
+    assert out["phi2"] == pytest.approx(math.atan2(*(c - b)[::-1]), abs=1e-12)   # rounding
+    assert out["phi3"] == pytest.approx(math.atan2(*(c - d)[::-1]), abs=1e-12)

@@ -142,7 +142,7 @@ def test_nominal_forces_are_those_of_linkage_forces_with_its_loads():
     # cutting force's window and gravity from the command's loads) against `linkage forces` (one mechanism,
     # its own kinematics): the same numbers to rounding
     from sim.model import Loads
-    from sim.front.cli import cutting_direction
+    from sim.front.cli.options import cutting_direction
     mech = service.load("sixbar")
     force = (cutting_direction(mech) * 500.0, 0.0)
     loads = Loads(gravity=(0.0, -9.81), force=force, slow_stroke_only=True)

@@ -222,6 +222,9 @@ class Reduced:
     _J: _Trig = field(repr=False)
     _Qg: _Trig = field(repr=False)
     _QF: _Trig = field(repr=False)
+    loads: object = field(default=None, repr=False)
+    """The file's loads' terms (:class:`analytic.loads.reduced.Terms`): QL(u) added to Q and a damping
+    -C(u) w; None without loads."""
 
     def J(self, u):
         return self._J(np.mod(u, 2 * math.pi))
@@ -238,8 +241,16 @@ class Reduced:
         return (((p >= lo) & (p <= hi)) | ((p + 2 * math.pi >= lo) & (p + 2 * math.pi <= hi))).astype(float)
 
     def Q(self, u):
+        """The loads' generalized force at rest [N m] (a damper's, -C(u) w, is apart: :meth:`damping`)."""
         p = np.mod(u, 2 * math.pi)
-        return self._Qg(p) + self.on(u) * self._QF(p)
+        out = self._Qg(p) + self.on(u) * self._QF(p)
+        if self.loads is not None:
+            out = out + self.loads.at(u)[0]
+        return out
+
+    def damping(self, u):
+        """C(u) [N m s]: the dampers' generalized force is -C(u) w (0 without dampers)."""
+        return self.loads.at(u)[1] if self.loads is not None else np.zeros_like(np.asarray(u, float))
 
     def switches(self) -> np.ndarray:
         """Advances in [0, 2 pi) where the force switches on or off (empty when it never does)."""
@@ -286,7 +297,7 @@ def _terms(mech, u, s, q0, inertias, flywheel, gravity, force):
 
 
 def reduce(mech, inertias: dict, flywheel: float = 0.0, gravity=(0.0, 0.0), force=(0.0, 0.0),
-           window: tuple[float, float] | None = None) -> Reduced:
+           window: tuple[float, float] | None = None, loadset=None) -> Reduced:
     """The reduced terms of ``mech`` driven at its first (only) input.
 
     Parameters
@@ -301,6 +312,8 @@ def reduce(mech, inertias: dict, flywheel: float = 0.0, gravity=(0.0, 0.0), forc
         Gravity in the plane [m/s^2]; force on the output point [N] (world frame).
     window : (lo, hi), optional
         Phase interval [rad] of q - q0 (as :func:`sim.model._slow_stroke` gives it) where the force acts.
+    loadset : analytic.loads.LoadSet, optional
+        The file's loads (SPEC "Loads"), carried by :mod:`analytic.loads.reduced`.
     """
     if len(mech.inputs) != 1:
         raise ParameterError(f"the {mech.name} has {len(mech.inputs)} inputs; the reduced equation of one "
@@ -347,7 +360,11 @@ def reduce(mech, inertias: dict, flywheel: float = 0.0, gravity=(0.0, 0.0), forc
     if err > INTERP_FAIL:
         raise ParameterError(f"the {mech.name}'s inertia J(phi) cannot be represented to {INTERP_FAIL:g} over a "
                              f"turn ({err:.2g} at {n} points): it is too close to a singular pose; move it away")
-    return Reduced(mech.name, q0, s, float(flywheel), n, err, window, sJ, sQg, sQF)
+    terms = None
+    if loadset:
+        from analytic.loads import reduced as LR
+        terms = LR.terms(mech, loadset, s, q0)
+    return Reduced(mech.name, q0, s, float(flywheel), n, err, window, sJ, sQg, sQF, terms)
 
 
 # ----------------------------------------------------------------------------------------- the run
@@ -407,6 +424,9 @@ def _rhs(red: Reduced, motor, on_value):
         e = np.exp(1j * u * red._J.k)
         J, dJ = float((e @ red._J.c).real), float((e @ (red._J.c * 1j * red._J.k)).real)
         Q = red._Qg.scalar(u) + (on_value * red._QF.scalar(u) if on_value else 0.0)
+        if red.loads is not None:
+            QL, C = red.loads.scalar(u)
+            Q = Q + QL - C * w
         tau = float(motor.torque(w))
         return [w, (tau + Q - 0.5 * dJ * w * w) / J, tau * w]
     return f

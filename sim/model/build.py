@@ -111,6 +111,11 @@ class Built:
     slow_stroke: tuple[float, float] | None = None
     """For a slow-stroke load: the first input's phase interval [rad] where it acts."""
     spec_xml: str = field(default="", repr=False)
+    loadset: object = None
+    """The file's and the command line's loads (analytic.loads.LoadSet), carried as xfrc_applied
+    (sim.model.loads); None when there are none."""
+    native: tuple = ()
+    """Loads carried as MuJoCo tendons instead (a motor-driven run: sim.model.loads.add_native)."""
 
     @property
     def name(self) -> str:
@@ -121,7 +126,7 @@ class Built:
         return float(self.model.opt.timestep)
 
 
-def regularization(model, mech, loads) -> float:
+def regularization(model, mech, loads, extra=None) -> float:
     """REGULARIZATION_SCALE / (1 + load / inertial force), with the load |F| + m |g| and the inertial force
     m L Omega^2 (m the links' mass, L the size, Omega the fastest input speed). The leak into the loops
     grows with the constraint force (R lambda) and the torque error with the inertial forces over R, so
@@ -130,6 +135,8 @@ def regularization(model, mech, loads) -> float:
     m = float(model.body_mass.sum())
     inertial = m * mech.size * motion_scale(mech) ** 2
     load = math.hypot(*loads.force) + (m * math.hypot(*loads.gravity) if loads.gravity is not None else 0.0)
+    if extra is not None:
+        load += extra.peak_force                     # the file's loads (sim.model.loads.drive_loads)
     scale = REGULARIZATION_SCALE / (1.0 + load / inertial) if inertial > 0 else REGULARIZATION_SCALE
     if any(e.get("flips") for e in mech.solving_geometry.elements):
         scale *= CHANGE_POINT_SCALE
@@ -160,8 +167,10 @@ def spanning_tree(mech):
     return topo.tree, tuple(loop.joint for loop in topo.loops)
 
 
-def build(mech, settings: Settings = Settings(), loads: Loads = Loads(), revolutions: float = 1.0) -> Built:
-    """Generate and compile the model of ``mech`` with its initial state from the analytic solver."""
+def build(mech, settings: Settings = Settings(), loads: Loads = Loads(), revolutions: float = 1.0,
+          native: bool = False) -> Built:
+    """Generate and compile the model of ``mech`` with its initial state from the analytic solver; ``native``:
+    linear springs and dampers as MuJoCo tendons (a motor-driven run, sim.model.loads.add_native)."""
     if settings.timestep is None:
         settings = replace(settings, timestep=choose_timestep(mech, revolutions))
     if mech.size < MIN_SIZE:
@@ -175,10 +184,10 @@ def build(mech, settings: Settings = Settings(), loads: Loads = Loads(), revolut
     if not sol.valid.all():
         mech.check_assembles(q0)
     points = {p: (float(sol["x" + p][0]), float(sol["y" + p][0])) for p in mech.points}
-    return build_model(mech, settings, loads, h, sol, points, (q0[0], qd0[0], qdd0[0]), revolutions)
+    return build_model(mech, settings, loads, h, sol, points, (q0[0], qd0[0], qdd0[0]), revolutions, native)
 
 
-def build_model(mech, settings, loads, h, sol, points, q_start, revolutions) -> Built:
+def build_model(mech, settings, loads, h, sol, points, q_start, revolutions, native=False) -> Built:
     spec = mujoco.MjSpec.from_file(str(TEMPLATE))
     spec.modelname = mech.name
     size = mech.size
@@ -234,6 +243,9 @@ def build_model(mech, settings, loads, h, sol, points, q_start, revolutions) -> 
     from analytic import kinds
     for e in mech.geometry.elements:                   # constraints a kind adds (a gear's coupling)
         kinds.get(e["kind"]).mjcf(e, context)
+    from sim.model import loads as ML
+    loadset = ML.loadset_of(mech, loads)
+    carried = ML.add_native(context, bodies, loadset, sol) if native and loadset else ()
     add_inertias(spec, mech, points, frames, loads)
     drives = add_drives(spec, mech, order, q_start, h)
     add_load(spec, mech, loads)
@@ -248,14 +260,18 @@ def build_model(mech, settings, loads, h, sol, points, q_start, revolutions) -> 
         model = spec.compile()
     except ValueError as exc:
         raise ParameterError(f"MuJoCo cannot compile the {mech.name}: {str(exc).splitlines()[0]}") from None
-    scale = regularization(model, mech, loads)
+    window = slow_stroke(mech) if loads.slow_stroke_only else None
+    draft = Built(mech, model, settings, loads, tuple(drives), tuple(loops), tuple(mech.links), None, None, None,
+                  None, window, xml, loadset, carried)
+    extra = ML.drive_loads(draft, revolutions) if loadset else None
+    scale = regularization(model, mech, loads, extra)
     model.body_invweight0[:] *= scale
     model.tendon_invweight0[:] *= scale             # a tendon equality (a gear coupling) is sized by these
-    drives = size_drives(model, mech, drives, loads, h)
+    drives = size_drives(model, mech, drives, loads, h, extra)
     qpos0, qvel0 = initial_state(model, mech, order, frames, sol)
-    act0, ctrl0 = initial_controls(model, mech, drives, q_start, loads)
+    act0, ctrl0 = initial_controls(model, mech, drives, q_start, loads, extra)
     built = Built(mech, model, settings, loads, tuple(drives), tuple(loops), tuple(mech.links),
-                  qpos0, qvel0, act0, ctrl0, slow_stroke(mech) if loads.slow_stroke_only else None, xml)
+                  qpos0, qvel0, act0, ctrl0, window, xml, loadset, carried)
     return built
 
 

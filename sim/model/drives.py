@@ -64,14 +64,17 @@ def add_load(spec, mech, loads):
     act.ctrllimited = False
 
 
-def size_drives(model, mech, drives, loads, h) -> list[Drive]:
-    """kp from the peak analytic drive force (DRIVE_ERROR_BUDGET), J and kv for SERVO_RATE."""
+def size_drives(model, mech, drives, loads, h, extra=None) -> list[Drive]:
+    """kp from the peak analytic drive force (DRIVE_ERROR_BUDGET), J and kv for SERVO_RATE; ``extra``: the
+    file's loads' share of the drives over the same 361 instants (sim.model.loads.drive_loads)."""
     from analytic.applications import torque
     t = np.linspace(0.0, mech.duration(1.0), 361)
     q, qd, qdd = mech.drive(t)
     switch = 1.0
     tau = torque.drive_forces(mech, q, qd, qdd, body_inertias(model, mech.links), None,
                               tuple(model.opt.gravity[:2]), tuple(model.actuator("load").gear[:2]), switch)
+    if extra is not None:
+        tau = {k: v + extra.tau[k] for k, v in tau.items()}
     out = []
     size = mech.size
     for d in drives:
@@ -99,7 +102,7 @@ def drive_command(d: Drive, q, qd, qdd, qddd):
     return q - d.q_offset + lead, rate
 
 
-def initial_controls(model, mech, drives, q_start, loads):
+def initial_controls(model, mech, drives, q_start, loads, extra=None):
     """The drives' activations at t = 0: the commanded motion's lead plus the deflection that the
     mechanism's reaction needs (kp a = tau), so the servo starts already carrying its load and the
     torque curve has no start-up transient."""
@@ -116,7 +119,8 @@ def initial_controls(model, mech, drives, q_start, loads):
                                    tuple(model.opt.gravity[:2]), tuple(model.actuator("load").gear[:2]), on)
     for k, d in enumerate(drives):
         a, c = drive_command(d, q0[k], qd0[k], qdd0[k], jerk[0, k])
-        act[model.actuator(d.actuator).actadr[0]] = a + float(reaction[d.input.link][0]) / d.kp
+        held = float(reaction[d.input.link][0]) + (float(extra.tau[d.input.link][0]) if extra is not None else 0.0)
+        act[model.actuator(d.actuator).actadr[0]] = a + held / d.kp
         ctrl[model.actuator(d.actuator).id] = c
     return act, ctrl
 

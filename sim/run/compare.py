@@ -154,6 +154,10 @@ def analytic_forces(tr: Trajectory, built, mech=None) -> dict[str, np.ndarray]:
     gear = tuple(model.actuator("load").gear[:2])
     forces = torque.drive_forces(mech, *simulated_inputs(tr, mech), body_inertias(model, mech.links), armature,
                                  tuple(model.opt.gravity[:2]), gear, tr.load)
+    if getattr(built, "loadset", None) is not None:       # the file's loads: minus their generalized forces
+        from sim.model.loads import drive_share
+        share = drive_share(built, np.asarray(tr.t), simulated_inputs(tr, mech))
+        forces = {k: v + share[k] for k, v in forces.items()}
     return {f"tau{k}": v for k, v in forces.items()}
 
 
@@ -186,7 +190,12 @@ def work_balance(tr: Trajectory, built) -> float:
     from sim.run.simulate import controls
     ctrl = controls(built, np.arange(len(tr.t)) * h)
     switch_changes = np.flatnonzero(np.abs(np.diff(tr.load)) > 0)
-    ends = _end_accelerations(built, tr, switch_changes, ctrl)
+    xfrc = None
+    if getattr(built, "loadset", None) is not None:       # the loads change at every step (sim.model.loads)
+        from sim.model.loads import wrenches
+        xfrc = wrenches(built, np.arange(len(tr.t)) * h).xfrc
+        switch_changes = np.arange(len(tr.t) - 1)
+    ends = _end_accelerations(built, tr, switch_changes, ctrl, xfrc)
     work = np.zeros(len(tr.t) - 1)
     for k, d in enumerate(built.drives):
         jid = model.joint(d.joint).id
@@ -208,6 +217,9 @@ def work_balance(tr: Trajectory, built) -> float:
     if np.any(gear):
         p = mech.output_point
         work += tr.load[:-1] * (gear[0] * np.diff(tr.outputs["x" + p]) + gear[1] * np.diff(tr.outputs["y" + p]))
+    if getattr(built, "loadset", None) is not None:       # the file's loads, constant over each step
+        from sim.model.loads import step_work
+        work += step_work(built, tr)
     total = np.concatenate([[0.0], np.cumsum(work)])
     kinetic, potential = energies(built, tr)
     energy = kinetic + potential
@@ -223,9 +235,9 @@ def work_scale(kinetic: np.ndarray) -> float:
     return max(float(np.ptp(kinetic)), WORK_FLOOR * float(np.max(np.abs(kinetic))), np.finfo(float).tiny)
 
 
-def _end_accelerations(built, tr: Trajectory, steps, ctrl) -> dict[int, list[float]]:
-    """Each drive's joint acceleration at the end of each step in ``steps`` under that step's controls
-    (needed where the load switched between steps)."""
+def _end_accelerations(built, tr: Trajectory, steps, ctrl, xfrc=None) -> dict[int, list[float]]:
+    """Each drive's joint acceleration at the end of each step in ``steps`` under that step's controls (and
+    body wrenches ``xfrc``, the file's loads), needed where the load switched between steps."""
     import mujoco
     model = built.model
     data = mujoco.MjData(model)
@@ -234,6 +246,8 @@ def _end_accelerations(built, tr: Trajectory, steps, ctrl) -> dict[int, list[flo
     for k in steps:
         data.qpos[:], data.qvel[:], data.act[:] = tr.qpos[k + 1], tr.qvel[k + 1], tr.act[k + 1]
         data.ctrl[:] = ctrl[k]
+        if xfrc is not None:
+            data.xfrc_applied[:] = xfrc[k]
         mujoco.mj_forward(model, data)
         out[int(k)] = [float(data.qacc[dof]) for dof in dofs]
     return out

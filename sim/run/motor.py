@@ -88,7 +88,7 @@ def build(mech, loads, red, motor, w_max: float, settings=M.Settings()):
     flywheel ``red.flywheel`` as the input joint's armature."""
     if settings.timestep is None:
         settings = replace(settings, timestep=timestep_for(mech, red, motor, w_max))
-    built = M.build(mech, settings, loads)
+    built = M.build(mech, settings, loads, native=True)
     d = built.drives[0]
     built.model.dof_armature[built.model.jnt_dofadr[built.model.joint(d.joint).id]] = red.flywheel
     return built
@@ -132,6 +132,8 @@ def simulate(built, red, motor, revolutions: float, start_speed: float = 0.0) ->
     mi = 0
     mark_t = {}
     limit = 20_000_000                       # as sim.run.simulate.MAX_STEPS
+    from sim.model.loads import wrenches
+    held = built.loadset is not None and any(ld.name not in built.native for ld in built.loadset.loads)
     steps = 0
     while mi < len(marks):
         u, w = u_of(), s * data.qvel[vadr]
@@ -166,6 +168,10 @@ def simulate(built, red, motor, revolutions: float, start_speed: float = 0.0) ->
         if w <= 0 and data.time > 0 and alpha <= 0:
             raise amotor.Stall(f"in MuJoCo the motor stalls the {mech.name} at "
                                f"phi={math.degrees(red.angle(u)):.1f}deg (t={data.time:.3g} s)")
+        if held:                           # the other loads at the step's midpoint state, held over the step
+            um, wm = u + w * dt / 2 + alpha * dt * dt / 8, w + alpha * dt / 2
+            data.xfrc_applied[:] = wrenches(built, np.array([data.time + dt / 2]), np.array([red.angle(um)]),
+                                            np.array([s * wm])).xfrc[0]
         model.opt.timestep = dt
         mujoco.mj_step(model, data)
         model.opt.timestep = h
@@ -311,7 +317,7 @@ def reduced_for(mech, loads, settings=M.Settings()):
     force = tuple(float(x) for x in b0.model.actuator("load").gear[:2])
 
     def make(J):
-        return amotor.reduce(mech, inertias, J, gravity, force, b0.slow_stroke)
+        return amotor.reduce(mech, inertias, J, gravity, force, b0.slow_stroke, b0.loadset)
     return make, b0
 
 
@@ -386,6 +392,11 @@ def record(d: Dynamics) -> dict:
                             "startup_time": s.startup_time, "timestep": s.timestep,
                             "loop_violation": s.loop_violation, "agreement": d.agreement.as_dict(),
                             "passed": d.agreement.passed}
+    from sim.loads import dynamics_loads
+    extra = dynamics_loads(d)
+    if extra is not None:                     # SPEC "Loads": each load's work per cycle and the balance
+        out["loads"], out["energy"] = extra
+        out["friction"] = {"dissipated_per_cycle": 0.0}
     out["passed"] = d.passed
     return out
 
@@ -517,6 +528,10 @@ def dynamics_two(mech, loads, motors, flywheel=(0.0, 0.0), start_speed=(0.0, 0.0
     """Two motors on the five-bar's two cranks: the 2x2 reduced equation and MuJoCo."""
     if loads.slow_stroke_only:
         raise ParameterError("--cutting-force acts on the slow stroke of one crank; with two motors give --force")
+    from sim.model.loads import loadset_of
+    if loadset_of(mech, loads) is not None:
+        raise ParameterError(f"the {mech.name}'s [[loads]] (or --torque, --force ...@POINT) with two motors: not "
+                             f"supported yet; give one motor, or only --gravity/--force")
     for k, J in enumerate(flywheel):
         if not (math.isfinite(J) and J >= 0):
             raise ParameterError(f"--flywheel {mech.inputs[k].q}={J!r} must be a finite number >= 0 [kg m^2]")

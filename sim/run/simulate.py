@@ -163,8 +163,13 @@ def simulate(built: Built, revolutions: float = 1.0) -> Trajectory:
     mujoco.mj_getState(model, data, state0, kind)
     t = np.arange(nstep) * h
     ctrl = controls(built, t)
+    spec = mujoco.mjtState.mjSTATE_CTRL
+    if built.loadset is not None:                  # the file's loads as xfrc_applied (sim.model.loads)
+        from sim.model.loads import wrenches
+        ctrl = np.concatenate([ctrl, wrenches(built, t).xfrc.reshape(nstep, -1)], axis=1)
+        spec = spec | mujoco.mjtState.mjSTATE_XFRC_APPLIED
     t0 = time.process_time()
-    states, sens = rollout.rollout(model, data, state0[None], ctrl[None], nstep=nstep)
+    states, sens = rollout.rollout(model, data, state0[None], ctrl[None], control_spec=int(spec), nstep=nstep)
     cpu = time.process_time() - t0
     sens = sens[0]
     nq, nv, na = model.nq, model.nv, model.na
@@ -233,10 +238,16 @@ def replay(built: Built, tr: Trajectory, steps, read) -> tuple[np.ndarray, mujoc
     steps = np.asarray(steps, dtype=int)
     data = mujoco.MjData(model)
     ctrl = controls(built, steps * built.timestep)
+    xfrc = None
+    if built.loadset is not None:
+        from sim.model.loads import wrenches
+        xfrc = wrenches(built, steps * built.timestep).xfrc
     out = None
     for row, k in enumerate(steps):
         data.qpos[:], data.qvel[:], data.act[:] = tr.qpos[k], tr.qvel[k], tr.act[k]
         data.ctrl[:] = ctrl[row]
+        if xfrc is not None:
+            data.xfrc_applied[:] = xfrc[row]
         data.time = k * built.timestep
         mujoco.mj_forward(model, data)
         values = read(data)

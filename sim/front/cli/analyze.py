@@ -14,8 +14,8 @@ def register(sub) -> None:
     p = sub.add_parser("analyze", help="closed-form kinematics over a run; summary, CSV or JSON")
     add_common(p)
     p.add_argument("--samples", type=int, default=361, metavar="N", help="samples (default 361)")
-    from sim.front.cli.loads_opts import add_options
-    add_options(p)
+    from sim.front.cli.loads_opts import add_at
+    add_at(p)
     p.add_argument("--input-range", metavar="LO:HI", help="sample the first input between LO and HI instead")
     p.add_argument("--csv", metavar="PATH", help="write every sample as CSV (units in PATH.units.json)")
     p.add_argument("--json", action="store_true", help="print one JSON object")
@@ -26,6 +26,9 @@ def register(sub) -> None:
 def run(args) -> int:
     mech = mechanism_from(args)
     check_outputs(args, {"csv": (".csv",)})
+    if getattr(args, "at", None) is not None:                  # one pose (SPEC "Loads": --at)
+        from sim.front.cli.loads_opts import analyze_at
+        return analyze_at(args, mech)
     a = service.analyze(mech, args.samples, args.revolutions, parse_range(mech, args.input_range))
     from analytic.applications import figures
     from sim.output.units import machine_units, shown_units

@@ -84,3 +84,38 @@ def _pair(option, text):
     if len(parts) != 2:
         raise ParameterError(f"{option} {text!r} is not two numbers FX,FY (e.g. {option} -500,0@C)")
     return expr.parse_value(option, parts[0], angle=False), expr.parse_value(option, parts[1], angle=False)
+
+
+def analyze_at(args, mech) -> int:
+    """``linkage analyze MECH --at VALUE``: every output at one value of the first input (the others at their
+    motion law at the same time): a table in the shown units, or ``--json`` {"mechanism", "at", "t",
+    "outputs": {name: value}, "units": {name: unit}} (SI unless --units/--angles/--speeds)."""
+    import numpy as np
+    from sim import loads as L
+    from sim.output.jsonout import dumps
+    from sim.output.units import column_unit, convert_columns, machine_units, shown_units
+    if args.input_range or args.csv:
+        raise ParameterError("--at evaluates one pose: it does not combine with --input-range or --csv")
+    at = at_value(args, mech)
+    t = np.array([L.at_time(mech, at)])
+    q, qd, qdd = mech.drive(t)
+    mech.check_assembles(q)
+    sol = mech.solve(q, qd, qdd)
+    cols = {"t": t}
+    for attr, arr in (("q", q), ("qd", qd), ("qdd", qdd)):
+        for k, inp in enumerate(mech.inputs):
+            cols[getattr(inp, attr)] = arr[:, k]
+    cols.update({k: np.asarray(sol[k]).reshape(-1) for k in mech.outputs})
+    display = machine_units(args) if args.json else shown_units(args, mech)
+    shown = convert_columns(mech, cols, display)
+    units = {c: column_unit(mech, c, display) for c in cols}
+    if args.json:
+        print(dumps({"mechanism": mech.name, "at": float(shown[mech.inputs[0].q][0]), "t": float(t[0]),
+                     "outputs": {c: float(v[0]) for c, v in shown.items()}, "units": units}))
+        return 0
+    first = mech.inputs[0]
+    print(f"{mech.name} at {first.q} = {float(shown[first.q][0]):.6g} {units[first.q]} (t = {float(t[0]):.6g} s)")
+    for c, v in shown.items():
+        if c != "t":
+            print(f"  {c:<14s} {float(v[0]):15.8g} {units[c]}")
+    return 0

@@ -1,0 +1,220 @@
+"""How the MuJoCo model carries the file's loads (SPEC "Loads"): as body wrenches (``xfrc_applied``).
+
+Design. Along a prescribed motion (``simulate``, ``compare``, ``forces --simulate``) the drives hold the inputs
+to their commanded motion within 1e-6 rad (sim.model.drives.DRIVE_ERROR_BUDGET), so every load -- a force or
+torque with its law, a pressure, a spring, a torsion spring, a damper, and Coulomb friction with the
+analytic fixed point's moments -- is evaluated from the commanded motion at each step's start and applied
+over the step as ``xfrc_applied`` on its link's body (the force, and its moment about the body's centre of
+mass plus any couple), given to ``mujoco.rollout`` as a control with the drives' commands. MuJoCo then solves
+the multibody dynamics and every constraint force under these loads, which is what the comparison checks; it
+does not model the loads' own physics (a spring's stiffness, Coulomb friction): those are checked against
+hand statics and the energy balance (tests/test_loads_*.py). A load's reaction on the ground (a spring or a
+damper anchored to the frame) is added to MuJoCo's shaking force and moment from the same evaluation.
+Because xfrc_applied is part of ``cfrc_ext``, MuJoCo's joint forces (``cfrc_int``) include the loads with no
+correction. Over a step a wrench is constant, so its work is exactly f . (displacement of the body's centre
+of mass) + torque x (rotation of the body) (sim.run.compare.work_balance).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from analytic.kinds import GROUND
+
+
+@dataclass(frozen=True)
+class Wrenches:
+    """Per step: ``xfrc`` (n, nbody, 6) for ``xfrc_applied`` (world frame: force, then torque about the body's
+    centre of mass), ``ground`` (n, 3): (Fx, Fy, Mz about the origin) the loads put on the frame."""
+
+    xfrc: np.ndarray
+    ground: np.ndarray
+    Ft: dict
+    """Prismatic friction: joint index -> the force along the guide on the block [N] (a joint's share)."""
+
+
+def loadset_of(mech, loads):
+    """The file's loads and the command line's (``loads.extra``), resolved for ``mech``; None when there are
+    none."""
+    from analytic import loads as AL
+    ls = AL.resolve(mech, tuple(getattr(loads, "extra", ()) or ()))
+    return ls if ls else None
+
+
+def applications(built, t, q=None, qd=None, qdd=None):
+    """Every load's wrenches (friction's included) at times ``t`` along the commanded motion (or the given
+    inputs), with the compiled model's masses, gravity and shorthand load; and the State."""
+    from analytic.loads import kinetostatics as K
+    from sim.model.inertia import body_inertias
+    mech, model = built.mech, built.model
+    if q is None:
+        q, qd, qdd = mech.drive(t)
+    inertias = body_inertias(model, mech.links)
+    gravity = tuple(float(x) for x in model.opt.gravity[:2])
+    ls = built.loadset
+    if ls.friction:
+        from sim.run.simulate import load_switch
+        load = tuple(float(x) for x in model.actuator("load").gear[:2])
+        res = K.solve(mech, q, qd, qdd, t, inertias, ls, gravity, load, load_switch(built, np.asarray(t)))
+        apps = [a for v in res.applications.values() for a in v] + list(res.friction_apps)
+        return apps, res.state, inertias, res.Ft
+    from analytic import loads as AL
+    sol = mech.solve(q, qd, qdd, outputs=K.full_wanted(mech))
+    state = AL.State(mech, sol, q, qd, t)
+    variables = state.variables(AL.scales(mech.definition, mech.parameters))
+    skip = set(getattr(built, "native", ()) or ())
+    apps = [a for ld in ls.loads if ld.name not in skip for a in ld.applications(state, variables)]
+    return apps, state, inertias, {}
+
+
+def wrenches(built, t, q=None, qd=None) -> Wrenches:
+    """The loads as ``xfrc_applied`` at step start times ``t`` (see the module's note), along the commanded
+    motion or at the inputs ``q``, ``qd`` (a motor-driven run: its state at each step)."""
+    from analytic.applications.forces import centres
+    model, mech = built.model, built.mech
+    t = np.atleast_1d(np.asarray(t, dtype=float))
+    n = len(t)
+    if q is None:
+        apps, state, inertias, Ft = applications(built, t)
+    else:
+        q = np.asarray(q, dtype=float).reshape(n, -1)
+        apps, state, inertias, Ft = applications(built, t, q, np.asarray(qd, dtype=float).reshape(n, -1),
+                                                 np.zeros_like(q))
+    com = centres(mech, state.sol, inertias)
+    xfrc = np.zeros((n, model.nbody, 6))
+    ground = np.zeros((n, 3))
+    for a in apps:
+        fx = np.broadcast_to(a.fx, (n,))
+        fy = np.broadcast_to(a.fy, (n,))
+        px = np.broadcast_to(a.px, (n,))
+        py = np.broadcast_to(a.py, (n,))
+        m = np.broadcast_to(a.couple, (n,))
+        if a.link == GROUND:
+            ground[:, 0] += fx
+            ground[:, 1] += fy
+            ground[:, 2] += px * fy - py * fx + m
+            continue
+        b = model.body(a.link).id
+        gx, gy = com[a.link]
+        xfrc[:, b, 0] += fx
+        xfrc[:, b, 1] += fy
+        xfrc[:, b, 5] += (px - gx) * fy - (py - gy) * fx + m
+    return Wrenches(xfrc, ground, Ft)
+
+
+@dataclass(frozen=True)
+class DriveLoads:
+    """The loads' share of each drive [N m or N] over one cycle's 361 instants (the first at t = 0), as
+    sim.model.drives sizes the servos from, and the largest total load force [N] (the regulariser's scale)."""
+
+    tau: dict
+    peak_force: float
+
+
+def drive_loads(built, revolutions: float = 1.0) -> DriveLoads:
+    """What the drives must add to hold the commanded motion against the loads: minus the loads' generalized
+    forces (virtual work, analytic.loads.kinetostatics.generalized), at the instants size_drives uses."""
+    from analytic.loads.kinetostatics import generalized
+    mech = built.mech
+    t = np.linspace(0.0, mech.duration(1.0), 361)
+    apps, state, _, _ = applications(built, t)
+    q = mech.drive(t)[0]
+    Q = generalized(mech, q, state, apps)
+    peak = np.zeros(len(t))
+    size = mech.size
+    for a in apps:
+        if a.link != GROUND:
+            peak = peak + np.hypot(a.fx, a.fy) + np.abs(np.broadcast_to(a.couple, (len(t),))) / size
+    return DriveLoads({k: -v for k, v in Q.items()}, float(np.max(peak)) if len(t) else 0.0)
+
+
+def drive_share(built, t, inputs) -> dict:
+    """The loads' share of each drive at the given inputs (q, qd, qdd) and times: minus their generalized
+    forces there (virtual work)."""
+    from analytic.loads.kinetostatics import generalized
+    q, qd, qdd = inputs
+    apps, state, _, _ = applications(built, t, q, qd, qdd)
+    return {k: -v for k, v in generalized(built.mech, q, state, apps).items()}
+
+
+def step_work(built, tr) -> np.ndarray:
+    """The loads' work over each step of a run [J]: each step's wrench (constant over it, as applied) times
+    the displacement of its body's centre of mass and its body's rotation, read from the recorded states."""
+    from analytic.applications.forces import centres
+    from sim.model.inertia import body_inertias
+    model, mech = built.model, built.mech
+    h = built.timestep
+    t = np.arange(len(tr.t)) * h
+    xfrc = wrenches(built, t[:-1]).xfrc
+    com = centres(mech, tr.outputs, body_inertias(model, mech.links))
+    work = np.zeros(len(t) - 1)
+    for ln in mech.links:
+        b = model.body(ln).id
+        gx, gy = (np.asarray(v) for v in com[ln])
+        turn = np.diff(np.unwrap(np.arctan2(np.asarray(tr.outputs["sin" + ln]), np.asarray(tr.outputs["cos" + ln]))))
+        work += xfrc[:, b, 0] * np.diff(gx) + xfrc[:, b, 1] * np.diff(gy) + xfrc[:, b, 5] * turn
+    return work
+
+
+def native_kinds():
+    from analytic.loads import damper, spring, torsion_spring
+    return spring.Spring, torsion_spring.TorsionSpring, damper.Damper
+
+
+def add_native(context, bodies, loadset, sol) -> tuple:
+    """For a motor-driven run (sim.run.motor), where the motion is not known in advance: linear springs and
+    dampers between two ends as MuJoCo spatial tendons (stiffness, spring length, damping) between sites at
+    the ends, torsion springs and dampers at a pin as fixed tendons over the hinges that turn the two links
+    (their relative angle), so MuJoCo's integrator evaluates them within its steps from its own state. Their
+    forces then act in joint space (``qfrc_passive``), not in ``cfrc_ext``: only the motor runs, which read no
+    joint forces, use this. Returns the names of the loads so carried (they are left out of the wrenches)."""
+    import mujoco
+    from analytic.loads import damper, spring, torsion_spring
+    from sim.model.frames import local
+    spec, mech = context.spec, context.mech
+    native = []
+
+    def site(e, tag):
+        link = e.link
+        if e.point is not None:
+            x, y = context.points[e.point] if e.point in context.points else mech.geometry.ground[e.point]
+            lx, ly = local(context.frames[link], x, y) if link != GROUND else (x, y)
+        else:
+            lx, ly = e.u, e.v
+        return bodies[link].add_site(name=f"load_{tag}", pos=[lx, ly, 0], size=[1e-3, 1e-3, 1e-3], group=4)
+
+    for ld in loadset.loads:
+        if isinstance(ld, (spring.Spring, damper.Damper)) and ld.ends is not None and getattr(ld, "table", None) is None:
+            t = spec.add_tendon(name=f"load_{ld.name}")
+            s1, s2 = site(ld.ends[0], f"{ld.name}_1"), site(ld.ends[1], f"{ld.name}_2")
+            t.wrap_site(s1.name)
+            t.wrap_site(s2.name)
+            if isinstance(ld, spring.Spring):
+                t.stiffness = [ld.stiffness, 0.0, 0.0]
+                t.springlength = [ld.free_length, ld.free_length]
+            else:
+                t.damping = [ld.damping, 0.0, 0.0]
+            native.append(ld.name)
+        elif isinstance(ld, torsion_spring.TorsionSpring) or (isinstance(ld, damper.Damper) and ld.ends is None):
+            l0, l1 = ld.links
+            terms = dict(context.angle_terms(l1))
+            for j, c in context.angle_terms(l0).items():
+                terms[j] = terms.get(j, 0.0) - c
+            t = spec.add_tendon(name=f"load_{ld.name}")
+            for j, c in terms.items():
+                if c != 0.0:
+                    t.wrap_joint(j, c)
+            if isinstance(ld, torsion_spring.TorsionSpring):
+                def phi(ln):
+                    return 0.0 if ln == GROUND else float(np.arctan2(sol["sin" + ln][0], sol["cos" + ln][0]))
+                d = phi(l1) - phi(l0) - ld.free_angle
+                theta0 = float(np.pi - np.mod(np.pi - d, 2 * np.pi))
+                t.stiffness = [ld.stiffness, 0.0, 0.0]
+                t.springlength = [-theta0, -theta0]
+            else:
+                t.damping = [ld.damping, 0.0, 0.0]
+            native.append(ld.name)
+    del mujoco
+    return tuple(native)
