@@ -66,6 +66,9 @@ def cmd_path(args) -> int:
         check_writable(args.plot, (".png", ".svg", ".pdf"))
     options = options_of(args)
     target = design_service.read_target(args.target, args.timing, args.closed, not args.any_order)
+    if args.objectives:
+        from sim.front import synth_pareto_cmd
+        return synth_pareto_cmd.cmd(args, options, target)
     bar = Progress(options.restart_count + options.designs, "synthesize path")
     found = design_service.synthesize_path(target, options, args.unit, progress=bar.update)
     ok = [f for f in found if not f["failed"] and f["compare_passed"]]
@@ -79,7 +82,8 @@ def cmd_path(args) -> int:
         plot(args.plot, target, ok, args.unit)
     stats = found[0]["stats"]
     run = {"evaluations": found[0]["evaluations"], "seconds": stats["seconds"],
-           "stopped_by_budget": bool(stats.get("stopped_by_budget")), "budget": args.budget, "seed": args.seed}
+           "stopped_by_budget": bool(stats.get("stopped_by_budget")), "budget": args.budget, "seed": args.seed,
+           "restarts": max(options.restart_count, options.designs), "generations": options.generations_value}
     if args.json:
         print(dumps({"designs": [{k: v for k, v in f.items() if k not in ("text", "design")} for f in ok],
                      "rejected": rejected, "run": run}))
@@ -147,4 +151,6 @@ def register(problems, add_video_options) -> None:
     p.add_argument("--out", metavar="FILE.toml", help="write the best design (next ones FILE_2.toml ...)")
     p.add_argument("--plot", metavar="PATH", help="targets over each candidate's coupler curve (png/svg/pdf)")
     p.add_argument("--json", action="store_true", help="print one JSON object (SPEC: designs)")
+    from sim.front import synth_pareto_cmd
+    synth_pareto_cmd.register(p)
     p.set_defaults(func=cmd_path)
