@@ -233,7 +233,6 @@ def check_path_design(job: tuple) -> dict:
     outputs; a slider-crank's from its closed form) give ``mu_min_deg``. Then ``linkage compare`` over a
     full turn: MuJoCo must follow it."""
     from analytic.registry import from_text
-    from sim import service
     name, x, branch, text, phi1_0, sense, size, *rest = job
     limits = rest[0] if rest else None
     fam = FAMILIES[name]
@@ -241,7 +240,7 @@ def check_path_design(job: tuple) -> dict:
     q = phi1_0 + sense * np.linspace(0.0, 2 * math.pi, 3601)
     sol = mech.solve(q)
     out = {"compare_passed": False, "compare_mode": "full turn", "solver_deviation": float("nan"),
-           "mu_min_deg": float("nan"), "problem": "", "measure": None}
+           "mu_min_deg": float("nan"), "problem": "", "measure": None, "simulated": None}
     bad = sol.first_failure()
     if bad is not None:
         out["problem"] = f"the general solver cannot assemble it over the whole turn ({bad})"
@@ -268,12 +267,10 @@ def check_path_design(job: tuple) -> dict:
         out["problem"] = (f"the general solver's curve leaves the synthesised one by {dev / size:.2g} of the "
                           f"targets' size (a branch changes over the turn)")
         return out
-    try:
-        _, c = service.compare(mech, 1.0)
-    except ValueError as e:                       # MuJoCo refuses the model (e.g. its camera for a huge design)
-        out["problem"] = f"MuJoCo cannot build its model: {str(e).splitlines()[0]}"
-        return out
-    out["compare_passed"] = bool(c.passed)
+    from sim.synth_checks import simulate_design
+    sim = simulate_design(mech)                   # compare and the forces in MuJoCo (the links' inertia)
+    out["compare_passed"], out["simulated"] = sim["compare_passed"], sim
+    out["problem"] = sim["problem"] if sim["compare_passed"] else ""
     return out
 
 
@@ -318,6 +315,8 @@ def synthesize_path(target: sp.Target, options: PathOptions = PathOptions(), uni
                                 generations=options.generations_value, popsize=options.popsize, budget=budget,
                                 mapper=m, progress=step, types=options.types,
                                 designs=options.designs)[:options.designs]
+        designs = [d for i, d in enumerate(designs)          # one design found twice is returned once
+                   if not any(sp.same_design(d, e, target.size) for e in designs[:i])]
         texts = [design_text(d, unit, target, options.seed) for d in designs]
         jobs = [(d.family.name, d.x, d.branch, t, float(d.phis[0]), sense_of(d), target.size, options.limits)
                 for d, t in zip(designs, texts)]
@@ -330,6 +329,7 @@ def synthesize_path(target: sp.Target, options: PathOptions = PathOptions(), uni
     for d, text, job in zip(designs, texts, jobs):
         c = next(it) if not d.failed else {"compare_passed": False, "compare_mode": "not run: " + d.failed,
                                            "solver_deviation": float("nan"), "problem": "", "measure": None,
+                                           "simulated": None,
                                            "mu_min_deg": math.degrees(float(d.family.mu_min(d.x[None], d.branch)[0]))}
         params = {**d.parameters(), "phi1_0": job[4], "omega1": job[5] * 2 * math.pi, "mu_min_deg": c["mu_min_deg"]}
         lo, hi = sorted((job[4], job[4] + job[5] * 2 * math.pi))
@@ -338,7 +338,8 @@ def synthesize_path(target: sp.Target, options: PathOptions = PathOptions(), uni
         found.append({"file": None, "type": d.family.name, "error": error_record(d.err), "error_unit": unit,
                       "parameters": params, "compare_passed": c["compare_passed"], "compare_mode": c["compare_mode"],
                       "failed": d.failed or c["problem"], "solver_deviation": c["solver_deviation"], **meas,
-                      "evaluations": int(d.stats.get("run_evaluations", 0)), "stats": d.stats, "text": text,
+                      "evaluations": int(d.stats.get("run_evaluations", 0)), "simulated": c["simulated"],
+                      "stats": d.stats, "text": text,
                       "design": d})
     elapsed = time.time() - start
     for f in found:
@@ -364,12 +365,14 @@ def working_range(link, inputs) -> tuple[float, float]:
     return min(ends), max(ends)
 
 
-def check_fourbar(mech, lo: float, hi: float) -> tuple[bool, str]:
-    """``linkage compare`` of an exact design over its working range (the file's ``input_range``): MuJoCo
-    rocking the crank from ``lo`` to ``hi`` [rad] must follow the general solver."""
-    from sim import service
-    _, c = service.compare(mech, 1.0, input_range=(lo, hi))
-    return bool(c.passed), "rocking over the working range (the file's input_range)"
+def check_fourbar(mech, lo: float, hi: float) -> tuple[bool, str, dict]:
+    """``linkage compare`` and the forces in MuJoCo of an exact design over its working range (the file's
+    ``input_range``): MuJoCo rocking the crank from ``lo`` to ``hi`` [rad] must follow the general solver
+    (:func:`sim.synth_checks.simulate_design`). Returns (compare passed, what was compared, the simulated
+    record: its ``passed`` both)."""
+    from sim.synth_checks import simulate_design
+    sim = simulate_design(mech, (lo, hi))
+    return sim["compare_passed"], "rocking over the working range (the file's input_range)", sim
 
 
 def _fourbar_lengths(link) -> tuple[float, float, float, float]:
@@ -504,7 +507,7 @@ def synthesize_motion(poses: np.ndarray, unit: str = "m", count: int = 3, circle
         sol = mech.solve(d.inputs)                           # the general solver at the poses' input angles
         err = np.hypot(sol["xE"] / mech.scale - poses[:, 0], sol["yE"] / mech.scale - poses[:, 1])
         ang = synthesis_motion._wrap((sol["phi2"] - sol["phi2"][0]) - (poses[:, 2] - poses[0, 2]))
-        passed, mode = check_fourbar(synth_fourbar.mechanism(d.linkage, unit), lo, hi)
+        passed, mode, sim = check_fourbar(synth_fourbar.mechanism(d.linkage, unit), lo, hi)
         params = {**d.linkage.parameters(), "mu_min_deg": m.transmission_deg[0],
                   "angle_error_max": float(np.max(np.abs(ang)))}
         notes = [f"the crank turns {'counter-clockwise' if d.linkage.omega1 > 0 else 'clockwise'} from "
@@ -512,7 +515,7 @@ def synthesize_motion(poses: np.ndarray, unit: str = "m", count: int = 3, circle
                  f"{len(poses)}); branch {d.linkage.branch:+d} (C {'left' if d.linkage.branch > 0 else 'right'} "
                  f"of B->D) at every pose"]
         found.append(_exact_record(d.linkage, text, unit, m, error_record(err), unit, params, passed, mode,
-                                   len(designs), notes, inputs=[float(q) for q in d.inputs]))
+                                   len(designs), notes, inputs=[float(q) for q in d.inputs], simulated=sim))
         chosen.append(d.linkage)
     return found, rejected
 
@@ -564,8 +567,9 @@ def synthesize_function(pairs: np.ndarray, ground: float = 1.0, unit: str = "m",
     mech = synth_fourbar.mechanism(f.linkage, unit)
     sol = mech.solve(inputs)                                   # the general solver at the given inputs
     err = synthesis_function._wrap(sol["phi3"] - f.output_offset - pairs[:, 1])
-    passed, mode = check_fourbar(mech, lo, hi)
-    return [_exact_record(f.linkage, text, unit, m, error_record(err), "rad", params, passed, mode, 1, notes)], []
+    passed, mode, sim = check_fourbar(mech, lo, hi)
+    return [_exact_record(f.linkage, text, unit, m, error_record(err), "rad", params, passed, mode, 1, notes,
+                          simulated=sim)], []
 
 
 # --------------------------------------------------------------------------------- two-position

@@ -1246,16 +1246,39 @@ def synthesize(target: Target, cons: Constraints = Constraints(), seed: int = 0,
     if hops and jumps:
         found[0] = hopping(found[0], search, cons, seed, hops, jumps, mapper, deadline)
         spent += found[0].stats["hop_evaluations"]
+    found = distinct_first(found, designs, target.size)
     if search is not target:           # the restarts and hops saw a subset: the first designs polished on all
         refined = list(mapper(refine, [(d, target, cons, deadline) for d in found[:designs]]))
         spent += sum(r.stats["evaluations"] - d.stats.get("evaluations", 0) for r, d in zip(refined, found))
         found = refined + [evaluate(d, target, cons) for d in found[designs:]]
         spent += len(found) - len(refined)
-        found = [d for _, d in sorted(enumerate(found), key=lambda t: rank_key(*t))]
+        found = distinct_first([d for _, d in sorted(enumerate(found), key=lambda t: rank_key(*t))], designs,
+                               target.size)
     cut = cut or (deadline is not None and time.time() > deadline)
     run = {"run_evaluations": int(spent), "search_seconds": time.time() - start, "stopped_by_budget": bool(cut)}
     return [Design(d.x, d.branch, d.phi_offset, d.err, d.phis, d.violation, d.seed, d.failed, {**d.stats, **run},
                    d.family) for d in found]
+
+
+DISTINCT = 1e-3
+"""Two designs of one family and branch whose parameters all differ by less than this share of the target
+size are one design found twice (one basin reached from two starts)."""
+
+
+def same_design(a: Design, b: Design, scale: float) -> bool:
+    """Whether ``a`` and ``b`` are one design (:data:`DISTINCT`)."""
+    return (a.family.name == b.family.name and a.branch == b.branch
+            and bool(np.all(np.abs(np.asarray(a.x) - np.asarray(b.x)) <= DISTINCT * scale)))
+
+
+def distinct_first(found: list[Design], k: int, scale: float) -> list[Design]:
+    """``found`` (best first) with its best ``k`` distinct designs first (a copy of a better one moved
+    behind them, in order): the designs returned are different basins, not copies."""
+    head: list[Design] = []
+    tail: list[Design] = []
+    for d in found:
+        (tail if len(head) >= k or any(same_design(d, h, scale) for h in head) else head).append(d)
+    return head + tail
 
 
 def from_four_bar_rs(p1x, p1y, a, l1, l2, l3, l4, l5, g, stat: str) -> tuple[np.ndarray, int]:

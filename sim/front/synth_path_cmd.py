@@ -71,9 +71,10 @@ def cmd_path(args) -> int:
         return synth_pareto_cmd.cmd(args, options, target)
     bar = Progress(options.restart_count + options.designs, "synthesize path")
     found = design_service.synthesize_path(target, options, args.unit, progress=bar.update)
-    ok = [f for f in found if not f["failed"] and f["compare_passed"]]
+    ok = [f for f in found if not f["failed"] and f["compare_passed"] and f["simulated"]["passed"]]
     rejected = [{"type": f["type"], "parameters": f["parameters"], "error": f["error"],
-                 "why": f["failed"] or "it fails linkage compare"} for f in found if f not in ok]
+                 "why": f["failed"] or (f["simulated"] or {}).get("problem") or "it fails linkage compare"}
+                for f in found if f not in ok]
     for f, fname in zip(ok, out_names(args.out, len(ok))):
         if fname:
             write_text(fname, f["text"])
@@ -91,7 +92,7 @@ def cmd_path(args) -> int:
         for n, f in enumerate(ok, 1):
             e = f["error"]
             print(f"{n}. {f['type']}: sum of squares {e['sum_sq']:.6g} {args.unit}^2, max {e['max']:.4g}, rms "
-                  f"{e['rms']:.4g} {args.unit}; {measure_words(f, args.unit)}; compare passed "
+                  f"{e['rms']:.4g} {args.unit}; {measure_words(f, args.unit)}; compare and forces in MuJoCo passed "
                   f"({f['compare_mode']})" + (f"; wrote {f['file']}" if f["file"] else ""))
         for f in rejected:
             print(f"   turned down: {f['type']}, sum of squares {f['error']['sum_sq']:.6g} {args.unit}^2: {f['why']}")
