@@ -58,7 +58,9 @@ class ParetoOptions:
     NSGA-II ``popsize`` and ``generations`` (the evaluations: their product, plus the starting atlas);
     ``samples`` per turn for the search's forces; ``front`` designs returned at most (spread along the
     error); the loads: ``force`` (Fx, Fy) [N] on the traced point (``cutting``: only on its slow stroke),
-    ``gravity`` (gx, gy) [m/s^2]; ``constraints`` (:class:`analytic.synthesis.path.Constraints`)."""
+    ``gravity`` (gx, gy) [m/s^2]; ``constraints`` (:class:`analytic.synthesis.path.Constraints`);
+    ``max_error``: the RMS target distance a design of the front may have at most (file units; None: any),
+    a constraint of the search like the limits."""
 
     objectives: tuple[str, ...] = ("error", "torque")
     family: str = "fourbar"
@@ -71,6 +73,7 @@ class ParetoOptions:
     cutting: bool = False
     gravity: tuple[float, float] | None = None
     constraints: sp.Constraints = sp.Constraints()
+    max_error: float | None = None
 
     def check(self) -> "ParetoOptions":
         parse_objectives(",".join(self.objectives))
@@ -82,6 +85,8 @@ class ParetoOptions:
                 raise ParameterError(f"--{name} {getattr(self, name)} must be >= 1")
         if self.popsize < 4:
             raise ParameterError(f"--popsize {self.popsize}: NSGA-II needs at least 4")
+        if self.max_error is not None and not (math.isfinite(self.max_error) and self.max_error > 0):
+            raise ParameterError(f"--max-error {self.max_error!r} must be a length > 0 (file units)")
         if not 12 <= self.samples <= 3601:
             raise ParameterError(f"--samples {self.samples} must be in 12..3601")
         return self
@@ -134,6 +139,8 @@ def evaluate(X, target: sp.Target, opts: ParetoOptions, unit: str) -> tuple[np.n
     nx = family.size
     err, order = sp.batch_error(x, target, br, 192, family)
     v = sp.violation(x[:, :nx], opts.constraints, target, br, family) + order
+    if opts.max_error is not None:
+        v = v + np.maximum(np.sqrt(err / len(target.xy)) / opts.max_error - 1, 0)
     G = np.where(np.isfinite(v) & np.isfinite(err), v, 1e3)
     cols = {"error": np.where(np.isfinite(err), err, BAD)}
     if "size" in opts.objectives:
@@ -295,6 +302,9 @@ def check(x, branch, target: sp.Target, opts: ParetoOptions, unit: str, limits: 
         return {**out, "problem": str(exc)}
     out["measure"] = sc.record(m)
     why = sc.broken(m, limits, unit)
+    rms = float(np.sqrt(np.mean(e ** 2)))
+    if not why and opts.max_error is not None and rms > opts.max_error * (1 + 1e-9):
+        why = f"RMS error {rms:.4g} {unit} above --max-error {opts.max_error:g} {unit}"
     if why:
         return {**out, "problem": why}
     torque, bearing, shaking, run = forces_of(family, x[:nx], branch, unit, opts, CHECK_SAMPLES)

@@ -31,6 +31,8 @@ def register(p) -> None:
     p.add_argument("--gravity", metavar="GX,GY", help="--objectives: gravity in the plane [m/s^2]")
     p.add_argument("--front", type=int, default=6, help="--objectives: designs of the front returned at most")
     p.add_argument("--csv", metavar="PATH", help="--objectives: the front as CSV")
+    p.add_argument("--max-error", type=float, metavar="E",
+                   help="--objectives: the largest RMS target distance a design of the front may have (file units)")
 
 
 def _pair(option: str, text: str | None):
@@ -53,7 +55,8 @@ def options_of(args, path_options) -> P.ParetoOptions:
         generations = max(1, args.evaluations // args.popsize - 1)
     return P.ParetoOptions(P.parse_objectives(args.objectives), args.type, args.seed, args.popsize, generations,
                            front=args.front, force=_pair("--force", args.force) or (0.0, 0.0), cutting=args.cutting,
-                           gravity=_pair("--gravity", args.gravity), constraints=path_options.constraints).check()
+                           gravity=_pair("--gravity", args.gravity), constraints=path_options.constraints,
+                           max_error=args.max_error).check()
 
 
 def write_csv(path: str, front: list[dict], unit: str) -> None:
@@ -89,13 +92,15 @@ def plot(path: str, target, front: list[dict], objectives: list[str], unit: str)
             continue
         xs = [f[keys[0]] for f in front]
         ys = [f[others[j]] for f in front]
-        ax.plot(xs, ys, "-", color="0.7", lw=1, zorder=1)
+        if len(keys) == 2:                     # two objectives: the front is a curve (more: a projection)
+            ax.plot(xs, ys, "-", color="0.7", lw=1, zorder=1)
         for n, (a, b) in enumerate(zip(xs, ys)):
             ax.scatter([a], [b], color=colors[n], zorder=2, s=36)
             ax.annotate(str(n + 1), (a, b), textcoords="offset points", xytext=(5, 4), fontsize=8)
         ax.set_xlabel(label[keys[0]])
         ax.set_ylabel(label[others[j]])
-        ax.set_title("Pareto front (checked in MuJoCo)", fontsize=9)
+        ax.set_title("Pareto front (checked in MuJoCo)" if len(keys) == 2 else
+                     f"Pareto front of {len(keys)} objectives: projection", fontsize=9)
         ax.grid(alpha=0.3)
     for n, f in enumerate(front):
         ax = axes[1 + n // ncols][n % ncols]
