@@ -117,27 +117,39 @@ def error_record(e) -> dict:
 
 
 # ---------------------------------------------------------------------------------- path synthesis
+CHECK_RESERVE = (0.3, 0.5)
+"""[s] Of a ``--budget``, the share kept for checking the returned designs (read back, solved, compared in
+MuJoCo): this plus this per design (a four-bar's checks take 0.1-0.2 s here), at most half the budget."""
+
 @dataclass(frozen=True)
 class PathOptions:
     """What a path synthesis run may change (SPEC, "Synthesis"): ``types`` (``--type``), ``seed``,
     ``restarts`` (None: eight per family branch for the four-bar and slider-crank, one for the six-bars),
     differential-evolution ``generations`` (None: the family's default, ``sp.generations_of``) and
-    ``popsize`` per restart, ``budget`` [s] (None: none),
-    ``designs`` returned, ``min_transmission`` [deg], ``max_ratio``, ``region`` [target sizes],
-    ``workers``, ``scheduler``."""
+    ``popsize`` per restart, ``budget`` [s] (None: none; a hard wall-clock limit on the whole run, the
+    checks included: the search stops early and the best so far is returned), ``evaluations`` (None: the
+    default counts; N: the global search's evaluations, N / restarts per restart, its atlas and
+    differential evolution; the polishes add theirs, all counted in each design's ``evaluations``),
+    ``designs`` returned, ``min_transmission`` [deg], ``max_ratio``, ``region`` [target sizes], ``max_size``
+    [length] (None: none), ``boxes`` (:class:`analytic.synthesis.constraints.Region` per named ground pivot),
+    ``grashof``, ``workers``, ``scheduler``. Without ``budget`` the answer depends on the seed only."""
 
     types: tuple[str, ...] = (DEFAULT_TYPE,)
     seed: int = 0
     restarts: int | None = None
     generations: int | None = None
     popsize: int = 40
-    budget: float | None = 120.0
+    budget: float | None = None
     designs: int = 1
     min_transmission: float = 30.0
     max_ratio: float = 20.0
     region: float = 3.0
     workers: int = 1
     scheduler: str | None = None
+    evaluations: int | None = None
+    max_size: float | None = None
+    boxes: tuple = ()
+    grashof: str = "any"
 
     def check(self) -> "PathOptions":
         for t in self.types:
@@ -154,14 +166,36 @@ class PathOptions:
             raise ParameterError(f"--max-ratio {self.max_ratio} must be a number > 1")
         if not (self.region > 0 and math.isfinite(self.region)):
             raise ParameterError(f"--region {self.region} must be a number > 0 (target sizes)")
-        if self.budget is not None and not (self.budget > 0):
+        if self.budget is not None and not (self.budget > 0 and math.isfinite(self.budget)):
             raise ParameterError(f"--budget {self.budget} must be > 0 seconds")
+        if self.evaluations is not None and self.evaluations < 1:
+            raise ParameterError(f"--evaluations {self.evaluations} must be >= 1")
+        if self.evaluations is not None and self.budget is not None:
+            raise ParameterError("--evaluations and --budget both given: give one (a count is reproducible, "
+                                 "seconds are not)")
+        self.limits.check_names(tuple(dict.fromkeys(n for t in self.types for f in TYPES[t]
+                                                     for n in FAMILIES[f].pivot_names)), f"--type {'/'.join(self.types)}")
         return self
+
+    @property
+    def limits(self):
+        from analytic.synthesis import constraints as sc
+        return sc.Limits(self.min_transmission, self.max_size, tuple(self.boxes), self.grashof).check()
+
+    @property
+    def generations_value(self) -> int | None:
+        """The differential-evolution generations per restart: ``generations``, or from ``evaluations``."""
+        if self.evaluations is None:
+            return self.generations
+        per = self.evaluations // max(self.restart_count, self.designs)
+        atlas = max(self.popsize * 4, sp.ATLAS)
+        return max(1, (per - atlas) // self.popsize - 1)
 
     @property
     def constraints(self) -> sp.Constraints:
         return sp.Constraints(mu_min=math.radians(self.min_transmission), max_ratio=self.max_ratio,
-                              region=self.region)
+                              region=self.region, max_size=self.max_size,
+                              boxes=tuple((b.name, b.x0, b.x1, b.y0, b.y1) for b in self.boxes), grashof=self.grashof)
 
     @property
     def restart_count(self) -> int:
@@ -200,14 +234,14 @@ def check_path_design(job: tuple) -> dict:
     outputs; a slider-crank's from its closed form) give ``mu_min_deg``. Then ``linkage compare`` over a
     full turn: MuJoCo must follow it."""
     from analytic.registry import from_text
-    from sim import service
-    name, x, branch, text, phi1_0, sense, size = job
+    name, x, branch, text, phi1_0, sense, size, *rest = job
+    limits = rest[0] if rest else None
     fam = FAMILIES[name]
     mech = from_text(text, f"<synthesised {name}>")
     q = phi1_0 + sense * np.linspace(0.0, 2 * math.pi, 3601)
     sol = mech.solve(q)
     out = {"compare_passed": False, "compare_mode": "full turn", "solver_deviation": float("nan"),
-           "mu_min_deg": float("nan"), "problem": ""}
+           "mu_min_deg": float("nan"), "problem": "", "measure": None, "simulated": None}
     bad = sol.first_failure()
     if bad is not None:
         out["problem"] = f"the general solver cannot assemble it over the whole turn ({bad})"
@@ -221,17 +255,23 @@ def check_path_design(job: tuple) -> dict:
     if fam.name == "slider_crank":
         mu = min(mu, float(fam.mu_min(np.asarray(x)[None], branch)[0]))
     out["mu_min_deg"] = math.degrees(mu)
+    from analytic.synthesis import constraints as sc
+    lo, hi = sorted((phi1_0, phi1_0 + sense * 2 * math.pi))
+    x = np.asarray(x, dtype=float)
+    m = sc.measure(mech, lo, hi, 3601, tuple(x[[4, 5, 6, 3]]) if name != "slider_crank" else None)
+    out["measure"] = sc.record(m)
+    if limits is not None and sc.broken(m, limits, mech.units):
+        out["problem"] = sc.broken(m, limits, mech.units)
+        return out
     # two double-precision evaluations of the same geometry: rounding only (1e-9 of size is far above it)
     if not dev <= 1e-9 * size:
         out["problem"] = (f"the general solver's curve leaves the synthesised one by {dev / size:.2g} of the "
                           f"targets' size (a branch changes over the turn)")
         return out
-    try:
-        _, c = service.compare(mech, 1.0)
-    except ValueError as e:                       # MuJoCo refuses the model (e.g. its camera for a huge design)
-        out["problem"] = f"MuJoCo cannot build its model: {str(e).splitlines()[0]}"
-        return out
-    out["compare_passed"] = bool(c.passed)
+    from sim.synth_checks import simulate_design
+    sim = simulate_design(mech)                   # compare and the forces in MuJoCo (the links' inertia)
+    out["compare_passed"], out["simulated"] = sim["compare_passed"], sim
+    out["problem"] = sim["problem"] if sim["compare_passed"] else ""
     return out
 
 
@@ -261,17 +301,25 @@ def synthesize_path(target: sp.Target, options: PathOptions = PathOptions(), uni
         raise ParameterError(f"{len(target.xy)} target points; path synthesis needs at least 4")
     restarts = max(options.restart_count, options.designs)
     total = restarts + options.designs
+    import time
+    start = time.time()
+    budget = None
+    if options.budget is not None:       # the checks' share of a hard budget: the search stops before it
+        budget = max(options.budget - min(CHECK_RESERVE[0] + CHECK_RESERVE[1] * options.designs,
+                                          0.5 * options.budget), 1e-3)
 
     def step(done, _n=None):
         if progress is not None:
             progress(done, total)
     with mapper(options.workers, options.scheduler) as m:
         designs = sp.synthesize(target, options.constraints, seed=options.seed, restarts=restarts,
-                                generations=options.generations, popsize=options.popsize, budget=options.budget,
+                                generations=options.generations_value, popsize=options.popsize, budget=budget,
                                 mapper=m, progress=step, types=options.types,
                                 designs=options.designs)[:options.designs]
+        designs = [d for i, d in enumerate(designs)          # one design found twice is returned once
+                   if not any(sp.same_design(d, e, target.size) for e in designs[:i])]
         texts = [design_text(d, unit, target, options.seed) for d in designs]
-        jobs = [(d.family.name, d.x, d.branch, t, float(d.phis[0]), sense_of(d), target.size)
+        jobs = [(d.family.name, d.x, d.branch, t, float(d.phis[0]), sense_of(d), target.size, options.limits)
                 for d, t in zip(designs, texts)]
         checks = []
         for i, c in enumerate(m(check_path_design, [j for j, d in zip(jobs, designs) if not d.failed])):
@@ -281,13 +329,22 @@ def synthesize_path(target: sp.Target, options: PathOptions = PathOptions(), uni
     found = []
     for d, text, job in zip(designs, texts, jobs):
         c = next(it) if not d.failed else {"compare_passed": False, "compare_mode": "not run: " + d.failed,
-                                           "solver_deviation": float("nan"), "problem": "",
+                                           "solver_deviation": float("nan"), "problem": "", "measure": None,
+                                           "simulated": None,
                                            "mu_min_deg": math.degrees(float(d.family.mu_min(d.x[None], d.branch)[0]))}
         params = {**d.parameters(), "phi1_0": job[4], "omega1": job[5] * 2 * math.pi, "mu_min_deg": c["mu_min_deg"]}
+        lo, hi = sorted((job[4], job[4] + job[5] * 2 * math.pi))
+        meas = c["measure"] or {"transmission_deg": [c["mu_min_deg"], float("nan")], "size": float("nan"),
+                                "box": [float("nan")] * 4, "input_range": [lo, hi], "grashof": ""}
         found.append({"file": None, "type": d.family.name, "error": error_record(d.err), "error_unit": unit,
                       "parameters": params, "compare_passed": c["compare_passed"], "compare_mode": c["compare_mode"],
-                      "failed": d.failed or c["problem"], "solver_deviation": c["solver_deviation"],
-                      "stats": d.stats, "text": text, "design": d})
+                      "failed": d.failed or c["problem"], "solver_deviation": c["solver_deviation"], **meas,
+                      "evaluations": int(d.stats.get("run_evaluations", 0)), "simulated": c["simulated"],
+                      "stats": d.stats, "text": text,
+                      "design": d})
+    elapsed = time.time() - start
+    for f in found:
+        f["stats"] = {**f["stats"], "seconds": elapsed}
     return found
 
 
@@ -309,12 +366,14 @@ def working_range(link, inputs) -> tuple[float, float]:
     return min(ends), max(ends)
 
 
-def check_fourbar(mech, lo: float, hi: float) -> tuple[bool, str]:
-    """``linkage compare`` of an exact design over its working range (the file's ``input_range``): MuJoCo
-    rocking the crank from ``lo`` to ``hi`` [rad] must follow the general solver."""
-    from sim import service
-    _, c = service.compare(mech, 1.0, input_range=(lo, hi))
-    return bool(c.passed), "rocking over the working range (the file's input_range)"
+def check_fourbar(mech, lo: float, hi: float) -> tuple[bool, str, dict]:
+    """``linkage compare`` and the forces in MuJoCo of an exact design over its working range (the file's
+    ``input_range``): MuJoCo rocking the crank from ``lo`` to ``hi`` [rad] must follow the general solver
+    (:func:`sim.synth_checks.simulate_design`). Returns (compare passed, what was compared, the simulated
+    record: its ``passed`` both)."""
+    from sim.synth_checks import simulate_design
+    sim = simulate_design(mech, (lo, hi))
+    return sim["compare_passed"], "rocking over the working range (the file's input_range)", sim
 
 
 def _fourbar_lengths(link) -> tuple[float, float, float, float]:
@@ -449,7 +508,7 @@ def synthesize_motion(poses: np.ndarray, unit: str = "m", count: int = 3, circle
         sol = mech.solve(d.inputs)                           # the general solver at the poses' input angles
         err = np.hypot(sol["xE"] / mech.scale - poses[:, 0], sol["yE"] / mech.scale - poses[:, 1])
         ang = synthesis_motion._wrap((sol["phi2"] - sol["phi2"][0]) - (poses[:, 2] - poses[0, 2]))
-        passed, mode = check_fourbar(synth_fourbar.mechanism(d.linkage, unit), lo, hi)
+        passed, mode, sim = check_fourbar(synth_fourbar.mechanism(d.linkage, unit), lo, hi)
         params = {**d.linkage.parameters(), "mu_min_deg": m.transmission_deg[0],
                   "angle_error_max": float(np.max(np.abs(ang)))}
         notes = [f"the crank turns {'counter-clockwise' if d.linkage.omega1 > 0 else 'clockwise'} from "
@@ -457,7 +516,7 @@ def synthesize_motion(poses: np.ndarray, unit: str = "m", count: int = 3, circle
                  f"{len(poses)}); branch {d.linkage.branch:+d} (C {'left' if d.linkage.branch > 0 else 'right'} "
                  f"of B->D) at every pose"]
         found.append(_exact_record(d.linkage, text, unit, m, error_record(err), unit, params, passed, mode,
-                                   len(designs), notes, inputs=[float(q) for q in d.inputs]))
+                                   len(designs), notes, inputs=[float(q) for q in d.inputs], simulated=sim))
         chosen.append(d.linkage)
     return found, rejected
 
@@ -509,8 +568,9 @@ def synthesize_function(pairs: np.ndarray, ground: float = 1.0, unit: str = "m",
     mech = synth_fourbar.mechanism(f.linkage, unit)
     sol = mech.solve(inputs)                                   # the general solver at the given inputs
     err = synthesis_function._wrap(sol["phi3"] - f.output_offset - pairs[:, 1])
-    passed, mode = check_fourbar(mech, lo, hi)
-    return [_exact_record(f.linkage, text, unit, m, error_record(err), "rad", params, passed, mode, 1, notes)], []
+    passed, mode, sim = check_fourbar(mech, lo, hi)
+    return [_exact_record(f.linkage, text, unit, m, error_record(err), "rad", params, passed, mode, 1, notes,
+                          simulated=sim)], []
 
 
 # --------------------------------------------------------------------------------- two-position

@@ -163,7 +163,7 @@ def test_motion_limits_hold_for_every_returned_design_and_files_run_as_written(t
     designs = json.loads(r.stdout)["designs"]
     assert len(designs) == 3
     for d in designs:
-        assert d["size"] <= 150 and d["transmission_deg"][0] >= 40
+        assert d["size"] <= 150 and d["transmission_deg"][0] >= 40 and d["simulated"]["passed"]
         p = d["parameters"]
         assert -20 <= p["ax"] <= 100 and -80 <= p["ay"] <= 0
         # the transmission range by hand at the design's own travel
@@ -192,3 +192,30 @@ def test_motion_with_an_impossible_size_returns_nothing_and_says_why(tmp_path):
     # the poses alone span 80 mm: no mechanism carrying E through them fits in 60 mm
     assert r.returncode == 1 and json.loads(r.stdout)["designs"] == []
     assert "no motion design meets the constraints" in r.stderr
+
+
+# ------------------------------------------------------------------------------ simulated, distinct
+def test_every_design_is_simulated_with_its_forces_checked():
+    from sim.synth_checks import simulate_design
+    link = Linkage((0.0, 0.0), (0.3, 0.0), 0.1, 0.3, 0.25, 0.15, 0.10, 1)
+    for rng in (None, (0.2, 1.4)):                          # a full turn, and rocking over a working range
+        s = simulate_design(mechanism(link), rng)
+        assert s["passed"] and s["compare_passed"] and s["forces_passed"] and s["problem"] == ""
+        # MuJoCo's equality-constraint forces against the closed-form kinetostatics: 2 % bounds the
+        # integration and constraint drift (the agreement check itself is tighter)
+        for k in ("peak_torque", "peak_bearing", "rms_shaking"):
+            assert s[k] == pytest.approx(s["analytic"][k], rel=0.02) and s[k] > 0
+
+
+def test_one_design_found_twice_is_returned_once():
+    from analytic.synthesis import path as sp
+    from analytic.synthesis.curves import FAMILIES
+    x = np.array([0.0, 0.0, 0.0, 0.3, 0.1, 0.3, 0.25, 0.15, 0.10])
+
+    def design(x, branch=(1,), err=1.0):
+        return sp.Design(np.asarray(x, dtype=float), branch, 0.0, np.array([err]), np.zeros(1), 0.0, 0,
+                         family=FAMILIES["fourbar"])
+    a, copy, other, mirror = design(x), design(x + 1e-5, err=1.1), design(x * 1.1, err=1.2), design(x, (-1,), 1.3)
+    assert sp.same_design(a, copy, 1.0) and not sp.same_design(a, other, 1.0) and not sp.same_design(a, mirror, 1.0)
+    got = sp.distinct_first([a, copy, other, mirror], 3, 1.0)
+    assert got[:3] == [a, other, mirror] and got[3] is copy

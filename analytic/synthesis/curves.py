@@ -159,6 +159,26 @@ class Family:
         x = np.atleast_2d(x)
         return np.stack([x[:, [i, j]] for i, j in self.ground], axis=1)
 
+    pivot_names: tuple[str, ...] = ("A", "D")
+    """The names of the ground pivots in the written file, in the order of :meth:`pivots` (a slider line's
+    reference point has none: it is no part of the mechanism)."""
+
+    def joints(self, x, phi, branch) -> np.ndarray:
+        """(K, N, J, 2) every moving point of K designs (joints and the traced point) at crank angles ``phi``
+        (NaN where a loop does not close)."""
+        raise NotImplementedError
+
+    def extent(self, x, branch, n: int = 512) -> np.ndarray:
+        """(K, 4) the bounding box [x0, y0, x1, y1] of every point of K designs (ground pivots, joints, the
+        traced point) over a full turn sampled at ``n`` crank angles (an extreme between two samples is
+        missed by at most 1 - cos(pi / n) of its radius: 2e-5 at 512)."""
+        x = np.atleast_2d(np.asarray(x, dtype=float))
+        phi = np.linspace(0.0, 2 * math.pi, n, endpoint=False)
+        J = self.joints(x, phi, branch).reshape(len(x), -1, 2)
+        P = np.concatenate([J, self.pivots(x)[:, :len(self.pivot_names)]], axis=1)
+        with np.errstate(invalid="ignore"):
+            return np.concatenate([P.min(axis=1), P.max(axis=1)], axis=1)
+
     def shape(self, u) -> np.ndarray:
         """(K, size) designs from points of the unit cube (K, shape_dim): A at the origin, a unit crank,
         theta0 = 0."""
@@ -271,6 +291,21 @@ class FourBar(Family):
         D = x[:, :2] + x[:, 3:4] * np.column_stack([np.cos(x[:, 2]), np.sin(x[:, 2])])
         return np.stack([x[:, :2], D], axis=1)
 
+    def joints(self, x, phi, branch):
+        x = np.atleast_2d(np.asarray(x, dtype=float))
+        ax, ay, th, d, a, b, c, ex, ey = (_col(x, i) for i in range(9))
+        br = _signs(branch, len(x), 1)
+        phi = np.asarray(phi, dtype=float)
+        bx, by = ax + a * np.cos(phi), ay + a * np.sin(phi)
+        dx, dy = ax + d * np.cos(th), ay + d * np.sin(th)
+        (ux, uy), ok, _ = _rrr(bx, by, dx, dy, b, c, br[:, 0:1])
+        bx, by = np.broadcast_to(bx, ux.shape), np.broadcast_to(by, ux.shape)
+        with np.errstate(invalid="ignore", over="ignore"):
+            J = np.stack([np.stack([bx, by], -1), np.stack([bx + b * ux, by + b * uy], -1),
+                          np.stack([bx + ex * ux - ey * uy, by + ex * uy + ey * ux], -1)], axis=2)
+        J[~np.broadcast_to(ok, ux.shape)] = np.nan
+        return J
+
     def excess(self, x, branch, mu_min, n=0):
         x = np.atleast_2d(x)
         return _fourbar_excess(x[:, 3], x[:, 4], x[:, 5], x[:, 6], math.cos(mu_min))
@@ -311,6 +346,16 @@ class SliderCrank(Family):
     links: tuple[int, ...] = (3, 4)
     shape_dim: int = 4
     label: str = "slider-crank"
+    pivot_names: tuple[str, ...] = ("A",)
+
+    def joints(self, x, phi, branch):
+        x = np.atleast_2d(np.asarray(x, dtype=float))
+        E, _ = self.points(x, phi, branch)
+        ax, ay, th, a, b = (_col(x, i) for i in range(5))
+        phi = np.asarray(phi, dtype=float)
+        bx, by = np.broadcast_to(ax + a * np.cos(phi), E.shape[:2]), np.broadcast_to(ay + a * np.sin(phi), E.shape[:2])
+        C, _ = self.points(np.column_stack([x[:, :6], x[:, 4], np.zeros(len(x))]), phi, branch)   # E at C
+        return np.stack([np.stack([bx, by], -1), C, E], axis=2)
 
     def points(self, x, phi, branch):
         x = np.atleast_2d(np.asarray(x, dtype=float))
@@ -438,6 +483,25 @@ class SixBar(Family):
     branches: tuple[tuple[int, ...], ...] = ((1, 1), (1, -1), (-1, 1), (-1, -1))
     shape_dim: int = 11
     label: str = "Watt II six-bar"
+    pivot_names: tuple[str, ...] = ("A", "D", "G")
+
+    def joints(self, x, phi, branch):
+        x = np.atleast_2d(np.asarray(x, dtype=float))
+        ax, ay, th, d, a, b, c = (_col(x, i) for i in range(7))
+        br = _signs(branch, len(x), 2)
+        phi = np.asarray(phi, dtype=float)
+        bx, by = ax + a * np.cos(phi), ay + a * np.sin(phi)
+        dx, dy = ax + d * np.cos(th), ay + d * np.sin(th)
+        (ux, uy), _, _ = _rrr(bx, by, dx, dy, b, c, br[:, 0:1])
+        (ex, ey), (vx, vy), ok, _ = self._joints(x, phi, branch)
+        l5 = _col(x, 9)
+        Q, _ = self.points(x, phi, branch)
+        sh = Q.shape[:2]
+        pts = [(bx, by), (bx + b * ux, by + b * uy), (ex, ey), (ex + l5 * vx, ey + l5 * vy)]
+        with np.errstate(invalid="ignore", over="ignore"):
+            J = np.stack([np.stack([np.broadcast_to(u, sh), np.broadcast_to(v, sh)], -1) for u, v in pts] + [Q], axis=2)
+        J[~np.broadcast_to(ok, sh)] = np.nan
+        return J
 
     def _joints(self, x, phi, branch):
         """E, G and the unit vector E->F: ((ex, ey), (gx, gy), (fx, fy) unit, ok, |E - G|^2)."""

@@ -167,11 +167,17 @@ class Target:
 @dataclass(frozen=True)
 class Constraints:
     """``mu_min``: least transmission angle [rad]; ``max_ratio``: longest/shortest link;
-    ``region``: ground pivots within this many target sizes of the targets' centre."""
+    ``region``: ground pivots within this many target sizes of the targets' centre; ``max_size``: the
+    largest side of the mechanism's bounding box over the turn [length] (None: none; :meth:`Family.extent`);
+    ``boxes``: (name, x0, x1, y0, y1) a box for the ground pivot of that name [length]; ``grashof``: "any",
+    "crank-rocker" (the crank the shortest of the first loop's links) or "double-crank" (the ground)."""
 
     mu_min: float = math.radians(30.0)
     max_ratio: float = 20.0
     region: float = 3.0
+    max_size: float | None = None
+    boxes: tuple[tuple[str, float, float, float, float], ...] = ()
+    grashof: str = "any"
 
 
 @dataclass(frozen=True)
@@ -220,22 +226,63 @@ def shape_violation(x, cons: Constraints, branch, family: Family = FOURBAR, n: i
     with np.errstate(divide="ignore", invalid="ignore"):
         ratio = L.max(axis=1) / L.min(axis=1)
         out = (family.excess(x, branch, cons.mu_min, n) + np.maximum(ratio / cons.max_ratio - 1, 0)
-               + np.maximum(-L.min(axis=1), 0) / np.maximum(L.max(axis=1), 1e-300))
+               + np.maximum(-L.min(axis=1), 0) / np.maximum(L.max(axis=1), 1e-300)
+               + np.maximum(-_grashof_margins(x, cons, family), 0).sum(axis=1))
     return np.where(np.isfinite(out), out, 1e3)
 
 
-def region_violation(x, cons: Constraints, target: Target, family: Family = FOURBAR) -> np.ndarray:
-    """(K,) how far the ground pivots lie beyond ``region`` target sizes of the targets' centre."""
+def _grashof_margins(x, cons: Constraints, family: Family) -> np.ndarray:
+    """(K, 3) the Grashof type asked for, as margins over the longest link (>= 0 where it holds): the first
+    loop's crank (crank-rocker) or ground (double-crank) no longer than each of its other three links; none
+    for "any" or a family without a four-bar loop."""
+    x = np.atleast_2d(x)
+    if cons.grashof == "any" or family.name == "slider_crank":
+        return np.zeros((len(x), 0))
+    d, a, b, c = x[:, 3], x[:, 4], x[:, 5], x[:, 6]
+    s, others = (a, (b, c, d)) if cons.grashof == "crank-rocker" else (d, (a, b, c))
+    top = np.maximum(np.maximum(np.maximum(np.abs(a), np.abs(b)), np.maximum(np.abs(c), np.abs(d))), 1e-300)
+    return np.column_stack([(o - s) / top for o in others])
+
+
+SIZE_MARGIN = 1e-4
+"""The search keeps the size this much (relative) inside ``--max-size``: the extent's samples can miss an
+extreme by 2e-5 of its radius (:meth:`Family.extent` at 512), the general solver's check must not."""
+
+
+def _box_margins(x, cons: Constraints, target: Target, family: Family, branch) -> np.ndarray:
+    """(K, C) the pivot boxes and the size limit as margins over the target size (>= 0 where they hold)."""
+    x = np.atleast_2d(x)
+    s = max(target.size, 1e-300)
+    cols = []
+    if cons.boxes:
+        piv = family.pivots(x)
+        for name, x0, x1, y0, y1 in cons.boxes:
+            if name in family.pivot_names:
+                p = piv[:, family.pivot_names.index(name)]
+                cols += [(p[:, 0] - x0) / s, (x1 - p[:, 0]) / s, (p[:, 1] - y0) / s, (y1 - p[:, 1]) / s]
+    if cons.max_size is not None:
+        e = family.extent(x, branch, 512)
+        cols += [(cons.max_size - (e[:, 2] - e[:, 0])) / s, (cons.max_size - (e[:, 3] - e[:, 1])) / s]
+    return np.column_stack(cols) if cols else np.zeros((len(x), 0))
+
+
+def region_violation(x, cons: Constraints, target: Target, family: Family = FOURBAR, branch=None) -> np.ndarray:
+    """(K,) how far the ground pivots lie beyond ``region`` target sizes of the targets' centre, outside
+    their boxes, and the mechanism beyond ``max_size`` (over the target size; ``branch`` needed for that)."""
+    x = np.atleast_2d(x)
     piv = family.pivots(x)
     s = max(target.size, 1e-300)
     far = np.abs(piv - target.centre).max(axis=(1, 2))
     out = np.maximum(far / (cons.region * s) - 1, 0)
+    if cons.boxes or cons.max_size is not None:
+        out = out + np.maximum(-_box_margins(x, cons, target, family, family.branches[0] if branch is None
+                                             else branch), 0).sum(axis=1)
     return np.where(np.isfinite(out), out, 1e3)
 
 
 def violation(x, cons: Constraints, target: Target, branch=(1,), family: Family = FOURBAR, n: int = 0) -> np.ndarray:
     """How far K designs break the constraints (0 = all hold; dimensionless, >= 0), (K,)."""
-    return shape_violation(x, cons, branch, family, n) + region_violation(x, cons, target, family)
+    return shape_violation(x, cons, branch, family, n) + region_violation(x, cons, target, family, branch)
 
 
 def _wrap(a):
@@ -294,8 +341,20 @@ def failed_constraint(x, cons: Constraints, target: Target, branch=(1,), family:
                 f"{math.degrees(cons.mu_min):.1f} deg")
     if L.max() / L.min() > cons.max_ratio:
         return f"link-length ratio above {cons.max_ratio:g}"
-    if region_violation(x[None], cons, target, family)[0] > 0:
+    g = _grashof_margins(x[None], cons, family)
+    if g.size and g.min() < 0:
+        return f"not a {cons.grashof} (--grashof): its {'crank' if cons.grashof == 'crank-rocker' else 'ground'} " \
+               f"is not the shortest link of the four-bar loop"
+    from dataclasses import replace
+    if region_violation(x[None], replace(cons, boxes=(), max_size=None), target, family)[0] > 0:
         return f"a ground pivot lies outside {cons.region:g} target sizes of the targets' centre"
+    if region_violation(x[None], cons, target, family, branch)[0] > 0:
+        m = _box_margins(x[None], cons, target, family, branch)[0]
+        k = 4 * sum(1 for b in cons.boxes if b[0] in family.pivot_names)
+        if k and m[:k].min() < 0:
+            b = [b for b in cons.boxes if b[0] in family.pivot_names][int(np.argmin(m[:k])) // 4]
+            return f"ground pivot {b[0]} lies outside --pivot-region {b[0]}={b[1]:g}:{b[2]:g},{b[3]:g}:{b[4]:g}"
+        return f"its bounding box over the turn exceeds --max-size {cons.max_size:g}"
     if phis is not None and target.in_order:
         return _order_words(np.asarray(phis, dtype=float), target.closed)
     return ""
@@ -502,7 +561,7 @@ def _shape_objective(u, target: Target, cons: Constraints, branch, n: int, famil
             x, e, o = _pose(xn[ok], target, branch, n, family)
         else:
             x, e, o = _pose_timed(u[ok], target, branch, family)
-        v2 = region_violation(x[:, :family.size], cons, target, family)
+        v2 = region_violation(x[:, :family.size], cons, target, family, branch)
         f[ok] = np.where(v2 == 0, np.minimum(e / target.size ** 2 + ORDER_WEIGHT * o, 1e6), 1e6 + v2)
     return f
 
@@ -539,6 +598,8 @@ def _restart(job: tuple) -> Design:
 
     name, target, cons, seed, branch, generations, popsize, deadline, n_polish = job
     family = FAMILIES[name]
+    if deadline is not None and time.time() > deadline:
+        return skipped(family, branch, int(seed))
     free = target.phi is None
     dim = family.shape_dim + (0 if free else 1)
     rng = np.random.default_rng(seed)
@@ -576,11 +637,21 @@ def _restart(job: tuple) -> Design:
             break
         if all(np.abs(res.population[j] - res.population[p]).max() > 1e-3 for p in picks):
             picks.append(j)
-    cands = [polish(to_x(res.population[j]), branch, search, cons, family) for j in (picks or order[:1])]
+    cands = [polish(to_x(res.population[j]), branch, search, cons, family, deadline=deadline)
+             for j in (picks or order[:1])]
     d = min(cands, key=lambda c: (c.violation > 0, c.violation if c.violation > 0 else c.sum_sq))
+    atlas = max(popsize * 4, ATLAS) if PRESCREEN else 0
     return Design(d.x, d.branch, d.phi_offset, d.err, d.phis, d.violation, int(seed), d.failed,
                   {"de_generations": int(res.nit), "de_evaluations": int(res.nfev),
+                   "evaluations": atlas + int(res.nfev) + sum(c.stats["evaluations"] for c in cands),
                    "stopped_by_budget": bool(stop())}, family)
+
+
+def skipped(family: Family, branch, seed: int) -> Design:
+    """A restart the budget left no time for: no design (ranked last, dropped by :func:`synthesize`)."""
+    return Design(np.full(family.size, np.nan), _branch(branch), 0.0, np.array([np.inf]), np.array([0.0]), np.inf,
+                  seed, "not run: the budget ran out", {"evaluations": 0, "skipped": True, "stopped_by_budget": True},
+                  family)
 
 
 def _finish(x, branch, target: Target, cons: Constraints, family: Family, off: float, phis_fit):
@@ -605,6 +676,10 @@ def _finish(x, branch, target: Target, cons: Constraints, family: Family, off: f
     return e, ph, v, failed_constraint(x, cons, target, branch, family, ph)
 
 
+class _Deadline(Exception):
+    """Raised inside a polish's evaluation past its deadline (``--budget``): the polish returns its best."""
+
+
 @dataclass(frozen=True)
 class _Fit:
     """One polish's problem: the parameters ``p`` are the design's and its crank angles (timing: the
@@ -615,6 +690,15 @@ class _Fit:
     branch: tuple[int, ...]
     target: Target
     sense: float
+    count: list = field(default_factory=lambda: [0], compare=False)
+    """Designs evaluated on the targets so far (a residual: 1; a Jacobian: its finite-difference designs)."""
+    deadline: float | None = None
+    """Wall-clock time [s, time.time()] after which an evaluation raises :class:`_Deadline`."""
+
+    def tick(self, k: int) -> None:
+        if self.deadline is not None and time.time() > self.deadline:
+            raise _Deadline
+        self.count[0] += k
 
     @property
     def nx(self) -> int:
@@ -650,6 +734,7 @@ class _Fit:
 
     def residuals(self, p):
         """Each target's offset from its point, over the target size, (2M,) (a loop that does not close: 10)."""
+        self.tick(1)
         x, _, ph = self.design(p)
         E, _ = self.family.points(x[None], ph[None], self.branch)
         return np.nan_to_num(((E[0] - self.target.xy) / self.target.size).ravel(), nan=10.0)
@@ -660,6 +745,7 @@ class _Fit:
         x, _, ph = self.design(p)
         family, s, m, nx = self.family, self.target.size, len(self.target.xy), self.nx
         nd = nx + 1 if self.timing else nx
+        self.tick(nd + (1 if self.timing else 2))
         h = 1e-7 * np.maximum(1.0, np.abs(p[:nd]))
         X = np.repeat(x[None], nd, axis=0)
         X[np.arange(nx), np.arange(nx)] += h[:nx]
@@ -704,14 +790,18 @@ def margins(x, cons: Constraints, target: Target, branch, family: Family = FOURB
         s = max(target.size, 1e-300)
         piv = (family.pivots(x) - target.centre).reshape(len(x), -1) / s
         out = np.column_stack([family.margins(x, branch, cons.mu_min, n), pairs, L / top,
-                               cons.region - piv, cons.region + piv])
+                               cons.region - piv, cons.region + piv, _grashof_margins(x, cons, family),
+                               _box_margins(x, cons, target, family, branch)])
     return np.where(np.isfinite(out), out, -1e3)
 
 
 def _inside(cons: Constraints, margin: tuple[float, float]) -> Constraints:
     """The bounds a polish stage aims at: ``margin`` = (transmission angle [rad], ratio and region
     relative) inside the constraints."""
-    return Constraints(cons.mu_min + margin[0], cons.max_ratio * (1 - margin[1]), cons.region * (1 - margin[1]))
+    from dataclasses import replace
+    return replace(cons, mu_min=cons.mu_min + margin[0], max_ratio=cons.max_ratio * (1 - margin[1]),
+                   region=cons.region * (1 - margin[1]),
+                   max_size=None if cons.max_size is None else cons.max_size * (1 - max(margin[1], SIZE_MARGIN)))
 
 
 def _penalised(fit: _Fit, p0, cons: Constraints, evaluations: int | None):
@@ -741,12 +831,20 @@ def _penalised(fit: _Fit, p0, cons: Constraints, evaluations: int | None):
         return np.vstack(rows)
 
     p = p0
+    seen = {"p": p0}
+
+    def resid_seen(q):
+        r = resid(q)
+        seen["p"] = np.array(q)
+        return r
     for method, most in (POLISH_STAGES if evaluations is None else (("trf", evaluations),)):
         try:
-            p = least_squares(resid, p, jac=jac, x_scale="jac", max_nfev=most, ftol=1e-13, xtol=1e-13,
+            p = least_squares(resid_seen, p, jac=jac, x_scale="jac", max_nfev=most, ftol=1e-13, xtol=1e-13,
                               gtol=1e-13, method=method).x
         except (ValueError, np.linalg.LinAlgError):
             break
+        except _Deadline:               # the budget ran out: the last point evaluated (the polish keeps the better)
+            return seen["p"]
     return p
 
 
@@ -792,29 +890,34 @@ def _constrained(fit: _Fit, p0, cons: Constraints):
                             options={"maxiter": SLSQP_ITERATIONS, "ftol": SLSQP_FTOL}).x
     except (ValueError, np.linalg.LinAlgError):
         return p0
+    except _Deadline:                   # the budget ran out: the last point evaluated (the polish keeps the better)
+        return last.get("p", p0)
 
 
 def polish(x0, branch, target: Target, cons: Constraints, family: Family = FOURBAR,
-           evaluations: int | None = None) -> Design:
+           evaluations: int | None = None, deadline: float | None = None) -> Design:
     """Least squares on the design and its crank angles in two stages: the constraints as penalty rows
     (:func:`_penalised`), then, where that ends feasible, as exact constraints (:func:`_constrained`).
     Timing: the angles are the targets' plus one offset. Free timing: each target's own crank angle
     (unwrapped in the sense of travel), kept in the targets' order (``--closed``: the return from the last
     target to the first too). A step that breaks a bound is cut back to the last feasible point; each
     stage's result replaces the start only if it ranks better (:func:`rank_key`). ``evaluations``: a brief
-    polish, one penalised run of at most this many residual evaluations and no second stage."""
+    polish, one penalised run of at most this many residual evaluations and no second stage. ``deadline``
+    (``--budget``): past it an evaluation stops the stage in progress, the best so far kept and no stage
+    started. The design's ``stats["evaluations"]``: the designs it evaluated on the targets."""
     branch = _branch(branch)
     timing = target.phi is not None
     nx = family.size
     x0 = np.asarray(x0, dtype=float)
     _, ph0 = errors(x0[:nx], branch, target, x0[nx] if timing else 0.0, family)
-    fit = _Fit(family, branch, target, -1.0 if _wrap(np.diff(ph0)).sum() < 0 else 1.0)
+    fit = _Fit(family, branch, target, -1.0 if _wrap(np.diff(ph0)).sum() < 0 else 1.0, deadline=deadline)
     if timing:
         p0 = np.concatenate([x0[:nx], [x0[nx]]])
     else:                           # the nearest points' angles, unwrapped along the targets
         p0 = np.concatenate([x0[:nx], ph0[0] + np.concatenate([[0.0], np.cumsum(_wrap(np.diff(ph0)))])])
 
     def finish(q):
+        fit.count[0] += 1
         x, off, ph = fit.design(q)
         return (q, x, off) + _finish(x, branch, target, cons, family, off, None if timing else ph)
 
@@ -835,11 +938,16 @@ def polish(x0, branch, target: Target, cons: Constraints, family: Family = FOURB
             end = finish(best[0] + lo * (p - best[0]))
         return end if (np.all(np.isfinite(end[3])) and key(end) <= key(best)) else best
 
-    best = step(finish(p0), _penalised(fit, p0, cons, evaluations))
-    if evaluations is None and best[5] == 0:
+    def late():
+        return deadline is not None and time.time() > deadline
+    best = finish(p0)
+    if not late():
+        best = step(best, _penalised(fit, p0, cons, evaluations))
+    if evaluations is None and best[5] == 0 and not late():
         best = step(best, _constrained(fit, best[0], cons))
     _, x, off, e, ph, v, words = best
-    return Design(np.asarray(x, float).copy(), branch, float(off), e, ph, float(v), 0, words, {}, family)
+    return Design(np.asarray(x, float).copy(), branch, float(off), e, ph, float(v), 0, words,
+                  {"evaluations": fit.count[0]}, family)
 
 
 def perturb(x, sigma: float, rng: np.random.Generator, family: Family = FOURBAR) -> np.ndarray:
@@ -870,12 +978,13 @@ def _hop(job: tuple) -> Design:
     """One seeded hop from a design: perturbed (:func:`perturb`), posed on the targets again (free
     timing: nearest-point alignment) and polished (:func:`polish`). ``job`` = (family name, target, cons,
     seed, branch, x (with the crank offset last, timing), sigma)."""
-    name, target, cons, seed, branch, x, sigma = job
+    name, target, cons, seed, branch, x, sigma, *rest = job
+    deadline = rest[0] if rest else None
     family = FAMILIES[name]
     x1 = perturb(x, sigma, np.random.default_rng(seed), family)
     if target.phi is None:
         x1 = align(x1[None], target, branch, 160, ALIGN_STEPS, family)[0]
-    return polish(x1, branch, target, cons, family)
+    return polish(x1, branch, target, cons, family, deadline=deadline)
 
 
 def _start(d: Design, target: Target) -> np.ndarray:
@@ -883,10 +992,10 @@ def _start(d: Design, target: Target) -> np.ndarray:
     return d.x if target.phi is None else np.concatenate([d.x, [d.phi_offset]])
 
 
-def hop_jobs(d: Design, target: Target, cons: Constraints, seeds) -> list[tuple]:
+def hop_jobs(d: Design, target: Target, cons: Constraints, seeds, deadline: float | None = None) -> list[tuple]:
     """The jobs of one hopping round from design ``d``: one per seed, the sizes HOP_SIGMAS in turn."""
-    return [(d.family.name, target, cons, int(sd), d.branch, _start(d, target), HOP_SIGMAS[i % len(HOP_SIGMAS)])
-            for i, sd in enumerate(seeds)]
+    return [(d.family.name, target, cons, int(sd), d.branch, _start(d, target), HOP_SIGMAS[i % len(HOP_SIGMAS)],
+             deadline) for i, sd in enumerate(seeds)]
 
 
 def refine(job: tuple) -> Design:
@@ -894,10 +1003,11 @@ def refine(job: tuple) -> Design:
     cons); the design keeps its seed and stats."""
     import scipy.optimize  # noqa: F401 (its OpenBLAS must be loaded before its threads are set)
     from analytic.synthesis.threads import one_blas_thread
-    d, target, cons = job
+    d, target, cons, *rest = job
     with one_blas_thread():
-        c = polish(_start(d, target), d.branch, target, cons, d.family)
-    return Design(c.x, c.branch, c.phi_offset, c.err, c.phis, c.violation, d.seed, c.failed, d.stats, d.family)
+        c = polish(_start(d, target), d.branch, target, cons, d.family, deadline=rest[0] if rest else None)
+    stats = {**d.stats, "evaluations": d.stats.get("evaluations", 0) + c.stats["evaluations"]}
+    return Design(c.x, c.branch, c.phi_offset, c.err, c.phis, c.violation, d.seed, c.failed, stats, d.family)
 
 
 def multistart_chunk(job: tuple) -> list[Design]:
@@ -925,6 +1035,7 @@ def multistart_chunk(job: tuple) -> list[Design]:
     if not len(U) or (deadline is not None and time.time() > deadline):
         return []
     f = _shape_objective(U, target, cons, branch, 128, family)
+    pool = len(U)
     U = U[np.argsort(f, kind="stable")[:count]]
     X = (_pose(family.shape(U), target, branch, 256, family)[0] if free
          else _pose_timed(U, target, branch, family)[0])
@@ -933,9 +1044,10 @@ def multistart_chunk(job: tuple) -> list[Design]:
         for x in X:
             if deadline is not None and time.time() > deadline:
                 break
-            found.append(polish(x, branch, target, cons, family, SHORT_POLISH))
+            found.append(polish(x, branch, target, cons, family, SHORT_POLISH, deadline))
     return [Design(d.x, d.branch, d.phi_offset, d.err, d.phis, d.violation, int(seed), d.failed,
-                   {"multistart": True}, family) for d in found]
+                   {"multistart": True, "evaluations": d.stats["evaluations"] + (pool if i == 0 else 0)}, family)
+            for i, d in enumerate(found)]
 
 
 def multistart_count(name: str, restarts: int, per_restart: int = MULTISTART) -> int:
@@ -964,12 +1076,20 @@ def multistart(target: Target, cons: Constraints, seed: int, restarts: int, type
     seeds = np.random.SeedSequence([seed, 2]).generate_state(len(js))
     short = [d for ds in mapper(multistart_chunk, [(name, target, cons, int(sd), br, k, deadline)
                                                    for (name, br, k), sd in zip(js, seeds)]) for d in ds]
+    spent = sum(d.stats["evaluations"] for d in short)
     short = [d for _, d in sorted(enumerate(short), key=lambda t: rank_key(*t))]
     keep = short[:max(1, len(short) // MULTISTART_KEEP)]
-    if deadline is not None and time.time() > deadline:
-        return keep
-    full = list(mapper(refine, [(d, target, cons) for d in keep]))
-    return [d for _, d in sorted(enumerate(full), key=lambda t: rank_key(*t))]
+    if not (deadline is not None and time.time() > deadline):
+        full = list(mapper(refine, [(d, target, cons, deadline) for d in keep]))
+        spent += sum(d.stats["evaluations"] - k.stats["evaluations"] for d, k in zip(full, keep))
+        keep = [d for _, d in sorted(enumerate(full), key=lambda t: rank_key(*t))]
+    return _carry(keep, spent)
+
+
+def _carry(designs: list[Design], spent: int) -> list[Design]:
+    """A stage's designs with its whole count of evaluations carried by the first (the list sums to it)."""
+    return [Design(d.x, d.branch, d.phi_offset, d.err, d.phis, d.violation, d.seed, d.failed,
+                   {**d.stats, "evaluations": spent if i == 0 else 0}, d.family) for i, d in enumerate(designs)]
 
 
 def limit_polish(job: tuple) -> Design:
@@ -979,13 +1099,15 @@ def limit_polish(job: tuple) -> Design:
     is the same)."""
     import scipy.optimize  # noqa: F401 (its OpenBLAS must be loaded before its threads are set)
     from analytic.synthesis.threads import one_blas_thread
-    target, cons, sc, length, side = job
+    target, cons, sc, length, side, *rest = job
+    deadline = rest[0] if rest else None
     x, br = fourbar_from_slider_crank(sc.x[None], sc.branch, length * abs(sc.x[3]), side)
     branch = (int(br[0]),)
     with one_blas_thread():
         if target.phi is None:
-            return polish(align(x, target, branch, 160, ALIGN_STEPS)[0], branch, target, cons)
-        return polish(np.concatenate([x[0], [sc.phi_offset]]), branch, target, cons)   # the same crank angles
+            return polish(align(x, target, branch, 160, ALIGN_STEPS)[0], branch, target, cons, deadline=deadline)
+        return polish(np.concatenate([x[0], [sc.phi_offset]]), branch, target, cons,   # the same crank angles
+                      deadline=deadline)
 
 
 def slider_limit(target: Target, cons: Constraints, seed: int, restarts: int, mapper=map,
@@ -1002,18 +1124,21 @@ def slider_limit(target: Target, cons: Constraints, seed: int, restarts: int, ma
     if deadline is not None and time.time() > deadline:
         return []
     sub = int(np.random.SeedSequence([seed, 3]).generate_state(1)[0])
-    scs = [d for d in multistart(target, cons, sub, restarts, ("slider_crank",), mapper, deadline, LIMIT_MULTISTART)
-           if d.violation == 0]
+    scs = multistart(target, cons, sub, restarts, ("slider_crank",), mapper, deadline, LIMIT_MULTISTART)
+    spent = sum(d.stats["evaluations"] for d in scs)
+    scs = [d for d in scs if d.violation == 0]
     picks: list[Design] = []
     for d in scs:
         if len(picks) < LIMIT_KEEP and all(abs(d.sum_sq - p.sum_sq) > 1e-6 * p.sum_sq for p in picks):
             picks.append(d)
     if not picks or (deadline is not None and time.time() > deadline):
         return []
-    found = list(mapper(limit_polish, [(target, cons, d, length, side) for d in picks
+    found = list(mapper(limit_polish, [(target, cons, d, length, side, deadline) for d in picks
                                        for length in LIMIT_LENGTHS for side in (1, -1)]))
-    return [Design(d.x, d.branch, d.phi_offset, d.err, d.phis, d.violation, seed, d.failed,
-                   {"slider_limit": True}, d.family) for _, d in sorted(enumerate(found), key=lambda t: rank_key(*t))]
+    spent += sum(d.stats["evaluations"] for d in found)
+    return _carry([Design(d.x, d.branch, d.phi_offset, d.err, d.phis, d.violation, seed, d.failed,
+                          {"slider_limit": True}, d.family)
+                   for _, d in sorted(enumerate(found), key=lambda t: rank_key(*t))], spent)
 
 
 def hopping(best: Design, target: Target, cons: Constraints, seed: int, rounds: int, jumps: int, mapper=map,
@@ -1022,19 +1147,20 @@ def hopping(best: Design, target: Target, cons: Constraints, seed: int, rounds: 
     best so far, run through ``mapper`` (the same answer for any worker count); a hop replaces the best
     when it ranks better (:func:`rank_key`). The deadline is a safety net: no round starts after it."""
     seeds = np.random.SeedSequence([seed, 1]).generate_state(rounds * jumps).reshape(rounds, jumps) if rounds else ()
-    better, done, cut = 0, 0, False
+    better, done, cut, spent = 0, 0, False, 0
     for r in range(rounds):
         if deadline is not None and time.time() > deadline:
             cut = True
             break
-        found = list(mapper(hop, hop_jobs(best, target, cons, seeds[r])))
+        found = list(mapper(hop, hop_jobs(best, target, cons, seeds[r], deadline)))
+        spent += sum(c.stats["evaluations"] for c in found)
         done += 1
         i, c = min(enumerate(found), key=lambda t: rank_key(*t))
         if rank_key(0, c) < rank_key(0, best):
             best = Design(c.x, c.branch, c.phi_offset, c.err, c.phis, c.violation, best.seed, c.failed,
                           best.stats, best.family)
             better += 1
-    stats = {**best.stats, "hop_rounds": done, "hop_improved": better,
+    stats = {**best.stats, "hop_rounds": done, "hop_improved": better, "hop_evaluations": spent,
              "stopped_by_budget": bool(best.stats.get("stopped_by_budget")) or cut}
     return Design(best.x, best.branch, best.phi_offset, best.err, best.phis, best.violation, best.seed,
                   best.failed, stats, best.family)
@@ -1097,7 +1223,8 @@ def synthesize(target: Target, cons: Constraints = Constraints(), seed: int = 0,
     for t in types:
         if t not in TYPES:
             raise ParameterError(f"unknown linkage type {t!r}; use one of {', '.join(TYPES)}")
-    deadline = None if budget is None else time.time() + float(budget)
+    start = time.time()
+    deadline = None if budget is None else start + float(budget)
     out = []
     js = jobs(target, cons, seed, restarts, generations, popsize, deadline, n_polish, types)
     for i, d in enumerate(mapper(restart, js)):
@@ -1109,15 +1236,49 @@ def synthesize(target: Target, cons: Constraints = Constraints(), seed: int = 0,
         out += list(enumerate(multistart(search, cons, seed, restarts, types, mapper, deadline), len(out)))
         if any("fourbar" in TYPES[t] for t in types):
             out += list(enumerate(slider_limit(search, cons, seed, restarts, mapper, deadline), len(out)))
+    spent = sum(d.stats.get("evaluations", 0) for _, d in out)
+    cut = any(d.stats.get("stopped_by_budget") for _, d in out)
+    out = [(i, d) for i, d in out if not d.stats.get("skipped")]
+    if not out:
+        raise ParameterError(f"--budget {budget:g} s ran out before the first restart could start; give more")
     out.sort(key=lambda t: rank_key(*t))
     found = [d for _, d in out]
     if hops and jumps:
         found[0] = hopping(found[0], search, cons, seed, hops, jumps, mapper, deadline)
+        spent += found[0].stats["hop_evaluations"]
+    found = distinct_first(found, designs, target.size)
     if search is not target:           # the restarts and hops saw a subset: the first designs polished on all
-        found = (list(mapper(refine, [(d, target, cons) for d in found[:designs]]))
-                 + [evaluate(d, target, cons) for d in found[designs:]])
-        found = [d for _, d in sorted(enumerate(found), key=lambda t: rank_key(*t))]
-    return found
+        refined = list(mapper(refine, [(d, target, cons, deadline) for d in found[:designs]]))
+        spent += sum(r.stats["evaluations"] - d.stats.get("evaluations", 0) for r, d in zip(refined, found))
+        found = refined + [evaluate(d, target, cons) for d in found[designs:]]
+        spent += len(found) - len(refined)
+        found = distinct_first([d for _, d in sorted(enumerate(found), key=lambda t: rank_key(*t))], designs,
+                               target.size)
+    cut = cut or (deadline is not None and time.time() > deadline)
+    run = {"run_evaluations": int(spent), "search_seconds": time.time() - start, "stopped_by_budget": bool(cut)}
+    return [Design(d.x, d.branch, d.phi_offset, d.err, d.phis, d.violation, d.seed, d.failed, {**d.stats, **run},
+                   d.family) for d in found]
+
+
+DISTINCT = 1e-3
+"""Two designs of one family and branch whose parameters all differ by less than this share of the target
+size are one design found twice (one basin reached from two starts)."""
+
+
+def same_design(a: Design, b: Design, scale: float) -> bool:
+    """Whether ``a`` and ``b`` are one design (:data:`DISTINCT`)."""
+    return (a.family.name == b.family.name and a.branch == b.branch
+            and bool(np.all(np.abs(np.asarray(a.x) - np.asarray(b.x)) <= DISTINCT * scale)))
+
+
+def distinct_first(found: list[Design], k: int, scale: float) -> list[Design]:
+    """``found`` (best first) with its best ``k`` distinct designs first (a copy of a better one moved
+    behind them, in order): the designs returned are different basins, not copies."""
+    head: list[Design] = []
+    tail: list[Design] = []
+    for d in found:
+        (tail if len(head) >= k or any(same_design(d, h, scale) for h in head) else head).append(d)
+    return head + tail
 
 
 def from_four_bar_rs(p1x, p1y, a, l1, l2, l3, l4, l5, g, stat: str) -> tuple[np.ndarray, int]:

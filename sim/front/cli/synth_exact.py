@@ -16,7 +16,7 @@ def _designs_out(args, kind: str, found: list[dict], rejected: list[dict]) -> in
     """Write the best design, print a table or JSON (SPEC: ``designs``, each with its measures; ``rejected``:
     the candidates turned down and why); exit 1 when no design meets the limits and passes compare."""
     import sys
-    ok = [d for d in found if d["compare_passed"]]
+    ok = [d for d in found if d["compare_passed"] and d["simulated"]["passed"]]
     best = ok[0] if ok else None
     if best is not None and args.out:
         write_text(args.out, best["text"])
@@ -29,14 +29,16 @@ def _designs_out(args, kind: str, found: list[dict], rejected: list[dict]) -> in
             e = d["error"]
             print(f"{n}. error max {e['max']:.3e} rms {e['rms']:.3e} {d['error_unit']}; "
                   f"{measure_words(d, args.unit)}; compare {'passed' if d['compare_passed'] else 'FAILED'} "
-                  f"({d['compare_mode']}); {'ok' if d['compare_passed'] else 'compare failed'}")
+                  f"({d['compare_mode']}), forces in MuJoCo "
+                  f"{'passed' if d['simulated']['forces_passed'] else 'FAILED'}; "
+                  f"{'ok' if d in ok else d['simulated']['problem']}")
             print("   " + ", ".join(f"{k}={v:.6g}" for k, v in d["parameters"].items()))
             for note in d["notes"]:
                 print("   note: " + note)
         if best is not None and args.out:
             print(f"wrote {args.out} (its input_range is the working range: every command runs it so)")
     if best is None:
-        why = rejected[0]["why"] if rejected else ("it fails linkage compare" if found else "no candidate")
+        why = rejected[0]["why"] if rejected else (found[0]["simulated"]["problem"] if found else "no candidate")
         for note in (rejected[0].get("notes", []) if rejected and not found else []):
             print("note: " + note, file=sys.stderr if args.json else sys.stdout)
         print(f"linkage: no {kind} design meets the constraints; the best candidate: {why}",

@@ -7,9 +7,9 @@ from __future__ import annotations
 from pathlib import Path
 
 
-from analytic.format.linkfile import UNITS
 from analytic.synthesis.curves import DEFAULT_TYPE, TYPES
 from sim.front.lazy import lazy
+from sim.front.cli.synth_options import add_limits, add_units, limits_of, measure_words
 from sim.output.io import atomic_path, check_writable, write_text
 from sim.output.jsonout import dumps
 from sim.output.progress import Progress
@@ -53,10 +53,12 @@ def plot(path: str, target, found: list[dict], unit: str) -> None:
 
 def options_of(args) -> design_service.PathOptions:
     """The command line's :class:`PathOptions`."""
+    lim = limits_of(args)
     return design_service.PathOptions(
         types=(args.type,), seed=args.seed, restarts=args.restarts, generations=args.generations,
-        popsize=args.popsize, budget=args.budget, designs=args.designs, min_transmission=args.min_transmission,
-        max_ratio=args.max_ratio, region=args.region, workers=args.workers, scheduler=args.scheduler).check()
+        popsize=args.popsize, budget=args.budget, designs=args.designs, min_transmission=lim.min_transmission,
+        max_ratio=args.max_ratio, region=args.region, workers=args.workers, scheduler=args.scheduler,
+        evaluations=args.evaluations, max_size=lim.max_size, boxes=lim.regions, grashof=lim.grashof).check()
 
 
 def cmd_path(args) -> int:
@@ -66,34 +68,45 @@ def cmd_path(args) -> int:
         check_writable(args.plot, (".png", ".svg", ".pdf"))
     options = options_of(args)
     target = design_service.read_target(args.target, args.timing, args.closed, not args.any_order)
+    if args.objectives:
+        from sim.front import synth_pareto_cmd
+        return synth_pareto_cmd.cmd(args, options, target)
     bar = Progress(options.restart_count + options.designs, "synthesize path")
     found = design_service.synthesize_path(target, options, args.unit, progress=bar.update)
-    names = out_names(args.out, len(found))
-    ok = [f for f in found if not f["failed"] and f["compare_passed"]]
-    for f, fname in zip(found, names):
-        if fname and (not f["failed"] or f is found[0]):
+    ok = [f for f in found if not f["failed"] and f["compare_passed"] and f["simulated"]["passed"]]
+    rejected = [{"type": f["type"], "parameters": f["parameters"], "error": f["error"],
+                 "why": f["failed"] or (f["simulated"] or {}).get("problem") or "it fails linkage compare"}
+                for f in found if f not in ok]
+    for f, fname in zip(ok, out_names(args.out, len(ok))):
+        if fname:
             write_text(fname, f["text"])
             f["file"] = fname
-    if args.plot:
-        plot(args.plot, target, found, args.unit)
+    if args.plot and ok:
+        plot(args.plot, target, ok, args.unit)
+    stats = found[0]["stats"]
+    run = {"evaluations": found[0]["evaluations"], "seconds": stats["seconds"],
+           "stopped_by_budget": bool(stats.get("stopped_by_budget")), "budget": args.budget, "seed": args.seed,
+           "restarts": max(options.restart_count, options.designs), "generations": options.generations_value}
     if args.json:
-        print(dumps({"designs": [{k: v for k, v in f.items() if k not in ("text", "design")} for f in found]}))
+        print(dumps({"designs": [{k: v for k, v in f.items() if k not in ("text", "design")} for f in ok],
+                     "rejected": rejected, "run": run}))
     else:
-        for n, f in enumerate(found, 1):
+        for n, f in enumerate(ok, 1):
             e = f["error"]
-            state = "ok" if not f["failed"] and f["compare_passed"] else (f["failed"] or "compare failed")
-            cut = " (stopped by --budget)" if f["stats"].get("stopped_by_budget") else ""
             print(f"{n}. {f['type']}: sum of squares {e['sum_sq']:.6g} {args.unit}^2, max {e['max']:.4g}, rms "
-                  f"{e['rms']:.4g} {args.unit}; transmission >= {f['parameters']['mu_min_deg']:.1f} deg; compare "
-                  f"{'passed' if f['compare_passed'] else 'FAILED'} ({f['compare_mode']}); {state}{cut}"
-                  + (f"; wrote {f['file']}" if f["file"] else ""))
-        if args.plot:
+                  f"{e['rms']:.4g} {args.unit}; {measure_words(f, args.unit)}; compare and forces in MuJoCo passed "
+                  f"({f['compare_mode']})" + (f"; wrote {f['file']}" if f["file"] else ""))
+        for f in rejected:
+            print(f"   turned down: {f['type']}, sum of squares {f['error']['sum_sq']:.6g} {args.unit}^2: {f['why']}")
+        print(f"{run['evaluations']} evaluations in {run['seconds']:.1f} s (seed {args.seed}"
+              + (f"; stopped by --budget {args.budget:g} s: the best so far" if run["stopped_by_budget"] else
+                 "" if args.budget else "; reproducible: the same seed gives the same answer") + ")")
+        if args.plot and ok:
             print(f"wrote {args.plot}")
     if not ok:
-        why = found[0]["failed"] or "it fails linkage compare"
         import sys
         print(f"linkage: no path design meets the constraints; the best found (sum of squares "
-              f"{found[0]['error']['sum_sq']:.6g}): {why}", file=sys.stderr if args.json else sys.stdout)
+              f"{found[0]['error']['sum_sq']:.6g}): {rejected[0]['why']}", file=sys.stderr if args.json else sys.stdout)
         return 1
     return 0
 
@@ -116,13 +129,19 @@ def register(problems) -> None:
     p.add_argument("--type", choices=tuple(TYPES), default=DEFAULT_TYPE,
                    help="fourbar, slider_crank, or sixbar (Watt II and Stephenson III both searched)")
     p.add_argument("--seed", type=int, default=0, help="random seed (same seed, same answer, any --workers)")
-    p.add_argument("--budget", type=float, default=120.0, help="seconds at most (stops the search early; "
-                                                               "then the answer depends on the speed)")
-    p.add_argument("--min-transmission", type=float, default=30.0, help="least transmission angle [deg]")
+    budget = p.add_mutually_exclusive_group()
+    budget.add_argument("--evaluations", type=int, default=None, metavar="N",
+                        help="the global search's evaluations (spread over the restarts; reproducible: the same "
+                             "seed gives the same answer on any machine and --workers). Default: fixed counts, "
+                             "reproducible too")
+    budget.add_argument("--budget", type=float, default=None, metavar="SECONDS",
+                        help="a hard wall-clock limit on the whole run, checks included: the search stops and "
+                             "returns its best so far, polished within it (the answer then depends on the machine)")
+    add_limits(p, "A, D (four-bar); A (slider-crank); A, D, G (six-bars)")
     p.add_argument("--max-ratio", type=float, default=20.0, help="longest/shortest link at most")
     p.add_argument("--region", type=float, default=3.0,
                    help="ground pivots within this many target sizes of the targets' centre (default 3)")
-    p.add_argument("--unit", choices=sorted(UNITS), default="m", help="length unit of x, y and the files")
+    add_units(p, "length unit of x, y and the files")
     p.add_argument("--restarts", type=int, default=None,
                    help="seeded restarts (default: 16, eight per branch; sixbar: 8, one per chain and branches)")
     p.add_argument("--generations", type=int, default=None,
@@ -135,4 +154,6 @@ def register(problems) -> None:
     p.add_argument("--out", metavar="FILE.toml", help="write the best design (next ones FILE_2.toml ...)")
     p.add_argument("--plot", metavar="PATH", help="targets over each candidate's coupler curve (png/svg/pdf)")
     p.add_argument("--json", action="store_true", help="print one JSON object (SPEC: designs)")
+    from sim.front import synth_pareto_cmd
+    synth_pareto_cmd.register(p)
     p.set_defaults(func=cmd_path)
