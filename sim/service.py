@@ -642,7 +642,9 @@ def forces_run(mech: Mechanism, samples: int = 361, revolutions: float = 1.0, in
 
 def force_peaks(run: ForceRun, forces=None) -> dict:
     """Each joint's peak |F| [N] (a prismatic pair's also its peak |M| [N m]), each drive's peak and the
-    shaking force's and moment's, with the sample index where each occurs."""
+    shaking force's and moment's, with the sample index where each occurs; the RMS over the closed run
+    (its end sample counted once)."""
+    from analytic.applications.cycle import closed_rms
     f = forces or run.forces
     out = {"joints": {}, "drives": {}, "shaking": {}}
     mag = f.magnitude()
@@ -659,7 +661,7 @@ def force_peaks(run: ForceRun, forces=None) -> dict:
     sf = np.hypot(f.shaking[0], f.shaking[1])
     sm = np.abs(f.shaking[2])
     out["shaking"] = {"F": float(sf.max()), "at": int(np.argmax(sf)), "M": float(sm.max()), "at_M": int(np.argmax(sm)),
-                      "F_rms": float(np.sqrt(np.mean(sf * sf)))}
+                      "F_rms": float(closed_rms(sf))}
     return out
 
 
