@@ -7,6 +7,7 @@ are imported only by the commands that need them.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
 import math
 import os
@@ -23,7 +24,7 @@ from sim import service
 from sim.output.io import write_csv
 from sim.output.jsonout import dumps
 from sim.output.units import add_unit_options
-from sim.front.common import _outputs, check_outputs, mechanism_from, sets_of  # noqa: F401 (used by command modules)
+from sim.front.common import _outputs, check_outputs, guard_outputs, mechanism_from, one_line, sets_of  # noqa: F401
 
 
 class _Parser(argparse.ArgumentParser):
@@ -80,11 +81,8 @@ def loads_from(args, mech):
         if os.path.abspath(args.inertia) in _outputs(args):
             raise ParameterError(f"--inertia {args.inertia} is also an output of this command; it would be "
                                  f"overwritten: choose another output name")
-        try:
-            with open(args.inertia) as f:
-                raw = json.load(f)
-        except (OSError, ValueError) as exc:
-            raise ParameterError(f"--inertia {args.inertia}: cannot read it as JSON ({exc})") from None
+        from sim.readers import read_json
+        raw = read_json("--inertia", args.inertia)
         if not isinstance(raw, dict):
             raise ParameterError(f"--inertia {args.inertia}: expected an object of links")
         inertias = {}
@@ -351,11 +349,8 @@ def cmd_export(args) -> int:
 
 def cmd_run(args) -> int:
     """The main job: simulate, cross-validate, render, plot and write CSV for each mechanism."""
-    import time
     from pathlib import Path
-    from sim.run.compare import table
-    from sim.output.plot import sheet
-    from sim.output.render import check_video_args, parse_size, render
+    from sim.output.render import check_video_args, parse_size
     names = args.mechanisms or list(analytic.BUILTINS)
     if len(set(names)) != len(names):
         raise ParameterError("a mechanism is named twice; name each once")
@@ -371,6 +366,7 @@ def cmd_run(args) -> int:
         mechs.append((mech, service.prepare(mech, args.revolutions, parse_range(mech, args.input_range))))
     ext = "." + args.format
     size = parse_size(args.size)
+    created = not out_dir.exists()
     try:
         out_dir.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
@@ -379,25 +375,47 @@ def cmd_run(args) -> int:
         raise ParameterError(f"--out-dir {out_dir} is not writable; choose another folder")
     if not args.no_video:
         check_video_args(str(out_dir / f"{mechs[0][0].name}{ext}"), args.fps, args.size)
+    try:
+        return _run_all(args, mechs, out_dir, ext, size)
+    except BaseException:
+        if created:                                # a folder this run made, left empty: removed too
+            with contextlib.suppress(OSError):
+                out_dir.rmdir()
+        raise
+
+
+def _run_all(args, mechs, out_dir, ext, size) -> int:
+    """``linkage run`` after its checks: compare every mechanism, then write every file."""
+    import time
+    from pathlib import Path
+    from sim.output.io import new_files_removed_on_failure
+    from sim.output.plot import sheet
+    from sim.output.render import render
+    from sim.run.compare import table
     t_start = time.perf_counter()
-    results = []
+    from sim.output.units import machine_units, shown_units
+    compared = []                                  # every comparison first: a failure writes nothing
     for k, (mech, _) in enumerate(mechs):
         if len(mechs) > 1 and sys.stderr.isatty():
             sys.stderr.write(f"[{k + 1}/{len(mechs)}] {mech.name}\n")
         built, c = service.compare(mech, args.revolutions, settings_from(args), loads_from(args, mech),
                                    parse_range(mech, args.input_range))
-        from sim.output.units import machine_units, shown_units
         _say_start(mech, built.mech)
-        shown = shown_units(args, mech)
-        print(table(c, mech.size, shown, mech.output_point))
-        files = [out_dir / f"{mech.name}.csv", out_dir / f"{mech.name}.png"]
-        write_columns(files[0], mech, service.trajectory_columns(c.trajectory), machine_units(args))
-        sheet(c, built, str(files[1]), shown)
-        if not args.no_video:
-            render(built, c.trajectory, str(out_dir / f"{mech.name}{ext}"), args.fps, size, display=shown)
-            files.append(out_dir / f"{mech.name}{ext}")
-        results.append((mech, c, files))
+        print(table(c, mech.size, shown_units(args, mech), mech.output_point))
         print()
+        compared.append((mech, built, c))
+    results = []
+    with new_files_removed_on_failure() as made:   # then the files; cut short, none of the new ones stays
+        for mech, built, c in compared:
+            shown = shown_units(args, mech)
+            files = [out_dir / f"{mech.name}.csv", out_dir / f"{mech.name}.png"]
+            made(files[0], Path(f"{files[0]}.units.json"), files[1])
+            write_columns(files[0], mech, service.trajectory_columns(c.trajectory), machine_units(args))
+            sheet(c, built, str(files[1]), shown)
+            if not args.no_video:
+                files.append(made(out_dir / f"{mech.name}{ext}"))
+                render(built, c.trajectory, str(files[-1]), args.fps, size, display=shown)
+            results.append((mech, c, files))
     print(f"summary ({time.perf_counter() - t_start:.1f} s):")
     for mech, c, files in results:
         from sim.run.compare import errors_in
@@ -550,18 +568,20 @@ def make_parser() -> argparse.ArgumentParser:
 
 
 def _join_negative_values(parser: argparse.ArgumentParser, argv: list[str]) -> list[str]:
-    """``--force -10,0`` as ``--force=-10,0``: argparse would take ``-10,0`` for an option. Any value
-    that starts with '-' followed by a digit or '.' is joined to the option before it."""
-    takes_value = set()
+    """``--force -10,0`` as ``--force=-10,0``: argparse would take ``-10,0`` for an option. A value that
+    starts with one '-' (``-10,0``, ``-inf:inf``, ``-.5``) and is not an option of the parser is joined to
+    the option before it."""
+    takes_value, options = set(), set()
     for action in _all_actions(parser):
+        options.update(action.option_strings)
         if action.option_strings and action.nargs is None and not isinstance(
                 action, (argparse._StoreTrueAction, argparse._StoreFalseAction, argparse._HelpAction)):
             takes_value.update(action.option_strings)
     out, i = [], 0
     while i < len(argv):
         tok = argv[i]
-        if tok in takes_value and i + 1 < len(argv) and len(argv[i + 1]) > 1 and argv[i + 1][0] == "-" \
-                and (argv[i + 1][1].isdigit() or argv[i + 1][1] == "."):
+        nxt = argv[i + 1] if i + 1 < len(argv) else ""
+        if tok in takes_value and len(nxt) > 1 and nxt[0] == "-" and nxt[1] != "-" and nxt not in options:
             out.append(f"{tok}={argv[i + 1]}")
             i += 2
             continue
@@ -606,9 +626,14 @@ def _main(argv: list[str] | None) -> int:
         parser = make_parser()
         argv = _join_negative_values(parser, list(sys.argv[1:] if argv is None else argv))
         args = parser.parse_args(argv)
+        guard_outputs(args)
         return args.func(args)
     except ParameterError as exc:
-        print(f"linkage: error: {exc}", file=sys.stderr)
+        print(f"linkage: error: {one_line(str(exc))}", file=sys.stderr)
+        return 2
+    except RecursionError:                   # a reader that does not name its input yet: still one line
+        print("linkage: error: an input is nested too deeply (a JSON, TOML or YAML value inside thousands of "
+              "brackets); flatten it", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
         print("linkage: interrupted", file=sys.stderr)
@@ -623,7 +648,7 @@ def _main(argv: list[str] | None) -> int:
         return 0
     except OSError as exc:
         where = f" {exc.filename}" if exc.filename else ""
-        print(f"linkage: error:{where} {exc.strerror or exc}", file=sys.stderr)
+        print(one_line(f"linkage: error:{where} {exc.strerror or exc}"), file=sys.stderr)
         return 2
     except MemoryError:
         print("linkage: error: out of memory: reduce --samples, --revolutions or the sweep grid", file=sys.stderr)

@@ -61,3 +61,46 @@ def check_outputs(args, suffixes: dict[str, tuple[str, ...]]) -> None:
     if clash:
         raise ParameterError(f"{sorted(clash)[0]} is an input of this command and would be overwritten; "
                              f"choose another output name")
+
+
+INPUT_ARGS = ("mechanism", "mechanisms", "inertia", "target", "poses", "pairs", "motor_table")
+"""The options and arguments every command reads from (files the user already had)."""
+OUTPUT_ARGS = ("csv", "out", "mjcf", "toml", "plot", "render")
+"""The options every command writes to (and FILE_2.toml ... beside a synthesis --out)."""
+
+
+def guard_outputs(args) -> None:
+    """Before any work, for every command: no output is one of the inputs or in the shipped library, and
+    ``run --out-dir`` is not the library. One line naming the option and the fix."""
+    from analytic.registry import LIBRARY
+    library = os.path.realpath(LIBRARY)
+    inputs: dict[str, str] = {}
+    for name in INPUT_ARGS:
+        values = getattr(args, name, None)
+        for v in values if isinstance(values, list) else [values]:
+            if isinstance(v, str) and v and os.path.exists(v):
+                inputs.setdefault(os.path.realpath(v), name)
+    for name in OUTPUT_ARGS:
+        v = getattr(args, name, None)
+        if not isinstance(v, str) or not v:
+            continue
+        real = os.path.realpath(v)
+        option = "--" + name.replace("_", "-")
+        if os.path.dirname(real) == library:
+            raise ParameterError(f"{option} {v}: that is in the shipped mechanism library, which is never written; "
+                                 f"choose an output outside {library}")
+        if real in inputs:
+            what = inputs[real].replace("_", "-")
+            what = f"--{what}" if what in ("inertia", "motor-table") else f"the {what.rstrip('s')} file"
+            raise ParameterError(f"{option} {v} is an input of this command and would be overwritten ({what}); "
+                                 f"choose another output name")
+    out_dir = getattr(args, "out_dir", None)
+    if isinstance(out_dir, str) and os.path.realpath(out_dir) == library:
+        raise ParameterError(f"--out-dir {out_dir}: that is the shipped mechanism library, which is never written; "
+                             f"choose another folder")
+
+
+def one_line(text: str) -> str:
+    """A message as one line: a newline or other control character inside it (a file name holding one) is
+    written as its escape (``\\n``), so that the message cannot spread over lines or forge another."""
+    return "".join(c if c.isprintable() or c == " " else repr(c)[1:-1] for c in text)

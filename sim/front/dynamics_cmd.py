@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import csv
 import math
 
 
@@ -35,12 +34,8 @@ def parse_motor(text: str) -> amotor.LinearMotor:
 
 def read_table(path: str) -> amotor.TableMotor:
     """A torque-speed table: CSV with a header ``omega,tau`` (rad/s, N m) or ``rpm,tau``."""
-    try:
-        with open(path, newline="") as f:
-            rows = list(csv.reader(f))
-    except OSError as exc:
-        raise ParameterError(f"--motor-table {path}: cannot read it ({exc.strerror or exc})") from None
-    rows = [r for r in rows if r and any(c.strip() for c in r)]
+    from sim.readers import csv_rows
+    rows = [r for _, r in csv_rows("--motor-table", path) if r and any(c.strip() for c in r)]
     if not rows:
         raise ParameterError(f"--motor-table {path}: the file is empty; give a header omega,tau and rows")
     head = [c.strip().lower() for c in rows[0]]
