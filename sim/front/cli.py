@@ -598,6 +598,17 @@ def _all_actions(parser):
                 yield from _all_actions(sub)
 
 
+def interrupted(exc: BaseException) -> bool:
+    """Whether ``exc`` was caused by Ctrl-C (a KeyboardInterrupt anywhere in its chain of causes)."""
+    seen = set()
+    while exc is not None and id(exc) not in seen:
+        if isinstance(exc, KeyboardInterrupt):
+            return True
+        seen.add(id(exc))
+        exc = exc.__cause__ or exc.__context__
+    return False
+
+
 class Terminated(BaseException):
     """SIGTERM, raised in the main thread so that partial outputs are removed on the way out."""
 
@@ -636,6 +647,11 @@ def _main(argv: list[str] | None) -> int:
               "brackets); flatten it", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
+        print("linkage: interrupted", file=sys.stderr)
+        return 130
+    except ImportError as exc:               # Ctrl-C while a compiled module (mujoco) initialises reaches us
+        if not interrupted(exc):             # as "ImportError: initialization failed" caused by it
+            raise
         print("linkage: interrupted", file=sys.stderr)
         return 130
     except Terminated:
