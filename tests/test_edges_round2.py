@@ -155,3 +155,24 @@ def test_an_integer_past_float_range_is_refused_by_the_inertia_itself():
     from analytic.mass import Inertia
     with pytest.raises(ParameterError, match=r"inertia I=1000000000.*\.\.\. must be a finite number"):
         Inertia(m=1.0, cx=0.0, cy=0.0, I=10 ** 400)
+
+
+def test_ctrl_c_while_a_compiled_module_initialises_is_one_line(monkeypatch, capsys):
+    """pybind11 turns a Ctrl-C during ``import mujoco`` into ImportError("initialization failed") caused by
+    the KeyboardInterrupt: it is an interrupt (exit 130, one line); another ImportError is not hidden."""
+    from sim.front import cli
+
+    def cut(args):
+        try:
+            raise KeyboardInterrupt
+        except KeyboardInterrupt as exc:
+            raise ImportError("initialization failed") from exc
+    monkeypatch.setattr(cli, "cmd_list", cut)
+    assert cli.main(["list"]) == 130
+    assert capsys.readouterr().err == "linkage: interrupted\n"
+
+    def broken(args):
+        raise ImportError("no module named nothing")
+    monkeypatch.setattr(cli, "cmd_list", broken)
+    with pytest.raises(ImportError):
+        cli.main(["list"])

@@ -138,6 +138,7 @@ def cmd_check(args) -> int:
     from analytic.applications import figures
     from sim.output.units import shown_units
     mech = mechanism_from(args)
+    _warn_size(mech)
     print(structure_report(mech, shown_units(args, mech)))
     if len(mech.inputs) == 1 and not figures.assembly_ranges(mech):
         raise ParameterError(f"{mech.definition.source}: the mechanism assembles at no value of "
@@ -202,8 +203,16 @@ def structure_report(mech, display=None) -> str:
     return "\n".join(lines)
 
 
+def _warn_size(mech) -> None:
+    from sim.front.common import size_warning
+    note = size_warning(mech)
+    if note:
+        print(f"linkage: warning: {note}", file=sys.stderr)
+
+
 def cmd_analyze(args) -> int:
     mech = mechanism_from(args)
+    _warn_size(mech)
     check_outputs(args, {"csv": (".csv",)})
     a = service.analyze(mech, args.samples, args.revolutions, parse_range(mech, args.input_range))
     from analytic.applications import figures

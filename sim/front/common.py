@@ -104,3 +104,43 @@ def one_line(text: str) -> str:
     """A message as one line: a newline or other control character inside it (a file name holding one) is
     written as its escape (``\\n``), so that the message cannot spread over lines or forge another."""
     return "".join(c if c.isprintable() or c == " " else repr(c)[1:-1] for c in text)
+
+
+def degrees(text: str) -> float:
+    """An argparse type for an angle option given in degrees: ``30``, ``30deg`` (as every other angle the
+    command line takes) or ``0.5rad``; returns degrees."""
+    import argparse
+    import math
+    from analytic.format import expr
+    t = text.strip()
+    try:
+        if t.lower().endswith("rad"):
+            return math.degrees(expr.parse_value("angle", t[:-3], angle=False))
+        if t.lower().endswith("deg"):
+            t = t[:-3]
+        return expr.parse_value("angle", t, angle=False)
+    except ParameterError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not an angle in degrees (e.g. 30 or 30deg)") from None
+
+
+SMALLEST_SIZE = 1e-3
+"""[m] Below this a design cannot be simulated (sim.model.build.MIN_SIZE: MuJoCo's minimum masses); in a
+file of mm, cm or in it is most often metres typed into it."""
+LARGEST_SIZE = 100.0
+"""[m] Above this a linkage is a building: most often mm typed into a file of metres."""
+
+
+def size_warning(mech) -> str | None:
+    """One line for ``check`` and ``analyze`` when the design's size is implausible (what only ``compare``
+    used to notice), else None."""
+    size, unit = mech.size, mech.definition.units
+    shown = f"{size / mech.scale:.3g} {unit}"
+    if size < SMALLEST_SIZE:
+        hint = ("were metres typed into a mm file? give the lengths in " + unit if unit != "m"
+                else "is it in mm? add units = \"mm\" to the file")
+        return f"the {mech.name} spans {shown}, too small to simulate (at least {SMALLEST_SIZE:g} m): {hint}"
+    if size > LARGEST_SIZE:
+        hint = ("were mm typed into a file of metres? add units = \"mm\" to the file" if unit == "m"
+                else "check the file's units")
+        return f"the {mech.name} spans {shown}{f' ({size:.3g} m)' if unit != 'm' else ''}: {hint}"
+    return None

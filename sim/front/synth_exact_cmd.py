@@ -70,7 +70,7 @@ def register(problems, add_video_options) -> None:
     units = sorted(UNITS)
     p = problems.add_parser("motion", help="four-bar through 3-5 coupler poses (Burmester), more by least squares")
     p.add_argument("poses", metavar="POSES.csv", help="CSV with columns x,y,theta (one pose per row, in order)")
-    p.add_argument("--unit", choices=units, default="m", help="length unit of x, y and of the file written")
+    p.add_argument("--units", "--unit", dest="unit", choices=units, default="m", help="length unit of x, y and of the file written")
     p.add_argument("--angles", choices=("deg", "rad"), default="deg", help="unit of theta (default deg)")
     p.add_argument("--count", type=int, default=3, help="designs to return, best first (default 3)")
     p.add_argument("--circle-points", metavar="X1,Y1,X2,Y2",
@@ -81,7 +81,7 @@ def register(problems, add_video_options) -> None:
     p = problems.add_parser("function", help="four-bar function generator through (input, output) pairs (Freudenstein)")
     p.add_argument("pairs", metavar="PAIRS.csv", help="CSV with columns input,output: crank and rocker angles "
                                                       "from the line A->D")
-    p.add_argument("--unit", choices=units, default="m", help="length unit of the file written")
+    p.add_argument("--units", "--unit", dest="unit", choices=units, default="m", help="length unit of the file written")
     p.add_argument("--angles", choices=("deg", "rad"), default="deg", help="unit of the angles (default deg)")
     p.add_argument("--ground", type=float, default=1.0, help="ground link |AD| in --unit (default 1)")
     p.add_argument("--out", metavar="FILE.toml", help="write the design as a linkage/1 file")

@@ -10,6 +10,7 @@ from pathlib import Path
 from analytic.format.linkfile import UNITS
 from analytic.synthesis.curves import DEFAULT_TYPE, TYPES
 from sim import design_service
+from sim.front.common import degrees
 from sim.output.io import atomic_path, check_writable, write_text
 from sim.output.jsonout import dumps
 from sim.output.progress import Progress
@@ -116,11 +117,12 @@ def register(problems, add_video_options) -> None:
     p.add_argument("--seed", type=int, default=0, help="random seed (same seed, same answer, any --workers)")
     p.add_argument("--budget", type=float, default=120.0, help="seconds at most (stops the search early; "
                                                                "then the answer depends on the speed)")
-    p.add_argument("--min-transmission", type=float, default=30.0, help="least transmission angle [deg]")
+    p.add_argument("--min-transmission", type=degrees, default=30.0,
+                   help="least transmission angle [deg; 30 or 30deg]")
     p.add_argument("--max-ratio", type=float, default=20.0, help="longest/shortest link at most")
     p.add_argument("--region", type=float, default=3.0,
                    help="ground pivots within this many target sizes of the targets' centre (default 3)")
-    p.add_argument("--unit", choices=sorted(UNITS), default="m", help="length unit of x, y and the files")
+    p.add_argument("--units", "--unit", dest="unit", choices=sorted(UNITS), default="m", help="length unit of x, y and the files")
     p.add_argument("--restarts", type=int, default=None,
                    help="seeded restarts (default: 16, eight per branch; sixbar: 8, one per chain and branches)")
     p.add_argument("--generations", type=int, default=None,
