@@ -32,6 +32,11 @@ __all__ = ["Inertia", "Material", "Counterweight", "LINEAR_DENSITY", "BLOCK_FRAC
            "SHAPES", "bars", "plate", "block", "polygon", "convex_hull", "combine", "add_counterweights",
            "materials", "counterweights", "local_points", "default", "link_inertia", "model"]
 
+MAX_MAGNITUDE = 1e12
+"""The largest magnitude of an inertial value (as every other number the command line takes): a mass of
+1e12 kg or a moment of inertia of 1e12 kg mm^2 is already no linkage; larger overflows the forces."""
+
+
 @dataclass(frozen=True)
 class Inertia:
     """Inertial data of one body: mass ``m`` [kg], centre of mass ``(cx, cy)`` [m] in the body's frame
@@ -46,8 +51,14 @@ class Inertia:
     def __post_init__(self):
         for name in ("m", "cx", "cy", "I"):
             v = getattr(self, name)
-            if not (isinstance(v, (int, float)) and math.isfinite(v)):
-                raise ParameterError(f"inertia {name}={v!r} must be a finite number")
+            try:                                   # an int past float range (a 400-digit number) overflows
+                ok = isinstance(v, (int, float)) and not isinstance(v, bool) and abs(float(v)) <= MAX_MAGNITUDE
+            except OverflowError:
+                ok = False
+            if not ok:
+                text = repr(v) if len(repr(v)) <= 40 else repr(v)[:37] + "..."
+                raise ParameterError(f"inertia {name}={text} must be a finite number of magnitude <= "
+                                     f"{MAX_MAGNITUDE:g}")
         if self.m <= 0:
             raise ParameterError(f"mass m={self.m!r} must be > 0 [kg]")
         if self.I <= 0:

@@ -11,7 +11,6 @@ or a Dask ``scheduler``); their items carry their own seeds, so the answer does 
 
 from __future__ import annotations
 
-import csv
 import math
 from dataclasses import dataclass
 from pathlib import Path
@@ -42,12 +41,8 @@ def read_table(path: str, columns: tuple[str, ...], angle_columns: tuple[str, ..
     p = Path(path)
     if not p.is_file():
         raise ParameterError(f"{path}: no such file")
-    try:
-        lines = p.read_text().splitlines()
-    except (OSError, UnicodeDecodeError) as exc:
-        raise ParameterError(f"{path}: cannot read it ({exc})") from None
-    numbered = [(i + 1, r) for i, r in enumerate(csv.reader(lines))
-                if any(c.strip() for c in r) and not r[0].lstrip().startswith("#")]
+    from sim.readers import csv_rows
+    numbered = [(i, r) for i, r in csv_rows("", path) if any(c.strip() for c in r) and not r[0].lstrip().startswith("#")]
     if not numbered:
         raise ParameterError(f"{path}: empty; give a header row {','.join(columns)} and one row per target")
     head_line, head = numbered[0]

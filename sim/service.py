@@ -574,7 +574,7 @@ def _singular_text(mech: Mechanism, x: float, label: str) -> str:
 
 def _load_window(mech: Mechanism, q1: np.ndarray):
     """1 where a cutting force acts (the output point's slow stroke along x), else 0: the simulation's switch
-    (sim.run.simulate.load_switch) on the first input's phase; and the window (lo, hi) [rad of phase]."""
+    (sim.model.drives.load_switch) on the first input's phase; and the window (lo, hi) [rad of phase]."""
     from sim.model.drives import slow_stroke
     lo, hi = slow_stroke(mech)
     phase = np.mod(q1 - mech.inputs[0].motion.q0, 2 * math.pi)
@@ -653,7 +653,9 @@ def forces_run(mech: Mechanism, samples: int = 361, revolutions: float = 1.0, in
 
 def force_peaks(run: ForceRun, forces=None) -> dict:
     """Each joint's peak |F| [N] (a prismatic pair's also its peak |M| [N m]), each drive's peak and the
-    shaking force's and moment's, with the sample index where each occurs."""
+    shaking force's and moment's, with the sample index where each occurs; the RMS over the closed run
+    (its end sample counted once)."""
+    from analytic.applications.cycle import closed_rms
     f = forces or run.forces
     out = {"joints": {}, "drives": {}, "shaking": {}}
     mag = f.magnitude()
@@ -670,7 +672,7 @@ def force_peaks(run: ForceRun, forces=None) -> dict:
     sf = np.hypot(f.shaking[0], f.shaking[1])
     sm = np.abs(f.shaking[2])
     out["shaking"] = {"F": float(sf.max()), "at": int(np.argmax(sf)), "M": float(sm.max()), "at_M": int(np.argmax(sm)),
-                      "F_rms": float(np.sqrt(np.mean(sf * sf)))}
+                      "F_rms": float(closed_rms(sf))}
     return out
 
 

@@ -11,10 +11,11 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 
-FRONT_MAY_IMPORT = ("sim.service", "sim.design_service", "sim.tolerance_service", "sim.parts_service",
-                    "sim.output", "sim.front")
-"""What a front end (sim/front/...) imports of the project: the service layer, the output layer and the
-front ends' own modules; of ``analytic`` only the package's names (``ParameterError``, ``load``, ...)."""
+FRONT_MAY_IMPORT = ("sim.service", "sim.design_service", "sim.tolerance_service", "sim.parts_service", "sim.loads",
+                    "sim.synth_pareto", "sim.synth_checks", "sim.output", "sim.readers", "sim.front")
+"""What a front end (sim/front/...) imports of the project: the service layer (sim.service and the use-case
+modules beside it), the output layer, the readers of the command line's small input files and the front
+ends' own modules; of ``analytic`` only the package's names (``ParameterError``, ``load``, ...)."""
 
 FRONT_DEBT = {
     "sim/front/app.py": {"analytic.applications.figures", "analytic.applications.motor", "analytic.format.expr",
@@ -32,7 +33,8 @@ FRONT_DEBT = {
     "sim/front/cli/run.py": {"sim.run.compare"},
     "sim/front/cli/sweep.py": {"analytic.applications.studies", "analytic.quantities"},
     "sim/front/cli/synth_options.py": {"analytic.format.linkfile", "analytic.synthesis.constraints"},
-    "sim/front/cli/synth_path.py": {"analytic.format.linkfile", "analytic.synthesis.curves"},
+    "sim/front/cli/synth_pareto.py": {"analytic.format.expr"},
+    "sim/front/cli/synth_path.py": {"analytic.synthesis.curves"},
     "sim/front/cli/synthesize.py": {"analytic.format.expr", "analytic.synthesis.two_position", "sim.model.build",
                                    "sim.run.simulate"},
     "sim/front/draw.py": {"analytic.kinds"},

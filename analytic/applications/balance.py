@@ -38,6 +38,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from analytic._common import ParameterError
+from analytic.applications.cycle import closed_mean, closed_weights
 from analytic.mass import Counterweight, add_counterweights
 
 __all__ = ["Balance", "inertial_shaking", "rms", "least_squares", "berkof_lowen", "four_bar", "balance",
@@ -71,7 +72,7 @@ def inertial_shaking(mech, sol, inertias: dict) -> tuple[np.ndarray, np.ndarray]
 def rms(fx, fy) -> dict:
     """{"rms", "peak"} of a force's magnitude over the samples [N]."""
     mag2 = np.asarray(fx) ** 2 + np.asarray(fy) ** 2
-    return {"rms": float(np.sqrt(np.mean(mag2))), "peak": float(np.sqrt(np.max(mag2)))}
+    return {"rms": float(np.sqrt(closed_mean(mag2))), "peak": float(np.sqrt(np.max(mag2)))}
 
 
 def _reach(mech, link: str, local: dict | None) -> float:
@@ -109,7 +110,8 @@ def least_squares(mech, sol, inertias: dict, links=None, local=None) -> tuple[Co
         raise ParameterError(f"--balance: the {mech.name} has no link pivoted at the ground; name the links to "
                              f"carry counterweights (--balance LINK,LINK)")
     fx, fy = inertial_shaking(mech, sol, inertias)
-    target = -np.concatenate([fx, fy])
+    root = np.sqrt(np.tile(closed_weights(len(np.atleast_1d(fx))), 2))    # the closed run's end counted once
+    target = -np.concatenate([fx, fy]) * root
     scale = max(sum(b.m for b in inertias.values()) * mech.size, 1e-300)
     active = list(links)
     while True:
@@ -124,7 +126,7 @@ def least_squares(mech, sol, inertias: dict, links=None, local=None) -> tuple[Co
                 o = origins[ln]
                 cols.append(-np.concatenate([sol["ax" + o], sol["ay" + o]]))           # d F / d m
                 keys.append((ln, "m"))
-        x = np.linalg.lstsq(np.stack(cols, axis=1), target, rcond=None)[0] if cols else np.zeros(0)
+        x = np.linalg.lstsq(np.stack(cols, axis=1) * root[:, None], target, rcond=None)[0] if cols else np.zeros(0)
         got = dict(zip(keys, x))
         negative = [ln for ln in active if got.get((ln, "m"), 0.0) < 0]
         if not negative:

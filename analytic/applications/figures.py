@@ -16,6 +16,7 @@ import numpy as np
 from analytic import kinds
 from analytic._common import fmt_deg
 from analytic.solution import StateView
+from analytic.applications.cycle import closed_mean
 
 SINGULAR = 1e-6
 """A group whose singularity measure falls below this is at a singular (change-point) pose: its rates
@@ -265,7 +266,7 @@ def general(mech, sol) -> dict:
     out = {
         "output_point": p,
         f"x{p}_range": _span(sol["x" + p]), f"y{p}_range": _span(sol["y" + p]),
-        f"v{p}_min": float(np.nanmin(speed)), f"v{p}_mean": float(np.nanmean(speed)),
+        f"v{p}_min": float(np.nanmin(speed)), f"v{p}_mean": float(closed_mean(speed)),
         f"v{p}_max": float(np.nanmax(speed)),
         "transmission": {p: _span(sol[name]) for p, name in mech.transmission_angles.items()},
     }
@@ -334,7 +335,7 @@ def fivebar_figures(p, sol) -> dict:
             "S_range": _span(sol["S"]), "S_min_possible": p.l1 - p.l2 - p.l4,
             "xP_range": _span(sol["xP"]), "yP_range": _span(sol["yP"]),
             "vP_min": float(np.nanmin(speed)), "vP_max": float(np.nanmax(speed)),
-            "vP_mean": float(np.nanmean(speed))}
+            "vP_mean": float(closed_mean(speed))}
 
 
 def fourbar_summary(f: dict, u=None) -> list[str]:

@@ -17,6 +17,7 @@ from types import SimpleNamespace
 
 import numpy as np
 
+from analytic.applications.cycle import closed_mean
 from analytic.closed_forms import fivebar
 from analytic.closed_forms import fourbar
 from analytic._common import ParameterError
@@ -71,7 +72,7 @@ def _path_area(x: np.ndarray, y: np.ndarray) -> np.ndarray:
 
 def _stats(x, y, vx, vy) -> dict[str, np.ndarray]:
     speed = np.hypot(vx, vy)
-    mean = speed.mean(axis=-1)
+    mean = closed_mean(speed)                         # the samples close the period: its end counted once
     with np.errstate(divide="ignore", invalid="ignore"):
         fluct = (speed.max(axis=-1) - speed.min(axis=-1)) / mean
     return {"x_min": x.min(axis=-1), "x_max": x.max(axis=-1), "y_min": y.min(axis=-1), "y_max": y.max(axis=-1),

@@ -14,6 +14,7 @@ import json
 import math
 import re
 import stat
+import sys
 import tomllib
 from dataclasses import dataclass, field, replace
 from pathlib import Path
@@ -159,6 +160,11 @@ def parse(raw: bytes | str, source: str = "<text>", json_format: bool | None = N
         raise FileError(f"{source}: not valid TOML: {exc}") from None
     except json.JSONDecodeError as exc:
         raise FileError(f"{source}: not valid JSON: {exc.msg} (line {exc.lineno}, column {exc.colno})") from None
+    except FileError:                            # the hook's own (a key given twice)
+        raise
+    except ValueError:                           # Python's int-string limit: an integer of over 4300 digits
+        raise FileError(f"{source}: an integer of more than {sys.get_int_max_str_digits()} digits; no value of a "
+                        f"mechanism is that long: fix the number") from None
     if not isinstance(data, dict):
         raise FileError(f"{source}: expected a table of fields at the top level")
     return _check(data, source, default_name)

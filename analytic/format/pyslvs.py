@@ -263,6 +263,10 @@ def read_project(raw: bytes, source: str) -> tuple[str, list]:
         raise FileError(f"{source}: not valid YAML{where}; a Pyslvs project is YAML") from None
     except RecursionError:
         raise FileError(f"{source}: nested too deeply; a Pyslvs project nests a few levels only") from None
+    except FileError:
+        raise
+    except ValueError:                           # Python's int-string limit: an integer of over 4300 digits
+        raise FileError(f"{source}: an integer of more than 4300 digits; fix the number") from None
     if not isinstance(data, dict) or not isinstance(data.get("mechanism"), str):
         raise FileError(f"{source}: a Pyslvs project needs 'mechanism: M[...]' (its expression)")
     pairs = data.get("input") or []

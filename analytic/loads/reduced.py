@@ -79,7 +79,7 @@ def check(mech, loadset) -> None:
 
 def terms(mech, loadset, s: float, q0: float, n: int = GRID) -> Terms:
     """The loads' terms of the reduced equation on the advance u in [0, 2 pi) (input angle q0 + s u)."""
-    from analytic.applications.motor import _Trig
+    from analytic.periodic import Trig as _Trig
     check(mech, loadset)
     u, QL, C, per = _evaluate(mech, loadset, s, q0, np.linspace(0.0, 2 * math.pi, n + 1), closed=True)
     um, QLm, Cm, _ = _evaluate(mech, loadset, s, q0, u + math.pi / n)

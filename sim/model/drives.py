@@ -151,3 +151,13 @@ def slow_stroke(mech) -> tuple[float, float]:
     if inner >= len(t) - 1 - inner:
         return float(phase[a]), float(phase[b])
     return float(phase[b]), float(phase[a] + 2 * math.pi)
+
+
+def load_switch(built, t: np.ndarray) -> np.ndarray:
+    """1 where the external load acts, else 0 (always, or during the slow stroke only)."""
+    if built.slow_stroke is None:
+        return np.ones_like(t)
+    first = built.mech.inputs[0]
+    phase = np.mod(first.motion.at(t)[0] - first.motion.q0, 2 * math.pi)
+    lo, hi = built.slow_stroke
+    return (((phase >= lo) & (phase <= hi)) | ((phase + 2 * math.pi >= lo) & (phase + 2 * math.pi <= hi))).astype(float)

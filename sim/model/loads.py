@@ -55,7 +55,7 @@ def applications(built, t, q=None, qd=None, qdd=None):
     gravity = tuple(float(x) for x in model.opt.gravity[:2])
     ls = built.loadset
     if ls.friction:
-        from sim.run.simulate import load_switch
+        from sim.model.drives import load_switch
         load = tuple(float(x) for x in model.actuator("load").gear[:2])
         res = K.solve(mech, q, qd, qdd, t, inertias, ls, gravity, load, load_switch(built, np.asarray(t)))
         apps = [a for v in res.applications.values() for a in v] + list(res.friction_apps)

@@ -78,6 +78,28 @@ def deferred_signals():
             signal.raise_signal(s)
 
 
+@contextlib.contextmanager
+def new_files_removed_on_failure():
+    """Yield ``made(*paths)``, which notes paths about to be written (returning the last); if the block
+    fails (an error, Ctrl-C), every noted path that did not exist before it is removed, so that a command
+    writing several files leaves none of its new ones behind. A file that existed is only ever replaced
+    whole (atomic_path)."""
+    existed: dict[Path, bool] = {}
+
+    def made(*paths):
+        for p in paths:
+            existed.setdefault(Path(p), Path(p).exists())
+        return paths[-1]
+    try:
+        yield made
+    except BaseException:
+        for p, was in existed.items():
+            if not was:
+                with contextlib.suppress(OSError):
+                    p.unlink()
+        raise
+
+
 def write_csv(path, columns: dict[str, np.ndarray]) -> None:
     """Write named columns as CSV with a header row, atomically. Values in full double precision."""
     names = list(columns)

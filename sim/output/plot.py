@@ -208,21 +208,12 @@ def _speed_panel(ax, x, c: Comparison, xlabel, colors, mech, u) -> None:
     ax.grid(alpha=0.3)
 
 
-def flywheel_energy(t: np.ndarray, power: np.ndarray) -> np.ndarray:
-    """Energy [J] a flywheel must absorb: the integral of (power - mean power) over time (trapezoid);
-    its max - min is the fluctuation to size the flywheel for."""
-    excess = power - np.trapezoid(power, t) / (t[-1] - t[0])
-    return np.concatenate([[0.0], np.cumsum(0.5 * np.diff(t) * (excess[1:] + excess[:-1]))])
-
-
-def periodic_window(tr, mech) -> np.ndarray:
-    """The samples after the drives' start-up: the last whole period of the first input when the run
-    has more than one, else all of it (the drives start on the analytic state, so their start-up is
-    already small)."""
-    period = mech.duration(1.0)
-    if tr.t[-1] >= 2 * period - 1e-9:
-        return tr.t >= tr.t[-1] - period - 1e-12
-    return np.ones_like(tr.t, dtype=bool)
+def flywheel_energy(t: np.ndarray, power: np.ndarray, period: float) -> tuple[np.ndarray, np.ndarray]:
+    """(instants, energy [J]) a flywheel must absorb over the last period of the run: the integral of (power -
+    mean power) over exactly one period (trapezoid, analytic.applications.cycle); its max - min is the
+    fluctuation to size the flywheel for."""
+    from analytic.applications.cycle import excess_energy
+    return excess_energy(t, power, period)
 
 
 def _torque_panels(axes, x, c: Comparison, xlabel, colors, mech) -> None:
@@ -243,9 +234,11 @@ def _torque_panels(axes, x, c: Comparison, xlabel, colors, mech) -> None:
     axes[0].set(title="Driving torque", xlabel=xlabel, ylabel="[N m]")
     axes[1].set(title="Torque error (dashed: tolerance)", xlabel=xlabel, ylabel="|MuJoCo - analytic| [N m]")
     axes[1].set_yscale("log")
-    window = periodic_window(tr, mech)
-    energy = flywheel_energy(tr.t[window], np.broadcast_to(power, tr.t.shape)[window])
-    axes[2].plot(x[window], energy, color=colors[0], lw=1.6)
+    from analytic.applications import cycle
+    period = mech.duration(1.0)
+    pw = np.broadcast_to(power, tr.t.shape)
+    te, energy = flywheel_energy(tr.t, pw, period)
+    axes[2].plot(np.interp(te, tr.t, x), energy, color=colors[0], lw=1.6)
     axes[2].set(title=f"Flywheel: excess energy (swing {np.ptp(energy):.4g} J)", xlabel=xlabel,
                 ylabel="$\\int (P - \\bar P)\\,dt$ [J]")
     for ax in axes[:3]:
@@ -257,9 +250,9 @@ def _torque_panels(axes, x, c: Comparison, xlabel, colors, mech) -> None:
     for name in names:
         ref = c.torques[name]
         unit = c.errors[name]["unit"]
-        lines.append(f"{name}: peak {np.max(np.abs(ref)):.4g} {unit}, RMS {np.sqrt(np.mean(ref ** 2)):.4g} {unit}")
-    pw = np.broadcast_to(power, tr.t.shape)[window]
-    lines += [f"mean drive power {np.trapezoid(pw, tr.t[window]) / (tr.t[window][-1] - tr.t[window][0]):.4g} W",
+        lines.append(f"{name}: peak {np.max(np.abs(ref)):.4g} {unit}, "
+                     f"RMS {cycle.period_rms(tr.t, ref, period):.4g} {unit}")
+    lines += [f"mean drive power {cycle.period_mean(tr.t, pw, period):.4g} W",
               f"flywheel energy swing {np.ptp(energy):.4g} J",
               f"work balance {c.work_balance:.2e} of the KE swing per revolution"]
     axes[3].text(0.0, 1.0, "\n".join(lines), va="top", family="monospace", fontsize=9, transform=axes[3].transAxes)
@@ -304,7 +297,7 @@ def force_figure(c: Comparison, built, display=None):
     if slides:
         draw.append(lambda ax: _slide_panel(ax, x, xlabel, an, mj, slides, colors))
     draw += [lambda ax: _drive_panel(ax, x, xlabel, an, mj, power, mech, colors),
-             lambda ax: _shaking_locus(ax, an, mj, colors[0]),
+             lambda ax: _shaking_locus(ax, an, mj, colors[0], c.trajectory.t, mech.duration(1.0)),
              lambda ax: _shaking_panel(ax, x, xlabel, an, mj, colors),
              lambda ax: _force_error_panel(ax, x, xlabel, an, mj, mech, colors),
              lambda ax: _force_summary(ax, c, built, an, mech, x, u),
@@ -406,14 +399,15 @@ def _force_error_panel(ax, x, xlabel, an, mj, mech, colors) -> None:
     ax.grid(alpha=0.3, which="both")
 
 
-def _shaking_locus(ax, an, mj, color) -> None:
+def _shaking_locus(ax, an, mj, color, t, period) -> None:
+    from analytic.applications.cycle import period_rms
     fx, fy = an.shaking[0], an.shaking[1]
     ax.plot(fx, fy, color=color, lw=1.6, label="analytic")
     ax.plot(mj.shaking[0][::MARK_EVERY], mj.shaking[1][::MARK_EVERY], "o", ms=3.5, mfc="none", color=color,
             label="MuJoCo")
     ax.axhline(0.0, color="k", lw=0.6)
     ax.axvline(0.0, color="k", lw=0.6)
-    rms = float(np.sqrt(np.mean(fx * fx + fy * fy)))
+    rms = period_rms(t, np.hypot(fx, fy), period)                  # over exactly one turn
     ax.set(title=f"Shaking force on the frame (RMS {rms:.4g} N)", xlabel="$F_x$ [N]", ylabel="$F_y$ [N]")
     ax.set_aspect("equal", adjustable="datalim")
     ax.legend(fontsize=7, loc="best")

@@ -35,6 +35,9 @@ def parse_size(text: str) -> tuple[int, int]:
 
 
 MAX_FPS = 240
+MIN_FPS = 1
+"""The slowest frame rate: ffmpeg is given the rate to two decimals (a tenth of a frame per second would be
+written as 0, which ffmpeg refuses in five lines), and a frame per second is already a slide show."""
 GIF_MAX_FPS = 50
 """GIF frame delays are whole centiseconds and players clamp delays under 2 cs: 50 fps is the most a GIF
 stores faithfully; a higher rate is stored at 50 fps (said in the output)."""
@@ -44,8 +47,9 @@ MAX_FRAMES = 100_000
 def check_video_args(out: str, fps: float, size: str) -> tuple[Path, tuple[int, int]]:
     """Validate the output path, frame rate and size before any simulation starts."""
     path = check_writable(out, VIDEO_SUFFIXES)
-    if not (math.isfinite(fps) and 0 < fps <= MAX_FPS):
-        raise ParameterError(f"--fps {fps!r} must be a number in (0, {MAX_FPS}] (e.g. --fps 30)")
+    if not (math.isfinite(fps) and MIN_FPS <= fps <= MAX_FPS):
+        raise ParameterError(f"--fps {fps:g} must be a number in [{MIN_FPS}, {MAX_FPS}] frames per second "
+                             f"(e.g. --fps 30)")
     return path, parse_size(size)
 
 
@@ -125,7 +129,14 @@ class _Writer:
             self.abort()
 
     def abort(self) -> None:
-        """Stop ffmpeg at once (the file is being thrown away): no trailer, nothing on the terminal."""
+        """Stop ffmpeg at once (the file is being thrown away): no trailer, nothing on the terminal. The
+        process is killed before imageio-ffmpeg closes its input: closed first, ffmpeg would read a frame
+        cut short by the interrupt and complain of it on the terminal before the kill reached it."""
+        frame = self._gen.gi_frame
+        proc = frame.f_locals.get("p") if frame is not None else None
+        if proc is not None and hasattr(proc, "kill") and proc.poll() is None:
+            proc.kill()
+            proc.wait()
         try:
             self._gen.throw(KeyboardInterrupt)     # imageio-ffmpeg kills ffmpeg on a KeyboardInterrupt
         except (KeyboardInterrupt, StopIteration):

@@ -20,6 +20,7 @@ from analytic import ParameterError
 from analytic import kinds
 from analytic.solution import Solution, StateView
 from sim.model import DEFAULT_INTEGRATOR, INTEGRATORS, Built, drive_command, input_jerk
+from sim.model.drives import load_switch
 
 MAX_STEPS = 20_000_000
 """Longest run accepted [steps] (~2 GB of recorded sensors for a four-bar); more is refused up front."""
@@ -81,16 +82,6 @@ def controls(built: Built, t: np.ndarray) -> np.ndarray:
         ctrl[:, model.actuator(d.actuator).id] = rate
     ctrl[:, model.actuator("load").id] = load_switch(built, t)
     return ctrl
-
-
-def load_switch(built: Built, t: np.ndarray) -> np.ndarray:
-    """1 where the external load acts, else 0 (always, or during the slow stroke only)."""
-    if built.slow_stroke is None:
-        return np.ones_like(t)
-    first = built.mech.inputs[0]
-    phase = np.mod(first.motion.at(t)[0] - first.motion.q0, 2 * math.pi)
-    lo, hi = built.slow_stroke
-    return (((phase >= lo) & (phase <= hi)) | ((phase + 2 * math.pi >= lo) & (phase + 2 * math.pi <= hi))).astype(float)
 
 
 def _reader(model, sens):

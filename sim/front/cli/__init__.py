@@ -18,6 +18,7 @@ import threading
 import warnings
 
 from analytic import ParameterError
+from sim.front.cli.options import guard_outputs, one_line
 
 COMMANDS = ("listing", "check", "analyze", "simulate", "compare", "render", "plot", "export", "run",
             "synthesize", "sweep", "dynamics", "forces", "import_file", "tolerance", "app")
@@ -38,18 +39,20 @@ def make_parser() -> argparse.ArgumentParser:
 
 
 def _join_negative_values(parser: argparse.ArgumentParser, argv: list[str]) -> list[str]:
-    """``--force -10,0`` as ``--force=-10,0``: argparse would take ``-10,0`` for an option. Any value
-    that starts with '-' followed by a digit or '.' is joined to the option before it."""
-    takes_value = set()
+    """``--force -10,0`` as ``--force=-10,0``: argparse would take ``-10,0`` for an option. A value that
+    starts with one '-' (``-10,0``, ``-inf:inf``, ``-.5``) and is not an option of the parser is joined to
+    the option before it."""
+    takes_value, options = set(), set()
     for action in _all_actions(parser):
+        options.update(action.option_strings)
         if action.option_strings and action.nargs is None and not isinstance(
                 action, (argparse._StoreTrueAction, argparse._StoreFalseAction, argparse._HelpAction)):
             takes_value.update(action.option_strings)
     out, i = [], 0
     while i < len(argv):
         tok = argv[i]
-        if tok in takes_value and i + 1 < len(argv) and len(argv[i + 1]) > 1 and argv[i + 1][0] == "-" \
-                and (argv[i + 1][1].isdigit() or argv[i + 1][1] == "."):
+        nxt = argv[i + 1] if i + 1 < len(argv) else ""
+        if tok in takes_value and len(nxt) > 1 and nxt[0] == "-" and nxt[1] != "-" and nxt not in options:
             out.append(f"{tok}={argv[i + 1]}")
             i += 2
             continue
@@ -64,6 +67,17 @@ def _all_actions(parser):
         if isinstance(action, argparse._SubParsersAction):
             for sub in action.choices.values():
                 yield from _all_actions(sub)
+
+
+def interrupted(exc: BaseException) -> bool:
+    """Whether ``exc`` was caused by Ctrl-C (a KeyboardInterrupt anywhere in its chain of causes)."""
+    seen = set()
+    while exc is not None and id(exc) not in seen:
+        if isinstance(exc, KeyboardInterrupt):
+            return True
+        seen.add(id(exc))
+        exc = exc.__cause__ or exc.__context__
+    return False
 
 
 class Terminated(BaseException):
@@ -94,11 +108,21 @@ def _main(argv: list[str] | None) -> int:
         parser = make_parser()
         argv = _join_negative_values(parser, list(sys.argv[1:] if argv is None else argv))
         args = parser.parse_args(argv)
+        guard_outputs(args)
         return args.func(args)
     except ParameterError as exc:
-        print(f"linkage: error: {exc}", file=sys.stderr)
+        print(f"linkage: error: {one_line(str(exc))}", file=sys.stderr)
+        return 2
+    except RecursionError:                   # a reader that does not name its input yet: still one line
+        print("linkage: error: an input is nested too deeply (a JSON, TOML or YAML value inside thousands of "
+              "brackets); flatten it", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
+        print("linkage: interrupted", file=sys.stderr)
+        return 130
+    except ImportError as exc:               # Ctrl-C while a compiled module (mujoco) initialises reaches us
+        if not interrupted(exc):             # as "ImportError: initialization failed" caused by it
+            raise
         print("linkage: interrupted", file=sys.stderr)
         return 130
     except Terminated:
@@ -111,7 +135,7 @@ def _main(argv: list[str] | None) -> int:
         return 0
     except OSError as exc:
         where = f" {exc.filename}" if exc.filename else ""
-        print(f"linkage: error:{where} {exc.strerror or exc}", file=sys.stderr)
+        print(one_line(f"linkage: error:{where} {exc.strerror or exc}"), file=sys.stderr)
         return 2
     except MemoryError:
         print("linkage: error: out of memory: reduce --samples, --revolutions or the sweep grid", file=sys.stderr)

@@ -7,7 +7,7 @@ from __future__ import annotations
 from sim import service
 from sim.output.jsonout import dumps
 from sim.output.units import add_unit_options
-from sim.front.cli.options import (add_common, check_outputs, mechanism_from, parse_range, write_columns)
+from sim.front.cli.options import (warn_size, add_common, check_outputs, mechanism_from, parse_range, write_columns)
 
 
 def register(sub) -> None:
@@ -25,6 +25,7 @@ def register(sub) -> None:
 
 def run(args) -> int:
     mech = mechanism_from(args)
+    warn_size(mech)
     check_outputs(args, {"csv": (".csv",)})
     if getattr(args, "at", None) is not None:                  # one pose (SPEC "Loads": --at)
         from sim.front.cli.loads_opts import analyze_at

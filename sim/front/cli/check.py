@@ -8,7 +8,7 @@ import math
 from analytic import ParameterError
 from sim import service
 from sim.output.units import add_unit_options
-from sim.front.cli.options import (add_common, mechanism_from)
+from sim.front.cli.options import (warn_size, add_common, mechanism_from)
 
 
 def register(sub) -> None:
@@ -22,6 +22,7 @@ def run(args) -> int:
     from analytic.applications import figures
     from sim.output.units import shown_units
     mech = mechanism_from(args)
+    warn_size(mech)
     print(structure_report(mech, shown_units(args, mech)))
     if len(mech.inputs) == 1 and not figures.assembly_ranges(mech):
         raise ParameterError(f"{mech.definition.source}: the mechanism assembles at no value of "

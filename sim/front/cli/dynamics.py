@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import csv
 import math
 
 
@@ -15,12 +14,31 @@ RPM = 2 * math.pi / 60
 
 
 def parse_speed(option: str, text: str) -> float:
-    """A speed [rad/s], or with an ``rpm`` suffix in revolutions per minute."""
+    """A speed [rad/s]: a bare number or one with a ``rad/s`` suffix in rad/s (SI, as every physical value
+    the command line takes), with an ``rpm`` suffix in revolutions per minute (the app's unit)."""
     t = text.strip()
     scale = 1.0
     if t.lower().endswith("rpm"):
         t, scale = t[:-3].strip(), RPM
+    elif t.lower().endswith("rad/s"):
+        t = t[:-5].strip()
     return expr.parse_value(option, t, angle=False) * scale
+
+
+INERTIA_UNITS = {"kg*m^2": 1.0, "kg*cm^2": 1e-4, "kg*mm^2": 1e-6, "kg*in^2": 0.0254 ** 2}
+"""The moment-of-inertia suffixes --flywheel takes, in kg m^2 each: kg*mm^2 is a mm file's [inertia] unit."""
+
+
+def parse_flywheel(text: str) -> float:
+    """``--flywheel J`` [kg m^2]: a bare number is kg m^2 (SI, its meaning since the option exists); a
+    suffix ``kg*mm^2`` (also ``kg*cm^2``, ``kg*in^2``, ``kg*m^2``) gives it in a file's [inertia] unit."""
+    t = text.strip()
+    key = t.lower().replace(" ", "")
+    for unit, scale in INERTIA_UNITS.items():
+        for form in (unit, unit.replace("*", "").replace("^", "")):          # kg*mm^2 or kgmm2
+            if key.endswith(form):
+                return expr.parse_value("--flywheel", key[:-len(form)], angle=False) * scale
+    return expr.parse_value("--flywheel", t, angle=False)
 
 
 def parse_motor(text: str):
@@ -37,12 +55,8 @@ def parse_motor(text: str):
 def read_table(path: str):
     """A torque-speed table: CSV with a header ``omega,tau`` (rad/s, N m) or ``rpm,tau`` (a ``TableMotor``)."""
     from analytic.applications import motor as amotor
-    try:
-        with open(path, newline="") as f:
-            rows = list(csv.reader(f))
-    except OSError as exc:
-        raise ParameterError(f"--motor-table {path}: cannot read it ({exc.strerror or exc})") from None
-    rows = [r for r in rows if r and any(c.strip() for c in r)]
+    from sim.readers import csv_rows
+    rows = [r for _, r in csv_rows("--motor-table", path) if r and any(c.strip() for c in r)]
     if not rows:
         raise ParameterError(f"--motor-table {path}: the file is empty; give a header omega,tau and rows")
     head = [c.strip().lower() for c in rows[0]]
@@ -64,14 +78,17 @@ def read_table(path: str):
 def add_motor_options(p, two: bool = True) -> None:
     """The motor, flywheel and start of a motor-driven run (``linkage dynamics``; ``linkage plot --motor``)."""
     p.add_argument("--motor", metavar="[NAME=]T0,W0" if two else "T0,W0", action="append", default=[],
-                   help="linear motor: stall torque [N m], no-load speed [rad/s, or rpm suffix], e.g. 2,150rpm"
+                   help="linear motor: stall torque [N m], no-load speed [rad/s; with a suffix rpm (as the app) or "
+                        "rad/s], e.g. 2,150rpm"
                         + ("; a two-crank five-bar takes one per input: --motor phi2=2,150rpm --motor phi4=..."
                            if two else ""))
     p.add_argument("--motor-table", metavar="PATH.csv", help="torque-speed table: header omega,tau (or rpm,tau)")
     p.add_argument("--flywheel", metavar="[NAME=]J" if two else "J", action="append", default=[],
-                   help="flywheel on the input link [kg m^2] (default 0)" + ("; per input for two motors" if two else ""))
+                   help="flywheel on the input link: kg m^2, or with a unit kg*mm^2 (a mm file's [inertia] unit), "
+                        "kg*cm^2, kg*in^2 (default 0)" + ("; per input for two motors" if two else ""))
     p.add_argument("--target-fluctuation", metavar="CS", help="size the flywheel for this Cs, in (0, 1)")
-    p.add_argument("--start-speed", metavar="W", default="0", help="input speed at t = 0 [rad/s or rpm] (default 0)")
+    p.add_argument("--start-speed", metavar="W", default="0",
+                   help="input speed at t = 0: rad/s, or with an rpm suffix (default 0)")
 
 
 def register(sub) -> None:
@@ -104,7 +121,7 @@ def motor_run(args, mech, check=True):
     mot = parse_motor(mot) if isinstance(mot, str) else mot
     flywheel = None
     if args.flywheel:
-        flywheel = expr.parse_value("--flywheel", _named(args.flywheel[0], mech, "--flywheel")[1], angle=False)
+        flywheel = parse_flywheel(_named(args.flywheel[0], mech, "--flywheel")[1])
         if not flywheel >= 0:
             raise ParameterError(f"--flywheel {flywheel:g} must be >= 0 [kg m^2] (the flywheel's moment of inertia)")
     start = parse_speed("--start-speed", args.start_speed)
@@ -221,7 +238,7 @@ def _two_motors(args, mech, target, display) -> int:
         if "=" not in text:
             raise ParameterError(f"--flywheel {text!r}: name the input (--flywheel {names[0]}=J)")
         name, value = _named(text, mech, "--flywheel")
-        fly[name] = expr.parse_value("--flywheel", value, angle=False)
+        fly[name] = parse_flywheel(value)
     start = parse_speed("--start-speed", args.start_speed)
     d = smotor.dynamics_two(mech, loads_from(args, mech), tuple(motors[n] for n in names),
                             tuple(fly[n] for n in names), (start, start), args.revolutions, settings_from(args))

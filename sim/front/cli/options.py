@@ -71,6 +71,96 @@ def check_outputs(args, suffixes: dict[str, tuple[str, ...]]) -> None:
                              f"choose another output name")
 
 
+INPUT_ARGS = ("mechanism", "mechanisms", "inertia", "target", "poses", "pairs", "motor_table")
+"""The options and arguments every command reads from (files the user already had)."""
+OUTPUT_ARGS = ("csv", "out", "mjcf", "toml", "plot", "render")
+"""The options every command writes to (and FILE_2.toml ... beside a synthesis --out)."""
+
+
+def guard_outputs(args) -> None:
+    """Before any work, for every command: no output is one of the inputs or in the shipped library, and
+    ``run --out-dir`` is not the library. One line naming the option and the fix."""
+    from analytic.registry import LIBRARY
+    library = os.path.realpath(LIBRARY)
+    inputs: dict[str, str] = {}
+    for name in INPUT_ARGS:
+        values = getattr(args, name, None)
+        for v in values if isinstance(values, list) else [values]:
+            if isinstance(v, str) and v and os.path.exists(v):
+                inputs.setdefault(os.path.realpath(v), name)
+    for name in OUTPUT_ARGS:
+        v = getattr(args, name, None)
+        if not isinstance(v, str) or not v:
+            continue
+        real = os.path.realpath(v)
+        option = "--" + name.replace("_", "-")
+        if os.path.dirname(real) == library:
+            raise ParameterError(f"{option} {v}: that is in the shipped mechanism library, which is never written; "
+                                 f"choose an output outside {library}")
+        if real in inputs:
+            what = inputs[real].replace("_", "-")
+            what = f"--{what}" if what in ("inertia", "motor-table") else f"the {what.rstrip('s')} file"
+            raise ParameterError(f"{option} {v} is an input of this command and would be overwritten ({what}); "
+                                 f"choose another output name")
+    out_dir = getattr(args, "out_dir", None)
+    if isinstance(out_dir, str) and os.path.realpath(out_dir) == library:
+        raise ParameterError(f"--out-dir {out_dir}: that is the shipped mechanism library, which is never written; "
+                             f"choose another folder")
+
+
+def one_line(text: str) -> str:
+    """A message as one line: a newline or other control character inside it (a file name holding one) is
+    written as its escape (``\\n``), so that the message cannot spread over lines or forge another."""
+    return "".join(c if c.isprintable() or c == " " else repr(c)[1:-1] for c in text)
+
+
+def degrees(text: str) -> float:
+    """An argparse type for an angle option given in degrees: ``30``, ``30deg`` (as every other angle the
+    command line takes) or ``0.5rad``; returns degrees."""
+    import argparse
+    import math
+    from analytic.format import expr
+    t = text.strip()
+    try:
+        if t.lower().endswith("rad"):
+            return math.degrees(expr.parse_value("angle", t[:-3], angle=False))
+        if t.lower().endswith("deg"):
+            t = t[:-3]
+        return expr.parse_value("angle", t, angle=False)
+    except ParameterError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not an angle in degrees (e.g. 30 or 30deg)") from None
+
+
+SMALLEST_SIZE = 1e-3
+"""[m] Below this a design cannot be simulated (sim.model.build.MIN_SIZE: MuJoCo's minimum masses); in a
+file of mm, cm or in it is most often metres typed into it."""
+LARGEST_SIZE = 100.0
+"""[m] Above this a linkage is a building: most often mm typed into a file of metres."""
+
+
+def size_warning(mech) -> str | None:
+    """One line for ``check`` and ``analyze`` when the design's size is implausible (what only ``compare``
+    used to notice), else None."""
+    size, unit = mech.size, mech.definition.units
+    shown = f"{size / mech.scale:.3g} {unit}"
+    if size < SMALLEST_SIZE:
+        hint = ("were metres typed into a mm file? give the lengths in " + unit if unit != "m"
+                else "is it in mm? add units = \"mm\" to the file")
+        return f"the {mech.name} spans {shown}, too small to simulate (at least {SMALLEST_SIZE:g} m): {hint}"
+    if size > LARGEST_SIZE:
+        hint = ("were mm typed into a file of metres? add units = \"mm\" to the file" if unit == "m"
+                else "check the file's units")
+        return f"the {mech.name} spans {shown}{f' ({size:.3g} m)' if unit != 'm' else ''}: {hint}"
+    return None
+
+
+def warn_size(mech) -> None:
+    """``check`` and ``analyze``: one warning line on stderr for an implausible size (see size_warning)."""
+    note = size_warning(mech)
+    if note:
+        print(f"linkage: warning: {note}", file=sys.stderr)
+
+
 def parse_range(mech, text: str | None) -> tuple[float, float] | None:
     """``LO:HI`` of the first input: a crank's in radians, or degrees with a deg suffix; a slider's in the
     file's length unit (like ``--set``, and as ``linkage check`` prints it), returned in metres. Without
@@ -123,11 +213,8 @@ def loads_from(args, mech):
         if os.path.abspath(args.inertia) in _outputs(args):
             raise ParameterError(f"--inertia {args.inertia} is also an output of this command; it would be "
                                  f"overwritten: choose another output name")
-        try:
-            with open(args.inertia) as f:
-                raw = json.load(f)
-        except (OSError, ValueError) as exc:
-            raise ParameterError(f"--inertia {args.inertia}: cannot read it as JSON ({exc})") from None
+        from sim.readers import read_json
+        raw = read_json("--inertia", args.inertia)
         if not isinstance(raw, dict):
             raise ParameterError(f"--inertia {args.inertia}: expected an object of links")
         inertias = {}

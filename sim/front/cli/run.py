@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import contextlib
 import os
 import sys
 
@@ -31,11 +32,8 @@ def register(sub) -> None:
 
 def run(args) -> int:
     """The main job: simulate, cross-validate, render, plot and write CSV for each mechanism."""
-    import time
     from pathlib import Path
-    from sim.run.compare import table
-    from sim.output.plot import sheet
-    from sim.output.render import check_video_args, parse_size, render
+    from sim.output.render import check_video_args, parse_size
     names = args.mechanisms or list(analytic.BUILTINS)
     if len(set(names)) != len(names):
         raise ParameterError("a mechanism is named twice; name each once")
@@ -51,6 +49,7 @@ def run(args) -> int:
         mechs.append((mech, service.prepare(mech, args.revolutions, parse_range(mech, args.input_range))))
     ext = "." + args.format
     size = parse_size(args.size)
+    created = not out_dir.exists()
     try:
         out_dir.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
@@ -59,25 +58,47 @@ def run(args) -> int:
         raise ParameterError(f"--out-dir {out_dir} is not writable; choose another folder")
     if not args.no_video:
         check_video_args(str(out_dir / f"{mechs[0][0].name}{ext}"), args.fps, args.size)
+    try:
+        return _run_all(args, mechs, out_dir, ext, size)
+    except BaseException:
+        if created:                                # a folder this run made, left empty: removed too
+            with contextlib.suppress(OSError):
+                out_dir.rmdir()
+        raise
+
+
+def _run_all(args, mechs, out_dir, ext, size) -> int:
+    """``linkage run`` after its checks: compare every mechanism, then write every file."""
+    import time
+    from pathlib import Path
+    from sim.output.io import new_files_removed_on_failure
+    from sim.output.plot import sheet
+    from sim.output.render import render
+    from sim.run.compare import table
     t_start = time.perf_counter()
-    results = []
+    from sim.output.units import machine_units, shown_units
+    compared = []                                  # every comparison first: a failure writes nothing
     for k, (mech, _) in enumerate(mechs):
         if len(mechs) > 1 and sys.stderr.isatty():
             sys.stderr.write(f"[{k + 1}/{len(mechs)}] {mech.name}\n")
         built, c = service.compare(mech, args.revolutions, settings_from(args), loads_from(args, mech),
                                    parse_range(mech, args.input_range))
-        from sim.output.units import machine_units, shown_units
         say_start(mech, built.mech)
-        shown = shown_units(args, mech)
-        print(table(c, mech.size, shown, mech.output_point))
-        files = [out_dir / f"{mech.name}.csv", out_dir / f"{mech.name}.png"]
-        write_columns(files[0], mech, service.trajectory_columns(c.trajectory), machine_units(args))
-        sheet(c, built, str(files[1]), shown)
-        if not args.no_video:
-            render(built, c.trajectory, str(out_dir / f"{mech.name}{ext}"), args.fps, size, display=shown)
-            files.append(out_dir / f"{mech.name}{ext}")
-        results.append((mech, c, files))
+        print(table(c, mech.size, shown_units(args, mech), mech.output_point))
         print()
+        compared.append((mech, built, c))
+    results = []
+    with new_files_removed_on_failure() as made:   # then the files; cut short, none of the new ones stays
+        for mech, built, c in compared:
+            shown = shown_units(args, mech)
+            files = [out_dir / f"{mech.name}.csv", out_dir / f"{mech.name}.png"]
+            made(files[0], Path(f"{files[0]}.units.json"), files[1])
+            write_columns(files[0], mech, service.trajectory_columns(c.trajectory), machine_units(args))
+            sheet(c, built, str(files[1]), shown)
+            if not args.no_video:
+                files.append(made(out_dir / f"{mech.name}{ext}"))
+                render(built, c.trajectory, str(files[-1]), args.fps, size, display=shown)
+            results.append((mech, c, files))
     print(f"summary ({time.perf_counter() - t_start:.1f} s):")
     for mech, c, files in results:
         from sim.run.compare import errors_in

@@ -4,8 +4,11 @@ meets (``--min-transmission``, ``--max-size``, ``--pivot-region``, ``--grashof``
 
 from __future__ import annotations
 
+from pathlib import Path
+
 from analytic.format.linkfile import UNITS
 from analytic.synthesis import constraints as sc
+from sim.front.cli.options import degrees
 
 
 def add_units(p, help_text: str) -> None:
@@ -15,7 +18,7 @@ def add_units(p, help_text: str) -> None:
 
 def add_limits(p, pivots: str) -> None:
     """The limits every returned design meets; ``pivots`` names the ground pivots a region may name."""
-    p.add_argument("--min-transmission", metavar="DEG", default="30",
+    p.add_argument("--min-transmission", metavar="DEG", type=degrees, default=30.0,
                    help="least transmission angle over the working range [deg; 30 or 30deg] (default 30)")
     p.add_argument("--max-size", metavar="L", type=float, default=None,
                    help="largest side of the mechanism's bounding box over its working range (file units)")
@@ -39,3 +42,11 @@ def measure_words(d: dict, unit: str) -> str:
     g = f"; {d['grashof']}" if d.get("grashof") else ""
     return (f"transmission {lo:.1f}-{hi:.1f} deg, size {d['size']:.4g} {unit}, input range "
             f"{a:.2f}deg:{b:.2f}deg{g}")
+
+
+def out_names(out: str | None, k: int) -> list[str | None]:
+    """FILE.toml for the best design, FILE_2.toml ... for the next ones."""
+    if not out:
+        return [None] * k
+    p = Path(out)
+    return [out] + [str(p.with_name(f"{p.stem}_{i}{p.suffix}")) for i in range(2, k + 1)]

@@ -9,20 +9,12 @@ from pathlib import Path
 
 from analytic.synthesis.curves import DEFAULT_TYPE, TYPES
 from sim.front.lazy import lazy
-from sim.front.cli.synth_options import add_limits, add_units, limits_of, measure_words
+from sim.front.cli.synth_options import add_limits, add_units, limits_of, measure_words, out_names
 from sim.output.io import atomic_path, check_writable, write_text
 from sim.output.jsonout import dumps
 from sim.output.progress import Progress
 
 design_service = lazy("sim.design_service")  # scipy's optimisers: loaded by the command, not by its options
-
-
-def out_names(out: str | None, k: int) -> list[str | None]:
-    """FILE.toml for the best design, FILE_2.toml ... for the next ones."""
-    if not out:
-        return [None] * k
-    p = Path(out)
-    return [out] + [str(p.with_name(f"{p.stem}_{i}{p.suffix}")) for i in range(2, k + 1)]
 
 
 def plot(path: str, target, found: list[dict], unit: str) -> None:
@@ -69,8 +61,8 @@ def cmd_path(args) -> int:
     options = options_of(args)
     target = design_service.read_target(args.target, args.timing, args.closed, not args.any_order)
     if args.objectives:
-        from sim.front import synth_pareto_cmd
-        return synth_pareto_cmd.cmd(args, options, target)
+        from sim.front.cli import synth_pareto
+        return synth_pareto.cmd(args, options, target)
     bar = Progress(options.restart_count + options.designs, "synthesize path")
     found = design_service.synthesize_path(target, options, args.unit, progress=bar.update)
     ok = [f for f in found if not f["failed"] and f["compare_passed"] and f["simulated"]["passed"]]
@@ -154,6 +146,6 @@ def register(problems) -> None:
     p.add_argument("--out", metavar="FILE.toml", help="write the best design (next ones FILE_2.toml ...)")
     p.add_argument("--plot", metavar="PATH", help="targets over each candidate's coupler curve (png/svg/pdf)")
     p.add_argument("--json", action="store_true", help="print one JSON object (SPEC: designs)")
-    from sim.front import synth_pareto_cmd
-    synth_pareto_cmd.register(p)
+    from sim.front.cli import synth_pareto
+    synth_pareto.register(p)
     p.set_defaults(func=cmd_path)

@@ -127,7 +127,7 @@ def plot(path: str, target, front: list[dict], objectives: list[str], unit: str)
 def cmd(args, path_options, target) -> int:
     """Run the multi-objective search and write/print its checked front; exit 1 when none passes."""
     import time
-    from sim.front.synth_path_cmd import out_names
+    from sim.front.cli.synth_options import out_names
     if args.csv:
         check_writable(args.csv, (".csv",))
     opts = options_of(args, path_options)

@@ -1,0 +1,81 @@
+"""Issue 32, consistency a user meets: the same option names and value forms in every command, units
+said and kept, an implausible size warned of by check and analyze, every file written announced."""
+
+import re
+import subprocess
+import sys
+
+import pytest
+
+
+def run(folder, *args, timeout=120):
+    return subprocess.run([sys.executable, "-m", "sim", *args], capture_output=True, text=True, cwd=folder,
+                          timeout=timeout)
+
+
+def _parse(*argv):
+    from sim.front.cli import _join_negative_values, make_parser
+    parser = make_parser()
+    return parser.parse_args(_join_negative_values(parser, list(argv)))
+
+
+@pytest.mark.parametrize("problem, extra", [("two-position", []), ("motion", ["p.csv"]), ("function", ["p.csv"]),
+                                            ("path", ["t.csv"])])
+def test_synthesize_takes_units_like_every_other_command_and_keeps_unit(problem, extra):
+    assert _parse("synthesize", problem, *extra, "--units", "cm").unit == "cm"
+    assert _parse("synthesize", problem, *extra, "--unit", "cm").unit == "cm"      # the old spelling still works
+
+
+@pytest.mark.parametrize("text, deg", [("30", 30.0), ("30deg", 30.0), ("0.5rad", 28.64788975654116)])
+def test_min_transmission_takes_deg_like_every_other_angle(text, deg):
+    # 1e-12: rounding of the radian conversion only
+    assert _parse("synthesize", "path", "t.csv", "--min-transmission", text).min_transmission == pytest.approx(
+        deg, abs=1e-12)
+
+
+def test_min_transmission_nonsense_is_one_line(tmp_path):
+    r = run(tmp_path, "synthesize", "path", "t.csv", "--min-transmission", "thirty")
+    assert r.returncode == 2 and re.fullmatch(r"linkage: error: argument --min-transmission: 'thirty' is not an "
+                                              r"angle in degrees .*\n", r.stderr), r.stderr
+
+
+@pytest.mark.parametrize("text, si", [("0.01", 0.01), ("0.01kg*m^2", 0.01), ("10000kg*mm^2", 0.01),
+                                      ("10000 kgmm2", 0.01), ("100kg*cm^2", 0.01), ("1kg*in^2", 0.0254 ** 2)])
+def test_flywheel_bare_is_kg_m2_and_a_suffix_gives_a_files_inertia_unit(text, si):
+    from sim.front.cli.dynamics import parse_flywheel
+    # 1e-15 relative: one multiplication by the unit's factor
+    assert parse_flywheel(text) == pytest.approx(si, rel=1e-15)
+
+
+@pytest.mark.parametrize("text, si", [("15", 15.0), ("15rad/s", 15.0), ("150rpm", 150 * 2 * 3.141592653589793 / 60)])
+def test_motor_speed_in_rad_s_or_rpm_as_the_app(text, si):
+    from sim.front.cli.dynamics import parse_speed
+    # 1e-15 relative: one multiplication by the unit's factor
+    assert parse_speed("--motor W0", text) == pytest.approx(si, rel=1e-15)
+
+
+def _mm_fourbar(folder):
+    from analytic.registry import LIBRARY
+    text = (LIBRARY / "fourbar.toml").read_text().replace('output = "E"', 'output = "E"\nunits = "mm"', 1)
+    (folder / "mm.toml").write_text(text)
+
+
+@pytest.mark.parametrize("cmd", [["check"], ["analyze"], ["analyze", "--json"]])
+def test_metres_typed_into_a_mm_file_are_warned_of_by_check_and_analyze(tmp_path, cmd):
+    _mm_fourbar(tmp_path)
+    r = run(tmp_path, cmd[0], "mm.toml", *cmd[1:])
+    assert r.returncode == 0, r.stderr
+    lines = r.stderr.strip().splitlines()
+    assert len(lines) == 1 and re.fullmatch(r"linkage: warning: the fourbar spans 0\.3 mm, too small to simulate .*"
+                                            r"were metres typed into a mm file\? give the lengths in mm", lines[0])
+
+
+def test_a_plausible_design_gets_no_warning(tmp_path):
+    r = run(tmp_path, "check", "fourbar")
+    assert r.returncode == 0 and r.stderr == "", r.stderr
+
+
+def test_the_size_bounds_are_the_simulations():
+    from sim.front.cli.options import SMALLEST_SIZE
+    from sim.model.build import MIN_SIZE
+    assert SMALLEST_SIZE == MIN_SIZE
