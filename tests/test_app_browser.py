@@ -20,6 +20,8 @@ if not os.path.exists(CHROMIUM):
 import analytic  # noqa: E402
 from sim.front import app  # noqa: E402
 
+pytestmark = pytest.mark.slow  # the whole module: see pyproject's markers
+
 ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
         "--disable-background-networking", "--disable-component-update", "--disable-sync"]
 TIMEOUT_MS = 20_000

@@ -126,6 +126,7 @@ def test_reduced_terms_match_closed_form():
     np.testing.assert_allclose(red.Q(u), ref[:, 1], rtol=1e-9, atol=1e-9 * np.abs(ref[:, 1]).max())
 
 
+@pytest.mark.slow
 def test_energy_conserved_coasting_100_revolutions():
     mech = analytic.load("fourbar")
     red = motor.reduce(mech, INERTIAS, 0.0)
@@ -156,6 +157,7 @@ def test_startup_and_design_answers_from_rest():
     assert r.energy_per_cycle == pytest.approx(Tb - Ta, abs=1e-8 * MOTOR.T0 * 2 * math.pi)
 
 
+@pytest.mark.slow
 def test_flywheel_sizing_reaches_target():
     mech = analytic.load("fourbar")
     target = 0.02
@@ -234,6 +236,7 @@ def test_two_input_velocity_terms_are_the_christoffel_terms_of_M():
     assert np.abs(ref).max() > 1e-3          # the check is not of zeros
 
 
+@pytest.mark.slow
 def test_two_input_energy_conserved_coasting():
     mech = analytic.load("fivebar")
     r = motor.run_two(mech, FIVEBAR_INERTIAS, (motor.Coast(10.0), motor.Coast(10.0)), 3, (10.0, 7.0),

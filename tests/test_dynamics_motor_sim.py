@@ -84,6 +84,7 @@ def test_table_motor_in_both():
     assert 8.0 < d.run.mean_speed < 24.0
 
 
+@pytest.mark.slow
 def test_flywheel_sizing_checked_by_both():
     mech, loads = _shaper_loads()
     d = sm.dynamics(mech, loads, am.LinearMotor(5.0, 20.0), None, target=0.05, revolutions=20)
@@ -94,6 +95,7 @@ def test_flywheel_sizing_checked_by_both():
     assert d.sizing_passed and d.passed
 
 
+@pytest.mark.slow
 def test_a_heavy_flywheel_is_sized_on_a_run_long_enough_to_start_up():
     # the shaper under a 500 N cutting force and a 200 N m motor: the flywheel for Cs = 0.02 (~12 kg m^2)
     # takes ~3.6 s (~9 turns) to start, so 10 revolutions from rest end before the steady cycle (Cs 0.024)

@@ -39,7 +39,12 @@ def _replay(model, data, built, revolutions=1.0):
     return inputs, sol, viol
 
 
-@pytest.mark.parametrize("path", FILES, ids=[Path(f).stem for f in FILES])
+SLOW_REPLAYS = ("double_butterfly", "stephenson_ii")
+"""Numerically solved groups: their replays cost 10-25 s each, so they run in the slow tier."""
+
+
+@pytest.mark.parametrize("path", [pytest.param(f, marks=pytest.mark.slow) if Path(f).stem in SLOW_REPLAYS else f
+                                  for f in FILES], ids=[Path(f).stem for f in FILES])
 def test_exported_model_replays_within_compare_tolerances(tmp_path, path):
     mech = load(path)
     revolutions = REVOLUTIONS.get(Path(path).stem, 1.0)

@@ -324,6 +324,7 @@ def test_the_video_draws_force_arrows_to_scale():
     assert not np.any(np.all(np.abs(plain.astype(int) - rgb) <= 40, axis=-1)[:, :])
 
 
+@pytest.mark.slow
 def test_plot_and_render_take_forces(tmp_path):
     """The options reach the drawings: --forces gives the force sheet (its own height: 3 rows of panels, not
     the kinematic sheet's 4) and a video whose frames carry the arrows' colour."""

@@ -19,6 +19,8 @@ from analytic.registry import LIBRARY
 from sim.front import app
 from sim.front.cli import main
 
+pytestmark = pytest.mark.slow  # the whole module: see pyproject's markers
+
 SEED = 20
 FILES = sorted(LIBRARY.glob("*.toml"))
 TOKENS = ['"30deg"', '"1/30deg"', "1e308", "-1e308", "9" * 40, "0", "-0.0", "[]", "[[[[1]]]]", "{a = 1}", '""',

@@ -191,6 +191,7 @@ def test_the_app_opens_a_pyslvs_project():
         initial_mechanism(str(EXAMPLES / "locked_ppp.txt"))
 
 
+@pytest.mark.slow
 def test_mangled_sources_are_one_line_each(tmp_path):
     """Seeded fuzz: our example files cut, spliced with format characters and deep nesting; every outcome is
     a mechanism or a ParameterError (one line), never another exception."""

@@ -88,6 +88,7 @@ def test_sweep_plot_and_fourbar_coupler_curves(tmp_path):
     assert out.stat().st_size > 10_000 and "3 combinations, 3 valid" in r.stdout
 
 
+@pytest.mark.slow
 def test_sweep_workers_give_the_same_csv(tmp_path):
     a, b = tmp_path / "one.csv", tmp_path / "two.csv"
     grid = ["--vary", "l1=0.1:0.3:50", "--vary", "l2=0.03:0.09:50"]          # 2500 rows: 2 chunks
@@ -103,6 +104,7 @@ def test_sweep_workers_give_the_same_csv(tmp_path):
     assert np.array_equal(num[0], num[1], equal_nan=True)
 
 
+@pytest.mark.slow
 def test_sweep_scheduler_that_cannot_be_reached():
     r = run("sweep", "fivebar", "--vary", "l1=0.2,0.25", "--scheduler", "tcp://127.0.0.1:9")
     assert r.returncode == 2 and "--scheduler tcp://127.0.0.1:9" in r.stderr

@@ -90,6 +90,7 @@ def recovery_target(seed=3, m=10):
     return x, E[0]
 
 
+@pytest.mark.slow
 def test_recovers_a_random_fourbar():
     x, xy = recovery_target()
     t = sp.Target(xy)
@@ -106,6 +107,7 @@ def test_recovers_a_random_fourbar():
     assert near.max() < 1e-3 * t.size                    # 20000 samples: spacing far below 1e-3 of size
 
 
+@pytest.mark.slow
 def test_same_answer_for_one_and_two_workers():
     x, xy = recovery_target(seed=5, m=8)
     t = sp.Target(xy)
@@ -183,6 +185,7 @@ def test_the_order_is_a_constraint_unless_any_order():
         assert (order[0] > 0) == ordered
 
 
+@pytest.mark.slow
 def test_recovers_a_random_fourbar_from_shuffled_targets_in_any_order():
     x, xy = recovery_target()
     t = sp.Target(xy[SHUFFLE], ordered=False)

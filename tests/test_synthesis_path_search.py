@@ -13,6 +13,9 @@ import numpy as np
 
 from analytic.synthesis import path as sp
 from sim.design_service import read_target
+import pytest
+
+pytestmark = pytest.mark.slow  # the whole module: see pyproject's markers
 
 DATA = Path(__file__).resolve().parents[1] / "benchmarks" / "data"
 # a restart's answer on mkh3 (any order, seed 1 of the benchmark's command before hopping): the 0.0423 basin

@@ -99,6 +99,7 @@ def transmission_sampled(name, x, b, n=20001) -> float:
     return float(np.arcsin(np.clip(np.abs(rod @ [math.cos(th), math.sin(th)]) / np.hypot(*rod.T), 0, 1)).min())
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", ["fourbar", "slider_crank"])
 def test_constraint_margins_hold_where_the_sampled_transmission_angle_does(name):
     fam = FAMILIES[name]
@@ -173,6 +174,7 @@ def write_targets(path, xy, phi=None):
     path.write_text(head + "\n" + "\n".join(rows) + "\n")
 
 
+@pytest.mark.slow
 def test_slider_crank_recovered_and_each_candidate_compared(tmp_path):
     x, b = feasible("slider_crank", 31)
     phi = np.sort(np.random.default_rng(31).uniform(0, 2 * math.pi, 12))
@@ -195,6 +197,7 @@ def test_slider_crank_recovered_and_each_candidate_compared(tmp_path):
     assert near.max() < 1e-3 * size                      # 20000 samples: spacing far below 1e-3 of size
 
 
+@pytest.mark.slow
 def test_sixbar_path_synthesis_returns_a_checked_sixbar(tmp_path):
     x, b = feasible("stephenson", 41)
     phi = np.linspace(0, 2 * math.pi, 14, endpoint=False)
@@ -224,6 +227,7 @@ def steps_in_sense(phis):
     return d, 2 * math.pi - d.sum()
 
 
+@pytest.mark.slow
 def test_closed_targets_are_a_loop_open_ones_a_stretch(tmp_path):
     """Targets on 150 deg of crank of a four-bar's curve: as an open path a design through them is found
     whose return from the last target to the first takes the other ~210 deg; as a closed path that return
@@ -257,6 +261,7 @@ def test_order_violation_by_hand():
     assert abs(sp.order_violation(deg([[0, 40, 30, 70]]), False)[0] - 10 / 180) < 1e-12
 
 
+@pytest.mark.slow
 def test_plot_of_targets_and_candidates(tmp_path):
     import matplotlib.image as mpimg
     x, b = feasible("fourbar", 61)
@@ -287,6 +292,7 @@ def test_benchmark_targets_read_as_the_command_reads_them(tmp_path):
         design_service.read_target(str(f))
 
 
+@pytest.mark.slow
 def test_same_answer_for_one_two_workers_and_a_dask_cluster():
     x, b = feasible("fourbar", 71)
     phi = np.linspace(0, 2 * math.pi, 8, endpoint=False)
