@@ -226,3 +226,18 @@ def test_friction_that_locks_is_refused_in_one_line(tmp_path):
         """)
     with pytest.raises(loads.LoadError, match=r"\[friction\].*lower mu or pin_radius"):
         run(text, tmp_path, samples=9)
+
+
+def test_a_torsion_spring_wound_by_the_crank_keeps_its_winding(tmp_path):
+    # At the crank pivot between the ground and the crank (a full turn per cycle): theta grows by 2 pi over the
+    # turn, so the spring stores k ((theta0 + 2 pi)^2 - theta0^2) / 2 more at the end, which the drive supplies
+    ts = '[[loads]]\nname = "w"\nkind = "torsion_spring"\njoint = "A"\nlinks = ["ground", "1"]\nstiffness = 0.5\n'
+    m, t, q, res, ls, inert = run(FOURBAR.format(omega=1e-3) + ts, tmp_path, samples=361)
+    b = K.balance(m, res, ls, inert)
+    theta0 = 0.0                                                       # phi1(0) = 0, free angle 0
+    stored = 0.5 * 0.5 * ((theta0 + 2 * math.pi) ** 2 - theta0 ** 2)
+    assert b["energy"]["spring_change"] == pytest.approx(stored, rel=1e-12)
+    # the drive's work by the trapezoidal rule over 361 samples of a linear torque: exact but for rounding
+    assert b["energy"]["drive_work"] == pytest.approx(stored, rel=1e-6)
+    base = no_loads(m, t)
+    assert np.allclose(res.forces.drives["1"] - base.forces.drives["1"], 0.5 * (q[:, 0] - q[0, 0]), atol=1e-9)
