@@ -59,10 +59,13 @@ class Inertia:
                 text = repr(v) if len(repr(v)) <= 40 else repr(v)[:37] + "..."
                 raise ParameterError(f"inertia {name}={text} must be a finite number of magnitude <= "
                                      f"{MAX_MAGNITUDE:g}")
-        if self.m <= 0:
-            raise ParameterError(f"mass m={self.m!r} must be > 0 [kg]")
-        if self.I <= 0:
-            raise ParameterError(f"moment of inertia I={self.I!r} must be > 0 [kg m^2] (about the centre of mass)")
+        if self.m < 0:
+            raise ParameterError(f"mass m={self.m!r} must be >= 0 [kg] (0: a massless link)")
+        if self.I < 0:
+            raise ParameterError(f"moment of inertia I={self.I!r} must be >= 0 [kg m^2] (about the centre of mass)")
+        if self.m == 0 and self.I > 0:
+            raise ParameterError(f"mass m={self.m!r} with I={self.I!r}: a massless link has no moment of inertia; give "
+                                 f"I = 0 too, or a mass > 0 [kg]")
 
 
 
@@ -193,6 +196,8 @@ def combine(parts) -> Inertia:
     their weighted mean, moments of inertia move to it by the parallel-axis theorem."""
     parts = list(parts)
     m = sum(p[0] for p in parts)
+    if m == 0:                                       # massless parts: a massless body
+        return Inertia(m=0.0, cx=0.0, cy=0.0, I=0.0)
     cx = sum(p[0] * p[1] for p in parts) / m
     cy = sum(p[0] * p[2] for p in parts) / m
     inertia = sum(p[3] + p[0] * ((p[1] - cx) ** 2 + (p[2] - cy) ** 2) for p in parts)

@@ -812,6 +812,9 @@ def forces_table(run: ForceRun, display=None) -> str:
         fl = loads["force"]
         parts.append(f"{'cutting force' if fl['cutting'] else 'force'} {fl['Fx']:g},{fl['Fy']:g} N on {fl['point']} "
                      f"(link {fl['link']})")
+    if run.loadset:
+        parts.append(f"{len(run.loadset.loads)} load{'s' * (len(run.loadset.loads) != 1)}"
+                     + (" and friction" if run.loadset.friction else ""))
     lines = [f"{mech.name}: joint forces over {len(run.t)} samples ({', '.join(parts) or 'inertia only'}); "
              f"masses: {sum(b.m for b in run.inertias.values()):.4g} kg in {len(run.inertias)} links",
              f"  {'joint':<12s} {'kind':<5s} {'links':<22s} {'peak |F| [N]':>13s}  at {first.q}"]

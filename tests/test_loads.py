@@ -285,3 +285,60 @@ def test_analyze_at_one_angle_by_the_four_bar_geometry():
     assert out["phi1"] == pytest.approx(math.radians(30), abs=1e-15)
     assert out["phi2"] == pytest.approx(math.atan2(*(c - b)[::-1]), abs=1e-12)   # rounding
     assert out["phi3"] == pytest.approx(math.atan2(*(c - d)[::-1]), abs=1e-12)
+
+
+def test_an_inch_pound_press_needs_no_hand_conversion(tmp_path):
+    # The same press in inches (r = 2 in, l = 6 in, e = 0.8 in) with a 100 lbf punch and a 50 lbf in brake on
+    # the crank: the crank torque in lbf in is P R_arm + 50 by hand statics in inches, SI in the JSON
+    text = textwrap.dedent("""\
+        format = "linkage/1"
+        name = "press_in"
+        units = "in"
+        force_units = "lbf"
+        output = "C"
+        [parameters]
+        omega1 = "1deg"
+        [ground]
+        A = [0, 0]
+        [[inputs]]
+        kind = "crank"
+        pivot = "A"
+        point = "B"
+        length = 2
+        link = "1"
+        phi0 = "30deg"
+        omega = "omega1"
+        [[groups]]
+        kind = "RRP"
+        point = "C"
+        from = "B"
+        length = 6
+        guide = { through = "A", angle = "0deg" }
+        offset = 0.8
+        links = ["2", "piston"]
+        branch = 1
+        [[loads]]
+        name = "punch"
+        kind = "force"
+        link = "piston"
+        point = "C"
+        direction = [-1, 0]
+        magnitude = 100
+        [[loads]]
+        name = "brake"
+        kind = "torque"
+        link = "1"
+        magnitude = -50
+        """)
+    d = json.loads(linkage("forces", write(tmp_path, text), "--samples", 13, "--json").stdout)
+    phi = np.array(d["inputs"]["phi1"])
+    bx, by = 2 * np.cos(phi), 2 * np.sin(phi)                          # inches
+    cx = bx + np.sqrt(36 - (0.8 - by) ** 2)
+    ex, ey = (cx - bx) / 6, (0.8 - by) / 6
+    R = 100 / ex                                                        # lbf along the rod
+    T_lbf_in = R * (bx * ey - by * ex) + 50                             # the drive holds the punch and the brake
+    N_m_per_lbf_in = 4.4482216152605 * 0.0254
+    # inertia at 1 deg/s (1e-6 N m) is what separates them
+    assert np.allclose(np.array(d["drives"]["phi1"]) / N_m_per_lbf_in, T_lbf_in, atol=1e-4)
+    kC = [j["name"] for j in d["joints"]].index("C")
+    assert np.allclose(np.hypot(d["joints"][kC]["Fx"], d["joints"][kC]["Fy"]) / 4.4482216152605, np.abs(R), atol=1e-5)

@@ -301,6 +301,11 @@ def reduce(mech, inertias: dict, flywheel: float = 0.0, gravity=(0.0, 0.0), forc
             k = int(np.argmax(~np.isfinite(J)))
             raise ParameterError(f"the {mech.name} cannot be assembled at {inp.q}={math.degrees(q0 + s * u[k]):.2f}deg; "
                                  f"a motor drives a crank that turns fully: check its proportions")
+        if not np.all(J > 0):
+            k = int(np.argmin(J))
+            raise ParameterError(f"the {mech.name}'s reduced inertia vanishes at {inp.q}={math.degrees(q0 + s * u[k]):.2f}deg "
+                                 f"(massless links and no flywheel): the motor's equation is singular there; give "
+                                 f"--flywheel or the links masses")
         if not np.allclose([J[-1], Qg[-1], QF[-1]], [J[0], Qg[0], QF[0]], rtol=1e-9, atol=1e-12 * (1 + J.max())):
             raise ParameterError(f"the {mech.name} does not repeat after one turn of {inp.q}; a motor drives a "
                                  f"mechanism whose motion repeats every turn")

@@ -287,8 +287,10 @@ def _check(data: dict, source: str, default_name: str) -> Definition:
         for key, v in entry.items():
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not abs(v) <= MAX_MAGNITUDE:
                 raise _fail(source, f"inertia.{lname}.{key}", f"{_short(v)} must be a finite number")
-            if key in ("m", "I") and not v > 0:
-                raise _fail(source, f"inertia.{lname}.{key}", f"{v!r} must be > 0")
+            if key in ("m", "I") and not v >= 0:
+                raise _fail(source, f"inertia.{lname}.{key}", f"{v!r} must be >= 0 (m = 0 and I = 0: a massless link)")
+        if entry["m"] == 0 and entry["I"] != 0:
+            raise _fail(source, f"inertia.{lname}.I", "a massless link (m = 0) has no moment of inertia: give I = 0")
     mass = _check_mass(data.get("mass", {}), links, source)
     definition = Definition(name, source, units, description, dict(params), tuple(params), param_kinds,
                             {k: tuple(v) for k, v in ground.items()}, inputs, groups, order, output, inertia, topo,

@@ -36,10 +36,13 @@ class Friction:
         """The friction wrenches for the joint forces ``F`` (n_joints, 2, N): the applications, each pin's Mf
         [N m] (on b by a) and each prismatic pair's friction force along its guide [N] (on the block)."""
         apps, Mf, Ft = [], {}, {}
+        w_scale = max((float(np.max(np.abs(state.omega(ln)))) for ln in state.mech.links), default=0.0)
+        v_scale = max((float(np.max(np.hypot(*(np.asarray(state.sol[c + p]) for c in ("vx", "vy")))))
+                       for p in state.mech.points), default=0.0)
         for k, mu, r in self.pins:
             j = joints[k]
             rel = state.omega(j.b) - state.omega(j.a)
-            m = -mu * r * np.hypot(F[k, 0], F[k, 1]) * np.sign(rel)
+            m = -mu * r * np.hypot(F[k, 0], F[k, 1]) * _sign(rel, w_scale)
             Mf[k] = m
             z = np.zeros(state.n)
             apps.append(Application(j.b, z, z, z, z, m))
@@ -49,7 +52,7 @@ class Friction:
             _, _, c, s, _ = state.frame(j.b)                      # a block's angle is its guide's
             normal = np.abs(-s * F[k, 0] + c * F[k, 1])
             ds = np.asarray(state.sol["ds" + j.slide])
-            f = -mu * normal * np.sign(ds)
+            f = -mu * normal * _sign(ds, v_scale)
             Ft[k] = f
             px, py = state.xy(j.point)
             apps.append(Application(j.b, f * c, f * s, px, py))
@@ -59,6 +62,17 @@ class Friction:
     def record(self, joints) -> dict:
         return {"pins": {joints[k].name: {"mu": mu, "pin_radius": r} for k, mu, r in self.pins},
                 "prismatic": {joints[k].name: {"mu": mu} for k, mu in self.slides}}
+
+
+AT_REST = 1e-9
+"""A joint's relative rate below this share of the mechanism's fastest link rate (or point speed, for a
+slide) is rest: a pair that never turns (a block on a fixed guide, links moving together) has rates of
+rounding size whose sign means nothing."""
+
+
+def _sign(rate, scale: float):
+    """sign(rate), 0 where |rate| <= AT_REST x scale."""
+    return np.where(np.abs(rate) > AT_REST * scale, np.sign(rate), 0.0)
 
 
 def parse(section, sc: Scales, joints) -> Friction | None:

@@ -1,6 +1,6 @@
 """``kind = "torsion_spring"``: a spring at a pin between two links. Its angle is theta = phi(links[1]) -
-phi(links[0]) - free_angle (taken in (-180, 180] deg), its moment on links[1] is -stiffness theta (and the
-opposite on links[0]); its energy stiffness theta^2 / 2."""
+phi(links[0]) - free_angle (taken in (-180, 180] deg at the first sample, continuous after it), its moment on
+links[1] is -stiffness theta (and the opposite on links[0]); its energy stiffness theta^2 / 2."""
 
 from __future__ import annotations
 
@@ -30,8 +30,11 @@ class TorsionSpring:
         return self.links[1]
 
     def angle(self, state):
-        d = state.angle(self.links[1]) - state.angle(self.links[0]) - self.free_angle
-        return np.pi - np.mod(np.pi - d, 2 * np.pi)
+        """theta [rad]: in (-pi, pi] at the first sample, followed continuously over the samples after it (a
+        spring wound by a full turn keeps its winding)."""
+        d = np.unwrap(np.atleast_1d(state.angle(self.links[1]) - state.angle(self.links[0]) - self.free_angle))
+        first = np.pi - np.mod(np.pi - d[0], 2 * np.pi)
+        return first + (d - d[0])
 
     def applications(self, state, variables=None) -> list[Application]:
         m = -self.stiffness * self.angle(state)

@@ -33,11 +33,29 @@ def link_members(mech) -> dict[str, set[str]]:
     return {GROUND: set(topo.ground), **{ln: set(link.points) for ln, link in topo.links.items()}}
 
 
+STAND_IN = 1e-6
+"""A massless link (m = 0 in [inertia]) gets this share of the other links' total mass in MuJoCo (which needs
+a mass on every moving body), spread as a bar of the mechanism's size about its origin (I = m (0.3 size)^2).
+The comparisons read the compiled model's masses back (body_inertias), so the analytic side carries the same
+stand-in; what it changes against the massless analytic run is 1e-6 of the inertial forces."""
+
+
+def massless_stand_ins(mech, inertias: dict) -> dict:
+    """``inertias`` with each massless link given MuJoCo's stand-in (STAND_IN)."""
+    total = sum(b.m for b in inertias.values())
+    if all(b.m > 0 for b in inertias.values()):
+        return inertias
+    m = max(STAND_IN * total, MIN_MASS * 10)
+    I = max(m * (0.3 * mech.size) ** 2, MIN_INERTIA * 10)
+    return {ln: (b if b.m > 0 else mass.Inertia(m=m, cx=0.0, cy=0.0, I=I)) for ln, b in inertias.items()}
+
+
 def add_inertias(spec, mech, points, frames, loads):
     """Every body's inertial data from the mass model (:func:`analytic.mass.model`: --inertia, [inertia],
     [mass], the default; counterweights added), so the model and the analytic forces read the same masses."""
     local = {ln: _local(mech, points, frames, ln) for ln in mech.links}
     inertias = mass.model(mech, loads.inertias, local)
+    inertias = massless_stand_ins(mech, inertias)
     for ln in mech.links:
         b = spec.body(ln)
         inertia = inertias[ln]

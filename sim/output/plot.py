@@ -312,7 +312,10 @@ def force_figure(c: Comparison, built, display=None):
     loads = built.loads
     what = ", ".join(s for s in (f"gravity {loads.gravity[0]:g},{loads.gravity[1]:g} m/s$^2$" if loads.gravity else "",
                                  f"force {loads.force[0]:g},{loads.force[1]:g} N on {mech.output_point}"
-                                 if any(loads.force) else "") if s) or "inertia only"
+                                 if any(loads.force) else "",
+                                 ", ".join(ld.name for ld in built.loadset.loads) + (" and friction" if
+                                 built.loadset.friction else "") if getattr(built, "loadset", None) else "")
+                    if s) or "inertia only"
     fig.suptitle(f"{mech.name}: joint forces ({what}); analytic kinetostatics (lines), MuJoCo (markers)",
                  fontsize=14)
     return fig

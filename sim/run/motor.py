@@ -332,6 +332,8 @@ def dynamics(mech, loads, motor, flywheel: float | None = 0.0, target: float | N
         raise ParameterError(f"--target-fluctuation {target!r} must be a number in (0, 1) (e.g. 0.02)")
     if flywheel is not None and not (math.isfinite(flywheel) and flywheel >= 0):
         raise ParameterError(f"--flywheel {flywheel!r} must be a finite number >= 0 [kg m^2]")
+    if not flywheel and target is None:
+        check_inertia(mech, loads)
     make, _ = reduced_for(mech, loads)
     J = flywheel or 0.0
     if target is not None:
@@ -344,6 +346,26 @@ def dynamics(mech, loads, motor, flywheel: float | None = 0.0, target: float | N
     d = Dynamics(mech, motor, J, r, None, None, target, sizing, None,
                  revolutions if r.revolutions > revolutions else None)
     return simulated(d, loads, start_speed, settings) if simulate_too else d
+
+
+def check_inertia(mech, loads) -> None:
+    """Refuse a run without a flywheel whose reduced inertia vanishes somewhere with the file's masses (massless
+    links, SPEC "Loads": m = 0; e.g. a massless crank and rod whose massive piston stops at its dead centres):
+    the motor's equation is singular there (MuJoCo's stand-in masses would only make it stiff)."""
+    from analytic import mass
+    model = mass.model(mech, loads.inertias)
+    if all(b.m > 0 for b in model.values()):
+        return
+    inp = mech.inputs[0]
+    s = 1.0 if inp.motion.rate >= 0 else -1.0
+    u = np.linspace(0.0, 2 * math.pi, 721)
+    J = amotor._terms(mech, u, s, float(inp.motion.q0), {k: b for k, b in model.items() if b.m > 0}, 0.0,
+                      (0.0, 0.0), (0.0, 0.0))[0]
+    k = int(np.argmin(J))
+    if not J[k] > 1e-9 * max(float(np.max(J)), 1e-300):
+        raise ParameterError(f"the {mech.name}'s reduced inertia vanishes at {inp.q}="
+                             f"{math.degrees(inp.motion.q0 + s * u[k]):.2f}deg (massless links, m = 0, and no "
+                             f"flywheel): the motor's equation is singular there; give --flywheel or the links masses")
 
 
 def settled(red, motor, r, steady_cs: float, start_speed: float = 0.0):
