@@ -257,7 +257,7 @@ def register(sub, add_common, add_video_options) -> None:
     p.add_argument("--rocker-rotation", default="50deg", help="rocker rotation from 1 to 2 (default 50deg)")
     p.add_argument("--theta-range", default="-90deg:90deg", metavar="LO:HI",
                    help="coupler rotations searched (default -90deg:90deg)")
-    p.add_argument("--unit", choices=sorted(UNIT_TO_M), default="mm", help="length unit of the data (default mm)")
+    p.add_argument("--units", "--unit", dest="unit", choices=sorted(UNIT_TO_M), default="mm", help="length unit of the data (default mm)")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.add_argument("--plot", metavar="PATH", help="plot total length against theta (.png/.svg/.pdf)")
     p.add_argument("--render", metavar="PATH", help="animate the optimum moving E from E1 to E2 (.mp4/.gif)")
