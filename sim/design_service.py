@@ -469,18 +469,35 @@ def synthesize_motion(poses: np.ndarray, unit: str = "m", count: int = 3, circle
     scale = float(max(np.ptp(poses[:, :2], axis=0).max(), 1e-12))
     mu_lim = math.radians(limits.min_transmission) - 1e-9
 
+    boxes = {id(d): _travel_box(d.linkage, *working_range(d.linkage, d.inputs)) for d in designs}
+
     def rank(d):
         rms = float(np.sqrt(np.mean(d.errors ** 2)))
-        return (bool(d.defect), round(rms / scale, 9), _travel_box(d.linkage, *working_range(d.linkage, d.inputs)))
+        return (bool(d.defect), round(rms / scale, 9), boxes[id(d)])
+
+    def early(d) -> str:
+        """What the closed forms already show broken (the general solver measures the rest): the sampled
+        travel's box is inside the true one, so a sampled size over the limit is over it."""
+        if d.defect:
+            return d.defect
+        if d.mu_min < mu_lim:
+            return (f"transmission angle {math.degrees(d.mu_min):.1f} deg over the working range: below "
+                    f"--min-transmission {limits.min_transmission:g} deg")
+        if limits.max_size is not None and boxes[id(d)] > limits.max_size * (1 + sc.SLACK_REL):
+            return (f"size at least {boxes[id(d)]:.4g} {unit} (its bounding box over the working range) exceeds "
+                    f"--max-size {limits.max_size:g} {unit}")
+        for name, p in (("A", d.linkage.A), ("D", d.linkage.D)):
+            r = limits.region(name)
+            if r is not None and not r.contains(*p, sc.SLACK_REL * scale):
+                return f"ground pivot {name} at ({p[0]:.4g}, {p[1]:.4g}) lies outside --pivot-region {r.text()}"
+        return ""
     designs = sorted(designs, key=rank)
     found, rejected, chosen = [], [], []
     for d in designs:
         if len(found) >= count:
             break
         lo, hi = working_range(d.linkage, d.inputs)
-        why = d.defect or ("" if d.mu_min >= mu_lim else
-                           f"transmission angle {math.degrees(d.mu_min):.1f} deg over the working range: below "
-                           f"--min-transmission {limits.min_transmission:g} deg")
+        why = early(d)
         m = None
         if not why:
             mech = synth_fourbar.mechanism(d.linkage, unit)

@@ -219,3 +219,40 @@ def test_one_design_found_twice_is_returned_once():
     assert sp.same_design(a, copy, 1.0) and not sp.same_design(a, other, 1.0) and not sp.same_design(a, mirror, 1.0)
     got = sp.distinct_first([a, copy, other, mirror], 3, 1.0)
     assert got[:3] == [a, other, mirror] and got[3] is copy
+
+
+# ------------------------------------------------------------------------------ the file's input range
+def library_with(tmp_path, line):
+    import pathlib
+    src = pathlib.Path(analytic.__file__).parent / "library" / "fourbar.toml"
+    text = src.read_text().replace('output = "E"\n', f'output = "E"\n{line}\n', 1)
+    p = tmp_path / "f.toml"
+    p.write_text(text)
+    return str(p)
+
+
+def phi1_column(path):
+    rows = [r for r in open(path).read().splitlines() if r and not r.startswith("#")]
+    head = rows[0].split(",")
+    k = head.index("phi1")
+    return np.array([float(r.split(",")[k]) for r in rows[1:]])
+
+
+def test_a_files_input_range_is_what_every_command_runs_unless_given(tmp_path):
+    f = library_with(tmp_path, 'input_range = "0.2:1.4"')
+    assert analytic.load(f).definition.input_range == "0.2:1.4"
+    r = run("analyze", f, "--csv", str(tmp_path / "a.csv"))
+    assert r.returncode == 0, r.stderr
+    q = phi1_column(tmp_path / "a.csv")
+    assert q.min() == pytest.approx(0.2, abs=1e-12) and q.max() == pytest.approx(1.4, abs=1e-12)   # rounding
+    r = run("analyze", f, "--input-range", "0.3:1.0", "--csv", str(tmp_path / "b.csv"))
+    assert r.returncode == 0, r.stderr
+    q = phi1_column(tmp_path / "b.csv")
+    assert q.min() == pytest.approx(0.3, abs=1e-12) and q.max() == pytest.approx(1.0, abs=1e-12)
+
+
+def test_a_bad_input_range_in_a_file_is_one_line_naming_it(tmp_path):
+    f = library_with(tmp_path, "input_range = 5")
+    r = run("analyze", f)
+    assert r.returncode == 2 and "input_range" in r.stderr and "Traceback" not in r.stderr
+    assert len(r.stderr.strip().splitlines()) == 1

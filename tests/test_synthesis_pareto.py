@@ -78,13 +78,22 @@ def test_a_front_design_is_checked_in_mujoco_under_the_same_loads():
     assert c0["peak_torque"] < 0.2 * c["peak_torque"]
 
 
+PRESS = np.column_stack([np.zeros(6), np.linspace(0.0, -75.0, 6)])
+"""A press's stroke: six points down a 75 mm vertical line (mm), an open path."""
+
+
 @pytest.mark.slow
-def test_front_trades_error_for_torque_and_every_design_passes_mujoco(tmp_path):
-    t = lib_target()
+@pytest.mark.parametrize("case", ["fourbar", "press"])
+def test_front_trades_error_for_torque_and_every_design_passes_mujoco(tmp_path, case):
+    """A four-bar path target under a 50 N side load, and a slider-crank press under a 500 N cutting load on
+    its slow stroke: the front's designs trade path error for drive torque, shown by MuJoCo's numbers."""
     f = tmp_path / "t.csv"
-    f.write_text("x,y\n" + "".join(f"{float(a)!r},{float(b)!r}\n" for a, b in t.xy))
+    xy = lib_target().xy if case == "fourbar" else PRESS
+    f.write_text("x,y\n" + "".join(f"{float(a)!r},{float(b)!r}\n" for a, b in xy))
     out, table, png = tmp_path / "f.toml", tmp_path / "front.csv", tmp_path / "front.png"
-    r = run("synthesize", "path", f, "--closed", "--objectives", "error,torque", "--force=-50,0", "--popsize", 16,
+    args = (("--closed", "--force=-50,0") if case == "fourbar" else
+            ("--type", "slider_crank", "--units", "mm", "--force=0,500", "--cutting", "--max-error", "10"))
+    r = run("synthesize", "path", f, *args, "--objectives", "error,torque", "--popsize", 16,
             "--generations", 6, "--front", 4, "--json", "--out", out, "--csv", table, "--plot", png)
     assert r.returncode == 0, r.stderr
     data = json.loads(r.stdout)
@@ -98,11 +107,14 @@ def test_front_trades_error_for_torque_and_every_design_passes_mujoco(tmp_path):
     err = [d["error"] for d in front]
     tq = [d["peak_torque"] for d in front]
     assert err == sorted(err) and all(a > b for a, b in zip(tq, tq[1:]))
+    # and MuJoCo's torques (its constraint forces: independent of the kinetostatics) say the same
+    sim = [d["simulated"]["peak_torque"] for d in front]
+    assert all(a > b for a, b in zip(sim, sim[1:]))
     # distinct designs, not copies
     keys = [np.array([d["design"]["parameters"][k] for k in ("ax", "ay", "d", "a", "b", "c", "ex", "ey")])
             for d in front]
     assert all(np.abs(keys[i] - keys[j]).max() > 1e-4 for i in range(len(keys)) for j in range(i))
     rows = list(csv.DictReader(line for line in table.read_text().splitlines() if not line.startswith("#")))
     assert len(rows) == len(front)
-    assert [float(r_["peak_torque"]) for r_ in rows] == pytest.approx(tq, rel=1e-12)
+    assert [float(r_["peak_torque"]) for r_ in rows] == pytest.approx(tq, rel=1e-12)   # repr round trip
     assert png.stat().st_size > 10_000
