@@ -124,3 +124,30 @@ def test_two_motors_refuse_the_files_they_do_not_write(tmp_path):
     assert r.returncode == 2 and re.fullmatch(r"linkage: error: --csv: the fivebar's two-motor run writes no files "
                                               r"yet.*\n", r.stderr), r.stderr
     assert list(tmp_path.iterdir()) == []
+
+
+FACTOR = {"s": 1.0, "m": 1.0, "mm": 1e3, "m/s": 1.0, "mm/s": 1e3, "m/s^2": 1.0, "mm/s^2": 1e3, "rad": 1.0,
+          "deg": 180 / 3.141592653589793, "rad/s": 1.0, "deg/s": 180 / 3.141592653589793, "rad/s^2": 1.0,
+          "deg/s^2": 180 / 3.141592653589793, "N": 1.0, "N m": 1.0}
+"""Each unit's value of one SI unit, written out here (not taken from the code under test)."""
+
+
+@pytest.mark.parametrize("mech", ["slider_crank", "fourbar"])
+def test_every_csv_column_is_converted_with_angles_and_units(tmp_path, mech):
+    """Every column of ``simulate --csv`` with --angles deg --units mm, the commanded inputs and the joints'
+    own coordinates and rates included, is its SI value times its unit's factor; no column is left SI under
+    a vague unit ("rad or m")."""
+    import json
+
+    import numpy as np
+    common = ["simulate", mech, "--revolutions", "0.1"]
+    assert run(tmp_path, *common, "--csv", "si.csv").returncode == 0
+    assert run(tmp_path, *common, "--csv", "mm.csv", "--angles", "deg", "--units", "mm").returncode == 0
+    si = np.genfromtxt(tmp_path / "si.csv", delimiter=",", names=True)
+    mm = np.genfromtxt(tmp_path / "mm.csv", delimiter=",", names=True)
+    units = json.loads((tmp_path / "mm.csv.units.json").read_text())["units"]
+    assert any(c.startswith("q_") for c in units) and any(c.startswith("cmd_") for c in units)
+    for column, unit in units.items():
+        assert unit in FACTOR, (column, unit)
+        # the same run written twice: the conversion's rounding only (1e-12 relative, 1e-9 of a unit absolute)
+        np.testing.assert_allclose(mm[column], si[column] * FACTOR[unit], rtol=1e-12, atol=1e-9, err_msg=column)
