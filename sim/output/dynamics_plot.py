@@ -112,6 +112,8 @@ def sheet(d, out: str, display=None) -> None:
     startup(d, axes[1], display)
     torque(d, axes[2])
     fig.tight_layout()
+    from sim.output.fit import fit_titles
+    fit_titles(fig)
     try:
         with atomic_path(out) as tmp:
             fig.savefig(tmp, dpi=90)

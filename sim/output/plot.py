@@ -106,6 +106,8 @@ def sheet(c: Comparison, built, out: str, display=None):
     _speed_panel(axes[2, 3], x, c, xlabel, colors, mech, u)
     _torque_panels(axes[3], x, c, xlabel, colors, mech)
     fig.suptitle(f"{mech.name}: MuJoCo simulation (markers) over the analytic solution (lines)", fontsize=14)
+    from sim.output.fit import fit_titles
+    fit_titles(fig)
     with atomic_path(out) as tmp:
         fig.savefig(tmp, dpi=90)
     plt.close(fig)
@@ -264,6 +266,8 @@ def force_sheet(c: Comparison, built, out: str, display=None):
     (.png/.svg/.pdf)."""
     import matplotlib.pyplot as plt
     fig = force_figure(c, built, display)
+    from sim.output.fit import fit_titles
+    fit_titles(fig)
     with atomic_path(out) as tmp:
         fig.savefig(tmp, dpi=90)
     plt.close(fig)

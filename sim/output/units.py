@@ -28,11 +28,17 @@ def output_kind(mech, name: str) -> tuple[str, str]:
 
 
 def column_quantity(mech, column: str) -> str:
-    """The quantity of a CSV column of analyze/simulate (``cmd_phi1`` is an angle like ``phi1``); ``""``
-    for a joint coordinate ``q_NAME``/``v_NAME`` (rad or m: kept SI) or an unknown column."""
+    """The quantity of a CSV column of analyze/simulate (``cmd_phi1`` is an angle like ``phi1``); a joint's
+    coordinate ``q_NAME`` and rate ``v_NAME`` by the joint's kind (a hinge's angle, a slide's length); ``""``
+    for a column of no known quantity (kept SI)."""
     if column.startswith("cmd_"):
         column = column[4:]
     if column.startswith(("q_", "v_")):
+        kind = {j.name: j.kind for j in getattr(mech, "joints", ())}.get(column[2:])
+        if kind == "revolute":
+            return Q.ANGLE if column[0] == "q" else Q.ANGULAR_VELOCITY
+        if kind == "prismatic":
+            return Q.LENGTH if column[0] == "q" else Q.VELOCITY
         return ""
     return Q.quantity(mech, column)
 

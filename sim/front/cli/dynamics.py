@@ -154,6 +154,10 @@ def cmd_dynamics(args) -> int:
     mech = mechanism_from(args)
     display = machine_units(args)
     if len(mech.inputs) == 2:
+        given = [o for o, v in (("--csv", args.csv), ("--plot", args.plot), ("--render", args.render)) if v]
+        if given:                                 # refused rather than silently not written
+            raise ParameterError(f"{', '.join(given)}: the {mech.name}'s two-motor run writes no files yet; "
+                                 f"leave {'them' if len(given) > 1 else 'it'} out (--json prints every value)")
         target = args.target_fluctuation
         return _two_motors(args, mech, target, display)
     if len(mech.inputs) != 1:
@@ -178,6 +182,9 @@ def cmd_dynamics(args) -> int:
         print(dumps(in_units(smotor.record(d), display)))
     else:
         print(summary(d))
+        for path in (args.csv, args.plot):         # every file written is said, as the other commands do
+            if path:
+                print(f"wrote {path}")
     return 0 if d.passed else 1
 
 

@@ -1092,8 +1092,8 @@
       cx.map(() => data.mean_speed * RPM)];
     let cycle = an;
     const series = [{ label: "advance [deg]" }, { label: "reduced equation", stroke: "#1f77b4", width: 1.8 },
-      { label: `Cs = ${fmt(data.fluctuation, 4)}`, stroke: "rgba(31,119,180,0.35)", width: 1 },
-      { label: "", stroke: "rgba(31,119,180,0.35)", width: 1 },
+      { label: `max ${fmt(data.w_max * RPM, 4)} rpm (Cs = ${fmt(data.fluctuation, 4)})`, stroke: "rgba(31,119,180,0.35)", width: 1 },
+      { label: `min ${fmt(data.w_min * RPM, 4)} rpm`, stroke: "rgba(31,119,180,0.35)", width: 1 },  // a label, not uPlot's "Value"
       { label: `mean ${fmt(data.mean_speed * RPM, 4)} rpm`, stroke: "#222", width: 1, dash: [6, 4] }];
     if (sim) {
       const step = Math.max(1, Math.round(sim.cycle.advance.length / 90));
