@@ -96,3 +96,31 @@ def test_the_block_over_the_pivot_is_refused_only_where_the_run_reaches_it():
     with pytest.raises(ParameterError, match=r"sJ0_block=60 mm where J0 and J1 meet"):
         service.check_folded_change_points(m, np.linspace(0.0, 0.07, 50))
     service.check_folded_change_points(m, np.linspace(0.0, 0.055, 50))   # short of it: nothing to refuse
+
+
+# --------------------------------------------------------------------------- a slider's default speed
+def test_a_slider_without_a_speed_moves_its_mechanisms_size_per_second(tmp_path):
+    """The links-and-joints form and ``linkage import``: the block-over-pivot's pose spans 100 mm (J0 to J4,
+    J1 to J3: hand geometry), so its slider moves 100 mm/s = 0.1 m/s (it moved 0.1 mm/s, a thousandth)."""
+    from analytic.format import linkfile
+    data = foreign.read(EXAMPLES / "block_over_pivot.txt", [(0, 0)])
+    assert data["inputs"][0]["v"] == pytest.approx(100.0)
+    del data["inputs"][0]["v"]
+    path = tmp_path / "bop.toml"
+    path.write_text(foreign.dumps(data))
+    m = analytic.registry.Mechanism.from_definition(linkfile.read(path), {})
+    assert m.inputs[0].motion.rate == pytest.approx(0.1, rel=1e-12)
+
+
+def test_a_slow_slider_is_judged_against_the_forces_of_its_reference_speed():
+    """At 0.1 mm/s the drive force is ~1e-8 N and MuJoCo's residual ~2 % of it: the tolerances' floors are those
+    of the reference speed (one size per second), so the run passes; it failed on the drive force before."""
+    from analytic.format import linkfile
+    data = foreign.read(EXAMPLES / "block_over_pivot.txt", [(0, 0)])
+    data["inputs"][0]["v"] = 0.1                                     # mm/s
+    slow = analytic.registry.Mechanism.from_definition(linkfile.from_data(data, "bop", "bop"), {})
+    _, c = service.compare(slow, 1.0)
+    e = c.errors["tauJ0_block"]
+    assert e["peak"] < 1e-6                                          # a vanishing force: N
+    assert e["tol"] > 10 * 5e-3 * e["peak"]                          # the floor binds, not 0.5 % of the peak
+    assert c.passed

@@ -10,6 +10,7 @@ parallelogram's coupler) is not judged against zero. Each constant says which er
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -45,11 +46,18 @@ TORQUE_FLOOR = 1e-3
 drive force is judged against: a force that stays at rounding level (a parallelogram's at constant speed:
 its kinetic energy is constant) is not judged against its own noise. The library's peaks are 0.018-0.70
 of that scale, so the floor never binds for a force that does work."""
+REFERENCE_RATE = {"crank": 2 * math.pi, "slider": 1.0}
+"""[1/s] The motion the force and work floors are taken at, whatever the run's speed: the inputs' default
+speeds, a crank's one turn per second and a slider's one size per second (a slider's rate is its speed over
+the size). A run slower than that keeps the floors it would have there: its drive forces fall as the speed
+squared (a slider at 0.1 mm/s in a 70 mm mechanism: 1e-8 N) while MuJoCo's constraint solver leaves a residual
+that falls only about linearly (measured on Pyslvs' slider lifter: 2 % of the drive force at 0.1 mm/s, 0.2 % at
+7 mm/s), so a floor taken at the run's own speed meets that noise."""
 WORK_TOL = 1e-3
 """[of the work scale (see WORK_FLOOR), per revolution] 4-point Gauss quadrature of the drive power over
 each step (exact for the interpolated motion) against MuJoCo's energy; what is left is RK4's energy error."""
 WORK_FLOOR = 1e-5
-"""[of the peak kinetic energy] the least work scale: the work balance is measured against the
+"""[of the peak kinetic energy, at least at the reference speed (REFERENCE_RATE)] the least work scale: the work balance is measured against the
 kinetic-energy swing, or against this share of the peak kinetic energy where the swing is smaller (a lone
 crank at constant speed swings by 3e-14 of its peak: the rounding of the energy sums, ~ steps x 1e-16 of
 it, would be all there is to measure). Never zero: a driven input moves, so its kinetic energy is > 0."""
@@ -75,15 +83,21 @@ def tolerance(mech, name: str, peak: float, omega: float, force_scale: float = 0
     return TORQUE_TOL * max(peak, TORQUE_FLOOR * force_scale)
 
 
+def reference_rate(mech) -> float:
+    """[1/s] The fastest of the inputs' REFERENCE_RATE."""
+    return max(REFERENCE_RATE[i.kind] for i in mech.inputs)
+
+
 def force_scale(built, name: str, omega: float) -> float:
     """The inertial scale of drive force ``name`` (``tauL``): sum over the links of (m L^2 + I) Omega^2 for
-    a crank (N m), over L for a slider (N), from the compiled model's masses."""
+    a crank (N m), over L for a slider (N), from the compiled model's masses; Omega at least the
+    :func:`reference_rate` (see REFERENCE_RATE)."""
     from sim.model import body_inertias
     mech = built.mech
     L = mech.size
     inertia = sum(b.m * L * L + b.I for b in body_inertias(built.model, mech.links).values())
     slider = any(i.kind == "slider" and name == "tau" + i.link for i in mech.inputs)
-    return inertia * omega ** 2 / (L if slider else 1.0)
+    return inertia * max(omega, reference_rate(mech)) ** 2 / (L if slider else 1.0)
 
 
 @dataclass(frozen=True)
@@ -211,7 +225,8 @@ def work_balance(tr: Trajectory, built) -> float:
     total = np.concatenate([[0.0], np.cumsum(work)])
     kinetic, potential = energies(built, tr)
     energy = kinetic + potential
-    scale = work_scale(kinetic)
+    slow = reference_rate(mech) / motion_scale(mech)          # the peak kinetic energy at the reference speed
+    scale = max(work_scale(kinetic), WORK_FLOOR * float(np.max(np.abs(kinetic))) * max(slow, 1.0) ** 2)
     revs = max(1.0, tr.t[-1] / mech.duration(1.0))
     return float(np.max(np.abs(total - (energy - energy[0]))) / scale / revs)
 
@@ -322,7 +337,7 @@ def table(c: Comparison, size: float, display=None, output_point: str | None = N
                  f"{display.convert('length', c.max_loop_violation):.3e} {length} "
                  f"(tol {display.convert('length', LOOP_TOL * size):.1e})")
     lines.append(f"  work balance {c.work_balance:.3e} of the kinetic-energy swing (at least {WORK_FLOOR:.0e} of its "
-                 f"peak) per revolution (tol {WORK_TOL:.0e})")
+                 f"peak at the reference speed) per revolution (tol {WORK_TOL:.0e})")
     if c.change_points:
         first = next(iter(tr.inputs))
         crank = first.startswith("phi")
