@@ -375,8 +375,13 @@ def prepare(mech: Mechanism, revolutions: float, input_range=None) -> Mechanism:
         lo, hi = check_range(mech, *input_range)
         mech = mech.rocking(lo, hi)
         q = np.linspace(lo, hi, 721)
-        if len(mech.inputs) > 1:
-            q = np.column_stack([q] + [np.full_like(q, i.motion.q0) for i in mech.inputs[1:]])
+        if len(mech.inputs) > 1:                  # the others move as the run moves them: check those poses
+            q = mech.drive(np.linspace(0.0, mech.duration(revolutions), 2001))[0]
+            try:
+                mech.check_assembles(q)
+            except ParameterError as exc:
+                raise ParameterError(f"{exc}; while the first input rocks, the others keep their own motion "
+                                     f"(give one omega = 0 in the file to hold it at its start)") from None
         mech.check_assembles(q)
         check_fold(mech)
         return mech

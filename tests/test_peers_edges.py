@@ -124,3 +124,21 @@ def test_a_slow_slider_is_judged_against_the_forces_of_its_reference_speed():
     assert e["peak"] < 1e-6                                          # a vanishing force: N
     assert e["tol"] > 10 * 5e-3 * e["peak"]                          # the floor binds, not 0.5 % of the peak
     assert c.passed
+
+
+# ------------------------------------------------------------------- a rocking run with several inputs
+def test_a_rocking_run_checks_the_poses_its_other_inputs_move_through():
+    """Pyslvs' arm has two inputs; rocking the first while the second turned passed the range check (which held
+    the second) and then failed inside the simulation ("cannot be assembled over the whole run"). The check
+    now drives every input as the run does, and says how to hold one. Two cranks 30 long on pivots 100 apart
+    with a pair 2 x 58.31: with the second crank pointing away (J3 = (130, 0)) and the first up, |J2 J3| =
+    sqrt(130^2 + 30^2) = 133.4 > 116.6: no pose (hand geometry)."""
+    m = mech_of("two_crank_fivebar.txt", [(0, 2), (1, 3)])
+    rng = (math.radians(80.0), math.radians(100.0))
+    with pytest.raises(ParameterError, match=r"cannot be assembled at .*others keep their own motion .*omega = 0"):
+        service.prepare(m, 1.0, rng)
+    data = foreign.read(EXAMPLES / "two_crank_fivebar.txt", [(0, 2), (1, 3)])
+    data["inputs"][1]["omega"] = 0.0                                  # the second held, as Pyslvs sweeps them
+    from analytic.format import linkfile
+    held = analytic.registry.Mechanism.from_definition(linkfile.from_data(data, "h", "h"), {})
+    service.prepare(held, 1.0, rng)                                   # every pose of that run assembles
