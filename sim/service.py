@@ -389,8 +389,8 @@ def prepare(mech: Mechanism, revolutions: float, input_range=None) -> Mechanism:
     check_turns_fully(mech)
     check_singular(mech)
     t = np.linspace(0.0, mech.duration(min(revolutions, 1.0) if len(mech.inputs) == 1 else revolutions), 2001)
+    check_folded_change_points(mech, mech.drive(t)[0][:, 0])      # before a sample that lands on one
     mech.check_assembles(mech.drive(t)[0])
-    check_folded_change_points(mech, mech.drive(t)[0][:, 0])
     return mech
 
 

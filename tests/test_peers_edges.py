@@ -142,3 +142,28 @@ def test_a_rocking_run_checks_the_poses_its_other_inputs_move_through():
     from analytic.format import linkfile
     held = analytic.registry.Mechanism.from_definition(linkfile.from_data(data, "h", "h"), {})
     service.prepare(held, 1.0, rng)                                   # every pose of that run assembles
+
+
+@pytest.mark.slow
+def test_the_peers_benchmark_drives_our_edge_files_as_the_sources_do(tmp_path):
+    """benchmarks/peers.py on our three files: the rhombus rocked between its change points, the block between its
+    stroke's end and its folded change point, the five-bar's cranks each in turn with the other held."""
+    import shutil
+    import subprocess
+    import sys
+    from pathlib import Path
+    for name in ("rhombus.txt", "block_over_pivot.txt", "two_crank_fivebar.txt"):
+        shutil.copy(EXAMPLES / name, tmp_path / name)
+    out = tmp_path / "rows.json"
+    bench = Path(__file__).resolve().parent.parent / "benchmarks" / "peers.py"
+    done = subprocess.run([sys.executable, str(bench), "--pyslvs", str(tmp_path), "--json", str(out)],
+                          capture_output=True, text=True, timeout=600)
+    assert done.returncode == 0, done.stderr
+    import json
+    rows = {r["example"]: r for r in json.loads(out.read_text())}
+    assert all(r["compare"] == "passed" for r in rows.values()), rows
+    assert "between change points" in rows["rhombus.txt"]["reason"]
+    lo, hi = (float(x) for x in rows["rhombus.txt"]["reason"].split("rocking ")[1].split(" deg")[0].split(" to "))
+    assert 0.0 < lo < 90.0 < hi < 180.0                              # around the drawn 90 deg, inside (0, 180)
+    assert "between change points" in rows["block_over_pivot.txt"]["reason"]
+    assert rows["two_crank_fivebar.txt"]["reason"].count("the others held: passed") == 2
