@@ -167,3 +167,21 @@ def test_the_peers_benchmark_drives_our_edge_files_as_the_sources_do(tmp_path):
     assert 0.0 < lo < 90.0 < hi < 180.0                              # around the drawn 90 deg, inside (0, 180)
     assert "between change points" in rows["block_over_pivot.txt"]["reason"]
     assert rows["two_crank_fivebar.txt"]["reason"].count("the others held: passed") == 2
+
+
+def test_a_slider_rocks_at_its_speed_over_the_size():
+    """A rocking slider's frequency is its speed over the mechanism's size (a crank's is its speed): the block
+    over the pivot (size 50 mm: its longest pin-to-pin link, rod J0-J2 and rocker J1-J2, hand geometry) at its
+    default 100 mm/s rocks once in 2 pi x 50 / 100 = pi s, its peak speed amp x v / size. It rocked at v read as
+    rad/s: 0.1 rad/s, once a minute, 20 x too slow; at the old default 0.1 mm/s once in 17 hours, its forces
+    down at MuJoCo's noise."""
+    m = mech_of("block_over_pivot.txt", [(0, 0)])
+    assert m.size == pytest.approx(0.05, rel=1e-12)
+    assert m.inputs[0].motion.rate == pytest.approx(0.1, rel=1e-12)
+    lo, hi = -0.03, 0.05
+    r = m.rocking(lo, hi)
+    assert r.duration(1.0) == pytest.approx(math.pi, rel=1e-12)
+    t = np.linspace(0.0, r.duration(1.0), 2001)
+    q, qd, _ = r.drive(t)
+    assert q[0, 0] == pytest.approx(lo) and np.max(q) == pytest.approx(hi, abs=1e-9)
+    assert np.max(np.abs(qd)) == pytest.approx((hi - lo) / 2 * 0.1 / 0.05, rel=1e-5)   # amp v / size, m/s
