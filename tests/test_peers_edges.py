@@ -124,6 +124,10 @@ def test_a_slow_slider_is_judged_against_the_forces_of_its_reference_speed():
     assert e["peak"] < 1e-6                                          # a vanishing force: N
     assert e["tol"] > 10 * 5e-3 * e["peak"]                          # the floor binds, not 0.5 % of the peak
     assert c.passed
+    # rocked over most of its stroke as the sources drive it, at 0.1 mm/s: the joint forces (3e-8 N) too
+    _, c = service.compare(slow, 1.0, input_range=(-0.03, 0.05))
+    assert c.forces is not None and c.forces.peak < 1e-6 and c.forces.floor > 100 * c.forces.peak
+    assert c.passed, c.forces.line()
 
 
 # ------------------------------------------------------------------- a rocking run with several inputs

@@ -10,12 +10,12 @@ parallelogram's coupler) is not judged against zero. Each constant says which er
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from sim.model import motion_scale
+from sim.model.timestep import reference_rate
 from sim.run import forces as joint_forces
 from sim.run.simulate import Trajectory, energies
 from sim.output.units import output_kind
@@ -46,21 +46,15 @@ TORQUE_FLOOR = 1e-3
 drive force is judged against: a force that stays at rounding level (a parallelogram's at constant speed:
 its kinetic energy is constant) is not judged against its own noise. The library's peaks are 0.018-0.70
 of that scale, so the floor never binds for a force that does work."""
-REFERENCE_RATE = {"crank": 2 * math.pi, "slider": 1.0}
-"""[1/s] The motion the force and work floors are taken at, whatever the run's speed: the inputs' default
-speeds, a crank's one turn per second and a slider's one size per second (a slider's rate is its speed over
-the size). A run slower than that keeps the floors it would have there: its drive forces fall as the speed
-squared (a slider at 0.1 mm/s in a 70 mm mechanism: 1e-8 N) while MuJoCo's constraint solver leaves a residual
-that falls only about linearly (measured on Pyslvs' slider lifter: 2 % of the drive force at 0.1 mm/s, 0.2 % at
-7 mm/s), so a floor taken at the run's own speed meets that noise."""
 WORK_TOL = 1e-3
 """[of the work scale (see WORK_FLOOR), per revolution] 4-point Gauss quadrature of the drive power over
 each step (exact for the interpolated motion) against MuJoCo's energy; what is left is RK4's energy error."""
 WORK_FLOOR = 1e-5
-"""[of the peak kinetic energy, at least at the reference speed (REFERENCE_RATE)] the least work scale: the work balance is measured against the
-kinetic-energy swing, or against this share of the peak kinetic energy where the swing is smaller (a lone
-crank at constant speed swings by 3e-14 of its peak: the rounding of the energy sums, ~ steps x 1e-16 of
-it, would be all there is to measure). Never zero: a driven input moves, so its kinetic energy is > 0."""
+"""[of the peak kinetic energy, at least at the reference speed: sim.model.timestep.REFERENCE_RATE] the least
+work scale: the work balance is measured against the kinetic-energy swing, or against this share of the peak
+kinetic energy where the swing is smaller (a lone crank at constant speed swings by 3e-14 of its peak: the
+rounding of the energy sums, ~ steps x 1e-16 of it, would be all there is to measure). Never zero: a driven
+input moves, so its kinetic energy is > 0."""
 
 
 def tolerance(mech, name: str, peak: float, omega: float, force_scale: float = 0.0) -> float:
@@ -83,15 +77,10 @@ def tolerance(mech, name: str, peak: float, omega: float, force_scale: float = 0
     return TORQUE_TOL * max(peak, TORQUE_FLOOR * force_scale)
 
 
-def reference_rate(mech) -> float:
-    """[1/s] The fastest of the inputs' REFERENCE_RATE."""
-    return max(REFERENCE_RATE[i.kind] for i in mech.inputs)
-
-
 def force_scale(built, name: str, omega: float) -> float:
     """The inertial scale of drive force ``name`` (``tauL``): sum over the links of (m L^2 + I) Omega^2 for
     a crank (N m), over L for a slider (N), from the compiled model's masses; Omega at least the
-    :func:`reference_rate` (see REFERENCE_RATE)."""
+    reference speed (sim.model.timestep.REFERENCE_RATE)."""
     from sim.model import body_inertias
     mech = built.mech
     L = mech.size
