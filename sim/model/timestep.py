@@ -156,7 +156,8 @@ def motion_scale(mech) -> float:
 
 
 REFERENCE_RATE = {"crank": 2 * math.pi, "slider": 1.0}
-"""[1/s] The motion the force and work floors are taken at, whatever the run's speed: the inputs' default
+"""[1/s] The motion the drive-force and joint-force floors (sim.run.compare.TORQUE_FLOOR,
+sim.run.forces.JOINT_FLOOR) are taken at, whatever the run's speed: the inputs' default
 speeds, a crank's one turn per second and a slider's one size per second (a slider's rate is its speed over
 the size). A run slower than that keeps the floors it would have there: its drive forces fall as the speed
 squared (a slider at 0.1 mm/s in a 70 mm mechanism: 1e-8 N) while MuJoCo's constraint solver leaves a residual

@@ -42,19 +42,19 @@ TORQUE_TOL = 5e-3
 step's start against inverse dynamics: the constraint solver's residual (~1e-8 of the constraint force)
 is all that separates them."""
 TORQUE_FLOOR = 1e-3
-"""[of the inertial drive-force scale sum_k (m_k L^2 + I_k) Omega^2 (a slider's: over L)] the least peak a
-drive force is judged against: a force that stays at rounding level (a parallelogram's at constant speed:
+"""[of the inertial drive-force scale sum_k (m_k L^2 + I_k) Omega^2 (a slider's: over L), Omega the run's speed
+or the reference speed, sim.model.timestep.REFERENCE_RATE, whichever is faster] the least peak a drive force is
+judged against: a force that stays at rounding level (a parallelogram's at constant speed:
 its kinetic energy is constant) is not judged against its own noise. The library's peaks are 0.018-0.70
 of that scale, so the floor never binds for a force that does work."""
 WORK_TOL = 1e-3
 """[of the work scale (see WORK_FLOOR), per revolution] 4-point Gauss quadrature of the drive power over
 each step (exact for the interpolated motion) against MuJoCo's energy; what is left is RK4's energy error."""
 WORK_FLOOR = 1e-5
-"""[of the peak kinetic energy, at least at the reference speed: sim.model.timestep.REFERENCE_RATE] the least
-work scale: the work balance is measured against the kinetic-energy swing, or against this share of the peak
-kinetic energy where the swing is smaller (a lone crank at constant speed swings by 3e-14 of its peak: the
-rounding of the energy sums, ~ steps x 1e-16 of it, would be all there is to measure). Never zero: a driven
-input moves, so its kinetic energy is > 0."""
+"""[of the peak kinetic energy] the least work scale: the work balance is measured against the
+kinetic-energy swing, or against this share of the peak kinetic energy where the swing is smaller (a lone
+crank at constant speed swings by 3e-14 of its peak: the rounding of the energy sums, ~ steps x 1e-16 of
+it, would be all there is to measure). Never zero: a driven input moves, so its kinetic energy is > 0."""
 
 
 def tolerance(mech, name: str, peak: float, omega: float, force_scale: float = 0.0) -> float:
@@ -214,8 +214,7 @@ def work_balance(tr: Trajectory, built) -> float:
     total = np.concatenate([[0.0], np.cumsum(work)])
     kinetic, potential = energies(built, tr)
     energy = kinetic + potential
-    slow = reference_rate(mech) / motion_scale(mech)          # the peak kinetic energy at the reference speed
-    scale = max(work_scale(kinetic), WORK_FLOOR * float(np.max(np.abs(kinetic))) * max(slow, 1.0) ** 2)
+    scale = work_scale(kinetic)
     revs = max(1.0, tr.t[-1] / mech.duration(1.0))
     return float(np.max(np.abs(total - (energy - energy[0]))) / scale / revs)
 
@@ -326,7 +325,7 @@ def table(c: Comparison, size: float, display=None, output_point: str | None = N
                  f"{display.convert('length', c.max_loop_violation):.3e} {length} "
                  f"(tol {display.convert('length', LOOP_TOL * size):.1e})")
     lines.append(f"  work balance {c.work_balance:.3e} of the kinetic-energy swing (at least {WORK_FLOOR:.0e} of its "
-                 f"peak at the reference speed) per revolution (tol {WORK_TOL:.0e})")
+                 f"peak) per revolution (tol {WORK_TOL:.0e})")
     if c.change_points:
         first = next(iter(tr.inputs))
         crank = first.startswith("phi")
