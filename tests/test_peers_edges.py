@@ -189,3 +189,24 @@ def test_a_slider_rocks_at_its_speed_over_the_size():
     q, qd, _ = r.drive(t)
     assert q[0, 0] == pytest.approx(lo) and np.max(q) == pytest.approx(hi, abs=1e-9)
     assert np.max(np.abs(qd)) == pytest.approx((hi - lo) / 2 * 0.1 / 0.05, rel=1e-5)   # amp v / size, m/s
+
+
+def test_the_benchmark_rocking_window_keeps_the_drawn_start_inside(tmp_path):
+    """The rhombus drawn at 175 deg, 5 deg short of its change point at 180 (J2 = 80 (cos 175, sin 175), J3 = J2 +
+    (80, 0): hand geometry): the window between its change points 0 and 180 keeps 10 % clear of each except on the
+    start's side, where it keeps half the start's distance (PMKS' rprp is drawn 1 deg from its singular pose;
+    the window was 18-162 deg, leaving out the pose the source starts from)."""
+    import importlib.util
+    from pathlib import Path
+    spec = importlib.util.spec_from_file_location(
+        "peers_bench", Path(__file__).resolve().parent.parent / "benchmarks" / "peers.py")
+    bench = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(bench)
+    c, s = math.cos(math.radians(175.0)), math.sin(math.radians(175.0))
+    (tmp_path / "r175.txt").write_text(
+        f"M[J[R, P[0, 0], L[ground, crank]], J[R, P[80, 0], L[ground, rocker]], "
+        f"J[R, P[{80 * c!r}, {80 * s!r}], L[crank, coupler]], J[R, P[{80 * c + 80!r}, {80 * s!r}], L[coupler, rocker]]]")
+    m = analytic.registry.Mechanism.from_definition(foreign.definition(tmp_path / "r175.txt", [(0, 2)]), {})
+    lo, hi = (math.degrees(x) for x in bench.window(m))
+    assert lo == pytest.approx(18.0, abs=1e-3)                      # 10 % of 180 deg clear of the change point at 0
+    assert hi == pytest.approx(177.5, abs=1e-3)                     # half of the start's 5 deg to 180
