@@ -125,8 +125,9 @@ class Mechanism:
             motion = Motion(e[q0], e[rate], e[accel])
             names = tuple(_param_name(e_def.fields[f]) for f in kind.motion_fields)
             out.append(Input(kind.input_kind, e["link"], e["point"], kind.input_joint(e), motion, names))
-        if self.rock is not None:
-            out[0] = replace(out[0], motion=replace(out[0].motion, rock=self.rock, q0=self.rock[0]))
+        if self.rock is not None:                  # a slider rocks at |v| / size rad/s: its rate over the size
+            rate = out[0].motion.rate / (self.size if out[0].kind == "slider" else 1.0)
+            out[0] = replace(out[0], motion=replace(out[0].motion, rock=self.rock, q0=self.rock[0], rate=rate))
         return tuple(out)
 
     @property

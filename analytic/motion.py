@@ -14,7 +14,9 @@ from analytic._common import ParameterError
 @dataclass(frozen=True)
 class Motion:
     """The one motion law of a driven input: q(t) = q0 + rate t + accel t^2 / 2 (SPEC), or, with
-    ``rock = (lo, hi)``, a rocking drive q(t) = mid - amp cos(|rate| t) that starts at rest at ``lo``."""
+    ``rock = (lo, hi)``, a rocking drive q(t) = mid - amp cos(|rate| t) that starts at rest at ``lo``
+    (``rate`` then a frequency [rad/s]: a crank's own speed, a slider's speed over the mechanism's size, set by
+    ``Mechanism.inputs``)."""
 
     q0: float
     rate: float

@@ -6,9 +6,11 @@ For every file in the given folders (default: the research copies under /tmp/res
 exist; the examples are never part of this repository): import it as ``linkage import`` would, solve it at
 the source's own input values and measure how far each source point lies from where the source draws it
 (relative to the mechanism's size; the goal is 1e-6), then run ``linkage compare`` (MuJoCo against the
-analytic solution) over a turn of the input, or, where the input cannot turn fully or passes a change
-point, rocking between the limits around its start (10 % clear of each). A file that is refused is listed
-with the one line the tool gives.
+analytic solution) over a turn of the input (a slider: one second at its default speed, the mechanism's size),
+or, where the input cannot turn fully, passes a singular pose or a change point where a dyad's pivots meet (the
+sources stop at all of these), rocking between the limits around its start (10 % clear of each, the start
+always inside). Several inputs are driven as Pyslvs drives them: each in turn, the others held at their
+start. A file that is refused is listed with the one line the tool gives.
 
 Pyslvs' bare expressions carry no inputs: they are read from a comment ``# inputs (base, driver): [...]``
 (the research copies have one), or for the synthesis collections from ``classification.json`` beside the
@@ -59,37 +61,47 @@ def reason_class(msg: str) -> str:
 
 
 def window(m: Mechanism) -> tuple[float, float] | None:
-    """The first input's rocking range around its start: between the nearest limits or change points."""
+    """The first input's rocking range around its start: between the nearest limits or change points (the
+    source drives it until it stops there), MARGIN of the width clear of each, but never past the start (a
+    start near a limit is kept, at half its distance from it)."""
     q0 = m.inputs[0].motion.q0
+    crank = m.inputs[0].kind == "crank"
     ranges = figures.assembly_ranges(m)
     full = figures.turns_fully(m, ranges)
+    turn = 2 * math.pi if crank else 0.0
     cands = [x for x, _, _ in figures.singular_poses(m)]
     if not full:
-        cands += [e for r in ranges for e in r if abs(e - q0) > 1e-9 and abs(e - q0 - 2 * math.pi) > 1e-9]
-    cands = [c + k * 2 * math.pi for c in cands for k in (-1, 0, 1)]
+        cands += [e for r in ranges for e in r if abs(e - q0) > 1e-9 and abs(e - q0 - turn) > 1e-9]
+    cands = [c + k * turn for c in cands for k in ((-1, 0, 1) if crank else (0,))]
     tiny = 1e-9
     below = [c for c in cands if c <= q0 + tiny]
     above = [c for c in cands if c > q0 + tiny]
     if not below or not above:
         return None
     lo, hi = max(below), min(above)
-    if not full and not any(a - tiny <= (lo + hi) / 2 - 2 * math.pi * k <= b + tiny
-                            for a, b in ranges for k in (-1, 0, 1)):
+    if not full and not any(a - tiny <= (lo + hi) / 2 - turn * k <= b + tiny
+                            for a, b in ranges for k in ((-1, 0, 1) if crank else (0,))):
         return None
     pad = MARGIN * (hi - lo)
-    return lo + pad, hi - pad
+    lo_pad = pad if q0 - lo > 2 * pad else 0.5 * (q0 - lo)
+    hi_pad = pad if hi - q0 > 2 * pad else 0.5 * (hi - q0)
+    return lo + lo_pad, hi - hi_pad
+
+
+REFUSALS = ("cannot turn fully", "singular pose", "cannot be assembled", " meet (")
+"""The refusals of a run over a turn (a slider: one second) after which it is rocked in :func:`window`."""
 
 
 def run_compare(m: Mechanism) -> tuple[str, str, tuple[float, float] | None]:
-    """(verdict, note, rocking range or None) of ``linkage compare`` over a turn, or rocking in a window
-    where the input cannot turn."""
+    """(verdict, note, rocking range or None) of ``linkage compare`` over a turn (a slider: a second at its
+    default speed), or rocking in a window where the input cannot turn or passes a change point where the
+    dyad's known points meet (the sources stop there)."""
     try:
         _, c = service.compare(m, 1.0)
         return ("passed", "", None) if c.passed else ("FAILED", finer(m, None)[2:], None)
     except ParameterError as exc:
         msg = str(exc)
-        if not (m.inputs[0].kind == "crank" and (
-                "cannot turn fully" in msg or "singular pose" in msg or "cannot be assembled" in msg)):
+        if not any(r in msg for r in REFUSALS):
             return "not run", msg, None
     rng = window(m)
     if rng is None:
@@ -98,7 +110,13 @@ def run_compare(m: Mechanism) -> tuple[str, str, tuple[float, float] | None]:
         _, c = service.compare(m, 1.0, input_range=rng)
     except ParameterError as exc:
         return "not run", str(exc), None
-    note = f"rocking {math.degrees(rng[0]):.1f} to {math.degrees(rng[1]):.1f} deg"
+    first = m.inputs[0]
+    if first.kind == "crank":
+        note = f"rocking {math.degrees(rng[0]):.1f} to {math.degrees(rng[1]):.1f} deg"
+    else:
+        note = f"rocking {rng[0] / m.scale:.4g} to {rng[1] / m.scale:.4g} {m.units}"
+    if " meet (" in msg:
+        note += " (between change points: a full run passes one where a dyad's pivots meet, where the source stops)"
     if not c.passed:
         note += finer(m, rng)
     return ("passed" if c.passed else "FAILED"), note, rng
@@ -149,14 +167,22 @@ def row_for(collection: str, path: Path, inputs, compare: bool) -> dict:
         return row
     row["status"] = "imported"
     row["pose"] = pose_error(m, data["pose"])
-    if compare:
+    if compare and len(m.inputs) == 1:
         row["compare"], row["reason"], _ = run_compare(m)
-        if row["compare"] == "not run" and len(m.inputs) > 1:      # the inputs together: hold all but the first
-            for item in data["inputs"][1:]:
+    elif compare:                          # as Pyslvs drives them: each input in turn, the others held
+        verdicts, notes = [], []
+        for k in range(len(m.inputs)):
+            items = [dict(x) for x in data["inputs"]]
+            items = [items[k]] + items[:k] + items[k + 1:]
+            for item in items[1:]:
                 item.update({"omega": 0.0} if item["kind"] == "crank" else {"v": 0.0})
-            held = Mechanism.from_definition(linkfile.from_data(data, str(path), path.stem), {})
-            row["compare"], note, _ = run_compare(held)
-            row["reason"] = f"inputs after the first held; {note}".rstrip("; ")
+            held = Mechanism.from_definition(linkfile.from_data({**data, "inputs": items}, str(path), path.stem), {})
+            verdict, note, _ = run_compare(held)
+            verdicts.append(verdict)
+            notes.append(f"input {k + 1} ({held.inputs[0].q}), the others held: {verdict}{'; ' + note if note else ''}")
+        row["compare"] = ("passed" if all(v == "passed" for v in verdicts) else
+                          "FAILED" if "FAILED" in verdicts else "not run")
+        row["reason"] = " | ".join(notes)
     return row
 
 

@@ -375,8 +375,13 @@ def prepare(mech: Mechanism, revolutions: float, input_range=None) -> Mechanism:
         lo, hi = check_range(mech, *input_range)
         mech = mech.rocking(lo, hi)
         q = np.linspace(lo, hi, 721)
-        if len(mech.inputs) > 1:
-            q = np.column_stack([q] + [np.full_like(q, i.motion.q0) for i in mech.inputs[1:]])
+        if len(mech.inputs) > 1:                  # the others move as the run moves them: check those poses
+            q = mech.drive(np.linspace(0.0, mech.duration(revolutions), 2001))[0]
+            try:
+                mech.check_assembles(q)
+            except ParameterError as exc:
+                raise ParameterError(f"{exc}; while the first input rocks, the others keep their own motion "
+                                     f"(give one omega = 0 in the file to hold it at its start)") from None
         mech.check_assembles(q)
         check_fold(mech)
         return mech
@@ -384,8 +389,29 @@ def prepare(mech: Mechanism, revolutions: float, input_range=None) -> Mechanism:
     check_turns_fully(mech)
     check_singular(mech)
     t = np.linspace(0.0, mech.duration(min(revolutions, 1.0) if len(mech.inputs) == 1 else revolutions), 2001)
+    check_folded_change_points(mech, mech.drive(t)[0][:, 0])      # before a sample that lands on one
     mech.check_assembles(mech.drive(t)[0])
     return mech
+
+
+def check_folded_change_points(mech: Mechanism, q1: np.ndarray) -> None:
+    """Refuse a run whose first input (values ``q1``) passes a change point where a dyad's known points meet
+    (:func:`analytic.solver.change_points.folded`), naming it and the change points to run between."""
+    from analytic.solver.change_points import folded
+    first = mech.inputs[0]
+    hit = [f for f in folded(mech) if _visited(first, q1, f[0])]
+    if not hit:
+        return
+    x, label, p, q = hit[0]
+
+    def fmt(v):
+        return f"{math.degrees(v) % 360:.2f}deg" if first.kind == "crank" else f"{v / mech.scale:.6g} {mech.units}"
+    shown = sorted((math.degrees(v) % 360 if first.kind == "crank" else v, fmt(v)) for v in change_points(mech))
+    every = ", ".join(f for _, f in shown)
+    raise ParameterError(f"the {mech.name} passes a change point at {first.q}={fmt(x)} where {p} and {q} meet "
+                         f"({label}: both links turn about one point there and fold onto each other, free to turn "
+                         f"together; Pyslvs' solver stops there too): the simulation cannot carry it through; run it "
+                         f"between two of its change points ({every}) with --input-range")
 
 
 def check_fold(mech: Mechanism) -> None:

@@ -9,7 +9,8 @@ Point names are the source's joints ``J0``, ``J1``, ... (neither tool names its 
 source's (``ground`` stays ``ground``; PMKS' spellings of the ground become ``ground``; characters a name
 cannot hold become ``_``; a pin-in-slot joint ``Jn`` adds its block ``Jn_block``). Neither format has units:
 the file's unit is ``mm`` unless told otherwise. Inputs move at the format's defaults: a crank one turn
-per second (``omega = "360deg"``), a slider a tenth of the mechanism's size per second.
+per second (``omega = "360deg"``), a slider the mechanism's size per second
+(:func:`analytic.format.joints.default_slider_speed`).
 """
 
 from __future__ import annotations
@@ -125,7 +126,7 @@ def read(path: str | Path, inputs: list[tuple[int, int]] | None = None, units: s
     size = _size(form)
     for item in form["inputs"]:
         if item["kind"] == "slider":
-            item["v"] = float(f"{0.1 * size:.3g}")
+            item["v"] = joints.default_slider_speed(size)
         else:
             item["omega"] = joints.DEFAULT_OMEGA
     out = {"format": "linkage/1", "name": _name(p.stem), "units": units,

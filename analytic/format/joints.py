@@ -52,6 +52,13 @@ SINGULAR = 1e-9    # a pose within this fraction of the size of a dead centre ha
 RIGID = 1e-6       # a given length may differ from the pose by this fraction of the size (poses are written
 #                    with about 7 significant digits; the same bound as the peers' pose reproduction)
 DEFAULT_OMEGA = "360deg"
+
+
+def default_slider_speed(size: float) -> float:
+    """A driven slider's default speed [file units / s]: the mechanism's size (the largest distance between two
+    of its pose's points) per second, to 3 digits, so that a run of one second moves it as far as the
+    mechanism is large, in any unit (as a crank's default turns it once a second)."""
+    return float(f"{size:.3g}")
 """A crank's default speed: one turn per second."""
 
 
@@ -738,7 +745,7 @@ class _Decomposer:
                                    f"slide; remove that joint")
         self.emit({"kind": "slider", "point": point, "link": s.block,
                    "guide": {"through": self.xy(point, where), "angle": self.out(s.angle, where, "the slide angle")},
-                   "s0": 0.0, "v": item.get("v", 0.1), "a": item.get("a", 0.0)}, label)
+                   "s0": 0.0, "v": item.get("v", default_slider_speed(self.f.size)), "a": item.get("a", 0.0)}, label)
         self.placed.add(point)
         self.set_frame(s.block, point, direction(s.angle))
         self.classes.append(f"input slider {s.block} at {point}")

@@ -180,6 +180,13 @@ LIMIT_STEP = 1e-3
 Taylor expansion from the sample's rates) to take the limit: the means of the two sides at this step and
 twice it, extrapolated (Richardson), give the limit to O(step^4) = 1e-12 relative; there sin is ~1e-3,
 where the closed form's rounding is 1e-10."""
+LIMIT_WIDEN = 4
+"""A side sample whose |sin| between the links is below LIMIT_STEP / LIMIT_WIDEN is too close to the change
+point: the step first guessed from how fast the line P-Q turns (|vQ - vP| / |PQ|) is then widened by
+LIMIT_STEP / |sin| (|sin| grows linearly away from a change point), at most LIMIT_TRIES times. This matters
+where P and Q meet at the change point (a rhombus at its folded pose, a slider-lifter's block over the
+rocker's pivot): the line P-Q turns ever faster there (|PQ| -> 0) while the links part at the input's pace."""
+LIMIT_TRIES = 4
 
 
 def signs(flips: dict, q) -> np.ndarray:
@@ -208,10 +215,17 @@ def _through_change_points(e, st: State, flips: dict):
     sign = e["branch"] * signs(flips, q1)
     C_, links, mu = rrr(P, Q, a, b, sign, st.extras_wanted, FOLD_ROUNDING)
     (c1, s1, _, _), (c2, s2, _, _) = links
-    at = np.flatnonzero(np.abs(c1 * s2 - s1 * c2) < LIMIT_MEASURE)
+    apart = np.abs(c1 * s2 - s1 * c2)
+    at = np.flatnonzero((apart < LIMIT_MEASURE) | (np.isnan(apart) & _on_each_other(P, Q, a, n)))
     if at.size:
         C_, links = limit_rates(e, flips, P, Q, (q1, qd1, qdd1), C_, links, at)
     return C_, links, mu
+
+
+def _on_each_other(P, Q, a, n) -> np.ndarray:
+    """Where the known points P and Q coincide (to rounding of the size a): the closed form divides by |PQ|^2."""
+    dx, dy = (np.broadcast_to(Q[k] - P[k], (n,)) for k in (0, 1))
+    return dx * dx + dy * dy <= (1e-12 * a) ** 2
 
 
 def limit_rates(e, flips, P, Q, inputs, C_, links, at):
@@ -225,20 +239,32 @@ def limit_rates(e, flips, P, Q, inputs, C_, links, at):
     q1, qd1, qdd1 = (np.asarray(x)[at] for x in inputs)
     dx, dy = Q_[0] - P_[0], Q_[1] - P_[1]
     d = np.hypot(dx, dy)
-    rate = np.maximum(np.hypot(Q_[2] - P_[2], Q_[3] - P_[3]) / d, np.sqrt(np.hypot(Q_[4] - P_[4], Q_[5] - P_[5]) / d))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        rate = np.maximum(np.hypot(Q_[2] - P_[2], Q_[3] - P_[3]) / d, np.sqrt(np.hypot(Q_[4] - P_[4], Q_[5] - P_[5]) / d))
+    rate = np.where(np.isfinite(rate), rate, np.hypot(Q_[2] - P_[2], Q_[3] - P_[3]) / a)   # P on Q: a first guess
     moving = rate > 0
     tau = np.where(moving, LIMIT_STEP / np.where(moving, rate, 1.0), 0.0)
+
+    def side(t):
+        def ahead(X):
+            return (X[0] + X[2] * t + 0.5 * X[4] * t * t, X[1] + X[3] * t + 0.5 * X[5] * t * t,
+                    X[2] + X[4] * t, X[3] + X[5] * t, X[4], X[5])
+        sign = e["branch"] * signs(flips, q1 + qd1 * t + 0.5 * qdd1 * t * t)
+        C, (l1, l2), _ = rrr(ahead(P_), ahead(Q_), a, b, sign, False)
+        C = (C[0] - P_[0], C[1] - P_[1]) + C[2:]              # C relative to P: P moved along with the sides
+        return list(C) + list(l1) + list(l2)
+
+    for _ in range(LIMIT_TRIES):                     # widen a step whose sides are still at the change point
+        sides = [side(t) for t in (-tau, tau)]
+        apart = np.fmax(*(np.abs(x[6] * x[11] - x[7] * x[10]) for x in sides))    # the farther side's |sin|
+        grow = np.where(moving & ~(apart >= LIMIT_STEP / LIMIT_WIDEN),
+                        LIMIT_STEP / np.maximum(np.nan_to_num(apart), LIMIT_STEP * 1e-6), 1.0)
+        if not np.any(grow > 1.0):
+            break
+        tau = tau * grow
     means = []
     for k in (1.0, 2.0):                             # the means at tau and 2 tau: Richardson's extrapolation
-        sides = []
-        for t in (-k * tau, k * tau):
-            def ahead(X):
-                return (X[0] + X[2] * t + 0.5 * X[4] * t * t, X[1] + X[3] * t + 0.5 * X[5] * t * t,
-                        X[2] + X[4] * t, X[3] + X[5] * t, X[4], X[5])
-            sign = e["branch"] * signs(flips, q1 + qd1 * t + 0.5 * qdd1 * t * t)
-            C, (l1, l2), _ = rrr(ahead(P_), ahead(Q_), a, b, sign, False)
-            C = (C[0] - P_[0], C[1] - P_[1]) + C[2:]          # C relative to P: P moved along with the sides
-            sides.append(list(C) + list(l1) + list(l2))
+        sides = [side(t) for t in (-k * tau, k * tau)]
         means.append([0.5 * (x + y) for x, y in zip(*sides)])
     lim = [(4.0 * x - y) / 3.0 for x, y in zip(*means)]
     C_ = [np.array(x, dtype=float, copy=True) for x in C_]

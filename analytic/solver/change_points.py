@@ -134,3 +134,29 @@ def _change_points(mech, label: str, q: np.ndarray, m: np.ndarray, crank: bool) 
     x = 0.5 * (a + b)
     values = measure(x)
     return [float(xi) for xi, v in zip(x, values) if v < CHANGE]
+
+
+MEET = 1e-6
+"""[of the size] A change point where the dyad's two known points lie closer than this is a folded one."""
+
+
+def folded(mech) -> list[tuple[float, str, str, str]]:
+    """The scheduled change points at which the dyad's two known points meet, ``[(first input's value,
+    element label, P, Q)]``: there both links turn about one point and fold onto each other (a rhombus at
+    its flat pose, a block carried over the pivot of a rocker as long as its rod), so the loop leaves the
+    dyad free to turn about that point. The closed form follows the form kept through it (its rates the
+    limits of the motion on each side), but a simulation holds the dyad there only by its momentum, and
+    Pyslvs' and PMKS' solvers stop there (|PQ| = 0)."""
+    out = []
+    for e in mech.solving_geometry.elements:
+        flips = e.get("flips")
+        if not flips or kinds.get(e["kind"]).name != "RRR":
+            continue
+        p, q = e["from"]
+        x = np.asarray(flips["at"], dtype=float)
+        if len(mech.inputs) > 1:
+            x = np.column_stack([x] + [np.full_like(x, i.motion.q0) for i in mech.inputs[1:]])
+        sol = mech.solve(x, outputs=[f"{c}{n}" for n in (p, q) for c in "xy"])
+        gap = np.hypot(np.asarray(sol["x" + p]) - sol["x" + q], np.asarray(sol["y" + p]) - sol["y" + q])
+        out += [(float(f), e["label"], p, q) for f, g in zip(flips["at"], gap) if g < MEET * mech.size]
+    return sorted(out)

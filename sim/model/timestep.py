@@ -153,3 +153,18 @@ def motion_scale(mech) -> float:
     qd = mech.drive(t)[1]
     scales = [np.max(np.abs(qd[:, k])) / (1.0 if i.kind == "crank" else mech.size) for k, i in enumerate(mech.inputs)]
     return float(max(scales))
+
+
+REFERENCE_RATE = {"crank": 2 * math.pi, "slider": 1.0}
+"""[1/s] The motion the drive-force and joint-force floors (sim.run.compare.TORQUE_FLOOR,
+sim.run.forces.JOINT_FLOOR) are taken at, whatever the run's speed: the inputs' default
+speeds, a crank's one turn per second and a slider's one size per second (a slider's rate is its speed over
+the size). A run slower than that keeps the floors it would have there: its drive forces fall as the speed
+squared (a slider at 0.1 mm/s in a 70 mm mechanism: 1e-8 N) while MuJoCo's constraint solver leaves a residual
+that falls only about linearly (measured on Pyslvs' slider lifter: 2 % of the drive force at 0.1 mm/s, 0.2 % at
+7 mm/s), so a floor taken at the run's own speed meets that noise."""
+
+
+def reference_rate(mech) -> float:
+    """[1/s] The fastest of the inputs' REFERENCE_RATE."""
+    return max(REFERENCE_RATE[i.kind] for i in mech.inputs)

@@ -53,6 +53,14 @@ sim.model.REGULARIZATION_SCALE (larger only near a singular pose). Couples, driv
 are judged against the peak joint force times the size L (the scale of a moment), a drive also against its
 own peak where that is larger."""
 
+JOINT_FLOOR = 1e-3
+"""[of the links' inertial force scale sum_k m_k L Omega^2, Omega at least sim.model.timestep.REFERENCE_RATE]
+the least scale the joint forces are judged against (FORCE_TOL of it): a run far slower than the reference
+speed has joint forces falling as the speed squared while MuJoCo's residual falls about linearly (PMKS'
+slider_input rocked at 0.1 mm/s: 5e-3 of its 2.6e-8 N peak, 1.3e-10 N); at their default speeds the
+library's peaks are 0.26-5.6 of the scale (fourbar 0.45, slider_crank 0.26, whitworth 2.8, jansen 5.6,
+sixbar 0.33, fivebar 0.39, peaucellier 0.27), so there the floor never binds."""
+
 IDENTITY_TOL = 1e-8
 """[of a drive's scale (as FORCE_TOL's)] the Newton-Euler drive against the power balance
 (analytic/applications/torque.py) at the same inputs: two eliminations of the same equations, whose rounding
@@ -384,15 +392,20 @@ class Agreement:
     identity: float = 0.0
     """The largest Newton-Euler vs power-balance drive difference, as a share of its scale."""
     passed: bool = False
+    floor: float = 0.0
+    """[N] The least scale (see JOINT_FLOOR); the shares are of max(peak, floor)."""
 
     def as_dict(self) -> dict:
         return {"peak": self.peak, "joints": self.joints, "drives": self.drives, "couplings": list(self.couplings),
                 "shaking": self.shaking, "worst": self.worst, "worst_of": self.worst_of, "median": self.median,
-                "tol": self.tol, "identity": self.identity, "identity_tol": IDENTITY_TOL, "passed": self.passed}
+                "tol": self.tol, "identity": self.identity, "identity_tol": IDENTITY_TOL, "passed": self.passed,
+                "floor": self.floor}
 
     def line(self) -> str:
         """One line for a table: the worst share, where, the median and the tolerance."""
-        return (f"joint forces vs MuJoCo: worst {self.worst:.2e} of the peak {self.peak:.4g} N ({self.worst_of}), "
+        of = (f"the peak {self.peak:.4g} N" if self.peak >= self.floor else
+              f"the floor {self.floor:.4g} N (the reference speed's inertial forces; peak {self.peak:.4g} N)")
+        return (f"joint forces vs MuJoCo: worst {self.worst:.2e} of {of} ({self.worst_of}), "
                 f"median {self.median:.2e} (tol {self.tol:.0e}); drive Newton-Euler vs power balance "
                 f"{self.identity:.1e}")
 
@@ -439,14 +452,14 @@ def away_from_reversals(built, tr, steps) -> np.ndarray | None:
     return keep if keep.any() else None
 
 
-def agreement(mech, mj: F.Forces, an: F.Forces, power: dict, keep=None) -> Agreement:
+def agreement(mech, mj: F.Forces, an: F.Forces, power: dict, keep=None, floor: float = 0.0) -> Agreement:
     """Compare MuJoCo's forces ``mj`` with the analytic ``an`` (the same instants) and the power balance's
-    drives ``power``; every difference is judged against FORCE_TOL of its scale. ``keep``: a mask of the
-    instants to judge (None: all)."""
+    drives ``power``; every difference is judged against FORCE_TOL of its scale: the peak joint force, at
+    least ``floor`` [N] (see JOINT_FLOOR). ``keep``: a mask of the instants to judge (None: all)."""
     if keep is not None and not keep.all():
         mj, an, power = _take(mj, keep), _take(an, keep), {k: np.asarray(v)[keep] for k, v in power.items()}
     peak = F.peak(an)
-    scale = peak if peak > 0 else 1.0
+    scale = max(peak, floor) if max(peak, floor) > 0 else 1.0
     L = mech.size
     shares, joints = {}, {}
     for k, j in enumerate(an.joints):
@@ -486,7 +499,7 @@ def agreement(mech, mj: F.Forces, an: F.Forces, power: dict, keep=None) -> Agree
     median = float(np.median([joints[j.name]["share"] for j in an.joints])) if an.joints else 0.0
     passed = bool(worst <= FORCE_TOL and identity <= IDENTITY_TOL)
     return Agreement(peak, L, joints, drives, tuple(couplings), shaking, worst, worst_of, median,
-                     FORCE_TOL, identity, passed)
+                     FORCE_TOL, identity, passed, floor)
 
 
 CHANGE_WINDOW = np.radians(1.0)
@@ -522,7 +535,17 @@ def check(built, tr, steps=None) -> Agreement | None:
     steps = spread(len(tr.t)) if steps is None else np.asarray(steps, dtype=int)
     steps = away_from_change_points(mech, tr, steps)
     mj, an, _, power = both(built, tr, steps)
-    return agreement(mech, mj, an, power, away_from_reversals(built, tr, steps))
+    return agreement(mech, mj, an, power, away_from_reversals(built, tr, steps), joint_floor(built))
+
+
+def joint_floor(built) -> float:
+    """[N] JOINT_FLOOR of the links' inertial force scale at the run's speed or the reference speed, whichever
+    is faster, from the compiled model's masses."""
+    from sim.model import body_inertias, motion_scale
+    from sim.model.timestep import reference_rate
+    mech = built.mech
+    mass = sum(b.m for b in body_inertias(built.model, mech.links).values())
+    return JOINT_FLOOR * mass * mech.size * max(motion_scale(mech), reference_rate(mech)) ** 2
 
 
 def away_from_change_points(mech, tr, steps: np.ndarray) -> np.ndarray:
