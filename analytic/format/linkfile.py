@@ -33,7 +33,7 @@ LINK_NAME = re.compile(r"^[A-Za-z0-9_]+$")
 
 
 TOP_LEVEL = {"format", "name", "units", "description", "output", "parameters", "ground", "inputs", "groups",
-             "inertia", "mass"} | set(joints.FIELDS)
+             "inertia", "mass", "parts"} | set(joints.FIELDS)
 """The links-and-joints form (:mod:`.joints`) adds ``links``, ``joints`` and ``pose``."""
 
 
@@ -88,6 +88,8 @@ class Definition:
     topology: topology.Topology | None = None
     mass: dict = field(default_factory=dict)
     """The ``[mass]`` section as written (numbers in file units; see :mod:`analytic.mass`)."""
+    parts: dict = field(default_factory=dict)
+    """The ``[parts]`` section as written (file units; see :mod:`analytic.parts`)."""
 
     @property
     def scale(self) -> float:
@@ -272,9 +274,11 @@ def _check(data: dict, source: str, default_name: str) -> Definition:
             if key in ("m", "I") and not v > 0:
                 raise _fail(source, f"inertia.{lname}.{key}", f"{v!r} must be > 0")
     mass = _check_mass(data.get("mass", {}), links, source)
+    from analytic.format import parts_table
+    parts = parts_table.check(data.get("parts", {}), links, source)
     definition = Definition(name, source, units, description, dict(params), tuple(params), param_kinds,
                             {k: tuple(v) for k, v in ground.items()}, inputs, groups, order, output, inertia, topo,
-                            mass=mass)
+                            mass=mass, parts=parts)
     _check_mobility(definition)
     return definition
 
