@@ -149,3 +149,27 @@ def interference(pm: PartsModel) -> dict:
             "input": first.q, "input_unit": "deg" if first.kind == "crank" else mech.units,
             "samples": len(pm.sweep.t), "layers": dict(pm.layout.layers),
             "interference": items, "min_clearance": clear, "min_clearance_geometric": clear2d}
+
+
+# ------------------------------------------------------------------------------------------ exports
+def export(pm: PartsModel, dxf=None, svg=None, pdf=None, step=None, stl=None, bom=None) -> list[str]:
+    """Write the asked files (paths checked by the caller); returns what was written."""
+    from sim.output import parts_files
+    written = []
+    if dxf:
+        parts_files.write_dxf(pm, dxf)
+        written.append(str(dxf))
+    for path in (svg, pdf):
+        if path:
+            from sim.output import parts_drawing
+            parts_drawing.write(pm, path)
+            written.append(str(path))
+    if step:
+        parts_files.write_step(pm, step)
+        written.append(str(step))
+    if stl:
+        written += [str(p) for p in parts_files.write_stl(pm, stl)]
+    if bom:
+        parts_files.write_bom(pm, bom)
+        written.append(str(bom))
+    return written

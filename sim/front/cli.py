@@ -138,12 +138,19 @@ def cmd_list(args) -> int:
 
 def cmd_check(args) -> int:
     from analytic.applications import figures
+    from sim.front import parts_cmd
     from sim.output.units import shown_units
     mech = mechanism_from(args)
-    print(structure_report(mech, shown_units(args, mech)))
+    if args.json and not args.interference:
+        raise ParameterError("--json goes with --interference (linkage check MECH --interference --json)")
+    if not args.json:
+        print(structure_report(mech, shown_units(args, mech)))
     if len(mech.inputs) == 1 and not figures.assembly_ranges(mech):
         raise ParameterError(f"{mech.definition.source}: the mechanism assembles at no value of "
                              f"{mech.inputs[0].q}; change the lengths (see the report above)")
+    if args.interference:                          # the parts over the cycle (issue 28)
+        return parts_cmd.cmd_interference(args, mech)
+    print("\n".join(parts_cmd.layer_lines(mech, args)))
     return 0
 
 
@@ -332,10 +339,13 @@ def _plot_dynamics(args) -> int:
 
 
 def cmd_export(args) -> int:
+    from sim.front import parts_cmd
     from sim.output.io import write_text
-    if not (args.mjcf or args.toml):
-        raise ParameterError("give --mjcf PATH (the MuJoCo model) and/or --toml PATH (the mechanism file)")
+    if not (args.mjcf or args.toml or parts_cmd.wanted(args)):
+        raise ParameterError("give --mjcf PATH (the MuJoCo model), --toml PATH (the mechanism file) and/or parts: "
+                             "--dxf, --svg, --pdf, --step, --stl DIR, --bom")
     check_outputs(args, {"mjcf": (".xml",), "toml": (".toml",)})
+    parts_cmd.check_paths(args)
     mech = mechanism_from(args)
     if args.balance is not None:                   # counterweights written into the model (issue 17)
         from sim.front.forces_cmd import balance_links
@@ -346,6 +356,8 @@ def cmd_export(args) -> int:
     if args.toml:
         write_text(args.toml, service.mechanism_text(mech))
         print(f"wrote {args.toml}")
+    if parts_cmd.wanted(args):                     # link solids, drawings, bill of materials (issue 28)
+        parts_cmd.export(args, mech)
     return 0
 
 
@@ -457,6 +469,8 @@ def make_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("check", help="a mechanism's structure: links, joints, loops, mobility, solve order, range")
     add_common(p)
     add_unit_options(p)
+    from sim.front import parts_cmd
+    parts_cmd.add_check_options(p)
     p.set_defaults(func=cmd_check)
 
     p = sub.add_parser("analyze", help="closed-form kinematics over a run; summary, CSV or JSON")
@@ -517,6 +531,7 @@ def make_parser() -> argparse.ArgumentParser:
     p.add_argument("--integrator", default="rk4", help=argparse.SUPPRESS)
     p.add_argument("--balance", nargs="?", const="", default=None, metavar="LINK,LINK",
                    help="add counterweights that balance the shaking force ([mass.counterweights]; see forces)")
+    parts_cmd.add_export_options(p)
     p.set_defaults(func=cmd_export)
 
     p = sub.add_parser("run", help="the main job: simulate, cross-validate, render, plot and save")
