@@ -173,3 +173,46 @@ def export(pm: PartsModel, dxf=None, svg=None, pdf=None, step=None, stl=None, bo
         parts_files.write_bom(pm, bom)
         written.append(str(bom))
     return written
+
+
+# ------------------------------------------------------------------------------------------ mass properties
+def mass_comparison(pm: PartsModel) -> dict:
+    """Per link, in SI and the link's frame (origin its first point, x along it): the part's exact mass
+    properties (:func:`analytic.parts.model.mass_properties`), the mass model's (:func:`analytic.mass.model`,
+    what ``forces`` and ``dynamics`` use) and MuJoCo's inertia of the part's triangle mesh (the STL's solid,
+    density from the part): {link: {"parts"|"model"|"mujoco": {"m", "cx", "cy", "I"}}}."""
+    import mujoco
+
+    from analytic import mass
+    from sim.output import parts_files
+    mech = pm.mech
+    s = mech.scale
+    local = {ln: {p: tuple(np.asarray(uv) * s) for p, uv in part.points.items()} for ln, part in pm.parts.items()}
+    analytic_model = mass.model(mech, local=local)
+    spec = mujoco.MjSpec()
+    for ln, part in pm.parts.items():
+        region = parts_files.part_region(part, pm.chord)
+        mesh = parts_files.extrude(region, 0.0, part.thickness)
+        m = spec.add_mesh(name=f"m_{ln}")
+        m.uservert = (np.asarray(mesh.vertices) * s).ravel().tolist()
+        m.userface = np.asarray(mesh.faces).ravel().tolist()
+        m.inertia = mujoco.mjtMeshInertia.mjMESH_INERTIA_EXACT
+        b = spec.worldbody.add_body(name=ln)
+        b.add_freejoint()
+        b.add_geom(type=mujoco.mjtGeom.mjGEOM_MESH, meshname=f"m_{ln}", density=part.density)
+    model_mj = spec.compile()
+    data = mujoco.MjData(model_mj)
+    mujoco.mj_forward(model_mj, data)
+    out = {}
+    for ln, part in pm.parts.items():
+        mp = model.mass_properties(part, s)
+        bid = model_mj.body(ln).id
+        com = data.xipos[bid]
+        R = data.ximat[bid].reshape(3, 3)
+        inertia = R @ np.diag(model_mj.body_inertia[bid]) @ R.T
+        a = analytic_model[ln]
+        out[ln] = {"parts": {"m": mp.m, "cx": mp.cx * s, "cy": mp.cy * s, "I": mp.I},
+                   "model": {"m": a.m, "cx": a.cx, "cy": a.cy, "I": a.I},
+                   "mujoco": {"m": float(model_mj.body_mass[bid]), "cx": float(com[0]), "cy": float(com[1]),
+                              "I": float(inertia[2, 2])}}
+    return out
