@@ -110,7 +110,10 @@ def hull(discs, eps: float = 1e-12) -> tuple[Arc, ...]:
     if len(arcs) > 1 and arcs[-1].x == arcs[0].x and arcs[-1].y == arcs[0].y and arcs[-1].r == arcs[0].r:
         first, last = arcs[0], arcs[-1]
         arcs = [Arc(last.x, last.y, last.r, last.a0, first.a1 + TAU)] + arcs[1:-1]
-    return tuple(a for a in arcs if a.a1 - a.a0 > 1e-15 or a.r == 0.0)
+    # an arc of no sweep (a disc touching the hull at one point, e.g. collinear discs) is dropped: the
+    # tangents on either side are one straight line through it (a sweep below 1e-9 rad moves the boundary by
+    # less than 1e-9 of the radius)
+    return tuple(a for a in arcs if a.a1 - a.a0 > 1e-9 or a.r == 0.0)
 
 
 # ------------------------------------------------------------------------------------------ tessellation
