@@ -363,3 +363,16 @@ def test_export_cli_refuses_a_bad_path_before_writing(tmp_path, capsys):
     assert main(["export", "fourbar", "--dxf", str(out), "--bom", str(tmp_path / "nope" / "b.csv")]) == 2
     assert not out.exists()
     assert "does not exist" in capsys.readouterr().err
+
+
+def test_parts_table_survives_export_toml(tmp_path):
+    from analytic.format import linkfile
+    mech = service.load(str(_write(tmp_path, PLANTED)), {})
+    again = linkfile.parse(service.mechanism_text(mech), "again.toml")
+    assert again.parts == {"layers": {"1": 0, "2": 1, "3": 0}}
+
+
+def _write(tmp_path, text):
+    path = tmp_path / "m.toml"
+    path.write_text(text)
+    return path

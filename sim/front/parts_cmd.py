@@ -83,6 +83,13 @@ def check_paths(args) -> None:
         parent = folder.parent if str(folder.parent) else Path(".")
         if not parent.is_dir():
             raise ParameterError(f"--stl {folder}: folder {parent} does not exist; create it or choose another path")
+    from analytic.registry import LIBRARY
+    library = os.path.realpath(LIBRARY)
+    for name in (*OUTPUTS, "stl"):
+        v = getattr(args, name, None)
+        if v and (os.path.dirname(os.path.realpath(v)) == library or os.path.realpath(v) == library):
+            raise ParameterError(f"--{name} {v} is in the shipped mechanism library, which is never written; "
+                                 f"choose an output outside {library}")
     mech = getattr(args, "mechanism", None)
     if isinstance(mech, str) and os.path.exists(mech):
         for name in OUTPUTS:
