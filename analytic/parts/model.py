@@ -209,8 +209,9 @@ class Part:
 
     @property
     def length(self) -> float:
-        """The largest distance between two of its points (a bar's centre distance; a block: its side)."""
-        pts = list(self.points.values())
+        """The largest distance between two of its points and slot ends (a bar's centre distance; a block: at
+        least its side)."""
+        pts = list(self.points.values()) + [(s.x0, s.y0) for s in self.slots] + [(s.x1, s.y1) for s in self.slots]
         out = max((math.hypot(a[0] - b[0], a[1] - b[1]) for a in pts for b in pts), default=0.0)
         return out if self.kind != "block" else max(out, self.width)
 
@@ -240,6 +241,13 @@ def _wheels(mech) -> dict[str, tuple[str, float]]:
             if w.link != GROUND:
                 out[w.link] = (w.centre, w.radius / mech.scale)
     return out
+
+
+def _inside(arcs, p, tol: float) -> bool:
+    """Whether point p lies in the convex shape (within tol): below its support in every edge normal."""
+    normals = [a.a0 for a in arcs] + [a.a1 for a in arcs]
+    return all(p[0] * math.cos(t) + p[1] * math.sin(t) <= shapes.support(arcs, math.cos(t), math.sin(t)) + tol
+               for t in normals + list(np.linspace(0, 2 * math.pi, 64, endpoint=False)))
 
 
 def _segment_distance(p, a, b) -> float:
@@ -293,15 +301,20 @@ def build(mech, sweep: Sweep | None = None) -> dict[str, Part]:
         if block:
             h = m.width / 2.0
             discs += [Disc(sx * h, sy * h, 0.0) for sx in (-1, 1) for sy in (-1, 1)]
-            discs += [Disc(u, v, end_r) for p, (u, v) in pts.items() if p != origin]
-        else:
-            discs += [Disc(u, v, end_r) for u, v in pts.values()]
+        carried = [p for p in pts if not (block and p == origin)]
+        pinned = [p for p in carried if p in joints[ln]] or ([] if block else carried)
+        discs += [Disc(*pts[p], end_r) for p in pinned]
         for sl in slots[ln]:
             discs += [Disc(sl.x0, sl.y0, end_r), Disc(sl.x1, sl.y1, end_r)]
         gear_r = None
         if ln in wheels:
             centre, gear_r = wheels[ln]
             discs.append(Disc(*pts[centre], gear_r))
+        # a point that is no joint (a tracer) gets material round it unless it already lies on the part
+        base = shapes.hull(discs, eps=1e-12 * size) if discs else ()
+        for p in carried:
+            if p not in pinned and not (base and _inside(base, pts[p], 1e-9 * size)):
+                discs.append(Disc(*pts[p], end_r))
         outline = shapes.hull(discs, eps=1e-12 * size)
         holes = tuple(Hole(p, pts[p][0], pts[p][1], hole_r) for p in mech.topology.links[ln].points if p in joints[ln])
         kind = "block" if block else "gear" if gear_r else "bar" if len(pts) <= 2 and not slots[ln] else "plate"

@@ -69,6 +69,20 @@ def plan(ax, pm, fs: float = 7.0) -> None:
         for h in part.holes:
             (x, y), = model.to_world(pm.sweep.frames[ln][0], [(h.x, h.y)])
             ax.add_patch(_circle(x, y, h.r))
+    # gears: the pitch circle as a chain line, its diameter
+    for ln, part in pm.parts.items():
+        if part.gear_radius:
+            centre = next(p for p, uv in part.points.items()
+                          if any(abs(a.r - part.gear_radius) < 1e-9 * (1 + a.r) and math.hypot(a.x - uv[0], a.y - uv[1])
+                                 < 1e-9 * (1 + a.r) for a in part.outline))
+            (x, y), = model.to_world(pm.sweep.frames[ln][0], [part.points[centre]])
+            t = np.linspace(0, 2 * np.pi, 361)
+            r = part.gear_radius
+            ax.plot(x + r * np.cos(t), y + r * np.sin(t), color=EDGE, lw=0.5, dashes=(10, 3, 2, 3), zorder=6)
+            ax.annotate(f"pitch Ø{_fmt(2 * r)}", xy=(x + r * math.cos(-2.2), y + r * math.sin(-2.2)),
+                        xytext=(x + 1.25 * r * math.cos(-2.2), y + 1.25 * r * math.sin(-2.2)), fontsize=fs,
+                        color=DIM, ha="center", arrowprops=dict(arrowstyle="-|>", color=DIM, lw=0.5,
+                                                                mutation_scale=7), zorder=8)
     # centre marks on every joint, labels
     size = mech.size / mech.scale
     pts = {p: pm.sweep.points[p][0] for p in mech.points}
@@ -152,7 +166,7 @@ def exploded(ax, pm, fs: float = 7.0) -> None:
     chord = 20 * pm.chord
     flat = np.vstack([_world_poly(pm, ln, p.outline, chord) for ln, p in pm.parts.items()])
     iso = _iso(flat, 0.0)
-    gap = 0.75 * float(iso[:, 1].max() - iso[:, 1].min())
+    gap = 0.9 * float(iso[:, 1].max() - iso[:, 1].min())
     layers = pm.layout.layers
     count = pm.layout.count
     pts = {p: pm.sweep.points[p][0] for p in mech.points}
