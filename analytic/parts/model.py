@@ -74,7 +74,8 @@ class Material:
 def defaults(size: float) -> dict[str, float]:
     """The default sizes for a mechanism of ``size`` (its longest link, file units): width size/12,
     thickness width/4, pin width*0.4, clearance pin/20, layer gap thickness/5, each rounded down to a round
-    number; a 300 mm four-bar gets 25 x 5 mm bars on 10 mm pins with 0.5 mm clearance."""
+    number; a 300 mm four-bar gets 25 x 6 mm bars on 10 mm pins with 0.5 mm clearance. (With ``[mass]``
+    bars narrower than the default width, the pin is 0.4 of the narrowest: :func:`settings`.)"""
     width = nice(size / 12.0)
     thickness = nice(width / 4.0)
     pin = nice(width * 0.4)
@@ -85,6 +86,10 @@ def defaults(size: float) -> dict[str, float]:
 def settings(mech) -> Settings:
     section = mech.definition.parts or {}
     d = defaults(mech.size / mech.scale)
+    narrowest = min((m.width for m in materials(mech).values()), default=d["width"])
+    if narrowest < d["width"]:                       # [mass] bars narrower than the default: pins to suit
+        d["pin_diameter"] = nice(narrowest * 0.4)
+        d["clearance"] = nice(d["pin_diameter"] / 20.0)
     frame = section.get("frame")
     return Settings(float(section.get("pin_diameter", d["pin_diameter"])),
                     float(section.get("clearance", d["clearance"])),

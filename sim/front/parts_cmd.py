@@ -40,8 +40,13 @@ def _range(args, mech):
 
 
 def layer_lines(mech, args=None) -> list[str]:
+    """``linkage check``'s lines about the parts; a design that cannot be made into parts (a hole wider
+    than its bar) says so in a line: the structure check itself has passed."""
     from sim import parts_service
-    return parts_service.layer_lines(parts_service.prepare(mech, _range(args, mech) if args else None))
+    try:
+        return parts_service.layer_lines(parts_service.prepare(mech, _range(args, mech) if args else None))
+    except ParameterError as exc:
+        return [f"  parts: none made: {exc}"]
 
 
 def cmd_interference(args, mech) -> int:
