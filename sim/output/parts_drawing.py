@@ -30,9 +30,20 @@ def _centre_mark(ax, x, y, r, lw=0.4):
     ax.plot([x, x], [y - 1.6 * r, y + 1.6 * r], color=EDGE, lw=lw, dashes=(6, 2, 1, 2), zorder=6)
 
 
-def _dimension(ax, p, q, offset, text, fs):
-    """An aligned dimension of p-q, its line ``offset`` to the left of p->q, extension lines, arrows."""
+def _dimension(ax, p, q, offset, text, fs, placed=None, spacing=0.0):
+    """An aligned dimension of p-q, its line ``offset`` to the left of p->q (moved out in steps while its
+    text would land within ``spacing`` of a text in ``placed``), extension lines, arrows."""
     p, q = np.asarray(p, float), np.asarray(q, float)
+    if placed is not None and spacing > 0:
+        d0 = q - p
+        n0 = np.array([-d0[1], d0[0]]) / max(float(np.hypot(*d0)), 1e-300)
+        base = offset
+        for k in range(6):
+            offset = base * (1 + 0.8 * k)
+            mid = 0.5 * (p + q) + n0 * offset
+            if all(float(np.hypot(*(mid - m))) > spacing for m in placed):
+                break
+        placed.append(0.5 * (p + q) + n0 * offset)
     d = q - p
     L = float(np.hypot(*d))
     if L == 0:
@@ -103,6 +114,7 @@ def plan(ax, pm, fs: float = 7.0) -> None:
                     arrowprops=dict(arrowstyle="-", color=DIM, lw=0.5))
     # centre distances of every link
     off = 0.0
+    texts: list = []
     for ln, part in pm.parts.items():
         joints = [h.point for h in part.holes]
         rad = part.width / 2 + 0.05 * size
@@ -119,7 +131,7 @@ def plan(ax, pm, fs: float = 7.0) -> None:
             n = np.array([-d[1], d[0]])
             side = 1.0 if np.dot(n, 0.5 * (pa + pb) - c) >= 0 else -1.0
             L = float(np.hypot(*d))
-            _dimension(ax, pa, pb, side * (rad + off), f"{a}{b} = {_fmt(L)}", fs)
+            _dimension(ax, pa, pb, side * (rad + off), f"{a}{b} = {_fmt(L)}", fs, texts, 0.07 * size)
     # the first input's angle at the pose
     first = mech.inputs[0]
     if first.kind == "crank":
@@ -131,10 +143,10 @@ def plan(ax, pm, fs: float = 7.0) -> None:
         lo, hi = (0.0, ang) if ang >= 0 else (ang, 0.0)
         ax.add_patch(MArc(piv, 2 * r, 2 * r, theta1=lo, theta2=hi, color=DIM, lw=0.6, zorder=7))
         ax.plot([piv[0], piv[0] + 1.2 * r], [piv[1], piv[1]], color=DIM, lw=0.4, dashes=(4, 2), zorder=7)
-        mid = math.radians(0.5 * (lo + hi))
-        lift = 0.04 * size if abs(hi - lo) > 20 else -0.07 * size    # a small angle: its label below the line
-        ax.text(piv[0] + 1.1 * r * math.cos(mid), piv[1] + 1.1 * r * math.sin(mid) + lift,
-                f"{first.q} = {ang:.1f}°", fontsize=fs, color=DIM, zorder=8)
+        ax.annotate(f"{first.q} = {ang:.1f}°", xy=(piv[0] + r * math.cos(math.radians(0.5 * (lo + hi))),
+                                                   piv[1] + r * math.sin(math.radians(0.5 * (lo + hi)))),
+                    xytext=(piv[0] + 0.05 * size, piv[1] - 0.24 * size), fontsize=fs, color=DIM, ha="left",
+                    arrowprops=dict(arrowstyle="-", color=DIM, lw=0.4), zorder=8)
     if cfg.frame:
         f = np.asarray(cfg.frame + (cfg.frame[0],))
         ax.plot(f[:, 0], f[:, 1], color="#555555", lw=1.0, dashes=(8, 3), zorder=1)
