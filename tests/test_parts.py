@@ -378,3 +378,25 @@ def _write(tmp_path, text):
     path = tmp_path / "m.toml"
     path.write_text(text)
     return path
+
+
+def test_frame_is_an_obstacle_on_layer_zero(tmp_path):
+    """A frame plate below the crank: chosen layers keep the crank off layer 0; with the crank fixed on layer 0
+    it hits the frame's edge y = -95 where its round end's lowest point 100 sin(phi) - 12.5 reaches it:
+    phi = 180 deg + asin(82.5 / 100) (the extension F sits 1e-4 mm past B)."""
+    frame = 'frame = [[-150, -160], [450, -160], [450, -95], [-150, -95]]'
+    free = PLANTED.replace('layers = { "1" = 0, "2" = 1, "3" = 0 }', frame).replace("ext = 300.0", "ext = 100.0001")
+    pm = parts_service.prepare(service.load(str(_write(tmp_path, free)), {}))
+    assert pm.layout.layers["1"] != 0 and pm.layout.layers["3"] == 0
+    report = parts_service.interference(pm)
+    assert report["interference"] == [] and set(report["min_clearance"]) == {"3|frame"}
+    fixed = free.replace(frame, frame + '\nlayers = { "1" = 0 }')
+    pm = parts_service.prepare(service.load(str(_write(tmp_path, fixed)), {}))
+    report = parts_service.interference(pm)
+    hits = {tuple(i["links"]): i for i in report["interference"]}
+    assert set(hits) == {("1", "frame")}
+    r = pm.parts["1"].width / 2
+    want = 180.0 + math.degrees(math.asin((95.0 - r) / 100.0001))
+    # the end's polygon lies inside its arc by <= chord 3e-3 mm; the end drops ~1 mm per degree there: 3e-3 deg
+    assert hits[("1", "frame")]["first_at"] == pytest.approx(want, abs=5e-3)
+    assert hits[("1", "frame")]["geometric"]["first_at"] == pytest.approx(want, abs=5e-3)
