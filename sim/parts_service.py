@@ -65,10 +65,24 @@ def layer_lines(pm: PartsModel) -> list[str]:
         lines.append(f"    {ln}: layer {L.layers[ln]} (z {z0:.4g}..{z1:.4g} {u}; {p.kind}, {p.thickness:g} {u} thick)")
     if L.meshing:
         lines.append("    meshing gears share a layer: " + ", ".join(f"{a}-{b}" for a, b in L.meshing))
+    pins = []
+    for point, (lo, hi) in pin_spans(pm).items():
+        pins.append(f"{point} {lo:.4g}..{hi:.4g}")
+    if pins:
+        lines.append(f"    pins (z from..to, {u}; ground pivots from the frame at 0, or from a top plate): " + ", ".join(pins))
+    for point, ln in L.clashes:
+        lines.append(f"    pin clash: link {ln} passes over the pin at {point} within its layers (no layering of up to "
+                     f"{L.count + 2} layers avoids it: offset the joint or shorten the link)")
     for p in pm.parts.values():
         for block, point in p.crossings:
             lines.append(f"    note: link {p.link}'s slot for {block} runs into its joint {point} (the pins meet)")
     return lines
+
+
+def pin_spans(pm: PartsModel) -> dict:
+    """{point: (z bottom, z top)} of every pin: through the holes of the links pinned there (and the slot it
+    runs in), a ground pivot's from the frame (z = 0) or, where links pass below its own, from a top plate."""
+    return dict(pm.layout.pins)
 
 
 # ------------------------------------------------------------------------------------------ interference
@@ -148,7 +162,9 @@ def interference(pm: PartsModel) -> dict:
     return {"mechanism": mech.name, "units": mech.units,
             "input": first.q, "input_unit": "deg" if first.kind == "crank" else mech.units,
             "samples": len(pm.sweep.t), "layers": dict(pm.layout.layers),
-            "interference": items, "min_clearance": clear, "min_clearance_geometric": clear2d}
+            "interference": items, "min_clearance": clear, "min_clearance_geometric": clear2d,
+            "pins": {p: list(span) for p, span in pm.layout.pins.items()},
+            "pin_clashes": [{"pin": p, "link": ln} for p, ln in pm.layout.clashes]}
 
 
 # ------------------------------------------------------------------------------------------ exports

@@ -400,3 +400,21 @@ def test_frame_is_an_obstacle_on_layer_zero(tmp_path):
     # the end's polygon lies inside its arc by <= chord 3e-3 mm; the end drops ~1 mm per degree there: 3e-3 deg
     assert hits[("1", "frame")]["first_at"] == pytest.approx(want, abs=5e-3)
     assert hits[("1", "frame")]["geometric"]["first_at"] == pytest.approx(want, abs=5e-3)
+
+
+def test_pin_rules_by_hand():
+    """A pin through links a (layer 0) and b (layer 2) that link c passes over: c may not sit on layer 1
+    (inside the pin's span); a ground pivot's pin comes from below or above, so all the links that pass over
+    it must lie on one side of its links."""
+    rule = layers.PinRule("P", ("a", "b"), ("c",), False)
+    assert not rule.holds({"a": 0, "b": 2, "c": 1})
+    assert rule.holds({"a": 0, "b": 1, "c": 2})
+    ground = layers.PinRule("O", ("a",), ("c", "d"), True)
+    assert ground.holds({"a": 1, "c": 2, "d": 3}) and ground.side({"a": 1, "c": 2, "d": 3}) == "below"
+    assert ground.holds({"a": 2, "c": 0, "d": 1}) and ground.side({"a": 2, "c": 0, "d": 1}) == "above"
+    assert not ground.holds({"a": 1, "c": 0, "d": 2})
+    # the colouring honours the rule: c conflicts with a only, so without the pin it would share b's layer
+    # (inside the span [a, b]); with it c must go outside: a third layer
+    assert layers.colour(["a", "b", "c"], [("a", "b"), ("a", "c")]) == {"a": 0, "b": 1, "c": 1}
+    got = layers.colour(["a", "b", "c"], [("a", "b"), ("a", "c")], pins=[rule])
+    assert got["a"] != got["b"] and got["a"] != got["c"] and rule.holds(got)

@@ -72,6 +72,28 @@ def test_library_has_no_interference_at_default_layers(name):
 
 @pytest.mark.slow
 @pytest.mark.parametrize("name", NAMES)
+def test_library_pins_clear_the_links_they_pass(name):
+    """Independent of the layering's rules: where a link passes within the clearance of a pin's circle at a
+    sample, its z range stays out of the pin's span, except the clashes the layout reports."""
+    import shapely
+    pm = prepared(name)
+    cfg = model.settings(pm.mech)
+    from analytic.parts import layers as lay
+    out = lay.outlines(pm.mech, pm.parts)
+    clashes = set(pm.layout.clashes)
+    for p, (lo, hi) in pm.layout.pins.items():
+        pinned = {ln for ln, part in pm.parts.items() if any(h.point == p for h in part.holes)}
+        slotted = {ln for ln, part in pm.parts.items() if any(sl.block in pinned for sl in part.slots)}
+        for ln in set(pm.parts) - pinned - slotted:
+            z0, z1 = pm.layout.z[ln]
+            if z1 <= lo or z0 >= hi or (p, ln) in clashes:
+                continue
+            d = shapely.distance(shapely.polygons(lay.world(out, pm.sweep, ln)), shapely.points(pm.sweep.points[p]))
+            assert np.min(d) - cfg.pin_diameter / 2 >= cfg.clearance, (p, ln)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", NAMES)
 def test_library_dxf_and_stl_read_back(name, tmp_path):
     import ezdxf
     import mujoco

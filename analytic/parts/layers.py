@@ -155,10 +155,37 @@ def frame_parts(out: Outlines) -> list[np.ndarray]:
 
 
 # ---------------------------------------------------------------------------------------------- colouring
-def colour(nodes, edges, fixed=None) -> dict:
-    """The fewest colours 0, 1, ... for ``nodes`` (in order) with no edge inside a colour, ``fixed``
-    colours kept (an edge between two fixed nodes is left to the interference check): exact by backtracking (the first colouring in node order, smallest colours first) up to
-    MAX_EXACT nodes, DSatur's greedy colouring above."""
+@dataclass(frozen=True)
+class PinRule:
+    """A pin through the links ``members`` (their layers, and those of the links whose slot it runs in) that
+    the links ``crossing`` pass over: none of them may sit within the pin's span of layers. A ground pivot's
+    pin comes from the frame below (spanning layer 0 up) or from a top plate (spanning up to the top): every
+    crossing link above its links, or every one below them."""
+
+    point: str
+    members: tuple
+    crossing: tuple
+    ground: bool
+
+    def holds(self, col: dict) -> bool:
+        lo = min(col[m] for m in self.members)
+        hi = max(col[m] for m in self.members)
+        cs = [col[c] for c in self.crossing]
+        if self.ground:
+            return all(c > hi for c in cs) or all(c < lo for c in cs)
+        return all(c < lo or c > hi for c in cs)
+
+    def side(self, col: dict) -> str:
+        """Where a ground pivot's pin is held: "below" (the frame) or "above" (a top plate)."""
+        hi = max(col[m] for m in self.members)
+        return "below" if all(col[c] > hi for c in self.crossing) else "above"
+
+
+def colour(nodes, edges, fixed=None, pins=()) -> dict:
+    """The fewest colours 0, 1, ... for ``nodes`` (in order) with no edge inside a colour and every
+    :class:`PinRule` held, ``fixed`` colours kept (an edge between two fixed nodes is left to the interference
+    check): exact by backtracking (the first colouring in node order, smallest colours first) up to
+    MAX_EXACT nodes, DSatur's greedy colouring above (pins then unchecked)."""
     nodes = list(nodes)
     fixed = dict(fixed or {})
     adj = {n: set() for n in nodes}
@@ -169,23 +196,49 @@ def colour(nodes, edges, fixed=None) -> dict:
     if len(nodes) > MAX_EXACT:
         return _dsatur(nodes, adj, fixed)
     low = max([0] + [v + 1 for v in fixed.values()])
+    free = [n for n in nodes if n not in fixed]
+    order = {n: i for i, n in enumerate(free)}
+    due: dict = {}                                      # each rule checked once its last node is coloured
+    for rule in pins:
+        involved = set(rule.members) | set(rule.crossing)
+        if not rule.crossing or not involved <= set(nodes):
+            continue
+        last = max((order[n] for n in involved if n in order), default=-1)
+        due.setdefault(last, []).append(rule)
+    plain = None
     for k in range(max(1, low), len(nodes) + low + 2):
         out = dict(fixed)
-        free = [n for n in nodes if n not in fixed]
-        if _fill(free, 0, adj, out, k):
+        if _fill(free, 0, adj, out, k, {}, [math.inf]):
+            plain = out
+            break
+    if not due or any(not r.holds(fixed) for r in due.get(-1, [])):
+        return plain
+    k0 = max(plain.values(), default=-1) + 1
+    budget = [PIN_SEARCH]
+    for k in range(k0, k0 + 3):                          # pins may cost a layer or two; beyond, they clash
+        out = dict(fixed)
+        if _fill(free, 0, adj, out, k, due, budget):
             return out
-    raise RuntimeError("no colouring")                # pragma: no cover - k = len(nodes) always works
+    return plain
 
 
-def _fill(free, i, adj, out, k) -> bool:
+PIN_SEARCH = 200_000
+"""Assignments tried in search of layers that every pin rule allows, before the plain colouring is kept and
+the pins that clash are reported (``Layout.clashes``)."""
+
+
+def _fill(free, i, adj, out, k, due, budget) -> bool:
     if i == len(free):
         return True
     n = free[i]
     used = {out[m] for m in adj[n] if m in out}
     for c in range(k):
         if c not in used:
+            budget[0] -= 1
+            if budget[0] < 0:
+                return False
             out[n] = c
-            if _fill(free, i + 1, adj, out, k):
+            if all(r.holds(out) for r in due.get(i, ())) and _fill(free, i + 1, adj, out, k, due, budget):
                 return True
             del out[n]
     return False
@@ -210,6 +263,12 @@ class Layout:
     z: dict
     conflicts: tuple
     meshing: tuple
+    pins: dict = None
+    """{point: (z bottom, z top)} of every pin (a ground pivot's from the frame at 0, or from above the stack
+    to its links)."""
+    clashes: tuple = ()
+    """(point, link): a link that passes over a pin within the pin's span of layers, where no layering of as
+    many layers plus two avoids it (the interference check then reports it)."""
 
     @property
     def count(self) -> int:
@@ -246,8 +305,9 @@ def layout(mech, parts: dict, sweep: model.Sweep | None = None) -> Layout:
     for ln, z in cfg.layers.items():                     # meshing gears keep one layer
         if fixed.get(group[ln], z) != z:
             raise ValueError(f"[parts].layers: {ln} meshes with a gear fixed to another layer")
+    rules = pin_rules(mech, parts, out, sweep, cfg, group)
     try:
-        colours = colour(nodes, edges, fixed)
+        colours = colour(nodes, edges, fixed, rules)
     except ValueError as exc:
         from analytic._common import ParameterError
         raise ParameterError(f"{mech.definition.source}: [parts].layers: {exc}; give them different layers") from None
@@ -259,7 +319,47 @@ def layout(mech, parts: dict, sweep: model.Sweep | None = None) -> Layout:
         for ln in members:
             z[ln] = (level, level + parts[ln].thickness)
         level += thick + cfg.layer_gap
-    return Layout(layers, z, tuple(conflicts), mesh)
+    top = level - cfg.layer_gap
+    pins, clashes = {}, []
+    for rule in rules:
+        if rule.crossing and not rule.holds(colours):
+            clashes += [(rule.point, ln) for ln in links if group[ln] in rule.crossing]
+        zs = [z[ln] for ln in links if group[ln] in rule.members]
+        lo, hi = min(v[0] for v in zs), max(v[1] for v in zs)
+        if rule.ground:
+            lo, hi = (0.0, hi) if rule.side(colours) == "below" else (lo, top)
+        pins[rule.point] = (lo, hi)
+    return Layout(layers, z, tuple(conflicts), mesh, pins, tuple(clashes))
+
+
+def pin_rules(mech, parts, out: Outlines, sweep, cfg, group) -> list[PinRule]:
+    """A :class:`PinRule` per joint: the links pinned there (and those whose slot its pin runs in: the slot
+    of a block pinned there), and the other links that pass within the clearance of the pin's circle
+    (diameter ``pin_diameter``) at some sample, less a margin of their largest step between samples."""
+    import shapely
+    rules = []
+    for p in mech.points:
+        pinned = [ln for ln, part in parts.items() if any(h.point == p for h in part.holes)]
+        if not pinned:
+            continue
+        slotted = [ln for ln, part in parts.items() if any(sl.block in pinned for sl in part.slots)
+                   and any(j.kind == "prismatic" and j.point == p for j in mech.joints)]
+        members = set(pinned) | set(slotted)
+        at = shapely.points(sweep.points[p])
+        step_p = np.max(np.hypot(*np.diff(sweep.points[p], axis=0).T)) if len(sweep.t) > 1 else 0.0
+        crossing = []
+        for ln in parts:
+            if ln in members:
+                continue
+            v = world(out, sweep, ln)
+            d = np.asarray(shapely.distance(_polys(v), at)) - cfg.pin_diameter / 2
+            margin = float(np.max(_step(v))) + step_p if len(sweep.t) > 1 else 0.0
+            if d.min() < cfg.clearance + margin:
+                crossing.append(ln)
+        rules.append(PinRule(p, tuple(dict.fromkeys(group[m] for m in members)),
+                             tuple(dict.fromkeys(group[c] for c in crossing if group[c] not in
+                                                 {group[m] for m in members})), p in mech.ground_points))
+    return rules
 
 
 def _bbox_apart(out: Outlines, sweep, a, b, threshold) -> bool:

@@ -71,7 +71,8 @@ def cmd_interference(args, mech) -> int:
             print(f"  COLLISION {a} / {b}: first at {q} = {item['first_at']:.6f} {unit} (plane test "
                   f"{geo['first_at']:.6f}), depth {item['depth']:.4g} {report['units']}")
         if not report["interference"]:
-            print("  no interference over the cycle")
+            print("  no interference between the links over the cycle"
+                  + (f" ({len(report['pin_clashes'])} pin clash(es) above)" if report["pin_clashes"] else ""))
     return 1 if report["interference"] else 0
 
 

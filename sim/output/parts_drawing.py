@@ -202,14 +202,18 @@ def exploded(ax, pm, fs: float = 7.0) -> None:
             ax.text(c[0], c[1], ln, fontsize=fs, ha="center", va="center", zorder=10 * k + 4, weight="bold")
         ax.text(float(iso[:, 0].min()) - 0.05 * size, float(iso[:, 1].mean()) + k * gap, f"layer {k}",
                 fontsize=fs + 1, color=DIM, ha="right", va="center")
-    # pins: through the layers of the links that meet at the point (and down to the frame for ground pivots)
-    for p in mech.points:
-        ks = [layers[ln] for ln, part in pm.parts.items() if any(h.point == p for h in part.holes)]
-        if not ks:
-            continue
-        lo = 0 if p in mech.ground_points else min(ks)
-        a = _iso(np.asarray([pts[p]]), lo * gap - 0.1 * gap)[0]
-        b = _iso(np.asarray([pts[p]]), max(ks) * gap + 0.1 * gap)[0]
+    # pins: their spans (a ground pivot's from the frame below or a top plate above), as chain lines
+    zs = sorted({z for span in pm.layout.z.values() for z in span})
+    zmax = zs[-1] if zs else 1.0
+
+    def zlevel(z):                                    # a z [file units] in the exploded view's spacing
+        k = min(range(count), key=lambda i: abs(min(v[0] for ln, v in pm.layout.z.items() if layers[ln] == i) - z))
+        base = min(v[0] for ln, v in pm.layout.z.items() if layers[ln] == k)
+        return k * gap + (z - base)
+
+    for p, (lo, hi) in pm.layout.pins.items():
+        a = _iso(np.asarray([pts[p]]), zlevel(lo) - (0.1 * gap if lo == 0 else 0.0))[0]
+        b = _iso(np.asarray([pts[p]]), zlevel(hi) + (0.1 * gap if hi >= zmax else 0.0))[0]
         ax.plot([a[0], b[0]], [a[1], b[1]], color="#b22222", lw=0.6, dashes=(8, 2, 1, 2), zorder=10 * count + 5)
     ax.set_aspect("equal")
     ax.set_xticks([])
