@@ -29,6 +29,7 @@ FRONT_DEBT = {
     "sim/front/cli/import_file.py": {"analytic.format.foreign", "analytic.format.joints", "analytic.format.linkfile"},
     "sim/front/cli/loads_opts.py": {"analytic.format.expr", "analytic.kinds", "analytic.loads.force",
                                    "analytic.loads.torque"},
+    "sim/front/cli/parts.py": {"analytic.registry"},
     "sim/front/cli/options.py": {"analytic.format.expr", "analytic.mass", "analytic.registry", "sim.model"},
     "sim/front/cli/run.py": {"sim.run.compare"},
     "sim/front/cli/sweep.py": {"analytic.applications.studies", "analytic.quantities"},

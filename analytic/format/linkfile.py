@@ -34,7 +34,7 @@ LINK_NAME = re.compile(r"^[A-Za-z0-9_]+$")
 
 
 TOP_LEVEL = {"format", "name", "units", "description", "output", "parameters", "ground", "inputs", "groups",
-             "inertia", "mass", "force_units", "loads", "friction"} | set(joints.FIELDS)
+             "inertia", "mass", "force_units", "loads", "friction", "parts"} | set(joints.FIELDS)
 """The links-and-joints form (:mod:`.joints`) adds ``links``, ``joints`` and ``pose``."""
 TOP_LEVEL = TOP_LEVEL | {"input_range"}
 """``input_range = "LO:HI"``: the first input's working range (as ``--input-range`` takes it; a synthesised
@@ -98,6 +98,8 @@ class Definition:
     friction: dict | None = None
     input_range: str = ""
     """The file's ``input_range`` ("LO:HI", '' if none): the working range commands default to."""
+    parts: dict = field(default_factory=dict)
+    """The ``[parts]`` section as written (file units; see :mod:`analytic.parts`)."""
 
     @property
     def scale(self) -> float:
@@ -292,9 +294,11 @@ def _check(data: dict, source: str, default_name: str) -> Definition:
         if entry["m"] == 0 and entry["I"] != 0:
             raise _fail(source, f"inertia.{lname}.I", "a massless link (m = 0) has no moment of inertia: give I = 0")
     mass = _check_mass(data.get("mass", {}), links, source)
+    from analytic.format import parts_table
+    parts = parts_table.check(data.get("parts", {}), links, source)
     definition = Definition(name, source, units, description, dict(params), tuple(params), param_kinds,
                             {k: tuple(v) for k, v in ground.items()}, inputs, groups, order, output, inertia, topo,
-                            mass=mass, input_range=input_range)
+                            mass=mass, input_range=input_range, parts=parts)
     _check_mobility(definition)
     if any(k in data for k in ("force_units", "loads", "friction")):   # SPEC "Loads": checked here, used later
         from analytic import loads

@@ -169,7 +169,19 @@ def generate(mech) -> str:
             inner = ", ".join(f"{k} = {_value(float(x))}" for k, x in entry.items())
             lines.append(f"{json.dumps(link)} = {{ {inner} }}")
     lines += _mass_section(d.mass)
+    lines += _parts_section(getattr(d, "parts", None))
     return "\n".join(lines) + "\n"
+
+
+def _parts_section(parts) -> list[str]:
+    """The ``[parts]`` section (analytic.parts) as TOML lines, as written."""
+    if not parts:
+        return []
+    lines = ["", "[parts]"] + [f"{k} = {_value(v)}" for k, v in parts.items() if k != "layers"]
+    if parts.get("layers"):
+        lines.append("layers = { " + ", ".join(f"{json.dumps(k)} = {int(v)}" for k, v in parts["layers"].items())
+                     + " }")
+    return lines
 
 
 def _mass_section(mass: dict) -> list[str]:

@@ -19,14 +19,19 @@ def register(sub) -> None:
     p.add_argument("--integrator", default="rk4", help=argparse.SUPPRESS)
     p.add_argument("--balance", nargs="?", const="", default=None, metavar="LINK,LINK",
                    help="add counterweights that balance the shaking force ([mass.counterweights]; see forces)")
+    from sim.front.cli import parts
+    parts.add_export_options(p)
     p.set_defaults(func=run)
 
 
 def run(args) -> int:
     from sim.output.io import write_text
-    if not (args.mjcf or args.toml):
-        raise ParameterError("give --mjcf PATH (the MuJoCo model) and/or --toml PATH (the mechanism file)")
+    from sim.front.cli import parts
+    if not (args.mjcf or args.toml or parts.wanted(args)):
+        raise ParameterError("give --mjcf PATH (the MuJoCo model), --toml PATH (the mechanism file) and/or parts: "
+                             "--dxf, --svg, --pdf, --step, --stl DIR, --bom")
     check_outputs(args, {"mjcf": (".xml",), "toml": (".toml",)})
+    parts.check_paths(args)
     mech = mechanism_from(args)
     if args.balance is not None:                   # counterweights written into the model (issue 17)
         from sim.front.cli.forces import balance_links
@@ -37,4 +42,6 @@ def run(args) -> int:
     if args.toml:
         write_text(args.toml, service.mechanism_text(mech))
         print(f"wrote {args.toml}")
+    if parts.wanted(args):                         # link solids, drawings, bill of materials (issue 28)
+        parts.export(args, mech)
     return 0

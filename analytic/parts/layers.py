@@ -1,0 +1,379 @@
+"""Layers: links whose outlines come closer than the clearance at any instant of the cycle never share a
+layer, with the fewest layers (an exact graph colouring), and the plane distances between outlines over the
+cycle that decide it (shapely polygons of the tessellated outlines, holes filled).
+
+Sampling: the cycle is sampled uniformly; between two samples the distance of two rigid outlines changes by
+at most the sum of their largest vertex displacements (the chord of the step), so an interval whose two
+ends' distances leave less than that margin above the threshold is bisected (the motion solved at its
+middle) until either a sample comes closer than the threshold or every interval is clear.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from analytic.parts import model
+
+FRAME = "frame"
+"""The name of the optional frame outline in the pairs (``[parts].frame``, fixed to the ground, layer 0)."""
+
+MAX_EXACT = 40
+"""Links up to which the colouring is exact (backtracking); above it DSatur's greedy colouring."""
+
+
+@dataclass(frozen=True)
+class Outlines:
+    """Tessellated outlines (local frame, file units) of every link, and the frame's (world) if any."""
+
+    local: dict
+    frame: np.ndarray | None
+    chord: float
+
+
+def outlines(mech, parts: dict) -> Outlines:
+    size = mech.size / mech.scale
+    chord = model.CHORD * size
+    cfg = model.settings(mech)
+    frame = np.asarray(cfg.frame, dtype=float) if cfg.frame else None
+    return Outlines({ln: p.polygon(chord) for ln, p in parts.items()}, frame, chord)
+
+
+def world(out: Outlines, sweep: model.Sweep, link: str) -> np.ndarray:
+    """(N, k, 2) vertices of ``link``'s outline at every sample of ``sweep``."""
+    f = sweep.frames[link]
+    uv = out.local[link]
+    c, s = np.cos(f[:, 2])[:, None], np.sin(f[:, 2])[:, None]
+    x = f[:, 0:1] + uv[None, :, 0] * c - uv[None, :, 1] * s
+    y = f[:, 1:2] + uv[None, :, 0] * s + uv[None, :, 1] * c
+    return np.stack([x, y], axis=-1)
+
+
+def _polys(verts) -> np.ndarray:
+    import shapely
+    return shapely.polygons(verts)
+
+
+def signed_distance(va: np.ndarray, vb: np.ndarray, depth: bool = True) -> np.ndarray:
+    """Per sample: the distance between two convex polygons ((N, k, 2) and (N, m, 2) vertices) where
+    they are apart, minus their penetration depth where they overlap (the smallest translation that
+    separates them, by the separating-axis theorem on both polygons' edge normals); ``depth`` False: 0
+    where they overlap."""
+    import shapely
+    d = shapely.distance(_polys(va), _polys(vb))
+    out = np.asarray(d, dtype=float).copy()
+    for k in (np.nonzero(out <= 0.0)[0] if depth else ()):
+        out[k] = -penetration(va[k], vb[k])
+    return out
+
+
+def penetration(a: np.ndarray, b: np.ndarray) -> float:
+    """The penetration depth of two convex polygons (k, 2), (m, 2): min over both polygons' edge normals of
+    the overlap of their projections (0 where they only touch)."""
+    best = math.inf
+    for poly in (a, b):
+        e = np.roll(poly, -1, axis=0) - poly
+        n = np.column_stack([e[:, 1], -e[:, 0]])
+        L = np.hypot(n[:, 0], n[:, 1])
+        n = n[L > 0] / L[L > 0, None]
+        pa, pb = a @ n.T, b @ n.T
+        overlap = np.minimum(pa.max(0) - pb.min(0), pb.max(0) - pa.min(0))
+        best = min(best, float(overlap.min()))
+    return max(best, 0.0)
+
+
+def _step(v: np.ndarray) -> np.ndarray:
+    """(N-1,): each step's largest vertex displacement."""
+    return np.max(np.hypot(*(v[1:] - v[:-1]).transpose(2, 0, 1)), axis=1)
+
+
+@dataclass(frozen=True)
+class PairDistance:
+    """The smallest signed distance of two outlines over the cycle and the time and first input where it
+    occurs; ``first``: the first sample time where it is below the threshold asked (None if never)."""
+
+    a: str
+    b: str
+    d: float
+    t: float
+    first: float | None
+
+
+def pair_distance(mech, out: Outlines, sweep: model.Sweep, a: str, b: str, threshold: float,
+                  depth: int = 12, penetration_depth: bool = True) -> PairDistance:
+    """Min signed distance of links ``a`` and ``b`` (``b`` may be FRAME) over the sweep, intervals refined
+    as the module docstring says, so that a pass closer than ``threshold`` is not missed between samples;
+    ``penetration_depth`` False: overlaps count 0 (faster; enough to decide a conflict)."""
+    t = sweep.t
+    va = world(out, sweep, a)
+    vb = _frame_verts(out, len(t)) if b == FRAME else world(out, sweep, b)
+    d = signed_distance(va, vb, penetration_depth)
+    if not penetration_depth and d.min() < threshold:
+        k = int(np.argmin(d))
+        return PairDistance(a, b, float(d[k]), float(t[k]), float(t[np.argmax(d < threshold)]))
+    margin = _step(va) + (0.0 if b == FRAME else _step(vb))
+    ts, ds = list(t), list(d)
+    todo = [(t[k], t[k + 1], d[k], d[k + 1], margin[k]) for k in range(len(t) - 1)
+            if min(d[k], d[k + 1]) >= threshold and 0.5 * (d[k] + d[k + 1] - margin[k]) < threshold]
+    for _ in range(depth):
+        if not todo:
+            break
+        mids = np.array([0.5 * (x[0] + x[1]) for x in todo])
+        sw = model.frames_at(mech, mids)
+        wa = world(out, sw, a)
+        wb = _frame_verts(out, len(mids)) if b == FRAME else world(out, sw, b)
+        dm = signed_distance(wa, wb, penetration_depth)
+        nxt = []
+        for (t0, t1, d0, d1, m), tm, dmid in zip(todo, mids, dm):
+            ts.append(tm)
+            ds.append(dmid)
+            if dmid < threshold:
+                continue
+            for lo, hi, dl, dh in ((t0, tm, d0, dmid), (tm, t1, dmid, d1)):
+                if 0.5 * (dl + dh - 0.5 * m) < threshold:
+                    nxt.append((lo, hi, dl, dh, 0.5 * m))
+        todo = nxt
+    ts, ds = np.asarray(ts), np.asarray(ds)
+    k = int(np.argmin(ds))
+    below = ts[ds < threshold]
+    return PairDistance(a, b, float(ds[k]), float(ts[k]), float(below.min()) if below.size else None)
+
+
+def _frame_verts(out: Outlines, n: int) -> np.ndarray:
+    return np.broadcast_to(out.frame, (n,) + out.frame.shape)
+
+
+def frame_parts(out: Outlines) -> list[np.ndarray]:
+    """The frame polygon as convex pieces (triangles of its constrained Delaunay triangulation)."""
+    import shapely
+    poly = shapely.Polygon(out.frame)
+    if not poly.is_valid:
+        poly = poly.buffer(0)
+    return [np.asarray(t.exterior.coords)[:3] for t in shapely.get_parts(shapely.constrained_delaunay_triangles(poly))]
+
+
+# ---------------------------------------------------------------------------------------------- colouring
+@dataclass(frozen=True)
+class PinRule:
+    """A pin through the links ``members`` (their layers, and those of the links whose slot it runs in) that
+    the links ``crossing`` pass over: none of them may sit within the pin's span of layers. A ground pivot's
+    pin comes from the frame below (spanning layer 0 up) or from a top plate (spanning up to the top): every
+    crossing link above its links, or every one below them."""
+
+    point: str
+    members: tuple
+    crossing: tuple
+    ground: bool
+
+    def holds(self, col: dict) -> bool:
+        lo = min(col[m] for m in self.members)
+        hi = max(col[m] for m in self.members)
+        cs = [col[c] for c in self.crossing]
+        if self.ground:
+            return all(c > hi for c in cs) or all(c < lo for c in cs)
+        return all(c < lo or c > hi for c in cs)
+
+    def side(self, col: dict) -> str:
+        """Where a ground pivot's pin is held: "below" (the frame) or "above" (a top plate)."""
+        hi = max(col[m] for m in self.members)
+        return "below" if all(col[c] > hi for c in self.crossing) else "above"
+
+
+def colour(nodes, edges, fixed=None, pins=()) -> dict:
+    """The fewest colours 0, 1, ... for ``nodes`` (in order) with no edge inside a colour and every
+    :class:`PinRule` held, ``fixed`` colours kept (an edge between two fixed nodes is left to the interference
+    check): exact by backtracking (the first colouring in node order, smallest colours first) up to
+    MAX_EXACT nodes, DSatur's greedy colouring above (pins then unchecked)."""
+    nodes = list(nodes)
+    fixed = dict(fixed or {})
+    adj = {n: set() for n in nodes}
+    for a, b in edges:
+        if a in adj and b in adj and a != b and not (a in fixed and b in fixed):
+            adj[a].add(b)
+            adj[b].add(a)
+    if len(nodes) > MAX_EXACT:
+        return _dsatur(nodes, adj, fixed)
+    low = max([0] + [v + 1 for v in fixed.values()])
+    free = [n for n in nodes if n not in fixed]
+    order = {n: i for i, n in enumerate(free)}
+    due: dict = {}                                      # each rule checked once its last node is coloured
+    for rule in pins:
+        involved = set(rule.members) | set(rule.crossing)
+        if not rule.crossing or not involved <= set(nodes):
+            continue
+        last = max((order[n] for n in involved if n in order), default=-1)
+        due.setdefault(last, []).append(rule)
+    plain = None
+    for k in range(max(1, low), len(nodes) + low + 2):
+        out = dict(fixed)
+        if _fill(free, 0, adj, out, k, {}, [math.inf]):
+            plain = out
+            break
+    if not due or any(not r.holds(fixed) for r in due.get(-1, [])):
+        return plain
+    k0 = max(plain.values(), default=-1) + 1
+    budget = [PIN_SEARCH]
+    for k in range(k0, k0 + 3):                          # pins may cost a layer or two; beyond, they clash
+        out = dict(fixed)
+        if _fill(free, 0, adj, out, k, due, budget):
+            return out
+    return plain
+
+
+PIN_SEARCH = 200_000
+"""Assignments tried in search of layers that every pin rule allows, before the plain colouring is kept and
+the pins that clash are reported (``Layout.clashes``)."""
+
+
+def _fill(free, i, adj, out, k, due, budget) -> bool:
+    if i == len(free):
+        return True
+    n = free[i]
+    used = {out[m] for m in adj[n] if m in out}
+    for c in range(k):
+        if c not in used:
+            budget[0] -= 1
+            if budget[0] < 0:
+                return False
+            out[n] = c
+            if all(r.holds(out) for r in due.get(i, ())) and _fill(free, i + 1, adj, out, k, due, budget):
+                return True
+            del out[n]
+    return False
+
+
+def _dsatur(nodes, adj, fixed) -> dict:
+    out = dict(fixed)
+    while len(out) < len(nodes):
+        n = max((m for m in nodes if m not in out), key=lambda m: (len({out[x] for x in adj[m] if x in out}),
+                                                                    len(adj[m])))
+        used = {out[x] for x in adj[n] if x in out}
+        out[n] = next(c for c in range(len(nodes) + 1) if c not in used)
+    return out
+
+
+@dataclass(frozen=True)
+class Layout:
+    """Each link's layer (z index) and its z range [file units]; the pairs that conflict (closer than the
+    clearance at some instant) and the meshing gear pairs (kept on one layer, their pitch discs touch)."""
+
+    layers: dict
+    z: dict
+    conflicts: tuple
+    meshing: tuple
+    pins: dict = None
+    """{point: (z bottom, z top)} of every pin (a ground pivot's from the frame at 0, or from above the stack
+    to its links)."""
+    clashes: tuple = ()
+    """(point, link): a link that passes over a pin within the pin's span of layers, where no layering of as
+    many layers plus two avoids it (the interference check then reports it)."""
+
+    @property
+    def count(self) -> int:
+        return max(self.layers.values(), default=-1) + 1
+
+
+def layout(mech, parts: dict, sweep: model.Sweep | None = None) -> Layout:
+    """Layers (see the module docstring): the conflict graph over the cycle, meshing gears merged, the
+    frame (if any) fixed on layer 0, ``[parts].layers`` kept; then z: each layer as thick as its thickest
+    part, ``layer_gap`` between layers."""
+    sweep = sweep if sweep is not None else model.cycle(mech)
+    cfg = model.settings(mech)
+    out = outlines(mech, parts)
+    links = list(parts)
+    mesh = model.meshing(mech)
+    group = {ln: ln for ln in links}
+    for a, b in mesh:
+        group[b] = group[a]
+    conflicts = []
+    pairs = [(a, b) for i, a in enumerate(links) for b in links[i + 1:] if group[a] != group[b]]
+    if out.frame is not None:
+        pairs += [(a, FRAME) for a in links]
+    for a, b in pairs:
+        if _bbox_apart(out, sweep, a, b, cfg.clearance):
+            continue
+        pd = pair_distance(mech, out, sweep, a, b, cfg.clearance, penetration_depth=False)
+        if pd.first is not None:
+            conflicts.append((a, b))
+    nodes = list(dict.fromkeys(group[ln] for ln in links)) + ([FRAME] if out.frame is not None else [])
+    edges = [(group[a], FRAME if b == FRAME else group[b]) for a, b in conflicts]
+    fixed = {group[ln]: z for ln, z in cfg.layers.items()}
+    if out.frame is not None:
+        fixed[FRAME] = 0
+    for ln, z in cfg.layers.items():                     # meshing gears keep one layer
+        if fixed.get(group[ln], z) != z:
+            raise ValueError(f"[parts].layers: {ln} meshes with a gear fixed to another layer")
+    rules = pin_rules(mech, parts, out, sweep, cfg, group)
+    try:
+        colours = colour(nodes, edges, fixed, rules)
+    except ValueError as exc:
+        from analytic._common import ParameterError
+        raise ParameterError(f"{mech.definition.source}: [parts].layers: {exc}; give them different layers") from None
+    layers = {ln: colours[group[ln]] for ln in links}
+    z, level = {}, 0.0
+    for k in range(max(layers.values(), default=-1) + 1):
+        members = [ln for ln in links if layers[ln] == k]
+        thick = max((parts[ln].thickness for ln in members), default=0.0)
+        for ln in members:
+            z[ln] = (level, level + parts[ln].thickness)
+        level += thick + cfg.layer_gap
+    top = level - cfg.layer_gap
+    pins, clashes = {}, []
+    for rule in rules:
+        if rule.crossing and not rule.holds(colours):
+            clashes += [(rule.point, ln) for ln in links if group[ln] in rule.crossing]
+        zs = [z[ln] for ln in links if group[ln] in rule.members]
+        lo, hi = min(v[0] for v in zs), max(v[1] for v in zs)
+        if rule.ground:
+            lo, hi = (0.0, hi) if rule.side(colours) == "below" else (lo, top)
+        pins[rule.point] = (lo, hi)
+    return Layout(layers, z, tuple(conflicts), mesh, pins, tuple(clashes))
+
+
+def pin_rules(mech, parts, out: Outlines, sweep, cfg, group) -> list[PinRule]:
+    """A :class:`PinRule` per joint: the links pinned there (and those whose slot its pin runs in: the slot
+    of a block pinned there), and the other links that pass within the clearance of the pin's circle
+    (diameter ``pin_diameter``) at some sample, less a margin of their largest step between samples."""
+    import shapely
+    rules = []
+    for p in mech.points:
+        pinned = [ln for ln, part in parts.items() if any(h.point == p for h in part.holes)]
+        if not pinned:
+            continue
+        slotted = [ln for ln, part in parts.items() if any(sl.block in pinned for sl in part.slots)
+                   and any(j.kind == "prismatic" and j.point == p for j in mech.joints)]
+        members = set(pinned) | set(slotted)
+        at = shapely.points(sweep.points[p])
+        step_p = np.max(np.hypot(*np.diff(sweep.points[p], axis=0).T)) if len(sweep.t) > 1 else 0.0
+        crossing = []
+        for ln in parts:
+            if ln in members:
+                continue
+            v = world(out, sweep, ln)
+            d = np.asarray(shapely.distance(_polys(v), at)) - cfg.pin_diameter / 2
+            margin = float(np.max(_step(v))) + step_p if len(sweep.t) > 1 else 0.0
+            if d.min() < cfg.clearance + margin:
+                crossing.append(ln)
+        rules.append(PinRule(p, tuple(dict.fromkeys(group[m] for m in members)),
+                             tuple(dict.fromkeys(group[c] for c in crossing if group[c] not in
+                                                 {group[m] for m in members})), p in mech.ground_points))
+    return rules
+
+
+def _bbox_apart(out: Outlines, sweep, a, b, threshold) -> bool:
+    """Whether the two outlines' bounding discs about their frames' origins never come within the
+    threshold (a quick exclusion before the polygon distances)."""
+    ra = float(np.max(np.hypot(*out.local[a].T)))
+    fa = sweep.frames[a][:, :2]
+    if b == FRAME:
+        c = out.frame.mean(axis=0)
+        rb = float(np.max(np.hypot(*(out.frame - c).T)))
+        fb = np.broadcast_to(c, fa.shape)
+    else:
+        rb = float(np.max(np.hypot(*out.local[b].T)))
+        fb = sweep.frames[b][:, :2]
+    gap = np.hypot(*(fa - fb).T) - ra - rb
+    step = np.max(np.hypot(*(np.diff(fa, axis=0)).T)) + np.max(np.hypot(*(np.diff(fb, axis=0)).T)) if len(fa) > 1 else 0
+    return bool(np.min(gap) > threshold + step)

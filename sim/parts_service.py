@@ -1,0 +1,234 @@
+"""Use cases of the parts (SPEC "Parts, drawings and interference"): layers for ``linkage check``, the
+interference check over the cycle (MuJoCo contacts, cross-checked by plane polygon distances), the
+exports (DXF, SVG/PDF drawing, STEP, STL, bill of materials) and the parts' mass properties against the
+mass model. Front ends call these; the geometry is :mod:`analytic.parts`."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from analytic.parts import layers as lay
+from analytic.parts import model
+
+SAMPLES = 720
+"""Instants per cycle before refinement (half a degree of a crank)."""
+
+BISECT = 1e-10
+"""Bisection of the first contact: to this fraction of the cycle's duration (3.6e-8 deg of a crank)."""
+
+
+@dataclass(frozen=True)
+class PartsModel:
+    mech: object
+    sweep: model.Sweep
+    parts: dict
+    layout: lay.Layout
+
+    @property
+    def chord(self) -> float:
+        return model.CHORD * self.mech.size / self.mech.scale
+
+
+def cycle_mechanism(mech, input_range=None):
+    """The mechanism moving over its cycle: rocking over ``input_range`` (rad or m) when given; a single
+    crank that cannot turn fully rocks over its assembly range around its start."""
+    if input_range is not None:
+        return mech.rocking(*input_range)
+    if len(mech.inputs) == 1 and mech.inputs[0].kind == "crank":
+        from analytic.applications import figures
+        ranges = figures.assembly_ranges(mech)
+        if ranges and not figures.turns_fully(mech, ranges):
+            q0 = mech.inputs[0].motion.q0
+            lo, hi = min(ranges, key=lambda r: 0.0 if r[0] <= q0 <= r[1] else min(abs(q0 - r[0]), abs(q0 - r[1])))
+            pad = 1e-6 * (hi - lo)
+            return mech.rocking(lo + pad, hi - pad)
+    return mech
+
+
+def prepare(mech, input_range=None, samples: int = SAMPLES) -> PartsModel:
+    mech = cycle_mechanism(mech, input_range)
+    sweep = model.cycle(mech, samples)
+    parts = model.build(mech, sweep)
+    return PartsModel(mech, sweep, parts, lay.layout(mech, parts, sweep))
+
+
+def layer_lines(pm: PartsModel) -> list[str]:
+    """``linkage check``'s lines about the parts: each link's layer and z, and the pins through layers."""
+    L = pm.layout
+    u = pm.mech.units
+    lines = [f"  parts layers: {L.count} (z index, 0 = against the frame)"]
+    for ln, p in pm.parts.items():
+        z0, z1 = L.z[ln]
+        lines.append(f"    {ln}: layer {L.layers[ln]} (z {z0:.4g}..{z1:.4g} {u}; {p.kind}, {p.thickness:g} {u} thick)")
+    if L.meshing:
+        lines.append("    meshing gears share a layer: " + ", ".join(f"{a}-{b}" for a, b in L.meshing))
+    pins = []
+    for point, (lo, hi) in pin_spans(pm).items():
+        pins.append(f"{point} {lo:.4g}..{hi:.4g}")
+    if pins:
+        lines.append(f"    pins (z from..to, {u}; ground pivots from the frame at 0, or from a top plate): " + ", ".join(pins))
+    for point, ln in L.clashes:
+        lines.append(f"    pin clash: link {ln} passes over the pin at {point} within its layers (no layering of up to "
+                     f"{L.count + 2} layers avoids it: offset the joint or shorten the link)")
+    for p in pm.parts.values():
+        for block, point in p.crossings:
+            lines.append(f"    note: link {p.link}'s slot for {block} runs into its joint {point} (the pins meet)")
+    return lines
+
+
+def pin_spans(pm: PartsModel) -> dict:
+    """{point: (z bottom, z top)} of every pin: through the holes of the links pinned there (and the slot it
+    runs in), a ground pivot's from the frame (z = 0) or, where links pass below its own, from a top plate."""
+    return dict(pm.layout.pins)
+
+
+# ------------------------------------------------------------------------------------------ interference
+def _input_value(mech, t: float) -> float:
+    q = mech.drive(np.array([t]))[0][0, 0]
+    first = mech.inputs[0]
+    return math.degrees(q) if first.kind == "crank" else q / mech.scale
+
+
+def _bisect(f, t0: float, t1: float, tol: float) -> float:
+    """The first time in (t0, t1] where f(t) < 0, given f(t0) >= 0 > f(t1)."""
+    while t1 - t0 > tol:
+        tm = 0.5 * (t0 + t1)
+        if f(tm) < 0:
+            t1 = tm
+        else:
+            t0 = tm
+    return t1
+
+
+def interference(pm: PartsModel) -> dict:
+    """The check (SPEC): MuJoCo's contacts and distances between same-layer solids at the instants of the
+    plane test (the uniform samples plus its refinements), the first contact bisected in each; JSON-ready."""
+    import mujoco
+
+    from sim.model import parts_scene
+    mech = pm.mech
+    scene = parts_scene.build(mech, pm.parts, pm.layout, pm.chord)
+    out = lay.outlines(mech, pm.parts)
+    size = mech.size / mech.scale
+    distmax = 10.0 * size
+    tol = BISECT * (pm.sweep.t[-1] - pm.sweep.t[0])
+    data = mujoco.MjData(scene.model)
+    items, clear, clear2d = [], {}, {}
+    for a, b in scene.pairs:
+        plane = lay.pair_distance(mech, out, pm.sweep, a, b, 0.0)
+        ts = np.unique(np.concatenate([pm.sweep.t, [plane.t] + ([plane.first] if plane.first is not None else [])]))
+        sw = model.frames_at(mech, ts)
+        sw = model.Sweep(ts, sw.q, sw.frames, sw.points)
+        va = lay.world(out, sw, a)
+        vb = lay._frame_verts(out, len(ts)) if b == lay.FRAME else lay.world(out, sw, b)
+        d2 = lay.signed_distance(va, vb)
+        single = parts_scene.Scene(scene.model, scene.links, ((a, b),), scene.geoms)
+        mj = parts_scene.sweep(single, sw, distmax)
+        dm = mj.distance[0]
+        key = f"{a}|{b}"
+        clear[key] = float(np.min(dm))
+        clear2d[key] = float(np.min(d2))
+        hit = np.nonzero(mj.contact[0] | (dm < 0))[0]
+        if not hit.size:
+            continue
+
+        def f_mj(t):                                   # MuJoCo's contact, else its signed distance
+            s = model.frames_at(mech, [t])
+            parts_scene.pose(single, data, s, 0)
+            if parts_scene.in_contact(single, data, a, b):
+                return -1.0
+            return parts_scene.distance(single, data, a, b, distmax)
+
+        def f_2d(t):
+            s = model.frames_at(mech, [t])
+            wa = lay.world(out, s, a)
+            wb = lay._frame_verts(out, 1) if b == lay.FRAME else lay.world(out, s, b)
+            return float(lay.signed_distance(wa, wb, depth=False)[0]) - (1e-12 * size)
+
+        k = int(hit[0])
+        t_mj = ts[0] if k == 0 else _bisect(f_mj, ts[k - 1], ts[k], tol)
+        h2 = np.nonzero(d2 < 0)[0]
+        t_2d = None
+        if h2.size:
+            k2 = int(h2[0])
+            t_2d = ts[0] if k2 == 0 else _bisect(f_2d, ts[k2 - 1], ts[k2], tol)
+        items.append({"links": [a, b], "first_at": _input_value(mech, t_mj), "depth": float(-np.min(dm)),
+                      "geometric": {"first_at": None if t_2d is None else _input_value(mech, t_2d),
+                                    "depth": float(max(0.0, -np.min(d2)))}})
+    first = mech.inputs[0]
+    return {"mechanism": mech.name, "units": mech.units,
+            "input": first.q, "input_unit": "deg" if first.kind == "crank" else mech.units,
+            "samples": len(pm.sweep.t), "layers": dict(pm.layout.layers),
+            "interference": items, "min_clearance": clear, "min_clearance_geometric": clear2d,
+            "pins": {p: list(span) for p, span in pm.layout.pins.items()},
+            "pin_clashes": [{"pin": p, "link": ln} for p, ln in pm.layout.clashes]}
+
+
+# ------------------------------------------------------------------------------------------ exports
+def export(pm: PartsModel, dxf=None, svg=None, pdf=None, step=None, stl=None, bom=None) -> list[str]:
+    """Write the asked files (paths checked by the caller); returns what was written."""
+    from sim.output import parts_files
+    written = []
+    if dxf:
+        parts_files.write_dxf(pm, dxf)
+        written.append(str(dxf))
+    for path in (svg, pdf):
+        if path:
+            from sim.output import parts_drawing
+            parts_drawing.write(pm, path)
+            written.append(str(path))
+    if step:
+        parts_files.write_step(pm, step)
+        written.append(str(step))
+    if stl:
+        written += [str(p) for p in parts_files.write_stl(pm, stl)]
+    if bom:
+        parts_files.write_bom(pm, bom)
+        written.append(str(bom))
+    return written
+
+
+# ------------------------------------------------------------------------------------------ mass properties
+def mass_comparison(pm: PartsModel) -> dict:
+    """Per link, in SI and the link's frame (origin its first point, x along it): the part's exact mass
+    properties (:func:`analytic.parts.model.mass_properties`), the mass model's (:func:`analytic.mass.model`,
+    what ``forces`` and ``dynamics`` use) and MuJoCo's inertia of the part's triangle mesh (the STL's solid,
+    density from the part): {link: {"parts"|"model"|"mujoco": {"m", "cx", "cy", "I"}}}."""
+    import mujoco
+
+    from analytic import mass
+    from sim.output import parts_files
+    mech = pm.mech
+    s = mech.scale
+    local = {ln: {p: tuple(np.asarray(uv) * s) for p, uv in part.points.items()} for ln, part in pm.parts.items()}
+    analytic_model = mass.model(mech, local=local)
+    spec = mujoco.MjSpec()
+    for ln, part in pm.parts.items():
+        region = parts_files.part_region(part, pm.chord)
+        mesh = parts_files.extrude(region, 0.0, part.thickness)
+        m = spec.add_mesh(name=f"m_{ln}")
+        m.uservert = (np.asarray(mesh.vertices) * s).ravel().tolist()
+        m.userface = np.asarray(mesh.faces).ravel().tolist()
+        m.inertia = mujoco.mjtMeshInertia.mjMESH_INERTIA_EXACT
+        b = spec.worldbody.add_body(name=ln)
+        b.add_freejoint()
+        b.add_geom(type=mujoco.mjtGeom.mjGEOM_MESH, meshname=f"m_{ln}", density=part.density)
+    model_mj = spec.compile()
+    data = mujoco.MjData(model_mj)
+    mujoco.mj_forward(model_mj, data)
+    out = {}
+    for ln, part in pm.parts.items():
+        mp = model.mass_properties(part, s)
+        bid = model_mj.body(ln).id
+        com = data.xipos[bid]
+        R = data.ximat[bid].reshape(3, 3)
+        inertia = R @ np.diag(model_mj.body_inertia[bid]) @ R.T
+        a = analytic_model[ln]
+        out[ln] = {"parts": {"m": mp.m, "cx": mp.cx * s, "cy": mp.cy * s, "I": mp.I},
+                   "model": {"m": a.m, "cx": a.cx, "cy": a.cy, "I": a.I},
+                   "mujoco": {"m": float(model_mj.body_mass[bid]), "cx": float(com[0]), "cy": float(com[1]),
+                              "I": float(inertia[2, 2])}}
+    return out
