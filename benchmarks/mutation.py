@@ -107,7 +107,7 @@ MUTATIONS = [
              "tests/test_library.py's transmission-angle test iterates over general_outputs (empty after the "
              "mutation); a test should require muP among a library mechanism's outputs / analyze CSV columns"),
     Mutation("out-csv-columns", "mu columns left out of the analyze CSV (service.analysis_columns)",
-             "sim/service.py", "**{k: np.asarray(a.solution[k]) for k in mech.outputs}}",
+             "sim/service/analysis.py", "**{k: np.asarray(a.solution[k]) for k in mech.outputs}}",
              "**{k: np.asarray(a.solution[k]) for k in mech.outputs if not k.startswith(\"mu\")}}",
              [CLI_A], "tests/test_cli_analyze.py (CSV header of the four-bar)"),
     # --- a formula perturbed by 1e-6 relative (the numpy solver)
@@ -222,11 +222,11 @@ MUTATIONS = [
              "analytic/applications/studies.py", 'stats["mu_min"] = np.min([sol[n] for n in want[4:]], axis=(0, 2))',
              'stats["mu_min"] = np.max([sol[n] for n in want[4:]], axis=(0, 2))', [INDEP, SWEEP],
              "tests/test_independent.py::test_sweep_metrics_by_hand_from_analyze (the textbook extremes)"),
-    Mutation("set-overrides-vary", "sim/design_service.py: --set and --vary of one parameter accepted silently",
-             "sim/design_service.py", "            if name in mech.overrides:\n", "            if False:\n",
+    Mutation("set-overrides-vary", "sim/service/design.py: --set and --vary of one parameter accepted silently",
+             "sim/service/design.py", "            if name in mech.overrides:\n", "            if False:\n",
              [INDEP, SWEEP], "tests/test_independent.py::test_set_and_vary_of_one_parameter_is_refused"),
-    Mutation("range-input-at-rest", "sim/service.py analyze: an input range samples the input at rest (zero rates "
-             "everywhere)", "sim/service.py", "q[:, 0], qd[:, 0], qdd[:, 0] = q1, first.motion.rate, 0.0",
+    Mutation("range-input-at-rest", "sim/service/analysis.py analyze: an input range samples the input at rest (zero rates "
+             "everywhere)", "sim/service/analysis.py", "q[:, 0], qd[:, 0], qdd[:, 0] = q1, first.motion.rate, 0.0",
              "q[:, 0], qd[:, 0], qdd[:, 0] = q1, 0.0, 0.0", [INDEP, CLI_A],
              "tests/test_independent.py::test_an_input_range_moves_the_input_at_its_speed"),
     Mutation("compiled-never-taken", "analytic/mechanism.py: the compiled path never taken", "analytic/mechanism.py",
@@ -259,8 +259,8 @@ MUTATIONS = [
              "analytic/quantities.py", "return v * mech.scale if parameter_quantity(mech, name)",
              "return v if parameter_quantity(mech, name)", [UNITS],
              "tests/test_units.py::test_analyze_header_shows_parameters_in_the_display_units"),
-    Mutation("json-parameters-raw", "sim/service.py analysis_record: parameters in file units whatever the units table "
-             "says", "sim/service.py", '"parameters": Q.parameters_in(mech, display), "samples"',
+    Mutation("json-parameters-raw", "sim/service/analysis.py analysis_record: parameters in file units whatever the units table "
+             "says", "sim/service/analysis.py", '"parameters": Q.parameters_in(mech, display), "samples"',
              '"parameters": mech.parameters, "samples"', [UNITS],
              "tests/test_units.py::test_json_parameters_are_in_the_units_the_table_names"),
     Mutation("slider-range-in-metres", "sim/front/cli/options.py parse_range: a slider's --input-range read in m, not the "
@@ -288,8 +288,8 @@ MUTATIONS = [
     Mutation("fold-step-ignored", "sim/model/timestep.py: the step not shortened near a dead point's fold",
              "sim/model/timestep.py", "    h *= fold_factor(mech, revolutions)\n", "", [EDGES],
              "tests/test_edges.py::test_a_range_a_hundredth_of_a_degree_inside_passes"),
-    Mutation("fold-refusal-dropped", "sim/service.py check_fold: a range at the dead point simulated anyway",
-             "sim/service.py", "    if m >= FOLD_FLOOR and not close:\n", "    if True:\n", [EDGES],
+    Mutation("fold-refusal-dropped", "sim/service/simulation.py check_fold: a range at the dead point simulated anyway",
+             "sim/service/simulation.py", "    if m >= FOLD_FLOOR and not close:\n", "    if True:\n", [EDGES],
              "tests/test_edges.py::test_a_range_at_the_printed_limits_is_refused_with_how_far_to_stay_..."),
     Mutation("change-point-never-flips", "analytic/kinds/rrr.py signs: the branch sign never flips at a change point",
              "analytic/kinds/rrr.py", "return np.where(count % 2 == 0, 1.0, -1.0)", "return np.where(count % 2 == 0, 1.0, 1.0)",

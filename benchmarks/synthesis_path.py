@@ -44,7 +44,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path[:] = [p for p in sys.path if Path(p or ".").resolve() != Path(__file__).resolve().parent]
 sys.path.insert(0, str(ROOT))
 from analytic.synthesis import path as sp  # noqa: E402
-from sim.design_service import read_target  # noqa: E402
+from sim.service.design import read_target  # noqa: E402
 
 DATA = ROOT / "benchmarks" / "data"
 CASES = ("mkh1", "mkh2", "mkh3", "mcgarva", "ullah")

@@ -67,7 +67,7 @@ def test_distinct_drops_a_repeat_whatever_its_phase_or_direction():
 
 
 def test_the_stages_reported_are_the_searchs_own(monkeypatch):
-    from sim import design_service
+    from sim.service import design as design_service
     seen = {}
 
     def fake(target, options, unit, progress=None):         # the service's calls, in its order

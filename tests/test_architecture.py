@@ -11,11 +11,10 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 
-FRONT_MAY_IMPORT = ("sim.service", "sim.design_service", "sim.tolerance_service", "sim.parts_service", "sim.loads",
-                    "sim.synth_pareto", "sim.synth_checks", "sim.output", "sim.readers", "sim.front")
-"""What a front end (sim/front/...) imports of the project: the service layer (sim.service and the use-case
-modules beside it), the output layer, the readers of the command line's small input files and the front
-ends' own modules; of ``analytic`` only the package's names (``ParameterError``, ``load``, ...)."""
+FRONT_MAY_IMPORT = ("sim.service", "sim.output", "sim.readers", "sim.front")
+"""What a front end (sim/front/...) imports of the project: the service layer (sim.service, one module per use
+case), the output layer, the readers of the command line's small input files and the front ends' own
+modules; of ``analytic`` only the package's names (``ParameterError``, ``load``, ...)."""
 
 FRONT_DEBT = {
     "sim/front/app.py": {"analytic.applications.figures", "analytic.applications.motor", "analytic.format.expr",

@@ -34,7 +34,7 @@ def test_constant_brake_on_the_crank_sets_the_mean_speed_by_hand(tmp_path):
     # Cs^2 / 8 (1.3e-5 at Cs = 0.0104); 80 turns at a time constant J W0 / T0 = 1.9 s leave no transient.
     import analytic
     from analytic.applications import motor as am
-    from sim.loads import dynamics_loads
+    from sim.service.loads import dynamics_loads
     from sim.model import Loads
     from sim.run import motor as sm
     body = FOURBAR.read_text()

@@ -13,7 +13,8 @@ import pytest
 from scipy.spatial import ConvexHull
 
 from analytic.parts import layers, model, shapes
-from sim import parts_service, service
+from sim import service
+from sim.service import parts as parts_service
 
 PLANTED = """
 format = "linkage/1"

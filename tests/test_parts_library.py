@@ -10,7 +10,8 @@ import pytest
 from scipy.spatial import ConvexHull
 
 from analytic.parts import model
-from sim import parts_service, service
+from sim import service
+from sim.service import parts as parts_service
 from test_parts import bulge_area
 
 NAMES = [r["name"] for r in service.list_mechanisms()]

@@ -196,7 +196,7 @@ def test_motion_with_an_impossible_size_returns_nothing_and_says_why(tmp_path):
 
 # ------------------------------------------------------------------------------ simulated, distinct
 def test_every_design_is_simulated_with_its_forces_checked():
-    from sim.synth_checks import simulate_design
+    from sim.service.synth_checks import simulate_design
     link = Linkage((0.0, 0.0), (0.3, 0.0), 0.1, 0.3, 0.25, 0.15, 0.10, 1)
     for rng in (None, (0.2, 1.4)):                          # a full turn, and rocking over a working range
         s = simulate_design(mechanism(link), rng)

@@ -14,7 +14,7 @@ import pytest
 from analytic import ParameterError
 from analytic.synthesis import path as sp
 from analytic.synthesis.curves import FAMILIES
-from sim import synth_pareto as P
+from sim.service import pareto as P
 
 LIB = np.array([0.0, 0.0, 0.0, 0.3, 0.1, 0.3, 0.25, 0.15, 0.10])
 """The library four-bar (SPEC defaults) as a path design."""

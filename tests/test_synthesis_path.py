@@ -100,7 +100,7 @@ def test_recovers_a_random_fourbar():
     assert d.err.max() < 1e-3 * t.size
     # and independently, the general solver's curve of the written file passes within that bar too
     from analytic.registry import from_text
-    from sim.design_service import design_text
+    from sim.service.design import design_text
     sol = from_text(design_text(d, "m", t, 0)).solve(np.linspace(0, 2 * math.pi, 20000))
     P = np.column_stack([sol["xE"], sol["yE"]])
     near = np.sqrt(((xy[:, None, :] - P[None]) ** 2).sum(-1)).min(1)
@@ -194,7 +194,7 @@ def test_recovers_a_random_fourbar_from_shuffled_targets_in_any_order():
     assert d.violation == 0 and not d.failed
     # the recovery bar, judged by the general solver's curve of the written file (20000 samples)
     from analytic.registry import from_text
-    from sim.design_service import design_text
+    from sim.service.design import design_text
     sol = from_text(design_text(d, "m", t, 0)).solve(np.linspace(0, 2 * math.pi, 20000))
     P = np.column_stack([sol["xE"], sol["yE"]])
     near = np.sqrt(((t.xy[:, None, :] - P[None]) ** 2).sum(-1)).min(1)

@@ -17,7 +17,7 @@ from analytic.registry import from_text
 from analytic.synthesis import constraints as sc
 from analytic.synthesis import path as sp
 from analytic.synthesis.curves import FAMILIES
-from sim import design_service
+from sim.service import design as design_service
 
 LIB = np.array([0.0, 0.0, 0.0, 0.3, 0.1, 0.3, 0.25, 0.15, 0.10])
 """The library four-bar (SPEC defaults) as a path design: A = (0, 0), D = (0.3, 0), a crank-rocker."""

@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 
 from analytic.synthesis import path as sp
-from sim.design_service import read_target
+from sim.service.design import read_target
 import pytest
 
 pytestmark = pytest.mark.slow  # the whole module: see pyproject's markers

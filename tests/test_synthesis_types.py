@@ -15,7 +15,7 @@ import pytest
 from analytic.registry import from_text
 from analytic.synthesis import path as sp
 from analytic.synthesis.curves import FAMILIES
-from sim import design_service
+from sim.service import design as design_service
 from sim.run.parallel import mapper
 
 import cli_runner  # the command in this process (tests/cli_runner.py)

@@ -13,7 +13,7 @@ import pytest
 
 from analytic.applications import tolerance as T
 from sim import service
-from sim import tolerance_service as ts
+from sim.service import tolerance as ts
 
 
 def run(*args):

@@ -387,7 +387,7 @@ def length_unit(body: dict) -> str:
 def targets(body: dict) -> dict:
     """Target points loaded on the page: a CSV's text (columns x,y in ``unit``, read as ``linkage synthesize
     path`` reads its file) as points [m]."""
-    from sim import design_service
+    from sim.service import design as design_service
     check_fields(body, "targets")
     text, filename, unit = body.get("text"), body.get("filename", "targets.csv"), length_unit(body)
     if not isinstance(text, str) or not isinstance(filename, str):
@@ -407,7 +407,7 @@ def targets(body: dict) -> dict:
 
 def synthesize(body: dict, server: "AppServer") -> dict:
     """Path synthesis from the page: ``targets`` [[x, y], ...] [m], ``type``, ``closed``, ``budget`` [s]
-    (:func:`sim.design_service.synthesize_path`, in metres), run as a job the page can cancel
+    (:func:`sim.service.design.synthesize_path`, in metres), run as a job the page can cancel
     (:class:`sim.front.synth_job.Job`: its own process group, killed at the budget plus 1 s); each distinct
     candidate with its error [m^2, m], its least transmission angle, its checks, its ``linkage/1`` text and its
     coupler curve [m] to draw; ``seconds``: the wall time from the request to the answer."""

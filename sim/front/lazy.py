@@ -2,7 +2,7 @@
 
 ``linkage list`` and ``linkage check`` need numpy and the solver, not scipy's optimisers, matplotlib or
 MuJoCo; a command module that needs such a module for its work (not for its options) names it here:
-``design_service = lazy("sim.design_service")`` binds a module whose code runs at its first attribute
+``design_service = lazy("sim.service.design")`` binds a module whose code runs at its first attribute
 access (importlib's LazyLoader, the standard library's recipe)."""
 
 from __future__ import annotations

@@ -66,7 +66,7 @@ def _gap(a: np.ndarray, b: np.ndarray) -> float:
 def run(request: dict, emit) -> dict:
     """The search of one request, its stages sent to ``emit``; the answer the page draws."""
     from analytic.synthesis import path as sp
-    from sim import design_service
+    from sim.service import design as design_service
     from sim.output.jsonout import clean
     xy = np.asarray(request["targets"], dtype=float)
     target = sp.Target(xy, None, bool(request["closed"]))

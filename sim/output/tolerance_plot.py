@@ -15,7 +15,7 @@ def histogram(result, name: str, mech, display, ax=None):
     """The Monte Carlo values of output ``name`` (``display`` units) with the nominal value, p05/p95 and the
     linearised model's values over the same draws (first-order propagation); returns the Axes."""
     import matplotlib.pyplot as plt
-    from sim.tolerance_service import output_quantity
+    from sim.service.tolerance import output_quantity
     ax = ax or plt.gca()
     q = output_quantity(mech, name)
     s = result.summaries[name]

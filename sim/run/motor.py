@@ -414,7 +414,7 @@ def record(d: Dynamics) -> dict:
                             "startup_time": s.startup_time, "timestep": s.timestep,
                             "loop_violation": s.loop_violation, "agreement": d.agreement.as_dict(),
                             "passed": d.agreement.passed}
-    from sim.loads import dynamics_loads
+    from sim.service.loads import dynamics_loads
     extra = dynamics_loads(d)
     if extra is not None:                     # SPEC "Loads": each load's work per cycle and the balance
         out["loads"], out["energy"] = extra

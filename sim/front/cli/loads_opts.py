@@ -91,7 +91,7 @@ def analyze_at(args, mech) -> int:
     motion law at the same time): a table in the shown units, or ``--json`` {"mechanism", "at", "t",
     "outputs": {name: value}, "units": {name: unit}} (SI unless --units/--angles/--speeds)."""
     import numpy as np
-    from sim import loads as L
+    from sim.service import loads as L
     from sim.output.jsonout import dumps
     from sim.output.units import column_unit, convert_columns, machine_units, shown_units
     if args.input_range or args.csv:

@@ -42,7 +42,7 @@ def _range(args, mech):
 def layer_lines(mech, args=None) -> list[str]:
     """``linkage check``'s lines about the parts; a design that cannot be made into parts (a hole wider
     than its bar) says so in a line: the structure check itself has passed."""
-    from sim import parts_service
+    from sim.service import parts as parts_service
     try:
         return parts_service.layer_lines(parts_service.prepare(mech, _range(args, mech) if args else None))
     except ParameterError as exc:
@@ -51,7 +51,7 @@ def layer_lines(mech, args=None) -> list[str]:
 
 def cmd_interference(args, mech) -> int:
     """``linkage check MECH --interference``: a summary (or ``--json``); exit 1 if any pair collides."""
-    from sim import parts_service
+    from sim.service import parts as parts_service
     pm = parts_service.prepare(mech, _range(args, mech))
     report = parts_service.interference(pm)
     if args.json:
@@ -105,7 +105,7 @@ def check_paths(args) -> None:
 
 
 def export(args, mech) -> None:
-    from sim import parts_service
+    from sim.service import parts as parts_service
     pm = parts_service.prepare(mech)
     for path in parts_service.export(pm, dxf=args.dxf, svg=args.svg, pdf=args.pdf, step=args.step, stl=args.stl,
                                      bom=args.bom):

@@ -1,5 +1,5 @@
 """``linkage sweep MECH --vary NAME=...``: seed 003's parameter studies, families of output paths and speeds
-(the use case: :func:`sim.design_service.sweep`)."""
+(the use case: :func:`sim.service.design.sweep`)."""
 
 from __future__ import annotations
 
@@ -34,7 +34,7 @@ MAX_COMBOS = studies.MAX_COMBOS
 
 
 def run(args) -> int:
-    from sim import design_service
+    from sim.service import design as design_service
     check_outputs(args, {"csv": (".csv",), "plot": (".png", ".svg", ".pdf")})
     base = mechanism_from(args)
     vary = design_service.parse_vary(args.vary, base) if args.vary else {}

@@ -9,7 +9,7 @@ from sim.output.io import check_writable, write_text
 from sim.front.cli.synth_options import add_limits, add_units, limits_of, measure_words
 from sim.output.jsonout import dumps
 
-design_service = lazy("sim.design_service")  # scipy's optimisers: loaded by the command, not by its options
+design_service = lazy("sim.service.design")  # scipy's optimisers: loaded by the command, not by its options
 
 
 def _designs_out(args, kind: str, found: list[dict], rejected: list[dict]) -> int:

@@ -1,5 +1,5 @@
 """``linkage synthesize path TARGET.csv --objectives error,torque,...``: a Pareto set of path generators
-(:mod:`sim.synth_pareto`), each checked in MuJoCo; JSON ``front``, a CSV of the front, a plot of the front
+(:mod:`sim.service.pareto`), each checked in MuJoCo; JSON ``front``, a CSV of the front, a plot of the front
 with each design's coupler curve, and the designs' files."""
 
 from __future__ import annotations
@@ -12,8 +12,8 @@ import numpy as np
 
 from analytic import ParameterError
 from analytic.format import expr
-from sim import design_service
-from sim import synth_pareto as P
+from sim.service import design as design_service
+from sim.service import pareto as P
 from sim.output.io import atomic_path, check_writable, write_text
 from sim.output.jsonout import dumps
 from sim.output.progress import Progress

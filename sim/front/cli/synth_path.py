@@ -1,5 +1,5 @@
 """``linkage synthesize path TARGET.csv``: a four-bar, slider-crank or six-bar whose traced point passes
-through (or nearest to) target points (the use case: :func:`sim.design_service.synthesize_path`); this
+through (or nearest to) target points (the use case: :func:`sim.service.design.synthesize_path`); this
 module parses the options, writes the files and the plot, prints the table or JSON."""
 
 from __future__ import annotations
@@ -14,7 +14,7 @@ from sim.output.io import atomic_path, check_writable, write_text
 from sim.output.jsonout import dumps
 from sim.output.progress import Progress
 
-design_service = lazy("sim.design_service")  # scipy's optimisers: loaded by the command, not by its options
+design_service = lazy("sim.service.design")  # scipy's optimisers: loaded by the command, not by its options
 
 
 def plot(path: str, target, found: list[dict], unit: str) -> None:

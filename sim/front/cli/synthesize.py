@@ -1,5 +1,5 @@
 """``linkage synthesize PROBLEM``: two-position (seed 001) here; path, motion and function register from
-their own modules (:mod:`.synth_path`, :mod:`.synth_exact`). The use cases are :mod:`sim.design_service`'s:
+their own modules (:mod:`.synth_path`, :mod:`.synth_exact`). The use cases are :mod:`sim.service.design`'s:
 these functions parse the options, print and write files."""
 
 from __future__ import annotations
@@ -34,7 +34,7 @@ def _angle_range(option: str, text: str) -> tuple[float, float]:
 
 
 def cmd_synthesize(args) -> int:
-    from sim import design_service
+    from sim.service import design as design_service
     if args.problem != "two-position":
         raise ParameterError(f"unknown synthesis problem {args.problem!r}: use two-position")
     if args.render:

@@ -52,7 +52,7 @@ def _drop_option(p, option: str) -> None:
 
 
 def cmd_tolerance(args) -> int:
-    from sim import tolerance_service as ts
+    from sim.service import tolerance as ts
     from sim.front.cli.options import check_outputs, loads_from, mechanism_from, parse_range
     from sim.output.jsonout import dumps
     from sim.output.units import machine_units, shown_units

@@ -263,7 +263,7 @@ def check_path_design(job: tuple) -> dict:
         out["problem"] = (f"the general solver's curve leaves the synthesised one by {dev / size:.2g} of the "
                           f"targets' size (a branch changes over the turn)")
         return out
-    from sim.synth_checks import simulate_design
+    from sim.service.synth_checks import simulate_design
     sim = simulate_design(mech)                   # compare and the forces in MuJoCo (the links' inertia)
     out["compare_passed"], out["simulated"] = sim["compare_passed"], sim
     out["problem"] = sim["problem"] if sim["compare_passed"] else ""
@@ -364,9 +364,9 @@ def working_range(link, inputs) -> tuple[float, float]:
 def check_fourbar(mech, lo: float, hi: float) -> tuple[bool, str, dict]:
     """``linkage compare`` and the forces in MuJoCo of an exact design over its working range (the file's
     ``input_range``): MuJoCo rocking the crank from ``lo`` to ``hi`` [rad] must follow the general solver
-    (:func:`sim.synth_checks.simulate_design`). Returns (compare passed, what was compared, the simulated
+    (:func:`sim.service.synth_checks.simulate_design`). Returns (compare passed, what was compared, the simulated
     record: its ``passed`` both)."""
-    from sim.synth_checks import simulate_design
+    from sim.service.synth_checks import simulate_design
     sim = simulate_design(mech, (lo, hi))
     return sim["compare_passed"], "rocking over the working range (the file's input_range)", sim
 

@@ -4,7 +4,8 @@ process pool or on a Dask scheduler), and give its JSON record and its table.
 
 A script does what the command does::
 
-    from sim import service, tolerance_service as ts
+    from sim import service
+    from sim.service import tolerance as ts
     mech = service.load("fourbar")
     result = ts.tolerance(mech, ["l1=±0.0005", "l2=normal:0.0002"], samples=1000, sobol=True)
     record = ts.tolerance_record(result, mech)

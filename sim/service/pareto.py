@@ -290,7 +290,7 @@ def check(x, branch, target: sp.Target, opts: ParetoOptions, unit: str, limits: 
                   np.zeros(1), 0.0, opts.seed, family=family)
     e, ph = sp.errors(x[:nx], d.branch, target, d.phi_offset, family)
     d = sp.Design(d.x, d.branch, d.phi_offset, e, ph, 0.0, opts.seed, family=family)
-    from sim.design_service import design_text, error_record, sense_of
+    from sim.service.design import design_text, error_record, sense_of
     text = design_text(d, unit, target, opts.seed)
     out = {"text": text, "design": d, "type": family.name, "problem": "", "error_record": error_record(e)}
     mech = from_text(text, "<pareto design>")

@@ -1,0 +1,48 @@
+"""The service layer: the documented Python API that every front end (the ``linkage`` command, the web app)
+and every script goes through. Plain functions on :class:`analytic.Mechanism`, no argparse; errors are
+:class:`analytic.ParameterError` with one-line messages that speak of parameters, not of command-line flags.
+
+One module per use case:
+
+- :mod:`.mechanisms`: load a mechanism by name or file, its parameters, its drawing;
+- :mod:`.analysis`: closed-form kinematics over a run (``analyze``) and its figures of merit;
+- :mod:`.simulation`: the MuJoCo model simulated and cross-checked (``simulate``, ``compare``);
+- :mod:`.forces`: joint forces, drives, shaking, balancing (``forces_run``), and MuJoCo's answer;
+- :mod:`.export`: the MJCF model and the mechanism file as text;
+- :mod:`.loads`: the loads a run applies and their work (``[[loads]]``, ``--force``, ``--torque``, ``--at``);
+- :mod:`.design`: synthesis (path, motion, function, two-position) and sweeps; :mod:`.pareto` the
+  multi-objective search; :mod:`.synth_checks` the simulation of every returned design;
+- :mod:`.tolerance`: Monte Carlo, first-order and Sobol tolerance analysis;
+- :mod:`.parts`: link solids, layers, interference, DXF/SVG/PDF/STEP/STL exports and the bill of materials.
+
+The first five are imported here, so ``from sim import service; service.load("fourbar")`` reaches them; the
+others load scipy, pymoo, SALib, shapely or a CAD kernel and are imported by name when used
+(``from sim.service import design``). MuJoCo and matplotlib are imported only by the functions that need
+them, so analysis stays fast.
+"""
+
+from __future__ import annotations
+
+from sim.service.mechanisms import list_mechanisms, parameter_value, load, parameter_table, describe, link_drawing
+from sim.service.analysis import (MAX_SAMPLES, MAX_REVOLUTIONS, Analysis, check_samples, check_revolutions,
+                                  check_range, analyze, figures, check_turns_fully, analysis_record, units_table,
+                                  parameters_record, analysis_columns, units_of)
+from sim.service.simulation import (check_singular, CHANGE_SWING, check_change_swing, CHANGE_START, CHANGE_SHIFT,
+                                    clear_of_change_point, start_note, change_points, passes_smoothly, prepare,
+                                    check_folded_change_points, check_fold, simulate, compare, comparison_record,
+                                    trajectory_columns)
+from sim.service.export import export_mjcf, mechanism_text
+from sim.service.forces import (ForceRun, check_forces_singular, mass_sources, forces_run, force_peaks,
+                                forces_record, loads_table, balance_record, forces_columns, forces_table,
+                                balanced_mechanism, simulated_forces_run, simulated_forces)
+
+__all__ = ["annotations", "list_mechanisms", "parameter_value", "load", "parameter_table", "describe",
+           "link_drawing", "MAX_SAMPLES", "MAX_REVOLUTIONS", "Analysis", "check_samples", "check_revolutions",
+           "check_range", "analyze", "figures", "check_turns_fully", "analysis_record", "units_table",
+           "parameters_record", "analysis_columns", "units_of", "check_singular", "CHANGE_SWING",
+           "check_change_swing", "CHANGE_START", "CHANGE_SHIFT", "clear_of_change_point", "start_note",
+           "change_points", "passes_smoothly", "prepare", "check_folded_change_points", "check_fold", "simulate",
+           "compare", "comparison_record", "trajectory_columns", "export_mjcf", "mechanism_text", "ForceRun",
+           "check_forces_singular", "mass_sources", "forces_run", "force_peaks", "forces_record", "loads_table",
+           "balance_record", "forces_columns", "forces_table", "balanced_mechanism", "simulated_forces_run",
+           "simulated_forces"]

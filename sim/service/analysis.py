@@ -1,0 +1,157 @@
+"""Closed-form kinematics over a run (``linkage analyze``): the run, its figures of merit, its records."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+import analytic
+from analytic import ParameterError
+from analytic.applications.figures import of as figures_of
+from analytic.mechanism import Mechanism
+
+
+MAX_SAMPLES = 10_000_000
+"""Largest analysis accepted (~1.5 GB of outputs for a four-bar)."""
+
+
+MAX_REVOLUTIONS = 10_000
+
+
+@dataclass(frozen=True)
+class Analysis:
+    """One analysed run: time [s], the inputs' motion (columns named phi1, omega1, ...), the solution."""
+
+    t: np.ndarray
+    inputs: dict[str, np.ndarray]
+    solution: analytic.Solution
+    figures: dict
+
+
+def check_samples(samples) -> int:
+    if isinstance(samples, bool) or not isinstance(samples, int) or not 2 <= samples <= MAX_SAMPLES:
+        raise ParameterError(f"samples={samples!r} must be an integer in 2..{MAX_SAMPLES:,}")
+    return samples
+
+
+def check_revolutions(revolutions) -> float:
+    if isinstance(revolutions, bool) or not isinstance(revolutions, (int, float)) or not (
+            math.isfinite(revolutions) and 0 < revolutions <= MAX_REVOLUTIONS):
+        raise ParameterError(f"revolutions={revolutions!r} must be a number in (0, {MAX_REVOLUTIONS}]")
+    return float(revolutions)
+
+
+def check_range(mech: Mechanism, lo: float, hi: float) -> tuple[float, float]:
+    first = mech.inputs[0]
+    fmt = (lambda v: f"{math.degrees(v):.2f}deg") if first.kind == "crank" else (lambda v: f"{v:.6g}")
+    if not (math.isfinite(lo) and math.isfinite(hi)):
+        raise ParameterError(f"input range {lo}:{hi} must be finite")
+    if not hi > lo:
+        raise ParameterError(f"input range {fmt(lo)}:{fmt(hi)}: the end must exceed the start")
+    if first.kind == "crank" and hi - lo > 2 * math.pi * MAX_REVOLUTIONS:
+        raise ParameterError(f"input range {fmt(lo)}:{fmt(hi)} spans more than {MAX_REVOLUTIONS} turns")
+    return lo, hi
+
+
+def analyze(mech: Mechanism, samples: int = 361, revolutions: float = 1.0,
+            input_range: tuple[float, float] | None = None, figures: bool = True) -> Analysis:
+    """Closed-form kinematics over one run: ``samples`` instants over ``revolutions`` of the first input,
+    or values of the first input evenly spaced over ``input_range`` (other inputs at their motion law).
+    ``figures=False`` skips the figures of merit (their scans take 50 ms to 2 s; the curves ~1 ms), as a
+    front end does while a value is being dragged."""
+    check_samples(samples)
+    check_revolutions(revolutions)
+    if input_range is not None:
+        lo, hi = check_range(mech, *input_range)
+        first = mech.inputs[0]
+        q1 = np.linspace(lo, hi, samples)
+        rate = first.motion.rate if first.motion.rate != 0 else 1.0
+        t = (q1 - lo) / abs(rate)
+        q, qd, qdd = mech.drive(t)
+        q[:, 0], qd[:, 0], qdd[:, 0] = q1, first.motion.rate, 0.0
+        mech.check_assembles(q)
+    else:
+        check_turns_fully(mech)
+        t = np.linspace(0.0, mech.duration(revolutions), samples)
+        q, qd, qdd = mech.drive(t)
+        mech.check_assembles(q)
+    sol = mech.solve(q, qd, qdd)
+    cols = {}
+    for attr, arr in (("q", q), ("qd", qd), ("qdd", qdd)):          # phi2 phi4 omega2 omega4 alpha2 alpha4
+        for k, inp in enumerate(mech.inputs):
+            cols[getattr(inp, attr)] = arr[:, k]
+    return Analysis(t, cols, sol, figures_of(mech, sol) if figures else {})
+
+
+def figures(mech: Mechanism) -> dict:
+    """The figures of merit of one cycle, as ``analyze`` computes them (361 samples of one revolution, or
+    of the rocking range): what every front end shows, so a figure reads the same everywhere."""
+    return analyze(mech, 361, 1.0, mech.rock).figures
+
+
+def check_turns_fully(mech: Mechanism) -> None:
+    """A single-input mechanism whose first input cannot make a full turn is refused with its limits
+    (a rocking drive, ``input_range``, is the way to run it)."""
+    if len(mech.inputs) != 1 or mech.rock is not None or mech.inputs[0].kind != "crank":
+        return
+    from analytic.applications import figures
+    ranges = figures.assembly_ranges(mech)
+    if not ranges:
+        raise ParameterError(f"the {mech.name} cannot be assembled at any value of {mech.inputs[0].q}: change its "
+                             f"lengths")
+    if not figures.turns_fully(mech, ranges):
+        first = mech.inputs[0]
+        ends = ", ".join(sorted({f"{(math.degrees(a) + 180) % 360 - 180:.4f}deg" for r in ranges for a in r},
+                                key=lambda x: float(x[:-3])))
+        reach = figures.describe_ranges(first, ranges) if ranges else "nowhere"
+        raise ParameterError(f"the input {first.q} of the {mech.name} cannot turn fully (limit angles {ends}; "
+                             f"reachable {reach}, rounded inward): run it between the limits with an input range LO:HI")
+
+
+def analysis_record(mech: Mechanism, a: Analysis, samples: int, revolutions: float, display=None) -> dict:
+    """The JSON of ``linkage analyze --json``: figures and ranges in ``display`` units (default SI), and
+    the ``units`` table saying which (analytic.quantities)."""
+    from analytic import quantities as Q
+    display = display or Q.SI
+    outs = mech.outputs
+    kind = mech.inputs[0].kind
+    ranges = {k: display.convert(Q.quantity(mech, k), _span(a.solution[k])) for k in outs}
+    return {"mechanism": mech.name, "units": units_table(mech, display, outs, a.figures),
+            "parameters": Q.parameters_in(mech, display), "samples": samples, "revolutions": revolutions,
+            "figures": Q.convert_figures(a.figures, display, kind), "ranges": ranges}
+
+
+def units_table(mech: Mechanism, display, outputs=(), figures=None) -> dict:
+    """The JSON ``units`` table: the file's length unit, the unit of each quantity in this record, and of
+    each output and figure of merit named."""
+    from analytic import quantities as Q
+    return {"file": mech.units, **{q: display.unit(q) for q in Q.SI_UNIT if q != Q.RATIO},
+            "parameters": Q.parameter_units(mech, display),
+            "outputs": {k: display.unit(Q.quantity(mech, k)) for k in outputs},
+            **({"figures": Q.figure_units(figures, display, mech.inputs[0].kind)} if figures else {})}
+
+
+def parameters_record(mech: Mechanism, display=None) -> dict:
+    """``parameters`` (values in ``display`` units, default SI) and ``parameter_units`` (their unit labels)
+    for a machine-readable record (the CSV sidecar)."""
+    from analytic import quantities as Q
+    display = display or Q.SI
+    return {"parameters": Q.parameters_in(mech, display), "parameter_units": Q.parameter_units(mech, display)}
+
+
+def _span(x) -> list[float]:
+    x = np.asarray(x)
+    return [float(np.nanmin(x)), float(np.nanmax(x))] if np.any(np.isfinite(x)) else [math.nan, math.nan]
+
+
+def analysis_columns(mech: Mechanism, a: Analysis) -> dict[str, np.ndarray]:
+    """CSV columns of an analysis: t, the inputs, the reported outputs."""
+    return {"t": a.t, **a.inputs, **{k: np.asarray(a.solution[k]) for k in mech.outputs}}
+
+
+def units_of(mech: Mechanism, columns, display=None) -> dict[str, str]:
+    """The unit of each CSV column (for the sidecar) in ``display`` units (default SI)."""
+    from sim.output.units import SI, column_unit
+    return {c: column_unit(mech, c, display or SI) for c in columns}

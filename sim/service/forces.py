@@ -1,0 +1,396 @@
+"""Joint forces along the motion (``linkage forces``): Newton-Euler per group with the loads, the peaks,
+the records and tables, balancing, and MuJoCo's answer."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from analytic import ParameterError
+from analytic.mechanism import Mechanism
+from sim.service.analysis import check_range, check_revolutions, check_samples, check_turns_fully
+from sim.service.simulation import _visited
+
+
+@dataclass(frozen=True)
+class ForceRun:
+    """One run of ``linkage forces``: the motion (``t`` [s], the inputs ``q, qd, qdd`` of shape (N, k) and
+    their columns ``inputs``), the mass model, the loads applied (``loads``: a JSON-ready description), the
+    joint forces, and with balancing the counterweights (``balance``) and the forces with them (``balanced``)."""
+
+    mech: Mechanism
+    t: np.ndarray
+    q: np.ndarray
+    qd: np.ndarray
+    qdd: np.ndarray
+    inputs: dict
+    solution: object
+    inertias: dict
+    sources: dict
+    loads: dict
+    forces: object
+    balance: object = None
+    balanced: object = None
+    loaded: object = None
+    """The kinetostatics with the file's and the command line's loads (:class:`analytic.loads.kinetostatics.Loaded`)."""
+    loadset: object = None
+    energy: dict | None = None
+    """Each load's work per cycle, friction's dissipation and the energy balance (sim.loads.energy_of)."""
+
+
+def check_forces_singular(mech: Mechanism, q: np.ndarray, sol=None) -> None:
+    """Refuse a run that passes a singular pose of a group (its joint forces are unbounded there), naming the
+    first input's value: the refined singular poses of the first input's range (one input), or the smallest
+    singularity measure over the run's samples."""
+    from analytic.applications import figures
+    first = mech.inputs[0]
+    if len(mech.inputs) == 1:
+        for x, label, _ in figures.singular_poses(mech):
+            if _visited(first, q[:, 0], x):
+                raise ParameterError(_singular_text(mech, x, label))
+    step = max(1, len(q) // 20001)
+    sub = mech.solve(q[::step], 1.0 if len(mech.inputs) == 1 else np.ones(len(mech.inputs)))
+    for label, m in figures.singularity(mech, sub).items():
+        m = np.where(np.isfinite(m), m, np.inf)
+        k = int(np.argmin(m))
+        if m[k] < figures.SINGULAR:
+            raise ParameterError(_singular_text(mech, float(q[::step][k, 0]), label))
+
+
+def _singular_text(mech: Mechanism, x: float, label: str) -> str:
+    from analytic.applications.forces import angle_text
+    first = mech.inputs[0]
+    return (f"the {mech.name} passes through a singular pose at {first.q}={angle_text(first, x)} ({label} folds): "
+            f"its joint forces are unbounded there; change a length by a little, or run between two such "
+            f"values with an input range")
+
+
+def _load_window(mech: Mechanism, q1: np.ndarray):
+    """1 where a cutting force acts (the output point's slow stroke along x), else 0: the simulation's switch
+    (sim.model.drives.load_switch) on the first input's phase; and the window (lo, hi) [rad of phase]."""
+    from sim.model.drives import slow_stroke
+    lo, hi = slow_stroke(mech)
+    phase = np.mod(q1 - mech.inputs[0].motion.q0, 2 * math.pi)
+    on = ((phase >= lo) & (phase <= hi)) | ((phase + 2 * math.pi >= lo) & (phase + 2 * math.pi <= hi))
+    return on.astype(float), (lo, hi)
+
+
+def mass_sources(mech: Mechanism, given: dict | None) -> dict[str, str]:
+    """Where each link's mass comes from: --inertia, [inertia], [mass] or the default; "+ counterweight"."""
+    from analytic import mass
+    mats = mass.materials(mech)
+    weighted = {w.link for w in mass.counterweights(mech)}
+    out = {}
+    for ln in mech.links:
+        src = ("--inertia" if ln in (given or {}) else "[inertia]" if ln in mech.definition.inertia
+               else f"[mass] {mats[ln].shape}" if ln in mats else "default (1 kg/m bars)")
+        out[ln] = src + (" + counterweight" if ln in weighted else "")
+    return out
+
+
+def forces_run(mech: Mechanism, samples: int = 361, revolutions: float = 1.0, input_range=None,
+               gravity=None, force=(0.0, 0.0), slow_stroke_only: bool = False, inertias: dict | None = None,
+               balance=None, extra_loads=(), at=None) -> ForceRun:
+    """Every joint force of ``mech`` along its motion law: ``samples`` instants over ``revolutions`` of the
+    first input (or rocking over ``input_range``), with ``gravity`` (gx, gy) [m/s^2], ``force`` (Fx, Fy) [N]
+    on the output point (only on the slow stroke when ``slow_stroke_only``: a cutting force) and the mass
+    model with ``inertias`` ({link: Inertia}, SI) replacing links' own. ``balance``: None, or the links to
+    carry counterweights (an empty tuple: the default choice, see analytic.applications.balance).
+    ``extra_loads``: the command line's loads (analytic.loads dataclasses) besides the file's ``[[loads]]``
+    and ``[friction]`` (SPEC "Loads"); ``at``: one value of the first input [rad or m] instead of a run."""
+    from analytic import mass
+    from analytic.applications import balance as bal
+    from analytic.applications import forces as F
+    check_samples(samples)
+    check_revolutions(revolutions)
+    F.check_determinate(mech)
+    if input_range is not None:
+        lo, hi = check_range(mech, *input_range)
+        mech = mech.rocking(lo, hi)
+    else:
+        check_turns_fully(mech)
+    from sim.service import loads as L
+    t, cycles = L.run_times(mech, samples, revolutions, at)
+    q, qd, qdd = mech.drive(t)
+    mech.check_assembles(q)
+    check_forces_singular(mech, q)
+    sol = mech.solve(q, qd, qdd, outputs=L.K.full_wanted(mech))
+    model = mass.model(mech, inertias)
+    gx, gy = gravity if gravity is not None else (0.0, 0.0)
+    fx, fy = force
+    on, window = (_load_window(mech, q[:, 0]) if slow_stroke_only and (fx or fy) else (1.0, None))
+    loadset = L.loadset(mech, extra_loads)
+    loaded = L.K.solve(mech, q, qd, qdd, t, model, loadset, (gx, gy), (fx, fy), on, sol=sol)
+    result = loaded.forces
+    bad = F.singular_samples(result)
+    if bad.any():
+        k = int(np.argmax(bad))
+        raise ParameterError(_singular_text(mech, float(q[k, 0]), "a group"))
+    point = mech.output_point
+    loads = {"gravity": list(gravity) if gravity is not None else None,
+             "force": ({"Fx": fx, "Fy": fy, "point": point, "link": mech.topology.carriers[point],
+                        "cutting": bool(slow_stroke_only),
+                        **({"window": list(window)} if window is not None else {})} if (fx or fy) else None)}
+    cols = {}
+    for k, inp in enumerate(mech.inputs):
+        cols[inp.q] = q[:, k]
+    balance_result = balanced = None
+    if balance is not None:
+        balance_result = bal.balance(mech, L.whole_cycles(mech, sol, t, revolutions), model, tuple(balance) or None)
+        balanced = L.K.solve(mech, q, qd, qdd, t, bal.with_counterweights(model, balance_result.counterweights),
+                             loadset, (gx, gy), (fx, fy), on, sol=sol).forces
+    energy = L.energy_of(mech, loaded, loadset, model, (gx, gy), (fx, fy), on, cycles)
+    return ForceRun(mech, t, q, qd, qdd, cols, sol, model, mass_sources(mech, inertias), loads, result,
+                    balance_result, balanced, loaded, loadset, energy)
+
+
+def force_peaks(run: ForceRun, forces=None) -> dict:
+    """Each joint's peak |F| [N] (a prismatic pair's also its peak |M| [N m]), each drive's peak and the
+    shaking force's and moment's, with the sample index where each occurs; the RMS over the closed run
+    (its end sample counted once)."""
+    from analytic.applications.cycle import closed_rms
+    f = forces or run.forces
+    out = {"joints": {}, "drives": {}, "shaking": {}}
+    mag = f.magnitude()
+    for k, j in enumerate(f.joints):
+        i = int(np.argmax(mag[k]))
+        entry = {"F": float(mag[k, i]), "at": i}
+        if j.kind == "prismatic":
+            m = np.abs(f.M(k))
+            entry.update({"M": float(m.max()), "at_M": int(np.argmax(m))})
+        out["joints"][j.name] = entry
+    for inp in run.mech.inputs:
+        d = np.abs(f.drives[inp.link])
+        out["drives"][inp.q] = {"value": float(d.max()), "at": int(np.argmax(d))}
+    sf = np.hypot(f.shaking[0], f.shaking[1])
+    sm = np.abs(f.shaking[2])
+    out["shaking"] = {"F": float(sf.max()), "at": int(np.argmax(sf)), "M": float(sm.max()), "at_M": int(np.argmax(sm)),
+                      "F_rms": float(closed_rms(sf))}
+    return out
+
+
+def forces_record(run: ForceRun, display=None) -> dict:
+    """The JSON of ``linkage forces --json`` (SPEC "Forces"): SI, world frame, arrays over the samples,
+    unless ``display`` converts lengths and angles (forces stay N, torques N m)."""
+    from analytic import quantities as Q
+    from analytic.applications.forces import centres
+    display = display or Q.SI
+    mech, f = run.mech, run.forces
+
+    def L(v):
+        return display.convert(Q.LENGTH, v)
+
+    def inp_q(inp):
+        return Q.ANGLE if inp.kind == "crank" else Q.LENGTH
+
+    com = centres(mech, run.solution, run.inertias)
+    links = {ln: {"m": b.m, "I": b.I, "cx": L(b.cx), "cy": L(b.cy), "xG": L(com[ln][0]), "yG": L(com[ln][1]),
+                  "source": run.sources[ln]} for ln, b in run.inertias.items()}
+    joints = []
+    for k, j in enumerate(f.joints):
+        entry = {"name": j.name, "point": j.point, "kind": "R" if j.kind == "revolute" else "P",
+                 "links": [j.a, j.b], "Fx": f.F[k, 0], "Fy": f.F[k, 1]}
+        if j.kind == "prismatic":
+            entry["M"] = f.M(k)
+        if j.input is not None:
+            entry["input"] = mech.inputs[j.input].q
+        joints.append(entry)
+    drives = {inp.q: f.drives[inp.link] for inp in mech.inputs}
+    record = {"mechanism": mech.name, "samples": len(run.t), "t": run.t,
+              "inputs": {inp.q: display.convert(inp_q(inp), run.inputs[inp.q]) for inp in mech.inputs},
+              "links": links, "joints": joints, "drives": drives,
+              "shaking": {"Fx": f.shaking[0], "Fy": f.shaking[1], "M": f.shaking[2]},
+              "loads": loads_table(run, display), "peaks": _peaks_at(run, force_peaks(run), display),
+              "units": {"file": mech.units, "length": display.unit(Q.LENGTH), "angle": display.unit(Q.ANGLE),
+                        "time": "s", "force": "N", "torque": "N m", "mass": "kg", "I": "kg m^2",
+                        "inputs": {inp.q: display.unit(inp_q(inp)) for inp in mech.inputs},
+                        "drives": {inp.q: "N m" if inp.kind == "crank" else "N" for inp in mech.inputs}}}
+    if run.balance is not None:
+        record["balance"] = balance_record(run, display)
+    if run.energy is not None:
+        from sim.service import loads as L
+        L.add_to_record(record, run, display)
+    return record
+
+
+def loads_table(run: ForceRun, display=None) -> list:
+    """The JSON ``loads`` table (SPEC "Loads"): every load applied with its link, point and work per cycle."""
+    from sim.service import loads as L
+    return L.table(run, display)
+
+
+def _peaks_at(run: ForceRun, peaks: dict, display) -> dict:
+    """The peaks with the first input's value (display units) beside each sample index ``at``/``at_M``."""
+    from analytic import quantities as Q
+    first = run.mech.inputs[0]
+    quantity = Q.ANGLE if first.kind == "crank" else Q.LENGTH
+
+    def value(i):
+        return display.convert(quantity, float(run.q[i, 0]))
+
+    def walk(d):
+        out = {}
+        for k, v in d.items():
+            out[k] = walk(v) if isinstance(v, dict) else v
+            if k in ("at", "at_M") and not isinstance(v, dict):
+                out[f"{first.q}{'' if k == 'at' else '_M'}"] = value(v)
+        return out
+    return walk(peaks)
+
+
+def balance_record(run: ForceRun, display=None) -> dict:
+    """The counterweights (mass [kg], position in the link's frame) and the shaking force before/after."""
+    from analytic import quantities as Q
+    display = display or Q.SI
+    b = run.balance
+    after = force_peaks(run, run.balanced)["shaking"]
+    before = force_peaks(run)["shaking"]
+    return {"method": b.method,
+            "counterweights": [{"link": w.link, "m": w.m, "at": [display.convert(Q.LENGTH, w.u),
+                                                                display.convert(Q.LENGTH, w.v)]}
+                               for w in b.counterweights],
+            "inertial_shaking": {"before": b.before, "after": b.after},
+            "shaking": {"before": {"rms": before["F_rms"], "peak": before["F"]},
+                        "after": {"rms": after["F_rms"], "peak": after["F"]}},
+            "shaking_force_after": {"Fx": run.balanced.shaking[0], "Fy": run.balanced.shaking[1]},
+            "drives_after": {inp.q: run.balanced.drives[inp.link] for inp in run.mech.inputs}}
+
+
+def forces_columns(run: ForceRun) -> tuple[dict, dict]:
+    """CSV columns of a forces run and their quantities: t, the inputs, each joint's ``Fx_J Fy_J F_J``
+    (``M_J`` for a prismatic pair), each drive ``tauL`` (L the input's link, as in simulate's CSV), the shaking
+    force and moment."""
+    from analytic import quantities as Q
+    mech, f = run.mech, run.forces
+    cols = {"t": run.t}
+    qty = {"t": Q.TIME}
+    for inp in mech.inputs:
+        cols[inp.q] = run.inputs[inp.q]
+        qty[inp.q] = Q.ANGLE if inp.kind == "crank" else Q.LENGTH
+    mag = f.magnitude()
+    for k, j in enumerate(f.joints):
+        for name, v in ((f"Fx_{j.name}", f.F[k, 0]), (f"Fy_{j.name}", f.F[k, 1]), (f"F_{j.name}", mag[k])):
+            cols[name], qty[name] = v, Q.FORCE
+        if j.kind == "prismatic":
+            cols[f"M_{j.name}"], qty[f"M_{j.name}"] = f.M(k), Q.TORQUE
+    for inp in mech.inputs:
+        cols[f"tau{inp.link}"] = f.drives[inp.link]                 # as simulate's CSV names a drive
+        qty[f"tau{inp.link}"] = Q.TORQUE if inp.kind == "crank" else Q.FORCE
+    for name, k, quantity in (("Fx_shaking", 0, Q.FORCE), ("Fy_shaking", 1, Q.FORCE), ("M_shaking", 2, Q.TORQUE)):
+        cols[name], qty[name] = f.shaking[k], quantity
+    return cols, qty
+
+
+def forces_table(run: ForceRun, display=None) -> str:
+    """What ``linkage forces`` prints: each joint's peak force and the first input's value where it occurs,
+    the drives' peaks, the shaking force's and moment's (lengths in ``display`` units, forces N, torques N m)."""
+    from analytic import quantities as Q
+    from analytic.applications.forces import angle_text
+    display = display or Q.SI
+    mech, f = run.mech, run.forces
+    first = mech.inputs[0]
+    q1 = run.q[:, 0]
+
+    def at(i):
+        if first.kind == "crank":
+            return angle_text(first, float(q1[i]))
+        return f"{display.convert(Q.LENGTH, float(q1[i])):.6g} {display.unit(Q.LENGTH)}"
+
+    peaks = force_peaks(run)
+    loads = run.loads
+    parts = []
+    if loads["gravity"]:
+        parts.append(f"gravity {loads['gravity'][0]:g},{loads['gravity'][1]:g} m/s^2")
+    if loads["force"]:
+        fl = loads["force"]
+        parts.append(f"{'cutting force' if fl['cutting'] else 'force'} {fl['Fx']:g},{fl['Fy']:g} N on {fl['point']} "
+                     f"(link {fl['link']})")
+    if run.loadset:
+        parts.append(f"{len(run.loadset.loads)} load{'s' * (len(run.loadset.loads) != 1)}"
+                     + (" and friction" if run.loadset.friction else ""))
+    lines = [f"{mech.name}: joint forces over {len(run.t)} samples ({', '.join(parts) or 'inertia only'}); "
+             f"masses: {sum(b.m for b in run.inertias.values()):.4g} kg in {len(run.inertias)} links",
+             f"  {'joint':<12s} {'kind':<5s} {'links':<22s} {'peak |F| [N]':>13s}  at {first.q}"]
+    for k, j in enumerate(f.joints):
+        pk = peaks["joints"][j.name]
+        kind = "R" if j.kind == "revolute" else "P"
+        extra = ""
+        if j.kind == "prismatic":
+            extra = f"; couple peak {pk['M']:.4g} N m at {at(pk['at_M'])}"
+        if j.input is not None:
+            extra += " (driven)"
+        lines.append(f"  {j.name:<12s} {kind:<5s} {j.a + '-' + j.b:<22s} {pk['F']:13.5g}  {at(pk['at'])}{extra}")
+    for inp in mech.inputs:
+        d = peaks["drives"][inp.q]
+        unit = "N m" if inp.kind == "crank" else "N"
+        lines.append(f"  drive of {inp.q}: peak {'torque' if inp.kind == 'crank' else 'force'} {d['value']:.5g} "
+                     f"{unit} at {at(d['at'])}")
+    s = peaks["shaking"]
+    lines.append(f"  shaking force: peak {s['F']:.5g} N at {at(s['at'])} (RMS {s['F_rms']:.5g} N); shaking moment "
+                 f"about the origin: peak {s['M']:.5g} N m at {at(s['at_M'])}")
+    if run.balance is not None:
+        b = run.balance
+        lines.append(f"  balance ({b.method}): " + ("; ".join(
+            f"{w.m:.4g} kg on link {w.link} at ({display.convert(Q.LENGTH, w.u):.4g}, "
+            f"{display.convert(Q.LENGTH, w.v):.4g}) {display.unit(Q.LENGTH)}" for w in b.counterweights)
+            or "no counterweight helps"))
+        after = force_peaks(run, run.balanced)["shaking"]
+        lines.append(f"    shaking force of the inertia: RMS {b.before['rms']:.5g} -> {b.after['rms']:.5g} N, peak "
+                     f"{b.before['peak']:.5g} -> {b.after['peak']:.5g} N; with the loads: RMS {s['F_rms']:.5g} -> "
+                     f"{after['F_rms']:.5g} N")
+    from sim.service import loads as L
+    lines += L.summary(run)
+    return "\n".join(lines)
+
+
+def balanced_mechanism(mech: Mechanism, links=None) -> tuple[Mechanism, object]:
+    """``mech`` with the counterweights of :func:`analytic.applications.balance.balance` written into its
+    file's ``[mass.counterweights]`` (file units), so every model built from it (MuJoCo's included) carries
+    them; and the Balance."""
+    from analytic import mass
+    from analytic.applications import balance as bal
+    from analytic.applications import forces as F
+    t = np.linspace(0.0, mech.duration(1.0), 360, endpoint=False)      # a turn, its start angle once
+    q, qd, qdd = mech.drive(t)
+    mech.check_assembles(q)
+    sol = mech.solve(q, qd, qdd, outputs=F.wanted(mech))
+    result = bal.balance(mech, sol, mass.model(mech), tuple(links or ()) or None)
+    d = mech.definition
+    section = {k: v for k, v in (d.mass or {}).items()}
+    weights = {k: (list(v) if isinstance(v, list) else [v]) for k, v in section.get("counterweights", {}).items()}
+    s = mech.scale
+    for w in result.counterweights:
+        weights.setdefault(w.link, []).append({"m": w.m, "at": [w.u / s, w.v / s]})
+    section["counterweights"] = {k: (v[0] if len(v) == 1 else v) for k, v in weights.items()}
+    new = replace(d, mass=section)
+    return Mechanism.from_definition(new, mech.overrides, mech.builtin), result
+
+
+def simulated_forces_run(run: ForceRun, settings=None, loads=None):
+    """``run`` simulated in MuJoCo, its joint forces read at the run's samples and compared with the analytic
+    ones at the simulated inputs (:class:`sim.run.forces.Simulated`)."""
+    from sim.run import forces as simforces
+    return simforces.simulate_run(run, settings, loads)
+
+
+def simulated_forces(run: ForceRun, settings=None, loads=None, display=None) -> dict:
+    """The ``simulated`` object of ``linkage forces --simulate --json``: MuJoCo's answer in the fields of
+    :func:`forces_record` (at the run's samples, the inputs as simulated, the model's masses), the time step
+    and steps, the agreement with the analytic forces (``agreement``: each joint's largest difference [N] and
+    its share of the peak joint force, the drives' three answers, the shaking force) and ``passed``."""
+    from sim.model import body_inertias
+    s = simulated_forces_run(run, settings, loads)
+    mech, tr = run.mech, s.trajectory
+    q, qd, qdd = s.inputs
+    sol = {k: np.asarray(v)[s.steps] for k, v in tr.outputs.items() if k[:1] in ("x", "y", "c", "s")}
+    sim_run = replace(run, t=run.t[:len(s.steps)], q=q, qd=qd, qdd=qdd, inputs={inp.q: q[:, k] for k, inp in enumerate(mech.inputs)},
+                      solution=sol, inertias=body_inertias(s.built.model, mech.links), forces=s.forces,
+                      balance=None, balanced=None)
+    record = forces_record(sim_run, display)
+    for key in ("mechanism", "loads", "units"):
+        record.pop(key, None)
+    record.update({"timestep": s.built.timestep, "steps": int(tr.steps), "agreement": s.agreement.as_dict(),
+                   "passed": s.agreement.passed})
+    return record

@@ -1,0 +1,304 @@
+"""The MuJoCo model simulated and cross-checked (``simulate``, ``compare``): the run's preparation
+(its input range, change points and folds refused or passed in words), the model built and run, its records."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+
+import numpy as np
+
+from analytic import ParameterError
+from analytic.mechanism import Mechanism
+from sim.service.analysis import check_range, check_revolutions, check_turns_fully
+
+
+def check_singular(mech: Mechanism) -> None:
+    """Refuse a run whose first input would carry a group through a singular (change-point) pose,
+    naming the input value: the simulation cannot tell the branches apart there."""
+    if len(mech.inputs) != 1:
+        from analytic.applications import figures
+        t = np.linspace(0.0, mech.duration(1.0), 2001)
+        sol = mech.solve(*mech.drive(t))
+        m, where = figures.min_singularity(mech, sol)
+        if m < figures.SINGULAR:
+            raise ParameterError(f"the {mech.name} passes through a singular pose ({where} folds): its motion is "
+                                 f"undefined there; change a length or a phase")
+        return
+    from analytic.applications import figures
+    first = mech.inputs[0]
+    at = _change_point_at_start(mech)
+    if at is not None:
+        shown = f"{math.degrees(at) % 360:.2f}deg" if first.kind == "crank" else f"{at:.6g} m"
+        raise ParameterError(f"the {mech.name} starts at a change point ({first.q}={shown}, where a dyad's links "
+                             f"align): the loops' equations are singular there at the simulation's first step; "
+                             f"start it a little away (e.g. {first.parameters[0] or 'its start'} = 1deg)")
+    check_change_swing(mech)
+    poses = [p for p in figures.singular_poses(mech) if not passes_smoothly(mech, p[1], p[0])]
+    if poses:
+        first = mech.inputs[0]
+        x, label, _ = poses[0]
+        at = f"{math.degrees(x) % 360:.2f}deg" if first.kind == "crank" else f"{x:.6g} m"
+        element = next(e for e in mech.geometry.elements if e["label"] == label)
+        if element.get("change") == -1:
+            raise ParameterError(f"the {mech.name} passes a change point at {first.q}={at} ({label} folds) where it is "
+                                 f"declared to switch form (change = -1: its branch sign kept), a kink in its motion; "
+                                 f"the simulation, carried on by its momentum, keeps the form there: declare change = 1 "
+                                 f"to simulate it, or run between two such angles with an input range")
+        raise ParameterError(f"the {mech.name} passes through a singular pose at {first.q}={at} ({label} folds: "
+                             f"a change point, where it may switch branch); the simulation cannot follow it: "
+                             f"change a length by a little, or run between two such angles with an input range")
+
+
+CHANGE_SWING = 0.1
+"""[singularity measure, the sine of a dyad's transmission angle] The least a dyad that passes change points
+must swing away from its fold between them for the simulation to follow it: a parallelogram swings to 1 and
+passes; a Peaucellier cell whose rhombus stays within 1.9 deg of flat (0.033) over the whole turn, passing 4
+change points, opened its loops by 6 mm (the trust benchmark's seed 1, design 832)."""
+
+
+def check_change_swing(mech: Mechanism) -> None:
+    """Refuse a run in which a dyad passing change points stays near its fold over the whole turn."""
+    flipping = [e["label"] for e in mech.solving_geometry.elements if e.get("flips")]
+    if not flipping:
+        return
+    from analytic.applications import figures
+    t = np.linspace(0.0, mech.duration(1.0), 2001)
+    measures = figures.singularity(mech, mech.solve(*mech.drive(t)))
+    for label in flipping:
+        m = measures.get(label)
+        if m is not None and np.any(np.isfinite(m)) and float(np.nanmax(m)) < CHANGE_SWING:
+            deg = math.degrees(math.asin(min(1.0, float(np.nanmax(m)))))
+            raise ParameterError(f"the {mech.name}'s {label} stays within {deg:.2g} deg of folded over the whole "
+                                 f"turn while passing its change points: the simulation cannot hold a dyad that near "
+                                 f"its fold (its loops open); change a length so that it swings at least "
+                                 f"{math.degrees(math.asin(CHANGE_SWING)):.0f} deg away between them")
+
+
+CHANGE_START = 1e-6
+"""[rad, or m for a slider] A change point this close to the start is at the start."""
+
+
+CHANGE_SHIFT = math.radians(1.0)
+"""[rad] A crank that starts at a change point is simulated from this far past it, in its sense of turning
+(:func:`clear_of_change_point`). At the change point itself the loops' equations are singular at the
+simulation's first step: the run diverged or its errors rang far past compare's tolerances (measured); from
+1 deg on, the motion carries the linkage through the change point when the turn comes back to it."""
+
+
+def _change_point_at_start(mech: Mechanism) -> float | None:
+    """The change point the first input starts at, or None."""
+    first = mech.inputs[0]
+    at = [x for x in change_points(mech) if abs(_wrapped(x - first.motion.q0, first)) < CHANGE_START]
+    return at[0] if at else None
+
+
+def clear_of_change_point(mech: Mechanism) -> Mechanism:
+    """``mech``, or where its one crank starts at a change point and turns, the same mechanism starting
+    :data:`CHANGE_SHIFT` past it in its sense of turning (the same cycle, the change point passed at the end
+    of the turn; see :func:`start_note`)."""
+    if len(mech.inputs) != 1 or mech.rock is not None:
+        return mech
+    first = mech.inputs[0]
+    sense = first.motion.rate or first.motion.accel
+    if first.kind != "crank" or sense == 0 or _change_point_at_start(mech) is None:
+        return mech
+    return mech.starting_at(first.motion.q0 + math.copysign(CHANGE_SHIFT, sense))
+
+
+def start_note(mech: Mechanism, run: Mechanism) -> str | None:
+    """The sentence telling that ``run`` (what was simulated) starts elsewhere than ``mech``, or None."""
+    a, b = mech.inputs[0], run.inputs[0]
+    if mech.rock is not None or run.rock is not None or abs(a.motion.q0 - b.motion.q0) < 1e-12:
+        return None
+    return (f"the {mech.name} starts at a change point ({a.q}={math.degrees(a.motion.q0) % 360:.2f}deg); "
+            f"simulated from {math.degrees(b.motion.q0) % 360:.2f}deg, through the change point at the end of the "
+            f"turn (the loops' equations are singular at a change point, so no run starts on one)")
+
+
+def _wrapped(dx: float, first) -> float:
+    return (dx + math.pi) % (2 * math.pi) - math.pi if first.kind == "crank" else dx
+
+
+def change_points(mech: Mechanism) -> list[float]:
+    """The first input's values (over one turn from its start) where a dyad passes a change point on its
+    declared branch (:mod:`analytic.solver.change_points`)."""
+    return sorted(f for e in mech.solving_geometry.elements if e.get("flips") for f in e["flips"]["at"])
+
+
+def passes_smoothly(mech: Mechanism, label: str, x: float) -> bool:
+    """Whether element ``label`` passes its change point at first-input value ``x`` on its declared branch
+    (``change = 1``: scheduled in :attr:`Mechanism.solving_geometry`)."""
+    for e in mech.solving_geometry.elements:
+        flips = e.get("flips")
+        if e["label"] == label and flips:
+            period = flips["period"]
+            for f in flips["at"]:
+                gap = abs(x - f) if not period else abs((x - f + 0.5 * period) % period - 0.5 * period)
+                if gap < 1e-6 * (1.0 if period else mech.size):
+                    return True
+    return False
+
+
+def prepare(mech: Mechanism, revolutions: float, input_range=None) -> Mechanism:
+    """Checks before any simulation: revolutions, full turn or rocking range, singular poses."""
+    check_revolutions(revolutions)
+    if input_range is not None:
+        lo, hi = check_range(mech, *input_range)
+        mech = mech.rocking(lo, hi)
+        q = np.linspace(lo, hi, 721)
+        if len(mech.inputs) > 1:                  # the others move as the run moves them: check those poses
+            q = mech.drive(np.linspace(0.0, mech.duration(revolutions), 2001))[0]
+            try:
+                mech.check_assembles(q)
+            except ParameterError as exc:
+                raise ParameterError(f"{exc}; while the first input rocks, the others keep their own motion "
+                                     f"(give one omega = 0 in the file to hold it at its start)") from None
+        mech.check_assembles(q)
+        check_fold(mech)
+        return mech
+    mech = clear_of_change_point(mech)
+    check_turns_fully(mech)
+    check_singular(mech)
+    t = np.linspace(0.0, mech.duration(min(revolutions, 1.0) if len(mech.inputs) == 1 else revolutions), 2001)
+    check_folded_change_points(mech, mech.drive(t)[0][:, 0])      # before a sample that lands on one
+    mech.check_assembles(mech.drive(t)[0])
+    return mech
+
+
+def check_folded_change_points(mech: Mechanism, q1: np.ndarray) -> None:
+    """Refuse a run whose first input (values ``q1``) passes a change point where a dyad's known points meet
+    (:func:`analytic.solver.change_points.folded`), naming it and the change points to run between."""
+    from analytic.solver.change_points import folded
+    first = mech.inputs[0]
+    hit = [f for f in folded(mech) if _visited(first, q1, f[0])]
+    if not hit:
+        return
+    x, label, p, q = hit[0]
+
+    def fmt(v):
+        return f"{math.degrees(v) % 360:.2f}deg" if first.kind == "crank" else f"{v / mech.scale:.6g} {mech.units}"
+    shown = sorted((math.degrees(v) % 360 if first.kind == "crank" else v, fmt(v)) for v in change_points(mech))
+    every = ", ".join(f for _, f in shown)
+    raise ParameterError(f"the {mech.name} passes a change point at {first.q}={fmt(x)} where {p} and {q} meet "
+                         f"({label}: both links turn about one point there and fold onto each other, free to turn "
+                         f"together; Pyslvs' solver stops there too): the simulation cannot carry it through; run it "
+                         f"between two of its change points ({every}) with --input-range")
+
+
+def _visited(first, q1: np.ndarray, x: float) -> bool:
+    """Whether the first input's run ``q1`` passes the value ``x`` (a crank: any turn of it)."""
+    lo, hi = float(np.min(q1)), float(np.max(q1))
+    tol = 1e-9 * max(1.0, abs(lo), abs(hi))
+    if first.kind != "crank":
+        return lo - tol <= x <= hi + tol
+    k = math.ceil((lo - tol - x) / (2 * math.pi))
+    return x + 2 * math.pi * k <= hi + tol
+
+
+def check_fold(mech: Mechanism) -> None:
+    """Refuse a rocking run that comes so close to a dead point that the simulation cannot meet compare's
+    tolerances there (:data:`sim.model.timestep.FOLD_FLOOR`, ``FOLD_MARGIN``), naming how far inside to
+    stay and the range that can be run (rounded inward)."""
+    from analytic.applications import figures
+    from sim.model.timestep import FOLD_FLOOR, FOLD_MARGIN, fold_measure
+    m, label = fold_measure(mech)
+    lo, hi = mech.rock
+    first = mech.inputs[0]
+    crank = first.kind == "crank"
+    unit = 1.0 if crank else mech.size
+    dead = _dead_points_around(mech, lo, hi) if len(mech.inputs) == 1 else (None, None)
+    close = [d for d, end in zip(dead, (lo, hi)) if d is not None and abs(end - d) < FOLD_MARGIN * unit]
+    if m >= FOLD_FLOOR and not close:
+        return
+    fmt = (lambda v: f"{math.degrees(v):.4f}deg") if crank else (lambda v: f"{v / mech.scale:.6g} {mech.units}")
+    why = (f"near a fold the loops' drift and the drives' tracking error (~1e-6 rad) reach the outputs magnified by "
+           f"1/sin(transmission angle), past compare's tolerances; the simulation keeps sin >= {FOLD_FLOOR:g} and "
+           f"{FOLD_MARGIN:g} {'rad' if crank else 'of the size'} from a dead point")
+    if dead == (None, None):
+        raise ParameterError(f"the input range {fmt(lo)}:{fmt(hi)} brings {label} within sin = {m:.2g} of a fold: "
+                             f"{why}; narrow the range")
+    safe = [_fold_limit(mech, d, end, FOLD_FLOOR, FOLD_MARGIN * unit) if d is not None else end
+            for d, end in zip(dead, (lo, hi))]
+    a, b = max(lo, safe[0]), min(hi, safe[1])
+    if crank:
+        shown = f"{figures.round_inward(math.degrees(a), True, 2)}deg:{figures.round_inward(math.degrees(b), False, 2)}deg"
+    else:
+        shown = f"{figures.round_inward(a / mech.scale, True)}:{figures.round_inward(b / mech.scale, False)}"
+    near = [(d, end) for d, end in zip(dead, (lo, hi)) if d is not None]
+    d, end = min(near, key=lambda x: abs(x[1] - x[0]))
+    raise ParameterError(f"the input range {fmt(lo)}:{fmt(hi)} comes within {fmt(abs(end - d))} of the dead point at "
+                         f"{fmt(d)}, where {label} folds (sin of its transmission angle {m:.2g}): {why}; stay "
+                         f"{fmt(abs(safe[dead.index(d)] - d))} inside it: an input range of {shown}"
+                         + ("" if crank else f" [{mech.units}]"))
+
+
+def _dead_points_around(mech: Mechanism, lo: float, hi: float) -> tuple[float | None, float | None]:
+    """The dead points just below ``lo`` and just above ``hi`` (the ends of the assembly range holding the
+    rocking range), None where there is none (a crank that turns fully)."""
+    from analytic.applications import figures
+    plain = replace(mech, rock=None)
+    ranges = figures.assembly_ranges(plain)
+    if figures.turns_fully(plain, ranges):
+        return None, None
+    turn = 2 * math.pi if mech.inputs[0].kind == "crank" else 0.0
+    for a, b in ranges:
+        for k in ((range(-3, 4)) if turn else (0,)):
+            if a + k * turn <= lo + 1e-12 and hi - 1e-12 <= b + k * turn:
+                return a + k * turn, b + k * turn
+    return None, None
+
+
+def _fold_limit(mech: Mechanism, dead: float, end: float, floor: float, margin: float) -> float:
+    """The input value between the dead point ``dead`` and the range's ``end`` (or beyond it, towards the
+    middle) where the smallest singularity measure reaches ``floor``, at least ``margin`` from ``dead``."""
+    from analytic.applications import figures
+    plain = replace(mech, rock=None)
+    lo, hi = mech.rock
+    inner = 0.5 * (lo + hi)
+    far = inner if abs(inner - dead) > abs(end - dead) else end
+
+    def measure(x):
+        return figures.min_singularity(plain, plain.solve(np.array([x])))[0]
+
+    near = dead + math.copysign(margin, far - dead)
+    if measure(far) < floor:
+        return far
+    a, b = near, far
+    if measure(a) < floor:
+        for _ in range(60):                            # bisection: the measure grows away from the fold
+            mid = 0.5 * (a + b)
+            a, b = (mid, b) if measure(mid) < floor else (a, mid)
+        return b
+    return near
+
+
+def simulate(mech: Mechanism, revolutions: float = 1.0, settings=None, loads=None, input_range=None):
+    """Build and run the MuJoCo model: returns (Built, Trajectory)."""
+    from sim.model import Loads, Settings, build
+    from sim.run.simulate import simulate as run
+    mech = prepare(mech, revolutions, input_range)
+    built = build(mech, settings or Settings(), loads or Loads(), revolutions)
+    return built, run(built, revolutions)
+
+
+def compare(mech: Mechanism, revolutions: float = 1.0, settings=None, loads=None, input_range=None):
+    """Simulate and cross-validate: returns (Built, Comparison)."""
+    from sim.run.compare import compare as cmp
+    built, tr = simulate(mech, revolutions, settings, loads, input_range)
+    return built, cmp(tr, built, revolutions)
+
+
+def comparison_record(built, c, display=None) -> dict:
+    """The JSON of ``linkage compare --json`` (and the app's simulate): SI unless ``display``."""
+    return c.as_dict(built, display)
+
+
+def trajectory_columns(tr) -> dict:
+    """CSV columns of a trajectory: t, inputs, every output, loop violation, drive forces, commanded
+    inputs (``cmd_phi1``) and every joint's coordinate and rate (``q_NAME``, ``v_NAME``)."""
+    joints = {f"q_{n}": tr.qpos[:, i] for i, n in enumerate(tr.joint_names)}
+    joints.update({f"v_{n}": tr.qvel[:, i] for i, n in enumerate(tr.joint_names)})
+    outs = {k: np.asarray(v) for k, v in tr.outputs.items() if not k.startswith(("cos", "sin"))}
+    return {"t": tr.t, **tr.inputs, **outs, "loop_violation": tr.loop_violation, **tr.forces,
+            **{f"cmd_{k}": v for k, v in tr.commanded.items()}, **joints}
