@@ -114,7 +114,8 @@ def cycle_of(mech, loads=None, input_range=None):
         force = tuple(float(x) for x in loads.force)
         inertias = loads.inertias
         if loads.slow_stroke_only and (force[0] or force[1]):
-            on, _ = service._load_window(mech, q[:, 0])
+            from sim.service.forces import _load_window
+            on, _ = _load_window(mech, q[:, 0])
     return mech, T.Cycle(t, q, path, gravity, force, on, inertias)
 
 

@@ -12,11 +12,13 @@ import numpy as np
 
 from analytic import ParameterError
 from analytic.format import expr
-from sim.service import design as design_service
-from sim.service import pareto as P
+from sim.front.lazy import lazy
 from sim.output.io import atomic_path, check_writable, write_text
 from sim.output.jsonout import dumps
 from sim.output.progress import Progress
+
+design_service = lazy("sim.service.design")  # scipy and pymoo: loaded by the command, not by its options
+P = lazy("sim.service.pareto")
 
 UNITS_OF = {"error": "{u}", "peak_torque": "N m", "peak_bearing": "N", "rms_shaking": "N", "size": "{u}"}
 
