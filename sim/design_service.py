@@ -172,6 +172,9 @@ class PathOptions:
         if self.evaluations is not None and self.budget is not None:
             raise ParameterError("--evaluations and --budget both given: give one (a count is reproducible, "
                                  "seconds are not)")
+        if self.grashof != "any" and self.types == ("slider_crank",):
+            raise ParameterError(f"--grashof {self.grashof} applies to a four-bar loop; a slider-crank has none "
+                                 f"(its crank turns fully by --min-transmission): drop --grashof")
         self.limits.check_names(tuple(dict.fromkeys(n for t in self.types for f in TYPES[t]
                                                      for n in FAMILIES[f].pivot_names)), f"--type {'/'.join(self.types)}")
         return self
