@@ -256,3 +256,10 @@ def test_a_bad_input_range_in_a_file_is_one_line_naming_it(tmp_path):
     r = run("analyze", f)
     assert r.returncode == 2 and "input_range" in r.stderr and "Traceback" not in r.stderr
     assert len(r.stderr.strip().splitlines()) == 1
+
+
+def test_motion_evaluations_bound_the_candidates(tmp_path):
+    csv = write(tmp_path / "p.csv", "x,y,theta", [(0, 0, 0), (40, 15, 20), (80, 20, 45)])
+    r = run("synthesize", "motion", csv, "--units", "mm", "--evaluations", "40", "--json")
+    assert r.returncode == 0, r.stderr
+    assert {d["evaluations"] for d in json.loads(r.stdout)["designs"]} == {40}   # 121 dyads give far more pairs

@@ -111,8 +111,8 @@ def test_front_trades_error_for_torque_and_every_design_passes_mujoco(tmp_path, 
     sim = [d["simulated"]["peak_torque"] for d in front]
     assert all(a > b for a, b in zip(sim, sim[1:]))
     # distinct designs, not copies
-    keys = [np.array([d["design"]["parameters"][k] for k in ("ax", "ay", "d", "a", "b", "c", "ex", "ey")])
-            for d in front]
+    names = FAMILIES["fourbar" if case == "fourbar" else "slider_crank"].names
+    keys = [np.array([d["design"]["parameters"][k] for k in names]) for d in front]
     assert all(np.abs(keys[i] - keys[j]).max() > 1e-4 for i in range(len(keys)) for j in range(i))
     rows = list(csv.DictReader(line for line in table.read_text().splitlines() if not line.startswith("#")))
     assert len(rows) == len(front)

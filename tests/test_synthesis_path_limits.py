@@ -197,3 +197,8 @@ def test_budget_is_a_hard_wall_clock_limit(tmp_path):
     assert out["run"]["stopped_by_budget"] is True
     assert out["run"]["seconds"] <= 3 + 1.0
     assert wall <= 3 + 1.0 + 1.5 * startup           # start-up measured above, with half again for its spread
+
+
+def test_grashof_for_a_slider_crank_is_refused():
+    with pytest.raises(Exception, match="--grashof crank-rocker applies to a four-bar loop"):
+        design_service.PathOptions(types=("slider_crank",), grashof="crank-rocker").check()

@@ -168,6 +168,9 @@ class PathOptions:
         if self.evaluations is not None and self.budget is not None:
             raise ParameterError("--evaluations and --budget both given: give one (a count is reproducible, "
                                  "seconds are not)")
+        if self.grashof != "any" and self.types == ("slider_crank",):
+            raise ParameterError(f"--grashof {self.grashof} applies to a four-bar loop; a slider-crank has none "
+                                 f"(its crank turns fully by --min-transmission): drop --grashof")
         self.limits.check_names(tuple(dict.fromkeys(n for t in self.types for f in TYPES[t]
                                                      for n in FAMILIES[f].pivot_names)), f"--type {'/'.join(self.types)}")
         return self
@@ -442,13 +445,14 @@ def _region_centres(poses: np.ndarray, limits, per_side: int = 9) -> np.ndarray 
 
 
 def synthesize_motion(poses: np.ndarray, unit: str = "m", count: int = 3, circle_points=None,
-                      limits=None) -> tuple[list[dict], list[dict]]:
+                      limits=None, evaluations: int = MOTION_POOL) -> tuple[list[dict], list[dict]]:
     """Burmester motion generation (3-5 poses exact, more by least squares) under ``limits``
     (:class:`analytic.synthesis.constraints.Limits`): up to ``count`` distinct designs, best first (the
     least pose error, then the smallest), each one's file holding its working range (the crank's travel from
     the first pose to the last), measured there by the general solver (:func:`constraints.measure`) and
-    passed through ``linkage compare`` over it. Returns (designs, rejected): the candidates turned down, each
-    ``{"parameters", "why"}`` (at most ``count`` of them, the best first)."""
+    passed through ``linkage compare`` over it. ``evaluations``: the candidate four-bars evaluated at most
+    (pairs of dyads). Returns (designs, rejected): the candidates turned down, each ``{"parameters", "why"}``
+    (at most ``count`` of them, the best first)."""
     from analytic.synthesis import constraints as sc
     from analytic.synthesis import fourbar as synth_fourbar
     from analytic.synthesis import motion as synthesis_motion
@@ -456,13 +460,15 @@ def synthesize_motion(poses: np.ndarray, unit: str = "m", count: int = 3, circle
     limits.check_names(("A", "D"), "a four-bar (A: the crank's pivot, D: the rocker's)")
     if count < 1:
         raise ParameterError(f"--count {count} must be >= 1")
+    if evaluations < 1:
+        raise ParameterError(f"--evaluations {evaluations} must be >= 1")
     if circle_points is not None:
         circle_points = np.asarray(circle_points, dtype=float).reshape(2, 2)
         if len(poses) != 3:
             raise ParameterError(f"--circle-points applies to 3 poses (given {len(poses)})")
         if not np.all(np.isfinite(circle_points)):
             raise ParameterError("--circle-points: give finite numbers")
-    designs, cand = synthesis_motion.synthesize(poses, circle_points=circle_points, count=MOTION_POOL,
+    designs, cand = synthesis_motion.synthesize(poses, circle_points=circle_points, count=int(evaluations),
                                                 centres=None if circle_points is not None
                                                 else _region_centres(poses, limits))
     method = ("Burmester, exact" if len(poses) <= 5 else "Burmester dyads by least squares")

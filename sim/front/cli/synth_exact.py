@@ -64,7 +64,8 @@ def cmd_motion(args) -> int:
         except ValueError:
             raise ParameterError(f"--circle-points {args.circle_points!r} is not X1,Y1,X2,Y2 (crank and "
                                  f"rocker circle points at pose 1, in --unit)") from None
-    found, rejected = design_service.synthesize_motion(poses, args.unit, args.count, circle, limits_of(args))
+    found, rejected = design_service.synthesize_motion(poses, args.unit, args.count, circle, limits_of(args),
+                                                       args.evaluations)
     return _designs_out(args, "motion", found, rejected)
 
 
@@ -84,6 +85,9 @@ def register(problems) -> None:
     add_limits(p, "A (the crank's), D (the rocker's)")
     p.add_argument("--angles", choices=("deg", "rad"), default="deg", help="unit of theta (default deg)")
     p.add_argument("--count", type=int, default=3, help="designs to return, best first (default 3)")
+    p.add_argument("--evaluations", type=int, default=design_service.MOTION_POOL, metavar="N",
+                   help=f"candidate four-bars (pairs of dyads) ranked at most (default {design_service.MOTION_POOL}; "
+                        f"deterministic)")
     p.add_argument("--circle-points", metavar="X1,Y1,X2,Y2",
                    help="3 poses: the moving pivots at pose 1 (the free parameters; default: a grid searched)")
     p.add_argument("--out", metavar="FILE.toml", help="write the best design as a linkage/1 file")
