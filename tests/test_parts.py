@@ -418,3 +418,16 @@ def test_pin_rules_by_hand():
     assert layers.colour(["a", "b", "c"], [("a", "b"), ("a", "c")]) == {"a": 0, "b": 1, "c": 1}
     got = layers.colour(["a", "b", "c"], [("a", "b"), ("a", "c")], pins=[rule])
     assert got["a"] != got["b"] and got["a"] != got["c"] and rule.holds(got)
+
+
+def test_app_offers_the_parts_files():
+    import ezdxf
+
+    from sim.front import app
+    data, ctype, name = app.export("dxf", {"mechanism": "fourbar"})
+    assert name == "fourbar.dxf" and ctype == "application/dxf"
+    doc = ezdxf.read(io.StringIO(data.decode()))
+    assert {"1", "2", "3"} <= {layer.dxf.name for layer in doc.layers}
+    data, ctype, name = app.export("bom", {"mechanism": "fourbar"})
+    assert data.decode().splitlines()[0].startswith("link,layer,mass_kg") and name == "fourbar_bom.csv"
+    assert "/api/export/svg" in app.POSTS
