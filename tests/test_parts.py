@@ -187,7 +187,8 @@ def seg_dist(p0, p1, q0, q1) -> float:
 
     def point_seg(x, a, b):
         ab = b - a
-        t = np.clip(np.dot(x - a, ab) / np.dot(ab, ab), 0.0, 1.0)
+        L2 = np.dot(ab, ab)
+        t = 0.0 if L2 == 0 else np.clip(np.dot(x - a, ab) / L2, 0.0, 1.0)
         return np.hypot(*(a + t * ab - x))
     return min(point_seg(p0, q0, q1), point_seg(p1, q0, q1), point_seg(q0, p0, p1), point_seg(q1, p0, p1)) \
         if not _cross(p0, p1, q0, q1) else 0.0
@@ -431,3 +432,18 @@ def test_app_offers_the_parts_files():
     data, ctype, name = app.export("bom", {"mechanism": "fourbar"})
     assert data.decode().splitlines()[0].startswith("link,layer,mass_kg") and name == "fourbar_bom.csv"
     assert "/api/export/svg" in app.POSTS
+
+
+def test_slot_follows_the_block_pin_over_the_cycle():
+    """The shaper's guide bar 3: its slot, carried by the bar, holds the block's pin A at every instant (the
+    pin's world path against the slot's centre line placed by the bar's pose), and the pin reaches both ends."""
+    pm = parts_service.prepare(service.load("sixbar", {}))
+    (slot,) = pm.parts["3"].slots
+    size = pm.mech.size / pm.mech.scale
+    a = pm.sweep.points["A"]
+    ends = [model.to_world(f, [(slot.x0, slot.y0), (slot.x1, slot.y1)]) for f in pm.sweep.frames["3"]]
+    d = np.array([seg_dist(p, p, e[0], e[1]) for p, e in zip(a, ends)])
+    assert d.max() < 1e-9 * size                              # on the slot's line, within its length
+    reach = [min(math.dist(p, e[0]) for p, e in zip(a, ends)), min(math.dist(p, e[1]) for p, e in zip(a, ends))]
+    assert max(reach) < 1e-9 * size                          # the slot is no longer than the pin's travel
+    assert slot.r == pytest.approx(model.settings(pm.mech).hole / 2, rel=1e-12)
