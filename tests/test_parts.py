@@ -218,18 +218,18 @@ def test_colouring_is_exact_on_small_graphs():
 def _oracle_first_contact(mech, r: float) -> float:
     """The first crank angle (deg) where the stadiums A-F and D-C (radius r each) touch: hand segment distance
     on the solver's points, scanned at 0.05 deg and bisected to 1e-9 deg."""
-    def gap(deg):
-        t = (math.radians(deg) - math.radians(30)) / (2 * math.pi)
-        _, sol = mech.solve_at([t])
-        P = {k: np.array([sol["x" + k][0], sol["y" + k][0]]) / mech.scale for k in "AFDC"}
-        return seg_dist(P["A"], P["F"], P["D"], P["C"]) - 2 * r
+    def gaps(deg):
+        t = (np.radians(np.atleast_1d(deg)) - math.radians(30)) / (2 * math.pi)
+        _, sol = mech.solve_at(t)
+        P = {k: np.column_stack([sol["x" + k], sol["y" + k]]) / mech.scale for k in "AFDC"}
+        return np.array([seg_dist(a, f, d, c) for a, f, d, c in zip(P["A"], P["F"], P["D"], P["C"])]) - 2 * r
     grid = np.arange(30.0, 390.0, 0.05)
-    vals = [gap(x) for x in grid]
-    k = next(i for i, v in enumerate(vals) if v < 0)
+    vals = gaps(grid)
+    k = int(np.argmax(vals < 0))
     lo, hi = grid[k - 1], grid[k]
     while hi - lo > 1e-9:
         mid = 0.5 * (lo + hi)
-        lo, hi = (lo, mid) if gap(mid) < 0 else (mid, hi)
+        lo, hi = (lo, mid) if gaps(mid)[0] < 0 else (mid, hi)
     return hi
 
 
