@@ -195,7 +195,11 @@ def pin_clash(pm: PartsModel, scene, data, out, point: str, link: str, distmax: 
     ts = pm.sweep.t
     d2 = np.asarray(shapely.distance(shapely.polygons(lay.world(out, pm.sweep, link)),
                                      shapely.points(pm.sweep.points[point]))) - r
-    dm = np.array([f_mj(t) for t in ts])
+    dm = np.empty(len(ts))
+    for k in range(len(ts)):                          # the sweep's poses, as solved (no re-solve per instant)
+        parts_scene.pose(single, data, pm.sweep, k)
+        dm[k] = -1.0 if parts_scene.in_contact(single, data, link, name) else \
+            parts_scene.distance(single, data, link, name, distmax)
 
     def first(d, f):
         hit = np.nonzero(d < 0)[0]
