@@ -188,7 +188,8 @@ def seg_dist(p0, p1, q0, q1) -> float:
 
     def point_seg(x, a, b):
         ab = b - a
-        t = np.clip(np.dot(x - a, ab) / np.dot(ab, ab), 0.0, 1.0)
+        L2 = np.dot(ab, ab)
+        t = 0.0 if L2 == 0 else np.clip(np.dot(x - a, ab) / L2, 0.0, 1.0)
         return np.hypot(*(a + t * ab - x))
     return min(point_seg(p0, q0, q1), point_seg(p1, q0, q1), point_seg(q0, p0, p1), point_seg(q1, p0, p1)) \
         if not _cross(p0, p1, q0, q1) else 0.0
@@ -218,18 +219,18 @@ def test_colouring_is_exact_on_small_graphs():
 def _oracle_first_contact(mech, r: float) -> float:
     """The first crank angle (deg) where the stadiums A-F and D-C (radius r each) touch: hand segment distance
     on the solver's points, scanned at 0.05 deg and bisected to 1e-9 deg."""
-    def gap(deg):
-        t = (math.radians(deg) - math.radians(30)) / (2 * math.pi)
-        _, sol = mech.solve_at([t])
-        P = {k: np.array([sol["x" + k][0], sol["y" + k][0]]) / mech.scale for k in "AFDC"}
-        return seg_dist(P["A"], P["F"], P["D"], P["C"]) - 2 * r
+    def gaps(deg):
+        t = (np.radians(np.atleast_1d(deg)) - math.radians(30)) / (2 * math.pi)
+        _, sol = mech.solve_at(t)
+        P = {k: np.column_stack([sol["x" + k], sol["y" + k]]) / mech.scale for k in "AFDC"}
+        return np.array([seg_dist(a, f, d, c) for a, f, d, c in zip(P["A"], P["F"], P["D"], P["C"])]) - 2 * r
     grid = np.arange(30.0, 390.0, 0.05)
-    vals = [gap(x) for x in grid]
-    k = next(i for i, v in enumerate(vals) if v < 0)
+    vals = gaps(grid)
+    k = int(np.argmax(vals < 0))
     lo, hi = grid[k - 1], grid[k]
     while hi - lo > 1e-9:
         mid = 0.5 * (lo + hi)
-        lo, hi = (lo, mid) if gap(mid) < 0 else (mid, hi)
+        lo, hi = (lo, mid) if gaps(mid)[0] < 0 else (mid, hi)
     return hi
 
 
@@ -419,3 +420,31 @@ def test_pin_rules_by_hand():
     assert layers.colour(["a", "b", "c"], [("a", "b"), ("a", "c")]) == {"a": 0, "b": 1, "c": 1}
     got = layers.colour(["a", "b", "c"], [("a", "b"), ("a", "c")], pins=[rule])
     assert got["a"] != got["b"] and got["a"] != got["c"] and rule.holds(got)
+
+
+def test_app_offers_the_parts_files():
+    import ezdxf
+
+    from sim.front import app
+    data, ctype, name = app.export("dxf", {"mechanism": "fourbar"})
+    assert name == "fourbar.dxf" and ctype == "application/dxf"
+    doc = ezdxf.read(io.StringIO(data.decode()))
+    assert {"1", "2", "3"} <= {layer.dxf.name for layer in doc.layers}
+    data, ctype, name = app.export("bom", {"mechanism": "fourbar"})
+    assert data.decode().splitlines()[0].startswith("link,layer,mass_kg") and name == "fourbar_bom.csv"
+    assert "/api/export/svg" in app.POSTS
+
+
+def test_slot_follows_the_block_pin_over_the_cycle():
+    """The shaper's guide bar 3: its slot, carried by the bar, holds the block's pin A at every instant (the
+    pin's world path against the slot's centre line placed by the bar's pose), and the pin reaches both ends."""
+    pm = parts_service.prepare(service.load("sixbar", {}))
+    (slot,) = pm.parts["3"].slots
+    size = pm.mech.size / pm.mech.scale
+    a = pm.sweep.points["A"]
+    ends = [model.to_world(f, [(slot.x0, slot.y0), (slot.x1, slot.y1)]) for f in pm.sweep.frames["3"]]
+    d = np.array([seg_dist(p, p, e[0], e[1]) for p, e in zip(a, ends)])
+    assert d.max() < 1e-9 * size                              # on the slot's line, within its length
+    reach = [min(math.dist(p, e[0]) for p, e in zip(a, ends)), min(math.dist(p, e[1]) for p, e in zip(a, ends))]
+    assert max(reach) < 1e-9 * size                          # the slot is no longer than the pin's travel
+    assert slot.r == pytest.approx(model.settings(pm.mech).hole / 2, rel=1e-12)

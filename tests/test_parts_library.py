@@ -69,6 +69,13 @@ def test_library_has_no_interference_at_default_layers(name):
         assert v >= cfg.clearance - 1e-6 * size              # layers keep the clearance (plane test, refined)
         # MuJoCo's distance against the plane test's: the same polygons, 1e-6 of the size
         assert v == pytest.approx(report["min_clearance_geometric"][key], abs=1e-6 * size)
+    # pins some link must cross (four designs): MuJoCo's cylinder meets the link's solid where the plane test's
+    # circle meets its outline (bisections 1e-10 of the cycle; 1e-4 deg allows their collision tolerances)
+    for clash in report["pin_clashes"]:
+        assert clash["first_at"] is not None and clash["geometric"]["first_at"] is not None, clash
+        assert clash["first_at"] == pytest.approx(clash["geometric"]["first_at"], abs=1e-4), clash
+    assert bool(report["pin_clashes"]) == (name in {"whitworth", "stephenson_ii", "double_butterfly",
+                                                    "elliptic_trammel"})
 
 
 @pytest.mark.slow

@@ -322,13 +322,16 @@ def layout(mech, parts: dict, sweep: model.Sweep | None = None) -> Layout:
     top = level - cfg.layer_gap
     pins, clashes = {}, []
     for rule in rules:
-        if rule.crossing and not rule.holds(colours):
-            clashes += [(rule.point, ln) for ln in links if group[ln] in rule.crossing]
         zs = [z[ln] for ln in links if group[ln] in rule.members]
         lo, hi = min(v[0] for v in zs), max(v[1] for v in zs)
-        if rule.ground:
-            lo, hi = (0.0, hi) if rule.side(colours) == "below" else (lo, top)
-        pins[rule.point] = (lo, hi)
+        crossing = [ln for ln in links if group[ln] in rule.crossing]
+
+        def hits(span):                                 # the crossing links whose plates the pin passes
+            return [ln for ln in crossing if z[ln][0] < span[1] and z[ln][1] > span[0]]
+        spans = [(0.0, hi), (lo, top)] if rule.ground else [(lo, hi)]
+        span = min(spans, key=lambda sp: len(hits(sp)))  # a ground pin from below unless above clashes less
+        pins[rule.point] = span
+        clashes += [(rule.point, ln) for ln in hits(span)]
     return Layout(layers, z, tuple(conflicts), mesh, pins, tuple(clashes))
 
 

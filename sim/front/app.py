@@ -663,12 +663,34 @@ def export(kind: str, body: dict) -> tuple[bytes, str, str]:
         return service.mechanism_text(mech).encode(), "application/toml", f"{stem}.toml"
     if kind == "mjcf":
         return service.export_mjcf(mech).encode(), "application/xml", f"{stem}.xml"
+    if kind in PARTS_EXPORTS:                       # the parts (issue 28), written to a temporary folder
+        return parts_export(mech, kind, stem)
     if kind == "csv":
         run = analysis(mech, body, figures=False)
         return csv_text(service.analysis_columns(mech, run.analysis)).encode(), "text/csv", f"{stem}.csv"
     run = analysis(mech, body, figures=True)
     record = service.analysis_record(mech, run.analysis, run.samples, run.revolutions)
     return json.dumps(clean(record), indent=2, allow_nan=False).encode(), "application/json", f"{stem}.json"
+
+
+PARTS_EXPORTS = {"dxf": ("application/dxf", ".dxf"), "svg": ("image/svg+xml", ".svg"),
+                 "pdf": ("application/pdf", ".pdf"), "step": ("application/step", ".step"),
+                 "bom": ("text/csv", "_bom.csv")}
+"""The parts' files the app offers: the outlines (DXF), the drawing (SVG, PDF), the solids (STEP), the bill
+of materials (CSV), as ``linkage export`` writes them."""
+
+
+def parts_export(mech, kind: str, stem: str) -> tuple[bytes, str, str]:
+    import tempfile
+    from pathlib import Path
+
+    from sim.service import parts as parts_service
+    ctype, suffix = PARTS_EXPORTS[kind]
+    with tempfile.TemporaryDirectory() as tmp:
+        path = Path(tmp) / f"{stem}{suffix}"
+        pm = parts_service.prepare(mech)
+        parts_service.export(pm, **{"bom" if kind == "bom" else kind: str(path)})
+        return path.read_bytes(), ctype, path.name
 
 
 def csv_text(columns: dict) -> str:
@@ -992,7 +1014,7 @@ ACTIONS = {"/api/draw": draw, "/api/drag": drag, "/api/forces": forces, "/api/dy
 """The panels' JSON actions (forces, dynamics, opening a file), by path."""
 POSTS = {"/api/solve", "/api/simulate", "/api/render", "/api/exit", "/api/synthesize", "/api/synthesize/status",
          "/api/synthesize/cancel", *ACTIONS,
-         *(f"/api/export/{k}" for k in ("csv", "json", "toml", "mjcf"))}
+         *(f"/api/export/{k}" for k in ("csv", "json", "toml", "mjcf", *PARTS_EXPORTS))}
 
 
 def _json_bytes(obj) -> bytes:

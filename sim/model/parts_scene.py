@@ -42,14 +42,20 @@ class Scene:
     pairs: tuple[tuple[str, str], ...]
     """The pairs in contact range: same layer (and FRAME with each layer-0 link), meshing gears left out."""
     geoms: dict
-    """{link: geom id}; FRAME: the frame triangles' geom ids (a tuple)."""
+    """{link: geom id}; FRAME: the frame triangles' geom ids (a tuple); ``pin_P``: the pin at P."""
+    pins: tuple = ()
+    """The points whose pins are solids here (cylinders of ``pin_diameter`` over the pin's span, posed at the
+    point, touching only the links of the layers they pass, not those pinned on them)."""
 
 
 def _prism(poly: np.ndarray, z0: float, z1: float) -> np.ndarray:
     return np.vstack([np.column_stack([poly, np.full(len(poly), z0)]), np.column_stack([poly, np.full(len(poly), z1)])])
 
 
-def build(mech, parts: dict, layout: lay.Layout, chord: float) -> Scene:
+PIN_BIT = 1 << 30
+
+
+def build(mech, parts: dict, layout: lay.Layout, chord: float, pins=()) -> Scene:
     spec = mujoco.MjSpec()
     spec.modelname = f"{mech.name}_parts"
     spec.option.ccd_tolerance = 1e-10
@@ -89,15 +95,41 @@ def build(mech, parts: dict, layout: lay.Layout, chord: float) -> Scene:
             spec.worldbody.add_geom(name=f"frame_{k}", type=mujoco.mjtGeom.mjGEOM_MESH, meshname=f"frame_{k}",
                                     contype=1, conaffinity=1, margin=0.0)
             frame_geoms.append(f"frame_{k}")
+    for p in pins:
+        lo, hi = layout.pins[p]
+        body = spec.worldbody.add_body(name=f"pin_{p}")
+        body.add_freejoint(name=f"pin_{p}")
+        body.explicitinertial = True
+        body.mass = 1.0
+        body.inertia = [1.0, 1.0, 1.0]
+        bits = 0
+        for ln in links:
+            z0, z1 = layout.z[ln]
+            if z0 < hi and z1 > lo:
+                bits |= 1 << layout.layers[ln]
+        body.add_geom(name=f"pin_{p}", type=mujoco.mjtGeom.mjGEOM_CYLINDER, size=[cfg.pin_diameter / 2, (hi - lo) / 2, 0],
+                      pos=[0, 0, (lo + hi) / 2], contype=PIN_BIT, conaffinity=bits, density=0.0, margin=0.0)
+        spec.add_exclude(bodyname1="world", bodyname2=f"pin_{p}")
+        for ln, part in parts.items():                # the links it passes through, in their holes or slots
+            held = pins_of(mech, parts, p)
+            if ln in held:
+                spec.add_exclude(bodyname1=ln, bodyname2=f"pin_{p}")
     m = spec.compile()
     geoms = {ln: m.geom(ln).id for ln in links}
     geoms[lay.FRAME] = tuple(m.geom(g).id for g in frame_geoms)
+    geoms.update({f"pin_{p}": m.geom(f"pin_{p}").id for p in pins})
     mesh_pairs = {frozenset(p) for p in layout.meshing}
     pairs = [(a, b) for i, a in enumerate(links) for b in links[i + 1:]
              if layout.layers[a] == layout.layers[b] and frozenset((a, b)) not in mesh_pairs]
     if frame_geoms:
         pairs += [(ln, lay.FRAME) for ln in links if layout.layers[ln] == 0]
-    return Scene(m, links, tuple(pairs), geoms)
+    return Scene(m, links, tuple(pairs), geoms, tuple(pins))
+
+
+def pins_of(mech, parts: dict, point: str) -> set:
+    """The links a pin at ``point`` runs through: those with a hole there and those whose slot it slides in."""
+    pinned = {ln for ln, part in parts.items() if any(h.point == point for h in part.holes)}
+    return pinned | {ln for ln, part in parts.items() if any(sl.block in pinned for sl in part.slots)}
 
 
 @dataclass(frozen=True)
@@ -114,6 +146,10 @@ def pose(scene: Scene, data: mujoco.MjData, sweep: model.Sweep, k: int) -> None:
         x, y, a = sweep.frames[ln][k]
         adr = scene.model.jnt_qposadr[scene.model.joint(ln).id]
         data.qpos[adr:adr + 7] = [x, y, 0.0, math.cos(a / 2), 0.0, 0.0, math.sin(a / 2)]
+    for p in scene.pins:
+        x, y = sweep.points[p][k]
+        adr = scene.model.jnt_qposadr[scene.model.joint(f"pin_{p}").id]
+        data.qpos[adr:adr + 7] = [x, y, 0.0, 1.0, 0.0, 0.0, 0.0]
     mujoco.mj_kinematics(scene.model, data)
     mujoco.mj_collision(scene.model, data)
 

@@ -110,7 +110,8 @@ def interference(pm: PartsModel) -> dict:
 
     from sim.model import parts_scene
     mech = pm.mech
-    scene = parts_scene.build(mech, pm.parts, pm.layout, pm.chord)
+    clash_pins = tuple(dict.fromkeys(p for p, _ in pm.layout.clashes))
+    scene = parts_scene.build(mech, pm.parts, pm.layout, pm.chord, clash_pins)
     out = lay.outlines(mech, pm.parts)
     size = mech.size / mech.scale
     distmax = 10.0 * size
@@ -158,13 +159,55 @@ def interference(pm: PartsModel) -> dict:
         items.append({"links": [a, b], "first_at": _input_value(mech, t_mj), "depth": float(-np.min(dm)),
                       "geometric": {"first_at": None if t_2d is None else _input_value(mech, t_2d),
                                     "depth": float(max(0.0, -np.min(d2)))}})
+    pin_items = [pin_clash(pm, scene, data, out, p, ln, distmax, tol) for p, ln in pm.layout.clashes]
     first = mech.inputs[0]
     return {"mechanism": mech.name, "units": mech.units,
             "input": first.q, "input_unit": "deg" if first.kind == "crank" else mech.units,
             "samples": len(pm.sweep.t), "layers": dict(pm.layout.layers),
             "interference": items, "min_clearance": clear, "min_clearance_geometric": clear2d,
             "pins": {p: list(span) for p, span in pm.layout.pins.items()},
-            "pin_clashes": [{"pin": p, "link": ln} for p, ln in pm.layout.clashes]}
+            "pin_clashes": pin_items}
+
+
+def pin_clash(pm: PartsModel, scene, data, out, point: str, link: str, distmax: float, tol: float) -> dict:
+    """A link passing over a pin within its span: where MuJoCo's pin cylinder first touches the link's solid
+    (bisected) and where the plane test's circle first comes within the pin's radius of the outline."""
+    import shapely
+
+    from sim.model import parts_scene
+    mech = pm.mech
+    r = model.settings(mech).pin_diameter / 2
+    name = f"pin_{point}"
+    single = parts_scene.Scene(scene.model, scene.links, ((link, name),), scene.geoms, scene.pins)
+
+    def f_mj(t):
+        s = model.frames_at(mech, [t])
+        parts_scene.pose(single, data, s, 0)
+        if parts_scene.in_contact(single, data, link, name):
+            return -1.0
+        return parts_scene.distance(single, data, link, name, distmax)
+
+    def f_2d(t):
+        s = model.frames_at(mech, [t])
+        return float(shapely.distance(shapely.polygons(lay.world(out, s, link))[0],
+                                      shapely.points(s.points[point])[0])) - r
+
+    ts = pm.sweep.t
+    d2 = np.asarray(shapely.distance(shapely.polygons(lay.world(out, pm.sweep, link)),
+                                     shapely.points(pm.sweep.points[point]))) - r
+    dm = np.empty(len(ts))
+    for k in range(len(ts)):                          # the sweep's poses, as solved (no re-solve per instant)
+        parts_scene.pose(single, data, pm.sweep, k)
+        dm[k] = -1.0 if parts_scene.in_contact(single, data, link, name) else \
+            parts_scene.distance(single, data, link, name, distmax)
+
+    def first(d, f):
+        hit = np.nonzero(d < 0)[0]
+        if not hit.size:
+            return None
+        k = int(hit[0])
+        return _input_value(mech, ts[0] if k == 0 else _bisect(f, ts[k - 1], ts[k], tol))
+    return {"pin": point, "link": link, "first_at": first(dm, f_mj), "geometric": {"first_at": first(d2, f_2d)}}
 
 
 # ------------------------------------------------------------------------------------------ exports

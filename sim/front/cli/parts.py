@@ -3,7 +3,6 @@
 
 from __future__ import annotations
 
-import json
 import os
 from pathlib import Path
 
@@ -55,7 +54,8 @@ def cmd_interference(args, mech) -> int:
     pm = parts_service.prepare(mech, _range(args, mech))
     report = parts_service.interference(pm)
     if args.json:
-        print(json.dumps(report, indent=2))
+        from sim.output.jsonout import dumps
+        print(dumps(report))
     else:
         unit, q = report["input_unit"], report["input"]
         for line in parts_service.layer_lines(pm):
