@@ -28,7 +28,7 @@ class Torque:
         return [Application(self.link, z, z, z, z, v)]
 
     def record(self, scale: float) -> dict:
-        return {"name": self.name, "kind": self.kind, "link": self.link, **self.law.record()}
+        return {"name": self.name, "kind": self.kind, "link": self.link, "point": None, **self.law.record()}
 
 
 def parse(item: dict, where: str, sc: Scales) -> Torque:
