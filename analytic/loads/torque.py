@@ -3,7 +3,6 @@
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -41,4 +40,4 @@ def constant(name: str, link: str, value: float) -> Torque:
     return Torque(name, link, L.Law(1.0, constant=float(value)))
 
 
-__all__ = ["Torque", "parse", "constant", "FIELDS", "math"]
+__all__ = ["Torque", "parse", "constant", "FIELDS"]
