@@ -9,6 +9,7 @@ import math
 import subprocess
 import sys
 import textwrap
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -342,3 +343,18 @@ def test_an_inch_pound_press_needs_no_hand_conversion(tmp_path):
     assert np.allclose(np.array(d["drives"]["phi1"]) / N_m_per_lbf_in, T_lbf_in, atol=1e-4)
     kC = [j["name"] for j in d["joints"]].index("C")
     assert np.allclose(np.hypot(d["joints"][kC]["Fx"], d["joints"][kC]["Fy"]) / 4.4482216152605, np.abs(R), atol=1e-5)
+
+
+def test_the_loads_table_has_specs_fields_for_every_kind(tmp_path):
+    # SPEC "Loads": each entry {"name", "kind", "link", "point" or "at", "work_per_cycle"}
+    press = (Path(__file__).parent / "mechanisms" / "press_loads.toml")
+    d = json.loads(linkage("forces", press, "--samples", 37, "--gravity", "0,-9.81", "--torque", "1@2",
+                           "--json").stdout)
+    kinds = set()
+    for e in d["loads"]:
+        assert {"name", "kind", "link", "work_per_cycle"} <= set(e), e
+        assert ("point" in e) or ("at" in e), e
+        assert e["work_per_cycle"] is None or math.isfinite(e["work_per_cycle"])
+        kinds.add(e["kind"])
+    assert kinds == {"gravity", "force", "spring", "damper", "torsion_spring", "torque"}
+    assert d["friction"]["dissipated_per_cycle"] > 0

@@ -62,3 +62,19 @@ def test_command_line_loads_reach_mujoco(text, tmp_path):
     # the load changes the drive by far more than the tolerance (it is applied, not dropped): 2 N m on the rod
     # reaches the crank as 2 dphi2/dphi1, up to 2 r / l ~ 0.67 N m
     assert np.max(np.abs(np.array(d["drives"]["phi1"]) - np.array(plain["drives"]["phi1"]))) > 0.5
+
+
+def test_render_draws_the_punch_at_the_piston_pin():
+    # sim.output.load_arrows: every force of the file at its point; the punch is (-500, 0) N at C at every frame
+    import analytic
+    from sim.model import build
+    from sim.output.load_arrows import load_arrows
+    m = analytic.load(str(PRESS))
+    built = build(m)
+    t = np.linspace(0.0, 1.0, 7)
+    rows = load_arrows(built, t)
+    sol = m.solve(m.drive(t)[0])
+    punch = [k for k in range(rows.shape[1]) if np.allclose(rows[:, k, 2:], [-500.0, 0.0], rtol=0, atol=1e-9)]
+    assert len(punch) == 1
+    k = punch[0]
+    assert np.allclose(rows[:, k, 0], sol["xC"], atol=1e-12) and np.allclose(rows[:, k, 1], sol["yC"], atol=1e-12)

@@ -9,7 +9,6 @@ frozen dataclass in SI whose ``applications(state, variables)`` gives the wrench
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, replace
 from pathlib import Path
 
@@ -130,4 +129,4 @@ def resolve(mech, extra=()) -> LoadSet:
 
 
 __all__ = ["KINDS", "LoadSet", "LoadError", "Application", "State", "Scales", "FORCE_UNITS", "parse", "resolve",
-           "wanted", "input_names", "check_units", "math"]
+           "wanted", "input_names", "check_units"]

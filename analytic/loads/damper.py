@@ -56,6 +56,7 @@ class Damper:
     def record(self, scale: float) -> dict:
         out = {"name": self.name, "kind": self.kind, "link": self.link}
         if self.ends:
+            out.update(self.ends[1].record(scale))
             out["between"] = [[e.link, e.record(scale).get("point") or e.record(scale)["at"]] for e in self.ends]
         else:
             out.update({"point": self.joint, "links": list(self.links)})

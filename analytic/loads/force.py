@@ -6,8 +6,6 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-import numpy as np
-
 from analytic.loads import law as L
 from analytic.loads.common import Application, End, Scales, end
 
@@ -72,4 +70,4 @@ def constant(name: str, link: str, point: str, fx: float, fy: float, crank: bool
     return Force(name, End(link, math.nan, math.nan, point), u, False, L.Law(1.0, constant=mag, crank=crank))
 
 
-__all__ = ["Force", "parse", "constant", "direction", "FIELDS", "np"]
+__all__ = ["Force", "parse", "constant", "direction", "FIELDS"]

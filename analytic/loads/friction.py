@@ -15,7 +15,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from analytic.kinds import GROUND
 from analytic.loads.common import Application, Scales
 
 FIELDS = {"mu", "pin_radius", "joints"}
@@ -131,4 +130,4 @@ def parse(section, sc: Scales, joints) -> Friction | None:
     return Friction(tuple(pins), tuple(slides))
 
 
-__all__ = ["Friction", "parse", "FIELDS", "GROUND"]
+__all__ = ["Friction", "parse", "FIELDS"]

@@ -82,7 +82,7 @@ class Spring:
         return cum[k] + y0 * d + 0.5 * slope * d * d
 
     def record(self, scale: float) -> dict:
-        return {"name": self.name, "kind": self.kind, "link": self.ends[1].link,
+        return {"name": self.name, "kind": self.kind, "link": self.ends[1].link, **self.ends[1].record(scale),
                 "between": [[e.link, e.record(scale).get("point") or e.record(scale)["at"]] for e in self.ends]}
 
 

@@ -3,7 +3,6 @@
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -28,7 +27,7 @@ class Torque:
         return [Application(self.link, z, z, z, z, v)]
 
     def record(self, scale: float) -> dict:
-        return {"name": self.name, "kind": self.kind, "link": self.link, **self.law.record()}
+        return {"name": self.name, "kind": self.kind, "link": self.link, "point": None, **self.law.record()}
 
 
 def parse(item: dict, where: str, sc: Scales) -> Torque:
@@ -41,4 +40,4 @@ def constant(name: str, link: str, value: float) -> Torque:
     return Torque(name, link, L.Law(1.0, constant=float(value)))
 
 
-__all__ = ["Torque", "parse", "constant", "FIELDS", "math"]
+__all__ = ["Torque", "parse", "constant", "FIELDS"]

@@ -4,7 +4,6 @@ links[1] is -stiffness theta (and the opposite on links[0]); its energy stiffnes
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -79,4 +78,4 @@ def parse(item: dict, where: str, sc: Scales) -> TorsionSpring:
     return TorsionSpring(item["name"], j, ls, k, a)
 
 
-__all__ = ["TorsionSpring", "parse", "pin", "FIELDS", "math"]
+__all__ = ["TorsionSpring", "parse", "pin", "FIELDS"]

@@ -45,6 +45,8 @@ class Scene:
     """[m per N] The length of a joint-force arrow per newton (0: no arrows), see :func:`force_arrows`."""
     force_ref: float = 0.0
     """[N] The force of the legend's arrow: a round value near half the peak."""
+    force_label: str = "joint forces (first link on the second)"
+    """The legend's words for the arrows (joint forces, the file's loads, or both)."""
 
 
 def poses(built, qpos_frames: np.ndarray) -> tuple[np.ndarray, dict[str, np.ndarray]]:
@@ -108,7 +110,7 @@ peak away from 190-200 deg); the legend gives the scale."""
 FORCE_COLOR = "#c51b8a"
 
 
-def force_arrows(sc: Scene, peak: float) -> Scene:
+def force_arrows(sc: Scene, peak: float, label: str | None = None) -> Scene:
     """The scene with joint-force arrows: the peak force [N] drawn ARROW_REACH of the mechanism's size long,
     the legend's arrow a round force (1, 2 or 5 x 10^k N) at most half the peak."""
     from dataclasses import replace
@@ -117,7 +119,7 @@ def force_arrows(sc: Scene, peak: float) -> Scene:
     half = 0.5 * peak
     ref = 10 ** math.floor(math.log10(half))
     ref = max(m * ref for m in (1, 2, 5) if m * ref <= half * (1 + 1e-12))
-    return replace(sc, force_scale=ARROW_REACH * sc.size / peak, force_ref=ref)
+    return replace(sc, force_scale=ARROW_REACH * sc.size / peak, force_ref=ref, force_label=label or sc.force_label)
 
 
 def nice_step(span: float) -> float:
@@ -324,7 +326,7 @@ class Painter:
         x0, y = 10 * u, self.H - 14 * u
         self._shaft(d, x0, y, n, 0.0, n)
         d.text((x0 + n + 6 * u, y), f"{sc.force_ref:g} N", fill="#222222", font=self.small, anchor="lm")
-        d.text((x0, y - 10 * u), "joint forces (first link on the second)", fill="#333333", font=self.small,
+        d.text((x0, y - 10 * u), sc.force_label, fill="#333333", font=self.small,
                anchor="ls")
 
     def _readout(self, d, t: float, q: float, speed: float | None = None) -> None:

@@ -201,11 +201,21 @@ def render(built, tr, out: str, fps: float = 30.0, size: tuple[int, int] = (640,
     path = output_path(tr, mech)[:, :2]
     sc = scene(built, xy, display or Display(mech.units), path)
     arrows = None
+    peak = 0.0
     if forces:
         F, peak = joint_force_frames(built, tr, instants)
-        sc = force_arrows(sc, peak)
         where = [mech.points.index(j.point) for j in mech.topology.joints]
         arrows = np.concatenate([xy[:, where], F], axis=-1)                   # (frames, joints, 4)
+    if getattr(built, "loadset", None) is not None:     # the file's forces as arrows at their points too
+        from sim.output.load_arrows import load_arrows
+        extra = load_arrows(built, instants)
+        if extra is not None:
+            arrows = extra if arrows is None else np.concatenate([arrows, extra], axis=1)
+            peak = max(peak, float(np.nanmax(np.hypot(extra[..., 2], extra[..., 3]))))
+    if arrows is not None:
+        label = ("joint forces (first link on the second) and loads" if forces and len(arrows[0]) > len(
+            mech.topology.joints) else None if forces else "loads (at their points)")
+        sc = force_arrows(sc, peak, label)
     q = np.interp(instants, tr.t, tr.inputs[mech.inputs[0].q])
     return _write(out, fps, size, sc, xy, angles, path, frames, instants, q, markers=markers, arrows=arrows)
 

@@ -68,7 +68,7 @@ def table(run, display=None) -> list:
     out = []
     old = run.loads or {}
     if old.get("gravity"):
-        out.append({"name": "gravity", "kind": "gravity", "link": None, "g": list(old["gravity"]),
+        out.append({"name": "gravity", "kind": "gravity", "link": None, "point": None, "g": list(old["gravity"]),
                     "work_per_cycle": (run.energy or {}).get("gravity_work_per_cycle")})
     if old.get("force"):
         f = old["force"]
