@@ -131,7 +131,10 @@ def draw(body: dict) -> dict:
     q = np.column_stack([np.broadcast_to(a.inputs[i.q], a.t.shape) for i in mech.inputs])
     qd = np.column_stack([np.broadcast_to(a.inputs[i.qd], a.t.shape) for i in mech.inputs])
     loadset = AL.resolve(mech)
-    return {"mechanism": mech.name, "samples": samples, **geometry(mech, a.t, q, qd, loadset, digits)}
+    from sim.output.jsonout import clean
+    items = clean([dict(x) for x in mech.definition.loads or () if isinstance(x, dict)])
+    return {"mechanism": mech.name, "samples": samples, "items": items,
+            **geometry(mech, a.t, q, qd, loadset, digits)}
 
 
 # ------------------------------------------------------------------------------------------ editing
