@@ -2373,10 +2373,14 @@
   }
 
   function loadLabel(text, x, y) {
+    ctx.save();
     ctx.font = "11px system-ui, sans-serif";
+    const w = ctx.measureText(text).width;
+    if (x + w > canvas.clientWidth - MARGIN.right - 2) x = Math.max(MARGIN.left + 2, x - w - 10);   // keep it in view
     ctx.lineWidth = 3; ctx.strokeStyle = "rgba(255,255,255,0.85)";
     ctx.strokeText(text, x, y);
     ctx.fillStyle = LOAD_COLOR; ctx.fillText(text, x, y);
+    ctx.restore();
   }
 
   function drawLoads(v, i) {
@@ -2393,7 +2397,9 @@
         const len = m > 0 ? 22 + 48 * m / loadScale(ld) : 0;       // px: the largest force of the cycle 70 px
         const ang = Math.atan2(-fy, fx);                                   // canvas y points down
         const tip = [p[0] + len * Math.cos(ang), p[1] + len * Math.sin(ang)];
-        ctx.lineWidth = 2.2;
+        ctx.strokeStyle = "rgba(255,255,255,0.9)"; ctx.lineWidth = 5;     // a halo: readable over a link
+        ctx.beginPath(); ctx.moveTo(p[0], p[1]); ctx.lineTo(tip[0], tip[1]); ctx.stroke();
+        ctx.strokeStyle = LOAD_COLOR; ctx.lineWidth = 2.2;
         ctx.beginPath(); ctx.moveTo(p[0], p[1]); ctx.lineTo(tip[0], tip[1]); ctx.stroke();
         if (len) arrowHead(tip[0], tip[1], ang, 9);
         loadLabel(`${ld.name} ${fmt(m, 3)} ${ld.unit}`, tip[0] + 4, tip[1] - 4);
@@ -2561,12 +2567,17 @@
     try {
       const res = await api("/api/loads/edit", body);
       const data = await res.json();
-      const before = snapshot();
-      setText(data.text);
-      pushUndo(before);
       stopEditingLoad();
+      if (state.mech.text === null) {             // a library mechanism becomes a file with its values and loads
+        addUploadOption(data.mechanism, data.text, "with loads");
+        openMechanism(data.mechanism, data.text);
+      } else {
+        const before = snapshot();
+        setText(data.text);
+        pushUndo(before);
+        edited();
+      }
       status(`${extra.action === "remove" ? "removed" : "wrote"} load ${extra.name || extra.load.name}; running again`);
-      edited();
     } catch (err) {
       $("#load-error").textContent = err.message || String(err);
       status(err.message || String(err), true);
