@@ -255,3 +255,33 @@ def test_canvas_geometry_in_the_files_force_units_and_friction(server):
     assert np.allclose(d["loads"][0]["fy"], 2.0, atol=1e-12)        # written 2 kN, drawn as 2 (kN), not 2000
     assert sorted(f["point"] for f in d["friction"]) == ["A", "B", "C", "D"]
     assert all(math.isclose(f["mu"], 0.1) for f in d["friction"])
+
+
+def brake_work_by_hand(n=7200):
+    """Work per turn of T = -0.5 cos(phi1) on fourbar_loads' rocker (its geometry is FOURBAR's): the integral
+    of T dphi3 over a crank turn, phi3(phi1) from the circles above (trapezoid on n steps)."""
+    phi = np.linspace(0.0, 2 * math.pi, n + 1)
+    _, C = rocker_angle(0.0, np.array([0.28, 0.25]))     # branch 1: C above the frame line
+    a = []
+    for p in phi:
+        ang, C = rocker_angle(p, C)
+        a.append(ang)
+    a = np.unwrap(a)
+    T = -0.5 * np.cos(phi)
+    return float(np.sum(0.5 * (T[1:] + T[:-1]) * np.diff(a)))
+
+
+def test_dynamics_tab_runs_with_the_files_loads(server):
+    text = (HERE / "mechanisms" / "fourbar_loads.toml").read_text()
+    body = {"motor": {"T0": 5, "W0": 20}, "simulate": False, "revolutions": 5}
+    d = ok(server, "/api/dynamics", {"text": text, **body})
+    bare = ok(server, "/api/dynamics", {"text": text.split("[[loads]]")[0], **body})
+    works = {x["name"]: x["work_per_cycle"] for x in d["loads"]}
+    assert list(works) == ["s", "d", "brake"]
+    # the brake's work by hand (the trapezoid's error over 7200 steps ~1e-7 J; the app's grid is spectral)
+    assert math.isclose(works["brake"], brake_work_by_hand(), abs_tol=1e-5)
+    assert abs(works["s"]) < 1e-9                     # a spring returns its energy over a turn (rounding)
+    assert works["d"] < 0                             # a damper only takes energy out
+    # motor + loads = change of kinetic energy + residual: the residual is rounding next to the works (~0.5 J)
+    assert abs(d["energy"]["residual"]) < 1e-6
+    assert abs(d["energy_per_cycle"] - bare["energy_per_cycle"]) > 0.01    # the loads change the motor's work

@@ -1160,6 +1160,9 @@
     }
     add(["flywheel [kg m²]", fmt(data.flywheel, 5), "", "", ""]);
     add(["energy per cycle [J]", fmt(data.energy_per_cycle, 4), "", "", ""]);
+    for (const ld of data.loads || []) {          // the file's [[loads]]: each one's work over the last turn
+      add([`load ${ld.name} (${ld.kind.replace("_", " ")}) work [J]`, fmt(ld.work_per_cycle, 4), "", "", ""]);
+    }
     const v = $("#dynamics-verdict");
     const sizing = data.sizing;
     if (!sim && !sizing) { v.hidden = true; return; }
@@ -2422,6 +2425,16 @@
         if ([...a, ...b].some((c) => !Number.isFinite(c))) continue;
         const dx = b[0] - a[0]; const dy = b[1] - a[1]; const len = Math.hypot(dx, dy) || 1;
         const ux = dx / len; const uy = dy / len; const nx = -uy; const ny = ux;
+        // loads between the same two ends (a spring and a damper in parallel) side by side, 16 px apart
+        const key = (o) => [o.x1[i], o.y1[i], o.x2[i], o.y2[i]].map((c) => Math.round(c * 1e6)).join();   // to a micrometre
+        const twins = L.loads.filter((o) => o.shape === "between" && key(o) === key(ld));
+        const off = (twins.indexOf(ld) - (twins.length - 1) / 2) * 16;
+        if (off) {
+          ctx.lineWidth = 1; ctx.beginPath();
+          ctx.moveTo(a[0], a[1]); ctx.lineTo(a[0] + nx * off, a[1] + ny * off);
+          ctx.moveTo(b[0], b[1]); ctx.lineTo(b[0] + nx * off, b[1] + ny * off); ctx.stroke();
+          a[0] += nx * off; a[1] += ny * off; b[0] += nx * off; b[1] += ny * off;
+        }
         const at = (s, w) => [a[0] + ux * s + nx * w, a[1] + uy * s + ny * w];
         ctx.lineWidth = 1.6;
         ctx.beginPath(); ctx.moveTo(a[0], a[1]);
@@ -2439,7 +2452,7 @@
           ctx.beginPath(); ctx.moveTo(...at(pst, -5)); ctx.lineTo(...at(pst, 5));
           ctx.moveTo(...at(pst, 0)); ctx.lineTo(b[0], b[1]); ctx.stroke();
         }
-        const mid = at(0.5 * len, 12);
+        const mid = at(0.5 * len, off < 0 ? -14 : 12);
         loadLabel(`${ld.name} ${fmt(ld.value[i], 3)} ${ld.unit}`, mid[0], mid[1]);
       }
     }
@@ -2458,7 +2471,9 @@
       }
       ctx.stroke();
       ctx.fillStyle = "#6d4c41"; ctx.font = "10px system-ui, sans-serif";
-      ctx.fillText(`μ ${fmt(f.mu, 2)}`, p[0] - 10, p[1] + 24);
+      ctx.textAlign = "right";
+      ctx.fillText(`μ ${fmt(f.mu, 2)}`, p[0] - 14, p[1] - 8);
+      ctx.textAlign = "left";
     }
     ctx.restore();
   }
