@@ -123,6 +123,18 @@ def test_a_force_added_in_the_panel_is_drawn_at_its_point_and_changes_the_forces
     # 2e-3 x F x 0.25 m: the central difference's error (above) and the 7 significant digits the page asks for
     assert np.allclose(change[inner], expect[inner], rtol=0, atol=2e-3 * F * 0.25)
     assert np.max(np.abs(change)) > 0.2 * F * np.max(np.abs(dy))   # a real change: the load is in the forces
+    # edited in the panel: the arrow's force follows
+    page.click("#file-loads button[title='edit push']")
+    assert page.input_value("#load-magnitude") == "50" and page.is_visible("#load-save")
+    page.fill("#load-magnitude", "80")
+    page.click("#load-save")
+    page.wait_for_function("window.linkageLoads && window.linkageLoads.loads.length === 1 "
+                           "&& Math.abs(window.linkageLoads.loads[0].fy[0] + 80) < 1e-9")
+    page.wait_for_function("window.linkageForces && window.linkageForces.applied.length === 1 "
+                           "&& Math.abs(window.linkageForces.drives.phi1[60] - %r) > 1e-3" % after["drives"]["phi1"][60])
+    edited = np.subtract(page.evaluate("window.linkageForces.drives.phi1"), before["drives"]["phi1"])
+    # statics is linear in the load: 80 N changes the drive 80/50 times as much (7 digits sent: 1e-5 N m)
+    assert np.allclose(edited, 80 / 50 * change, rtol=0, atol=1e-4)
     # removing it restores the forces
     page.click("#file-loads button[title='remove push']")
     page.wait_for_function("window.linkageForces && (window.linkageForces.applied || []).length === 0")

@@ -183,7 +183,7 @@
     updateCharts();
     drawFrame();
     if (full) showFigures(data);
-    if (full || rebuild || !state.loadsDraw) requestLoadsDraw();
+    if (full || rebuild || !state.loadsDraw || hasFileLoads()) requestLoadsDraw();   // the loads follow each edit
     if (bump) bumpRevision();
   }
 
