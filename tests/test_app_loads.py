@@ -285,3 +285,16 @@ def test_dynamics_tab_runs_with_the_files_loads(server):
     # motor + loads = change of kinetic energy + residual: the residual is rounding next to the works (~0.5 J)
     assert abs(d["energy"]["residual"]) < 1e-6
     assert abs(d["energy_per_cycle"] - bare["energy_per_cycle"]) > 0.01    # the loads change the motor's work
+
+
+def test_a_json_file_keeps_its_format(server):
+    data = tomllib.loads((HERE / "mechanisms" / "fourbar_loads.toml").read_text())
+    text = json.dumps(data, indent=2)
+    new = ok(server, "/api/loads/edit", {"text": text, "action": "add", "load": {
+        "name": "cut", "kind": "force", "link": "2", "point": "C", "direction": [-1, 0], "magnitude": 5,
+        "active": "90deg:270deg", "stroke": "+x"}})
+    back = json.loads(new["text"])
+    assert [ld["name"] for ld in back["loads"]] == ["s", "d", "brake", "cut"]
+    assert back["loads"][-1]["active"] == "90deg:270deg" and back["groups"] == data["groups"]
+    removed = json.loads(ok(server, "/api/loads/edit", {"text": new["text"], "action": "remove", "name": "d"})["text"])
+    assert [ld["name"] for ld in removed["loads"]] == ["s", "brake", "cut"]

@@ -2509,7 +2509,7 @@
   const LOAD_INPUTS = { link: "#load-link", direction: "#load-direction", magnitude: "#load-magnitude",
     table: "#load-table", area: "#load-area", between: "#load-between", joint: "#load-joint", links: "#load-links",
     stiffness: "#load-stiffness", free_length: "#load-free-length", preload: "#load-preload",
-    free_angle: "#load-free-angle", damping: "#load-damping" };
+    free_angle: "#load-free-angle", damping: "#load-damping", active: "#load-active", stroke: "#load-stroke" };
 
   function loadKindChanged() {
     const kind = $("#load-kind").value;
@@ -2548,6 +2548,8 @@
       if (shown(LOAD_INPUTS[k])) out[k] = numberOrText(val(LOAD_INPUTS[k]));
     }
     if (shown("#load-free-angle")) out.free_angle = numberOrText(val("#load-free-angle"));
+    if (shown("#load-active")) out.active = val("#load-active");
+    if (shown("#load-stroke")) out.stroke = val("#load-stroke");
     return out;
   }
 
