@@ -97,6 +97,7 @@ def test_a_force_added_in_the_panel_is_drawn_at_its_point_and_changes_the_forces
     assert items == [{"name": "push", "kind": "force", "link": "3", "point": "C", "direction": [0, -1],
                       "magnitude": 50}]
     assert "push" in page.inner_text("#file-loads")
+    assert page.input_value("#load-name") == "push2"            # ready for the next, under a new name
     assert "file loads push" in page.inner_text("#forces-status")
     # the arrow: load-coloured pixels straight below C (the force's direction on screen), none above
     page.fill("#scrub", "60")

@@ -2585,6 +2585,13 @@
       const res = await api("/api/loads/edit", body);
       const data = await res.json();
       stopEditingLoad();
+      if (extra.action === "add") {               // the next load's name: F1 -> F2 (names are unique)
+        const names = new Set(data.loads.map((x) => x.name));
+        const m = /^(.*?)(\d*)$/.exec(extra.load.name);
+        let k = Number(m[2] || 1) + 1;
+        while (names.has(`${m[1]}${k}`)) k += 1;
+        $("#load-name").value = `${m[1]}${k}`;
+      }
       if (state.mech.text === null) {             // a library mechanism becomes a file with its values and loads
         addUploadOption(data.mechanism, data.text, "with loads");
         openMechanism(data.mechanism, data.text);
