@@ -298,3 +298,13 @@ def test_a_json_file_keeps_its_format(server):
     assert back["loads"][-1]["active"] == "90deg:270deg" and back["groups"] == data["groups"]
     removed = json.loads(ok(server, "/api/loads/edit", {"text": new["text"], "action": "remove", "name": "d"})["text"])
     assert [ld["name"] for ld in removed["loads"]] == ["s", "brake", "cut"]
+
+
+@pytest.mark.parametrize("body, needle", [
+    ({"text": FOURBAR, "bogus": 1}, "unknown field 'bogus'"),
+    ({"text": FOURBAR + "[[loads]]\nname = \"T\"\nkind = \"torque\"\nlink = \"7\"\nmagnitude = 1\n"}, "loads[1] (T).link"),
+    ({"text": FOURBAR, "samples": 1}, "samples"),
+])
+def test_bad_draw_requests_are_one_line(server, body, needle):
+    status, data = post(server, "/api/loads/draw", body)
+    assert status == 400 and needle in data["error"] and "\n" not in data["error"], data
