@@ -37,6 +37,7 @@ from analytic.applications.figures import summary as figures_summary
 from analytic.format import expr
 from analytic.mechanism import Mechanism
 from sim import service
+from sim.front import loads_panel
 from sim.output.jsonout import clean
 from sim.output.units import output_kind
 
@@ -532,6 +533,7 @@ def forces(body: dict) -> dict:
     rec = service.forces_record(run)
     out = {"mechanism": mech.name, "samples": samples, "revolutions": revolutions,
            **force_series(rec, digits), "peaks": clean(rec["peaks"]), "loads": clean(run.loads),
+           "applied": clean(rec["loads"]), "friction": clean(rec.get("friction")), "energy": clean(rec.get("energy")),
            "units": clean(rec["units"]), "simulated": None}
     if simulate_too:
         sim = service.simulated_forces(run, loads=loads)
@@ -606,7 +608,7 @@ def dynamics_view(d) -> dict:
 
     t, omega, torque = thin(r.t, r.omega, r.torque)
     keys = ("mechanism", "input", "motor", "flywheel", "mean_speed", "fluctuation", "startup_time", "peak_torque",
-            "peak_power", "energy_per_cycle", "revolutions", "units", "sizing", "passed")
+            "peak_power", "energy_per_cycle", "revolutions", "units", "sizing", "passed", "loads", "energy")
     out = {k: clean(rec[k]) for k in keys if k in rec}
     out.update({"w_min": r.w_min, "w_max": r.w_max, "run": {"t": t, "omega": omega, "torque": torque},
                 "cycle": {"advance": series(u), "omega": series(w)}, "simulated": None})
@@ -1010,7 +1012,7 @@ def draw(body: dict) -> dict:
 
 
 ACTIONS = {"/api/draw": draw, "/api/drag": drag, "/api/forces": forces, "/api/dynamics": dynamics, "/api/open": open_file,
-           "/api/targets": targets}
+           "/api/targets": targets, "/api/loads/draw": loads_panel.draw, "/api/loads/edit": loads_panel.edit}
 """The panels' JSON actions (forces, dynamics, opening a file), by path."""
 POSTS = {"/api/solve", "/api/simulate", "/api/render", "/api/exit", "/api/synthesize", "/api/synthesize/status",
          "/api/synthesize/cancel", *ACTIONS,

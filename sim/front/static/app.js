@@ -44,6 +44,9 @@
     holdUntil: 0,
     tab: "curves",                      // the right panel's tab: curves, forces, dynamics, synthesis
     loads: { gravity: null, force: null, cutting: null },   // SI, as the API takes them
+    loadsDraw: null,                    // the file's [[loads]] as drawn (POST /api/loads/draw) and its version
+    loadItems: [],
+    loadEditing: null,                  // the name of the load the form edits (null: adding)
     forces: null,                       // the forces panel's last answer (with its "simulated" part)
     forcesVersion: -1,                  // the version it answers
     forceCharts: [],
@@ -180,6 +183,7 @@
     updateCharts();
     drawFrame();
     if (full) showFigures(data);
+    if (full || rebuild || !state.loadsDraw || hasFileLoads()) requestLoadsDraw();   // the loads follow each edit
     if (bump) bumpRevision();
   }
 
@@ -836,6 +840,9 @@
     const l = data.loads || {};
     if (l.gravity) parts.push(`gravity ${l.gravity[0]},${l.gravity[1]} m/s²`);
     if (l.force) parts.push(`${l.force.cutting ? "cutting force" : "force"} ${fmt(l.force.Fx, 4)},${fmt(l.force.Fy, 4)} N on ${l.force.point} (link ${l.force.link})`);
+    const own = (data.applied || []).filter((x) => x.kind !== "gravity" && !(x.name === "force" && x.kind === "force" && l.force));
+    if (own.length) parts.push(`file loads ${own.map((x) => x.name).join(", ")}`);
+    if (data.friction && data.friction.pins && (Object.keys(data.friction.pins).length || Object.keys(data.friction.prismatic || {}).length)) parts.push("friction");
     return `${data.joints.length} joints over ${data.samples} samples; ${parts.join(", ") || "inertia only"}`;
   }
 
@@ -1153,6 +1160,9 @@
     }
     add(["flywheel [kg m²]", fmt(data.flywheel, 5), "", "", ""]);
     add(["energy per cycle [J]", fmt(data.energy_per_cycle, 4), "", "", ""]);
+    for (const ld of data.loads || []) {          // the file's [[loads]]: each one's work over the last turn
+      add([`load ${ld.name} (${ld.kind.replace("_", " ")}) work [J]`, fmt(ld.work_per_cycle, 4), "", "", ""]);
+    }
     const v = $("#dynamics-verdict");
     const sizing = data.sizing;
     if (!sim && !sizing) { v.hidden = true; return; }
@@ -1519,6 +1529,7 @@
     d.links.forEach((link, k) => drawLink(link, k, at, data, i, v));
     for (const g of d.ground) { const p = at(g); if (p) drawGround(p); }
     for (const name of d.points) drawJoint(name, at(name), name === d.output_point, d.ground.includes(name));
+    drawLoads(v, i);
     drawSynthesis(v);
     ctx.restore();
     drawLegend(d.output_point, !!sp);
@@ -2192,6 +2203,8 @@
     state.forces = null;
     window.linkageForces = null;
     state.forceKey = "";
+    state.loadsDraw = null;
+    stopEditingLoad();
     for (const c of state.forceCharts) c.plot.destroy();
     state.forceCharts = [];
     $("#force-charts").replaceChildren();
@@ -2300,6 +2313,309 @@
     $("#stopped").hidden = false;
   }
 
+
+  // ----------------------------------------------------------------------------------- file loads
+  // The file's [[loads]] drawn on the animation (POST /api/loads/draw: where each acts and how much over the
+  // solve's samples) and the panel that adds, edits and removes them (POST /api/loads/edit rewrites the
+  // file's [[loads]] text; the new text is the mechanism's from then on, one undo step).
+  const LOAD_COLOR = "#c2185b";
+  function hasFileLoads() {
+    const t = state.mech && state.mech.text;
+    return !!t && /\[\[\s*loads\s*\]\]|\[\s*friction\s*\]|"loads"\s*:|"friction"\s*:/.test(t);
+  }
+
+  const loadsChannel = { busy: false, queued: false };
+  async function requestLoadsDraw() {
+    if (!hasFileLoads()) {
+      state.loadsDraw = null;
+      window.linkageLoads = null;
+      fileLoadsList([]);
+      return;
+    }
+    if (loadsChannel.busy) { loadsChannel.queued = true; return; }
+    loadsChannel.busy = true;
+    loadsChannel.queued = false;
+    const version = state.version;
+    try {
+      const res = await api("/api/loads/draw", requestBody({ samples: SAMPLES, digits: DRAG_DIGITS }));
+      const data = await res.json();
+      if (version >= state.opened && version >= (state.loadsDraw ? state.loadsDraw.version : -1)) {
+        state.loadsDraw = { ...data, version };
+        window.linkageLoads = state.loadsDraw;
+        fileLoadsList(data.items || []);
+        drawFrame();
+        bumpRevision();
+      }
+    } catch (err) {
+      $("#load-error").textContent = err.message || String(err);
+    } finally {
+      loadsChannel.busy = false;
+      if (loadsChannel.queued) requestLoadsDraw();
+    }
+  }
+
+  function loadScale(ld) {                      // the largest |value| of its kind's loads over the cycle
+    let peak = 0;
+    for (const o of state.loadsDraw.loads) {
+      if (o.shape !== ld.shape) continue;
+      const n = o.shape === "arrow" ? o.fx.length : o.value.length;
+      for (let k = 0; k < n; k++) {
+        const m = o.shape === "arrow" ? Math.hypot(o.fx[k] || 0, o.fy[k] || 0) : Math.abs(o.value[k] || 0);
+        if (m > peak) peak = m;
+      }
+    }
+    return peak || 1;
+  }
+
+  function arrowHead(x, y, ang, size) {
+    ctx.beginPath();
+    ctx.moveTo(x, y);
+    ctx.lineTo(x - size * Math.cos(ang - 0.4), y - size * Math.sin(ang - 0.4));
+    ctx.lineTo(x - size * Math.cos(ang + 0.4), y - size * Math.sin(ang + 0.4));
+    ctx.closePath(); ctx.fill();
+  }
+
+  function loadLabel(text, x, y) {
+    ctx.save();
+    ctx.font = "11px system-ui, sans-serif";
+    const w = ctx.measureText(text).width;
+    if (x + w > canvas.clientWidth - MARGIN.right - 2) x = Math.max(MARGIN.left + 2, x - w - 10);   // keep it in view
+    ctx.lineWidth = 3; ctx.strokeStyle = "rgba(255,255,255,0.85)";
+    ctx.strokeText(text, x, y);
+    ctx.fillStyle = LOAD_COLOR; ctx.fillText(text, x, y);
+    ctx.restore();
+  }
+
+  function drawLoads(v, i) {
+    const L = state.loadsDraw;
+    if (!L || !state.solve || L.samples !== state.solve.t.length) return;
+    ctx.save();
+    ctx.strokeStyle = LOAD_COLOR; ctx.fillStyle = LOAD_COLOR; ctx.lineCap = "round";
+    for (const ld of L.loads) {
+      if (ld.shape === "arrow") {
+        const x = ld.x[i]; const y = ld.y[i]; const fx = ld.fx[i]; const fy = ld.fy[i];
+        if (x === null || y === null || fx === null || fy === null) continue;
+        const m = Math.hypot(fx, fy);
+        const p = [v.X(x), v.Y(y)];
+        const len = m > 0 ? 22 + 48 * m / loadScale(ld) : 0;       // px: the largest force of the cycle 70 px
+        const ang = Math.atan2(-fy, fx);                                   // canvas y points down
+        const tip = [p[0] + len * Math.cos(ang), p[1] + len * Math.sin(ang)];
+        ctx.strokeStyle = "rgba(255,255,255,0.9)"; ctx.lineWidth = 5;     // a halo: readable over a link
+        ctx.beginPath(); ctx.moveTo(p[0], p[1]); ctx.lineTo(tip[0], tip[1]); ctx.stroke();
+        ctx.strokeStyle = LOAD_COLOR; ctx.lineWidth = 2.2;
+        ctx.beginPath(); ctx.moveTo(p[0], p[1]); ctx.lineTo(tip[0], tip[1]); ctx.stroke();
+        if (len) arrowHead(tip[0], tip[1], ang, 9);
+        loadLabel(`${ld.name} ${fmt(m, 3)} ${ld.unit}`, tip[0] + 4, tip[1] - 4);
+      } else if (ld.shape === "moment" || ld.shape === "pin") {
+        const x = ld.x[i]; const y = ld.y[i]; const val = ld.value[i];
+        if (x === null || y === null || val === null) continue;
+        const p = [v.X(x), v.Y(y)];
+        const r = ld.shape === "pin" ? 13 : 18;
+        const ccw = val >= 0;                                           // + counter-clockwise in the world
+        const a0 = ccw ? 0.5 : -0.5; const a1 = ccw ? -Math.PI * 1.25 : Math.PI * 1.25;
+        ctx.lineWidth = 2;
+        ctx.setLineDash(ld.kind === "damper" ? [3, 2] : []);
+        ctx.beginPath(); ctx.arc(p[0], p[1], r, a0, a1, ccw); ctx.stroke();
+        ctx.setLineDash([]);
+        const ex = p[0] + r * Math.cos(a1); const ey = p[1] + r * Math.sin(a1);
+        arrowHead(ex, ey, a1 + (ccw ? -Math.PI / 2 : Math.PI / 2), 8);
+        loadLabel(`${ld.name} ${fmt(val, 3)} ${ld.unit}`, p[0] + r + 4, p[1] + r + 2);
+      } else if (ld.shape === "between") {
+        const a = [v.X(ld.x1[i]), v.Y(ld.y1[i])]; const b = [v.X(ld.x2[i]), v.Y(ld.y2[i])];
+        if ([...a, ...b].some((c) => !Number.isFinite(c))) continue;
+        const dx = b[0] - a[0]; const dy = b[1] - a[1]; const len = Math.hypot(dx, dy) || 1;
+        const ux = dx / len; const uy = dy / len; const nx = -uy; const ny = ux;
+        // loads between the same two ends (a spring and a damper in parallel) side by side, 16 px apart
+        const key = (o) => [o.x1[i], o.y1[i], o.x2[i], o.y2[i]].map((c) => Math.round(c * 1e6)).join();   // to a micrometre
+        const twins = L.loads.filter((o) => o.shape === "between" && key(o) === key(ld));
+        const off = (twins.indexOf(ld) - (twins.length - 1) / 2) * 16;
+        if (off) {
+          ctx.lineWidth = 1; ctx.beginPath();
+          ctx.moveTo(a[0], a[1]); ctx.lineTo(a[0] + nx * off, a[1] + ny * off);
+          ctx.moveTo(b[0], b[1]); ctx.lineTo(b[0] + nx * off, b[1] + ny * off); ctx.stroke();
+          a[0] += nx * off; a[1] += ny * off; b[0] += nx * off; b[1] += ny * off;
+        }
+        const at = (s, w) => [a[0] + ux * s + nx * w, a[1] + uy * s + ny * w];
+        ctx.lineWidth = 1.6;
+        ctx.beginPath(); ctx.moveTo(a[0], a[1]);
+        if (ld.kind === "spring") {                                    // a zig-zag over the middle 70 %
+          const z = 10; const s0 = 0.15 * len; const s1 = 0.85 * len;
+          ctx.lineTo(...at(s0, 0));
+          for (let k = 1; k < 2 * z; k++) ctx.lineTo(...at(s0 + (s1 - s0) * k / (2 * z), (k % 2 ? 1 : -1) * 6));
+          ctx.lineTo(...at(s1, 0)); ctx.lineTo(b[0], b[1]); ctx.stroke();
+        } else {                                                         // a dashpot: cylinder and piston
+          const c0 = 0.3 * len; const c1 = 0.62 * len; const pst = 0.5 * len;
+          ctx.lineTo(...at(c0, 0)); ctx.stroke();
+          ctx.beginPath(); ctx.moveTo(...at(c0, -7)); ctx.lineTo(...at(c0, 7));
+          ctx.moveTo(...at(c0, -7)); ctx.lineTo(...at(c1, -7));
+          ctx.moveTo(...at(c0, 7)); ctx.lineTo(...at(c1, 7)); ctx.stroke();
+          ctx.beginPath(); ctx.moveTo(...at(pst, -5)); ctx.lineTo(...at(pst, 5));
+          ctx.moveTo(...at(pst, 0)); ctx.lineTo(b[0], b[1]); ctx.stroke();
+        }
+        const mid = at(0.5 * len, off < 0 ? -14 : 12);
+        loadLabel(`${ld.name} ${fmt(ld.value[i], 3)} ${ld.unit}`, mid[0], mid[1]);
+      }
+    }
+    const data = state.solve;
+    for (const f of L.friction || []) {                                // friction: a hatched ring at the joint
+      const q = data.points[f.point];
+      if (!q || q.x[i] === null) continue;
+      const p = [v.X(q.x[i]), v.Y(q.y[i])];
+      ctx.lineWidth = 1.2; ctx.strokeStyle = "#6d4c41";
+      ctx.beginPath(); ctx.arc(p[0], p[1], 9, 0, 2 * Math.PI); ctx.stroke();
+      ctx.beginPath();
+      for (let k = 0; k < 8; k++) {
+        const a = k * Math.PI / 4;
+        ctx.moveTo(p[0] + 9 * Math.cos(a), p[1] + 9 * Math.sin(a));
+        ctx.lineTo(p[0] + 13 * Math.cos(a + 0.3), p[1] + 13 * Math.sin(a + 0.3));
+      }
+      ctx.stroke();
+      ctx.fillStyle = "#6d4c41"; ctx.font = "10px system-ui, sans-serif";
+      ctx.textAlign = "right";
+      ctx.fillText(`μ ${fmt(f.mu, 2)}`, p[0] - 14, p[1] - 8);
+      ctx.textAlign = "left";
+    }
+    ctx.restore();
+  }
+
+  function describeLoad(it) {
+    const where = it.point || (it.at ? `[${it.at.join(", ")}]` : "") || it.joint || "";
+    const between = it.between ? it.between.map((e) => `${e[0]}:${Array.isArray(e[1]) ? e[1].join(",") : e[1]}`).join(" – ") : "";
+    const law = it.magnitude !== undefined ? `${it.magnitude}` : it.table !== undefined ? "table" : "";
+    const extra = it.stiffness !== undefined ? `k ${it.stiffness}` : it.damping !== undefined ? `c ${it.damping}` : "";
+    return `${it.name}: ${it.kind.replace("_", " ")} ${it.link ? `on ${it.link} ` : ""}${where ? `at ${where} ` : ""}${between} ${law} ${extra}`.replace(/\s+/g, " ").trim();
+  }
+
+  function fileLoadsList(items) {
+    state.loadItems = items;
+    const ul = $("#file-loads");
+    ul.replaceChildren();
+    for (const it of items) {
+      const li = document.createElement("li");
+      const what = document.createElement("span");
+      what.className = "load-what";
+      what.textContent = describeLoad(it);
+      const edit = document.createElement("button");
+      edit.textContent = "Edit"; edit.title = `edit ${it.name}`;
+      edit.addEventListener("click", () => editLoad(it));
+      const rm = document.createElement("button");
+      rm.textContent = "Remove"; rm.title = `remove ${it.name}`;
+      rm.addEventListener("click", () => sendLoadEdit({ action: "remove", name: it.name }));
+      li.append(what, edit, rm);
+      ul.appendChild(li);
+    }
+  }
+
+  const LOAD_INPUTS = { link: "#load-link", direction: "#load-direction", magnitude: "#load-magnitude",
+    table: "#load-table", area: "#load-area", between: "#load-between", joint: "#load-joint", links: "#load-links",
+    stiffness: "#load-stiffness", free_length: "#load-free-length", preload: "#load-preload",
+    free_angle: "#load-free-angle", damping: "#load-damping", active: "#load-active", stroke: "#load-stroke" };
+
+  function loadKindChanged() {
+    const kind = $("#load-kind").value;
+    document.querySelectorAll("#load-form label[data-kinds]").forEach((l) => {
+      l.hidden = !l.dataset.kinds.split(" ").includes(kind);
+    });
+  }
+
+  function numberOrText(t) { const n = Number(t); return t !== "" && Number.isFinite(n) ? n : t; }
+  function pairOf(t) { return t.split(",").map((x) => numberOrText(x.trim())); }
+
+  function loadFromForm() {                      // the form as a [[loads]] table (the server checks it)
+    const kind = $("#load-kind").value;
+    const out = { name: $("#load-name").value.trim(), kind };
+    const shown = (sel) => !$(sel).closest("label").hidden && $(sel).value.trim() !== "";
+    const val = (sel) => $(sel).value.trim();
+    if (shown("#load-link")) out.link = val("#load-link");
+    if (shown("#load-point")) {
+      const t = val("#load-point");
+      if (t.includes(",")) out.at = pairOf(t); else out.point = t;
+    }
+    if (shown("#load-direction")) out.direction = pairOf(val("#load-direction"));
+    if (!$("#load-frame").closest("label").hidden && $("#load-frame").value === "link") out.frame = "link";
+    if (shown("#load-area")) out.area = numberOrText(val("#load-area"));
+    if (shown("#load-magnitude")) out.magnitude = numberOrText(val("#load-magnitude"));
+    if (shown("#load-table")) out.table = val("#load-table").split(";").filter((r) => r.trim()).map(pairOf);
+    if (shown("#load-between")) {
+      out.between = val("#load-between").split(/\s+/).map((e) => {
+        const [link, rest] = [e.slice(0, e.indexOf(":")), e.slice(e.indexOf(":") + 1)];
+        return [link, rest.includes(",") ? pairOf(rest) : rest];
+      });
+    }
+    if (shown("#load-joint")) out.joint = val("#load-joint");
+    if (shown("#load-links")) out.links = val("#load-links").split(",").map((x) => x.trim());
+    for (const k of ["stiffness", "free_length", "preload", "damping"]) {
+      if (shown(LOAD_INPUTS[k])) out[k] = numberOrText(val(LOAD_INPUTS[k]));
+    }
+    if (shown("#load-free-angle")) out.free_angle = numberOrText(val("#load-free-angle"));
+    if (shown("#load-active")) out.active = val("#load-active");
+    if (shown("#load-stroke")) out.stroke = val("#load-stroke");
+    return out;
+  }
+
+  function editLoad(it) {
+    state.loadEditing = it.name;
+    $("#load-name").value = it.name;
+    $("#load-kind").value = it.kind;
+    loadKindChanged();
+    for (const sel of [...Object.values(LOAD_INPUTS), "#load-point"]) $(sel).value = "";
+    const text = (v) => (Array.isArray(v) ? v.join(",") : String(v));
+    for (const [k, sel] of Object.entries(LOAD_INPUTS)) {
+      if (it[k] === undefined) continue;
+      if (k === "table" && Array.isArray(it.table)) $(sel).value = it.table.map(text).join("; ");
+      else if (k === "between") $(sel).value = it.between.map((e) => `${e[0]}:${text(e[1])}`).join(" ");
+      else $(sel).value = text(it[k]);
+    }
+    if (it.point !== undefined) $("#load-point").value = it.point; else if (it.at) $("#load-point").value = text(it.at);
+    $("#load-frame").value = it.frame === "link" ? "link" : "world";
+    $("#load-save").hidden = false; $("#load-cancel").hidden = false;
+    $("#load-add").hidden = true;
+  }
+
+  function stopEditingLoad() {
+    state.loadEditing = null;
+    $("#load-save").hidden = true; $("#load-cancel").hidden = true; $("#load-add").hidden = false;
+  }
+
+  async function sendLoadEdit(extra) {
+    $("#load-error").textContent = "";
+    const body = { set: { ...state.set }, ...extra };
+    if (state.mech.text !== null) body.text = state.mech.text; else body.mechanism = state.mech.name;
+    try {
+      const res = await api("/api/loads/edit", body);
+      const data = await res.json();
+      stopEditingLoad();
+      if (extra.action === "add") {               // the next load's name: F1 -> F2 (names are unique)
+        const names = new Set(data.loads.map((x) => x.name));
+        const m = /^(.*?)(\d*)$/.exec(extra.load.name);
+        let k = Number(m[2] || 1) + 1;
+        while (names.has(`${m[1]}${k}`)) k += 1;
+        $("#load-name").value = `${m[1]}${k}`;
+      }
+      if (state.mech.text === null) {             // a library mechanism becomes a file with its values and loads
+        addUploadOption(data.mechanism, data.text, "with loads");
+        openMechanism(data.mechanism, data.text);
+      } else {
+        const before = snapshot();
+        setText(data.text);
+        pushUndo(before);
+        edited();
+      }
+      status(`${extra.action === "remove" ? "removed" : "wrote"} load ${extra.name || extra.load.name}; running again`);
+    } catch (err) {
+      $("#load-error").textContent = err.message || String(err);
+      status(err.message || String(err), true);
+    }
+  }
+
+  function wireLoads() {
+    $("#load-kind").addEventListener("change", loadKindChanged);
+    loadKindChanged();
+    $("#load-add").addEventListener("click", () => sendLoadEdit({ action: "add", load: loadFromForm() }));
+    $("#load-save").addEventListener("click", () => sendLoadEdit({ action: "replace", name: state.loadEditing, load: loadFromForm() }));
+    $("#load-cancel").addEventListener("click", stopEditingLoad);
+  }
+
   // for tests and the drag benchmark: a world point [m] as client pixels of the page, and back
   window.linkageCanvas = {
     toClient(x, y) { const r = canvas.getBoundingClientRect(); const v = view(); return [r.left + v.X(x), r.top + v.Y(y)]; },
@@ -2308,6 +2624,7 @@
 
   function start() {
     wire();
+    wireLoads();
     sizeCanvas();
     syncClock();
     requestAnimationFrame(tick);

@@ -1,0 +1,278 @@
+"""The app's loads on the canvas (issue 31, item 3): the file's ``[[loads]]`` and ``[friction]`` as the
+animation draws them (``POST /api/loads/draw``), and the panel that adds, edits and removes loads by
+rewriting the file's ``[[loads]]`` text (``POST /api/loads/edit``).
+
+``draw`` answers, for the same samples as ``/api/solve`` (same ``samples``, ``revolutions``,
+``input_range``), where every load acts and how much: a force's point and force vector, a torque's link
+centre and moment, a spring's or damper's two ends and its tension, a pin's (torsion spring, pin damper)
+position and moment, and the joints with friction. Positions are SI (m), as the solve's point paths; forces
+and moments are in the file's ``force_units`` (moments in force unit x the file's length unit), as written.
+
+``edit`` takes the file's text and one action (``add``, ``replace`` or ``remove``), and gives the new text:
+the file as it was with its ``[[loads]]`` tables written again at its end, checked by reading it back as
+``linkage check`` does (a load the solver would refuse is refused here, with the solver's one line, and
+nothing is written).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import re
+import tomllib
+
+import numpy as np
+
+from analytic import ParameterError
+from analytic import loads as AL
+from analytic.kinds import GROUND
+from analytic.loads import common as LC
+
+DRAW_FIELDS = {"mechanism", "text", "set", "samples", "revolutions", "input_range", "digits"}
+EDIT_FIELDS = {"mechanism", "text", "set", "action", "name", "load"}
+ACTIONS = ("add", "replace", "remove")
+MAX_DEPTH = 4
+"""Nesting of a load's values: a spring's ``between`` is [[link, [u, v]], ...] (three levels)."""
+
+_HEADER = re.compile(r"^\s*\[\[?\s*[A-Za-z0-9_.\"' -]+\s*\]\]?\s*(#.*)?$")
+_LOADS_HEADER = re.compile(r"^\s*\[\[\s*loads\s*\]\]\s*(#.*)?$")
+
+
+class LoadsRequestError(ParameterError):
+    """A refused panel request: one line naming the field and the fix."""
+
+
+def check_fields(body: dict, fields: set, action: str) -> None:
+    unknown = sorted(set(body) - fields)
+    if unknown:
+        raise LoadsRequestError(f"unknown field {unknown[0]!r}; {action} takes {', '.join(sorted(fields))}")
+
+
+# ------------------------------------------------------------------------------------------ drawing
+def moment_unit(mech, force_units: str) -> str:
+    return f"{force_units} {mech.units}"
+
+
+def geometry(mech, t, q, qd, loadset, digits: int | None = None) -> dict:
+    """Where and how much each load of ``loadset`` acts over the samples ``t`` (inputs ``q``, ``qd``):
+    the JSON ``draw`` answers (see the module's text)."""
+    from analytic.loads import damper as D
+    from analytic.loads import spring as S
+    from analytic.loads import torque as T
+    from analytic.loads import torsion_spring as TS
+    from sim.front.app import series
+    sol = mech.solve(q, qd, np.zeros_like(q), outputs=AL.wanted(mech))
+    n = len(t)
+    sol = {k: np.reshape(np.asarray(sol[k]), n) for k in AL.wanted(mech)}
+    state = AL.State(mech, sol, q, qd, t)
+    variables = state.variables(AL.scales(mech.definition, mech.parameters))
+    fu = loadset.force_units if loadset else mech.definition.force_units
+    per_force = 1.0 / AL.FORCE_UNITS[fu]                 # N -> the file's force unit
+    per_moment = per_force * mech.scale                 # N m -> force unit x length unit
+
+    def s(a):
+        return series(np.broadcast_to(np.asarray(a, dtype=float), (n,)), digits=digits)
+
+    def centre(link):
+        if link == GROUND:
+            return np.zeros(n), np.zeros(n)
+        pts = mech.definition.topology.links[link].points
+        return (np.mean([sol["x" + p] for p in pts], axis=0), np.mean([sol["y" + p] for p in pts], axis=0))
+
+    out = []
+    for ld in loadset.loads if loadset else ():
+        try:
+            apps = ld.applications(state, variables)
+        except ValueError as exc:
+            raise LC.LoadError(f"load {ld.name}: {exc}") from None
+        entry = {"name": ld.name, "kind": ld.kind, "link": ld.link}
+        if isinstance(ld, (S.Spring, D.Damper)) and getattr(ld, "ends", None):
+            (x1, y1), (x2, y2), _, _, _ = S.Spring.geometry(ld, state)
+            a = apps[0]                                   # on the first end: + tension pulls it to the second
+            ex, ey = np.asarray(x2 - x1), np.asarray(y2 - y1)
+            tension = (np.asarray(a.fx) * ex + np.asarray(a.fy) * ey) / np.maximum(np.hypot(ex, ey), 1e-300)
+            entry.update(shape="between", x1=s(x1), y1=s(y1), x2=s(x2), y2=s(y2), value=s(tension * per_force),
+                         unit=fu)
+        elif isinstance(ld, (TS.TorsionSpring, D.Damper)):
+            x, y = state.xy(ld.joint)
+            entry.update(shape="pin", joint=ld.joint, x=s(x), y=s(y), value=s(np.asarray(apps[0].couple) * per_moment),
+                         unit=moment_unit(mech, fu))
+        elif isinstance(ld, T.Torque):
+            x, y = centre(ld.link)
+            entry.update(shape="moment", x=s(x), y=s(y), value=s(np.asarray(apps[0].couple) * per_moment),
+                         unit=moment_unit(mech, fu))
+        else:                                             # force, pressure: one application at the point
+            a = apps[0]
+            entry.update(shape="arrow", x=s(a.px), y=s(a.py), fx=s(np.asarray(a.fx) * per_force),
+                         fy=s(np.asarray(a.fy) * per_force), unit=fu)
+        out.append(entry)
+    friction = []
+    fr = loadset.friction if loadset else None
+    if fr:
+        joints = mech.definition.topology.joints
+        for k, mu, r in fr.pins:
+            j = joints[k]
+            friction.append({"joint": j.name, "point": j.point, "kind": "R", "mu": mu, "pin_radius": r / mech.scale})
+        for k, mu in fr.slides:
+            j = joints[k]
+            friction.append({"joint": j.name, "point": j.point, "kind": "P", "mu": mu})
+    return {"force_units": fu, "length_unit": mech.units, "loads": out, "friction": friction}
+
+
+def draw(body: dict) -> dict:
+    """``POST /api/loads/draw``: the loads of the request's mechanism over the solve's samples."""
+    from sim import service
+    from sim.front import app
+    check_fields(body, DRAW_FIELDS, "loads/draw")
+    digits = int(app.number(body, "digits", 15, 3, 15, integer=True)) if "digits" in body else None
+    mech = app.mechanism_of(body)
+    samples, revolutions, rng = app.run_options(body, mech)
+    a = service.analyze(mech, samples, revolutions, rng, figures=False)
+    q = np.column_stack([np.broadcast_to(a.inputs[i.q], a.t.shape) for i in mech.inputs])
+    qd = np.column_stack([np.broadcast_to(a.inputs[i.qd], a.t.shape) for i in mech.inputs])
+    loadset = AL.resolve(mech)
+    from sim.output.jsonout import clean
+    items = clean([dict(x) for x in mech.definition.loads or () if isinstance(x, dict)])
+    return {"mechanism": mech.name, "samples": samples, "items": items,
+            **geometry(mech, a.t, q, qd, loadset, digits)}
+
+
+# ------------------------------------------------------------------------------------------ editing
+def toml_value(v, where: str, depth: int = 0) -> str:
+    """One value as TOML (strings, finite numbers, booleans, arrays, inline tables)."""
+    if depth > MAX_DEPTH:
+        raise LoadsRequestError(f"{where}: nested too deeply")
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, int):
+        return str(v)
+    if isinstance(v, float):
+        if not math.isfinite(v):
+            raise LoadsRequestError(f"{where}: {v!r} must be a finite number")
+        return repr(v)
+    if isinstance(v, str):
+        if any(ord(c) < 32 for c in v):
+            raise LoadsRequestError(f"{where}: {v[:40]!r} holds a control character; give plain text")
+        return json.dumps(v, ensure_ascii=False)
+    if isinstance(v, list):
+        return "[" + ", ".join(toml_value(x, f"{where}[{i}]", depth + 1) for i, x in enumerate(v)) + "]"
+    if isinstance(v, dict):
+        return "{ " + ", ".join(f"{_key(k, where)} = {toml_value(x, f'{where}.{k}', depth + 1)}"
+                               for k, x in v.items()) + " }"
+    raise LoadsRequestError(f"{where}: {json.dumps(v)[:40]} must be a number, text, true/false or a list")
+
+
+def _key(k, where: str) -> str:
+    if not isinstance(k, str) or not k:
+        raise LoadsRequestError(f"{where}: field names must be text")
+    return k if re.fullmatch(r"[A-Za-z0-9_-]+", k) else json.dumps(k)
+
+
+def loads_text(loads: list) -> str:
+    """``[[loads]]`` tables for ``loads`` (dicts, in order)."""
+    blocks = []
+    for i, ld in enumerate(loads, 1):
+        lines = ["[[loads]]"] + [f"{_key(k, f'loads[{i}]')} = {toml_value(v, f'loads[{i}].{k}')}"
+                                  for k, v in ld.items()]
+        blocks.append("\n".join(lines) + "\n")
+    return "\n".join(blocks)
+
+
+def without_loads(text: str) -> str:
+    """The file's text with its ``[[loads]]`` tables (each up to the next table header) taken out."""
+    out, inside = [], False
+    for line in text.splitlines(keepends=True):
+        if _LOADS_HEADER.match(line):
+            inside = True
+            continue
+        if inside and _HEADER.match(line):
+            inside = False
+        if not inside:
+            out.append(line)
+    return "".join(out).rstrip() + "\n"
+
+
+def check_load(load, action: str) -> dict:
+    if not isinstance(load, dict) or not load:
+        raise LoadsRequestError(f"load must be an object such as {{\"name\": \"F1\", \"kind\": \"force\", \"link\": "
+                                f"\"3\", \"point\": \"C\", \"direction\": [0, -1], \"magnitude\": 10}} to {action}")
+    name = load.get("name")
+    if not isinstance(name, str) or not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", name):
+        raise LoadsRequestError(f"load.name {json.dumps(name)[:40]}: give the load a name of letters, digits and _ "
+                                f"(not starting with a digit)")
+    kind = load.get("kind")
+    if kind not in AL.KINDS:
+        raise LoadsRequestError(f"load.kind {json.dumps(kind)[:40]}: use one of {', '.join(AL.KINDS)}")
+    unknown = sorted(set(load) - AL.KINDS[kind].FIELDS)
+    if unknown:
+        raise LoadsRequestError(f"load.{unknown[0]}: not a field of a {kind}; it takes "
+                                f"{', '.join(sorted(AL.KINDS[kind].FIELDS))}")
+    toml_value(load, "load")                      # every value writable
+    return dict(load)
+
+
+def edited(text: str, action: str, name, load) -> tuple[str, list]:
+    """(the new file text, its loads) after ``action`` on the file ``text``."""
+    is_json = text.lstrip().startswith("{")
+    try:
+        data = json.loads(text) if is_json else tomllib.loads(text)
+    except (ValueError, tomllib.TOMLDecodeError) as exc:
+        raise LoadsRequestError(f"text: the file does not read ({str(exc).splitlines()[0]}); fix it first") from None
+    loads = data.get("loads", [])
+    if not isinstance(loads, list) or not all(isinstance(x, dict) for x in loads):
+        raise LoadsRequestError("text: the file's loads must be [[loads]] tables; fix it first")
+    names = [x.get("name") for x in loads]
+    if action == "add":
+        new = check_load(load, action)
+        if new["name"] in names:
+            raise LoadsRequestError(f"load.name {new['name']!r} is used by another load; give a new name "
+                                    f"(or replace that one)")
+        loads = loads + [new]
+    else:
+        if not isinstance(name, str) or name not in names:
+            raise LoadsRequestError(f"name {json.dumps(name)[:40]}: no load of that name; the file's loads: "
+                                    f"{', '.join(map(str, names)) or 'none'}")
+        k = names.index(name)
+        if action == "remove":
+            loads = loads[:k] + loads[k + 1:]
+        else:
+            new = check_load(load, action)
+            if new["name"] != name and new["name"] in names:
+                raise LoadsRequestError(f"load.name {new['name']!r} is used by another load; give a new name")
+            loads = loads[:k] + [new] + loads[k + 1:]
+    if is_json:
+        data = dict(data)
+        if loads:
+            data["loads"] = loads
+        else:
+            data.pop("loads", None)
+        return json.dumps(data, indent=2) + "\n", loads
+    body = without_loads(text)
+    return (body + ("\n" + loads_text(loads) if loads else "")), loads
+
+
+def edit(body: dict) -> dict:
+    """``POST /api/loads/edit``: {"text", "action": add|replace|remove, "name" (replace, remove), "load"
+    (add, replace)} -> {"text": the new file, "loads": its loads as written, "mechanism"}. A library
+    mechanism (``mechanism`` by name) is first written out as a file with its current values."""
+    from sim import service
+    from sim.front import app
+    check_fields(body, EDIT_FIELDS, "loads/edit")
+    action = body.get("action")
+    if action not in ACTIONS:
+        raise LoadsRequestError(f"action {json.dumps(action)[:40]}: use one of {', '.join(ACTIONS)}")
+    text = body.get("text")
+    if text is None:
+        text = service.mechanism_text(app.mechanism_of(body))
+    elif not isinstance(text, str):
+        raise LoadsRequestError("text must be the mechanism file's contents as a string")
+    else:
+        app.mechanism_of(body)                    # the file as it is must read (its own error first)
+    new, loads = edited(text, action, body.get("name"), body.get("load"))
+    mech = service.load("<upload>", body.get("set") or {}, text=new)
+    AL.resolve(mech)                              # every load resolves, as forces and dynamics will resolve it
+    return {"mechanism": mech.name, "text": new, "loads": loads}
+
+
+__all__ = ["draw", "edit", "geometry", "edited", "loads_text", "without_loads", "toml_value", "LoadsRequestError",
+           "DRAW_FIELDS", "EDIT_FIELDS"]
