@@ -34,10 +34,11 @@ import analytic
 from analytic import ParameterError
 from analytic import quantities as Q
 from analytic.applications.figures import summary as figures_summary
-from analytic.format import expr
 from analytic.mechanism import Mechanism
 from sim import service
 from sim.front import loads_panel
+from sim.front.requests import (MAX_REVOLUTIONS, MAX_SAMPLES, RequestError, _short, input_range_of,  # noqa: F401
+                                mechanism_of, number, run_options, series)
 from sim.output.jsonout import clean
 from sim.output.units import output_kind
 
@@ -45,8 +46,6 @@ MAX_BODY = 1_000_000
 WORKERS = 16
 """Requests served at once; more wait in the listen queue (a page uses a few keep-alive connections)."""
 """[bytes] the largest request body: an uploaded mechanism file travels inside it."""
-MAX_SAMPLES = 20_001
-MAX_REVOLUTIONS = 20.0
 MAX_RENDER_REVOLUTIONS = 5.0
 MAX_RENDER_SIZE = (640, 480)
 MAX_RENDER_FPS = 60.0
@@ -120,14 +119,6 @@ _RENDER_LOCK = threading.Lock()
 """One offscreen GL context at a time: two renders would only compete for the same two cores."""
 
 
-class RequestError(Exception):
-    """A refused request: its HTTP status and a one-line message for the page."""
-
-    def __init__(self, status: int, message: str):
-        super().__init__(message)
-        self.status = status
-
-
 # ---------------------------------------------------------------------------------- request fields
 def parse_json(raw: bytes) -> dict:
     """A request body as a JSON object; NaN/Infinity tokens, deep nesting and bad UTF-8 are refused."""
@@ -146,53 +137,6 @@ def check_fields(body: dict, action: str) -> None:
     unknown = sorted(set(body) - FIELDS[action])
     if unknown:
         raise RequestError(400, f"unknown field {unknown[0]!r}; {action} takes {', '.join(sorted(FIELDS[action]))}")
-
-
-def number(body: dict, key: str, default: float, lo: float, hi: float, integer: bool = False) -> float:
-    """A bounded numeric field: an integer where ``integer``; booleans are not numbers."""
-    v = body.get(key, default)
-    kinds = (int,) if integer else (int, float)
-    if isinstance(v, bool) or not isinstance(v, kinds):
-        raise RequestError(400, f"{key} must be {'an integer' if integer else 'a number'} (got {_short(v)})")
-    if not (math.isfinite(v) and lo <= v <= hi):
-        raise RequestError(400, f"{key}={_short(v)} is out of range: give {'an integer' if integer else 'a number'} "
-                                f"in {lo:g}..{hi:g}")
-    return v
-
-
-def mechanism_of(body: dict) -> Mechanism:
-    """The mechanism of a request: a known name, or an uploaded file's text; never a path."""
-    values = body.get("set", {})
-    if not isinstance(values, dict):
-        raise RequestError(400, "set must be an object of parameter values, e.g. {\"l1\": 0.12}")
-    for k, v in values.items():
-        if isinstance(v, bool) or not isinstance(v, (int, float, str)):
-            raise RequestError(400, f"set.{k} must be a number or text such as \"30deg\" (got {_short(v)})")
-    text = body.get("text")
-    if text is not None:
-        if not isinstance(text, str):
-            raise RequestError(400, "text must be the mechanism file's contents as a string")
-        return service.load("<upload>", values, text=text)
-    name = body.get("mechanism")
-    if not isinstance(name, str):
-        raise RequestError(400, "mechanism must be a name (GET /api/mechanisms lists them) or give text")
-    if name not in analytic.names():
-        raise RequestError(404, f"unknown mechanism {_short(name)}; known: {', '.join(analytic.names())}")
-    return service.load(name, values)
-
-
-def input_range_of(body: dict, mech: Mechanism) -> tuple[float, float] | None:
-    """The first input's range: ``"LO:HI"`` (angles in rad or with a deg suffix) or [LO, HI]; None: turns."""
-    v = body.get("input_range")
-    if v is None or v == "":
-        return None
-    angle = None if mech.inputs[0].kind == "crank" else False
-    if isinstance(v, str) and ":" in v:
-        lo, hi = v.split(":", 1)
-        return expr.parse_value("input range", lo.strip(), angle), expr.parse_value("input range", hi.strip(), angle)
-    if isinstance(v, list) and len(v) == 2 and all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in v):
-        return float(v[0]), float(v[1])
-    raise RequestError(400, f"input_range {_short(v)} is not LO:HI (e.g. \"-100deg:-45deg\") or [LO, HI]")
 
 
 def outputs_of(body: dict, mech: Mechanism) -> list[str]:
@@ -230,32 +174,9 @@ class Run:
     input_range: tuple[float, float] | None
 
 
-def run_options(body: dict, mech: Mechanism) -> tuple[int, float, tuple[float, float] | None]:
-    """(samples, revolutions, input range) of a request, bounded."""
-    samples = int(number(body, "samples", 361, 2, MAX_SAMPLES, integer=True))
-    revolutions = float(number(body, "revolutions", 1.0, 1e-6, MAX_REVOLUTIONS))
-    return samples, revolutions, input_range_of(body, mech)
-
-
 def analysis(mech: Mechanism, body: dict, figures: bool) -> Run:
     samples, revolutions, rng = run_options(body, mech)
     return Run(service.analyze(mech, samples, revolutions, rng, figures=figures), samples, revolutions, rng)
-
-
-def series(a, n: int | None = None, digits: int | None = None) -> list:
-    """An array as a JSON-ready list with NaN as None (plain ``tolist`` when all finite: the common case,
-    and ~50 times faster than cleaning each number). ``digits``: significant digits relative to the array's
-    peak; the page asks for 7 while dragging, which halves the bytes and the time to encode them."""
-    a = np.asarray(a, dtype=float)
-    a = np.broadcast_to(a, (n,)) if n is not None and a.ndim == 0 else a.ravel()
-    finite = np.isfinite(a)
-    if digits is not None and finite.any():
-        peak = float(np.max(np.abs(a[finite])))
-        if peak > 0:
-            a = np.round(a, digits - 1 - math.floor(math.log10(peak)))
-    if finite.all():
-        return a.tolist()
-    return [v if ok else None for v, ok in zip(a.tolist(), finite.tolist())]
 
 
 def point_paths(mech: Mechanism, sol, n: int, stride: int = 1, digits: int | None = None) -> dict:
@@ -1026,11 +947,6 @@ def _json_bytes(obj) -> bytes:
 def _first_line(text: str) -> str:
     line = (text.strip().splitlines() or [""])[0]
     return line if len(line) <= MAX_ERROR_CHARS else line[:MAX_ERROR_CHARS - 3] + "..."
-
-
-def _short(v) -> str:
-    r = repr(v)
-    return r if len(r) <= 60 else r[:57] + "..."
 
 
 # -------------------------------------------------------------------------------------- command

@@ -60,7 +60,7 @@ def geometry(mech, t, q, qd, loadset, digits: int | None = None) -> dict:
     from analytic.loads import spring as S
     from analytic.loads import torque as T
     from analytic.loads import torsion_spring as TS
-    from sim.front.app import series
+    from sim.front.requests import series
     sol = mech.solve(q, qd, np.zeros_like(q), outputs=AL.wanted(mech))
     n = len(t)
     sol = {k: np.reshape(np.asarray(sol[k]), n) for k in AL.wanted(mech)}
@@ -122,7 +122,7 @@ def geometry(mech, t, q, qd, loadset, digits: int | None = None) -> dict:
 def draw(body: dict) -> dict:
     """``POST /api/loads/draw``: the loads of the request's mechanism over the solve's samples."""
     from sim import service
-    from sim.front import app
+    from sim.front import requests as app
     check_fields(body, DRAW_FIELDS, "loads/draw")
     digits = int(app.number(body, "digits", 15, 3, 15, integer=True)) if "digits" in body else None
     mech = app.mechanism_of(body)
@@ -256,7 +256,7 @@ def edit(body: dict) -> dict:
     (add, replace)} -> {"text": the new file, "loads": its loads as written, "mechanism"}. A library
     mechanism (``mechanism`` by name) is first written out as a file with its current values."""
     from sim import service
-    from sim.front import app
+    from sim.front import requests as app
     check_fields(body, EDIT_FIELDS, "loads/edit")
     action = body.get("action")
     if action not in ACTIONS:
