@@ -138,7 +138,7 @@ def forces_run(mech: Mechanism, samples: int = 361, revolutions: float = 1.0, in
         cols[inp.q] = q[:, k]
     balance_result = balanced = None
     if balance is not None:
-        balance_result = bal.balance(mech, L.whole_cycles(mech, sol, t, revolutions), model, tuple(balance) or None)
+        balance_result = bal.balance(mech, sol, model, tuple(balance) or None)    # the closed run: its ends weigh half
         balanced = L.K.solve(mech, q, qd, qdd, t, bal.with_counterweights(model, balance_result.counterweights),
                              loadset, (gx, gy), (fx, fy), on, sol=sol).forces
     energy = L.energy_of(mech, loaded, loadset, model, (gx, gy), (fx, fy), on, cycles)

@@ -155,14 +155,3 @@ def dynamics_loads(d) -> tuple[list, dict] | None:
                    "residual": residual, "per": "last revolution"}
 
 
-def whole_cycles(mech, sol, t, revolutions: float):
-    """The run's samples with the last left out where it repeats the first (a whole number of cycles sampled
-    start..end inclusive), so a fit over them weighs every angle once (issue 27: the counterweight fitted over
-    37 samples holding the start angle twice was 0.6 % heavy)."""
-    from analytic.loads.kinetostatics import full_wanted
-    n = len(t)
-    if n < 3 or abs(revolutions - round(revolutions)) > 1e-12 or round(revolutions) < 1:
-        return sol
-    if not math.isclose(float(t[-1]), mech.duration(revolutions), rel_tol=1e-12):
-        return sol
-    return {k: np.asarray(sol[k])[:-1] for k in full_wanted(mech) if k in sol}
