@@ -62,7 +62,7 @@ def test_compare_reports_torque_and_work_balance_with_a_cutting_force():
 @pytest.mark.parametrize("args,pattern", [
     (["fourbar", "--cutting-force", "-10"], "must be >= 0"),
     (["fourbar", "--gravity", "1"], "is not two numbers"),
-    (["fourbar", "--inertia", "/no/such.json"], "cannot read it as JSON"),
+    (["fourbar", "--inertia", "/no/such.json"], "--inertia /no/such.json: cannot read it"),
 ])
 def test_bad_load_arguments(args, pattern):
     r = run("compare", *args)
