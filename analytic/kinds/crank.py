@@ -18,7 +18,8 @@ class Crank(Kind):
     name = "crank"
     section = "inputs"
     summary = "a driven link pivot->point turning about a ground pivot"
-    input_kind = "crank"
+    angular = True
+    columns = ("phi", "omega", "alpha")
     motion_fields = ("phi0", "omega", "alpha")
     fields = {"pivot": Field("point"), "point": Field("new"), "length": Field("size"),
               "link": Field("link", "{pivot}{point}"), "phi0": Field("angle", 0.0),

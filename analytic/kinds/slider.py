@@ -17,7 +17,8 @@ class Slider(Kind):
     name = "slider"
     section = "inputs"
     summary = "a block driven along a ground line: s(t) = s0 + v t + a t^2/2 from the guide's origin"
-    input_kind = "slider"
+    angular = False
+    columns = ("s", "ds", "dds")
     motion_fields = ("s0", "v", "a")
     fields = {"point": Field("new"), "guide": Field("guide"), "s0": Field("length", 0.0),
               "v": Field("length", 0.1), "a": Field("length", 0.0), "link": Field("link", "{point}_block")}

@@ -116,11 +116,11 @@ def analysis_record(mech: Mechanism, a: Analysis, samples: int, revolutions: flo
     from analytic import quantities as Q
     display = display or Q.SI
     outs = mech.outputs
-    kind = mech.inputs[0].kind
+    angular = mech.inputs[0].angular
     ranges = {k: display.convert(Q.quantity(mech, k), _span(a.solution[k])) for k in outs}
     return {"mechanism": mech.name, "units": units_table(mech, display, outs, a.figures),
             "parameters": Q.parameters_in(mech, display), "samples": samples, "revolutions": revolutions,
-            "figures": Q.convert_figures(a.figures, display, kind), "ranges": ranges}
+            "figures": Q.convert_figures(a.figures, display, angular), "ranges": ranges}
 
 
 def units_table(mech: Mechanism, display, outputs=(), figures=None) -> dict:
@@ -130,7 +130,7 @@ def units_table(mech: Mechanism, display, outputs=(), figures=None) -> dict:
     return {"file": mech.units, **{q: display.unit(q) for q in Q.SI_UNIT if q != Q.RATIO},
             "parameters": Q.parameter_units(mech, display),
             "outputs": {k: display.unit(Q.quantity(mech, k)) for k in outputs},
-            **({"figures": Q.figure_units(figures, display, mech.inputs[0].kind)} if figures else {})}
+            **({"figures": Q.figure_units(figures, display, mech.inputs[0].angular)} if figures else {})}
 
 
 def parameters_record(mech: Mechanism, display=None) -> dict:
