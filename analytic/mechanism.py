@@ -335,6 +335,13 @@ def block(geometry, q, qd, qdd, want=None, start=None, extras=True):
     for name, arr in st.extras.items():
         if want is None or name in want:
             out[name] = arr
+    for e in geometry.elements:                    # an input's own columns, where no link or slide gave them
+        kind = kinds.get(e["kind"])
+        if kind.section == "inputs":
+            for prefix, arr in zip(kind.columns, (q, qd, qdd)):
+                name = prefix + e["link"]
+                if name not in out and (want is None or name in want):
+                    out[name] = np.broadcast_to(arr, np.shape(q))[e["input"]]
     return out, failed, st.carry
 
 

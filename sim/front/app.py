@@ -185,7 +185,7 @@ def input_range_of(body: dict, mech: Mechanism) -> tuple[float, float] | None:
     v = body.get("input_range")
     if v is None or v == "":
         return None
-    angle = None if mech.inputs[0].kind == "crank" else False
+    angle = None if mech.inputs[0].angular else False
     if isinstance(v, str) and ":" in v:
         lo, hi = v.split(":", 1)
         return expr.parse_value("input range", lo.strip(), angle), expr.parse_value("input range", hi.strip(), angle)
@@ -311,7 +311,7 @@ def describe(mech: Mechanism) -> dict:
     d = clean(service.describe(mech))
     rates = {}
     for i in mech.inputs:
-        base = "rad" if i.kind == "crank" else mech.units
+        base = "rad" if i.angular else mech.units
         _, speed, accel = i.parameters
         rates.update({name: unit for name, unit in ((speed, f"{base}/s"), (accel, f"{base}/s^2")) if name})
     from sim.output.drawing import wheels_of

@@ -45,12 +45,12 @@ def check_revolutions(revolutions) -> float:
 
 def check_range(mech: Mechanism, lo: float, hi: float) -> tuple[float, float]:
     first = mech.inputs[0]
-    fmt = (lambda v: f"{math.degrees(v):.2f}deg") if first.kind == "crank" else (lambda v: f"{v:.6g}")
+    fmt = (lambda v: f"{math.degrees(v):.2f}deg") if first.angular else (lambda v: f"{v:.6g}")
     if not (math.isfinite(lo) and math.isfinite(hi)):
         raise ParameterError(f"input range {lo}:{hi} must be finite")
     if not hi > lo:
         raise ParameterError(f"input range {fmt(lo)}:{fmt(hi)}: the end must exceed the start")
-    if first.kind == "crank" and hi - lo > 2 * math.pi * MAX_REVOLUTIONS:
+    if first.angular and hi - lo > 2 * math.pi * MAX_REVOLUTIONS:
         raise ParameterError(f"input range {fmt(lo)}:{fmt(hi)} spans more than {MAX_REVOLUTIONS} turns")
     return lo, hi
 
@@ -94,7 +94,7 @@ def figures(mech: Mechanism) -> dict:
 def check_turns_fully(mech: Mechanism) -> None:
     """A single-input mechanism whose first input cannot make a full turn is refused with its limits
     (a rocking drive, ``input_range``, is the way to run it)."""
-    if len(mech.inputs) != 1 or mech.rock is not None or mech.inputs[0].kind != "crank":
+    if len(mech.inputs) != 1 or mech.rock is not None or not mech.inputs[0].angular:
         return
     from analytic.applications import figures
     ranges = figures.assembly_ranges(mech)
