@@ -148,3 +148,19 @@ def test_an_angle_typed_for_the_new_kind_is_read_in_degrees(geared):
     for k in ("xE", "yE", "xC", "yC", "vxE", "vyE", "omega3"):
         # one pose each: the same expressions on equal angles and speeds, to round-off
         assert math.isclose(og[k], oc[k], rel_tol=1e-12, abs_tol=1e-12), k
+
+
+def test_an_input_range_typed_for_the_new_kind_is_read_in_degrees(geared):
+    # --input-range takes the first input's range in degrees where its kind is angular: the motor's 20..60deg
+    # sweeps the link over 40..120deg, where the crank four-bar's range is 40deg:120deg
+    g = run("analyze", geared, "--json", "--input-range", "20deg:60deg", *_geared_args(alpha=0.0))
+    c = run("analyze", FOURBAR, "--json", "--input-range", f"{RATIO * 20}deg:{RATIO * 60}deg",
+            *_crank_args(alpha=0.0))
+    assert g.returncode == 0 and c.returncode == 0, g.stderr + c.stderr
+    fg, fc = json.loads(g.stdout)["figures"], json.loads(c.stdout)["figures"]
+    for key in ("xE_range", "yE_range"):
+        # the same poses at the same samples of the two ranges: equal to round-off
+        np.testing.assert_allclose(fg[key], fc[key], rtol=1e-9, atol=1e-12, err_msg=key)
+    full = run("analyze", FOURBAR, "--json", *_crank_args(alpha=0.0))
+    # and the range was honoured: a part of the full turn's path, not all of it
+    assert np.ptp(fg["xE_range"]) < np.ptp(json.loads(full.stdout)["figures"]["xE_range"]) - 1e-3
