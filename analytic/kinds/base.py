@@ -12,6 +12,10 @@ it, ``KIND``. The kind owns everything about its elements:
   transmission angle of an RRR); its compiled row for the numba path where it has one (:attr:`Kind.jit`);
 * **simulation**: constraints the MuJoCo model needs besides the tree of revolute and slide joints and the
   loop closures that the topology gives (:meth:`Kind.mjcf`, e.g. a gear's coupling);
+* **inputs** (``section = "inputs"``): what its coordinate is (:attr:`Kind.angular`: an angle or a length; its
+  column names :attr:`Kind.columns`), from which its unit, periodicity, rate scale, reference rate and its
+  drive's quantity and unit follow (a kind may override each), its default rate, and how the links-and-joints
+  form recognises it (:meth:`Kind.from_joints`); callers ask the kind (``Input.spec``), never its name;
 * **forces**: its joint forces by statics (:meth:`Kind.forces`), in closed form where it has one; the default
   solves the element's Newton-Euler equations assembled from the topology.
 
@@ -305,6 +309,25 @@ class Kind:
     # ---------------------------------------------------------------------------------- inputs
     def input_joint(self, e: dict) -> str:
         """For inputs: the point it turns or slides about (its pivot, or the guide's origin)."""
+        raise NotImplementedError
+
+    # ---------------------------------------------------------------------- links-and-joints form
+    joints_form: dict[str, str] | None = None
+    """For inputs the links-and-joints form (:mod:`analytic.format.joints`) takes: the fields its
+    ``[[inputs]]`` entry takes besides ``kind`` and what each is (``point``, ``link``: a name; ``angle``,
+    ``length``: a value, whose parameters then measure that); None: not in that form."""
+    joints_summary: str = ""
+    """For inputs in the links-and-joints form: what it drives, in that form's words (error messages)."""
+
+    def default_rate(self, size: float) -> tuple[str, object]:
+        """For inputs: the field of its rate and the value written when a file or an importer gives none
+        (``size``: the mechanism's size in file units)."""
+        raise NotImplementedError
+
+    def from_joints(self, item: dict, where: str, dec) -> None:
+        """For inputs in the links-and-joints form: check the entry ``item`` (at ``where``, e.g.
+        ``inputs[1]``) against the links and joints and write its element, through the decomposer ``dec``
+        (:class:`analytic.format.joints._Decomposer`: ``dec.emit``, ``dec.fail``, its links and pose)."""
         raise NotImplementedError
 
     @property
