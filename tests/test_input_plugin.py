@@ -164,3 +164,35 @@ def test_an_input_range_typed_for_the_new_kind_is_read_in_degrees(geared):
     full = run("analyze", FOURBAR, "--json", *_crank_args(alpha=0.0))
     # and the range was honoured: a part of the full turn's path, not all of it
     assert np.ptp(fg["xE_range"]) < np.ptp(json.loads(full.stdout)["figures"]["xE_range"]) - 1e-3
+
+
+class GearedInJoints(GearedCrank):
+    """The toy kind as the links-and-joints form would take it: its own fields, its own recognition."""
+
+    joints_form = {"pivot": "point", "point": "point", "ratio": "number", "omega": "angle"}
+    joints_summary = "a link turned by a motor through a gear pair"
+
+    def from_joints(self, item, where, dec):
+        raise dec.fail(where, f"reached the geared crank's own recognition (ratio {item['ratio']})")
+
+
+STEPHENSON = Path(__file__).resolve().parent / "peers_examples" / "stephenson.toml"
+
+
+@pytest.mark.parametrize("entry, expected", [
+    ('kind = "geared_crank"\nratio = 2', "inputs[1]: reached the geared crank's own recognition (ratio 2)"),
+    ('kind = "geared_crank"\nspeed = 2', "inputs[1]: unknown field 'speed'; a geared_crank takes kind, omega, pivot, "
+                                         "point, ratio"),
+    ('kind = "cam"', 'inputs[1]: unknown kind \'cam\'; an input is kind = "crank" (a link turned about a ground '
+                     'pivot) or "slider" (a block driven along a ground guide) or "geared_crank" (a link turned by a '
+                     'motor through a gear pair)'),
+])
+def test_the_links_and_joints_form_asks_the_registered_kinds(tmp_path, monkeypatch, entry, expected):
+    monkeypatch.setitem(kinds.KINDS, GearedInJoints.name, GearedInJoints())
+    text = STEPHENSON.read_text()
+    assert text.count('kind = "crank"') == 1
+    path = tmp_path / "geared_joints.toml"
+    path.write_text(text.replace('kind = "crank"', entry))
+    r = run("check", path)
+    assert r.returncode == 2 and "Traceback" not in r.stderr
+    assert expected in r.stderr, r.stderr
