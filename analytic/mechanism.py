@@ -124,9 +124,9 @@ class Mechanism:
             q0, rate, accel = kind.motion_fields
             motion = Motion(e[q0], e[rate], e[accel])
             names = tuple(_param_name(e_def.fields[f]) for f in kind.motion_fields)
-            out.append(Input(kind.input_kind, e["link"], e["point"], kind.input_joint(e), motion, names))
+            out.append(Input(kind.name, e["link"], e["point"], kind.input_joint(e), motion, names))
         if self.rock is not None:                  # a slider rocks at |v| / size rad/s: its rate over the size
-            rate = out[0].motion.rate / (self.size if out[0].kind == "slider" else 1.0)
+            rate = out[0].motion.rate / out[0].spec.rate_scale(self.size)
             out[0] = replace(out[0], motion=replace(out[0].motion, rock=self.rock, q0=self.rock[0], rate=rate))
         return tuple(out)
 
@@ -182,10 +182,9 @@ class Mechanism:
     def general_outputs(self) -> tuple[str, ...]:
         """Every output of the general solver, in a stable order (points, links, slides, the kinds' own)."""
         out = [c + p for p in self.points for c in POINT_COMPONENTS]
-        cranks = {i.link for i in self.inputs if i.kind == "crank"}
-        sliders = {i.link for i in self.inputs if i.kind == "slider"}
-        out += [c + ln for ln in self.links if ln not in cranks for c in LINK_COMPONENTS]
-        out += [c + j for j in self.slides if j not in sliders for c in SLIDE_COMPONENTS]
+        own = {n for i in self.inputs for n in (i.q, i.qd, i.qdd)}      # an input's columns are its own
+        out += [c + ln for ln in self.links for c in LINK_COMPONENTS if c + ln not in own]
+        out += [c + j for j in self.slides for c in SLIDE_COMPONENTS if c + j not in own]
         out += self.extra_outputs
         return tuple(out)
 
@@ -336,11 +335,18 @@ def block(geometry, q, qd, qdd, want=None, start=None, extras=True):
     for name, arr in st.extras.items():
         if want is None or name in want:
             out[name] = arr
+    for e in geometry.elements:                    # an input's own columns, where no link or slide gave them
+        kind = kinds.get(e["kind"])
+        if kind.section == "inputs":
+            for prefix, arr in zip(kind.columns, (q, qd, qdd)):
+                name = prefix + e["link"]
+                if name not in out and (want is None or name in want):
+                    out[name] = np.broadcast_to(arr, np.shape(q))[e["input"]]
     return out, failed, st.carry
 
 
 def _fmt_q(inp: Input, v: float) -> str:
-    return fmt_deg(v) if inp.kind == "crank" else f"{v:.6g}m"
+    return fmt_deg(v) if inp.angular else f"{v:.6g}m"
 
 
 def _param_name(v) -> str | None:

@@ -8,6 +8,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from analytic import kinds
 from analytic._common import ParameterError
 
 
@@ -61,7 +62,8 @@ class Motion:
 
 @dataclass(frozen=True)
 class Input:
-    """A driven input: a crank (angle of its link, rad) or a slider (distance along its guide, m).
+    """A driven input: a crank (angle of its link, rad), a slider (distance along its guide, m), or any input
+    kind of :mod:`analytic.kinds` (``kind``: its name; what it is, ask :attr:`spec`).
 
     ``q``, ``qd``, ``qdd`` are its column names (``phi1 omega1 alpha1`` for crank link 1, ``sJ dsJ ddsJ``
     for a slider with block link J); ``joint`` is the pivot or guide point it turns or slides about;
@@ -75,22 +77,32 @@ class Input:
     parameters: tuple[str | None, str | None, str | None] = (None, None, None)
 
     @property
+    def spec(self):
+        """Its kind (:class:`analytic.kinds.base.Kind`): what its coordinate is, its units, its drive."""
+        return kinds.get(self.kind)
+
+    @property
+    def angular(self) -> bool:
+        """Whether its coordinate is an angle (rad) rather than a length (m): asked of its kind."""
+        return self.spec.angular
+
+    @property
     def q(self) -> str:
-        return f"phi{self.link}" if self.kind == "crank" else f"s{self.link}"
+        return self.spec.columns[0] + self.link
 
     @property
     def qd(self) -> str:
-        return f"omega{self.link}" if self.kind == "crank" else f"ds{self.link}"
+        return self.spec.columns[1] + self.link
 
     @property
     def qdd(self) -> str:
-        return f"alpha{self.link}" if self.kind == "crank" else f"dds{self.link}"
+        return self.spec.columns[2] + self.link
 
     @property
     def unit(self) -> str:
-        return "rad" if self.kind == "crank" else "m"
+        return self.spec.unit
 
     @property
     def turn(self) -> float:
         """One 'revolution' of this input: 2 pi for a crank; for a slider, its travel in one second."""
-        return 2 * math.pi if self.kind == "crank" else abs(self.motion.rate) or 1.0
+        return self.spec.turn(self.motion.rate)

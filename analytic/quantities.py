@@ -70,7 +70,7 @@ def output_table(mech) -> dict[str, Output]:
             role, of = ("transmission", x.transmission) if x.transmission else ("extra", e["point"])
             table[x.name] = _entry(x.name, x.quantity, x.owner, role, of)
     for i in mech.inputs:
-        q = TORQUE if i.kind == "crank" else FORCE
+        q = i.spec.drive_quantity
         table["tau" + i.link] = _entry("tau" + i.link, q, f"drive of link {i.link}", "drive", i.link)
     for alias, target in mech.aliases.items():
         if target in table:
@@ -119,13 +119,13 @@ _FIGURE_PATTERNS = ((re.compile(r"^v[xy]\w+_range$"), VELOCITY), (re.compile(r"^
                     (re.compile(r"^[xy]\w+_range$"), LENGTH), (re.compile(r"^v\w+_(min|mean|max)$"), VELOCITY))
 
 
-def figure_quantity(key: str, first_input_kind: str = "crank") -> str:
+def figure_quantity(key: str, angular: bool = True) -> str:
     """The quantity of a figure of merit (``""`` for text, flags and counts). The input's ranges and
-    points are angles for a crank, lengths for a slider."""
+    points are angles where the first input's coordinate is one (``angular``: a crank), else lengths."""
     if key in FIGURES:
         return FIGURES[key]
     if key in ("input_ranges", "dead_points", "singular_points"):
-        return ANGLE if first_input_kind == "crank" else LENGTH
+        return ANGLE if angular else LENGTH
     for pattern, q in _FIGURE_PATTERNS:
         if pattern.match(key):
             return q
@@ -212,12 +212,12 @@ def machine_display(units: str | None = None, angles: str | None = None, speeds:
     return Display(units or "m", angles or "rad", speeds or "")
 
 
-def convert_figures(figs: dict, display: Display, first_input_kind: str = "crank") -> dict:
+def convert_figures(figs: dict, display: Display, angular: bool = True) -> dict:
     """The figures of merit in ``display`` units, each converted by its quantity (text, flags, counts and
     ratios unchanged). ``singular_points`` keep their group names; ``min_singularity`` is a ratio."""
     out = {}
     for key, v in figs.items():
-        q = figure_quantity(key, first_input_kind)
+        q = figure_quantity(key, angular)
         if key == "singular_points":
             out[key] = [{**s, "at": display.convert(q, s["at"])} for s in v]
         elif key == "slides":
@@ -229,19 +229,19 @@ def convert_figures(figs: dict, display: Display, first_input_kind: str = "crank
     return out
 
 
-def figure_units(figs: dict, display: Display, first_input_kind: str = "crank") -> dict[str, str]:
+def figure_units(figs: dict, display: Display, angular: bool = True) -> dict[str, str]:
     """{figure key: unit label} for every figure that has a unit."""
     out = {}
     for key in figs:
-        q = LENGTH if key == "slides" else figure_quantity(key, first_input_kind)
+        q = LENGTH if key == "slides" else figure_quantity(key, angular)
         if q and q != RATIO:
             out[key] = display.unit(q)
     return out
 
 
 # -------------------------------------------------------------------------------------- parameters
-_MOTION = {"crank": (ANGLE, ANGULAR_VELOCITY, ANGULAR_ACCELERATION), "slider": (LENGTH, VELOCITY, ACCELERATION)}
-"""The quantities of an input's motion law (start, rate, acceleration) by input kind."""
+_MOTION = {True: (ANGLE, ANGULAR_VELOCITY, ANGULAR_ACCELERATION), False: (LENGTH, VELOCITY, ACCELERATION)}
+"""The quantities of an input's motion law (start, rate, acceleration), by whether its coordinate is an angle."""
 
 
 def parameter_quantity(mech, name: str) -> str:
@@ -250,7 +250,7 @@ def parameter_quantity(mech, name: str) -> str:
     (a length, an angle; a number written in degrees, ``"25deg"``, is an angle); ``""`` for a branch or a
     pure number (a ratio, or a value used only inside other parameters' expressions)."""
     for i in mech.inputs:
-        for q, p in zip(_MOTION.get(i.kind, ()), i.parameters):
+        for q, p in zip(_MOTION[i.angular], i.parameters):
             if p == name:
                 return q
     d = mech.definition

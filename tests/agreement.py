@@ -43,7 +43,7 @@ def _laws(m):
         kind = kinds.get(e["kind"])
         if kind.section == "inputs":
             q0, rate, _ = kind.motion_fields
-            out.append((kind.input_kind, e[q0], e[rate]))
+            out.append((kind.name, e[q0], e[rate]))
     return out
 
 

@@ -27,7 +27,7 @@ SCAN = 3600
 
 def _first_range(mech) -> tuple[float, float]:
     first = mech.inputs[0]
-    if first.kind == "crank":
+    if first.spec.periodic:
         q0 = first.motion.q0
         return q0, q0 + 2 * math.pi
     span = 4.0 * mech.size                           # a slider's q and the size are both in metres
@@ -86,7 +86,7 @@ def assembly_ranges(mech, samples: int = SCAN) -> list[tuple[float, float]]:
     ranges = merged
     if len(ranges) == 1 and ranges[0][1] - ranges[0][0] >= hi - lo - GAP:
         return [(lo, hi)]
-    crank = mech.inputs[0].kind == "crank"
+    crank = mech.inputs[0].spec.periodic
     if any(kinds.get(e["kind"]).continuous for e in mech.geometry.elements):
         return _with_held_range(mech, ok, ranges, lo, hi, samples)
     # a range wrapping round the turn's end joins the one at its start (cranks only)
@@ -125,7 +125,7 @@ def _with_held_range(mech, ok, ranges, lo: float, hi: float, samples: int) -> li
     alone can rejoin the branch after a gap on another assembly and carry it across a fold to the start's
     branch); the others are the forward scan's, outside it."""
     q0 = mech.inputs[0].motion.q0
-    crank = mech.inputs[0].kind == "crank"
+    crank = mech.inputs[0].spec.periodic
     a = _held_end(ok, q0, q0 - 2 * math.pi if crank else lo, samples)
     b = _held_end(ok, q0, hi, samples)
     if crank and b - a >= 2 * math.pi - GAP:          # either way reaches a full turn: it turns fully
@@ -154,7 +154,7 @@ def describe_ranges(first, ranges, display=None) -> str:
     """Ranges in words, each end rounded inward (a crank's to 0.01 deg, a slider's to 6 significant digits
     in ``display``'s length unit, default m, with the unit), so that a range copied into ``--input-range``
     assembles at both ends; a crank's are shifted so each starts in (-180, 180] deg, in increasing order."""
-    if first.kind != "crank":
+    if not first.angular:
         from analytic.quantities import LENGTH, SI
         u = display or SI
         f, unit = u.factor(LENGTH), u.unit(LENGTH)
@@ -388,7 +388,7 @@ def general_summary(mech, f: dict, u=None) -> list[str]:
         lines.append(f"  {first.q}: " + ("turns fully" if f["turns_fully"] else
                                           "assembles in " + describe_ranges(first, f["input_ranges"], u)))
         for s in f["singular_points"]:
-            where = fmt_deg(s["at"]) if first.kind == "crank" else L(s["at"])
+            where = fmt_deg(s["at"]) if first.angular else L(s["at"])
             lines.append(f"  singular pose at {first.q}={where}: {s['group']} folds (change point)")
     for point, (lo, hi) in f["transmission"].items():
         lines.append(f"  transmission angle at {point}: {deg(lo):.3f} .. {deg(hi):.3f} deg")

@@ -608,4 +608,4 @@ def peak(forces: Forces) -> float:
 
 def angle_text(inp, value: float) -> str:
     """An input value as people read it: a crank's angle in degrees (0..360), a slider's distance in m."""
-    return f"{math.degrees(value) % 360:.2f}deg" if inp.kind == "crank" else f"{value:.6g} m"
+    return f"{math.degrees(value) % 360:.2f}deg" if inp.angular else f"{value:.6g} m"

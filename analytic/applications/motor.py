@@ -281,7 +281,7 @@ def reduce(mech, inertias: dict, flywheel: float = 0.0, gravity=(0.0, 0.0), forc
         raise ParameterError(f"the {mech.name} has {len(mech.inputs)} inputs; the reduced equation of one "
                              f"coordinate needs one (two cranks: run_two, a motor on each)")
     inp = mech.inputs[0]
-    if inp.kind != "crank":
+    if not inp.angular:
         raise ParameterError(f"the {mech.name}'s input {inp.q} is a slider; a motor drives a crank")
     if not (isinstance(flywheel, (int, float)) and math.isfinite(flywheel) and flywheel >= 0):
         raise ParameterError(f"--flywheel {flywheel!r} must be a finite number >= 0 [kg m^2]")
@@ -614,7 +614,7 @@ def run_two(mech, inertias: dict, motors, revolutions: float, start_speed=(0.0, 
     """Integrate M(u) w' + h(u, w) = tau(w) + Q(u) for two motors on the two inputs of ``mech`` until
     the first input has turned ``revolutions`` (>= 1). Raises :class:`Stall` if either speed falls to 0
     after the start (``stall=False``: a speed may pass through zero, e.g. coasting)."""
-    if len(mech.inputs) != 2 or any(i.kind != "crank" for i in mech.inputs):
+    if len(mech.inputs) != 2 or any(not i.angular for i in mech.inputs):
         raise ParameterError(f"the {mech.name} is not driven by two cranks; give one --motor")
     if not (isinstance(revolutions, (int, float)) and math.isfinite(revolutions) and 1 <= revolutions <= 1e4):
         raise ParameterError(f"--revolutions {revolutions!r} must be a number in [1, 1e4]")

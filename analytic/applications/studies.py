@@ -176,7 +176,7 @@ def _four(params: list[dict], samples: int):
 def period_of(mech) -> float:
     """The shortest time [s] after which every crank input is back where it started (one turn of the
     first input for a single input)."""
-    cranks = [i.motion.rate for i in mech.inputs if i.kind == "crank" and i.motion.rate != 0]
+    cranks = [i.motion.rate for i in mech.inputs if i.spec.periodic and i.motion.rate != 0]
     if len(cranks) < 2:
         return mech.duration(1.0)
     T = common_period(cranks[0], cranks[1])[0]
@@ -211,10 +211,10 @@ def _periods(designs) -> tuple[np.ndarray, list[str]]:
 
 def _period_of_motions(base, ms) -> float:
     """:func:`period_of` for input motion laws ``ms`` of ``base``'s inputs."""
-    cranks = [m.rate for m, i in zip(ms, base.inputs) if i.kind == "crank" and m.rate != 0]
+    cranks = [m.rate for m, i in zip(ms, base.inputs) if i.spec.periodic and m.rate != 0]
     if len(cranks) < 2:
         first = base.inputs[0]
-        turn = 2 * math.pi if first.kind == "crank" else abs(ms[0].rate) or 1.0
+        turn = first.spec.turn(ms[0].rate)
         return float(ms[0].duration(1.0, turn))
     T = common_period(cranks[0], cranks[1])[0]
     for w in cranks[2:]:

@@ -236,7 +236,7 @@ def evaluate_chunk(job):
     for i in np.flatnonzero(designs.valid & bad.any(axis=1)):
         j = int(first[i])
         value = q[i, j, 0]
-        at = f"{math.degrees(value):.4g}deg" if base.inputs[0].kind == "crank" else f"{value:.6g} m"
+        at = f"{math.degrees(value):.4g}deg" if base.inputs[0].angular else f"{value:.6g} m"
         reasons[i] = f"{sol.labels[int(sol.failed[i, j])]} cannot assemble at {base.inputs[0].q}={at}"
     ok = np.array([not r for r in reasons])
     p = base.output_point

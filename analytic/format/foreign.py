@@ -10,7 +10,7 @@ source's (``ground`` stays ``ground``; PMKS' spellings of the ground become ``gr
 cannot hold become ``_``; a pin-in-slot joint ``Jn`` adds its block ``Jn_block``). Neither format has units:
 the file's unit is ``mm`` unless told otherwise. Inputs move at the format's defaults: a crank one turn
 per second (``omega = "360deg"``), a slider the mechanism's size per second
-(:func:`analytic.format.joints.default_slider_speed`).
+(:meth:`analytic.kinds.slider.Slider.default_rate`).
 """
 
 from __future__ import annotations
@@ -21,8 +21,9 @@ import re
 import stat
 from pathlib import Path
 
+from analytic import kinds
 from analytic._common import FileError
-from analytic.format import joints, pmks, pyslvs
+from analytic.format import pmks, pyslvs
 
 MAX_FILE_BYTES = 1 << 20          # as linkfile.MAX_FILE_BYTES
 PYSLVS_PROJECT, PYSLVS_EXPRESSION, PMKS_TEXT = "Pyslvs project", "Pyslvs expression", "PMKS text"
@@ -124,11 +125,9 @@ def read(path: str | Path, inputs: list[tuple[int, int]] | None = None, units: s
     if not form["inputs"]:
         raise FileError(f"{source}: the project has no input; give one with --input BASE,DRIVER")
     size = _size(form)
-    for item in form["inputs"]:
-        if item["kind"] == "slider":
-            item["v"] = joints.default_slider_speed(size)
-        else:
-            item["omega"] = joints.DEFAULT_OMEGA
+    for item in form["inputs"]:                        # each at its kind's default rate
+        rate, value = kinds.get(item["kind"]).default_rate(size)
+        item[rate] = value
     out = {"format": "linkage/1", "name": _name(p.stem), "units": units,
            "description": f"imported from the {kind} {p.name}"}
     out.update(form)

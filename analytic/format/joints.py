@@ -51,15 +51,6 @@ MAX_SETS = 200_000                             # connected sets of links tried p
 SINGULAR = 1e-9    # a pose within this fraction of the size of a dead centre has no branch: the sign is noise
 RIGID = 1e-6       # a given length may differ from the pose by this fraction of the size (poses are written
 #                    with about 7 significant digits; the same bound as the peers' pose reproduction)
-DEFAULT_OMEGA = "360deg"
-
-
-def default_slider_speed(size: float) -> float:
-    """A driven slider's default speed [file units / s]: the mechanism's size (the largest distance between two
-    of its pose's points) per second, to 3 digits, so that a run of one second moves it as far as the
-    mechanism is large, in any unit (as a crank's default turns it once a second)."""
-    return float(f"{size:.3g}")
-"""A crank's default speed: one turn per second."""
 
 
 def is_form(data: dict) -> bool:
@@ -425,17 +416,15 @@ def _read_inputs(data: dict, source: str, measures: _Measures) -> list[tuple[dic
         if not isinstance(item, dict):
             raise _fail(source, where, "must be a table of fields")
         kind = item.get("kind")
-        if kind == "crank":
-            _fields(item, where, {"kind", "pivot", "point", "link", "omega", "alpha"}, source, "a crank")
-            for f in ("omega", "alpha"):
-                measures.use(item.get(f), "angle", f"{where}: field {f!r}")
-        elif kind == "slider":
-            _fields(item, where, {"kind", "point", "v", "a"}, source, "a slider")
-            for f in ("v", "a"):
-                measures.use(item.get(f), "length", f"{where}: field {f!r}")
-        else:
-            raise _fail(source, where, f"unknown kind {kind!r}; an input is kind = \"crank\" (a link turned about "
-                                       f"a ground pivot) or \"slider\" (a block driven along a ground guide)")
+        own = kinds.KINDS.get(kind) if isinstance(kind, str) else None
+        if own is None or own.section != "inputs" or own.joints_form is None:
+            known = [k for k in kinds.KINDS.values() if k.section == "inputs" and k.joints_form is not None]
+            listed = " or ".join(f"\"{k.name}\" ({k.joints_summary})" for k in known)
+            raise _fail(source, where, f"unknown kind {kind!r}; an input is kind = {listed}")
+        _fields(item, where, {"kind", *own.joints_form}, source, f"a {kind}")
+        for f, what in own.joints_form.items():
+            if what in ("angle", "length"):
+                measures.use(item.get(f), what, f"{where}: field {f!r}")
         inputs.append((item, where))
     if not inputs:
         raise _fail(source, "inputs", "none given; add [[inputs]] (kind = \"crank\", pivot = \"A\", point = \"B\")")
@@ -657,99 +646,21 @@ class _Decomposer:
 
     # ---------------------------------------------------------------------------------- inputs
     def inputs(self):
-        for item, where in self.f.inputs:
-            if item["kind"] == "crank":
-                self.crank(item, where)
-            else:
-                self.slider(item, where)
+        for item, where in self.f.inputs:                  # each input kind places its own
+            kinds.get(item["kind"]).from_joints(item, where, self)
 
-    def crank(self, item: dict, where: str):
-        pivot = _point_name(item.get("pivot"), self.source, f"{where}: field 'pivot'")
-        label, where = where, f"{where} (pivot {pivot})"
-        if pivot not in self.f.links[GROUND]:
-            raise self.fail(where, f"field 'pivot': {pivot!r} is not on the ground; a crank turns about a ground "
-                                   f"pivot")
-        link = item.get("link")
-        point = item.get("point")
-        if link is not None:
-            link = _link_name(link, self.source, f"{where}: field 'link'")
-            if link not in self.points or link == GROUND:
-                raise self.fail(where, f"field 'link': no moving link named {link!r}")
-        elif point is not None:
-            point = _point_name(point, self.source, f"{where}: field 'point'")
-            cands = [ln for ln, pts in self.points.items() if ln != GROUND and pivot in pts and point in pts]
-            if len(cands) != 1:
-                raise self.fail(where, f"field 'point': {'no' if not cands else 'more than one'} link carries both "
-                                       f"{pivot!r} and {point!r}; name the driven link with link = \"...\"")
-            link = cands[0]
-        else:
-            cands = [ln for ln in self.f.pins.get(pivot, []) if ln != GROUND]
-            if len(cands) != 1:
-                raise self.fail(where, f"name the driven link (link = \"...\") or a point on it (point = \"...\"); "
-                                       f"links at {pivot}: {', '.join(cands) or 'none'}")
-            link = cands[0]
-        if not {GROUND, link} <= set(self.f.pins.get(pivot, [])):
-            raise self.fail(where, f"no R joint pins {link!r} to the ground at {pivot!r}; a crank turns a link "
-                                   f"about its ground pivot")
-        if link in self.known:
-            raise self.fail(where, f"link {link!r} is driven twice (or pinned to the ground at two points); "
-                                   f"drive each link once")
-        if point is None:
-            others = [p for p in self.points[link] if p != pivot]
-            slot = next((s for s in self.f.slides if s.guide == link
-                         and (self.pose[s.point] - self.pose[pivot]).norm().value > SINGULAR * self.f.size), None)
-            if others:
-                point = others[0]
-            elif slot is not None:            # a crank that is only a guide: its point under the block
-                point = self.fresh(f"{slot.point}_guide")
-                self.pose[point] = self.pose[slot.point]
-                self.points[link].append(point)
-            else:                             # a crank that is only a gear: its tooth at the pitch point
-                point = self.tooth(link)
-                if point is None:
-                    raise self.fail(where, f"link {link!r} carries no point besides {pivot!r}; give it one")
-        if point not in self.points[link] or point == pivot:
-            raise self.fail(where, f"field 'point': {point!r} must be another point of link {link!r}")
-        grounded = [p for p in self.points[link] if p in self.placed and p != pivot]
-        if grounded:
-            raise self.fail(where, f"link {link!r} is pinned to the ground at {pivot} and {grounded[0]}: it cannot "
-                                   f"turn (a locked loop {link} - ground); remove one of those joints")
-        r = self.pose[point] - self.pose[pivot]
-        length = r.norm()
-        if length.value <= SINGULAR * self.f.size:
-            raise self.fail(where, f"{point!r} and {pivot!r} coincide in the pose; name a point away from the pivot")
-        self.emit({"kind": "crank", "pivot": pivot, "point": point, "link": link,
-                   "length": self.out(length, where, "the crank's length"),
-                   "phi0": self.out(r.angle(), where, "the crank's start angle"),
-                   "omega": item.get("omega", DEFAULT_OMEGA), "alpha": item.get("alpha", 0.0)}, label)
-        self.placed.add(point)
-        self.pair_frame(link, pivot, point)
-        self.counted.add(link)
-        self.classes.append(f"input crank {link} about {pivot}")
-        self.rigid(link, where)
+    # what the input kinds' from_joints use (analytic.kinds.base.Kind.from_joints)
+    SINGULAR = SINGULAR
 
-    def slider(self, item: dict, where: str):
-        point = _point_name(item.get("point"), self.source, f"{where}: field 'point'")
-        label, where = where, f"{where} (point {point})"
-        s = next((x for x in self.f.slides if x.point == point), None)
-        if s is None:
-            raise self.fail(where, f"field 'point': no P joint at {point!r}; a slider drives a P joint's block")
-        if s.guide != GROUND:
-            raise self.fail(where, f"the P joint at {point!r} slides on {s.guide!r}; a driven slider needs the ground "
-                                   f"as its guide")
-        if s.block in self.known:
-            raise self.fail(where, f"link {s.block!r} is driven twice; drive each link once")
-        grounded = [p for p in self.points[s.block] if p in self.placed]
-        if grounded:
-            raise self.fail(where, f"block {s.block!r} is also pinned to the ground at {grounded[0]}: it cannot "
-                                   f"slide; remove that joint")
-        self.emit({"kind": "slider", "point": point, "link": s.block,
-                   "guide": {"through": self.xy(point, where), "angle": self.out(s.angle, where, "the slide angle")},
-                   "s0": 0.0, "v": item.get("v", default_slider_speed(self.f.size)), "a": item.get("a", 0.0)}, label)
-        self.placed.add(point)
-        self.set_frame(s.block, point, direction(s.angle))
-        self.classes.append(f"input slider {s.block} at {point}")
-        self.rigid(s.block, where)
+    def point_name(self, v, where: str) -> str:
+        return _point_name(v, self.source, where)
+
+    def link_name(self, v, where: str) -> str:
+        return _link_name(v, self.source, where)
+
+    def slide_frame(self, block: str, point: str, angle: Sym):
+        """The frame of a block sliding at ``angle`` (to the ground), its origin at ``point``."""
+        self.set_frame(block, point, direction(angle))
 
     # ------------------------------------------------------------------------------------ groups
     def run(self) -> None:

@@ -12,6 +12,10 @@ it, ``KIND``. The kind owns everything about its elements:
   transmission angle of an RRR); its compiled row for the numba path where it has one (:attr:`Kind.jit`);
 * **simulation**: constraints the MuJoCo model needs besides the tree of revolute and slide joints and the
   loop closures that the topology gives (:meth:`Kind.mjcf`, e.g. a gear's coupling);
+* **inputs** (``section = "inputs"``): what its coordinate is (:attr:`Kind.angular`: an angle or a length; its
+  column names :attr:`Kind.columns`), from which its unit, periodicity, rate scale, reference rate and its
+  drive's quantity and unit follow (a kind may override each), its default rate, and how the links-and-joints
+  form recognises it (:meth:`Kind.from_joints`); callers ask the kind (``Input.spec``), never its name;
 * **forces**: its joint forces by statics (:meth:`Kind.forces`), in closed form where it has one; the default
   solves the element's Newton-Euler equations assembled from the topology.
 
@@ -27,6 +31,7 @@ Solved quantities, per sample (arrays of shape (N,), or scalars broadcast agains
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -206,10 +211,14 @@ class Kind:
     group_class: str = ""
     """The Assur group it is (``dyad RRR``, ``triad``...), shown by ``linkage check``; "" for none."""
     fields: dict[str, Field] = {}
-    input_kind: str | None = None
-    """For inputs: ``crank`` (an angle) or ``slider`` (a distance)."""
     motion_fields: tuple[str, str, str] = ()
     """For inputs: the fields of its motion law (start, rate, acceleration)."""
+    angular: bool = False
+    """For inputs: whether its coordinate is an angle (rad, written and shown in degrees, turning fully and
+    periodically, driven by a torque on a hinge) or else a length (m, driven by a force along a slide)."""
+    columns: tuple[str, str, str] = ()
+    """For inputs: the prefixes of its coordinate's, rate's and acceleration's names (``phi omega alpha``:
+    ``phi1`` for link 1); the solver's output columns of the same names are the input's own."""
     jit: JitSpec | None = None
     continuous: bool = False
     """Whether its solve continues from sample to sample (a numerically solved group): the solver then takes
@@ -301,6 +310,62 @@ class Kind:
     def input_joint(self, e: dict) -> str:
         """For inputs: the point it turns or slides about (its pivot, or the guide's origin)."""
         raise NotImplementedError
+
+    # ---------------------------------------------------------------------- links-and-joints form
+    joints_form: dict[str, str] | None = None
+    """For inputs the links-and-joints form (:mod:`analytic.format.joints`) takes: the fields its
+    ``[[inputs]]`` entry takes besides ``kind`` and what each is (``point``, ``link``: a name; ``angle``,
+    ``length``: a value, whose parameters then measure that); None: not in that form."""
+    joints_summary: str = ""
+    """For inputs in the links-and-joints form: what it drives, in that form's words (error messages)."""
+
+    def default_rate(self, size: float) -> tuple[str, object]:
+        """For inputs: the field of its rate and the value written when a file or an importer gives none
+        (``size``: the mechanism's size in file units)."""
+        raise NotImplementedError
+
+    def from_joints(self, item: dict, where: str, dec) -> None:
+        """For inputs in the links-and-joints form: check the entry ``item`` (at ``where``, e.g.
+        ``inputs[1]``) against the links and joints and write its element, through the decomposer ``dec``
+        (:class:`analytic.format.joints._Decomposer`: ``dec.emit``, ``dec.fail``, its links and pose)."""
+        raise NotImplementedError
+
+    @property
+    def unit(self) -> str:
+        """For inputs: the SI unit of its coordinate (``rad`` or ``m``)."""
+        return "rad" if self.angular else "m"
+
+    @property
+    def periodic(self) -> bool:
+        """For inputs: whether its coordinate repeats after a full turn of 2 pi (a crank's angle)."""
+        return self.angular
+
+    @property
+    def drive_quantity(self) -> str:
+        """For inputs: what its drive exerts, a quantity of :mod:`analytic.quantities` (``torque``,
+        ``force``)."""
+        return "torque" if self.angular else "force"
+
+    @property
+    def drive_unit(self) -> str:
+        """For inputs: the SI unit of its drive (``N m`` or ``N``)."""
+        return "N m" if self.angular else "N"
+
+    @property
+    def reference_rate(self) -> float:
+        """For inputs: a typical rate of its coordinate, per second, in units of :meth:`rate_scale`: one turn
+        (2 pi rad/s) for an angle, the mechanism's size per second for a length."""
+        return 2 * math.pi if self.angular else 1.0
+
+    def rate_scale(self, size: float) -> float:
+        """For inputs: what its rates are measured against, given the mechanism's size [m]: 1 for an angle
+        (rad/s as they are), the size for a length (a speed in sizes per second)."""
+        return 1.0 if self.angular else size
+
+    def turn(self, rate: float) -> float:
+        """For inputs: one 'revolution' of its coordinate at the given rate: 2 pi for an angle; for a
+        length, its travel in one second (1 when it does not move)."""
+        return 2 * math.pi if self.angular else abs(rate) or 1.0
 
     def wheels(self, e: dict, pose: dict) -> tuple[Wheel, ...]:
         """Gears to draw on links (:class:`Wheel`), given the start pose ({point: (x, y)} [m])."""

@@ -11,18 +11,26 @@ import math
 import numpy as np
 
 from . import compiled as C
-from .base import Field, JitSpec, Kind, LinkPart, State, Structure
+from .base import GROUND, Field, JitSpec, Kind, LinkPart, State, Structure
 
 
 class Crank(Kind):
     name = "crank"
     section = "inputs"
     summary = "a driven link pivot->point turning about a ground pivot"
-    input_kind = "crank"
+    angular = True
+    columns = ("phi", "omega", "alpha")
     motion_fields = ("phi0", "omega", "alpha")
     fields = {"pivot": Field("point"), "point": Field("new"), "length": Field("size"),
               "link": Field("link", "{pivot}{point}"), "phi0": Field("angle", 0.0),
               "omega": Field("angle", 2 * math.pi), "alpha": Field("angle", 0.0)}
+
+    joints_form = {"pivot": "point", "point": "point", "link": "link", "omega": "angle", "alpha": "angle"}
+    joints_summary = "a link turned about a ground pivot"
+
+    def default_rate(self, size):
+        """One turn per second, as written."""
+        return "omega", "360deg"
 
     def needs(self, f):
         return (f["pivot"],)
@@ -52,6 +60,72 @@ class Crank(Kind):
         ay -= w2 * ry
         st.points[e["point"]] = (P[0] + rx, P[1] + ry, P[2] - qd * ry, P[3] + qd * rx, ax, ay)
         st.links[e["link"]] = (c, s, qd, qdd)
+
+    def from_joints(self, item, where, dec):
+        """Drive the link pinned to the ground at ``pivot`` (named by ``link`` or a ``point`` on it)."""
+        pivot = dec.point_name(item.get("pivot"), f"{where}: field 'pivot'")
+        label, where = where, f"{where} (pivot {pivot})"
+        if pivot not in dec.f.links[GROUND]:
+            raise dec.fail(where, f"field 'pivot': {pivot!r} is not on the ground; a crank turns about a ground "
+                           f"pivot")
+        link = item.get("link")
+        point = item.get("point")
+        if link is not None:
+            link = dec.link_name(link, f"{where}: field 'link'")
+            if link not in dec.points or link == GROUND:
+                raise dec.fail(where, f"field 'link': no moving link named {link!r}")
+        elif point is not None:
+            point = dec.point_name(point, f"{where}: field 'point'")
+            cands = [ln for ln, pts in dec.points.items() if ln != GROUND and pivot in pts and point in pts]
+            if len(cands) != 1:
+                raise dec.fail(where, f"field 'point': {'no' if not cands else 'more than one'} link carries both "
+                               f"{pivot!r} and {point!r}; name the driven link with link = \"...\"")
+            link = cands[0]
+        else:
+            cands = [ln for ln in dec.f.pins.get(pivot, []) if ln != GROUND]
+            if len(cands) != 1:
+                raise dec.fail(where, f"name the driven link (link = \"...\") or a point on it (point = \"...\"); "
+                               f"links at {pivot}: {', '.join(cands) or 'none'}")
+            link = cands[0]
+        if not {GROUND, link} <= set(dec.f.pins.get(pivot, [])):
+            raise dec.fail(where, f"no R joint pins {link!r} to the ground at {pivot!r}; a crank turns a link "
+                           f"about its ground pivot")
+        if link in dec.known:
+            raise dec.fail(where, f"link {link!r} is driven twice (or pinned to the ground at two points); "
+                           f"drive each link once")
+        if point is None:
+            others = [p for p in dec.points[link] if p != pivot]
+            slot = next((s for s in dec.f.slides if s.guide == link
+                         and (dec.pose[s.point] - dec.pose[pivot]).norm().value > dec.SINGULAR * dec.f.size), None)
+            if others:
+                point = others[0]
+            elif slot is not None:            # a crank that is only a guide: its point under the block
+                point = dec.fresh(f"{slot.point}_guide")
+                dec.pose[point] = dec.pose[slot.point]
+                dec.points[link].append(point)
+            else:                             # a crank that is only a gear: its tooth at the pitch point
+                point = dec.tooth(link)
+                if point is None:
+                    raise dec.fail(where, f"link {link!r} carries no point besides {pivot!r}; give it one")
+        if point not in dec.points[link] or point == pivot:
+            raise dec.fail(where, f"field 'point': {point!r} must be another point of link {link!r}")
+        grounded = [p for p in dec.points[link] if p in dec.placed and p != pivot]
+        if grounded:
+            raise dec.fail(where, f"link {link!r} is pinned to the ground at {pivot} and {grounded[0]}: it cannot "
+                           f"turn (a locked loop {link} - ground); remove one of those joints")
+        r = dec.pose[point] - dec.pose[pivot]
+        length = r.norm()
+        if length.value <= dec.SINGULAR * dec.f.size:
+            raise dec.fail(where, f"{point!r} and {pivot!r} coincide in the pose; name a point away from the pivot")
+        dec.emit({"kind": "crank", "pivot": pivot, "point": point, "link": link,
+                  "length": dec.out(length, where, "the crank's length"),
+                   "phi0": dec.out(r.angle(), where, "the crank's start angle"),
+                   "omega": item.get("omega", self.default_rate(dec.f.size)[1]), "alpha": item.get("alpha", 0.0)}, label)
+        dec.placed.add(point)
+        dec.pair_frame(link, pivot, point)
+        dec.counted.add(link)
+        dec.classes.append(f"input crank {link} about {pivot}")
+        dec.rigid(link, where)
 
     def forces(self, e, ctx):
         """The pivot carries the crank's whole known load, the drive its moment about the pivot."""

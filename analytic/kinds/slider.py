@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 
 from . import compiled as C
-from .base import (Field, JitSpec, Kind, LinkPart, Slide, State, Structure, guide_line, guide_link, on_frame,
+from .base import (GROUND, Field, JitSpec, Kind, LinkPart, Slide, State, Structure, guide_line, guide_link, on_frame,
                    slide_origin)
 
 
@@ -17,10 +17,20 @@ class Slider(Kind):
     name = "slider"
     section = "inputs"
     summary = "a block driven along a ground line: s(t) = s0 + v t + a t^2/2 from the guide's origin"
-    input_kind = "slider"
+    angular = False
+    columns = ("s", "ds", "dds")
     motion_fields = ("s0", "v", "a")
     fields = {"point": Field("new"), "guide": Field("guide"), "s0": Field("length", 0.0),
               "v": Field("length", 0.1), "a": Field("length", 0.0), "link": Field("link", "{point}_block")}
+
+    joints_form = {"point": "point", "v": "length", "a": "length"}
+    joints_summary = "a block driven along a ground guide"
+
+    def default_rate(self, size):
+        """The mechanism's size (the largest distance between two of its pose's points) per second, to 3
+        digits [file units / s], so that a run of one second moves it as far as the mechanism is large, in any
+        unit (as a crank's default turns it once a second)."""
+        return "v", float(f"{size:.3g}")
 
     def needs(self, f):
         return f["guide"].uses()
@@ -56,6 +66,30 @@ class Slider(Kind):
         zero = np.zeros(np.shape(x))
         st.links[e["link"]] = (zero + c, zero + s, zero, zero)
         st.slides[e["link"]] = (x, xd, xdd)
+
+    def from_joints(self, item, where, dec):
+        """Drive the block of the P joint at ``point`` along its ground guide."""
+        point = dec.point_name(item.get("point"), f"{where}: field 'point'")
+        label, where = where, f"{where} (point {point})"
+        s = next((x for x in dec.f.slides if x.point == point), None)
+        if s is None:
+            raise dec.fail(where, f"field 'point': no P joint at {point!r}; a slider drives a P joint's block")
+        if s.guide != GROUND:
+            raise dec.fail(where, f"the P joint at {point!r} slides on {s.guide!r}; a driven slider needs the ground "
+                           f"as its guide")
+        if s.block in dec.known:
+            raise dec.fail(where, f"link {s.block!r} is driven twice; drive each link once")
+        grounded = [p for p in dec.points[s.block] if p in dec.placed]
+        if grounded:
+            raise dec.fail(where, f"block {s.block!r} is also pinned to the ground at {grounded[0]}: it cannot "
+                           f"slide; remove that joint")
+        dec.emit({"kind": "slider", "point": point, "link": s.block,
+                  "guide": {"through": dec.xy(point, where), "angle": dec.out(s.angle, where, "the slide angle")},
+                   "s0": 0.0, "v": item.get("v", self.default_rate(dec.f.size)[1]), "a": item.get("a", 0.0)}, label)
+        dec.placed.add(point)
+        dec.slide_frame(s.block, point, s.angle)
+        dec.classes.append(f"input slider {s.block} at {point}")
+        dec.rigid(s.block, where)
 
     def forces(self, e, ctx):
         """The drive takes the block's known load along the guide, the guide the normal part and the

@@ -43,7 +43,7 @@ class LoadSet:
 
 
 def input_names(definition) -> tuple:
-    """(q, qd, kind) of each input of a definition, in order (``phi1``/``omega1`` for crank link 1)."""
+    """(q, qd, kind) of each input of a definition, in order (``phi1``/``omega1`` for crank link 1; the kind's name)."""
     from analytic import kinds
     out = []
     for e in definition.order:
@@ -51,10 +51,7 @@ def input_names(definition) -> tuple:
         if kind.section != "inputs":
             continue
         link = e.links()[0]
-        if kind.input_kind == "crank":
-            out.append((f"phi{link}", f"omega{link}", "crank"))
-        else:
-            out.append((f"s{link}", f"ds{link}", "slider"))
+        out.append((kind.columns[0] + link, kind.columns[1] + link, kind.name))
     return tuple(out)
 
 

@@ -39,7 +39,7 @@ class Scales:
     parameters: dict
     topology: object
     input_names: tuple = ()
-    """Per input: (q, qd, kind) names, e.g. ("phi1", "omega1", "crank")."""
+    """Per input: (q, qd, kind) names, e.g. ("phi1", "omega1", "crank") (the kind's name)."""
     folder: str = "."
 
     def fail(self, where: str, what: str) -> LoadError:
@@ -186,9 +186,9 @@ class State:
         ``phiK``/``omegaK`` or ``sK``/``dsK`` by its index K, and the time ``t``."""
         out = dict(scales.parameters)
         for k, inp in enumerate(self.mech.inputs):
-            unit = 1.0 if inp.kind == "crank" else self.mech.scale
+            unit = 1.0 if inp.angular else self.mech.scale
             qk, qdk = self.q[:, k] / unit, self.qd[:, k] / unit
-            short = ("phi", "omega") if inp.kind == "crank" else ("s", "ds")
+            short = inp.spec.columns[:2]
             for a, b in ((f"{short[0]}{k + 1}", f"{short[1]}{k + 1}"), (inp.q, inp.qd)):
                 out[a], out[b] = qk, qdk
         out["t"] = self.t

@@ -12,6 +12,7 @@ from pathlib import Path
 
 import numpy as np
 
+from analytic import kinds
 from analytic.format import expr
 from analytic.loads.common import Scales
 
@@ -131,7 +132,7 @@ def evaluate(text: str, values: dict):
 def parse(item: dict, where: str, sc: Scales, unit: float, required: bool = True, stroke_ok=True) -> Law:
     """The law of a load's fields ``magnitude`` / ``table`` / ``active`` / ``stroke``."""
     inputs = sc.input_names
-    crank = not inputs or inputs[0][2] == "crank"
+    crank = not inputs or kinds.get(inputs[0][2]).angular          # an angle: a crank's turn
     has_m, has_t = "magnitude" in item, "table" in item
     if has_m == has_t:
         if not required and not has_m:
@@ -157,7 +158,7 @@ def parse(item: dict, where: str, sc: Scales, unit: float, required: bool = True
             raise sc.fail(f"{where}.magnitude", str(exc)) from None
         known = set(sc.parameters) | {"t"} | {n for q, qd, _ in inputs for n in (q, qd)}
         for k, (_, _, kind) in enumerate(inputs, 1):
-            known |= {f"phi{k}", f"omega{k}"} if kind == "crank" else {f"s{k}", f"ds{k}"}
+            known |= {f"{c}{k}" for c in kinds.get(kind).columns[:2]}
         unknown = sorted(names - known)
         if unknown:
             raise sc.fail(f"{where}.magnitude", f"{unknown[0]!r} is neither an input ({', '.join(sorted(known - set(sc.parameters)))}), "

@@ -60,7 +60,7 @@ def schedule(mech) -> Geometry:
     first = next(e for e in geometry.elements if kinds.get(e["kind"]).section == "inputs")
     kind = kinds.get(first["kind"])
     ref = float(first[kind.motion_fields[0]])
-    crank = kind.input_kind == "crank"
+    crank = kind.periodic
     period = 2 * math.pi if crank else None
     lo, hi = (ref, ref + 2 * math.pi) if crank else (ref - 4 * mech.size, ref + 4 * mech.size)
     step = (hi - lo) / SCAN

@@ -76,7 +76,7 @@ def _steps(geometry: Geometry) -> np.ndarray:
         kind = kinds.get(e["kind"])
         if kind.section != "inputs":
             continue
-        if kind.input_kind == "crank":
+        if kind.periodic:
             out.append(2 * math.pi / STEPS_PER_TURN)
         else:
             size = size_of(geometry) if size is None else size

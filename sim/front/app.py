@@ -233,7 +233,7 @@ def describe(mech: Mechanism) -> dict:
     d = clean(service.describe(mech))
     rates = {}
     for i in mech.inputs:
-        base = "rad" if i.kind == "crank" else mech.units
+        base = "rad" if i.angular else mech.units
         _, speed, accel = i.parameters
         rates.update({name: unit for name, unit in ((speed, f"{base}/s"), (accel, f"{base}/s^2")) if name})
     from sim.output.drawing import wheels_of

@@ -225,7 +225,7 @@ def start_values(mech: Mechanism, data: dict | None, vars_: list[Variable], q: n
 
 def is_angle(mech: Mechanism, var: Variable) -> bool:
     if var.kind == "input":
-        return mech.inputs[0].kind == "crank"
+        return mech.inputs[0].angular
     return var.kind == "parameter" and mech.definition.parameter_kind.get(var.name) == "angle"
 
 
@@ -304,7 +304,7 @@ def drag(mech: Mechanism, text: str | None, point: str, target, q, locked=(), ro
     scale = scales(mech, vars_)
     x0 = start_values(mech, data, vars_, q)
     first = mech.inputs[0]
-    if first.kind == "crank" and point == first.point:
+    if first.angular and point == first.point:
         # the crank's tip: start from the pointer's angle about the pivot (the scrub in closed form)
         s = mech.solve(q[None, :], outputs=("x" + first.joint, "y" + first.joint))
         pivot = np.array([float(np.ravel(s["x" + first.joint])[0]), float(np.ravel(s["y" + first.joint])[0])])
@@ -344,7 +344,7 @@ def drag(mech: Mechanism, text: str | None, point: str, target, q, locked=(), ro
     scrub = all(var.kind == "input" for var in vars_)
     if scrub and not reached:
         first = mech.inputs[0]
-        shown = f"{math.degrees(q_new):.1f} deg" if first.kind == "crank" else f"{q_new:.6g} m"
+        shown = f"{math.degrees(q_new):.1f} deg" if first.angular else f"{q_new:.6g} m"
         return Drag(point, values, new_text, q_new, (float(p[0]), float(p[1])), False,
                     f"{point}: {first.q} turned to {shown} (its length stays)", True)
     if reached or round_to and np.hypot(*(p - target)) < round_to * mech.scale:

@@ -67,7 +67,7 @@ def input_range_of(body: dict, mech: Mechanism) -> tuple[float, float] | None:
     v = body.get("input_range")
     if v is None or v == "":
         return None
-    angle = None if mech.inputs[0].kind == "crank" else False
+    angle = None if mech.inputs[0].angular else False
     if isinstance(v, str) and ":" in v:
         lo, hi = v.split(":", 1)
         return expr.parse_value("input range", lo.strip(), angle), expr.parse_value("input range", hi.strip(), angle)

@@ -79,7 +79,7 @@ def size_drives(model, mech, drives, loads, h, extra=None) -> list[Drive]:
     size = mech.size
     for d in drives:
         peak = float(np.nanmax(np.abs(tau[d.input.link])))
-        budget = DRIVE_ERROR_BUDGET * (1.0 if d.input.kind == "crank" else size)
+        budget = DRIVE_ERROR_BUDGET * d.input.spec.rate_scale(size)
         total_mass = float(sum(model.body_mass))
         floor = 1e-3 * total_mass * 9.81 * size          # a small load so kp is never zero
         kp = max(peak, floor) / budget

@@ -69,7 +69,7 @@ def rates(mech, t: np.ndarray) -> np.ndarray:
     sol = mech.solve(q, qd, qdd, outputs=names)
     cols = []
     for k, inp in enumerate(mech.inputs):
-        scale = 1.0 if inp.kind == "crank" else size
+        scale = inp.spec.rate_scale(size)
         cols += [np.abs(qd[:, k]) / scale, np.sqrt(np.abs(qdd[:, k]) / scale)]
     for ln in mech.links:
         cols += [np.abs(sol["omega" + ln]), np.sqrt(np.abs(sol["alpha" + ln]))]
@@ -151,20 +151,18 @@ def motion_scale(mech) -> float:
     """Omega [1/s]: the fastest commanded input speed (a slider's over the size)."""
     t = np.linspace(0.0, mech.duration(1.0), 181)
     qd = mech.drive(t)[1]
-    scales = [np.max(np.abs(qd[:, k])) / (1.0 if i.kind == "crank" else mech.size) for k, i in enumerate(mech.inputs)]
+    scales = [np.max(np.abs(qd[:, k])) / i.spec.rate_scale(mech.size) for k, i in enumerate(mech.inputs)]
     return float(max(scales))
 
 
-REFERENCE_RATE = {"crank": 2 * math.pi, "slider": 1.0}
-"""[1/s] The motion the drive-force and joint-force floors (sim.run.compare.TORQUE_FLOOR,
-sim.run.forces.JOINT_FLOOR) are taken at, whatever the run's speed: the inputs' default
-speeds, a crank's one turn per second and a slider's one size per second (a slider's rate is its speed over
-the size). A run slower than that keeps the floors it would have there: its drive forces fall as the speed
-squared (a slider at 0.1 mm/s in a 70 mm mechanism: 1e-8 N) while MuJoCo's constraint solver leaves a residual
-that falls only about linearly (measured on Pyslvs' slider lifter: 2 % of the drive force at 0.1 mm/s, 0.2 % at
-7 mm/s), so a floor taken at the run's own speed meets that noise."""
-
-
 def reference_rate(mech) -> float:
-    """[1/s] The fastest of the inputs' REFERENCE_RATE."""
-    return max(REFERENCE_RATE[i.kind] for i in mech.inputs)
+    """[1/s] The motion the drive-force and joint-force floors (sim.run.compare.TORQUE_FLOOR,
+    sim.run.forces.JOINT_FLOOR) are taken at, whatever the run's speed: the fastest of the inputs' kinds'
+    :attr:`~analytic.kinds.base.Kind.reference_rate` (a crank's one turn per second, a slider's one size per
+    second: a slider's rate is its speed over the size). A run slower than that keeps the floors it would have
+    there: its drive forces fall as the speed squared (a slider at 0.1 mm/s in a 70 mm mechanism: 1e-8 N) while
+    MuJoCo's constraint solver leaves a residual that falls only about linearly (measured on Pyslvs' slider
+    lifter: 2 % of the drive force at 0.1 mm/s, 0.2 % at 7 mm/s), so a floor taken at the run's own speed meets
+    that noise."""
+    return max(i.spec.reference_rate for i in mech.inputs)
+

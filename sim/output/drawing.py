@@ -100,7 +100,7 @@ def scene(built, xy: np.ndarray, display, path: np.ndarray | None = None) -> Sce
     return Scene(tuple((d["name"], tuple(d["points"]), d["block"]) for d in link_drawing(mech)), tuple(mech.points),
                  tuple(mech.ground_points), mech.output_point,
                  (lo[0] - pad, lo[1] - pad, hi[0] + pad, hi[1] + pad), mech.size, display, first.q,
-                 first.kind == "crank", wheels)
+                 first.angular, wheels)
 
 
 ARROW_REACH = 0.4

@@ -134,7 +134,7 @@ def plan(ax, pm, fs: float = 7.0) -> None:
             _dimension(ax, pa, pb, side * (rad + off), f"{a}{b} = {_fmt(L)}", fs, texts, 0.07 * size)
     # the first input's angle at the pose
     first = mech.inputs[0]
-    if first.kind == "crank":
+    if first.angular:
         piv = pts[first.joint]
         tip = pts[first.point]
         ang = math.degrees(math.atan2(tip[1] - piv[1], tip[0] - piv[0]))
@@ -157,7 +157,7 @@ def plan(ax, pm, fs: float = 7.0) -> None:
     for s in ax.spines.values():
         s.set_visible(False)
     q0 = pm.sweep.q[0]
-    at = f"{math.degrees(q0):.4g}°" if first.kind == "crank" else f"{q0 / mech.scale:.4g} {unit}"
+    at = f"{math.degrees(q0):.4g}°" if first.angular else f"{q0 / mech.scale:.4g} {unit}"
     ax.set_title(f"PLAN VIEW at {first.q} = {at}  (dimensions in {unit})", fontsize=fs + 2, loc="left")
 
 

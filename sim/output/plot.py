@@ -62,7 +62,7 @@ def panels(mech, display=None) -> list[tuple[str, list[tuple[str, str, float]], 
 def _input_angle(c: Comparison, mech, u) -> tuple[np.ndarray, str]:
     first = mech.inputs[0]
     q = c.trajectory.inputs[first.q]
-    if first.kind == "crank":
+    if first.angular:
         return np.degrees(np.unwrap(q)), f"input angle ${first.q}$ [deg]"
     return q * u.factor("length"), f"input ${first.q}$ [{u.unit('length')}]"
 
@@ -192,7 +192,7 @@ def summary_lines(c: Comparison, built, u) -> list[str]:
     if mech.rock:
         first = mech.inputs[0]
         extra.append(f"{first.q} rocks {math.degrees(mech.rock[0]):.2f}..{math.degrees(mech.rock[1]):.2f} deg"
-                     if first.kind == "crank" else f"{first.q} rocks {mech.rock[0]:g}..{mech.rock[1]:g} m")
+                     if first.angular else f"{first.q} rocks {mech.rock[0]:g}..{mech.rock[1]:g} m")
     params = ", ".join(f"{k}={v:.4g}" for k, v in mech.parameters.items())
     return lines + ["", "parameters:"] + textwrap.wrap(params, 48) + (["", "loads:"] + extra if extra else [])
 
@@ -383,7 +383,7 @@ def _drive_panel(ax, x, xlabel, an, mj, power, mech, colors) -> None:
         ax.plot(x, power[inp.link], color="k", lw=0.9, ls="--", label=f"{inp.q}: power balance")
         ax.plot(x[::MARK_EVERY], mj.drives[inp.link][::MARK_EVERY], "o", ms=3.5, mfc="none", color=color,
                 label=f"{inp.q}: MuJoCo")
-    unit = "N m" if all(i.kind == "crank" for i in mech.inputs) else "N m or N"
+    unit = "N m" if all(i.angular for i in mech.inputs) else "N m or N"
     ax.set(title="Drives: three answers", xlabel=xlabel, ylabel=f"[{unit}]")
     ax.legend(fontsize=7, loc="best")
     ax.grid(alpha=0.3)
@@ -439,7 +439,7 @@ def _force_summary(ax, c, built, an, mech, x, u) -> None:
     """Each joint's peak force and the input where it occurs, each drive's peak."""
     ax.axis("off")
     first = mech.inputs[0]
-    deg = first.kind == "crank"
+    deg = first.angular
     mag = an.magnitude()
     lines = [f"peaks (analytic; at {first.q})"]
     for k, j in enumerate(an.joints):
@@ -449,7 +449,7 @@ def _force_summary(ax, c, built, an, mech, x, u) -> None:
         lines.append(f"{j.name:<8s} {j.kind[0].upper()} {j.a}-{j.b}: {mag[k, i]:.4g} N at {at}{extra}")
     for inp in mech.inputs:
         d = an.drives[inp.link]
-        lines.append(f"drive {inp.q}: {np.max(np.abs(d)):.4g} {'N m' if inp.kind == 'crank' else 'N'}")
+        lines.append(f"drive {inp.q}: {np.max(np.abs(d)):.4g} {inp.spec.drive_unit}")
     ax.text(0.0, 1.0, "\n".join(textwrap.shorten(s, 58) for s in lines[:26]), va="top", family="monospace",
             fontsize=8, transform=ax.transAxes)
 

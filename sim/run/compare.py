@@ -43,7 +43,7 @@ step's start against inverse dynamics: the constraint solver's residual (~1e-8 o
 is all that separates them."""
 TORQUE_FLOOR = 1e-3
 """[of the inertial drive-force scale sum_k (m_k L^2 + I_k) Omega^2 (a slider's: over L), Omega the run's speed
-or the reference speed, sim.model.timestep.REFERENCE_RATE, whichever is faster] the least peak a drive force is
+or the reference speed, sim.model.timestep.reference_rate, whichever is faster] the least peak a drive force is
 judged against: a force that stays at rounding level (a parallelogram's at constant speed:
 its kinetic energy is constant) is not judged against its own noise. The library's peaks are 0.018-0.70
 of that scale, so the floor never binds for a force that does work."""
@@ -80,12 +80,12 @@ def tolerance(mech, name: str, peak: float, omega: float, force_scale: float = 0
 def force_scale(built, name: str, omega: float) -> float:
     """The inertial scale of drive force ``name`` (``tauL``): sum over the links of (m L^2 + I) Omega^2 for
     a crank (N m), over L for a slider (N), from the compiled model's masses; Omega at least the
-    reference speed (sim.model.timestep.REFERENCE_RATE)."""
+    reference speed (sim.model.timestep.reference_rate)."""
     from sim.model import body_inertias
     mech = built.mech
     L = mech.size
     inertia = sum(b.m * L * L + b.I for b in body_inertias(built.model, mech.links).values())
-    slider = any(i.kind == "slider" and name == "tau" + i.link for i in mech.inputs)
+    slider = any(not i.angular and name == "tau" + i.link for i in mech.inputs)   # a force, not a torque
     return inertia * max(omega, reference_rate(mech)) ** 2 / (L if slider else 1.0)
 
 
@@ -169,7 +169,7 @@ def drive_error(tr: Trajectory, mech) -> float:
     worst = 0.0
     for i in mech.inputs:
         e = np.max(np.abs(tr.inputs[i.q] - tr.commanded[i.q]))
-        worst = max(worst, float(e) / (1.0 if i.kind == "crank" else mech.size))
+        worst = max(worst, float(e) / i.spec.rate_scale(mech.size))
     return worst
 
 

@@ -54,7 +54,7 @@ are judged against the peak joint force times the size L (the scale of a moment)
 own peak where that is larger."""
 
 JOINT_FLOOR = 1e-3
-"""[of the links' inertial force scale sum_k m_k L Omega^2, Omega at least sim.model.timestep.REFERENCE_RATE]
+"""[of the links' inertial force scale sum_k m_k L Omega^2, Omega at least sim.model.timestep.reference_rate]
 the least scale the joint forces are judged against (FORCE_TOL of it): a run far slower than the reference
 speed has joint forces falling as the speed squared while MuJoCo's residual falls about linearly (PMKS'
 slider_input rocked at 0.1 mm/s: 5e-3 of its 2.6e-8 N peak, 1.3e-10 N); at their default speeds the
@@ -476,7 +476,7 @@ def agreement(mech, mj: F.Forces, an: F.Forces, power: dict, keep=None, floor: f
     for inp in mech.inputs:
         ne = an.drives[inp.link]
         own = float(np.nanmax(np.abs(ne))) if ne.size else 0.0
-        dscale = max(own, scale * (L if inp.kind == "crank" else 1.0))
+        dscale = max(own, scale * (L if inp.angular else 1.0))
         m = _err(mj.drives[inp.link], ne)
         pb = _err(power[inp.link], ne)
         drives[inp.q] = {"peak": own, "mujoco_max": m, "mujoco_share": m / dscale, "power_balance_max": pb,
@@ -556,7 +556,7 @@ def away_from_change_points(mech, tr, steps: np.ndarray) -> np.ndarray:
         return steps
     first = mech.inputs[0]
     q = np.asarray(tr.inputs[first.q])[steps]
-    rotary = first.kind == "crank"
+    rotary = first.angular
     window = CHANGE_WINDOW if rotary else CHANGE_WINDOW * mech.size
     near = np.zeros(len(steps), dtype=bool)
     for c in at:

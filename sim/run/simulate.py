@@ -131,7 +131,7 @@ def measure(built: Built, sens: np.ndarray):
         inp = d.input
         inputs[inp.q] = d.q_offset + g(f"{d.joint}_q")[:, 0]
         inputs[inp.qd] = g(f"{d.joint}_qd")[:, 0]
-        inputs[inp.qdd] = out["alpha" + inp.link] if inp.kind == "crank" else out["dds" + inp.link]
+        inputs[inp.qdd] = out[inp.qdd]                   # the input's own column of the measured state
     viol = np.zeros(len(sens))
     for lp in built.loops:
         viol = np.maximum(viol, np.linalg.norm(g(f"{lp.site1}_pos") - g(f"{lp.site2}_pos"), axis=1))
@@ -201,7 +201,7 @@ def _check_run(built: Built, sens: np.ndarray, inputs: dict, viol: np.ndarray, h
         k = int(np.argmax(bad))
         first = built.mech.inputs[0]
         value = inputs[first.q][k]
-        where = (f"{first.q}={math.degrees(value):.2f}deg" if first.kind == "crank" else f"{first.q}={value:.6g} m") \
+        where = (f"{first.q}={math.degrees(value):.2f}deg" if first.angular else f"{first.q}={value:.6g} m") \
             if np.isfinite(value) else "an undefined input"
         what = "diverged" if not np.all(np.isfinite(sens[k])) else f"opened a loop by {viol[k]:.3g} m"
         from sim.model import choose_timestep

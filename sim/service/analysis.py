@@ -45,12 +45,12 @@ def check_revolutions(revolutions) -> float:
 
 def check_range(mech: Mechanism, lo: float, hi: float) -> tuple[float, float]:
     first = mech.inputs[0]
-    fmt = (lambda v: f"{math.degrees(v):.2f}deg") if first.kind == "crank" else (lambda v: f"{v:.6g}")
+    fmt = (lambda v: f"{math.degrees(v):.2f}deg") if first.angular else (lambda v: f"{v:.6g}")
     if not (math.isfinite(lo) and math.isfinite(hi)):
         raise ParameterError(f"input range {lo}:{hi} must be finite")
     if not hi > lo:
         raise ParameterError(f"input range {fmt(lo)}:{fmt(hi)}: the end must exceed the start")
-    if first.kind == "crank" and hi - lo > 2 * math.pi * MAX_REVOLUTIONS:
+    if first.angular and hi - lo > 2 * math.pi * MAX_REVOLUTIONS:
         raise ParameterError(f"input range {fmt(lo)}:{fmt(hi)} spans more than {MAX_REVOLUTIONS} turns")
     return lo, hi
 
@@ -94,7 +94,7 @@ def figures(mech: Mechanism) -> dict:
 def check_turns_fully(mech: Mechanism) -> None:
     """A single-input mechanism whose first input cannot make a full turn is refused with its limits
     (a rocking drive, ``input_range``, is the way to run it)."""
-    if len(mech.inputs) != 1 or mech.rock is not None or mech.inputs[0].kind != "crank":
+    if len(mech.inputs) != 1 or mech.rock is not None or not mech.inputs[0].angular:
         return
     from analytic.applications import figures
     ranges = figures.assembly_ranges(mech)
@@ -116,11 +116,11 @@ def analysis_record(mech: Mechanism, a: Analysis, samples: int, revolutions: flo
     from analytic import quantities as Q
     display = display or Q.SI
     outs = mech.outputs
-    kind = mech.inputs[0].kind
+    angular = mech.inputs[0].angular
     ranges = {k: display.convert(Q.quantity(mech, k), _span(a.solution[k])) for k in outs}
     return {"mechanism": mech.name, "units": units_table(mech, display, outs, a.figures),
             "parameters": Q.parameters_in(mech, display), "samples": samples, "revolutions": revolutions,
-            "figures": Q.convert_figures(a.figures, display, kind), "ranges": ranges}
+            "figures": Q.convert_figures(a.figures, display, angular), "ranges": ranges}
 
 
 def units_table(mech: Mechanism, display, outputs=(), figures=None) -> dict:
@@ -130,7 +130,7 @@ def units_table(mech: Mechanism, display, outputs=(), figures=None) -> dict:
     return {"file": mech.units, **{q: display.unit(q) for q in Q.SI_UNIT if q != Q.RATIO},
             "parameters": Q.parameter_units(mech, display),
             "outputs": {k: display.unit(Q.quantity(mech, k)) for k in outputs},
-            **({"figures": Q.figure_units(figures, display, mech.inputs[0].kind)} if figures else {})}
+            **({"figures": Q.figure_units(figures, display, mech.inputs[0].angular)} if figures else {})}
 
 
 def parameters_record(mech: Mechanism, display=None) -> dict:

@@ -183,7 +183,7 @@ def forces_record(run: ForceRun, display=None) -> dict:
         return display.convert(Q.LENGTH, v)
 
     def inp_q(inp):
-        return Q.ANGLE if inp.kind == "crank" else Q.LENGTH
+        return Q.ANGLE if inp.angular else Q.LENGTH
 
     com = centres(mech, run.solution, run.inertias)
     links = {ln: {"m": b.m, "I": b.I, "cx": L(b.cx), "cy": L(b.cy), "xG": L(com[ln][0]), "yG": L(com[ln][1]),
@@ -206,7 +206,7 @@ def forces_record(run: ForceRun, display=None) -> dict:
               "units": {"file": mech.units, "length": display.unit(Q.LENGTH), "angle": display.unit(Q.ANGLE),
                         "time": "s", "force": "N", "torque": "N m", "mass": "kg", "I": "kg m^2",
                         "inputs": {inp.q: display.unit(inp_q(inp)) for inp in mech.inputs},
-                        "drives": {inp.q: "N m" if inp.kind == "crank" else "N" for inp in mech.inputs}}}
+                        "drives": {inp.q: inp.spec.drive_unit for inp in mech.inputs}}}
     if run.balance is not None:
         record["balance"] = balance_record(run, display)
     if run.energy is not None:
@@ -225,7 +225,7 @@ def _peaks_at(run: ForceRun, peaks: dict, display) -> dict:
     """The peaks with the first input's value (display units) beside each sample index ``at``/``at_M``."""
     from analytic import quantities as Q
     first = run.mech.inputs[0]
-    quantity = Q.ANGLE if first.kind == "crank" else Q.LENGTH
+    quantity = Q.ANGLE if first.angular else Q.LENGTH
 
     def value(i):
         return display.convert(quantity, float(run.q[i, 0]))
@@ -268,7 +268,7 @@ def forces_columns(run: ForceRun) -> tuple[dict, dict]:
     qty = {"t": Q.TIME}
     for inp in mech.inputs:
         cols[inp.q] = run.inputs[inp.q]
-        qty[inp.q] = Q.ANGLE if inp.kind == "crank" else Q.LENGTH
+        qty[inp.q] = Q.ANGLE if inp.angular else Q.LENGTH
     mag = f.magnitude()
     for k, j in enumerate(f.joints):
         for name, v in ((f"Fx_{j.name}", f.F[k, 0]), (f"Fy_{j.name}", f.F[k, 1]), (f"F_{j.name}", mag[k])):
@@ -277,7 +277,7 @@ def forces_columns(run: ForceRun) -> tuple[dict, dict]:
             cols[f"M_{j.name}"], qty[f"M_{j.name}"] = f.M(k), Q.TORQUE
     for inp in mech.inputs:
         cols[f"tau{inp.link}"] = f.drives[inp.link]                 # as simulate's CSV names a drive
-        qty[f"tau{inp.link}"] = Q.TORQUE if inp.kind == "crank" else Q.FORCE
+        qty[f"tau{inp.link}"] = inp.spec.drive_quantity
     for name, k, quantity in (("Fx_shaking", 0, Q.FORCE), ("Fy_shaking", 1, Q.FORCE), ("M_shaking", 2, Q.TORQUE)):
         cols[name], qty[name] = f.shaking[k], quantity
     return cols, qty
@@ -294,7 +294,7 @@ def forces_table(run: ForceRun, display=None) -> str:
     q1 = run.q[:, 0]
 
     def at(i):
-        if first.kind == "crank":
+        if first.angular:
             return angle_text(first, float(q1[i]))
         return f"{display.convert(Q.LENGTH, float(q1[i])):.6g} {display.unit(Q.LENGTH)}"
 
@@ -324,8 +324,8 @@ def forces_table(run: ForceRun, display=None) -> str:
         lines.append(f"  {j.name:<12s} {kind:<5s} {j.a + '-' + j.b:<22s} {pk['F']:13.5g}  {at(pk['at'])}{extra}")
     for inp in mech.inputs:
         d = peaks["drives"][inp.q]
-        unit = "N m" if inp.kind == "crank" else "N"
-        lines.append(f"  drive of {inp.q}: peak {'torque' if inp.kind == 'crank' else 'force'} {d['value']:.5g} "
+        unit = inp.spec.drive_unit
+        lines.append(f"  drive of {inp.q}: peak {inp.spec.drive_quantity} {d['value']:.5g} "
                      f"{unit} at {at(d['at'])}")
     s = peaks["shaking"]
     lines.append(f"  shaking force: peak {s['F']:.5g} N at {at(s['at'])} (RMS {s['F_rms']:.5g} N); shaking moment "

@@ -25,7 +25,7 @@ def at_time(mech, value: float) -> float:
         raise ParameterError(f"--at needs the first input {first.q} to move at a constant, non-zero speed "
                              f"(not rocking, no acceleration); give its speed with --set")
     t = (value - m.q0) / m.rate
-    if first.kind == "crank":
+    if first.angular:
         t = math.fmod(t, 2 * math.pi / abs(m.rate))
         t = t + 2 * math.pi / abs(m.rate) if t < 0 else t
     return float(t)

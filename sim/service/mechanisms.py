@@ -78,7 +78,7 @@ def describe(mech: Mechanism) -> dict:
     return {"name": mech.name, "description": mech.description, "units": mech.units,
             "parameters": parameter_table(mech),
             "inputs": [{"kind": i.kind, "link": i.link, "q": i.q, "qd": i.qd, "qdd": i.qdd, "unit": i.unit,
-                        "point": i.point, "pivot": i.joint} for i in mech.inputs],
+                        "periodic": i.spec.periodic, "point": i.point, "pivot": i.joint} for i in mech.inputs],
             "points": list(mech.points), "ground": list(mech.ground_points), "links": link_drawing(mech),
             "slides": list(mech.slides), "output_point": mech.output_point, "outputs": list(mech.outputs),
             "size": mech.size}

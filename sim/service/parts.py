@@ -37,7 +37,7 @@ def cycle_mechanism(mech, input_range=None):
     crank that cannot turn fully rocks over its assembly range around its start."""
     if input_range is not None:
         return mech.rocking(*input_range)
-    if len(mech.inputs) == 1 and mech.inputs[0].kind == "crank":
+    if len(mech.inputs) == 1 and mech.inputs[0].angular:
         from analytic.applications import figures
         ranges = figures.assembly_ranges(mech)
         if ranges and not figures.turns_fully(mech, ranges):
@@ -89,7 +89,7 @@ def pin_spans(pm: PartsModel) -> dict:
 def _input_value(mech, t: float) -> float:
     q = mech.drive(np.array([t]))[0][0, 0]
     first = mech.inputs[0]
-    return math.degrees(q) if first.kind == "crank" else q / mech.scale
+    return math.degrees(q) if first.angular else q / mech.scale
 
 
 def _bisect(f, t0: float, t1: float, tol: float) -> float:
@@ -162,7 +162,7 @@ def interference(pm: PartsModel) -> dict:
     pin_items = [pin_clash(pm, scene, data, out, p, ln, distmax, tol) for p, ln in pm.layout.clashes]
     first = mech.inputs[0]
     return {"mechanism": mech.name, "units": mech.units,
-            "input": first.q, "input_unit": "deg" if first.kind == "crank" else mech.units,
+            "input": first.q, "input_unit": "deg" if first.angular else mech.units,
             "samples": len(pm.sweep.t), "layers": dict(pm.layout.layers),
             "interference": items, "min_clearance": clear, "min_clearance_geometric": clear2d,
             "pins": {p: list(span) for p, span in pm.layout.pins.items()},

@@ -29,7 +29,7 @@ def check_singular(mech: Mechanism) -> None:
     first = mech.inputs[0]
     at = _change_point_at_start(mech)
     if at is not None:
-        shown = f"{math.degrees(at) % 360:.2f}deg" if first.kind == "crank" else f"{at:.6g} m"
+        shown = f"{math.degrees(at) % 360:.2f}deg" if first.angular else f"{at:.6g} m"
         raise ParameterError(f"the {mech.name} starts at a change point ({first.q}={shown}, where a dyad's links "
                              f"align): the loops' equations are singular there at the simulation's first step; "
                              f"start it a little away (e.g. {first.parameters[0] or 'its start'} = 1deg)")
@@ -38,7 +38,7 @@ def check_singular(mech: Mechanism) -> None:
     if poses:
         first = mech.inputs[0]
         x, label, _ = poses[0]
-        at = f"{math.degrees(x) % 360:.2f}deg" if first.kind == "crank" else f"{x:.6g} m"
+        at = f"{math.degrees(x) % 360:.2f}deg" if first.angular else f"{x:.6g} m"
         element = next(e for e in mech.geometry.elements if e["label"] == label)
         if element.get("change") == -1:
             raise ParameterError(f"the {mech.name} passes a change point at {first.q}={at} ({label} folds) where it is "
@@ -101,7 +101,7 @@ def clear_of_change_point(mech: Mechanism) -> Mechanism:
         return mech
     first = mech.inputs[0]
     sense = first.motion.rate or first.motion.accel
-    if first.kind != "crank" or sense == 0 or _change_point_at_start(mech) is None:
+    if not first.spec.periodic or sense == 0 or _change_point_at_start(mech) is None:
         return mech
     return mech.starting_at(first.motion.q0 + math.copysign(CHANGE_SHIFT, sense))
 
@@ -117,7 +117,7 @@ def start_note(mech: Mechanism, run: Mechanism) -> str | None:
 
 
 def _wrapped(dx: float, first) -> float:
-    return (dx + math.pi) % (2 * math.pi) - math.pi if first.kind == "crank" else dx
+    return (dx + math.pi) % (2 * math.pi) - math.pi if first.spec.periodic else dx
 
 
 def change_points(mech: Mechanism) -> list[float]:
@@ -177,8 +177,8 @@ def check_folded_change_points(mech: Mechanism, q1: np.ndarray) -> None:
     x, label, p, q = hit[0]
 
     def fmt(v):
-        return f"{math.degrees(v) % 360:.2f}deg" if first.kind == "crank" else f"{v / mech.scale:.6g} {mech.units}"
-    shown = sorted((math.degrees(v) % 360 if first.kind == "crank" else v, fmt(v)) for v in change_points(mech))
+        return f"{math.degrees(v) % 360:.2f}deg" if first.angular else f"{v / mech.scale:.6g} {mech.units}"
+    shown = sorted((math.degrees(v) % 360 if first.angular else v, fmt(v)) for v in change_points(mech))
     every = ", ".join(f for _, f in shown)
     raise ParameterError(f"the {mech.name} passes a change point at {first.q}={fmt(x)} where {p} and {q} meet "
                          f"({label}: both links turn about one point there and fold onto each other, free to turn "
@@ -190,7 +190,7 @@ def _visited(first, q1: np.ndarray, x: float) -> bool:
     """Whether the first input's run ``q1`` passes the value ``x`` (a crank: any turn of it)."""
     lo, hi = float(np.min(q1)), float(np.max(q1))
     tol = 1e-9 * max(1.0, abs(lo), abs(hi))
-    if first.kind != "crank":
+    if not first.angular:
         return lo - tol <= x <= hi + tol
     k = math.ceil((lo - tol - x) / (2 * math.pi))
     return x + 2 * math.pi * k <= hi + tol
@@ -205,7 +205,7 @@ def check_fold(mech: Mechanism) -> None:
     m, label = fold_measure(mech)
     lo, hi = mech.rock
     first = mech.inputs[0]
-    crank = first.kind == "crank"
+    crank = first.angular
     unit = 1.0 if crank else mech.size
     dead = _dead_points_around(mech, lo, hi) if len(mech.inputs) == 1 else (None, None)
     close = [d for d, end in zip(dead, (lo, hi)) if d is not None and abs(end - d) < FOLD_MARGIN * unit]
@@ -241,7 +241,7 @@ def _dead_points_around(mech: Mechanism, lo: float, hi: float) -> tuple[float | 
     ranges = figures.assembly_ranges(plain)
     if figures.turns_fully(plain, ranges):
         return None, None
-    turn = 2 * math.pi if mech.inputs[0].kind == "crank" else 0.0
+    turn = 2 * math.pi if mech.inputs[0].spec.periodic else 0.0
     for a, b in ranges:
         for k in ((range(-3, 4)) if turn else (0,)):
             if a + k * turn <= lo + 1e-12 and hi - 1e-12 <= b + k * turn:

@@ -29,7 +29,7 @@ __all__ = ["cycle_of", "outputs_of", "tolerances_of", "tolerance", "tolerance_re
 def output_quantity(mech, name: str) -> str:
     """The quantity of a tolerance output (:mod:`analytic.quantities`): a slider input's drive is a force."""
     if name == "peak_torque":
-        return Q.TORQUE if mech.inputs[0].kind == "crank" else Q.FORCE
+        return mech.inputs[0].spec.drive_quantity
     return {"path_deviation": Q.LENGTH, "transmission_min": Q.ANGLE, "transmission_max": Q.ANGLE,
             "peak_joint_force": Q.FORCE, "speed_fluctuation": Q.RATIO}[name]
 

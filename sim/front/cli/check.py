@@ -73,7 +73,7 @@ def structure_report(mech, display=None) -> str:
     if len(mech.inputs) == 1:
         ranges = figures.assembly_ranges(mech)
         first = mech.inputs[0]
-        crank = first.kind == "crank"
+        crank = first.angular
 
         def at(x):                                   # an input value as people read it
             if crank:

@@ -74,7 +74,7 @@ def at_value(args, mech) -> float | None:
     if text is None:
         return None
     first = mech.inputs[0]
-    if first.kind == "crank":
+    if first.angular:
         return expr.parse_value("--at", text, angle=None)
     return expr.parse_value("--at", text, angle=False) * mech.scale
 

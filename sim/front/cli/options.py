@@ -171,7 +171,7 @@ def parse_range(mech, text: str | None) -> tuple[float, float] | None:
     if ":" not in text:
         raise ParameterError(f"--input-range {text!r} is not LO:HI (e.g. -40deg:40deg)")
     lo, hi = text.split(":", 1)
-    angle = mech.inputs[0].kind == "crank"
+    angle = mech.inputs[0].angular
     scale = 1.0 if angle else mech.scale
     return (expr.parse_value("--input-range", lo, angle=None if angle else False) * scale,
             expr.parse_value("--input-range", hi, angle=None if angle else False) * scale)

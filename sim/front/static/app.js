@@ -2085,7 +2085,7 @@
   function nearestFrame(q) {
     const data = state.solve;
     const qs = data.inputs[data.describe.inputs[0].q];
-    const crank = data.describe.inputs[0].kind === "crank";
+    const crank = data.describe.inputs[0].periodic;   // its kind turns fully: compare angles round the turn
     let best = state.frame; let bestD = Infinity;
     for (let i = 0; i < qs.length; i++) {
       let dq = qs[i] - q;
