@@ -148,3 +148,32 @@ def test_dynamics_prints_the_motor_torque_in_lbf_in(tmp_path):
     rec = json.loads(run("dynamics", path, "--motor", "5,20", "--revolutions", "2", "--json"))
     assert rec["units"]["peak_torque"] == "N m"
     assert rec["peak_torque"] == pytest.approx(5.0, rel=1e-9)        # SI by default (the motor's own curve)
+
+
+def test_sweep_forces_print_in_file_units_csv_si_unless_units(tmp_path):
+    path = crank_file(tmp_path, "inch_pound")
+    out = tmp_path / "s.csv"
+    r = cli_runner.run("sweep", path, "--vary", "omega1=0.001,0.002", "--forces", "--csv", out)
+    assert r.returncode == 0, r.stderr
+    assert "peak |F| [lbf]" in r.stdout and "peak drive [lbf in]" in r.stdout
+    row = r.stdout.splitlines()[1].split()
+    # hand statics (10 lbf at 2 in): peak |F| 10 lbf at A, drive 20 lbf in; inertia at 2e-3 rad/s ~1e-6 of it
+    assert float(row[-3]) == pytest.approx(10.0, rel=1e-4) and float(row[-2]) == pytest.approx(20.0, rel=1e-4)
+    rows = list(csv.DictReader(out.open()))
+    assert float(rows[0]["peak_drive"]) == pytest.approx(20 * LBF * IN, rel=1e-6)      # SI by default
+    assert float(rows[0]["peak_joint_force"]) == pytest.approx(10 * LBF, rel=1e-6)
+    # the push does F r 2 pi of work per turn on the crank; the drive takes it out: -F r 2 pi [J]
+    assert float(rows[0]["energy_per_cycle"]) == pytest.approx(-20 * LBF * IN * 2 * np.pi, rel=1e-6)
+    r = cli_runner.run("sweep", path, "--vary", "omega1=0.001,0.002", "--forces", "--csv", out, "--units", "in")
+    assert r.returncode == 0, r.stderr
+    rows = list(csv.DictReader(out.open()))
+    units = json.loads((tmp_path / "s.csv.units.json").read_text())["units"]
+    assert (units["peak_drive"], units["peak_joint_force"], units["energy_per_cycle"]) == ("lbf in", "lbf", "J")
+    assert float(rows[0]["peak_drive"]) == pytest.approx(20.0, rel=1e-6)
+
+
+def test_sweep_forces_bad_load_is_one_line(tmp_path):
+    path = crank_file(tmp_path, "inch_pound")
+    r = cli_runner.run("sweep", path, "--vary", "omega1=0.001,0.002", "--force", "1,2@Z")
+    assert r.returncode == 2 and "Traceback" not in r.stderr
+    assert len(r.stderr.strip().splitlines()) == 1 and "Z" in r.stderr

@@ -62,8 +62,8 @@ def run(args) -> int:
         from sim.front.cli.options import loads_from
         loads = loads_from(args, base)
         if n > MAX_FORCE_COMBOS and not args.yes:
-            raise ParameterError(f"--forces over {n:,} combinations (over {MAX_FORCE_COMBOS:,}; each takes a forces "
-                                 f"run, tens of ms): narrow the grid, or add --yes")
+            raise ParameterError(f"--forces over {n:,} combinations (over {MAX_FORCE_COMBOS:,}; each design takes a "
+                                 f"forces run, 5-50 ms): narrow the grid, or add --yes")
     rows, paths = design_service.sweep(base, vary, args.samples, keep_paths=12 if args.plot else 0,
                                        progress=bar.update, workers=args.workers, scheduler=args.scheduler,
                                        allow_large=args.yes)
@@ -72,7 +72,7 @@ def run(args) -> int:
         rows = sweep_forces(base, rows, loads, args.samples, progress=Progress(n, "forces").update)
     keys = list(vary)
     if args.csv:
-        machine = _machine(args)
+        machine = _machine(args, base)
         cols, units = design_service.sweep_columns(base, keys, rows, machine)
         write_csv(args.csv, cols)
         from sim.output.io import write_text
@@ -92,9 +92,9 @@ def run(args) -> int:
     return 0
 
 
-def _machine(args):
+def _machine(args, base=None):
     from sim.output.units import machine_units
-    return machine_units(args)
+    return machine_units(args, base)
 
 
 def _sweep_table(rows, keys, limit: int, display=None, drive: str = "crank") -> str:
