@@ -3,7 +3,9 @@ owner), and the display units that convert them by quantity (SPEC "Units of resu
 
 Everything the solver and the simulation compute is SI (m, s, rad, N, N m). What people read is converted
 here, once, by quantity: lengths to the file's unit (or ``--units``), angles to deg on request
-(``--angles deg``), angular speeds to rpm on request (``--speeds rpm``). Forces stay N, torques N m.
+(``--angles deg``), angular speeds to rpm on request (``--speeds rpm``). Forces follow the file's
+``force_units`` (SPEC "Loads"): N by default, torques then N m; a kN or lbf file shows forces in its unit
+and moments in that unit times the length unit (kN mm, lbf in).
 Pure Python, no dependencies: front ends and summaries call it alike.
 """
 
@@ -25,6 +27,9 @@ SI_UNIT = {LENGTH: "m", VELOCITY: "m/s", ACCELERATION: "m/s^2", ANGLE: "rad", AN
 
 LENGTH_UNITS = {"m": 1.0, "mm": 1e-3, "cm": 1e-2, "in": 0.0254}
 """Metres per length unit (exact: the inch is 25.4 mm by definition)."""
+
+FORCE_UNITS = {"N": 1.0, "kN": 1000.0, "lbf": 4.4482216152605}
+"""Newtons per force unit (lbf: the international avoirdupois pound-force, 0.45359237 kg x 9.80665 m/s^2, exact)."""
 
 RPM = 60.0 / (2.0 * math.pi)
 """rpm per rad/s (a turn is 2 pi rad, a minute 60 s)."""
@@ -136,11 +141,13 @@ def figure_quantity(key: str, angular: bool = True) -> str:
 @dataclass(frozen=True)
 class Display:
     """Units results are shown in: ``length`` one of LENGTH_UNITS, ``angle`` "rad" or "deg", ``speed``
-    (angular speeds) "" (the angle unit per second) or "rpm"."""
+    (angular speeds) "" (the angle unit per second) or "rpm", ``force`` one of FORCE_UNITS (moments: N m for
+    N, else the force unit times the length unit)."""
 
     length: str = "m"
     angle: str = "rad"
     speed: str = ""
+    force: str = "N"
 
     def __post_init__(self):
         from analytic import ParameterError
@@ -150,10 +157,12 @@ class Display:
             raise ParameterError(f"angles {self.angle!r}: use rad or deg")
         if self.speed not in ("", "rpm"):
             raise ParameterError(f"speeds {self.speed!r}: use rpm (or leave it out for {self.angle}/s)")
+        if self.force not in FORCE_UNITS:
+            raise ParameterError(f"force units {self.force!r}: use one of {', '.join(FORCE_UNITS)}")
 
     @property
     def is_si(self) -> bool:
-        return self.length == "m" and self.angle == "rad" and self.speed == ""
+        return self.length == "m" and self.angle == "rad" and self.speed == "" and self.force == "N"
 
     def unit(self, quantity: str) -> str:
         """The unit label of ``quantity`` in these display units."""
@@ -165,6 +174,10 @@ class Display:
             return "rpm" if self.speed == "rpm" else f"{self.angle}/s"
         if quantity == ANGULAR_ACCELERATION:
             return f"{self.angle}/s^2"
+        if quantity == FORCE:
+            return self.force
+        if quantity == TORQUE and self.force != "N":
+            return f"{self.force} {self.length}"
         return SI_UNIT.get(quantity, "")
 
     def factor(self, quantity: str) -> float:
@@ -176,6 +189,10 @@ class Display:
             return deg
         if quantity == ANGULAR_VELOCITY:
             return RPM if self.speed == "rpm" else deg
+        if quantity == FORCE:
+            return 1.0 / FORCE_UNITS[self.force]
+        if quantity == TORQUE and self.force != "N":
+            return 1.0 / (FORCE_UNITS[self.force] * LENGTH_UNITS[self.length])
         return 1.0
 
     def convert(self, quantity: str, value):
@@ -202,14 +219,16 @@ def _scale(value, f: float):
 
 
 def display_for(file_units: str, units: str | None = None, angles: str | None = None,
-                speeds: str | None = None) -> Display:
-    """What people read: lengths in ``units`` or else the file's unit; angles and speeds as asked."""
-    return Display(units or file_units, angles or "rad", speeds or "")
+                speeds: str | None = None, force_units: str = "N") -> Display:
+    """What people read: lengths in ``units`` or else the file's unit; angles and speeds as asked; forces in
+    the file's ``force_units``."""
+    return Display(units or file_units, angles or "rad", speeds or "", force_units or "N")
 
 
-def machine_display(units: str | None = None, angles: str | None = None, speeds: str | None = None) -> Display:
-    """What CSV and JSON hold: SI unless an option was given."""
-    return Display(units or "m", angles or "rad", speeds or "")
+def machine_display(units: str | None = None, angles: str | None = None, speeds: str | None = None,
+                    force_units: str = "N") -> Display:
+    """What CSV and JSON hold: SI unless an option was given; with ``units`` the file's ``force_units`` too."""
+    return Display(units or "m", angles or "rad", speeds or "", (force_units or "N") if units else "N")
 
 
 def convert_figures(figs: dict, display: Display, angular: bool = True) -> dict:

@@ -15,10 +15,7 @@ import numpy as np
 
 from analytic._common import ParameterError
 from analytic.kinds import GROUND
-
-FORCE_UNITS = {"N": 1.0, "kN": 1000.0, "lbf": 4.4482216152605}
-"""Newtons per force unit of a file's ``force_units`` (lbf: the international avoirdupois pound-force,
-0.45359237 kg x 9.80665 m/s^2)."""
+from analytic.quantities import FORCE_UNITS  # noqa: F401  re-exported: Newtons per force unit of ``force_units``
 
 MAX_VALUE = 1e12
 """Largest magnitude of any number in a load (file units): past it a value is a typing slip."""

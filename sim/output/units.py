@@ -12,6 +12,7 @@ from analytic import quantities as Q
 from analytic.quantities import SI, Display, display_for, machine_display
 
 __all__ = ["SI", "Display", "display_for", "machine_display", "output_kind", "column_quantity", "column_unit",
+           "force_units",
            "convert_columns", "add_unit_options", "shown_units", "machine_units"]
 
 _KIND = {Q.ANGLE: "angle", Q.LENGTH: "position", Q.ANGULAR_VELOCITY: "ang_velocity", Q.VELOCITY: "velocity",
@@ -72,11 +73,19 @@ def add_unit_options(p) -> None:
 
 
 def shown_units(args, mech) -> Display:
-    """What people read: the file's length unit unless ``--units``; angles and speeds as asked."""
+    """What people read: the file's length unit unless ``--units``; angles and speeds as asked; forces in the
+    file's ``force_units`` (moments in force unit x length unit unless N: SPEC "Loads")."""
     return display_for(mech.units, getattr(args, "units", None), getattr(args, "angles", None),
-                       getattr(args, "speeds", None))
+                       getattr(args, "speeds", None), force_units(mech))
 
 
-def machine_units(args) -> Display:
-    """What CSV and JSON hold: SI unless ``--units``/``--angles``/``--speeds`` was given."""
-    return machine_display(getattr(args, "units", None), getattr(args, "angles", None), getattr(args, "speeds", None))
+def machine_units(args, mech=None) -> Display:
+    """What CSV and JSON hold: SI unless ``--units``/``--angles``/``--speeds`` was given; with ``--units`` and
+    ``mech`` forces in its file's ``force_units``."""
+    return machine_display(getattr(args, "units", None), getattr(args, "angles", None), getattr(args, "speeds", None),
+                           force_units(mech) if mech is not None else "N")
+
+
+def force_units(mech) -> str:
+    """The file's ``force_units`` (N for a built-in or a file without one)."""
+    return getattr(getattr(mech, "definition", None), "force_units", None) or "N"

@@ -697,12 +697,15 @@ def sweep(base, vary: dict[str, list[float]], samples: int = 360, keep_paths: in
 
 SWEEP_QUANTITY = {"x_min": "length", "x_max": "length", "y_min": "length", "y_max": "length",
                   "speed_mean": "velocity", "speed_min": "velocity", "speed_max": "velocity", "mu_min": "angle",
-                  "period": "time", "fluctuation": "ratio", "valid": "ratio"}
+                  "period": "time", "fluctuation": "ratio", "valid": "ratio", "peak_joint_force": "force"}
+"""The quantity of each sweep column; ``peak_drive`` is a torque or a force by the first input's kind and
+``energy_per_cycle`` is in J (sim.service.sweep_forces)."""
 
 
 def sweep_stat_names(rows) -> list[str]:
     from analytic.applications import studies
-    return [s for s in list(studies.STATS) + ["mu_min", "period"] if any(s in r.values for r in rows)]
+    from sim.service.sweep_forces import FORCE_FIGURES
+    return [s for s in list(studies.STATS) + ["mu_min", "period", *FORCE_FIGURES] if any(s in r.values for r in rows)]
 
 
 def sweep_columns(base, keys, rows, display=None) -> tuple[dict, dict]:
@@ -724,6 +727,11 @@ def sweep_columns(base, keys, rows, display=None) -> tuple[dict, dict]:
             continue
         if name == "area":
             out[name], units[name] = v * f * f, f"{u.unit('length')}^2"
+        elif name == "energy_per_cycle":
+            out[name], units[name] = v, "J"
+        elif name == "peak_drive":
+            q = "torque" if base.inputs[0].kind == "crank" else "force"
+            out[name], units[name] = u.convert(q, v), u.unit(q)
         else:
             q = SWEEP_QUANTITY.get(name, "")
             out[name], units[name] = (u.convert(q, v), u.unit(q)) if q else (v, "")

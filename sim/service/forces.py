@@ -212,7 +212,56 @@ def forces_record(run: ForceRun, display=None) -> dict:
     if run.energy is not None:
         from sim.service import loads as L
         L.add_to_record(record, run, display)
+    if display.unit(Q.FORCE) != "N":
+        _force_units(record, mech, display)
     return record
+
+
+def _force_units(record: dict, mech: Mechanism, display) -> None:
+    """The forces [N] and moments [N m] of a :func:`forces_record` in ``display``'s force unit and force x
+    length (``--units`` on a file with ``force_units``), its ``units`` table saying so; energies stay J."""
+    from analytic import quantities as Q
+
+    def F(v):
+        return display.convert(Q.FORCE, np.asarray(v)) if v is not None else v
+
+    def M(v):
+        return display.convert(Q.TORQUE, np.asarray(v)) if v is not None else v
+
+    angular = {inp.q: inp.angular for inp in mech.inputs}       # a torque (a turning input) or a force
+    for j in record["joints"]:
+        for k in ("Fx", "Fy", "Ff"):
+            if k in j:
+                j[k] = F(j[k])
+        for k in ("M", "Mf"):
+            if k in j:
+                j[k] = M(j[k])
+    record["drives"] = {q: (M(v) if angular[q] else F(v)) for q, v in record["drives"].items()}
+    sh = record["shaking"]
+    record["shaking"] = {"Fx": F(sh["Fx"]), "Fy": F(sh["Fy"]), "M": M(sh["M"])}
+    peaks = record["peaks"]
+    for entry in peaks["joints"].values():
+        entry["F"] = float(F(entry["F"]))
+        if "M" in entry:
+            entry["M"] = float(M(entry["M"]))
+    for q, entry in peaks["drives"].items():
+        entry["value"] = float(M(entry["value"]) if angular[q] else F(entry["value"]))
+    for k, conv in (("F", F), ("F_rms", F), ("M", M)):
+        peaks["shaking"][k] = float(conv(peaks["shaking"][k]))
+    for ld in record.get("loads", ()):
+        if ld.get("kind") == "force" and "Fx" in ld and ld.get("name") == "force":
+            ld["Fx"], ld["Fy"] = float(F(ld["Fx"])), float(F(ld["Fy"]))
+    if "balance" in record:
+        b = record["balance"]
+        for when in ("before", "after"):
+            b["shaking"][when] = {k: float(F(v)) for k, v in b["shaking"][when].items()}
+            b["inertial_shaking"][when] = {k: (float(F(v)) if k in ("rms", "peak") else v)
+                                           for k, v in b["inertial_shaking"][when].items()}
+        b["shaking_force_after"] = {k: F(v) for k, v in b["shaking_force_after"].items()}
+        b["drives_after"] = {q: (M(v) if angular[q] else F(v)) for q, v in b["drives_after"].items()}
+    u = record["units"]
+    u["force"], u["torque"] = display.unit(Q.FORCE), display.unit(Q.TORQUE)
+    u["drives"] = {q: display.unit(Q.TORQUE if angular[q] else Q.FORCE) for q in angular}
 
 
 def loads_table(run: ForceRun, display=None) -> list:
@@ -285,7 +334,8 @@ def forces_columns(run: ForceRun) -> tuple[dict, dict]:
 
 def forces_table(run: ForceRun, display=None) -> str:
     """What ``linkage forces`` prints: each joint's peak force and the first input's value where it occurs,
-    the drives' peaks, the shaking force's and moment's (lengths in ``display`` units, forces N, torques N m)."""
+    the drives' peaks, the shaking force's and moment's (lengths, forces and moments in ``display`` units: the
+    file's ``force_units``, moments in force x length unless N, then N m)."""
     from analytic import quantities as Q
     from analytic.applications.forces import angle_text
     display = display or Q.SI
@@ -300,6 +350,13 @@ def forces_table(run: ForceRun, display=None) -> str:
 
     peaks = force_peaks(run)
     loads = run.loads
+    FU, MU = display.unit(Q.FORCE), display.unit(Q.TORQUE)
+
+    def F(v):
+        return display.convert(Q.FORCE, v)
+
+    def M(v):
+        return display.convert(Q.TORQUE, v)
     parts = []
     if loads["gravity"]:
         parts.append(f"gravity {loads['gravity'][0]:g},{loads['gravity'][1]:g} m/s^2")
@@ -312,24 +369,24 @@ def forces_table(run: ForceRun, display=None) -> str:
                      + (" and friction" if run.loadset.friction else ""))
     lines = [f"{mech.name}: joint forces over {len(run.t)} samples ({', '.join(parts) or 'inertia only'}); "
              f"masses: {sum(b.m for b in run.inertias.values()):.4g} kg in {len(run.inertias)} links",
-             f"  {'joint':<12s} {'kind':<5s} {'links':<22s} {'peak |F| [N]':>13s}  at {first.q}"]
+             f"  {'joint':<12s} {'kind':<5s} {'links':<22s} {f'peak |F| [{FU}]':>13s}  at {first.q}"]
     for k, j in enumerate(f.joints):
         pk = peaks["joints"][j.name]
         kind = "R" if j.kind == "revolute" else "P"
         extra = ""
         if j.kind == "prismatic":
-            extra = f"; couple peak {pk['M']:.4g} N m at {at(pk['at_M'])}"
+            extra = f"; couple peak {M(pk['M']):.4g} {MU} at {at(pk['at_M'])}"
         if j.input is not None:
             extra += " (driven)"
-        lines.append(f"  {j.name:<12s} {kind:<5s} {j.a + '-' + j.b:<22s} {pk['F']:13.5g}  {at(pk['at'])}{extra}")
+        lines.append(f"  {j.name:<12s} {kind:<5s} {j.a + '-' + j.b:<22s} {F(pk['F']):13.5g}  {at(pk['at'])}{extra}")
     for inp in mech.inputs:
         d = peaks["drives"][inp.q]
-        unit = inp.spec.drive_unit
-        lines.append(f"  drive of {inp.q}: peak {inp.spec.drive_quantity} {d['value']:.5g} "
+        unit, conv = (MU, M) if inp.angular else (FU, F)
+        lines.append(f"  drive of {inp.q}: peak {inp.spec.drive_quantity} {conv(d['value']):.5g} "
                      f"{unit} at {at(d['at'])}")
     s = peaks["shaking"]
-    lines.append(f"  shaking force: peak {s['F']:.5g} N at {at(s['at'])} (RMS {s['F_rms']:.5g} N); shaking moment "
-                 f"about the origin: peak {s['M']:.5g} N m at {at(s['at_M'])}")
+    lines.append(f"  shaking force: peak {F(s['F']):.5g} {FU} at {at(s['at'])} (RMS {F(s['F_rms']):.5g} {FU}); "
+                 f"shaking moment about the origin: peak {M(s['M']):.5g} {MU} at {at(s['at_M'])}")
     if run.balance is not None:
         b = run.balance
         lines.append(f"  balance ({b.method}): " + ("; ".join(
@@ -337,9 +394,9 @@ def forces_table(run: ForceRun, display=None) -> str:
             f"{display.convert(Q.LENGTH, w.v):.4g}) {display.unit(Q.LENGTH)}" for w in b.counterweights)
             or "no counterweight helps"))
         after = force_peaks(run, run.balanced)["shaking"]
-        lines.append(f"    shaking force of the inertia: RMS {b.before['rms']:.5g} -> {b.after['rms']:.5g} N, peak "
-                     f"{b.before['peak']:.5g} -> {b.after['peak']:.5g} N; with the loads: RMS {s['F_rms']:.5g} -> "
-                     f"{after['F_rms']:.5g} N")
+        lines.append(f"    shaking force of the inertia: RMS {F(b.before['rms']):.5g} -> {F(b.after['rms']):.5g} {FU}, "
+                     f"peak {F(b.before['peak']):.5g} -> {F(b.after['peak']):.5g} {FU}; with the loads: RMS "
+                     f"{F(s['F_rms']):.5g} -> {F(after['F_rms']):.5g} {FU}")
     from sim.service import loads as L
     lines += L.summary(run)
     return "\n".join(lines)

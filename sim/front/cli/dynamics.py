@@ -152,7 +152,7 @@ def cmd_dynamics(args) -> int:
     if args.motor_table and args.csv and args.motor_table == args.csv:
         raise ParameterError(f"--csv {args.csv} is the motor table; choose another output name")
     mech = mechanism_from(args)
-    display = machine_units(args)
+    display = machine_units(args, mech)
     if len(mech.inputs) == 2:
         given = [o for o, v in (("--csv", args.csv), ("--plot", args.plot), ("--render", args.render)) if v]
         if given:                                 # refused rather than silently not written
@@ -181,7 +181,7 @@ def cmd_dynamics(args) -> int:
     if args.json:
         print(dumps(in_units(smotor.record(d), display)))
     else:
-        print(summary(d))
+        print(summary(d, shown_units(args, mech)))
         for path in (args.csv, args.plot):         # every file written is said, as the other commands do
             if path:
                 print(f"wrote {path}")
@@ -194,10 +194,12 @@ QUANTITIES = {"t": Q.TIME, "phi": Q.ANGLE, "omega": Q.ANGULAR_VELOCITY, "torque"
 
 def in_units(record: dict, display) -> dict:
     """A :func:`sim.run.motor.record` (SI) with its angles and speeds in ``display`` units (``--angles``,
-    ``--speeds``; forces, torques and times stay SI), its ``units`` table saying which."""
+    ``--speeds``), the motor's torques in its force x length unit (``--units`` on a file with ``force_units``;
+    N m otherwise), times stay SI; its ``units`` table saying which."""
     if display.is_si:
         return record
-    names = {"phi": Q.ANGLE, "omega": Q.ANGULAR_VELOCITY, "mean_speed": Q.ANGULAR_VELOCITY}
+    names = {"phi": Q.ANGLE, "omega": Q.ANGULAR_VELOCITY, "mean_speed": Q.ANGULAR_VELOCITY, "torque": Q.TORQUE,
+             "peak_torque": Q.TORQUE}
     out = {k: (display.convert(names[k], v) if k in names else v) for k, v in record.items()}
     if isinstance(record.get("simulated"), dict):
         out["simulated"] = {k: (display.convert(names[k], v) if k in names else v)
@@ -261,16 +263,20 @@ def _two_motors(args, mech, target, display) -> int:
     return 0 if d.passed else 1
 
 
-def summary(d) -> str:
+def summary(d, display=None) -> str:
+    """The text of a motor run; the peak motor torque in ``display``'s moment unit (the file's force unit x
+    its length unit for a kN or lbf file; N m by default)."""
     r, s, a = d.run, d.sim, d.agreement
     rpm = 1 / RPM
+    display = display or Q.SI
     lines = [f"{d.mech.name} driven by {_motor_text(d.motor)}, flywheel {d.flywheel:.4g} kg m^2, "
              f"{r.revolutions:g} revolutions",
              f"{'':24s}{'analytic':>14s}{'MuJoCo':>14s}",
              f"{'mean speed [rad/s]':24s}{r.mean_speed:14.6g}{s.mean_speed:14.6g}   ({r.mean_speed * rpm:.4g} rpm)",
              f"{'fluctuation Cs':24s}{r.fluctuation:14.6g}{s.fluctuation:14.6g}",
              f"{'start-up time [s]':24s}{r.startup_time:14.6g}{s.startup_time:14.6g}",
-             f"peak motor torque {r.peak_torque:.4g} N m, peak power {r.peak_power:.4g} W, "
+             f"peak motor torque {display.convert(Q.TORQUE, r.peak_torque):.4g} {display.unit(Q.TORQUE)}, "
+             f"peak power {r.peak_power:.4g} W, "
              f"energy per cycle {r.energy_per_cycle:.4g} J"]
     if d.target is not None:
         lines.append(f"flywheel sized for Cs = {d.target:g}: {d.flywheel:.6g} kg m^2; runs give "

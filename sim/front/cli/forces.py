@@ -53,7 +53,7 @@ def cmd_forces(args) -> int:
     run = service.forces_run(mech, args.samples, args.revolutions, parse_range(mech, args.input_range),
                              loads.gravity, loads.force, loads.slow_stroke_only, loads.inertias,
                              balance_links(args.balance), loads.extra, at)
-    display = machine_units(args)
+    display = machine_units(args, mech)
     simulated = service.simulated_forces(run, settings_from(args), loads, display) if args.simulate else None
     if args.csv:
         cols, qty = service.forces_columns(run)

@@ -24,6 +24,17 @@ def register(sub) -> None:
     p.add_argument("--workers", type=int, default=1, help="processes for the grid's chunks (default 1)")
     p.add_argument("--scheduler", metavar="ADDRESS", help="Dask scheduler address (or 'local': a local cluster "
                                                           "of --workers processes)")
+    p.add_argument("--forces", action="store_true",
+                   help="also each design's peak joint (bearing) force, peak drive torque (a slider: force) and "
+                        "energy per cycle, with the file's [[loads]]/[friction] and the loads below (implied by them)")
+    p.add_argument("--gravity", metavar="GX,GY", help="gravity in the plane [m/s^2] for --forces, e.g. 0,-9.81")
+    p.add_argument("--force", metavar="FX,FY[@POINT[:LINK]]",
+                   help="constant external force [N] on the output point, or at POINT on LINK, for --forces")
+    p.add_argument("--cutting-force", metavar="F",
+                   help="a force F [N] resisting the output point's slow (cutting) stroke along x, for --forces")
+    from sim.front.cli.loads_opts import add_options
+    add_options(p)
+    p.add_argument("--inertia", metavar="PATH.json", help="links' inertial data for --forces (as linkage forces)")
     from sim.output.units import add_unit_options
     add_unit_options(p)
     p.set_defaults(revolutions=1.0)
@@ -31,6 +42,8 @@ def register(sub) -> None:
 
 
 MAX_COMBOS = studies.MAX_COMBOS
+MAX_FORCE_COMBOS = 2000
+"""Largest grid whose forces (one forces run per design) are computed without an explicit --yes."""
 
 
 def run(args) -> int:
@@ -43,12 +56,23 @@ def run(args) -> int:
         raise ParameterError(f"--show {args.show} must be >= 0")
     from sim.output.progress import Progress
     bar = Progress(n, "sweep")
+    forces = args.forces or any(getattr(args, k) for k in ("gravity", "force", "cutting_force", "torque", "inertia"))
+    loads = None
+    if forces:
+        from sim.front.cli.options import loads_from
+        loads = loads_from(args, base)
+        if n > MAX_FORCE_COMBOS and not args.yes:
+            raise ParameterError(f"--forces over {n:,} combinations (over {MAX_FORCE_COMBOS:,}; each design takes a "
+                                 f"forces run, 5-50 ms): narrow the grid, or add --yes")
     rows, paths = design_service.sweep(base, vary, args.samples, keep_paths=12 if args.plot else 0,
                                        progress=bar.update, workers=args.workers, scheduler=args.scheduler,
                                        allow_large=args.yes)
+    if forces:
+        from sim.service.sweep_forces import sweep_forces
+        rows = sweep_forces(base, rows, loads, args.samples, progress=Progress(n, "forces").update)
     keys = list(vary)
     if args.csv:
-        machine = _machine(args)
+        machine = _machine(args, base)
         cols, units = design_service.sweep_columns(base, keys, rows, machine)
         write_csv(args.csv, cols)
         from sim.output.io import write_text
@@ -56,7 +80,7 @@ def run(args) -> int:
                                                          "si": machine.is_si, "units": units}, indent=2) + "\n")
     from sim.output.units import shown_units
     shown = shown_units(args, base)
-    print(_sweep_table(rows, keys, limit=args.show, display=shown))
+    print(_sweep_table(rows, keys, limit=args.show, display=shown, angular=base.inputs[0].angular))
     bad = [r for r in rows if not r.valid]
     print(f"{len(rows)} combinations, {len(rows) - len(bad)} valid" +
           (f"; invalid, e.g. {', '.join(f'{k}={v:g}' for k, v in bad[0].params.items())}: {bad[0].reason}" if bad else ""))
@@ -68,20 +92,28 @@ def run(args) -> int:
     return 0
 
 
-def _machine(args):
+def _machine(args, base=None):
     from sim.output.units import machine_units
-    return machine_units(args)
+    return machine_units(args, base)
 
 
-def _sweep_table(rows, keys, limit: int, display=None) -> str:
+def _sweep_table(rows, keys, limit: int, display=None, angular: bool = True) -> str:
     """The first ``limit`` rows: the varied values (file units), the path's box, area and speeds in
-    ``display`` units (analytic.quantities.Display; None: SI)."""
+    ``display`` units (analytic.quantities.Display; None: SI); with ``--forces`` the peak joint force, the
+    peak drive (a torque for a turning input, ``angular``, else a force) and the energy per cycle [J]."""
     from analytic.quantities import SI
+    from sim.service.sweep_forces import FORCE_FIGURES
     u = display or SI
     f, L, V = u.factor("length"), u.unit("length"), u.unit("velocity")
+    with_forces = any(FORCE_FIGURES[0] in r.values for r in rows)
+    dq = "torque" if angular else "force"
     head = " ".join(f"{k:>10s}" for k in keys) + (
         f" {f'x range [{L}]':>21s} {f'y range [{L}]':>21s} {f'area [{L}^2]':>12s} {f'|v| mean [{V}]':>16s} "
         f"{'min':>8s} {'max':>8s} {'fluct.':>7s}")
+    if with_forces:
+        F, D = u.unit("force"), u.unit(dq)
+        head += (f" {f'peak |F| [{F}]':>16s} {f'peak drive [{D}]':>18s} "
+                 f"{'energy/cycle [J]':>17s}")
     lines = [head]
     for r in rows[:limit]:
         p = " ".join(f"{r.params[k]:10.5g}" for k in keys)
@@ -92,7 +124,10 @@ def _sweep_table(rows, keys, limit: int, display=None) -> str:
              if k in studies.STATS}                         # lengths, speeds: f; the area f^2
         lines.append(f"{p} {v['x_min']:10.5g}..{v['x_max']:<9.5g} {v['y_min']:10.5g}..{v['y_max']:<9.5g} "
                      f"{v['area']:12.4e} {v['speed_mean']:16.5g} {v['speed_min']:8.5g} {v['speed_max']:8.5g} "
-                     f"{v['fluctuation']:7.4f}")
+                     f"{v['fluctuation']:7.4f}" + (
+                         f" {u.convert('force', r.values['peak_joint_force']):16.5g} "
+                         f"{u.convert(dq, r.values['peak_drive']):18.5g} {r.values['energy_per_cycle']:17.5g}"
+                         if with_forces else ""))
     if len(rows) > limit:
         lines.append(f"... {len(rows) - limit} more rows (--csv writes them all, --show N prints more)")
     return "\n".join(lines)
