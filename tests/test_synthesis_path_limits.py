@@ -186,7 +186,7 @@ def test_budget_is_a_hard_wall_clock_limit(tmp_path):
     loaded machine slows both alike."""
     data = __import__("pathlib").Path(__file__).resolve().parents[1] / "benchmarks" / "data" / "path_ullah.csv"
     t0 = time.monotonic()
-    subprocess.run([sys.executable, "-c", "import sim.design_service, scipy.optimize, mujoco, "
+    subprocess.run([sys.executable, "-c", "import sim.service.design, scipy.optimize, mujoco, "
                     "sim.front.cli"], check=True, timeout=120)
     startup = time.monotonic() - t0
     t0 = time.monotonic()

@@ -37,7 +37,7 @@ class ForceRun:
     """The kinetostatics with the file's and the command line's loads (:class:`analytic.loads.kinetostatics.Loaded`)."""
     loadset: object = None
     energy: dict | None = None
-    """Each load's work per cycle, friction's dissipation and the energy balance (sim.loads.energy_of)."""
+    """Each load's work per cycle, friction's dissipation and the energy balance (sim.service.loads.energy_of)."""
 
 
 def check_forces_singular(mech: Mechanism, q: np.ndarray, sol=None) -> None:
