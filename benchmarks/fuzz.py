@@ -20,6 +20,7 @@ import io
 import json
 import os
 import random
+import re
 import resource
 import signal
 import sys
@@ -175,7 +176,7 @@ def option_case(argv: list[str], folder: Path) -> str:
         return "TRACEBACK"
     if code == 2 and not (1 <= len(lines) <= 2):
         return "EXIT 2 WITHOUT ONE LINE"
-    if code not in (0, 2):
+    if code not in (0, 1, 2):
         return f"EXIT {code}"
     for name in set(os.listdir(folder)) - before:
         os.remove(folder / name) if (folder / name).is_file() else None
@@ -193,6 +194,100 @@ def option_sets(rng: random.Random, n: int):
         if cmd == "export":
             opts = ["--toml", "out.toml"] + [o for k, o in enumerate(opts) if opts[k - 1] == "--set" or o == "--set"]
         yield [cmd, mech, *opts]
+
+
+# ----------------------------------------------------------------- issue 32: the newer surfaces
+PEERS = ROOT / "tests" / "peers_examples"
+HOSTILE_JSON = ['{"2": ' + "[" * 50_000 + "]" * 50_000 + "}", '{"2": {"m": ' + "9" * 5001 + ', "cx": 0, "cy": 0, "I": 1}}',
+                '{"2": {"m": 1, "cx": 0, "cy": 0, "I": ' + "9" * 400 + "}}", '{"2": {"m": NaN, "cx": 0, "cy": 0, "I": 1}}',
+                '{"2": {"m": 1e308, "cx": 0, "cy": 0, "I": 1}}', '{"2": {"m": "a"}}', "[1, 2]", "", "\xff",
+                '{"9": {"m": 1, "cx": 0, "cy": 0, "I": 1}}', '{"2": {"m": 1, "cx": 0, "cy": 0, "I": 0.01}}']
+HOSTILE_CSV = ["omega;tau\n0;2\n100;0\n", "omega,tau\n0," + "1" * 200_000 + "\n100,0\n", "omega,tau\n0,2\xb0\n100,0\n",
+               "", "omega,tau\n", "omega,tau\n0,1e308\n100,0\n", "omega,tau\nnan,2\n100,0\n", "rpm,tau\n0,2\n1000,0\n",
+               "omega,tau\n0,2\n100,0\n", "omega,tau\n0,2\n0,0\n", "omega,tau\n0," + "9" * 5001 + "\n100,0\n",
+               "x,y\n0,0\n1,0.2\n2,0.1\n3,-0.4\n", "x;y\n0;0\n1;0.2\n2;0.1\n3;-0.4\n", "x,y\n0,0\n0,0\n0,0\n0,0\n",
+               "x,y\n0," + "1" * 200_000 + "\n1,0\n2,0\n3,1\n"]
+VALUES = ["2,150rpm", "2,15.7rad/s", "1e308,1", "2,inf", "2,-5", "0,0", "2", "a,b", "2,150rpm,3", "-2,150", "1e-300,1e-300",
+          "9" * 400 + ",1", "2,150furlong", "2,1e308"]
+SCALARS = ["0", "-1", "1e308", "inf", "nan", "1e-300", "0.01", "30deg", "10000kg*mm^2", "x", "9" * 400, "0.5", "150rpm"]
+SURFACE_OPTIONS = {
+    "forces": [["--inertia", "in.json"], ["--samples", "SCALAR"], ["--gravity", "0,SCALAR"], ["--force", "SCALAR,0"],
+               ["--cutting-force", "SCALAR"], ["--balance"], ["--balance", "2,9"], ["--csv", "in.json"], ["--csv", "f.csv"],
+               ["--json"], ["--csv", "LIBRARY/x.csv"], ["--csv", "a\nb.csv"], ["--revolutions", "SCALAR"]],
+    "dynamics": [["--motor", "VALUE"], ["--motor-table", "table.csv"], ["--flywheel", "SCALAR"], ["--start-speed", "SCALAR"],
+                 ["--target-fluctuation", "SCALAR"], ["--inertia", "in.json"], ["--csv", "table.csv"], ["--plot", "d.png"],
+                 ["--csv", "d.csv"], ["--revolutions", "SCALAR"], ["--json"], ["--plot", "LIBRARY/d.png"]],
+    "synthesize": [["--popsize", "SCALAR"], ["--seed", "SCALAR"], ["--budget", "SCALAR"], ["--restarts", "SCALAR"],
+                   ["--min-transmission", "SCALAR"], ["--max-ratio", "SCALAR"], ["--region", "SCALAR"], ["--units", "mm"],
+                   ["--out", "t.csv"], ["--out", "LIBRARY/s.toml"], ["--out", "s.toml"], ["--plot", "t.csv"],
+                   ["--designs", "SCALAR"], ["--type", "sixbar"]],
+    "import": [["--input", "0,1"], ["--input", "SCALAR,1"], ["--units", "cm"], ["--out", "src.txt"], ["--out", "LIBRARY/i.toml"],
+               ["--out", "i.toml"], ["--out", "a\nb.toml"]],
+}
+
+
+def surface_cases(rng: random.Random, n: int):
+    """(argv, files to write first): the newer commands with hostile options and input files."""
+    from analytic.registry import LIBRARY as lib
+    sources = [p for p in sorted(PEERS.iterdir()) if p.suffix in (".txt", ".pyslvs")]
+    for _ in range(n):
+        cmd = rng.choice(list(SURFACE_OPTIONS))
+        files = {"in.json": rng.choice(HOSTILE_JSON), "table.csv": rng.choice(HOSTILE_CSV), "t.csv": rng.choice(HOSTILE_CSV)}
+        opts = [o for _ in range(rng.randint(1, 3)) for o in rng.choice(SURFACE_OPTIONS[cmd])]
+        opts = [o.replace("SCALAR", rng.choice(SCALARS)).replace("VALUE", rng.choice(VALUES))
+                .replace("LIBRARY", str(lib)) for o in opts]
+        if cmd == "forces":
+            argv = ["forces", rng.choice(["fourbar", "sixbar", "slider_crank", "fivebar"]), *opts]
+        elif cmd == "dynamics":
+            if "--motor" not in opts and "--motor-table" not in opts:
+                opts = ["--motor", rng.choice(VALUES)] + opts
+            argv = ["dynamics", rng.choice(["fourbar", "slider_crank"]), "--revolutions", "2", *opts]
+        elif cmd == "synthesize":
+            argv = ["synthesize", "path", "t.csv", "--budget", "2", "--restarts", "1", "--generations", "2", *opts]
+        else:
+            src = rng.choice(sources)
+            text = src.read_text()
+            nums = list(re.finditer(r"-?\d+(\.\d+)?", text))
+            for _ in range(rng.randint(0, 2)):
+                m = rng.choice(nums)
+                text = text[:m.start()] + rng.choice(SCALARS + ["1e999", "-0", ""]) + text[m.end():]
+                nums = list(re.finditer(r"-?\d+(\.\d+)?", text))
+            name = "src" + src.suffix
+            files[name] = text
+            argv = ["import", name, *(opts if "--out" in opts else ["--out", "i.toml", *opts])]
+        yield argv, files
+
+
+def _is_output(argv: list[str], name: str) -> bool:
+    """Whether ``name`` appears only as an output of ``argv`` (a file the command may write)."""
+    outs = {argv[i + 1] for i, a in enumerate(argv[:-1]) if a in ("--csv", "--out", "--plot", "--render", "--toml")}
+    ins = {argv[i + 1] for i, a in enumerate(argv[:-1]) if a in ("--inertia", "--motor-table")} | {
+        a for i, a in enumerate(argv) if i and not argv[i - 1].startswith("--") and not a.startswith("--")}
+    return name in outs and name not in ins
+
+
+def surface_case(argv: list[str], files: dict, folder: Path) -> str:
+    """One run of the newer surfaces: handled if exit 0/1, or 2 with one line; the inputs byte-identical,
+    nothing written into the library, no temporary left."""
+    from analytic.registry import LIBRARY as lib
+    for name in list(os.listdir(folder)):
+        (folder / name).unlink()
+    for name, text in files.items():
+        (folder / name).write_bytes(text.encode("utf-8", "surrogateescape") if "\xff" not in text and "\xb0" not in text
+                                    else text.encode("latin-1", "replace"))
+    before = {n: (folder / n).read_bytes() for n in os.listdir(folder) if n in argv and not _is_output(argv, n)}
+    library = sorted(os.listdir(lib))
+    cls = option_case(argv, folder)
+    if any((folder / n).read_bytes() != b for n, b in before.items() if (folder / n).exists()) or \
+            any(not (folder / n).exists() for n in before):
+        return "INPUT OVERWRITTEN"
+    if sorted(os.listdir(lib)) != library:
+        for n in set(os.listdir(lib)) - set(library):
+            (lib / n).unlink()
+        return "WROTE INTO THE LIBRARY"
+    if any(n.startswith(".") for n in os.listdir(folder)):
+        return "TEMPORARY LEFT"
+    return cls if cls != "exit 1" else "exit 1 (verdict)"
 
 
 # ------------------------------------------------------------------------------------------- app
@@ -248,6 +343,7 @@ def main(argv=None) -> int:
     ap.add_argument("--files", type=int, default=1500)
     ap.add_argument("--options", type=int, default=450)
     ap.add_argument("--requests", type=int, default=500)
+    ap.add_argument("--surfaces", type=int, default=300, help="issue 32: forces, dynamics, synthesis, import cases")
     args = ap.parse_args(argv)
     import warnings
     warnings.simplefilter("ignore", RuntimeWarning)
@@ -284,6 +380,16 @@ def main(argv=None) -> int:
         finally:
             os.chdir(cwd)
         stray = sorted(os.listdir(folder))
+    with tempfile.TemporaryDirectory() as tmp:
+        folder = Path(tmp)
+        cwd = os.getcwd()
+        os.chdir(folder)
+        try:
+            for argv_, files_ in surface_cases(rng, args.surfaces):
+                cls, s = _timed(lambda: surface_case(argv_, files_, folder))
+                record("surfaces", cls if s <= CASE_SECONDS else "SLOW", s, " ".join(argv_))
+        finally:
+            os.chdir(cwd)
     if stray:
         report["options"]["FILES LEFT BEHIND"] += len(stray)
     from sim.front import app

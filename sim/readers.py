@@ -20,10 +20,11 @@ MAX_BYTES = 16 * 1024 * 1024
 def read_text(option: str, path: str, what: str = "file") -> str:
     """The UTF-8 text of a regular file of at most MAX_BYTES (a device, a pipe or a folder refused first)."""
     where = f"{option} {path}" if option else str(path)
+    as_what = " as JSON" if what == "JSON file" else ""        # the words --inertia's message always had
     try:
         st = os.stat(path)
     except OSError as exc:
-        raise ParameterError(f"{where}: cannot read it ({exc.strerror or exc})") from None
+        raise ParameterError(f"{where}: cannot read it{as_what} ({exc.strerror or exc})") from None
     if not stat.S_ISREG(st.st_mode):
         raise ParameterError(f"{where} is not a regular file; give a {what}")
     if st.st_size > MAX_BYTES:
@@ -32,7 +33,7 @@ def read_text(option: str, path: str, what: str = "file") -> str:
         with open(path, "rb") as f:
             raw = f.read(MAX_BYTES + 1)
     except OSError as exc:
-        raise ParameterError(f"{where}: cannot read it ({exc.strerror or exc})") from None
+        raise ParameterError(f"{where}: cannot read it{as_what} ({exc.strerror or exc})") from None
     try:
         return raw.decode("utf-8-sig")
     except UnicodeDecodeError as exc:

@@ -115,3 +115,27 @@ def test_least_squares_counterweights_do_not_depend_on_the_sample_count():
     for a, b in zip(coarse, fine):
         # as the RMS above: 1e-7 of the counterweight's moment m r; the unweighted fit moves it ~1e-3
         assert math.hypot(a.m * a.u - b.m * b.u, a.m * a.v - b.m * b.v) < 1e-7 * math.hypot(b.m * b.u, b.m * b.v)
+
+
+def test_the_sheets_mean_drive_power_of_a_run_without_loads_is_zero():
+    """No loads, constant speed: the drive only trades kinetic energy with the links, so over a turn its
+    mean power is zero, on the first turn as on the second; and the swing of the flywheel energy is the
+    swing of the links' kinetic energy (the power's integral, by the work-energy theorem)."""
+    from sim import service
+    from sim.output.plot import drive_power
+    mech = service.load("fourbar", {})
+    for revolutions in (1.0, 2.0):
+        built, c = service.compare(mech, revolutions)
+        power, mean, swing = drive_power(c, built)
+        peak = float(np.max(np.abs(power)))
+        # one turn of 252 steps of a smooth periodic power: the trapezoid over exactly T leaves ~1e-7 of the
+        # peak; averaged over the run (slightly more than a turn, as the sheet did) it read ~3e-3 of it
+        assert abs(mean) < 1e-5 * peak, (revolutions, mean, peak)
+    from analytic.applications import motor
+    from sim.model import body_inertias
+    reduced = motor.reduce(built.mech, body_inertias(built.model, mech.links), 0.0)
+    u = np.linspace(0.0, 2 * np.pi, 20001)
+    w = built.mech.inputs[0].motion.rate
+    # the links' kinetic energy 1/2 J(u) w^2 from the reduced inertia (kinematic coefficients, not the
+    # inverse dynamics); the power sampled every 0.025 rad misses the extrema by ~(0.025)^2 / 8: 1e-3
+    assert swing == pytest.approx(0.5 * w * w * float(np.ptp(reduced.J(u))), rel=1e-3)

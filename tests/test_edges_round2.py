@@ -176,3 +176,30 @@ def test_ctrl_c_while_a_compiled_module_initialises_is_one_line(monkeypatch, cap
     monkeypatch.setattr(cli, "cmd_list", broken)
     with pytest.raises(ImportError):
         cli.main(["list"])
+
+
+@pytest.mark.parametrize("option, pattern", [
+    (["--popsize", "4"], r"--popsize 4 must be an integer in 5\.\.10,000"),
+    (["--seed", "-1"], r"--seed -1 must be an integer in 0\.\."),
+    (["--budget", "inf"], r"--budget inf must be a number of seconds in \(0, 604800\]"),
+    (["--restarts", "100000000"], r"--restarts 100000000 must be an integer in 1\.\.10,000"),
+    (["--designs", "1000"], r"--designs 1000 must be an integer in 1\.\.100"),
+])
+def test_synthesis_options_that_would_crash_or_never_end_are_refused(tmp_path, option, pattern):
+    (tmp_path / "t.csv").write_text(TARGETS)
+    r = run(tmp_path, "synthesize", "path", "t.csv", *option, timeout=60)
+    assert r.returncode == 2 and "Traceback" not in r.stderr, r.stderr[-500:]
+    assert re.fullmatch(r"linkage: error: " + pattern + r".*\n", r.stderr), r.stderr
+
+
+@pytest.mark.parametrize("old, new, pattern", [("P[12.5, 21.6506]", "P[12.5, 1e999]", r"pose\.J1\[1\] = inf"),
+                                               ("P[80.0, 0.0]", "P[-1e999, 0.0]", r"pose\.J3\[0\] = -inf")])
+def test_an_import_refuses_a_coordinate_that_is_not_finite(tmp_path, old, new, pattern):
+    from pathlib import Path
+    src = (Path(__file__).parent / "peers_examples" / "fourbar.pyslvs").read_text()
+    assert old in src
+    (tmp_path / "m.pyslvs").write_text(src.replace(old, new, 1))
+    r = run(tmp_path, "import", "m.pyslvs", "--out", "m.toml")
+    assert r.returncode == 2 and len(r.stderr.strip().splitlines()) == 1, r.stderr
+    assert re.search(pattern, r.stderr), r.stderr
+    assert not (tmp_path / "m.toml").exists()

@@ -80,3 +80,29 @@ def test_the_bounds_are_the_documented_ones():
     test above would move with it."""
     from sim.run.compare import DRIVE_TOL, LOOP_TOL, WORK_TOL
     assert (LOOP_TOL, DRIVE_TOL, WORK_TOL) == (1e-6, 1e-4, 1e-3)
+
+
+@pytest.fixture(scope="module")
+def motor_run():
+    from analytic.applications.motor import LinearMotor
+    from sim import service
+    from sim.model import Loads
+    from sim.run import motor as smotor
+    mech = service.load("fourbar", {})
+    d = smotor.dynamics(mech, Loads(), LinearMotor(2.0, 15.7), None, None, 0.0, 4.0)
+    assert d.agreement.passed
+    return d
+
+
+@pytest.mark.parametrize("field, tol_name", [("mean_speed", "SPEED_TOL"), ("fluctuation", "CS_TOL")])
+@pytest.mark.parametrize("side", [1 - EPS, 1 + EPS])
+def test_a_motor_run_just_inside_agrees_and_just_outside_does_not(motor_run, field, tol_name, side):
+    """The dynamics verdict: MuJoCo's mean speed 1 % inside / outside its relative bound, its Cs 1 % inside /
+    outside its absolute bound, the rest of the run as measured."""
+    from sim.run import motor as smotor
+    d = motor_run
+    tol = getattr(smotor, tol_name)
+    ref = getattr(d.run, field)
+    value = ref * (1 + side * tol) if field == "mean_speed" else ref + side * tol
+    a = smotor.agreement(d.run, replace(d.sim, **{field: value}))
+    assert a.passed is (side < 1), (field, a)

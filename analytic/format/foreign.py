@@ -96,6 +96,24 @@ def _size(form: dict) -> float:
     return max((math.dist(a, b) for i, a in enumerate(xy) for b in xy[i + 1:]), default=0.0)
 
 
+MAX_MAGNITUDE = 1e12
+"""The largest coordinate or angle read from another tool's file (as every number of a mechanism file)."""
+
+
+def _check_numbers(form, source: str, where: str = "") -> None:
+    """Every number of the converted table finite and of magnitude <= MAX_MAGNITUDE (a coordinate written
+    nan, inf or 1e999 in the source is refused, naming it, rather than imported)."""
+    if isinstance(form, dict):
+        for k, v in form.items():
+            _check_numbers(v, source, f"{where}.{k}" if where else str(k))
+    elif isinstance(form, (list, tuple)):
+        for i, v in enumerate(form):
+            _check_numbers(v, source, f"{where}[{i}]")
+    elif isinstance(form, float) and not (math.isfinite(form) and abs(form) <= MAX_MAGNITUDE):
+        raise FileError(f"{source}: {where} = {form!r} is not a finite number of magnitude <= {MAX_MAGNITUDE:g}; "
+                        f"fix the value in the source")
+
+
 def read(path: str | Path, inputs: list[tuple[int, int]] | None = None, units: str = DEFAULT_UNITS,
          kind: str | None = None) -> dict:
     """The links-and-joints table of another tool's file (see the module docstring); ``inputs`` (Pyslvs
@@ -124,6 +142,7 @@ def read(path: str | Path, inputs: list[tuple[int, int]] | None = None, units: s
         form = pmks.to_form(_text(raw, source), source)
     if not form["inputs"]:
         raise FileError(f"{source}: the project has no input; give one with --input BASE,DRIVER")
+    _check_numbers(form, source)
     size = _size(form)
     for item in form["inputs"]:                        # each at its kind's default rate
         rate, value = kinds.get(item["kind"]).default_rate(size)

@@ -109,6 +109,12 @@ class _Frame:
 
 
 # -------------------------------------------------------------------------------------------- reading
+def _short(value, limit: int = 60) -> str:
+    """``repr(value)`` cut to ``limit`` characters (a message stays one readable line)."""
+    text = repr(value)
+    return text if len(text) <= limit else text[:limit - 3] + "..."
+
+
 def _fail(source: str, where: str, what: str) -> FileError:
     return FileError(f"{source}: {where}: {what}")
 
@@ -133,13 +139,13 @@ def _array(data, key: str, source: str) -> list:
 
 def _point_name(v, source: str, where: str) -> str:
     if not (isinstance(v, str) and expr.NAME.match(v)):
-        raise _fail(source, where, f"{v!r} must be a point name (letters, digits and _, starting with a letter)")
+        raise _fail(source, where, f"{_short(v)} must be a point name (letters, digits and _, starting with a letter)")
     return v
 
 
 def _link_name(v, source: str, where: str) -> str:
     if not (isinstance(v, str) and LINK_NAME.match(v)):
-        raise _fail(source, where, f"{v!r} must be a link name (letters, digits and _)")
+        raise _fail(source, where, f"{_short(v)} must be a link name (letters, digits and _)")
     return v
 
 

@@ -462,13 +462,13 @@ def _scalar(value, what: str, source: str):
 
 def _name(value, what: str, source: str) -> str:
     if not (isinstance(value, str) and expr.NAME.match(value)):
-        raise FileError(f"{source}: {what}: {value!r} must be a name (letters, digits and _)")
+        raise FileError(f"{source}: {what}: {_short(value)} must be a name (letters, digits and _)")
     return value
 
 
 def _link_name(value, what: str, source: str) -> str:
     if not (isinstance(value, str) and LINK_NAME.match(value)):
-        raise FileError(f"{source}: {what}: {value!r} must be a link name (letters, digits and _)")
+        raise FileError(f"{source}: {what}: {_short(value)} must be a link name (letters, digits and _)")
     return value
 
 
@@ -630,7 +630,7 @@ def _parameter_kinds(source: str, params: dict, ground: dict, elements: list[Ele
     for g, xy in ground.items():
         for v in xy:
             if isinstance(v, bool) or not isinstance(v, (int, float, str)):
-                raise _fail(source, f"ground.{g}", f"{v!r} must be a number, a parameter name or an expression")
+                raise _fail(source, f"ground.{g}", f"{_short(v)} must be a number, a parameter name or an expression")
             use(v, "length", f"ground.{g}")
     for e in elements:
         for fname, fld in kinds.get(e.kind).fields.items():
@@ -671,7 +671,7 @@ def _parameter_kinds(source: str, params: dict, ground: dict, elements: list[Ele
                 if missing:
                     raise _fail(source, f"parameters.{p}", f"{sorted(missing)[0]!r} is not a parameter")
             elif q[1] and measured.get(p) == "length":
-                raise _fail(source, f"parameters.{p}", f"{value!r} is an angle but {p} is used as a length")
+                raise _fail(source, f"parameters.{p}", f"{_short(value)} is an angle but {p} is used as a length")
     return {p: measured.get(p, "number") for p in params}
 
 
@@ -762,7 +762,7 @@ def resolve(d: Definition, values: dict[str, float]) -> Geometry:
             q = expr.quantity(v)
             if q is not None:
                 if q[1] and kind == "length":
-                    raise ParameterError(f"{d.source}: {where}: {v!r} is an angle where a length is expected")
+                    raise ParameterError(f"{d.source}: {where}: {_short(v)} is an angle where a length is expected")
                 x = q[0]
             else:
                 try:
@@ -770,7 +770,7 @@ def resolve(d: Definition, values: dict[str, float]) -> Geometry:
                 except ValueError as exc:
                     raise ParameterError(f"{d.source}: {where}: {exc}") from None
         if not math.isfinite(x):
-            raise ParameterError(f"{d.source}: {where}: {v!r} is not finite")
+            raise ParameterError(f"{d.source}: {where}: {_short(v)} is not finite")
         return x * k if kind == "length" else x
 
     ground = {g: (num(x, "length", f"ground.{g}"), num(y, "length", f"ground.{g}")) for g, (x, y) in d.ground.items()}

@@ -104,7 +104,7 @@ def sheet(c: Comparison, built, out: str, display=None):
         _error_panel(ax, x, c, units, title, xlabel, u)
     _summary_panel(axes[1, 3], c, built, u)
     _speed_panel(axes[2, 3], x, c, xlabel, colors, mech, u)
-    _torque_panels(axes[3], x, c, xlabel, colors, mech)
+    _torque_panels(axes[3], x, c, xlabel, colors, built)
     fig.suptitle(f"{mech.name}: MuJoCo simulation (markers) over the analytic solution (lines)", fontsize=14)
     from sim.output.fit import fit_titles
     fit_titles(fig)
@@ -218,12 +218,35 @@ def flywheel_energy(t: np.ndarray, power: np.ndarray, period: float) -> tuple[np
     return excess_energy(t, power, period)
 
 
-def _torque_panels(axes, x, c: Comparison, xlabel, colors, mech) -> None:
+def drive_power(c: Comparison, built) -> tuple[np.ndarray, float, float]:
+    """(the drives' power at each step [W], its mean over exactly the last turn [W], the flywheel's energy
+    swing over that turn [J]) of the design along its commanded motion: the inverse-dynamics drive forces
+    (the model's inertias, armature, gravity and load) at the commanded inputs times the commanded rates,
+    so that the servo's start-up ripple of the first turn does not count; averaged each instant once
+    (analytic.applications.cycle)."""
+    from dataclasses import replace
+
+    from analytic.applications import cycle
+    from sim.run.compare import analytic_forces
+    mech = built.mech
+    tr = c.trajectory
+    q, qd, qdd = mech.drive(tr.t)
+    commanded = {getattr(i, a): arr[:, k] for k, i in enumerate(mech.inputs)
+                 for a, arr in (("q", q), ("qd", qd), ("qdd", qdd))}
+    taus = analytic_forces(replace(tr, inputs={**tr.inputs, **commanded}), built, mech)
+    power = np.zeros_like(tr.t)
+    for k, i in enumerate(mech.inputs):
+        power = power + np.ravel(taus[f"tau{i.link}"]) * qd[:, k]
+    period = mech.duration(1.0)
+    _, energy = flywheel_energy(tr.t, power, period)
+    return power, cycle.period_mean(tr.t, power, period), float(np.ptp(energy))
+
+
+def _torque_panels(axes, x, c: Comparison, xlabel, colors, built) -> None:
     """Drive torque(s), simulated over analytic; their error; the flywheel energy; the figures."""
+    mech = built.mech
     tr = c.trajectory
     names = sorted(c.torques)
-    power = 0.0
-    qd_of = {f"tau{i.link}": i.qd for i in mech.inputs}
     for name, color in zip(names, colors):
         ref, sim = c.torques[name], tr.forces[name]
         link = mech.table[name].of
@@ -232,13 +255,12 @@ def _torque_panels(axes, x, c: Comparison, xlabel, colors, mech) -> None:
                      label=f"$\\tau_{{{link}}}$ MuJoCo")
         axes[1].plot(x, np.abs(sim - ref), color=color, lw=1.0, label=name)
         axes[1].axhline(c.errors[name]["tol"], color=color, ls="--", lw=0.8)
-        power = power + ref * tr.inputs[qd_of[name]]
     axes[0].set(title="Driving torque", xlabel=xlabel, ylabel="[N m]")
     axes[1].set(title="Torque error (dashed: tolerance)", xlabel=xlabel, ylabel="|MuJoCo - analytic| [N m]")
     axes[1].set_yscale("log")
     from analytic.applications import cycle
     period = mech.duration(1.0)
-    pw = np.broadcast_to(power, tr.t.shape)
+    pw, mean_power, _ = drive_power(c, built)
     te, energy = flywheel_energy(tr.t, pw, period)
     axes[2].plot(np.interp(te, tr.t, x), energy, color=colors[0], lw=1.6)
     axes[2].set(title=f"Flywheel: excess energy (swing {np.ptp(energy):.4g} J)", xlabel=xlabel,
@@ -254,7 +276,7 @@ def _torque_panels(axes, x, c: Comparison, xlabel, colors, mech) -> None:
         unit = c.errors[name]["unit"]
         lines.append(f"{name}: peak {np.max(np.abs(ref)):.4g} {unit}, "
                      f"RMS {cycle.period_rms(tr.t, ref, period):.4g} {unit}")
-    lines += [f"mean drive power {cycle.period_mean(tr.t, pw, period):.4g} W",
+    lines += [f"mean drive power {mean_power:.4g} W",
               f"flywheel energy swing {np.ptp(energy):.4g} J",
               f"work balance {c.work_balance:.2e} of the KE swing per revolution"]
     axes[3].text(0.0, 1.0, "\n".join(lines), va="top", family="monospace", fontsize=9, transform=axes[3].transAxes)

@@ -116,6 +116,14 @@ CHECK_RESERVE = (0.3, 0.5)
 """[s] Of a ``--budget``, the share kept for checking the returned designs (read back, solved, compared in
 MuJoCo): this plus this per design (a four-bar's checks take 0.1-0.2 s here), at most half the budget."""
 
+MAX_BUDGET = 7 * 24 * 3600.0
+"""[s] The longest --budget: a week (inf or 1e308 is no budget at all)."""
+OPTION_RANGES = {"seed": (0, 2 ** 32 - 1), "popsize": (5, 10_000), "restarts": (1, 10_000),
+                 "generations": (1, 1_000_000), "designs": (1, 100), "workers": (1, 1024)}
+"""What the search's integer options may be: numpy's seeds are 32-bit and non-negative, differential
+evolution needs a population of at least 5, and past these sizes a run would never end."""
+
+
 @dataclass(frozen=True)
 class PathOptions:
     """What a path synthesis run may change (SPEC, "Synthesis"): ``types`` (``--type``), ``seed``,
@@ -161,8 +169,8 @@ class PathOptions:
             raise ParameterError(f"--max-ratio {self.max_ratio} must be a number > 1")
         if not (self.region > 0 and math.isfinite(self.region)):
             raise ParameterError(f"--region {self.region} must be a number > 0 (target sizes)")
-        if self.budget is not None and not (self.budget > 0 and math.isfinite(self.budget)):
-            raise ParameterError(f"--budget {self.budget} must be > 0 seconds")
+        if self.budget is not None and not (0 < self.budget <= MAX_BUDGET):
+            raise ParameterError(f"--budget {self.budget:g} must be a number of seconds in (0, {MAX_BUDGET:g}]")
         if self.evaluations is not None and self.evaluations < 1:
             raise ParameterError(f"--evaluations {self.evaluations} must be >= 1")
         if self.evaluations is not None and self.budget is not None:
@@ -173,6 +181,10 @@ class PathOptions:
                                  f"(its crank turns fully by --min-transmission): drop --grashof")
         self.limits.check_names(tuple(dict.fromkeys(n for t in self.types for f in TYPES[t]
                                                      for n in FAMILIES[f].pivot_names)), f"--type {'/'.join(self.types)}")
+        for name, (least, most) in OPTION_RANGES.items():        # sizes that would never finish, or crash
+            v = getattr(self, name)
+            if v is not None and not least <= v <= most:
+                raise ParameterError(f"--{name} {v} must be an integer in {least}..{most:,}")
         return self
 
     @property
