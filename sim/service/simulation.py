@@ -274,11 +274,13 @@ def _fold_limit(mech: Mechanism, dead: float, end: float, floor: float, margin: 
 
 
 def simulate(mech: Mechanism, revolutions: float = 1.0, settings=None, loads=None, input_range=None):
-    """Build and run the MuJoCo model: returns (Built, Trajectory)."""
+    """Build and run the MuJoCo model: returns (Built, Trajectory). The motion over the run is solved once
+    (:class:`analytic.cycle.Cycle`) and handed to the model builder."""
+    from analytic.cycle import Cycle
     from sim.model import Loads, Settings, build
     from sim.run.simulate import simulate as run
     mech = prepare(mech, revolutions, input_range)
-    built = build(mech, settings or Settings(), loads or Loads(), revolutions)
+    built = build(mech, settings or Settings(), loads or Loads(), revolutions, cycle=Cycle.of(mech, revolutions))
     return built, run(built, revolutions)
 
 

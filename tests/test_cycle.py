@@ -1,0 +1,130 @@
+"""The motion solved once (analytic.cycle.Cycle, issue 30 item 2): what the cycle holds, checked against the
+mechanism's geometry by finite differences, and how many times a compare solves the mechanism (a structural
+count of Mechanism.solve calls, not a timing)."""
+
+from __future__ import annotations
+
+import collections
+import contextlib
+import math
+import traceback
+
+import numpy as np
+import pytest
+
+from analytic.cycle import Cycle
+from analytic.mechanism import Mechanism
+from sim import service
+
+
+@contextlib.contextmanager
+def counted():
+    """Count Mechanism.solve calls, each under the outermost project function it was made for: ``prepare``
+    (the run's checks), ``Cycle.of``, ``sim.model`` (the model builder), ``sim.run`` (the comparison)."""
+    counts: collections.Counter = collections.Counter()
+    original = Mechanism.solve
+
+    def solve(self, *a, **k):
+        stack = traceback.extract_stack()
+        names = [(f.filename.replace("\\", "/"), f.name) for f in stack]
+        if any(path.endswith("sim/service/simulation.py") and fn == "prepare" for path, fn in names):
+            counts["prepare"] += 1
+        elif any(path.endswith("analytic/cycle.py") and fn == "of" for path, fn in names):
+            counts["cycle"] += 1
+        elif any("/sim/model/" in path for path, _ in names):
+            counts["model"] += 1
+        elif any("/sim/run/" in path for path, _ in names):
+            counts["run"] += 1
+        else:
+            counts["other"] += 1
+        return original(self, *a, **k)
+
+    Mechanism.solve = solve
+    try:
+        yield counts
+    finally:
+        Mechanism.solve = original
+
+
+@pytest.mark.parametrize("name", ["fourbar", "stephenson_ii"])
+def test_a_compare_solves_the_motion_once_and_the_simulated_inputs_once(name):
+    # The cycle: one dense solve and one of the refined grid; the model builder none (it reads the cycle);
+    # the comparison one exact solve at the simulated inputs (its drive and joint forces read it too).
+    # The run's checks before it (prepare: full turn, singular poses, assembly) still solve on their own.
+    mech = service.load(name)
+    with counted() as n:
+        _, c = service.compare(mech, 1.0)
+    assert c.passed
+    assert n["cycle"] == 2, n
+    assert n["model"] == 0, n
+    assert n["run"] == 1, n
+    assert n["cycle"] + n["model"] + n["run"] + n["other"] <= 3, n
+
+
+def test_the_model_builder_never_solves_when_handed_a_cycle():
+    from sim.model import build
+    mech = service.load("jansen")
+    cycle = Cycle.of(mech, 1.0)
+    with counted() as n:
+        built = build(mech, cycle=cycle)
+    assert sum(n.values()) == 0, n
+    # and what it read is the pose at t = 0: the output point's site where the solver puts it
+    import mujoco
+    data = mujoco.MjData(built.model)
+    data.qpos[:] = built.qpos0
+    mujoco.mj_forward(built.model, data)
+    p = mech.output_point
+    sol = mech.solve(*mech.drive([0.0]))
+    site = data.site(p).xpos[:2]
+    assert math.hypot(site[0] - sol["x" + p][0], site[1] - sol["y" + p][0]) <= 1e-9 * mech.size   # rounding
+
+
+def test_the_cycle_spans_a_period_or_the_whole_run():
+    fourbar = service.load("fourbar")
+    c = Cycle.of(fourbar, 3.0)                       # constant speed: one turn repeats, one turn is solved
+    assert c.t[0] == 0.0 and c.t[-1] == pytest.approx(fourbar.duration(1.0), rel=1e-12)   # rounding
+    assert np.all(np.diff(c.t) > 0)
+    accelerating = service.load("fourbar", {"alpha1": 3.0})
+    c = Cycle.of(accelerating, 5.0)                  # it speeds up: every turn differs, the run is solved
+    assert c.t[-1] == pytest.approx(accelerating.duration(5.0), rel=1e-12)                # rounding
+    turned = c.q[-1, 0] - c.q[0, 0]
+    assert turned == pytest.approx(5 * 2 * math.pi, rel=1e-12)                              # rounding
+
+
+def test_the_refinement_gathers_at_the_peak_between_dense_samples():
+    # Whitworth with the lever pivot 0.2 mm inside the 150 mm crank circle: the lever's speed peaks at
+    # r omega / (r - c) (hand geometry) when the crank pin passes closest to the pivot, a peak ~1 mrad of
+    # crank angle wide that the dense 0.5 deg grid straddles.
+    mech = service.load("whitworth", {"c": 149.8, "phi1_0": 0.0043})
+    c = Cycle.of(mech, 1.0)
+    q = c.q[c.refined, 0]
+    assert len(q) > 0
+    r = c.rates()
+    k = int(np.nanargmax(r.max(axis=1)))
+    assert c.refined[k]                              # the fastest sample is a refined one
+    peak = 2 * math.pi * 150 / 0.2
+    assert float(r[k].max()) == pytest.approx(peak, rel=1e-3)     # the sample itself within 0.1 % of the top
+    dense = c.rates()[c.dense].max()
+    assert dense < 0.5 * peak                        # the dense grid alone misses it (why it is refined)
+
+
+@pytest.mark.parametrize("name", ["fourbar", "fivebar", "stephenson_ii", "slider_crank"])
+def test_the_velocity_coefficients_are_the_derivatives_of_the_positions(name):
+    # Each input's coefficient of a point's velocity is d(position)/d(input): central differences of the
+    # positions solved at q +- e (the others held) agree to O(e^2) (e = 1e-5 rad or 1e-5 of the size).
+    mech = service.load(name)
+    c = Cycle.of(mech, 1.0)
+    idx = c.dense[:: max(1, len(c.dense) // 40)]
+    for j, inp in enumerate(mech.inputs):
+        e = 1e-5 * (1.0 if inp.kind == "crank" else mech.size)
+        step = np.zeros(len(mech.inputs))
+        step[j] = e
+        plus = mech.solve(c.q[idx] + step)
+        minus = mech.solve(c.q[idx] - step)
+        for p in mech.points:
+            for axis in "xy":
+                fd = (plus[axis + p] - minus[axis + p]) / (2 * e)
+                got = c.coefficients[j]["v" + axis + p][idx]
+                scale = max(1e-12, float(np.max(np.abs(fd))))
+                # 1e-6 of the largest: the differences' truncation (e^2 ~ 1e-10) and rounding (1e-16 / e)
+                assert np.max(np.abs(got - fd)) <= 1e-6 * max(scale, mech.size), (name, p, axis)
