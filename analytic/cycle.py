@@ -1,10 +1,14 @@
 """The motion over the working range solved once: :class:`Cycle`.
 
 A run's preparation needs the motion many times over (the time step's rate scan and its peaks, the camera's
-framing, the rails, the initial pose, the drives' peak forces, the fold check). A cycle solves it once, on a
-dense grid of times, and refines it where it bends: near each rate's highest peaks and near the change
-points a dyad passes, in one more solve of the merged, sorted grid (one path, so a numerically solved group
-continues along it instead of re-tracing from the start). That second solve also gives the velocity
+framing, the rails, the initial pose, the drives' peak forces, the run's checks). A cycle solves it once, on
+a dense grid of times, and refines it where it bends: near each rate's highest peaks, in one more solve of
+the merged, sorted grid (one path, so a numerically solved group continues along it instead of re-tracing
+from the start). A lone crank turning at constant speed whose change points were searched for reads its
+peaks from that search's scan of the turn (analytic.solver.change_points.schedule_and_scan) instead of the
+dense solve, so its cycle is one solve. Change points themselves are not refined around: a dyad passes them
+smoothly (its rates are continuous there) and samples within ~1e-5 rad of one meet the closed form's
+rounding, not the motion. That second solve also gives the velocity
 coefficients of every input (its outputs with that input at unit rate, the others at rest, no
 acceleration: the virtual-work factors of :func:`analytic.applications.torque.drive_forces`), as rows
 interleaved with the motion's, so that each sample's pose is solved next to itself.
@@ -23,9 +27,10 @@ import numpy as np
 
 from analytic.solution import Solution
 
-SAMPLES = 720
-"""Samples per revolution of the dense grid (at most SAMPLES_MAX over a run): the rate scan of
-sim.model.timestep (RATE_SAMPLES) and a 0.5 deg grid for the figures."""
+SAMPLES = 3600
+"""Samples per revolution of the dense grid (at most SAMPLES_MAX over a run): the time step's rate scan
+(sim.model.timestep) and, for a crank turning at constant speed, the 0.1 deg scan of a turn that the run's
+checks read (analytic.applications.figures.SCAN: where it assembles, its singular poses)."""
 
 SAMPLES_MAX = 200_000
 
@@ -130,16 +135,24 @@ class Cycle:
         turns = max(1.0, span)
         t = np.linspace(0.0, end, int(min(SAMPLES * turns, SAMPLES_MAX)) + 1)
         q, qd, qdd = mech.drive(t)
-        dense = mech.solve(q, qd, qdd, outputs=rate_names(mech))
-        r = rates(mech, qd, qdd, dense)
+        scanned = _from_turn_scan(mech, end) if span == 1.0 else None
+        if scanned is not None:                  # the change points' scan of the turn, at unit rate
+            ts, r = scanned
+        else:
+            ts = t
+            r = rates(mech, qd, qdd, mech.solve(q, qd, qdd, outputs=rate_names(mech)))
         rows = np.empty(0, dtype=int)
         if np.isfinite(r).any():
             rows, _ = peaks(np.where(np.isfinite(r), r, -np.inf), min(64, int(math.ceil(PEAKS * turns))))
-        rows = np.unique(np.r_[rows, _change_point_samples(mech, q[:, 0])])
-        lo, hi = t[np.maximum(rows - 1, 0)], t[np.minimum(rows + 1, len(t) - 1)]
+        lo, hi = ts[np.maximum(rows - 1, 0)], ts[np.minimum(rows + 1, len(ts) - 1)]
         u = np.linspace(0.0, 1.0, 2 * REFINE + 1)[1:-1]
-        u = u[np.abs(u - 0.5) > 0.25 / REFINE]              # not again at the dense sample in the middle
         extra = (lo[:, None] + (hi - lo)[:, None] * u[None, :]).ravel()
+        extra = extra[(extra > 0.0) & (extra < end)]
+        gap = 1e-6 * end / len(t)                       # a refined sample this near another is dropped
+        extra = np.unique(extra)
+        extra = extra[np.r_[True, np.diff(extra) > gap]]
+        k = np.clip(np.searchsorted(t, extra), 1, len(t) - 1)
+        extra = extra[np.minimum(np.abs(extra - t[k - 1]), np.abs(t[k] - extra)) > gap]
         tt = np.unique(np.r_[t, extra])
         refined = ~np.isin(tt, t)
         q, qd, qdd = mech.drive(tt)
@@ -155,22 +168,49 @@ class Cycle:
         """:func:`rates` at every sample."""
         return rates(self.mech, self.qd, self.qdd, self.solution)
 
+    @property
+    def full_turn(self) -> bool:
+        """Whether the samples are one turn of a lone crank at constant speed: then they are also a scan of
+        the crank's turn (its values evenly spaced, every 1 / SAMPLES of a turn, and the refined ones)."""
+        mech = self.mech
+        if len(mech.inputs) != 1 or mech.inputs[0].kind != "crank":
+            return False
+        m = mech.inputs[0].motion
+        return m.rock is None and m.accel == 0.0 and m.rate != 0.0 and self.revolutions == 1.0
+
+    def turn_scan(self) -> tuple[np.ndarray, dict] | None:
+        """For a :attr:`full_turn`: (the crank's values ascending, from its start over a turn, {group label:
+        singularity measure} there), what analytic.applications.figures.singular_poses scans; else None."""
+        if not self.full_turn:
+            return None
+        from analytic.applications.figures import singularity
+        q = self.q[:, 0]
+        measures = singularity(self.mech, self.solution)
+        if q[-1] < q[0]:                                  # turning backwards: the same poses, in reverse
+            q, measures = q[::-1] + 2 * math.pi, {k: v[::-1] for k, v in measures.items()}
+        return q, measures
+
     def at_start(self) -> tuple[tuple[np.ndarray, np.ndarray, np.ndarray], Solution]:
         """The inputs and the solution at t = 0 (shapes (1, n_inputs) and (1,))."""
         return (self.q[:1], self.qd[:1], self.qdd[:1]), take(self.solution, slice(0, 1))
 
 
-def _change_point_samples(mech, q1: np.ndarray) -> np.ndarray:
-    """The dense samples next to which the first input (values ``q1``) passes a scheduled change point."""
-    at = [f for e in mech.solving_geometry.elements if e.get("flips") for f in e["flips"]["at"]]
-    if not at or len(q1) < 2:
-        return np.empty(0, dtype=int)
-    crank = mech.inputs[0].kind == "crank"
-    out = []
-    for f in at:
-        d = q1 - f
-        if crank:
-            d = np.mod(d + math.pi, 2 * math.pi) - math.pi
-        cross = np.flatnonzero((np.sign(d[1:]) != np.sign(d[:-1])) & (np.abs(d[1:] - d[:-1]) < math.pi))
-        out += [cross, cross + 1]
-    return np.unique(np.concatenate(out)) if out else np.empty(0, dtype=int)
+def _from_turn_scan(mech, end: float):
+    """For a lone crank turning at constant speed w over one turn (duration ``end``) whose change points'
+    scan is at hand (:attr:`analytic.mechanism.Mechanism.turn_scan`: the turn at unit rate): the scan's
+    times in the run ((q - q0) / w, wrapped into the turn: the turn's poses are the same) and the run's rates
+    there (:func:`rates`), the unit rate's scaled by |w| (velocities) and w^2 (accelerations, the input not
+    accelerating); else None."""
+    if len(mech.inputs) != 1 or mech.inputs[0].kind != "crank":
+        return None
+    m = mech.inputs[0].motion
+    if m.rock is not None or m.accel != 0.0 or m.rate == 0.0 or mech.turn_scan is None:
+        return None
+    q, sol = mech.turn_scan
+    w = abs(m.rate)
+    ts = np.mod((q - m.q0) / m.rate, end)
+    order = np.argsort(ts, kind="stable")
+    n = len(q)
+    r = rates(mech, np.full((n, 1), w), np.zeros((n, 1)), sol) * w      # |omega| w, sqrt(|alpha| w^2), ...
+    r[:, 0] = w                                                            # the input's own speed
+    return ts[order], r[order]

@@ -284,11 +284,21 @@ class Mechanism:
         return Solution(arrays, failed.reshape(shape), labels, aliases)
 
     @functools.cached_property
+    def _scheduled(self):
+        from analytic.solver.change_points import schedule_and_scan
+        return schedule_and_scan(self)
+
+    @property
     def solving_geometry(self) -> linkfile.Geometry:
         """The geometry the solver uses: :attr:`geometry` with the change points its dyads pass on their
         declared branch (:mod:`analytic.solver.change_points`), found once per mechanism."""
-        from analytic.solver.change_points import schedule
-        return schedule(self)
+        return self._scheduled[0]
+
+    @property
+    def turn_scan(self):
+        """The scan of the first input's turn that finding the change points solved (q, the solution there
+        at unit rate, on :attr:`solving_geometry`), or None where it solved none."""
+        return self._scheduled[1]
 
     def solve_at(self, t) -> tuple[tuple[np.ndarray, np.ndarray, np.ndarray], Solution]:
         """The inputs' motion at times ``t`` and the solution there."""

@@ -19,18 +19,18 @@ from sim import service
 
 @contextlib.contextmanager
 def counted():
-    """Count Mechanism.solve calls, each under the outermost project function it was made for: ``prepare``
-    (the run's checks), ``Cycle.of``, ``sim.model`` (the model builder), ``sim.run`` (the comparison)."""
+    """Count Mechanism.solve calls by what they were made for: ``cycle`` (in Cycle.of), ``prepare`` (the run's
+    checks, outside the cycle), ``model`` (sim.model, the model builder), ``run`` (sim.run, the comparison)."""
     counts: collections.Counter = collections.Counter()
     original = Mechanism.solve
 
     def solve(self, *a, **k):
         stack = traceback.extract_stack()
         names = [(f.filename.replace("\\", "/"), f.name) for f in stack]
-        if any(path.endswith("sim/service/simulation.py") and fn == "prepare" for path, fn in names):
-            counts["prepare"] += 1
-        elif any(path.endswith("analytic/cycle.py") and fn == "of" for path, fn in names):
+        if any(path.endswith("analytic/cycle.py") and fn == "of" for path, fn in names):
             counts["cycle"] += 1
+        elif any(path.endswith("sim/service/simulation.py") and fn == "prepare_run" for path, fn in names):
+            counts["prepare"] += 1
         elif any("/sim/model/" in path for path, _ in names):
             counts["model"] += 1
         elif any("/sim/run/" in path for path, _ in names):
@@ -46,19 +46,22 @@ def counted():
         Mechanism.solve = original
 
 
-@pytest.mark.parametrize("name", ["fourbar", "stephenson_ii"])
-def test_a_compare_solves_the_motion_once_and_the_simulated_inputs_once(name):
-    # The cycle: one dense solve and one of the refined grid; the model builder none (it reads the cycle);
-    # the comparison one exact solve at the simulated inputs (its drive and joint forces read it too).
-    # The run's checks before it (prepare: full turn, singular poses, assembly) still solve on their own.
+@pytest.mark.parametrize("name, cycle", [("fourbar", 1), ("jansen", 1), ("stephenson_ii", 2), ("double_butterfly", 2)])
+def test_a_compare_solves_the_mechanism_at_most_three_times(name, cycle):
+    # The run's checks (prepare) read the cycle; their one solve, where there is one, is the change points'
+    # scan of the turn (dyads), which the cycle then reads its rate peaks from (one solve: the refined grid);
+    # a numerically solved group has no such scan: its cycle solves a dense grid, then the refined one. The
+    # model builder solves nothing (it reads the cycle); the comparison solves the simulated inputs once
+    # (its drive and joint forces read that solve too).
     mech = service.load(name)
     with counted() as n:
         _, c = service.compare(mech, 1.0)
     assert c.passed
-    assert n["cycle"] == 2, n
+    assert n["cycle"] == cycle, n
     assert n["model"] == 0, n
     assert n["run"] == 1, n
-    assert n["cycle"] + n["model"] + n["run"] + n["other"] <= 3, n
+    assert n["other"] == 0, n
+    assert sum(n.values()) <= 3, n
 
 
 def test_the_model_builder_never_solves_when_handed_a_cycle():
@@ -105,7 +108,7 @@ def test_the_refinement_gathers_at_the_peak_between_dense_samples():
     peak = 2 * math.pi * 150 / 0.2
     assert float(r[k].max()) == pytest.approx(peak, rel=1e-3)     # the sample itself within 0.1 % of the top
     dense = c.rates()[c.dense].max()
-    assert dense < 0.5 * peak                        # the dense grid alone misses it (why it is refined)
+    assert dense < 0.9 * peak                        # the dense grid alone misses it by > 10 % (why it is refined)
 
 
 @pytest.mark.parametrize("name", ["fourbar", "fivebar", "stephenson_ii", "slider_crank"])

@@ -13,13 +13,17 @@ from analytic.mechanism import Mechanism
 from sim.service.analysis import check_range, check_revolutions, check_turns_fully
 
 
-def check_singular(mech: Mechanism) -> None:
+def check_singular(mech: Mechanism, cycle=None) -> None:
     """Refuse a run whose first input would carry a group through a singular (change-point) pose,
-    naming the input value: the simulation cannot tell the branches apart there."""
+    naming the input value: the simulation cannot tell the branches apart there. ``cycle``: the run's
+    (analytic.cycle.Cycle), whose poses are read instead of solving them again."""
     if len(mech.inputs) != 1:
         from analytic.applications import figures
-        t = np.linspace(0.0, mech.duration(1.0), 2001)
-        sol = mech.solve(*mech.drive(t))
+        if cycle is not None:
+            sol = cycle.solution
+        else:
+            t = np.linspace(0.0, mech.duration(1.0), 2001)
+            sol = mech.solve(*mech.drive(t))
         m, where = figures.min_singularity(mech, sol)
         if m < figures.SINGULAR:
             raise ParameterError(f"the {mech.name} passes through a singular pose ({where} folds): its motion is "
@@ -33,8 +37,14 @@ def check_singular(mech: Mechanism) -> None:
         raise ParameterError(f"the {mech.name} starts at a change point ({first.q}={shown}, where a dyad's links "
                              f"align): the loops' equations are singular there at the simulation's first step; "
                              f"start it a little away (e.g. {first.parameters[0] or 'its start'} = 1deg)")
-    check_change_swing(mech)
-    poses = [p for p in figures.singular_poses(mech) if not passes_smoothly(mech, p[1], p[0])]
+    check_change_swing(mech, cycle)
+    scan = cycle.turn_scan() if cycle is not None else None
+    if scan is not None and cycle.solution.valid.all():   # a full turn that assembles: its scan is the cycle's
+        lo, hi = figures._first_range(mech)
+        found = figures.singular_poses(mech, ranges=[(lo, hi)], scan=scan)
+    else:
+        found = figures.singular_poses(mech)
+    poses = [p for p in found if not passes_smoothly(mech, p[1], p[0])]
     if poses:
         first = mech.inputs[0]
         x, label, _ = poses[0]
@@ -57,14 +67,18 @@ passes; a Peaucellier cell whose rhombus stays within 1.9 deg of flat (0.033) ov
 change points, opened its loops by 6 mm (the trust benchmark's seed 1, design 832)."""
 
 
-def check_change_swing(mech: Mechanism) -> None:
-    """Refuse a run in which a dyad passing change points stays near its fold over the whole turn."""
+def check_change_swing(mech: Mechanism, cycle=None) -> None:
+    """Refuse a run in which a dyad passing change points stays near its fold over the whole turn (its poses
+    read from the run's ``cycle`` where given)."""
     flipping = [e["label"] for e in mech.solving_geometry.elements if e.get("flips")]
     if not flipping:
         return
     from analytic.applications import figures
-    t = np.linspace(0.0, mech.duration(1.0), 2001)
-    measures = figures.singularity(mech, mech.solve(*mech.drive(t)))
+    if cycle is not None:
+        measures = figures.singularity(mech, cycle.solution)
+    else:
+        t = np.linspace(0.0, mech.duration(1.0), 2001)
+        measures = figures.singularity(mech, mech.solve(*mech.drive(t)))
     for label in flipping:
         m = measures.get(label)
         if m is not None and np.any(np.isfinite(m)) and float(np.nanmax(m)) < CHANGE_SWING:
@@ -142,6 +156,13 @@ def passes_smoothly(mech: Mechanism, label: str, x: float) -> bool:
 
 def prepare(mech: Mechanism, revolutions: float, input_range=None) -> Mechanism:
     """Checks before any simulation: revolutions, full turn or rocking range, singular poses."""
+    return prepare_run(mech, revolutions, input_range)[0]
+
+
+def prepare_run(mech: Mechanism, revolutions: float, input_range=None):
+    """:func:`prepare`'s checks, and the motion of the run solved once (:class:`analytic.cycle.Cycle`), which
+    they read: (the mechanism as it will run, its cycle)."""
+    from analytic.cycle import Cycle
     check_revolutions(revolutions)
     if input_range is not None:
         lo, hi = check_range(mech, *input_range)
@@ -155,15 +176,22 @@ def prepare(mech: Mechanism, revolutions: float, input_range=None) -> Mechanism:
                 raise ParameterError(f"{exc}; while the first input rocks, the others keep their own motion "
                                      f"(give one omega = 0 in the file to hold it at its start)") from None
         mech.check_assembles(q)
-        check_fold(mech)
-        return mech
+        cycle = Cycle.of(mech, revolutions)
+        check_fold(mech, cycle)
+        return mech, cycle
     mech = clear_of_change_point(mech)
-    check_turns_fully(mech)
-    check_singular(mech)
-    t = np.linspace(0.0, mech.duration(min(revolutions, 1.0) if len(mech.inputs) == 1 else revolutions), 2001)
-    check_folded_change_points(mech, mech.drive(t)[0][:, 0])      # before a sample that lands on one
-    mech.check_assembles(mech.drive(t)[0])
-    return mech
+    try:
+        cycle = Cycle.of(mech, revolutions)
+    except ParameterError:                        # (a motion that does not move) the checks say first what they see
+        cycle = None
+    check_turns_fully(mech, cycle)
+    check_singular(mech, cycle)
+    if cycle is None:
+        cycle = Cycle.of(mech, revolutions)
+    check_folded_change_points(mech, cycle.q[:, 0])      # before a sample that lands on one
+    if not cycle.solution.valid.all():
+        mech.check_assembles(cycle.q)
+    return mech, cycle
 
 
 def check_folded_change_points(mech: Mechanism, q1: np.ndarray) -> None:
@@ -196,13 +224,13 @@ def _visited(first, q1: np.ndarray, x: float) -> bool:
     return x + 2 * math.pi * k <= hi + tol
 
 
-def check_fold(mech: Mechanism) -> None:
+def check_fold(mech: Mechanism, cycle=None) -> None:
     """Refuse a rocking run that comes so close to a dead point that the simulation cannot meet compare's
     tolerances there (:data:`sim.model.timestep.FOLD_FLOOR`, ``FOLD_MARGIN``), naming how far inside to
     stay and the range that can be run (rounded inward)."""
     from analytic.applications import figures
     from sim.model.timestep import FOLD_FLOOR, FOLD_MARGIN, fold_measure
-    m, label = fold_measure(mech)
+    m, label = fold_measure(mech, cycle=cycle)
     lo, hi = mech.rock
     first = mech.inputs[0]
     crank = first.kind == "crank"
@@ -276,11 +304,10 @@ def _fold_limit(mech: Mechanism, dead: float, end: float, floor: float, margin: 
 def simulate(mech: Mechanism, revolutions: float = 1.0, settings=None, loads=None, input_range=None):
     """Build and run the MuJoCo model: returns (Built, Trajectory). The motion over the run is solved once
     (:class:`analytic.cycle.Cycle`) and handed to the model builder."""
-    from analytic.cycle import Cycle
     from sim.model import Loads, Settings, build
     from sim.run.simulate import simulate as run
-    mech = prepare(mech, revolutions, input_range)
-    built = build(mech, settings or Settings(), loads or Loads(), revolutions, cycle=Cycle.of(mech, revolutions))
+    mech, cycle = prepare_run(mech, revolutions, input_range)
+    built = build(mech, settings or Settings(), loads or Loads(), revolutions, cycle=cycle)
     return built, run(built, revolutions)
 
 
