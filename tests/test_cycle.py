@@ -64,12 +64,15 @@ def test_a_compare_solves_the_mechanism_at_most_three_times(name, cycle):
     assert sum(n.values()) <= 3, n
 
 
-def test_the_model_builder_never_solves_when_handed_a_cycle():
-    from sim.model import build
-    mech = service.load("jansen")
+@pytest.mark.parametrize("name, slow_stroke", [("jansen", False), ("sixbar", True)])
+def test_the_model_builder_never_solves_when_handed_a_cycle(name, slow_stroke):
+    # (a load on the slow stroke only: the stroke is found from the cycle's samples too)
+    from sim.model import Loads, build
+    mech = service.load(name)
     cycle = Cycle.of(mech, 1.0)
+    loads = Loads(force=(-500.0, 0.0), slow_stroke_only=True) if slow_stroke else Loads()
     with counted() as n:
-        built = build(mech, cycle=cycle)
+        built = build(mech, loads=loads, cycle=cycle)
     assert sum(n.values()) == 0, n
     # and what it read is the pose at t = 0: the output point's site where the solver puts it
     import mujoco

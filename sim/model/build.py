@@ -266,7 +266,7 @@ def build_model(mech, settings, loads, h, sol, points, q_start, revolutions, nat
         model = spec.compile()
     except ValueError as exc:
         raise ParameterError(f"MuJoCo cannot compile the {mech.name}: {str(exc).splitlines()[0]}") from None
-    window = slow_stroke(mech) if loads.slow_stroke_only else None
+    window = slow_stroke(mech, cycle) if loads.slow_stroke_only else None
     draft = Built(mech, model, settings, loads, tuple(drives), tuple(loops), tuple(mech.links), None, None, None,
                   None, window, xml, loadset, carried)
     extra = ML.drive_loads(draft, revolutions) if loadset else None

@@ -119,7 +119,7 @@ def initial_controls(model, mech, drives, q_start, loads, extra=None, cycle=None
     jerk = input_jerk(mech, np.array([0.0]))
     on = 1.0
     if loads.slow_stroke_only:
-        lo, hi = slow_stroke(mech)
+        lo, hi = slow_stroke(mech, cycle)
         on = float(lo <= 0.0 <= hi or lo <= 2 * math.pi <= hi)
     start = {}
     if cycle is not None:
@@ -147,14 +147,19 @@ def input_jerk(mech, t):
     return out
 
 
-def slow_stroke(mech) -> tuple[float, float]:
+def slow_stroke(mech, cycle=None) -> tuple[float, float]:
     """The first input's phase interval [rad from its start] in which the output point makes its slower
-    stroke along x (the cutting stroke of a quick-return mechanism)."""
+    stroke along x (the cutting stroke of a quick-return mechanism), from 3601 instants of one turn: the
+    dense samples of the run's ``cycle`` where it is one period (analytic.cycle.Cycle), else solved here."""
+    from analytic.cycle import SAMPLES, periodic
     first = mech.inputs[0]
     T = mech.duration(1.0)
-    t = np.linspace(0.0, T, 3601)
-    sol = mech.solve(*mech.drive(t))
-    x = sol["x" + mech.output_point]
+    if cycle is not None and periodic(mech) and len(cycle.dense) == SAMPLES + 1:
+        t = cycle.t[cycle.dense]
+        x = np.asarray(cycle.solution["x" + mech.output_point])[cycle.dense]
+    else:
+        t = np.linspace(0.0, T, 3601)
+        x = mech.solve(*mech.drive(t))["x" + mech.output_point]
     k_min, k_max = int(np.nanargmin(x)), int(np.nanargmax(x))
     a, b = sorted((k_min, k_max))
     inner = b - a                           # samples from one extreme to the other
