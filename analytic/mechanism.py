@@ -80,7 +80,18 @@ class Mechanism:
         """The same mechanism with its first input rocking between ``lo`` and ``hi`` (rad or m)."""
         if not (math.isfinite(lo) and math.isfinite(hi) and hi > lo):
             raise ParameterError(f"input range {lo:g}:{hi:g}: the end must exceed the start")
-        return replace(self, rock=(float(lo), float(hi)))
+        return self._same_schedule(replace(self, rock=(float(lo), float(hi))))
+
+    def turning(self) -> "Mechanism":
+        """The same mechanism with its first input turning (not rocking)."""
+        return self._same_schedule(replace(self, rock=None))
+
+    def _same_schedule(self, other: "Mechanism") -> "Mechanism":
+        """``other`` (this mechanism rocking or not: the same geometry) with this one's change points, when
+        found already (they do not depend on the rocking: analytic.solver.change_points scans the turn)."""
+        if "_scheduled" in self.__dict__:
+            other.__dict__["_scheduled"] = self.__dict__["_scheduled"]
+        return other
 
     def starting_at(self, q0: float) -> "Mechanism":
         """The same mechanism with its first input starting at ``q0`` (rad or m) instead of the file's start

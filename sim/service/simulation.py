@@ -4,7 +4,6 @@
 from __future__ import annotations
 
 import math
-from dataclasses import replace
 
 import numpy as np
 
@@ -167,16 +166,24 @@ def prepare_run(mech: Mechanism, revolutions: float, input_range=None):
     if input_range is not None:
         lo, hi = check_range(mech, *input_range)
         mech = mech.rocking(lo, hi)
-        q = np.linspace(lo, hi, 721)
-        if len(mech.inputs) > 1:                  # the others move as the run moves them: check those poses
-            q = mech.drive(np.linspace(0.0, mech.duration(revolutions), 2001))[0]
-            try:
-                mech.check_assembles(q)
-            except ParameterError as exc:
-                raise ParameterError(f"{exc}; while the first input rocks, the others keep their own motion "
-                                     f"(give one omega = 0 in the file to hold it at its start)") from None
-        mech.check_assembles(q)
-        cycle = Cycle.of(mech, revolutions)
+        try:
+            cycle = Cycle.of(mech, revolutions)
+        except ParameterError:                    # the assembly checks below say first what they see
+            cycle = None
+        if cycle is None or not cycle.solution.valid.all():     # where it does not assemble: which pose, in words
+            q = np.linspace(lo, hi, 721)
+            if len(mech.inputs) > 1:              # the others move as the run moves them: check those poses
+                q = mech.drive(np.linspace(0.0, mech.duration(revolutions), 2001))[0]
+                try:
+                    mech.check_assembles(q)
+                except ParameterError as exc:
+                    raise ParameterError(f"{exc}; while the first input rocks, the others keep their own motion "
+                                         f"(give one omega = 0 in the file to hold it at its start)") from None
+            mech.check_assembles(q)
+            if cycle is None:
+                cycle = Cycle.of(mech, revolutions)
+            elif not cycle.solution.valid.all():
+                mech.check_assembles(cycle.q)
         check_fold(mech, cycle)
         return mech, cycle
     mech = clear_of_change_point(mech)
@@ -265,7 +272,7 @@ def _dead_points_around(mech: Mechanism, lo: float, hi: float) -> tuple[float | 
     """The dead points just below ``lo`` and just above ``hi`` (the ends of the assembly range holding the
     rocking range), None where there is none (a crank that turns fully)."""
     from analytic.applications import figures
-    plain = replace(mech, rock=None)
+    plain = mech.turning()
     ranges = figures.assembly_ranges(plain)
     if figures.turns_fully(plain, ranges):
         return None, None
@@ -281,7 +288,7 @@ def _fold_limit(mech: Mechanism, dead: float, end: float, floor: float, margin: 
     """The input value between the dead point ``dead`` and the range's ``end`` (or beyond it, towards the
     middle) where the smallest singularity measure reaches ``floor``, at least ``margin`` from ``dead``."""
     from analytic.applications import figures
-    plain = replace(mech, rock=None)
+    plain = mech.turning()
     lo, hi = mech.rock
     inner = 0.5 * (lo + hi)
     far = inner if abs(inner - dead) > abs(end - dead) else end
