@@ -178,18 +178,6 @@ class Cycle:
         m = mech.inputs[0].motion
         return m.rock is None and m.accel == 0.0 and m.rate != 0.0 and self.revolutions == 1.0
 
-    def turn_scan(self) -> tuple[np.ndarray, dict] | None:
-        """For a :attr:`full_turn`: (the crank's values ascending, from its start over a turn, {group label:
-        singularity measure} there), what analytic.applications.figures.singular_poses scans; else None."""
-        if not self.full_turn:
-            return None
-        from analytic.applications.figures import singularity
-        q = self.q[:, 0]
-        measures = singularity(self.mech, self.solution)
-        if q[-1] < q[0]:                                  # turning backwards: the same poses, in reverse
-            q, measures = q[::-1] + 2 * math.pi, {k: v[::-1] for k, v in measures.items()}
-        return q, measures
-
     def at_start(self) -> tuple[tuple[np.ndarray, np.ndarray, np.ndarray], Solution]:
         """The inputs and the solution at t = 0 (shapes (1, n_inputs) and (1,))."""
         return (self.q[:1], self.qd[:1], self.qdd[:1]), take(self.solution, slice(0, 1))

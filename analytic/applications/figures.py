@@ -204,7 +204,7 @@ def singular_poses(mech, samples: int = SCAN, ranges=None, scan=None) -> list[tu
     measure)]``. Local minima of each measure on a fine scan are refined by golden section. Other inputs
     stay at their start values. ``ranges``: :func:`assembly_ranges`' (found here when None); ``scan``: for a
     full turn, the measures already solved over it, (q ascending over the turn, both ends included, {label:
-    measure}) (a cycle's: analytic.cycle.Cycle.turn_scan), instead of a scan solved here."""
+    measure}) (a cycle's: sim.service.simulation.turn_scan), instead of a scan solved here."""
     ranges = assembly_ranges(mech, samples) if ranges is None else ranges
     full = turns_fully(mech, ranges)
     others = [i.motion.q0 for i in mech.inputs[1:]]

@@ -37,7 +37,7 @@ def check_singular(mech: Mechanism, cycle=None) -> None:
                              f"align): the loops' equations are singular there at the simulation's first step; "
                              f"start it a little away (e.g. {first.parameters[0] or 'its start'} = 1deg)")
     check_change_swing(mech, cycle)
-    scan = cycle.turn_scan() if cycle is not None else None
+    scan = turn_scan(mech, cycle) if cycle is not None else None
     if scan is not None and cycle.solution.valid.all():   # a full turn that assembles: its scan is the cycle's
         lo, hi = figures._first_range(mech)
         found = figures.singular_poses(mech, ranges=[(lo, hi)], scan=scan)
@@ -57,6 +57,20 @@ def check_singular(mech: Mechanism, cycle=None) -> None:
         raise ParameterError(f"the {mech.name} passes through a singular pose at {first.q}={at} ({label} folds: "
                              f"a change point, where it may switch branch); the simulation cannot follow it: "
                              f"change a length by a little, or run between two such angles with an input range")
+
+
+def turn_scan(mech: Mechanism, cycle):
+    """For a cycle that is one turn of a lone crank at constant speed (:attr:`analytic.cycle.Cycle.full_turn`):
+    (the crank's values ascending, from its start over a turn, {group label: singularity measure} there),
+    the scan analytic.applications.figures.singular_poses reads; else None."""
+    if not cycle.full_turn:
+        return None
+    from analytic.applications.figures import singularity
+    q = cycle.q[:, 0]
+    measures = singularity(mech, cycle.solution)
+    if q[-1] < q[0]:                                      # turning backwards: the same poses, in reverse
+        q, measures = q[::-1] + 2 * math.pi, {k: v[::-1] for k, v in measures.items()}
+    return q, measures
 
 
 CHANGE_SWING = 0.1
