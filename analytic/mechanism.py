@@ -80,7 +80,18 @@ class Mechanism:
         """The same mechanism with its first input rocking between ``lo`` and ``hi`` (rad or m)."""
         if not (math.isfinite(lo) and math.isfinite(hi) and hi > lo):
             raise ParameterError(f"input range {lo:g}:{hi:g}: the end must exceed the start")
-        return replace(self, rock=(float(lo), float(hi)))
+        return self._same_schedule(replace(self, rock=(float(lo), float(hi))))
+
+    def turning(self) -> "Mechanism":
+        """The same mechanism with its first input turning (not rocking)."""
+        return self._same_schedule(replace(self, rock=None))
+
+    def _same_schedule(self, other: "Mechanism") -> "Mechanism":
+        """``other`` (this mechanism rocking or not: the same geometry) with this one's change points, when
+        found already (they do not depend on the rocking: analytic.solver.change_points scans the turn)."""
+        if "_scheduled" in self.__dict__:
+            other.__dict__["_scheduled"] = self.__dict__["_scheduled"]
+        return other
 
     def starting_at(self, q0: float) -> "Mechanism":
         """The same mechanism with its first input starting at ``q0`` (rad or m) instead of the file's start
@@ -283,11 +294,21 @@ class Mechanism:
         return Solution(arrays, failed.reshape(shape), labels, aliases)
 
     @functools.cached_property
+    def _scheduled(self):
+        from analytic.solver.change_points import schedule_and_scan
+        return schedule_and_scan(self)
+
+    @property
     def solving_geometry(self) -> linkfile.Geometry:
         """The geometry the solver uses: :attr:`geometry` with the change points its dyads pass on their
         declared branch (:mod:`analytic.solver.change_points`), found once per mechanism."""
-        from analytic.solver.change_points import schedule
-        return schedule(self)
+        return self._scheduled[0]
+
+    @property
+    def turn_scan(self):
+        """The scan of the first input's turn that finding the change points solved (q, the solution there
+        at unit rate, on :attr:`solving_geometry`), or None where it solved none."""
+        return self._scheduled[1]
 
     def solve_at(self, t) -> tuple[tuple[np.ndarray, np.ndarray, np.ndarray], Solution]:
         """The inputs' motion at times ``t`` and the solution there."""

@@ -155,11 +155,12 @@ MUTATIONS = [
     Mutation("step-angle-10x", "sim/model/timestep.py STEP_ANGLE 10x larger (0.025 -> 0.25 rad per step)", "sim/model/timestep.py",
              "STEP_ANGLE = 0.025\n", "STEP_ANGLE = 0.25\n", [CV, MOD],
              "tests/test_cross_validation.py::test_the_simulation_records_what_happened (h <= 0.03 / Omega)"),
-    Mutation("rate-no-zoom", "sim/model/timestep.py: the fastest rate from the 720-sample scan only (RATE_ZOOMS 0)",
-             "sim/model/timestep.py", "RATE_ZOOMS = 8\n", "RATE_ZOOMS = 0\n", [CV],
+    Mutation("rate-no-zoom", "analytic/cycle.py: the fastest rate from the dense scan only (REFINE 0: no samples added "
+             "at the peaks)", "analytic/cycle.py", "REFINE = 256\n", "REFINE = 0\n", [CV],
              "tests/test_cross_validation.py::test_the_step_follows_a_peak_that_falls_between_samples"),
-    Mutation("rate-first-turn", "sim/model/timestep.py: the step chosen from the first revolution of the run only",
-             "sim/model/timestep.py", "omega = rate_scale(mech, revolutions)\n", "omega = rate_scale(mech, min(revolutions, 1.0))\n",
+    Mutation("rate-first-turn", "analytic/cycle.py: the cycle (and the step chosen from it) over the first revolution of "
+             "the run only", "analytic/cycle.py", "span = 1.0 if periodic(mech) else float(revolutions)\n",
+             "span = 1.0\n",
              [CV], "tests/test_cross_validation.py::test_the_step_follows_the_fastest_revolution_of_an_accelerating_run"),
     Mutation("regulariser-ignores-loads", "sim/model/build.py: the constraint regulariser not reduced for loads",
              "sim/model/build.py", "scale = REGULARIZATION_SCALE / (1.0 + load / inertial) if inertial > 0",

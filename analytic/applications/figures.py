@@ -206,12 +206,14 @@ def singularity(mech, sol) -> dict[str, np.ndarray]:
     return out
 
 
-def singular_poses(mech, samples: int = SCAN) -> list[tuple[float, str, float]]:
+def singular_poses(mech, samples: int = SCAN, ranges=None, scan=None) -> list[tuple[float, str, float]]:
     """Values of the first input at which a group passes through a singular pose inside its assembly
     range (measure < SINGULAR; the range's own ends are its dead points): ``[(q, group label,
     measure)]``. Local minima of each measure on a fine scan are refined by golden section. Other inputs
-    stay at their start values."""
-    ranges = assembly_ranges(mech, samples)
+    stay at their start values. ``ranges``: :func:`assembly_ranges`' (found here when None); ``scan``: for a
+    full turn, the measures already solved over it, (q ascending over the turn, both ends included, {label:
+    measure}) (a cycle's: sim.service.simulation.turn_scan), instead of a scan solved here."""
+    ranges = assembly_ranges(mech, samples) if ranges is None else ranges
     full = turns_fully(mech, ranges)
     others = [i.motion.q0 for i in mech.inputs[1:]]
 
@@ -223,11 +225,15 @@ def singular_poses(mech, samples: int = SCAN) -> list[tuple[float, str, float]]:
 
     found = []
     for a0, b0 in ranges:
-        n = max(int(samples * (b0 - a0) / (2 * math.pi)), 16)
-        pad = (b0 - a0) / n if full else 0.0          # a full turn is periodic: look past its ends
-        q = np.linspace(a0 - pad, b0 + pad, n + 3 if full else n + 1)
         nan_as = 0.0 if full else np.inf           # inside a full turn a NaN is rounding at a fold: singular
-        for label, m in measures(q).items():
+        if full and scan is not None:
+            q, ms = _padded(*scan)
+        else:
+            n = max(int(samples * (b0 - a0) / (2 * math.pi)), 16)
+            pad = (b0 - a0) / n if full else 0.0          # a full turn is periodic: look past its ends
+            q = np.linspace(a0 - pad, b0 + pad, n + 3 if full else n + 1)
+            ms = measures(q)
+        for label, m in ms.items():
             m = np.where(np.isfinite(m), m, nan_as)
             k = np.flatnonzero((m[1:-1] <= m[:-2]) & (m[1:-1] <= m[2:]) & (m[1:-1] < 100 * SINGULAR + 1e-3)) + 1
             if k.size == 0:
@@ -250,6 +256,15 @@ def singular_poses(mech, samples: int = SCAN) -> list[tuple[float, str, float]]:
                 if value < SINGULAR and not any(abs(xi - f[0]) < 1e-6 and f[1] == label for f in found):
                     found.append((xi, label, float(value)))
     return sorted(found)
+
+
+def _padded(q, measures):
+    """A full turn's scan (q ascending, its last sample a turn past its first) with one sample past each end,
+    taken from the other end (the turn is periodic)."""
+    q = np.asarray(q, dtype=float)
+    turn = q[-1] - q[0]
+    qp = np.r_[q[-2] - turn, q, q[1] + turn]
+    return qp, {k: np.r_[m[-2], m, m[1]] for k, m in measures.items()}
 
 
 def min_singularity(mech, sol) -> tuple[float, str]:

@@ -30,7 +30,7 @@ def _com(sol, origin: str, link: str, b):
 
 
 def drive_forces(mech, q, qd, qdd, inertias: dict, armature: dict | None = None, gravity=(0.0, 0.0),
-                 force=(0.0, 0.0), force_on=1.0) -> dict[str, np.ndarray]:
+                 force=(0.0, 0.0), force_on=1.0, sol=None, coefficients=None) -> dict[str, np.ndarray]:
     """Force of each input [N m for a crank, N for a slider], keyed by the input's link name.
 
     Parameters
@@ -43,6 +43,10 @@ def drive_forces(mech, q, qd, qdd, inertias: dict, armature: dict | None = None,
         Rotor inertia [kg m^2 or kg] of each input's drive, keyed by its link.
     gravity, force : (x, y)
         Gravity in the plane [m/s^2]; external force [N] on the output point, times ``force_on``.
+    sol, coefficients : optional
+        The solution at (q, qd, qdd) and each input's velocity coefficients there (the solution with that
+        input at unit rate, the others at rest, no acceleration), as
+        :func:`analytic.cycle.solve_with_coefficients` gives them; solved here when None.
     """
     unknown = set(inertias) - set(mech.links)
     if unknown:
@@ -52,16 +56,19 @@ def drive_forces(mech, q, qd, qdd, inertias: dict, armature: dict | None = None,
     q, qd, qdd = np.broadcast_arrays(*(np.asarray(x, dtype=float) for x in (q, qd, qdd)))
     if k == 1 and not (q.ndim >= 2 and q.shape[-1] == 1):
         q, qd, qdd = q[..., None], qd[..., None], qdd[..., None]
-    sol = mech.solve(q, qd, qdd)
+    shape = q.shape[:-1]
+    q, qd, qdd = (x.reshape(-1, k) for x in (q, qd, qdd))
+    force_on = np.broadcast_to(np.asarray(force_on, dtype=float), shape).reshape(-1)
+    if sol is None or coefficients is None:
+        from analytic.cycle import solve_with_coefficients
+        sol, coefficients = solve_with_coefficients(mech, q, qd, qdd)
     origins = mech.link_origins
     gx, gy = gravity
     fx, fy = force
     p = mech.output_point
     out = {}
     for j, inp in enumerate(mech.inputs):
-        unit = np.zeros_like(q)
-        unit[..., j] = 1.0
-        coeff = mech.solve(q, unit, 0.0)
+        coeff = coefficients[j]
         tau = np.zeros(q.shape[:-1])
         for link, b in inertias.items():
             _, _, agx, agy = _com(sol, origins[link], link, b)
@@ -70,5 +77,5 @@ def drive_forces(mech, q, qd, qdd, inertias: dict, armature: dict | None = None,
         if armature:
             tau = tau + armature.get(inp.link, 0.0) * qdd[..., j]
         tau = tau - force_on * (fx * coeff["vx" + p] + fy * coeff["vy" + p])
-        out[inp.link] = tau
+        out[inp.link] = tau.reshape(shape)
     return out

@@ -15,7 +15,9 @@ first input's value (``analytic.kinds.rrr.signs``), so the samples of any solve,
 mechanism with several inputs is left as it is (its change points depend on every input).
 
 Cost: one solve of SCAN + 1 samples per mechanism (about a millisecond for a four-bar) when no element
-comes near a fold; golden-section refinements only for candidates.
+comes near a fold; golden-section refinements only for candidates. That scan is solved with the input at
+unit rate and kept (:func:`schedule_and_scan`, :attr:`analytic.mechanism.Mechanism.turn_scan`): a cycle of a
+crank turning at constant speed reads its rates from it (analytic.cycle) instead of solving the turn again.
 """
 
 from __future__ import annotations
@@ -48,15 +50,21 @@ def candidates(geometry: Geometry) -> list[int]:
 def schedule(mech) -> Geometry:
     """``mech.geometry`` with each smoothly passing element's change points written in (see the module
     docstring); the geometry unchanged when there is nothing to schedule."""
+    return schedule_and_scan(mech)[0]
+
+
+def schedule_and_scan(mech):
+    """(:func:`schedule`'s geometry, the scan it solved last: (q, the solution at q with the first input at
+    unit rate and no acceleration, on that geometry), or None where it solved none)."""
     geometry = mech.geometry
     todo = candidates(geometry)
     if not todo:
-        return geometry
+        return geometry, None
     elements = [dict(e) for e in geometry.elements]
     for i in todo:
         elements[i]["flips"] = None                   # scheduled, no flips (yet): a solve takes them as they are
     if len(mech.inputs) != 1:
-        return replace(geometry, elements=tuple(elements))
+        return replace(geometry, elements=tuple(elements)), None
     first = next(e for e in geometry.elements if kinds.get(e["kind"]).section == "inputs")
     kind = kinds.get(first["kind"])
     ref = float(first[kind.motion_fields[0]])
@@ -66,7 +74,7 @@ def schedule(mech) -> Geometry:
     step = (hi - lo) / SCAN
     q = np.linspace(lo - step, hi + step, SCAN + 3)                  # one sample past each end
     current = replace(mech, geometry=replace(geometry, elements=tuple(elements)), rock=None)
-    measures = _measures(current, q)
+    measures, sol = _measures(current, q, True)
     for i in todo:
         label = elements[i]["label"]
         m = measures.get(label)
@@ -76,8 +84,8 @@ def schedule(mech) -> Geometry:
         if found:
             elements[i]["flips"] = {"ref": ref, "period": period, "at": tuple(found)}
             current = replace(current, geometry=replace(geometry, elements=tuple(elements)))
-            measures = _measures(current, q)           # the dyads downstream move with the flips
-    return replace(geometry, elements=tuple(elements))
+            measures, sol = _measures(current, q, True)   # the dyads downstream move with the flips
+    return replace(geometry, elements=tuple(elements)), (q, sol)
 
 
 SAME = 1e-6
@@ -100,9 +108,12 @@ def _distinct(found: list[float], lo: float, period: float | None) -> list[float
     return out
 
 
-def _measures(mech, q: np.ndarray) -> dict[str, np.ndarray]:
+def _measures(mech, q: np.ndarray, keep: bool = False):
+    """The elements' singularity measures at q ({label: measure}); ``keep``: and the solution (the input at
+    unit rate: its velocities are the velocity coefficients, its accelerations the motion's at unit speed)."""
     from analytic.applications.figures import singularity
-    return singularity(mech, mech.solve(q))
+    sol = mech.solve(q, 1.0)
+    return (singularity(mech, sol), sol) if keep else singularity(mech, sol)
 
 
 def _change_points(mech, label: str, q: np.ndarray, m: np.ndarray, crank: bool) -> list[float]:

@@ -34,7 +34,7 @@ def draw_link(spec, body, mech, points, frames, link, members, radius, material)
                   contype=0, conaffinity=0, density=0)
 
 
-def draw_ground(spec, mech, points, radius):
+def draw_ground(spec, mech, points, radius, cycle=None):
     world = spec.worldbody
     for g in mech.ground_points:
         x, y = points[g]
@@ -45,8 +45,7 @@ def draw_ground(spec, mech, points, radius):
     from analytic import kinds
     rails = [r for e in mech.geometry.elements for r in kinds.get(e["kind"]).rails(e)]
     if rails:
-        t = np.linspace(0.0, mech.duration(1.0), 181)
-        sol = mech.solve(*mech.drive(t))
+        sol = cycle.solution if cycle is not None else mech.solve(*mech.drive(np.linspace(0.0, mech.duration(1.0), 181)))
     for block, g, off in rails:
         s = sol["s" + block]
         lo, hi = float(np.nanmin(s)), float(np.nanmax(s))
@@ -59,8 +58,8 @@ def draw_ground(spec, mech, points, radius):
                        quat=quat(g["angle"]), material="ground", contype=0, conaffinity=0)
 
 
-def frame_camera(spec, mech, aspect: float = 4 / 3) -> None:
-    center, extent = framing(mech, aspect)
+def frame_camera(spec, mech, aspect: float = 4 / 3, cycle=None) -> None:
+    center, extent = framing(mech, aspect, cycle)
     cam = spec.camera("top")
     cam.pos = [center[0], center[1], 10.0 * extent]
     cam.fovy = extent
@@ -71,19 +70,23 @@ def frame_camera(spec, mech, aspect: float = 4 / 3) -> None:
     spec.stat.extent = extent
 
 
-def path_points(mech, samples: int = 361) -> np.ndarray:
-    """Every point over one period of the first input, shape (k, 2) [m]: frames the camera."""
-    t = np.linspace(0.0, mech.duration(1.0), samples)
-    sol = mech.solve(*mech.drive(t))
+def path_points(mech, samples: int = 361, cycle=None) -> np.ndarray:
+    """Every point over one period of the first input (``samples`` instants, or the samples of the run's
+    ``cycle``, analytic.cycle.Cycle), shape (k, 2) [m]: frames the camera."""
+    if cycle is not None:
+        sol = cycle.solution
+    else:
+        t = np.linspace(0.0, mech.duration(1.0), samples)
+        sol = mech.solve(*mech.drive(t))
     pts = [np.column_stack([sol["x" + p], sol["y" + p]]) for p in mech.points]
     pts = np.concatenate(pts)
     return pts[np.all(np.isfinite(pts), axis=1)]
 
 
-def framing(mech, aspect: float) -> tuple[np.ndarray, float]:
+def framing(mech, aspect: float, cycle=None) -> tuple[np.ndarray, float]:
     """Centre (x, y) [m] and vertical extent [m] of an orthographic view showing every point of ``mech``
-    in an image of width/height ``aspect``, with a 30 % margin."""
-    pts = path_points(mech)
+    in an image of width/height ``aspect``, with a 30 % margin (its paths from ``cycle`` where given)."""
+    pts = path_points(mech, cycle=cycle)
     lo, hi = pts.min(0), pts.max(0)
     return 0.5 * (lo + hi), float(max(hi[1] - lo[1], (hi[0] - lo[0]) / aspect, 1e-9) * 1.3)
 

@@ -168,11 +168,17 @@ def spanning_tree(mech):
 
 
 def build(mech, settings: Settings = Settings(), loads: Loads = Loads(), revolutions: float = 1.0,
-          native: bool = False) -> Built:
+          native: bool = False, cycle=None) -> Built:
     """Generate and compile the model of ``mech`` with its initial state from the analytic solver; ``native``:
-    linear springs and dampers as MuJoCo tendons (a motor-driven run, sim.model.loads.add_native)."""
+    linear springs and dampers as MuJoCo tendons (a motor-driven run, sim.model.loads.add_native). ``cycle``:
+    the run's motion solved once (:class:`analytic.cycle.Cycle`, made by the service; made here when None),
+    read for the time step, the initial pose, the drives' sizes and the camera: the model never solves the
+    mechanism itself."""
+    from analytic.cycle import Cycle
+    if cycle is None:
+        cycle = Cycle.of(mech, revolutions)
     if settings.timestep is None:
-        settings = replace(settings, timestep=choose_timestep(mech, revolutions))
+        settings = replace(settings, timestep=choose_timestep(mech, revolutions, cycle))
     if mech.size < MIN_SIZE:
         raise ParameterError(
             f"{mech.definition.source}: the {mech.name} spans {mech.size:.3g} m ({mech.size / mech.scale:.3g} "
@@ -180,14 +186,14 @@ def build(mech, settings: Settings = Settings(), loads: Loads = Loads(), revolut
             + (": were metres typed into a mm file? give the lengths in mm" if mech.definition.units != "m" else
                "; scale the lengths up"))
     h = float(settings.timestep)
-    (q0, qd0, qdd0), sol = mech.solve_at([0.0])
+    (q0, qd0, qdd0), sol = cycle.at_start()
     if not sol.valid.all():
         mech.check_assembles(q0)
     points = {p: (float(sol["x" + p][0]), float(sol["y" + p][0])) for p in mech.points}
-    return build_model(mech, settings, loads, h, sol, points, (q0[0], qd0[0], qdd0[0]), revolutions, native)
+    return build_model(mech, settings, loads, h, sol, points, (q0[0], qd0[0], qdd0[0]), revolutions, native, cycle)
 
 
-def build_model(mech, settings, loads, h, sol, points, q_start, revolutions, native=False) -> Built:
+def build_model(mech, settings, loads, h, sol, points, q_start, revolutions, native=False, cycle=None) -> Built:
     spec = mujoco.MjSpec.from_file(str(TEMPLATE))
     spec.modelname = mech.name
     size = mech.size
@@ -211,7 +217,7 @@ def build_model(mech, settings, loads, h, sol, points, q_start, revolutions, nat
             ax, ay = math.cos(u - cf[2]), math.sin(u - cf[2])
             body.add_joint(name=j.name, type=mujoco.mjtJoint.mjJNT_SLIDE, axis=[ax, ay, 0], pos=[jx, jy, 0])
         draw_link(spec, body, mech, points, frames, child, members, radius, COLORS[n % 4])
-    draw_ground(spec, mech, points, radius)
+    draw_ground(spec, mech, points, radius, cycle)
 
     # Sites: every point on its carrier body; loop closures get a second site on the other body.
     for p, (x, y) in points.items():
@@ -254,22 +260,22 @@ def build_model(mech, settings, loads, h, sol, points, q_start, revolutions, nat
     spec.option.integrator = INTEGRATORS[settings.integrator]
     if loads.gravity is not None:
         spec.option.gravity = [loads.gravity[0], loads.gravity[1], 0.0]
-    frame_camera(spec, mech)
+    frame_camera(spec, mech, cycle=cycle)
     xml = spec.to_xml()
     try:
         model = spec.compile()
     except ValueError as exc:
         raise ParameterError(f"MuJoCo cannot compile the {mech.name}: {str(exc).splitlines()[0]}") from None
-    window = slow_stroke(mech) if loads.slow_stroke_only else None
+    window = slow_stroke(mech, cycle) if loads.slow_stroke_only else None
     draft = Built(mech, model, settings, loads, tuple(drives), tuple(loops), tuple(mech.links), None, None, None,
                   None, window, xml, loadset, carried)
     extra = ML.drive_loads(draft, revolutions) if loadset else None
     scale = regularization(model, mech, loads, extra)
     model.body_invweight0[:] *= scale
     model.tendon_invweight0[:] *= scale             # a tendon equality (a gear coupling) is sized by these
-    drives = size_drives(model, mech, drives, loads, h, extra)
+    drives = size_drives(model, mech, drives, loads, h, extra, cycle)
     qpos0, qvel0 = initial_state(model, mech, order, frames, sol)
-    act0, ctrl0 = initial_controls(model, mech, drives, q_start, loads, extra)
+    act0, ctrl0 = initial_controls(model, mech, drives, q_start, loads, extra, cycle)
     built = Built(mech, model, settings, loads, tuple(drives), tuple(loops), tuple(mech.links),
                   qpos0, qvel0, act0, ctrl0, window, xml, loadset, carried)
     return built

@@ -64,15 +64,21 @@ def add_load(spec, mech, loads):
     act.ctrllimited = False
 
 
-def size_drives(model, mech, drives, loads, h, extra=None) -> list[Drive]:
-    """kp from the peak analytic drive force (DRIVE_ERROR_BUDGET), J and kv for SERVO_RATE; ``extra``: the
-    file's loads' share of the drives over the same 361 instants (sim.model.loads.drive_loads)."""
+def size_drives(model, mech, drives, loads, h, extra=None, cycle=None) -> list[Drive]:
+    """kp from the peak analytic drive force (DRIVE_ERROR_BUDGET), J and kv for SERVO_RATE: over the samples
+    of the run's ``cycle`` (analytic.cycle.Cycle), or, with ``extra`` (the file's loads' share of the drives,
+    sim.model.loads.drive_loads) or no cycle, over the 361 instants of one turn ``extra`` is given at."""
     from analytic.applications import torque
-    t = np.linspace(0.0, mech.duration(1.0), 361)
-    q, qd, qdd = mech.drive(t)
     switch = 1.0
-    tau = torque.drive_forces(mech, q, qd, qdd, body_inertias(model, mech.links), None,
-                              tuple(model.opt.gravity[:2]), tuple(model.actuator("load").gear[:2]), switch)
+    inertias = body_inertias(model, mech.links)
+    gravity, gear = tuple(model.opt.gravity[:2]), tuple(model.actuator("load").gear[:2])
+    if cycle is not None and extra is None:
+        tau = torque.drive_forces(mech, cycle.q, cycle.qd, cycle.qdd, inertias, None, gravity, gear, switch,
+                                  cycle.solution, cycle.coefficients)
+    else:
+        t = np.linspace(0.0, mech.duration(1.0), 361)
+        q, qd, qdd = mech.drive(t)
+        tau = torque.drive_forces(mech, q, qd, qdd, inertias, None, gravity, gear, switch)
     if extra is not None:
         tau = {k: v + extra.tau[k] for k, v in tau.items()}
     out = []
@@ -102,10 +108,10 @@ def drive_command(d: Drive, q, qd, qdd, qddd):
     return q - d.q_offset + lead, rate
 
 
-def initial_controls(model, mech, drives, q_start, loads, extra=None):
+def initial_controls(model, mech, drives, q_start, loads, extra=None, cycle=None):
     """The drives' activations at t = 0: the commanded motion's lead plus the deflection that the
     mechanism's reaction needs (kp a = tau), so the servo starts already carrying its load and the
-    torque curve has no start-up transient."""
+    torque curve has no start-up transient. ``cycle``: the run's (its first sample is t = 0), or None."""
     from analytic.applications import torque
     q0, qd0, qdd0 = q_start
     act = np.zeros(model.na)
@@ -113,10 +119,15 @@ def initial_controls(model, mech, drives, q_start, loads, extra=None):
     jerk = input_jerk(mech, np.array([0.0]))
     on = 1.0
     if loads.slow_stroke_only:
-        lo, hi = slow_stroke(mech)
+        lo, hi = slow_stroke(mech, cycle)
         on = float(lo <= 0.0 <= hi or lo <= 2 * math.pi <= hi)
+    start = {}
+    if cycle is not None:
+        from analytic.cycle import take
+        start = {"sol": take(cycle.solution, slice(0, 1)),
+                 "coefficients": tuple(take(c, slice(0, 1)) for c in cycle.coefficients)}
     reaction = torque.drive_forces(mech, q0[None], qd0[None], qdd0[None], body_inertias(model, mech.links), None,
-                                   tuple(model.opt.gravity[:2]), tuple(model.actuator("load").gear[:2]), on)
+                                   tuple(model.opt.gravity[:2]), tuple(model.actuator("load").gear[:2]), on, **start)
     for k, d in enumerate(drives):
         a, c = drive_command(d, q0[k], qd0[k], qdd0[k], jerk[0, k])
         held = float(reaction[d.input.link][0]) + (float(extra.tau[d.input.link][0]) if extra is not None else 0.0)
@@ -136,14 +147,19 @@ def input_jerk(mech, t):
     return out
 
 
-def slow_stroke(mech) -> tuple[float, float]:
+def slow_stroke(mech, cycle=None) -> tuple[float, float]:
     """The first input's phase interval [rad from its start] in which the output point makes its slower
-    stroke along x (the cutting stroke of a quick-return mechanism)."""
+    stroke along x (the cutting stroke of a quick-return mechanism), from 3601 instants of one turn: the
+    dense samples of the run's ``cycle`` where it is one period (analytic.cycle.Cycle), else solved here."""
+    from analytic.cycle import SAMPLES, periodic
     first = mech.inputs[0]
     T = mech.duration(1.0)
-    t = np.linspace(0.0, T, 3601)
-    sol = mech.solve(*mech.drive(t))
-    x = sol["x" + mech.output_point]
+    if cycle is not None and periodic(mech) and len(cycle.dense) == SAMPLES + 1:
+        t = cycle.t[cycle.dense]
+        x = np.asarray(cycle.solution["x" + mech.output_point])[cycle.dense]
+    else:
+        t = np.linspace(0.0, T, 3601)
+        x = mech.solve(*mech.drive(t))["x" + mech.output_point]
     k_min, k_max = int(np.nanargmin(x)), int(np.nanargmax(x))
     a, b = sorted((k_min, k_max))
     inner = b - a                           # samples from one extreme to the other

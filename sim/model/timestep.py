@@ -26,19 +26,6 @@ MIN_TIMESTEP = 1e-6
 below MIN_TIMESTEP is refused. The drives' and loops' time constants are counted in steps, so a slow
 design needs no smaller step than its motion asks for."""
 
-RATE_SAMPLES = 720
-"""Samples per revolution of the scan for the fastest rate (at most RATE_SAMPLES_MAX over a run). Each
-rate's highest local maxima are then refined by zooming in (RATE_ZOOMS rounds): near a singular pose a
-link's speed peaks between samples (a Whitworth lever 0.2 mm from its singular pose peaks 4.5x higher
-than a 720-sample scan shows, and the step chosen from the scan failed by 400x)."""
-
-RATE_SAMPLES_MAX = 200_000
-
-RATE_PEAKS = 4
-"""Local maxima of each rate refined per revolution (at most 64 per rate)."""
-
-RATE_ZOOMS = 8
-
 FOLD_MEASURE = 0.2
 """A rocking run that comes closer than this to a fold (its groups' smallest singularity measure, e.g. the
 sine of a transmission angle, at the ends of its range near a dead point) takes a step shorter by
@@ -59,70 +46,90 @@ beyond it: 10x the drives' deflection budget (1e-6), so that the simulated input
 
 
 def rates(mech, t: np.ndarray) -> np.ndarray:
-    """Every rate of the motion at times ``t`` [1/s], shape (len(t), k): each input's and link's |omega|
-    and sqrt(|alpha|), each slide's |ds| / size and sqrt(|dds| / size) (an input slider's over the size);
-    NaN where the mechanism cannot be assembled."""
+    """Every rate of the motion at times ``t`` [1/s], shape (len(t), k) (see :func:`analytic.cycle.rates`)."""
+    from analytic.cycle import rate_names
+    from analytic.cycle import rates as of
     q, qd, qdd = mech.drive(t)
-    size = mech.size
-    names = [f"{k}{ln}" for ln in mech.links for k in ("omega", "alpha")]
-    names += [f"{k}{j}" for j in mech.slides for k in ("ds", "dds")]
-    sol = mech.solve(q, qd, qdd, outputs=names)
-    cols = []
-    for k, inp in enumerate(mech.inputs):
-        scale = inp.spec.rate_scale(size)
-        cols += [np.abs(qd[:, k]) / scale, np.sqrt(np.abs(qdd[:, k]) / scale)]
-    for ln in mech.links:
-        cols += [np.abs(sol["omega" + ln]), np.sqrt(np.abs(sol["alpha" + ln]))]
-    for j in mech.slides:
-        cols += [np.abs(sol["ds" + j]) / size, np.sqrt(np.abs(sol["dds" + j]) / size)]
-    return np.column_stack(cols)
+    return of(mech, qd, qdd, mech.solve(q, qd, qdd, outputs=rate_names(mech)))
 
 
-def peaks(r: np.ndarray, keep: int) -> tuple[np.ndarray, np.ndarray]:
-    """(sample, column) of the ``keep`` highest local maxima of each column of ``r`` (ends included)."""
-    pad = np.pad(r, ((1, 1), (0, 0)), constant_values=-np.inf)
-    is_peak = (pad[1:-1] >= pad[:-2]) & (pad[1:-1] >= pad[2:]) & np.isfinite(r)
-    rows, cols = [], []
-    for c in range(r.shape[1]):
-        idx = np.flatnonzero(is_peak[:, c])
-        idx = idx[np.argsort(r[idx, c])[-keep:]]
-        rows.append(idx)
-        cols.append(np.full(len(idx), c))
-    return np.concatenate(rows), np.concatenate(cols)
-
-
-def rate_scale(mech, revolutions: float = 1.0) -> float:
-    """Omega [1/s]: the fastest rate over a run of ``revolutions`` (see STEP_ANGLE), NaN if the mechanism
-    cannot be assembled somewhere on it. A scan, then each rate's highest peaks refined by zooming in."""
-    end = mech.duration(revolutions)
-    turns = max(1.0, revolutions)
-    t = np.linspace(0.0, end, int(min(RATE_SAMPLES * turns, RATE_SAMPLES_MAX)) + 1)
-    r = rates(mech, t)
+def peak_rates(cycle) -> float:
+    """The largest rate over the cycle's samples and, at each sampled local maximum, over an interpolant
+    through it and its neighbours: a link's omega (a slide's ds) by the cubic Hermite interpolant with its
+    exact derivative alpha (dds), the others by the parabola through the three samples. NaN where the
+    mechanism cannot be assembled somewhere."""
+    mech, t = cycle.mech, cycle.t
+    r = cycle.rates()
     if np.isnan(r).any():
         return math.nan
     best = float(r.max())
-    rows, cols = peaks(r, min(64, int(math.ceil(RATE_PEAKS * turns))))
-    lo, hi = t[np.maximum(rows - 1, 0)], t[np.minimum(rows + 1, len(t) - 1)]
-    u = np.linspace(0.0, 1.0, 9)
-    for _ in range(RATE_ZOOMS):
-        tt = lo[:, None] + (hi - lo)[:, None] * u[None, :]
-        rr = rates(mech, tt.ravel())
-        if np.isnan(rr).any():
-            return math.nan
-        best = max(best, float(rr.max()))
-        own = rr[np.arange(rr.shape[0]), np.repeat(cols, len(u))].reshape(tt.shape)
-        k = np.argmax(own, axis=1)
-        lo, hi = tt[np.arange(len(k)), np.maximum(k - 1, 0)], tt[np.arange(len(k)), np.minimum(k + 1, len(u) - 1)]
+    if len(t) < 3:
+        return best
+    sol, size = cycle.solution, mech.size
+    pad = np.pad(r, ((1, 1), (0, 0)), constant_values=-np.inf)
+    top = (pad[1:-1] >= pad[:-2]) & (pad[1:-1] >= pad[2:])
+    top[0] = top[-1] = False
+    hermite = {}                                      # column -> (signed value, its time derivative)
+    c = 2 * len(mech.inputs)
+    for ln in mech.links:
+        hermite[c] = (np.asarray(sol["omega" + ln]), np.asarray(sol["alpha" + ln]))
+        c += 2
+    for j in mech.slides:
+        hermite[c] = (np.asarray(sol["ds" + j]) / size, np.asarray(sol["dds" + j]) / size)
+        c += 2
+    u = np.linspace(0.0, 1.0, 65)
+    for col in range(r.shape[1]):
+        i = np.flatnonzero(top[:, col])
+        if i.size == 0:
+            continue
+        if col in hermite:
+            y, dy = hermite[col]
+            for a, b in ((i - 1, i), (i, i + 1)):
+                h = (t[b] - t[a])[:, None]
+                h00, h10, h01, h11 = (2 * u ** 3 - 3 * u ** 2 + 1, u ** 3 - 2 * u ** 2 + u, -2 * u ** 3 + 3 * u ** 2,
+                                      u ** 3 - u ** 2)
+                v = (y[a][:, None] * h00 + h * dy[a][:, None] * h10 + y[b][:, None] * h01 + h * dy[b][:, None] * h11)
+                best = max(best, float(np.max(np.abs(v))))
+            continue
+        t0, t1, t2 = t[i - 1], t[i], t[i + 1]
+        y0, y1, y2 = r[i - 1, col], r[i, col], r[i + 1, col]
+        d1, d2 = (y1 - y0) / (t1 - t0), (y2 - y1) / (t2 - t1)
+        curv = (d2 - d1) / (t2 - t0)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            tv = 0.5 * (t0 + t1) - d1 / (2 * curv)
+            inside = (curv < 0) & (tv >= t0) & (tv <= t2)
+            yv = y1 + d1 * (tv - t1) + curv * (tv - t0) * (tv - t1)
+        if np.any(inside):
+            best = max(best, float(np.max(yv[inside])))
     return best
 
 
-def choose_timestep(mech, revolutions: float = 1.0) -> float:
-    """The time step for ``mech`` (STEP_ANGLE, MAX_TIMESTEP); refuses a design needing < MIN_TIMESTEP."""
-    omega = rate_scale(mech, revolutions)
+def rate_scale(mech, revolutions: float = 1.0, cycle=None) -> float:
+    """Omega [1/s]: the fastest rate over a run of ``revolutions`` (see STEP_ANGLE), NaN if the mechanism
+    cannot be assembled somewhere on it: :func:`peak_rates` over the run's cycle (``cycle``, made here when
+    None).
+
+    The cycle is a scan of the run (analytic.cycle.SAMPLES per revolution, or for a crank at constant speed
+    the change points' scan of its turn, 1440 per turn) whose rates' highest local maxima are refined
+    (analytic.cycle.REFINE samples around each, one solve), their value read from an interpolant: near a
+    singular pose a link's speed peaks between samples (a Whitworth lever 0.2 mm from its singular pose peaks
+    4.5x higher than a 720-sample scan shows, and the step chosen from the scan failed by 400x). Against the
+    former scan (720 per revolution, then 8 rounds of zooming on each peak, a solve each) the rate is the
+    same on every library mechanism to 1e-9, the Whitworth lever's peak within 1e-8."""
+    from analytic.cycle import Cycle
+    return peak_rates(cycle if cycle is not None else Cycle.of(mech, revolutions))
+
+
+def choose_timestep(mech, revolutions: float = 1.0, cycle=None) -> float:
+    """The time step for ``mech`` (STEP_ANGLE, MAX_TIMESTEP); refuses a design needing < MIN_TIMESTEP.
+    ``cycle``: the run's :class:`analytic.cycle.Cycle` (made here when None)."""
+    from analytic.cycle import Cycle
+    cycle = cycle if cycle is not None else Cycle.of(mech, revolutions)
+    omega = rate_scale(mech, revolutions, cycle)
     if not math.isfinite(omega):
         raise ParameterError(f"the {mech.name} cannot be assembled over the whole run; check its input range")
     h = min(MAX_TIMESTEP, STEP_ANGLE / omega) if omega > 0 else MAX_TIMESTEP
-    h *= fold_factor(mech, revolutions)
+    h *= fold_factor(mech, revolutions, cycle)
     if h < MIN_TIMESTEP:
         raise ParameterError(f"the {mech.name} moves too fast to simulate accurately (a link turns at up to "
                              f"{omega:.3g} rad/s, needing a step of {h:.2g} s < {MIN_TIMESTEP:g} s): slow its "
@@ -130,20 +137,21 @@ def choose_timestep(mech, revolutions: float = 1.0) -> float:
     return h
 
 
-def fold_measure(mech, revolutions: float = 1.0) -> tuple[float, str]:
+def fold_measure(mech, revolutions: float = 1.0, cycle=None) -> tuple[float, str]:
     """The smallest singularity measure of a rocking run (its groups' poses over one cycle, both ends of
-    the range included) and the group it belongs to; (inf, "") for a run that does not rock."""
+    the range included: the cycle's samples at t = T/2 and T) and the group it belongs to; (inf, "") for a
+    run that does not rock. ``cycle``: the run's :class:`analytic.cycle.Cycle` (made here when None)."""
     if mech.rock is None:
         return math.inf, ""
     from analytic.applications.figures import min_singularity
-    t = np.linspace(0.0, mech.duration(min(revolutions, 1.0)), 1441)       # the range's ends at t = T/2, T
-    q, qd, qdd = mech.drive(t)
-    return min_singularity(mech, mech.solve(q, qd, qdd))
+    from analytic.cycle import Cycle
+    cycle = cycle if cycle is not None else Cycle.of(mech, revolutions)
+    return min_singularity(mech, cycle.solution)
 
 
-def fold_factor(mech, revolutions: float = 1.0) -> float:
+def fold_factor(mech, revolutions: float = 1.0, cycle=None) -> float:
     """The step's factor near a fold (see FOLD_MEASURE): 1 away from one."""
-    m, _ = fold_measure(mech, revolutions)
+    m, _ = fold_measure(mech, revolutions, cycle)
     return 1.0 if not m < FOLD_MEASURE else math.sqrt(max(m, FOLD_FLOOR) / FOLD_MEASURE)
 
 

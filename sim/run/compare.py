@@ -146,9 +146,16 @@ def analytic_at(tr: Trajectory, mech):
     return mech.solve(*simulated_inputs(tr, mech))
 
 
-def analytic_forces(tr: Trajectory, built, mech=None) -> dict[str, np.ndarray]:
+def analytic_solved(tr: Trajectory, mech):
+    """The analytic solution at the simulated inputs and each input's velocity coefficients there, in one
+    exact solve at those inputs (:func:`analytic.cycle.solve_with_coefficients`)."""
+    from analytic.cycle import solve_with_coefficients
+    return solve_with_coefficients(mech, *simulated_inputs(tr, mech))
+
+
+def analytic_forces(tr: Trajectory, built, mech=None, solved=None) -> dict[str, np.ndarray]:
     """Inverse-dynamics drive forces at the simulated state, with the compiled model's inertias,
-    armature, gravity and the load as applied."""
+    armature, gravity and the load as applied; ``solved``: :func:`analytic_solved`'s (solved here when None)."""
     from analytic.applications import torque
     from sim.model import body_inertias
     model = built.model
@@ -156,7 +163,7 @@ def analytic_forces(tr: Trajectory, built, mech=None) -> dict[str, np.ndarray]:
     armature = {d.input.link: d.armature for d in built.drives}
     gear = tuple(model.actuator("load").gear[:2])
     forces = torque.drive_forces(mech, *simulated_inputs(tr, mech), body_inertias(model, mech.links), armature,
-                                 tuple(model.opt.gravity[:2]), gear, tr.load)
+                                 tuple(model.opt.gravity[:2]), gear, tr.load, *(solved or (None, None)))
     if getattr(built, "loadset", None) is not None:       # the file's loads: minus their generalized forces
         from sim.model.loads import drive_share
         share = drive_share(built, np.asarray(tr.t), simulated_inputs(tr, mech))
@@ -259,9 +266,10 @@ def _end_accelerations(built, tr: Trajectory, steps, ctrl, xfrc=None) -> dict[in
 def compare(tr: Trajectory, built, revolutions: float = 1.0) -> Comparison:
     """Every reported output, the drive forces, drive tracking, loops and work balance of run ``tr``."""
     mech = built.mech
-    ref = analytic_at(tr, mech)
+    solved = analytic_solved(tr, mech)                   # the one exact solve at the simulated inputs
+    ref = solved[0]
     omega = motion_scale(mech)
-    taus = analytic_forces(tr, built, mech)
+    taus = analytic_forces(tr, built, mech, solved)
     pairs = [(n, np.asarray(ref[n]), tr.outputs[n]) for n in mech.outputs]
     pairs += [(n, taus[n], tr.forces[n]) for n in taus]
     errors, ok = {}, True
@@ -282,7 +290,7 @@ def compare(tr: Trajectory, built, revolutions: float = 1.0) -> Comparison:
     balance = work_balance(tr, built)
     ok &= drive <= DRIVE_TOL and viol <= LOOP_TOL * mech.size and balance <= WORK_TOL
     changes = tuple(sorted(f for e in mech.solving_geometry.elements if e.get("flips") for f in e["flips"]["at"]))
-    forces = joint_forces.check(built, tr)
+    forces = joint_forces.check(built, tr, solved=solved)
     ok &= forces is None or forces.passed
     return Comparison(tr, ref, errors, drive, viol, taus, balance, bool(ok), revolutions, changes, forces=forces)
 

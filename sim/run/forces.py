@@ -346,10 +346,12 @@ def simulated_inputs(tr, mech, steps) -> tuple[np.ndarray, np.ndarray, np.ndarra
                  for a in ("q", "qd", "qdd"))
 
 
-def analytic_at(built, tr, steps) -> tuple[F.Forces, tuple, dict]:
+def analytic_at(built, tr, steps, solved=None) -> tuple[F.Forces, tuple, dict]:
     """The analytic kinetostatics at the simulated inputs of ``tr``'s steps, with the compiled model's masses,
     gravity and the load as it was applied (its switch included); and the inputs, and the power balance's
-    drives (:func:`analytic.applications.torque.drive_forces`) at the same inputs."""
+    drives (:func:`analytic.applications.torque.drive_forces`) at the same inputs. ``solved``: the solution at
+    every step's simulated inputs and its velocity coefficients (:func:`analytic.cycle.solve_with_coefficients`,
+    compare's own), read at the steps instead of solving again."""
     from analytic.applications import torque
     from sim.model import body_inertias
     model, mech = built.model, built.mech
@@ -366,8 +368,12 @@ def analytic_at(built, tr, steps) -> tuple[F.Forces, tuple, dict]:
         Q = K.generalized(mech, q, res.state, apps)
         power = torque.drive_forces(mech, q, qd, qdd, inertias, None, gravity, load, on)
         return res.forces, (q, qd, qdd), {k: v - Q[k] for k, v in power.items()}
-    an = F.solve(mech, q, qd, qdd, inertias, gravity, load, on)
-    power = torque.drive_forces(mech, q, qd, qdd, inertias, None, gravity, load, on)
+    sol, coefficients = None, None
+    if solved is not None:
+        from analytic.cycle import take
+        sol, coefficients = take(solved[0], steps), tuple(take(c, steps) for c in solved[1])
+    an = F.solve(mech, q, qd, qdd, inertias, gravity, load, on, sol=sol)
+    power = torque.drive_forces(mech, q, qd, qdd, inertias, None, gravity, load, on, sol, coefficients)
     return an, (q, qd, qdd), power
 
 
@@ -523,10 +529,10 @@ def spread(n: int, most: int = CHECKED_STEPS) -> np.ndarray:
     return np.unique(np.round(np.linspace(0, n - 1, most)).astype(int))
 
 
-def check(built, tr, steps=None) -> Agreement | None:
+def check(built, tr, steps=None, solved=None) -> Agreement | None:
     """MuJoCo's joint forces of run ``tr`` against the analytic ones at its simulated inputs (by default every
     step, at most CHECKED_STEPS of them: :func:`spread`); None where statics cannot give the joint forces (a redundant constraint: MuJoCo shares such a
-    load by its regulariser, the analytic solve refuses it)."""
+    load by its regulariser, the analytic solve refuses it). ``solved``: see :func:`analytic_at`."""
     mech = built.mech
     try:
         F.check_determinate(mech)
@@ -534,7 +540,7 @@ def check(built, tr, steps=None) -> Agreement | None:
         return None
     steps = spread(len(tr.t)) if steps is None else np.asarray(steps, dtype=int)
     steps = away_from_change_points(mech, tr, steps)
-    mj, an, _, power = both(built, tr, steps)
+    mj, an, _, power = both(built, tr, steps, solved)
     return agreement(mech, mj, an, power, away_from_reversals(built, tr, steps), joint_floor(built))
 
 
@@ -567,12 +573,13 @@ def away_from_change_points(mech, tr, steps: np.ndarray) -> np.ndarray:
     return steps if near.all() else steps[~near]
 
 
-def both(built, tr, steps=None) -> tuple[F.Forces, F.Forces, tuple, dict]:
+def both(built, tr, steps=None, solved=None) -> tuple[F.Forces, F.Forces, tuple, dict]:
     """MuJoCo's forces and the analytic ones at the simulated inputs of ``tr``'s ``steps`` (default every
-    step), the inputs (q, qd, qdd) and the power balance's drives there: what a plot of them needs."""
+    step), the inputs (q, qd, qdd) and the power balance's drives there: what a plot of them needs.
+    ``solved``: see :func:`analytic_at`."""
     steps = np.arange(len(tr.t)) if steps is None else np.asarray(steps, dtype=int)
     mj = measure(built, tr, steps)
-    an, inputs, power = analytic_at(built, tr, steps)
+    an, inputs, power = analytic_at(built, tr, steps, solved)
     return mj, an, inputs, power
 
 

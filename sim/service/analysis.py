@@ -91,10 +91,14 @@ def figures(mech: Mechanism) -> dict:
     return analyze(mech, 361, 1.0, mech.rock).figures
 
 
-def check_turns_fully(mech: Mechanism) -> None:
+def check_turns_fully(mech: Mechanism, cycle=None) -> None:
     """A single-input mechanism whose first input cannot make a full turn is refused with its limits
-    (a rocking drive, ``input_range``, is the way to run it)."""
+    (a rocking drive, ``input_range``, is the way to run it). ``cycle``: the run's (analytic.cycle.Cycle);
+    one turn of the crank at constant speed that assembles at every sample (the 3600 of a turn that
+    analytic.applications.figures.assembly_ranges scans, and the refined ones) turns fully."""
     if len(mech.inputs) != 1 or mech.rock is not None or not mech.inputs[0].angular:
+        return
+    if cycle is not None and cycle.full_turn and cycle.solution.valid.all():
         return
     from analytic.applications import figures
     ranges = figures.assembly_ranges(mech)

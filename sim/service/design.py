@@ -742,7 +742,7 @@ def sweep_columns(base, keys, rows, display=None) -> tuple[dict, dict]:
         elif name == "energy_per_cycle":
             out[name], units[name] = v, "J"
         elif name == "peak_drive":
-            q = "torque" if base.inputs[0].kind == "crank" else "force"
+            q = "torque" if base.inputs[0].angular else "force"
             out[name], units[name] = u.convert(q, v), u.unit(q)
         else:
             q = SWEEP_QUANTITY.get(name, "")

@@ -4,7 +4,6 @@
 from __future__ import annotations
 
 import math
-from dataclasses import replace
 
 import numpy as np
 
@@ -13,13 +12,17 @@ from analytic.mechanism import Mechanism
 from sim.service.analysis import check_range, check_revolutions, check_turns_fully
 
 
-def check_singular(mech: Mechanism) -> None:
+def check_singular(mech: Mechanism, cycle=None) -> None:
     """Refuse a run whose first input would carry a group through a singular (change-point) pose,
-    naming the input value: the simulation cannot tell the branches apart there."""
+    naming the input value: the simulation cannot tell the branches apart there. ``cycle``: the run's
+    (analytic.cycle.Cycle), whose poses are read instead of solving them again."""
     if len(mech.inputs) != 1:
         from analytic.applications import figures
-        t = np.linspace(0.0, mech.duration(1.0), 2001)
-        sol = mech.solve(*mech.drive(t))
+        if cycle is not None:
+            sol = cycle.solution
+        else:
+            t = np.linspace(0.0, mech.duration(1.0), 2001)
+            sol = mech.solve(*mech.drive(t))
         m, where = figures.min_singularity(mech, sol)
         if m < figures.SINGULAR:
             raise ParameterError(f"the {mech.name} passes through a singular pose ({where} folds): its motion is "
@@ -33,8 +36,14 @@ def check_singular(mech: Mechanism) -> None:
         raise ParameterError(f"the {mech.name} starts at a change point ({first.q}={shown}, where a dyad's links "
                              f"align): the loops' equations are singular there at the simulation's first step; "
                              f"start it a little away (e.g. {first.parameters[0] or 'its start'} = 1deg)")
-    check_change_swing(mech)
-    poses = [p for p in figures.singular_poses(mech) if not passes_smoothly(mech, p[1], p[0])]
+    check_change_swing(mech, cycle)
+    scan = turn_scan(mech, cycle) if cycle is not None else None
+    if scan is not None and cycle.solution.valid.all():   # a full turn that assembles: its scan is the cycle's
+        lo, hi = figures._first_range(mech)
+        found = figures.singular_poses(mech, ranges=[(lo, hi)], scan=scan)
+    else:
+        found = figures.singular_poses(mech)
+    poses = [p for p in found if not passes_smoothly(mech, p[1], p[0])]
     if poses:
         first = mech.inputs[0]
         x, label, _ = poses[0]
@@ -50,6 +59,20 @@ def check_singular(mech: Mechanism) -> None:
                              f"change a length by a little, or run between two such angles with an input range")
 
 
+def turn_scan(mech: Mechanism, cycle):
+    """For a cycle that is one turn of a lone crank at constant speed (:attr:`analytic.cycle.Cycle.full_turn`):
+    (the crank's values ascending, from its start over a turn, {group label: singularity measure} there),
+    the scan analytic.applications.figures.singular_poses reads; else None."""
+    if not cycle.full_turn:
+        return None
+    from analytic.applications.figures import singularity
+    q = cycle.q[:, 0]
+    measures = singularity(mech, cycle.solution)
+    if q[-1] < q[0]:                                      # turning backwards: the same poses, in reverse
+        q, measures = q[::-1] + 2 * math.pi, {k: v[::-1] for k, v in measures.items()}
+    return q, measures
+
+
 CHANGE_SWING = 0.1
 """[singularity measure, the sine of a dyad's transmission angle] The least a dyad that passes change points
 must swing away from its fold between them for the simulation to follow it: a parallelogram swings to 1 and
@@ -57,14 +80,18 @@ passes; a Peaucellier cell whose rhombus stays within 1.9 deg of flat (0.033) ov
 change points, opened its loops by 6 mm (the trust benchmark's seed 1, design 832)."""
 
 
-def check_change_swing(mech: Mechanism) -> None:
-    """Refuse a run in which a dyad passing change points stays near its fold over the whole turn."""
+def check_change_swing(mech: Mechanism, cycle=None) -> None:
+    """Refuse a run in which a dyad passing change points stays near its fold over the whole turn (its poses
+    read from the run's ``cycle`` where given)."""
     flipping = [e["label"] for e in mech.solving_geometry.elements if e.get("flips")]
     if not flipping:
         return
     from analytic.applications import figures
-    t = np.linspace(0.0, mech.duration(1.0), 2001)
-    measures = figures.singularity(mech, mech.solve(*mech.drive(t)))
+    if cycle is not None:
+        measures = figures.singularity(mech, cycle.solution)
+    else:
+        t = np.linspace(0.0, mech.duration(1.0), 2001)
+        measures = figures.singularity(mech, mech.solve(*mech.drive(t)))
     for label in flipping:
         m = measures.get(label)
         if m is not None and np.any(np.isfinite(m)) and float(np.nanmax(m)) < CHANGE_SWING:
@@ -142,28 +169,50 @@ def passes_smoothly(mech: Mechanism, label: str, x: float) -> bool:
 
 def prepare(mech: Mechanism, revolutions: float, input_range=None) -> Mechanism:
     """Checks before any simulation: revolutions, full turn or rocking range, singular poses."""
+    return prepare_run(mech, revolutions, input_range)[0]
+
+
+def prepare_run(mech: Mechanism, revolutions: float, input_range=None):
+    """:func:`prepare`'s checks, and the motion of the run solved once (:class:`analytic.cycle.Cycle`), which
+    they read: (the mechanism as it will run, its cycle)."""
+    from analytic.cycle import Cycle
     check_revolutions(revolutions)
     if input_range is not None:
         lo, hi = check_range(mech, *input_range)
         mech = mech.rocking(lo, hi)
-        q = np.linspace(lo, hi, 721)
-        if len(mech.inputs) > 1:                  # the others move as the run moves them: check those poses
-            q = mech.drive(np.linspace(0.0, mech.duration(revolutions), 2001))[0]
-            try:
-                mech.check_assembles(q)
-            except ParameterError as exc:
-                raise ParameterError(f"{exc}; while the first input rocks, the others keep their own motion "
-                                     f"(give one omega = 0 in the file to hold it at its start)") from None
-        mech.check_assembles(q)
-        check_fold(mech)
-        return mech
+        try:
+            cycle = Cycle.of(mech, revolutions)
+        except ParameterError:                    # the assembly checks below say first what they see
+            cycle = None
+        if cycle is None or not cycle.solution.valid.all():     # where it does not assemble: which pose, in words
+            q = np.linspace(lo, hi, 721)
+            if len(mech.inputs) > 1:              # the others move as the run moves them: check those poses
+                q = mech.drive(np.linspace(0.0, mech.duration(revolutions), 2001))[0]
+                try:
+                    mech.check_assembles(q)
+                except ParameterError as exc:
+                    raise ParameterError(f"{exc}; while the first input rocks, the others keep their own motion "
+                                         f"(give one omega = 0 in the file to hold it at its start)") from None
+            mech.check_assembles(q)
+            if cycle is None:
+                cycle = Cycle.of(mech, revolutions)
+            elif not cycle.solution.valid.all():
+                mech.check_assembles(cycle.q)
+        check_fold(mech, cycle)
+        return mech, cycle
     mech = clear_of_change_point(mech)
-    check_turns_fully(mech)
-    check_singular(mech)
-    t = np.linspace(0.0, mech.duration(min(revolutions, 1.0) if len(mech.inputs) == 1 else revolutions), 2001)
-    check_folded_change_points(mech, mech.drive(t)[0][:, 0])      # before a sample that lands on one
-    mech.check_assembles(mech.drive(t)[0])
-    return mech
+    try:
+        cycle = Cycle.of(mech, revolutions)
+    except ParameterError:                        # (a motion that does not move) the checks say first what they see
+        cycle = None
+    check_turns_fully(mech, cycle)
+    check_singular(mech, cycle)
+    if cycle is None:
+        cycle = Cycle.of(mech, revolutions)
+    check_folded_change_points(mech, cycle.q[:, 0])      # before a sample that lands on one
+    if not cycle.solution.valid.all():
+        mech.check_assembles(cycle.q)
+    return mech, cycle
 
 
 def check_folded_change_points(mech: Mechanism, q1: np.ndarray) -> None:
@@ -196,13 +245,13 @@ def _visited(first, q1: np.ndarray, x: float) -> bool:
     return x + 2 * math.pi * k <= hi + tol
 
 
-def check_fold(mech: Mechanism) -> None:
+def check_fold(mech: Mechanism, cycle=None) -> None:
     """Refuse a rocking run that comes so close to a dead point that the simulation cannot meet compare's
     tolerances there (:data:`sim.model.timestep.FOLD_FLOOR`, ``FOLD_MARGIN``), naming how far inside to
     stay and the range that can be run (rounded inward)."""
     from analytic.applications import figures
     from sim.model.timestep import FOLD_FLOOR, FOLD_MARGIN, fold_measure
-    m, label = fold_measure(mech)
+    m, label = fold_measure(mech, cycle=cycle)
     lo, hi = mech.rock
     first = mech.inputs[0]
     crank = first.angular
@@ -237,7 +286,7 @@ def _dead_points_around(mech: Mechanism, lo: float, hi: float) -> tuple[float | 
     """The dead points just below ``lo`` and just above ``hi`` (the ends of the assembly range holding the
     rocking range), None where there is none (a crank that turns fully)."""
     from analytic.applications import figures
-    plain = replace(mech, rock=None)
+    plain = mech.turning()
     ranges = figures.assembly_ranges(plain)
     if figures.turns_fully(plain, ranges):
         return None, None
@@ -253,7 +302,7 @@ def _fold_limit(mech: Mechanism, dead: float, end: float, floor: float, margin: 
     """The input value between the dead point ``dead`` and the range's ``end`` (or beyond it, towards the
     middle) where the smallest singularity measure reaches ``floor``, at least ``margin`` from ``dead``."""
     from analytic.applications import figures
-    plain = replace(mech, rock=None)
+    plain = mech.turning()
     lo, hi = mech.rock
     inner = 0.5 * (lo + hi)
     far = inner if abs(inner - dead) > abs(end - dead) else end
@@ -274,11 +323,12 @@ def _fold_limit(mech: Mechanism, dead: float, end: float, floor: float, margin: 
 
 
 def simulate(mech: Mechanism, revolutions: float = 1.0, settings=None, loads=None, input_range=None):
-    """Build and run the MuJoCo model: returns (Built, Trajectory)."""
+    """Build and run the MuJoCo model: returns (Built, Trajectory). The motion over the run is solved once
+    (:class:`analytic.cycle.Cycle`) and handed to the model builder."""
     from sim.model import Loads, Settings, build
     from sim.run.simulate import simulate as run
-    mech = prepare(mech, revolutions, input_range)
-    built = build(mech, settings or Settings(), loads or Loads(), revolutions)
+    mech, cycle = prepare_run(mech, revolutions, input_range)
+    built = build(mech, settings or Settings(), loads or Loads(), revolutions, cycle=cycle)
     return built, run(built, revolutions)
 
 
