@@ -161,19 +161,20 @@ def test_ctrl_c_while_a_compiled_module_initialises_is_one_line(monkeypatch, cap
     """pybind11 turns a Ctrl-C during ``import mujoco`` into ImportError("initialization failed") caused by
     the KeyboardInterrupt: it is an interrupt (exit 130, one line); another ImportError is not hidden."""
     from sim.front import cli
+    from sim.front.cli import listing
 
     def cut(args):
         try:
             raise KeyboardInterrupt
         except KeyboardInterrupt as exc:
             raise ImportError("initialization failed") from exc
-    monkeypatch.setattr(cli, "cmd_list", cut)
+    monkeypatch.setattr(listing, "run", cut)
     assert cli.main(["list"]) == 130
     assert capsys.readouterr().err == "linkage: interrupted\n"
 
     def broken(args):
         raise ImportError("no module named nothing")
-    monkeypatch.setattr(cli, "cmd_list", broken)
+    monkeypatch.setattr(listing, "run", broken)
     with pytest.raises(ImportError):
         cli.main(["list"])
 
