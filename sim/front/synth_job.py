@@ -156,10 +156,12 @@ class Job:
                 msg = json.loads(line)
             except ValueError:
                 continue
-            if "result" in msg:
-                self._finish("done", msg["result"])
-            elif "error" in msg:
-                self._finish("failed", error=msg["error"])
+            if "result" in msg or "error" in msg:
+                self._kill()                             # the answer is in: no worker outlives the job
+                if "result" in msg:
+                    self._finish("done", msg["result"])
+                else:
+                    self._finish("failed", error=msg["error"])
             else:
                 with self._lock:
                     self.stage = msg
