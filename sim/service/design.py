@@ -12,7 +12,7 @@ or a Dask ``scheduler``); their items carry their own seeds, so the answer does 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -627,17 +627,69 @@ def two_position_row(task, dsg) -> dict:
             "total": dsg.total, "grashof": g}
 
 
-def two_position(task, lo: float, hi: float, unit: str) -> dict:
+TWO_POSITION_GRID = 721
+"""Coupler rotations tried over the range when the unconstrained optimum breaks a limit (0.25 deg apart over
+the default 180 deg): the least total length among those that meet every limit is returned."""
+
+
+def two_position_measure(task, dsg):
+    """A two-position design's measures over its working range (the crank's travel from position 1 to 2) in
+    the task's frame (:class:`analytic.synthesis.constraints.Measure`): the transmission angle and the Grashof
+    type by the general solver, the bounding box of every point (A, B, C, D and E) and the pivots as the task
+    places them."""
+    from analytic.synthesis import constraints as sc
+    from analytic.synthesis import two_position as synthesis
+    mech = synthesis.mechanism(task, dsg)
+    lo, hi = sorted((dsg.phi0, dsg.phi0 + task.phi12))
+    m = sc.measure(mech, lo, hi, lengths=(dsg.l1, dsg.l2, dsg.l3, dsg.l4))
+    sol = mech.solve(np.linspace(lo, hi, 361))
+    pts = np.concatenate([np.column_stack([sol["x" + p], sol["y" + p]]) for p in mech.points])
+    world = np.array([task.world(p) for p in pts])
+    box = (float(world[:, 0].min()), float(world[:, 1].min()), float(world[:, 0].max()), float(world[:, 1].max()))
+    return replace(m, size=max(box[2] - box[0], box[3] - box[1]), box=box,
+                   pivots={"A": tuple(map(float, task.A)), "D": tuple(map(float, task.D))})
+
+
+def two_position(task, lo: float, hi: float, unit: str, limits=None) -> dict:
     """Seed 001: the rows at the paper's coupler rotations in [lo, hi] [rad], the optimum (least total
-    length) and the rotations excluded with their reasons. ``search`` holds the optimiser's result."""
+    length) and the rotations excluded with their reasons. ``search`` holds the optimiser's result.
+
+    ``limits`` (:class:`analytic.synthesis.constraints.Limits`; None: none, the seed's own problem): the
+    optimum must meet them over its working range (:func:`two_position_measure`); where the unconstrained
+    one does not, the least total length among TWO_POSITION_GRID rotations over the range that do is
+    returned (``"limited"``: what the unconstrained optimum broke), or none, with the reason."""
+    from analytic.synthesis import constraints as sc
     from analytic.synthesis import two_position as synthesis
     check_scale({"--E1": task.E1, "--E2": task.E2, "--A": task.A, "--D": task.D}, unit)
     search = synthesis.optimum(task, lo, hi)
     thetas = [math.radians(t) for t in synthesis.SEED_THETAS if lo <= math.radians(t) <= hi]
     rows = [two_position_row(task, synthesis.design(task, th)) for th in thetas]
-    best = two_position_row(task, search.optimum) if search.optimum else None
-    excluded = [{"theta_deg": math.degrees(th), "reason": why} for th, why in search.excluded]
-    return {"rows": rows, "optimum": best, "excluded": excluded, "unit": unit, "search": search}
+    optimum, limited = search.optimum, None
+    if limits is not None:
+        limits = limits.check()
+        limits.check_names(("A", "D"), "the two-position four-bar (A: the crank's pivot, D: the rocker's)")
+
+        def why(dsg):
+            if synthesis.feasibility(task, dsg) is not None:
+                return "infeasible"
+            try:
+                return sc.broken(two_position_measure(task, dsg), limits, unit)
+            except ParameterError as exc:
+                return str(exc)
+
+        limited = why(optimum) if optimum is not None else "no unconstrained optimum"
+        if limited:
+            good = [d for d in (synthesis.design(task, th) for th in np.linspace(lo, hi, TWO_POSITION_GRID))
+                    if math.isfinite(d.total) and not why(d)]
+            optimum = min(good, key=lambda d: d.total) if good else None
+    best = two_position_row(task, optimum) if optimum else None
+    if best is not None and limits is not None:
+        best.update(sc.record(two_position_measure(task, optimum)))
+    excluded = [{"theta_deg": math.degrees(th), "reason": why_} for th, why_ in search.excluded]
+    out = {"rows": rows, "optimum": best, "excluded": excluded, "unit": unit, "search": search}
+    if limits is not None:
+        out["limited"] = limited or ""
+    return out
 
 
 # ------------------------------------------------------------------------------------------ sweep

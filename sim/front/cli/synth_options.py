@@ -16,10 +16,12 @@ def add_units(p, help_text: str) -> None:
     p.add_argument("--units", "--unit", dest="unit", choices=sorted(UNITS), default="m", help=help_text)
 
 
-def add_limits(p, pivots: str) -> None:
-    """The limits every returned design meets; ``pivots`` names the ground pivots a region may name."""
-    p.add_argument("--min-transmission", metavar="DEG", type=degrees, default=30.0,
-                   help="least transmission angle over the working range [deg; 30 or 30deg] (default 30)")
+def add_limits(p, pivots: str, min_transmission: float | None = 30.0) -> None:
+    """The limits every returned design meets; ``pivots`` names the ground pivots a region may name;
+    ``min_transmission`` the default least transmission angle [deg] (None: no limit unless given)."""
+    p.add_argument("--min-transmission", metavar="DEG", type=degrees, default=min_transmission,
+                   help="least transmission angle over the working range [deg; 30 or 30deg] (default "
+                        + (f"{min_transmission:g})" if min_transmission is not None else "none)"))
     p.add_argument("--max-size", metavar="L", type=float, default=None,
                    help="largest side of the mechanism's bounding box over its working range (file units)")
     p.add_argument("--pivot-region", metavar="NAME=x0:x1,y0:y1", action="append", default=[],
@@ -28,10 +30,13 @@ def add_limits(p, pivots: str) -> None:
                    help="the four-bar type wanted: crank-rocker (the crank turns fully), double-crank, any")
 
 
-def limits_of(args) -> sc.Limits:
-    """The command line's :class:`analytic.synthesis.constraints.Limits` (bad values: ParameterError)."""
-    return sc.Limits(sc.parse_angle_deg("--min-transmission", args.min_transmission), args.max_size,
-                     tuple(sc.parse_region(t) for t in args.pivot_region), args.grashof).check()
+def limits_of(args) -> sc.Limits | None:
+    """The command line's :class:`analytic.synthesis.constraints.Limits` (bad values: ParameterError); None
+    where no limit is given and none is the default (two-position: seed 001's own problem)."""
+    if args.min_transmission is None and args.max_size is None and not args.pivot_region and args.grashof == "any":
+        return None
+    mu = 0.0 if args.min_transmission is None else sc.parse_angle_deg("--min-transmission", args.min_transmission)
+    return sc.Limits(mu, args.max_size, tuple(sc.parse_region(t) for t in args.pivot_region), args.grashof).check()
 
 
 def measure_words(d: dict, unit: str) -> str:

@@ -12,6 +12,7 @@ from analytic import ParameterError
 from analytic.format import expr
 from analytic.synthesis import two_position as synthesis
 from sim.front.cli.options import add_video_options
+from sim.front.cli.synth_options import add_limits, limits_of, measure_words
 from sim.output.jsonout import dumps
 from sim.output.io import check_writable
 
@@ -47,14 +48,24 @@ def cmd_synthesize(args) -> int:
                           phi12=expr.parse_value("--crank-rotation", args.crank_rotation),
                           psi12=expr.parse_value("--rocker-rotation", args.rocker_rotation))
     lo, hi = _angle_range("--theta-range", args.theta_range)
-    res = design_service.two_position(task, lo, hi, args.unit)
+    limits = limits_of(args)
+    res = design_service.two_position(task, lo, hi, args.unit, limits)
     rows, best, excluded, search = res["rows"], res["optimum"], res["excluded"], res["search"]
     if args.json:
-        print(dumps({"rows": rows, "optimum": best, "excluded": excluded, "unit": args.unit}))
+        record = {"rows": rows, "optimum": best, "excluded": excluded, "unit": args.unit}
+        if limits is not None:
+            record["limited"] = res["limited"]
+        print(dumps(record))
     else:
         print(_table(rows, best, args.unit))
         print(_excluded_summary(search.excluded))
+        if limits is not None and best is not None:
+            print(f"optimum under the limits: {measure_words(best, args.unit)}"
+                  + (f" (the unconstrained optimum broke one: {res['limited']})" if res["limited"] else ""))
     if best is None:
+        if limits is not None:
+            raise ParameterError(f"no coupler rotation in the range gives a linkage that moves E from E1 to E2 "
+                                 f"within the limits (the unconstrained optimum: {res['limited']}); relax them")
         raise ParameterError("no coupler rotation in the range gives a linkage that moves E from E1 to E2")
     if args.plot:
         _plot_total(task, search, lo, hi, args.plot, args.unit)
@@ -148,6 +159,7 @@ def register(sub) -> None:
     p.add_argument("--theta-range", default="-90deg:90deg", metavar="LO:HI",
                    help="coupler rotations searched (default -90deg:90deg)")
     p.add_argument("--units", "--unit", dest="unit", choices=sorted(UNIT_TO_M), default="mm", help="length unit of the data (default mm)")
+    add_limits(p, "A (the crank's), D (the rocker's)", min_transmission=None)
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.add_argument("--plot", metavar="PATH", help="plot total length against theta (.png/.svg/.pdf)")
     p.add_argument("--render", metavar="PATH", help="animate the optimum moving E from E1 to E2 (.mp4/.gif)")
