@@ -121,9 +121,25 @@ class Family:
     shape_dim: int = 0
     label: str = ""
 
+    closed_form_mu: bool = False
+    """Whether a transmission angle of the family (a slider-crank's rod against its slider line) is not one
+    the general solver's groups report, so its closed form is taken beside theirs."""
+
     @property
     def size(self) -> int:
         return len(self.names)
+
+    @property
+    def fourbar_loop(self) -> bool:
+        """Whether its designs close a four-bar loop A-B-C-D (the four-bar, the six-bars' first loop)."""
+        return {"a", "b", "c", "d"} <= set(self.names)
+
+    def fourbar_lengths(self, x) -> tuple[float, float, float, float] | None:
+        """The crank, coupler, rocker and ground (a, b, c, d) of the design's four-bar loop, for its Grashof
+        type; None for a family without one (a slider-crank)."""
+        if not self.fourbar_loop:
+            return None
+        return tuple(float(x[self.names.index(k)]) for k in ("a", "b", "c", "d"))
 
     @property
     def scaled(self) -> tuple[int, ...]:
@@ -347,6 +363,7 @@ class SliderCrank(Family):
     shape_dim: int = 4
     label: str = "slider-crank"
     pivot_names: tuple[str, ...] = ("A",)
+    closed_form_mu: bool = True
 
     def joints(self, x, phi, branch):
         x = np.atleast_2d(np.asarray(x, dtype=float))

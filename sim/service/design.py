@@ -176,7 +176,7 @@ class PathOptions:
         if self.evaluations is not None and self.budget is not None:
             raise ParameterError("--evaluations and --budget both given: give one (a count is reproducible, "
                                  "seconds are not)")
-        if self.grashof != "any" and self.types == ("slider_crank",):
+        if self.grashof != "any" and not any(FAMILIES[f].fourbar_loop for t in self.types for f in TYPES[t]):
             raise ParameterError(f"--grashof {self.grashof} applies to a four-bar loop; a slider-crank has none "
                                  f"(its crank turns fully by --min-transmission): drop --grashof")
         self.limits.check_names(tuple(dict.fromkeys(n for t in self.types for f in TYPES[t]
@@ -262,13 +262,13 @@ def check_path_design(job: tuple) -> dict:
     out["solver_deviation"] = float(dev / size)
     mus = [sol[m] for m in mech.transmission_angles.values()]
     mu = min(float(np.min(v)) for v in mus) if mus else float(fam.mu_min(np.asarray(x)[None], branch)[0])
-    if fam.name == "slider_crank":
+    if fam.closed_form_mu:
         mu = min(mu, float(fam.mu_min(np.asarray(x)[None], branch)[0]))
     out["mu_min_deg"] = math.degrees(mu)
     from analytic.synthesis import constraints as sc
     lo, hi = sorted((phi1_0, phi1_0 + sense * 2 * math.pi))
     x = np.asarray(x, dtype=float)
-    m = sc.measure(mech, lo, hi, 3601, tuple(x[[4, 5, 6, 3]]) if name != "slider_crank" else None)
+    m = sc.measure(mech, lo, hi, 3601, fam.fourbar_lengths(x))
     out["measure"] = sc.record(m)
     if limits is not None and sc.broken(m, limits, mech.units):
         out["problem"] = sc.broken(m, limits, mech.units)

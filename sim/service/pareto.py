@@ -52,6 +52,10 @@ def parse_objectives(text: str) -> tuple[str, ...]:
     return names
 
 
+FRONT_TYPES = ("fourbar", "slider_crank")
+"""The ``--type`` values a front is searched for (their forces and sizes are evaluated in batches here)."""
+
+
 @dataclass(frozen=True)
 class ParetoOptions:
     """``objectives``; ``family`` (a path family with one crank: fourbar or slider_crank); ``seed``;
@@ -63,7 +67,7 @@ class ParetoOptions:
     a constraint of the search like the limits."""
 
     objectives: tuple[str, ...] = ("error", "torque")
-    family: str = "fourbar"
+    family: str = FRONT_TYPES[0]
     seed: int = 0
     popsize: int = 40
     generations: int = 30
@@ -77,7 +81,7 @@ class ParetoOptions:
 
     def check(self) -> "ParetoOptions":
         parse_objectives(",".join(self.objectives))
-        if self.family not in ("fourbar", "slider_crank"):
+        if self.family not in FRONT_TYPES:
             raise ParameterError(f"--objectives: --type {self.family} is not searched for a front; use fourbar "
                                  f"or slider_crank")
         for name in ("popsize", "generations", "front"):
@@ -297,7 +301,7 @@ def check(x, branch, target: sp.Target, opts: ParetoOptions, unit: str, limits: 
     phi0, sense = float(ph[0]), sense_of(d)
     lo, hi = sorted((phi0, phi0 + sense * 2 * math.pi))
     try:
-        m = sc.measure(mech, lo, hi, 3601, tuple(x[[4, 5, 6, 3]]) if family.name == "fourbar" else None)
+        m = sc.measure(mech, lo, hi, 3601, family.fourbar_lengths(x))
     except ParameterError as exc:
         return {**out, "problem": str(exc)}
     out["measure"] = sc.record(m)

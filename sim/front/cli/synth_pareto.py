@@ -50,8 +50,8 @@ def options_of(args, path_options) -> P.ParetoOptions:
     if args.budget is not None:
         raise ParameterError("--objectives runs a counted search: give --evaluations N (or --generations), not "
                              "--budget")
-    if args.type not in ("fourbar", "slider_crank"):
-        raise ParameterError(f"--objectives with --type {args.type}: use fourbar or slider_crank")
+    if args.type not in P.FRONT_TYPES:
+        raise ParameterError(f"--objectives with --type {args.type}: use {' or '.join(P.FRONT_TYPES)}")
     generations = args.generations or 30
     if args.evaluations is not None:
         generations = max(1, args.evaluations // args.popsize - 1)
