@@ -20,15 +20,6 @@ from sim import service
 LIBRARY = Path(analytic.__file__).parent / "library"
 
 
-@pytest.fixture(scope="module")
-def server():
-    srv = app.AppServer(0, {"name": "fourbar"})
-    thread = threading.Thread(target=srv.serve_forever, daemon=True)
-    thread.start()
-    yield srv
-    srv.shutdown()
-    srv.server_close()
-
 
 def request(srv, method, path, body=None, headers=None, raw=None):
     """(status, headers, bytes) of one request on a fresh connection."""

@@ -7,7 +7,6 @@ Skipped as a whole where Playwright or the browser is missing."""
 import json
 import os
 import statistics
-import threading
 from pathlib import Path
 
 import pytest
@@ -18,7 +17,6 @@ if not os.path.exists(CHROMIUM):
     pytest.skip(f"{CHROMIUM} is not installed", allow_module_level=True)
 
 import analytic  # noqa: E402
-from sim.front import app  # noqa: E402
 
 pytestmark = pytest.mark.slow  # the whole module: see pyproject's markers
 
@@ -43,22 +41,6 @@ MOVE = """async ([name, value]) => {
 }"""
 """Move a slider and wait for the redraw and the next frame: the latency the user sees [ms]."""
 
-
-@pytest.fixture(scope="module")
-def server():
-    srv = app.AppServer(0, {"name": "fourbar"})
-    threading.Thread(target=srv.serve_forever, daemon=True).start()
-    yield srv
-    srv.shutdown()
-    srv.server_close()
-
-
-@pytest.fixture(scope="module")
-def browser():
-    with sync_api.sync_playwright() as p:
-        b = p.chromium.launch(executable_path=CHROMIUM, args=ARGS)
-        yield b
-        b.close()
 
 
 @pytest.fixture

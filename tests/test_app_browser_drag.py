@@ -7,7 +7,6 @@ idle within 1 s. Screenshots of each go to $LINKAGE_SCREENSHOTS when it is set."
 
 import math
 import os
-import threading
 import time
 import tomllib
 from pathlib import Path
@@ -33,22 +32,6 @@ DRAWN = 2e-6
 """[m] the drag's solve is sent with 7 significant digits of each series' peak (~0.5 m): 5e-8, far below;
 what is left is the drag's own closure (1e-9 of the size)."""
 
-
-@pytest.fixture(scope="module")
-def server():
-    srv = app.AppServer(0, {"name": "fourbar"})
-    threading.Thread(target=srv.serve_forever, daemon=True).start()
-    yield srv
-    srv.shutdown()
-    srv.server_close()
-
-
-@pytest.fixture(scope="module")
-def browser():
-    with sync_api.sync_playwright() as p:
-        b = p.chromium.launch(executable_path=CHROMIUM, args=ARGS)
-        yield b
-        b.close()
 
 
 @pytest.fixture

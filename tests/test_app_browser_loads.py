@@ -4,7 +4,6 @@ does (virtual work: the drive changes by -F . dC/dphi1, dC/dphi1 from the solve'
 differences). Screenshots go to $LINKAGE_SCREENSHOTS when it is set."""
 
 import os
-import threading
 from pathlib import Path
 
 import numpy as np
@@ -15,7 +14,6 @@ CHROMIUM = "/usr/bin/chromium"
 if not os.path.exists(CHROMIUM):
     pytest.skip(f"{CHROMIUM} is not installed", allow_module_level=True)
 
-from sim.front import app  # noqa: E402
 
 pytestmark = pytest.mark.slow
 ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
@@ -24,14 +22,6 @@ TIMEOUT_MS = 30_000
 LOAD_RGB = (0xC2, 0x18, 0x5B)
 """The canvas's load colour (app.js LOAD_COLOR)."""
 
-
-@pytest.fixture(scope="module")
-def server():
-    srv = app.AppServer(0, {"name": "fourbar"})
-    threading.Thread(target=srv.serve_forever, daemon=True).start()
-    yield srv
-    srv.shutdown()
-    srv.server_close()
 
 
 @pytest.fixture

@@ -8,14 +8,12 @@ import json
 import math
 import subprocess
 import sys
-import threading
 import tomllib
 from pathlib import Path
 
 import numpy as np
 import pytest
 
-from sim.front import app
 
 HERE = Path(__file__).parent
 FOURBAR = """\
@@ -45,14 +43,6 @@ branch = 1
 """
 """A four-bar turning at 1e-3 rad/s: the inertia forces (~m r w^2 ~ 1e-7 N) leave statics."""
 
-
-@pytest.fixture(scope="module")
-def server():
-    srv = app.AppServer(0, {"name": "fourbar"})
-    threading.Thread(target=srv.serve_forever, daemon=True).start()
-    yield srv
-    srv.shutdown()
-    srv.server_close()
 
 
 def post(srv, path, body):

@@ -6,7 +6,6 @@ gears' pitch radii from the centre distance; every bad request is a one-line 4xx
 
 import json
 import math
-import threading
 from pathlib import Path
 
 import numpy as np
@@ -18,15 +17,6 @@ EXAMPLES = Path(__file__).parent / "peers_examples"
 KINDS = Path(__file__).parent / "kinds"
 G = 9.81
 
-
-@pytest.fixture(scope="module")
-def server():
-    srv = app.AppServer(0, {"name": "fourbar"})
-    thread = threading.Thread(target=srv.serve_forever, daemon=True)
-    thread.start()
-    yield srv
-    srv.shutdown()
-    srv.server_close()
 
 
 def post(srv, path, body):

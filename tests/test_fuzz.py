@@ -16,7 +16,6 @@ import analytic
 from analytic import ParameterError
 from analytic.applications import figures
 from analytic.registry import LIBRARY
-from sim.front import app
 from sim.front.cli import main
 
 pytestmark = pytest.mark.slow  # the whole module: see pyproject's markers
@@ -109,15 +108,6 @@ def test_option_sets_exit_0_or_2_in_one_line(tmp_path, monkeypatch):
             assert len(err.getvalue().strip().splitlines()) <= 2, err.getvalue()   # argparse: usage + error
     assert list(tmp_path.iterdir()) == [] and codes == {0, 2}
 
-
-@pytest.fixture(scope="module")
-def server():
-    srv = app.AppServer(0, {"name": "fourbar"})
-    thread = threading.Thread(target=srv.serve_forever, daemon=True)
-    thread.start()
-    yield srv
-    srv.shutdown()
-    srv.server_close()
 
 
 def _post(srv, path, raw: bytes, ctype="application/json"):
