@@ -259,6 +259,7 @@ def test_mechanisms_lists_the_synthesis_types(server):
 
 
 # ------------------------------------------------------------------------------------------ synthesis
+@pytest.mark.slow
 def test_the_synthesis_panel_finds_the_four_bar_that_drew_its_targets(server):
     from analytic.synthesis import path as sp
     # 8 targets once round the coupler curve of a known crank-rocker (a closed path); the panel must give

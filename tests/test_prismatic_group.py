@@ -57,7 +57,10 @@ def _against_oracle(m, q):
     return pos, rate
 
 
-@pytest.mark.parametrize("name", OURS)
+SLOW = pytest.mark.slow   # the 6-link group's scans cost 10-25 s each: the slow tier
+
+
+@pytest.mark.parametrize("name", [pytest.param(n, marks=SLOW) if n == "peas_6link.txt" else n for n in OURS])
 def test_groups_with_sliding_blocks_import_reproduce_the_pose_and_agree_with_the_oracle(name):
     form, m = form_and_mech(EXAMPLES / name)
     assert any(e["kind"] == "group" and e["slides"] for e in m.geometry.elements)
@@ -202,7 +205,8 @@ def _held_range_is_where_the_start_branch_goes(m):
     return a, b
 
 
-@pytest.mark.parametrize("name", ["peas_slot_triad.txt", "moving_guide.txt", "peas_6link.txt"])
+@pytest.mark.parametrize("name", ["peas_slot_triad.txt", "moving_guide.txt",
+                                  pytest.param("peas_6link.txt", marks=SLOW)])
 def test_the_range_holding_the_start_ends_where_the_branch_from_the_start_does(name):
     _held_range_is_where_the_start_branch_goes(form_and_mech(EXAMPLES / name)[1])
 

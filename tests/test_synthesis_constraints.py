@@ -77,9 +77,11 @@ def test_bad_pivot_region_is_refused_with_its_option(text):
 
 
 def test_region_and_angle_parsing():
-    assert sc.parse_region("D=-1.5:2,0:3") == sc.Region("D", -1.5, 2.0, 0.0, 3.0)
-    assert sc.parse_angle_deg("--min-transmission", "30deg") == 30.0
-    assert sc.parse_angle_deg("--min-transmission", "12.5") == 12.5
+    r = sc.parse_region("D=-1.5:2,0:3")
+    # parsed decimal text: one rounding of each number at most
+    assert r.name == "D" and (r.x0, r.x1, r.y0, r.y1) == pytest.approx((-1.5, 2.0, 0.0, 3.0), abs=1e-15)
+    assert sc.parse_angle_deg("--min-transmission", "30deg") == pytest.approx(30.0, abs=1e-15)
+    assert sc.parse_angle_deg("--min-transmission", "12.5") == pytest.approx(12.5, abs=1e-15)
     with pytest.raises(ParameterError, match="--min-transmission"):
         sc.parse_angle_deg("--min-transmission", "thirty")
     with pytest.raises(ParameterError, match="--min-transmission"):

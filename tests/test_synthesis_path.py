@@ -135,6 +135,7 @@ def test_bad_target_files(tmp_path, body, words):
     assert len(r.stderr.strip().splitlines()) == 1
 
 
+@pytest.mark.slow
 def test_cli_json_and_infeasible(tmp_path):
     x, xy = recovery_target(seed=11, m=6)
     f = tmp_path / "t.csv"
