@@ -12,15 +12,15 @@ import math
 import numpy as np
 import pytest
 
-from analytic.applications import cycle
+from analytic.applications import averages
 
 
 @pytest.mark.parametrize("n", [4, 5, 17, 361])
 def test_mean_of_cos_over_a_closed_turn_is_zero_whatever_n(n):
     u = np.linspace(0.0, 2 * math.pi, n)
     # the trapezoid rule is exact for cos over whole periods with >= 3 intervals; 1e-12 bounds rounding
-    assert abs(cycle.closed_mean(np.cos(u + 0.4))) < 1e-12
-    assert abs(cycle.closed_rms(np.cos(u + 0.4)) ** 2 - 0.5) < 1e-12
+    assert abs(averages.closed_mean(np.cos(u + 0.4))) < 1e-12
+    assert abs(averages.closed_rms(np.cos(u + 0.4)) ** 2 - 0.5) < 1e-12
 
 
 def test_closed_mean_leaves_out_the_poses_that_do_not_assemble():
@@ -29,7 +29,7 @@ def test_closed_mean_leaves_out_the_poses_that_do_not_assemble():
     y[100] = np.nan
     # the two intervals touching the gap are dropped: the rest averages 3 + (mean of cos over them); the
     # missing 2 of 360 intervals move that mean by at most 2/360
-    assert abs(cycle.closed_mean(y) - 3.0) < 2 / 360
+    assert abs(averages.closed_mean(y) - 3.0) < 2 / 360
 
 
 @pytest.mark.parametrize("steps_per_turn", [50.7, 252.3, 1000.1])
@@ -45,8 +45,8 @@ def test_period_mean_of_a_run_that_ends_past_one_turn(steps_per_turn, phase):
     # the trapezoid rule on a periodic function over one period, its two cut ends interpolated linearly:
     # each cut interval errs by at most (w h)^2 / 8 of the amplitude over a length h, so <= (w h)^2 h / (4 T)
     bound = (w * h) ** 2 * h / (4 * T)
-    assert abs(cycle.period_mean(t, y, T) - 2.0) < bound
-    assert abs(cycle.period_rms(t, np.cos(w * t + phase), T) ** 2 - 0.5) < 2 * bound
+    assert abs(averages.period_mean(t, y, T) - 2.0) < bound
+    assert abs(averages.period_rms(t, np.cos(w * t + phase), T) ** 2 - 0.5) < 2 * bound
 
 
 def test_flywheel_energy_of_a_sine_power_is_2_A_over_w():
@@ -54,7 +54,7 @@ def test_flywheel_energy_of_a_sine_power_is_2_A_over_w():
     w = 2 * math.pi / T
     h = T / 400.3
     t = np.arange(0.0, 2.2 * T, h)
-    tt, e = cycle.excess_energy(t, 7.0 + A * np.sin(w * t), T)       # a mean of 7 W is drawn off first
+    tt, e = averages.excess_energy(t, 7.0 + A * np.sin(w * t), T)       # a mean of 7 W is drawn off first
     assert tt[-1] - tt[0] == pytest.approx(T, rel=1e-12)
     # the swing of the integral is 2 A / w; sampled every h, each extremum is missed by <= (w h)^2 / 8 of A / w
     # and the trapezoid sum over the half period errs by <= (w h)^2 / 6 of it: (w h)^2 / 2 of A / w bounds all

@@ -38,7 +38,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from analytic._common import ParameterError
-from analytic.applications.cycle import closed_mean, closed_weights
+from analytic.applications.averages import closed_mean, closed_weights
 from analytic.mass import Counterweight, add_counterweights
 
 __all__ = ["Balance", "inertial_shaking", "rms", "least_squares", "berkof_lowen", "four_bar", "balance",

@@ -16,7 +16,7 @@ import numpy as np
 from analytic import kinds
 from analytic._common import fmt_deg
 from analytic.solution import StateView
-from analytic.applications.cycle import closed_mean
+from analytic.applications.averages import closed_mean
 
 SINGULAR = 1e-6
 """A group whose singularity measure falls below this is at a singular (change-point) pose: its rates

@@ -17,7 +17,7 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from analytic.applications.cycle import closed_mean
+from analytic.applications.averages import closed_mean
 from analytic.closed_forms import fivebar
 from analytic.closed_forms import fourbar
 from analytic._common import ParameterError

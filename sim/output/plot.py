@@ -212,9 +212,9 @@ def _speed_panel(ax, x, c: Comparison, xlabel, colors, mech, u) -> None:
 
 def flywheel_energy(t: np.ndarray, power: np.ndarray, period: float) -> tuple[np.ndarray, np.ndarray]:
     """(instants, energy [J]) a flywheel must absorb over the last period of the run: the integral of (power -
-    mean power) over exactly one period (trapezoid, analytic.applications.cycle); its max - min is the
+    mean power) over exactly one period (trapezoid, analytic.applications.averages); its max - min is the
     fluctuation to size the flywheel for."""
-    from analytic.applications.cycle import excess_energy
+    from analytic.applications.averages import excess_energy
     return excess_energy(t, power, period)
 
 
@@ -223,10 +223,10 @@ def drive_power(c: Comparison, built) -> tuple[np.ndarray, float, float]:
     swing over that turn [J]) of the design along its commanded motion: the inverse-dynamics drive forces
     (the model's inertias, armature, gravity and load) at the commanded inputs times the commanded rates,
     so that the servo's start-up ripple of the first turn does not count; averaged each instant once
-    (analytic.applications.cycle)."""
+    (analytic.applications.averages)."""
     from dataclasses import replace
 
-    from analytic.applications import cycle
+    from analytic.applications import averages
     from sim.run.compare import analytic_forces
     mech = built.mech
     tr = c.trajectory
@@ -239,7 +239,7 @@ def drive_power(c: Comparison, built) -> tuple[np.ndarray, float, float]:
         power = power + np.ravel(taus[f"tau{i.link}"]) * qd[:, k]
     period = mech.duration(1.0)
     _, energy = flywheel_energy(tr.t, power, period)
-    return power, cycle.period_mean(tr.t, power, period), float(np.ptp(energy))
+    return power, averages.period_mean(tr.t, power, period), float(np.ptp(energy))
 
 
 def _torque_panels(axes, x, c: Comparison, xlabel, colors, built) -> None:
@@ -258,7 +258,7 @@ def _torque_panels(axes, x, c: Comparison, xlabel, colors, built) -> None:
     axes[0].set(title="Driving torque", xlabel=xlabel, ylabel="[N m]")
     axes[1].set(title="Torque error (dashed: tolerance)", xlabel=xlabel, ylabel="|MuJoCo - analytic| [N m]")
     axes[1].set_yscale("log")
-    from analytic.applications import cycle
+    from analytic.applications import averages
     period = mech.duration(1.0)
     pw, mean_power, _ = drive_power(c, built)
     te, energy = flywheel_energy(tr.t, pw, period)
@@ -275,7 +275,7 @@ def _torque_panels(axes, x, c: Comparison, xlabel, colors, built) -> None:
         ref = c.torques[name]
         unit = c.errors[name]["unit"]
         lines.append(f"{name}: peak {np.max(np.abs(ref)):.4g} {unit}, "
-                     f"RMS {cycle.period_rms(tr.t, ref, period):.4g} {unit}")
+                     f"RMS {averages.period_rms(tr.t, ref, period):.4g} {unit}")
     lines += [f"mean drive power {mean_power:.4g} W",
               f"flywheel energy swing {np.ptp(energy):.4g} J",
               f"work balance {c.work_balance:.2e} of the KE swing per revolution"]
@@ -429,7 +429,7 @@ def _force_error_panel(ax, x, xlabel, an, mj, mech, colors) -> None:
 
 
 def _shaking_locus(ax, an, mj, color, t, period) -> None:
-    from analytic.applications.cycle import period_rms
+    from analytic.applications.averages import period_rms
     fx, fy = an.shaking[0], an.shaking[1]
     ax.plot(fx, fy, color=color, lw=1.6, label="analytic")
     ax.plot(mj.shaking[0][::MARK_EVERY], mj.shaking[1][::MARK_EVERY], "o", ms=3.5, mfc="none", color=color,

@@ -150,7 +150,7 @@ def force_peaks(run: ForceRun, forces=None) -> dict:
     """Each joint's peak |F| [N] (a prismatic pair's also its peak |M| [N m]), each drive's peak and the
     shaking force's and moment's, with the sample index where each occurs; the RMS over the closed run
     (its end sample counted once)."""
-    from analytic.applications.cycle import closed_rms
+    from analytic.applications.averages import closed_rms
     f = forces or run.forces
     out = {"joints": {}, "drives": {}, "shaking": {}}
     mag = f.magnitude()
