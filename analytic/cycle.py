@@ -6,7 +6,8 @@ a dense grid of times, and refines it where it bends: near each rate's highest p
 the merged, sorted grid (one path, so a numerically solved group continues along it instead of re-tracing
 from the start). A lone crank turning at constant speed whose change points were searched for reads its
 peaks from that search's scan of the turn (analytic.solver.change_points.schedule_and_scan) instead of the
-dense solve, so its cycle is one solve. Change points themselves are not refined around: a dyad passes them
+dense solve, so its cycle is one solve; so does a lone input rocking over a range that scan covers (each
+scanned pose at the two times the rocking passes it, its rates from the scan's velocity coefficients). Change points themselves are not refined around: a dyad passes them
 smoothly (its rates are continuous there) and samples within ~1e-5 rad of one meet the closed form's
 rounding, not the motion. That second solve also gives the velocity
 coefficients of every input (its outputs with that input at unit rate, the others at rest, no
@@ -125,17 +126,20 @@ class Cycle:
     coefficients: tuple = field(repr=False)
     refined: np.ndarray = field(repr=False)
     revolutions: float = 1.0
+    beyond: Solution | None = field(default=None, repr=False)
 
     @classmethod
-    def of(cls, mech, revolutions: float = 1.0) -> "Cycle":
+    def of(cls, mech, revolutions: float = 1.0, margin: float = 0.0) -> "Cycle":
         """The cycle of ``mech`` for a run of ``revolutions`` turns (module docstring): a dense solve, then
-        the refined grid solved with the velocity coefficients."""
+        the refined grid solved with the velocity coefficients. ``margin`` (rad, or m for a slider) > 0, for
+        a lone input rocking over (lo, hi): also the poses at lo - margin and hi + margin, in the same solve
+        (``beyond``, shape (2,): whether a dead point lies that close beyond an end of the range)."""
         span = 1.0 if periodic(mech) else float(revolutions)
         end = mech.duration(span)
         turns = max(1.0, span)
         t = np.linspace(0.0, end, int(min(SAMPLES * turns, SAMPLES_MAX)) + 1)
         q, qd, qdd = mech.drive(t)
-        scanned = _from_turn_scan(mech, end) if span == 1.0 else None
+        scanned = (_from_turn_scan(mech, end) or _from_rocking_scan(mech, end)) if span == 1.0 else None
         if scanned is not None:                  # the change points' scan of the turn, at unit rate
             ts, r = scanned
         else:
@@ -156,6 +160,19 @@ class Cycle:
         tt = np.unique(np.r_[t, extra])
         refined = ~np.isin(tt, t)
         q, qd, qdd = mech.drive(tt)
+        if margin > 0.0 and mech.rock is not None and len(mech.inputs) == 1:
+            # the poses beyond the ends solved next to the samples at the ends (t = 0 and the top of the swing),
+            # so that a group that continues from sample to sample reaches them along the range
+            lo, hi = mech.rock
+            at = np.array([0, int(np.argmax(q[:, 0])) + 1])
+            rows = np.array([[lo - margin], [hi + margin]])
+            Q, QD, QDD = (np.insert(x, at, v, axis=0) for x, v in ((q, rows), (qd, 0.0), (qdd, 0.0)))
+            sol, coeffs = solve_with_coefficients(mech, Q, QD, QDD)
+            probe = at + np.arange(2)                  # where the two rows landed
+            keep = np.setdiff1d(np.arange(len(Q)), probe)
+            beyond = take(sol, probe)
+            sol, coeffs = take(sol, keep), tuple(take(c, keep) for c in coeffs)
+            return cls(mech, tt, q, qd, qdd, sol, coeffs, refined, span, beyond)
         sol, coeffs = solve_with_coefficients(mech, q, qd, qdd)
         return cls(mech, tt, q, qd, qdd, sol, coeffs, refined, span)
 
@@ -201,4 +218,49 @@ def _from_turn_scan(mech, end: float):
     n = len(q)
     r = rates(mech, np.full((n, 1), w), np.zeros((n, 1)), sol) * w      # |omega| w, sqrt(|alpha| w^2), ...
     r[:, 0] = w                                                            # the input's own speed
+    return ts[order], r[order]
+
+
+def _from_rocking_scan(mech, end: float):
+    """For a lone input rocking over (lo, hi) (q = mid - amp cos(w t), one period ``end``) whose change points'
+    scan is at hand and covers the range (:attr:`analytic.mechanism.Mechanism.turn_scan`: the turn at unit
+    rate, its velocities the velocity coefficients c1, its accelerations the second-order ones c2): each
+    scanned pose inside the range at the two times of the period the rocking passes it, the range's ends at
+    0, end / 2 and end, and the run's rates there (:func:`rates`), from omega = c1 qd and
+    alpha = c2 qd^2 + c1 qdd (the same for a slide's ds, dds); else None. The ends' coefficients are
+    interpolated from the scan's neighbours (they only choose where the cycle refines)."""
+    if len(mech.inputs) != 1 or mech.rock is None or mech.turn_scan is None:
+        return None
+    first = mech.inputs[0]
+    w = abs(first.motion.rate)
+    if w == 0.0:
+        return None
+    q, sol = mech.turn_scan
+    lo, hi = mech.rock
+    x = q[1:-1]                                       # the scan's own turn (one sample past each end dropped)
+    if first.spec.periodic:
+        x = lo + np.mod(x - lo, 2 * math.pi)
+    elif not (x.min() <= lo and hi <= x.max()):
+        return None                                   # a slider's range reaching past the scanned stroke
+    inside = np.flatnonzero((x > lo) & (x < hi))
+    order = np.argsort(x, kind="stable")
+    period = 2 * math.pi if first.spec.periodic else None
+    coeff = {k: np.asarray(sol[k])[1:-1] for k in rate_names(mech)}
+
+    def at_ends(v):                                   # a coefficient at lo and hi, from the scan's neighbours
+        return np.interp([lo, hi], x[order], v[order], period=period)
+
+    mid, amp = 0.5 * (lo + hi), 0.5 * (hi - lo)
+    theta = np.arccos(np.clip((mid - x[inside]) / amp, -1.0, 1.0))     # w t over the first half period
+    ts = np.r_[theta / w, end - theta / w, 0.0, 0.5 * end, end]
+    qd = np.r_[amp * w * np.sin(theta), -amp * w * np.sin(theta), 0.0, 0.0, 0.0]
+    qdd = np.r_[amp * w * w * np.cos(theta), amp * w * w * np.cos(theta), amp * w * w, -amp * w * w, amp * w * w]
+    c = {k: np.r_[v[inside], v[inside], at_ends(v)[[0, 1, 0]]] for k, v in coeff.items()}
+    run = {}
+    for first_order, second_order in [(f"omega{ln}", f"alpha{ln}") for ln in mech.links] + \
+            [(f"ds{j}", f"dds{j}") for j in mech.slides]:
+        run[first_order] = c[first_order] * qd
+        run[second_order] = c[second_order] * qd * qd + c[first_order] * qdd
+    r = rates(mech, qd[:, None], qdd[:, None], run)
+    order = np.argsort(ts, kind="stable")
     return ts[order], r[order]

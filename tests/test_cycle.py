@@ -155,3 +155,125 @@ def test_a_singular_pose_in_the_turn_is_still_refused_from_the_cycles_scan(tmp_p
     with counted() as n, pytest.raises(ParameterError, match=r"passes a change point at phi1=180\.00deg"):
         service.prepare(mech, 1.0)
     assert n["scans"] == 2 and n["cycle"] == 2, n   # the cycle's two (dense, refined): the turn is not scanned again
+
+
+DOUBLE_ROCKER = {"l1": 0.2, "l3": 0.1}       # with l2 = l4 = 0.3: dead points where B, C, D are aligned
+
+DRIVEN_SLIDER = """
+format = "linkage/1"
+[ground]
+O = [0, 0]
+Q = [0.25, 0.05]
+[[inputs]]
+kind = "slider"
+point = "S"
+guide = { through = "O", angle = "30deg" }
+s0 = 0.02
+v = 0.1
+[[groups]]
+kind = "RRR"
+point = "C"
+from = ["S", "Q"]
+lengths = [0.2, 0.15]
+"""
+"""A driven slider moving an RRR dyad (tests/test_library.py's): a slider's range [m], a dyad's scan."""
+
+
+def load(name, over):
+    return analytic.from_text(DRIVEN_SLIDER, name) if name == "driven_slider" else service.load(name, over)
+
+
+def dead_points_by_hand() -> tuple[float, float]:
+    """The double rocker's dead points [rad]: C on line BD, |BD| = l2 - l3 = 0.2 or l2 + l3 = 0.4, and
+    |BD|^2 = l1^2 + l4^2 - 2 l1 l4 cos(phi1) (cosine rule): 41.4096 and 104.4775 deg."""
+    l1, l4 = 0.2, 0.3
+    return tuple(math.acos((l1 * l1 + l4 * l4 - d * d) / (2 * l1 * l4)) for d in (0.2, 0.4))
+
+
+@pytest.mark.parametrize("name, over, rng", [
+    ("fourbar", DOUBLE_ROCKER, (45.0, 100.0)),        # a dyad, its dead points beyond the range
+    ("fourbar", {}, (10.0, 80.0)),                    # a crank that could turn, rocked
+    ("stephenson_ii", {}, (10.0, 80.0)),              # a numerically solved group: no change-point scan
+    ("slider_crank", {}, (-20.0, 20.0)),              # a closed-form RRP dyad
+    ("driven_slider", {}, (0.0, 0.04)),               # a slider's stroke [m]
+])
+def test_a_compare_over_an_input_range_solves_the_mechanism_at_most_three_times(name, over, rng):
+    # The dead-point search (the assembly range's ends, refined by bisection: 2-10 more solves) is not made
+    # when the cycle's poses FOLD_MARGIN beyond both ends assemble; a dyad's cycle reads its rate peaks from
+    # the change points' scan of the turn, so its three solves are that scan, the cycle and the comparison.
+    mech = load(name, over)
+    angular = mech.inputs[0].angular
+    rock = tuple(math.radians(x) for x in rng) if angular else rng
+    with counted() as n:
+        _, c = service.compare(mech, 1.0, input_range=rock)
+    assert c.passed, {k: e for k, e in c.errors.items() if not e["passed"]}
+    assert n["model"] == 0 and n["run"] == 1 and n["other"] == 0, n
+    assert sum(v for k, v in n.items() if k != "scans") <= 3, n
+
+
+def test_the_cli_compare_over_an_input_range_solves_at_most_three_times():
+    from tests.cli_runner import run
+    with counted() as n:
+        r = run("compare", "fourbar", "--set", "l1=0.2", "--set", "l3=0.1", "--input-range", "45deg:100deg")
+    assert r.returncode == 0, r.stderr
+    assert sum(v for k, v in n.items() if k != "scans") <= 3, n
+
+
+@pytest.mark.parametrize("inside, valid", [(2.0, True), (0.5, False)])
+def test_the_poses_beyond_a_rocking_range_see_a_dead_point_within_the_margin(inside, valid):
+    # The range ends ``inside`` margins short of both hand-computed dead points: at 2 margins the poses one
+    # margin beyond still assemble; at half a margin they lie past the dead points and do not.
+    lo, hi = dead_points_by_hand()
+    margin = 1e-5
+    mech = service.load("fourbar", DOUBLE_ROCKER).rocking(lo + inside * margin, hi - inside * margin)
+    c = Cycle.of(mech, 1.0, margin)
+    assert c.solution.valid.all()
+    assert c.beyond is not None and len(c.beyond.valid) == 2
+    assert bool(c.beyond.valid[0]) is valid and bool(c.beyond.valid[1]) is valid
+    # and the cycle's own samples are the rocking motion's, not shifted by the two poses solved with them
+    sol = mech.solve(c.q, c.qd, c.qdd)
+    assert np.max(np.abs(sol["xC"] - c.solution["xC"])) <= 1e-12 * mech.size          # rounding
+
+
+def test_a_range_within_the_margin_of_a_dead_point_is_still_refused():
+    # 0.5e-5 rad inside the dead point at 41.4096 deg: check_fold's search runs and names it (the same as
+    # before the cycle solved the poses beyond the range)
+    lo, hi = dead_points_by_hand()
+    mech = service.load("fourbar", DOUBLE_ROCKER)
+    with pytest.raises(ParameterError, match=r"dead point at 41\.4096deg"):
+        service.prepare(mech, 1.0, (lo + 0.5e-5, math.radians(100.0)))
+
+
+@pytest.mark.parametrize("name, over, rng", [
+    ("fourbar", {}, (10.0, 80.0)),
+    ("fourbar", {}, (-170.0, 170.0)),                  # across the scan's start (phi1_0 = 0): wrapped
+    ("fourbar", DOUBLE_ROCKER, (41.42, 104.46)),       # near both dead points: the rates peak at the ends
+    ("jansen", {}, (0.0, 170.0)),
+    ("driven_slider", {}, (0.0, 0.04)),                # [m]
+])
+def test_the_rocking_cycles_rates_from_the_turn_scan_are_the_motions(name, over, rng):
+    # The rates the cycle picks its peaks from, computed from the change points' scan at unit rate
+    # (omega = c1 qd, alpha = c2 qd^2 + c1 qdd), against the rocking mechanism solved at those times: equal
+    # to rounding at the scanned poses. (A dropped c1 qdd term, a time at the wrong half of the swing or the
+    # swing's phase reversed all fail it: tried.) The range's three end samples use interpolated
+    # coefficients and are left out.
+    from analytic.cycle import _from_rocking_scan, rates
+    mech = load(name, over)
+    mech = mech.rocking(*(math.radians(x) if mech.inputs[0].angular else x for x in rng))
+    ts, r = _from_rocking_scan(mech, mech.duration(1.0))
+    ends = np.isin(ts, [0.0, 0.5 * mech.duration(1.0), mech.duration(1.0)])
+    assert ends.sum() == 3 and len(ts) > 50              # a slider: its 40 mm of the scanned +-4 sizes
+    q, qd, qdd = mech.drive(ts[~ends])
+    want = rates(mech, qd, qdd, mech.solve(q, qd, qdd))
+    scale = np.nanmax(want, axis=0)
+    # 1e-7 of each rate's peak: the scan's poses are the run's to rounding, the times to acos's rounding
+    # near the swing's ends (where d(acos)/dx grows as 1/sqrt(1 - x^2))
+    assert np.nanmax(np.abs(r[~ends] - want) / scale) <= 1e-7
+    # and the cycle's peaks: its highest rates, refined, are the dense brute force's (200 000 samples)
+    c = Cycle.of(mech, 1.0)
+    t = np.linspace(0.0, mech.duration(1.0), 200_001)
+    q, qd, qdd = mech.drive(t)
+    brute = np.nanmax(rates(mech, qd, qdd, mech.solve(q, qd, qdd, outputs=None)), axis=0)
+    got = np.nanmax(c.rates(), axis=0)
+    # 1e-6: the brute force's own grid (its step 1/200000 of a period) misses a smooth peak by ~1e-9
+    assert np.all(got >= brute * (1 - 1e-6)), (got / brute).min()

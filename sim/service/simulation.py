@@ -178,10 +178,12 @@ def prepare_run(mech: Mechanism, revolutions: float, input_range=None):
     from analytic.cycle import Cycle
     check_revolutions(revolutions)
     if input_range is not None:
+        from sim.model.timestep import FOLD_MARGIN
         lo, hi = check_range(mech, *input_range)
         mech = mech.rocking(lo, hi)
+        margin = FOLD_MARGIN * (1.0 if mech.inputs[0].angular else mech.size)    # check_fold's, beyond the ends
         try:
-            cycle = Cycle.of(mech, revolutions)
+            cycle = Cycle.of(mech, revolutions, margin)
         except ParameterError:                    # the assembly checks below say first what they see
             cycle = None
         if cycle is None or not cycle.solution.valid.all():     # where it does not assemble: which pose, in words
@@ -195,7 +197,7 @@ def prepare_run(mech: Mechanism, revolutions: float, input_range=None):
                                          f"(give one omega = 0 in the file to hold it at its start)") from None
             mech.check_assembles(q)
             if cycle is None:
-                cycle = Cycle.of(mech, revolutions)
+                cycle = Cycle.of(mech, revolutions, margin)
             elif not cycle.solution.valid.all():
                 mech.check_assembles(cycle.q)
         check_fold(mech, cycle)
@@ -248,10 +250,14 @@ def _visited(first, q1: np.ndarray, x: float) -> bool:
 def check_fold(mech: Mechanism, cycle=None) -> None:
     """Refuse a rocking run that comes so close to a dead point that the simulation cannot meet compare's
     tolerances there (:data:`sim.model.timestep.FOLD_FLOOR`, ``FOLD_MARGIN``), naming how far inside to
-    stay and the range that can be run (rounded inward)."""
+    stay and the range that can be run (rounded inward). Where the ``cycle`` solved the poses FOLD_MARGIN beyond
+    both ends (:attr:`analytic.cycle.Cycle.beyond`) and they assemble, no dead point is that close and the
+    assembly range is not searched for its ends."""
     from analytic.applications import figures
     from sim.model.timestep import FOLD_FLOOR, FOLD_MARGIN, fold_measure
     m, label = fold_measure(mech, cycle=cycle)
+    if m >= FOLD_FLOOR and cycle is not None and cycle.beyond is not None and cycle.beyond.valid.all():
+        return
     lo, hi = mech.rock
     first = mech.inputs[0]
     crank = first.angular
