@@ -165,13 +165,19 @@ def _transmissions(mech, sol) -> list[np.ndarray]:
     return [np.minimum(v, math.pi - v) for v in out]
 
 
-def measure(mech, lo: float, hi: float, n: int = 1441, lengths: tuple[float, float, float, float] | None = None
-            ) -> Measure:
+MEASURE_SAMPLES = 1441
+"""Values of the first input :func:`measure` solves over a working range (1/8 deg apart over 180 deg)."""
+
+
+def measure(mech, lo: float, hi: float, n: int = MEASURE_SAMPLES,
+            lengths: tuple[float, float, float, float] | None = None, sol=None) -> Measure:
     """Measure ``mech`` (a :class:`analytic.Mechanism` of one input) with its first input over [lo, hi]
     [rad] at ``n`` samples by the general solver; ``lengths`` (a, b, c, d) of a four-bar give its Grashof
-    type. Raises ParameterError where it cannot assemble somewhere in the range."""
-    q = np.linspace(lo, hi, n)
-    sol = mech.solve(q)
+    type; ``sol``: the solution at ``n`` values evenly spaced over the range (either way round) already
+    solved by the caller, instead of solving here. Raises ParameterError where it cannot assemble somewhere
+    in the range."""
+    if sol is None:
+        sol = mech.solve(np.linspace(lo, hi, n))
     bad = sol.first_failure()
     if bad is not None:
         raise ParameterError(f"the design cannot assemble over its working range ({bad})")

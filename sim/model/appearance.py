@@ -45,7 +45,7 @@ def draw_ground(spec, mech, points, radius, cycle=None):
     from analytic import kinds
     rails = [r for e in mech.geometry.elements for r in kinds.get(e["kind"]).rails(e)]
     if rails:
-        sol = cycle.solution if cycle is not None else mech.solve(*mech.drive(np.linspace(0.0, mech.duration(1.0), 181)))
+        sol = _cycle(mech, cycle).solution
     for block, g, off in rails:
         s = sol["s" + block]
         lo, hi = float(np.nanmin(s)), float(np.nanmax(s))
@@ -70,14 +70,16 @@ def frame_camera(spec, mech, aspect: float = 4 / 3, cycle=None) -> None:
     spec.stat.extent = extent
 
 
-def path_points(mech, samples: int = 361, cycle=None) -> np.ndarray:
-    """Every point over one period of the first input (``samples`` instants, or the samples of the run's
-    ``cycle``, analytic.cycle.Cycle), shape (k, 2) [m]: frames the camera."""
-    if cycle is not None:
-        sol = cycle.solution
-    else:
-        t = np.linspace(0.0, mech.duration(1.0), samples)
-        sol = mech.solve(*mech.drive(t))
+def _cycle(mech, cycle=None):
+    """The run's cycle (analytic.cycle.Cycle), or where none was handed over, one turn's, made here."""
+    from analytic.cycle import Cycle
+    return cycle if cycle is not None else Cycle.of(mech)
+
+
+def path_points(mech, cycle=None) -> np.ndarray:
+    """Every point at the samples of the run's ``cycle`` (analytic.cycle.Cycle; one turn's, made here, when
+    None), shape (k, 2) [m]: frames the camera."""
+    sol = _cycle(mech, cycle).solution
     pts = [np.column_stack([sol["x" + p], sol["y" + p]]) for p in mech.points]
     pts = np.concatenate(pts)
     return pts[np.all(np.isfinite(pts), axis=1)]

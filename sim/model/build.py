@@ -116,6 +116,8 @@ class Built:
     (sim.model.loads); None when there are none."""
     native: tuple = ()
     """Loads carried as MuJoCo tendons instead (a motor-driven run: sim.model.loads.add_native)."""
+    regularization: float | None = None
+    """The factor the constraints' inverse weights were scaled by (:func:`regularization`), as built."""
 
     @property
     def name(self) -> str:
@@ -269,7 +271,7 @@ def build_model(mech, settings, loads, h, sol, points, q_start, revolutions, nat
     window = slow_stroke(mech, cycle) if loads.slow_stroke_only else None
     draft = Built(mech, model, settings, loads, tuple(drives), tuple(loops), tuple(mech.links), None, None, None,
                   None, window, xml, loadset, carried)
-    extra = ML.drive_loads(draft, revolutions) if loadset else None
+    extra = ML.drive_loads(draft, revolutions, cycle) if loadset else None
     scale = regularization(model, mech, loads, extra)
     model.body_invweight0[:] *= scale
     model.tendon_invweight0[:] *= scale             # a tendon equality (a gear coupling) is sized by these
@@ -277,7 +279,7 @@ def build_model(mech, settings, loads, h, sol, points, q_start, revolutions, nat
     qpos0, qvel0 = initial_state(model, mech, order, frames, sol)
     act0, ctrl0 = initial_controls(model, mech, drives, q_start, loads, extra, cycle)
     built = Built(mech, model, settings, loads, tuple(drives), tuple(loops), tuple(mech.links),
-                  qpos0, qvel0, act0, ctrl0, window, xml, loadset, carried)
+                  qpos0, qvel0, act0, ctrl0, window, xml, loadset, carried, scale)
     return built
 
 

@@ -43,9 +43,10 @@ def loadset_of(mech, loads):
     return ls if ls else None
 
 
-def applications(built, t, q=None, qd=None, qdd=None):
+def applications(built, t, q=None, qd=None, qdd=None, sol=None):
     """Every load's wrenches (friction's included) at times ``t`` along the commanded motion (or the given
-    inputs), with the compiled model's masses, gravity and shorthand load; and the State."""
+    inputs), with the compiled model's masses, gravity and shorthand load; and the State. ``sol``: the
+    solution there (an analytic.cycle.Cycle's), or solved here."""
     from analytic.loads import kinetostatics as K
     from sim.model.inertia import body_inertias
     mech, model = built.mech, built.model
@@ -57,11 +58,12 @@ def applications(built, t, q=None, qd=None, qdd=None):
     if ls.friction:
         from sim.model.drives import load_switch
         load = tuple(float(x) for x in model.actuator("load").gear[:2])
-        res = K.solve(mech, q, qd, qdd, t, inertias, ls, gravity, load, load_switch(built, np.asarray(t)))
+        res = K.solve(mech, q, qd, qdd, t, inertias, ls, gravity, load, load_switch(built, np.asarray(t)), sol=sol)
         apps = [a for v in res.applications.values() for a in v] + list(res.friction_apps)
         return apps, res.state, inertias, res.Ft
     from analytic import loads as AL
-    sol = mech.solve(q, qd, qdd, outputs=K.full_wanted(mech))
+    if sol is None:
+        sol = mech.solve(q, qd, qdd, outputs=K.full_wanted(mech))
     state = AL.State(mech, sol, q, qd, t)
     variables = state.variables(AL.scales(mech.definition, mech.parameters))
     skip = set(getattr(built, "native", ()) or ())
@@ -106,22 +108,26 @@ def wrenches(built, t, q=None, qd=None) -> Wrenches:
 
 @dataclass(frozen=True)
 class DriveLoads:
-    """The loads' share of each drive [N m or N] over one cycle's 361 instants (the first at t = 0), as
-    sim.model.drives sizes the servos from, and the largest total load force [N] (the regulariser's scale)."""
+    """The loads' share of each drive [N m or N] at the samples of the run's cycle (analytic.cycle.Cycle, the
+    first at t = 0), as sim.model.drives sizes the servos from, and the largest total load force [N] (the
+    regulariser's scale)."""
 
     tau: dict
     peak_force: float
 
 
-def drive_loads(built, revolutions: float = 1.0) -> DriveLoads:
+def drive_loads(built, revolutions: float = 1.0, cycle=None) -> DriveLoads:
     """What the drives must add to hold the commanded motion against the loads: minus the loads' generalized
-    forces (virtual work, analytic.loads.kinetostatics.generalized), at the instants size_drives uses."""
-    from analytic.loads.kinetostatics import generalized
+    forces (virtual work, analytic.loads.kinetostatics.generalized), at the samples of the run's ``cycle``
+    (made here when None), where size_drives reads the drive forces: its poses and velocity coefficients."""
+    from analytic.cycle import Cycle
+    from analytic.loads.kinetostatics import full_wanted, generalized
     mech = built.mech
-    t = np.linspace(0.0, mech.duration(1.0), 361)
-    apps, state, _, _ = applications(built, t)
-    q = mech.drive(t)[0]
-    Q = generalized(mech, q, state, apps)
+    cycle = cycle if cycle is not None else Cycle.of(mech, revolutions)
+    t, q = cycle.t, cycle.q
+    sol = {k: np.asarray(cycle.solution[k]) for k in full_wanted(mech)}
+    apps, state, _, _ = applications(built, t, q, cycle.qd, cycle.qdd, sol)
+    Q = generalized(mech, q, state, apps, cycle.coefficients)
     peak = np.zeros(len(t))
     size = mech.size
     for a in apps:

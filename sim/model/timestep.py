@@ -156,8 +156,10 @@ def fold_factor(mech, revolutions: float = 1.0, cycle=None) -> float:
 
 
 def motion_scale(mech) -> float:
-    """Omega [1/s]: the fastest commanded input speed (a slider's over the size)."""
-    t = np.linspace(0.0, mech.duration(1.0), 181)
+    """Omega [1/s]: the fastest commanded input speed (a slider's over the size) over one turn of the first
+    input: at its ends (a speed linear in time, q0 + rate t + accel t^2 / 2) or a quarter period in (a rocking
+    drive's amp w; only the first input rocks)."""
+    t = np.array([0.0, 0.25, 1.0]) * mech.duration(1.0)
     qd = mech.drive(t)[1]
     scales = [np.max(np.abs(qd[:, k])) / i.spec.rate_scale(mech.size) for k, i in enumerate(mech.inputs)]
     return float(max(scales))

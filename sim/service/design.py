@@ -238,7 +238,8 @@ def check_path_design(job: tuple) -> dict:
     """The checks of one synthesised design (a mapper item): ``job`` = (family name, x, branch, text,
     phi1_0 [rad], sense, size [length]).
 
-    The design's file is read back and solved by the general solver over a full turn (3601 samples): it
+    The design's file is read back and solved by the general solver over a full turn (the dense grid of a
+    cycle, analytic.cycle.SAMPLES + 1 samples, measured from the same solve): it
     must assemble everywhere, its traced point must coincide with the family's closed form to 1e-9 of the
     targets' size (the same branches all the way round), and its transmission angles (the solver's RRR
     outputs; a slider-crank's from its closed form) give ``mu_min_deg``. Then ``linkage compare`` over a
@@ -248,7 +249,8 @@ def check_path_design(job: tuple) -> dict:
     limits = rest[0] if rest else None
     fam = FAMILIES[name]
     mech = from_text(text, f"<synthesised {name}>")
-    q = phi1_0 + sense * np.linspace(0.0, 2 * math.pi, 3601)
+    from analytic.cycle import SAMPLES
+    q = phi1_0 + sense * np.linspace(0.0, 2 * math.pi, SAMPLES + 1)
     sol = mech.solve(q)
     out = {"compare_passed": False, "compare_mode": "full turn", "solver_deviation": float("nan"),
            "mu_min_deg": float("nan"), "problem": "", "measure": None, "simulated": None}
@@ -268,7 +270,7 @@ def check_path_design(job: tuple) -> dict:
     from analytic.synthesis import constraints as sc
     lo, hi = sorted((phi1_0, phi1_0 + sense * 2 * math.pi))
     x = np.asarray(x, dtype=float)
-    m = sc.measure(mech, lo, hi, 3601, fam.fourbar_lengths(x))
+    m = sc.measure(mech, lo, hi, len(q), fam.fourbar_lengths(x), sol=sol)
     out["measure"] = sc.record(m)
     if limits is not None and sc.broken(m, limits, mech.units):
         out["problem"] = sc.broken(m, limits, mech.units)
@@ -641,8 +643,8 @@ def two_position_measure(task, dsg):
     from analytic.synthesis import two_position as synthesis
     mech = synthesis.mechanism(task, dsg)
     lo, hi = sorted((dsg.phi0, dsg.phi0 + task.phi12))
-    m = sc.measure(mech, lo, hi, lengths=(dsg.l1, dsg.l2, dsg.l3, dsg.l4))
-    sol = mech.solve(np.linspace(lo, hi, 361))
+    sol = mech.solve(np.linspace(lo, hi, sc.MEASURE_SAMPLES))
+    m = sc.measure(mech, lo, hi, sc.MEASURE_SAMPLES, (dsg.l1, dsg.l2, dsg.l3, dsg.l4), sol=sol)
     pts = np.concatenate([np.column_stack([sol["x" + p], sol["y" + p]]) for p in mech.points])
     world = np.array([task.world(p) for p in pts])
     box = (float(world[:, 0].min()), float(world[:, 1].min()), float(world[:, 0].max()), float(world[:, 1].max()))

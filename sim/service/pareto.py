@@ -25,6 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from analytic import ParameterError
+from analytic.cycle import SAMPLES
 from analytic.synthesis import constraints as sc
 from analytic.synthesis import path as sp
 from analytic.synthesis.curves import FAMILIES
@@ -301,7 +302,7 @@ def check(x, branch, target: sp.Target, opts: ParetoOptions, unit: str, limits: 
     phi0, sense = float(ph[0]), sense_of(d)
     lo, hi = sorted((phi0, phi0 + sense * 2 * math.pi))
     try:
-        m = sc.measure(mech, lo, hi, 3601, family.fourbar_lengths(x))
+        m = sc.measure(mech, lo, hi, SAMPLES + 1, family.fourbar_lengths(x))   # a cycle's dense grid of a turn
     except ParameterError as exc:
         return {**out, "problem": str(exc)}
     out["measure"] = sc.record(m)

@@ -15,14 +15,12 @@ from sim.service.analysis import check_range, check_revolutions, check_turns_ful
 def check_singular(mech: Mechanism, cycle=None) -> None:
     """Refuse a run whose first input would carry a group through a singular (change-point) pose,
     naming the input value: the simulation cannot tell the branches apart there. ``cycle``: the run's
-    (analytic.cycle.Cycle), whose poses are read instead of solving them again."""
+    (analytic.cycle.Cycle), whose poses are read instead of solving them again (one turn's, made here, when
+    None)."""
     if len(mech.inputs) != 1:
         from analytic.applications import figures
-        if cycle is not None:
-            sol = cycle.solution
-        else:
-            t = np.linspace(0.0, mech.duration(1.0), 2001)
-            sol = mech.solve(*mech.drive(t))
+        from analytic.cycle import Cycle
+        sol = (cycle if cycle is not None else Cycle.of(mech)).solution
         m, where = figures.min_singularity(mech, sol)
         if m < figures.SINGULAR:
             raise ParameterError(f"the {mech.name} passes through a singular pose ({where} folds): its motion is "
@@ -82,16 +80,13 @@ change points, opened its loops by 6 mm (the trust benchmark's seed 1, design 83
 
 def check_change_swing(mech: Mechanism, cycle=None) -> None:
     """Refuse a run in which a dyad passing change points stays near its fold over the whole turn (its poses
-    read from the run's ``cycle`` where given)."""
+    read from the run's ``cycle``; one turn's, made here, when None)."""
     flipping = [e["label"] for e in mech.solving_geometry.elements if e.get("flips")]
     if not flipping:
         return
     from analytic.applications import figures
-    if cycle is not None:
-        measures = figures.singularity(mech, cycle.solution)
-    else:
-        t = np.linspace(0.0, mech.duration(1.0), 2001)
-        measures = figures.singularity(mech, mech.solve(*mech.drive(t)))
+    from analytic.cycle import Cycle
+    measures = figures.singularity(mech, (cycle if cycle is not None else Cycle.of(mech)).solution)
     for label in flipping:
         m = measures.get(label)
         if m is not None and np.any(np.isfinite(m)) and float(np.nanmax(m)) < CHANGE_SWING:
@@ -167,6 +162,12 @@ def passes_smoothly(mech: Mechanism, label: str, x: float) -> bool:
     return False
 
 
+RANGE_CHECK = 721
+"""Values of the first input, evenly spaced over a rocking range from its start, checked in turn for the first
+that does not assemble where the run's cycle does not (the value the refusal names; one every 0.25 deg of a
+180 deg range)."""
+
+
 def prepare(mech: Mechanism, revolutions: float, input_range=None) -> Mechanism:
     """Checks before any simulation: revolutions, full turn or rocking range, singular poses."""
     return prepare_run(mech, revolutions, input_range)[0]
@@ -187,9 +188,10 @@ def prepare_run(mech: Mechanism, revolutions: float, input_range=None):
         except ParameterError:                    # the assembly checks below say first what they see
             cycle = None
         if cycle is None or not cycle.solution.valid.all():     # where it does not assemble: which pose, in words
-            q = np.linspace(lo, hi, 721)
+            q = np.linspace(lo, hi, RANGE_CHECK)
             if len(mech.inputs) > 1:              # the others move as the run moves them: check those poses
-                q = mech.drive(np.linspace(0.0, mech.duration(revolutions), 2001))[0]
+                q = cycle.q if cycle is not None else mech.drive(np.linspace(0.0, mech.duration(revolutions),
+                                                                             RANGE_CHECK))[0]
                 try:
                     mech.check_assembles(q)
                 except ParameterError as exc:
