@@ -196,3 +196,67 @@ def test_the_links_and_joints_form_asks_the_registered_kinds(tmp_path, monkeypat
     r = run("check", path)
     assert r.returncode == 2 and "Traceback" not in r.stderr
     assert expected in r.stderr, r.stderr
+
+
+# ------------------------------------------------------------------ other tools' files: the kinds recognise
+PEERS = Path(__file__).resolve().parent / "peers_examples"
+
+
+class GearedImported(GearedInJoints):
+    """The toy kind as the importers would take it: it claims a Pyslvs pair of two joints and a PMKS R
+    driver, writing its own entry (ratio 2), as a new input kind's module would."""
+
+    def default_rate(self, size):
+        return "omega", "180deg"
+
+    def from_pyslvs(self, pair):
+        if pair.base == pair.driver:
+            return None
+        return {"kind": self.name, "pivot": f"J{pair.base}", "point": f"J{pair.driver}", "ratio": 2}
+
+    def from_pmks(self, driver):
+        if driver.type != "R":
+            return None
+        return {"kind": self.name, "pivot": driver.point, "ratio": 2}
+
+
+def _registered_first(monkeypatch, kind):
+    """``kind`` registered before every other (the importers take the first kind that claims an input)."""
+    monkeypatch.setattr(kinds, "KINDS", {kind.name: kind, **kinds.KINDS})
+
+
+def test_the_importers_ask_the_registered_input_kinds(tmp_path, monkeypatch):
+    from analytic.format import foreign
+    _registered_first(monkeypatch, GearedImported())
+    # a Pyslvs project's pair (0, 1) and a PMKS file's driving R joint J0, each now the toy's, at its rate
+    assert foreign.read(PEERS / "fourbar.pyslvs")["inputs"] == [
+        {"kind": "geared_crank", "pivot": "J0", "point": "J1", "ratio": 2, "omega": "180deg"}]
+    assert foreign.read(PEERS / "rpp.txt")["inputs"] == [
+        {"kind": "geared_crank", "pivot": "J0", "ratio": 2, "omega": "180deg"}]
+    # and end to end: the import writes the toy's entry, which the links-and-joints form hands to its kind
+    out = tmp_path / "x.toml"
+    r = run("import", PEERS / "fourbar.pyslvs", "--out", out)
+    assert r.returncode == 2 and "Traceback" not in r.stderr and not out.exists()
+    assert "reached the geared crank's own recognition (ratio 2)" in r.stderr, r.stderr
+
+
+@pytest.mark.parametrize("name, inputs", [("fourbar.pyslvs", None), ("slider_crank_rp.txt", [(0, 1)]),
+                                          ("quick_return.txt", [(0, 1)]), ("rpp.txt", None),
+                                          ("peas_6link.txt", None)])
+def test_a_kind_that_claims_no_input_leaves_the_imports_as_they_were(monkeypatch, name, inputs):
+    # the toy without importer hooks (the base class's: None), asked first, passes every input on to the
+    # crank's and the slider's recognition: the written file is the same text
+    from analytic.format import foreign
+    before = foreign.dumps(foreign.read(PEERS / name, inputs))
+    _registered_first(monkeypatch, GearedInJoints())
+    assert foreign.dumps(foreign.read(PEERS / name, inputs)) == before
+    assert '\nkind = "crank"' in before
+
+
+def test_a_slider_pair_is_recognised_by_the_slider_kind(monkeypatch):
+    # Pyslvs' (base, base) drives the block of the P/RP joint at the base: the slider kind's own recognition;
+    # with the toy (which claims only pairs of two joints) asked first, still the slider's
+    from analytic.format import pyslvs
+    _registered_first(monkeypatch, GearedImported())
+    form = pyslvs.to_form(pyslvs.parse_expression("M[J[RP,A[0],P[0,0],L[ground,a]]]", "x"), [(0, 0)], "x")
+    assert form["inputs"] == [{"kind": "slider", "point": "J0"}]

@@ -10,7 +10,9 @@ source's (``ground`` stays ``ground``; PMKS' spellings of the ground become ``gr
 cannot hold become ``_``; a pin-in-slot joint ``Jn`` adds its block ``Jn_block``). Neither format has units:
 the file's unit is ``mm`` unless told otherwise. Inputs move at the format's defaults: a crank one turn
 per second (``omega = "360deg"``), a slider the mechanism's size per second
-(:meth:`analytic.kinds.slider.Slider.default_rate`).
+(:meth:`analytic.kinds.slider.Slider.default_rate`). Which input kind a source's input is, the input kinds
+say themselves (:meth:`analytic.kinds.base.Kind.from_pyslvs`, ``from_pmks``: the first registered kind that
+claims it), so a new input kind is one module.
 """
 
 from __future__ import annotations

@@ -27,6 +27,7 @@ two links relative to each other, one of which must be the ground.
 from __future__ import annotations
 
 import re
+from dataclasses import dataclass
 from urllib.parse import unquote
 
 from analytic._common import FileError
@@ -153,8 +154,31 @@ def to_form(text: str, source: str) -> dict:
     return form
 
 
+@dataclass(frozen=True)
+class Driver:
+    """A PMKS driving joint as the input kinds read it (:meth:`analytic.kinds.base.Kind.from_pmks`): its
+    ``index`` (point ``J<index>``), ``type`` (``R``, ``P``, ``RP``, ``G``), ``links`` (as written, the
+    ground's spellings made ``ground``) and the links-and-joints ``form`` read so far (links, joints)."""
+
+    index: int
+    type: str
+    links: list
+    form: dict
+
+    @property
+    def point(self) -> str:
+        return f"J{self.index}"
+
+
 def _input(k: int, joints, form: dict, source: str) -> dict:
+    """The ``[[inputs]]`` entry of the driving joint ``k``: the first input kind that drives it says which."""
+    from analytic import kinds
     kind, _, _, links = joints[k]
+    found = Driver(k, kind, list(links), form)
+    for name in kinds.of_section("inputs"):
+        entry = kinds.get(name).from_pmks(found)
+        if entry is not None:
+            return entry
     p = f"J{k}"
     if kind not in ("R", "P") or len(links) < 2:
         raise FileError(f"{source}: the driving joint {p} is a {kind} joint of {len(links)} link(s); PMKS drives an "
@@ -163,11 +187,4 @@ def _input(k: int, joints, form: dict, source: str) -> dict:
     if GROUND not in (a, b):
         raise FileError(f"{source}: the driving joint {p} turns {a} relative to {b}; only an input on the ground can "
                         f"be driven")
-    if kind == "P":
-        return {"kind": "slider", "point": p}
-    driven = b if a == GROUND else a
-    pts = next(x.get("points", []) for x in form["links"] if x["name"] == driven)
-    pins = [j["point"] for j in form["joints"] if j["kind"] != "G" and driven in j.get("links", [j.get("block")])]
-    order = sorted(set(pts) | set(pins), key=lambda q: int(q[1:]))
-    other = next((q for q in order if q != p), None)
-    return {"kind": "crank", "pivot": p, **({"point": other} if other else {}), "link": driven}
+    raise FileError(f"{source}: the driving joint {p} ({kind}) is driven by no input kind")

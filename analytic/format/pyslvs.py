@@ -25,6 +25,7 @@ slider at ``Jbase`` along its guide.
 from __future__ import annotations
 
 import re
+from dataclasses import dataclass
 
 from analytic._common import FileError
 from analytic.kinds.base import GROUND
@@ -212,7 +213,28 @@ def form_of_joints(joints, source: str) -> tuple[dict, dict, list]:
     return {"pose": pose, "links": out_links, "joints": rjoints + pjoints + gjoints}, on, pjoints
 
 
+@dataclass(frozen=True)
+class Pair:
+    """A Pyslvs input pair as the input kinds read it (:meth:`analytic.kinds.base.Kind.from_pyslvs`): joint
+    numbers ``base`` and ``driver`` (points ``J<base>``, ``J<driver>``), the parsed ``joints`` ((type, angle,
+    (x, y), links), as :func:`parse_expression` gives them), ``on`` (each point's links) and ``pjoints`` (the
+    form's P joints: point, guide, block)."""
+
+    base: int
+    driver: int
+    joints: list
+    on: dict
+    pjoints: list
+    source: str
+
+    def fail(self, text: str) -> FileError:
+        """The error naming the file, for ``raise``."""
+        return FileError(f"{self.source}: {text}")
+
+
 def _input(pair, joints, on, pjoints, source: str) -> dict:
+    """The ``[[inputs]]`` entry of a pair (base, driver): the first input kind that drives it says which."""
+    from analytic import kinds
     try:
         base, driver = (int(x) for x in pair)
     except (TypeError, ValueError):
@@ -221,27 +243,13 @@ def _input(pair, joints, on, pjoints, source: str) -> dict:
     for x in (base, driver):
         if not 0 <= x < n:
             raise FileError(f"{source}: input ({base}, {driver}): there is no joint {x} (joints J0 to J{n - 1})")
-    b, d = f"J{base}", f"J{driver}"
-    if base == driver:
-        pj = next((j for j in pjoints if j["point"] == b), None)
-        if pj is None:
-            raise FileError(f"{source}: input ({base}, {driver}) drives J{base} along a slot, but J{base} is no P or RP "
-                            f"joint")
-        if pj["guide"] != GROUND:
-            raise FileError(f"{source}: input ({base}, {driver}) drives the slider at {b} along link {pj['guide']}; "
-                            f"only a slider on a ground guide can be driven")
-        return {"kind": "slider", "point": b}
-    if GROUND not in on.get(b, []):
-        raise FileError(f"{source}: input ({base}, {driver}) turns about {b}, which is not on the ground; only a "
-                        f"crank about a ground pivot can be driven")
-    shared = [x for x in joints[base][3] if x in joints[driver][3] and x != GROUND]
-    if len(shared) != 1:
-        raise FileError(f"{source}: input ({base}, {driver}): {b} and {d} share {len(shared) or 'no'} moving link(s) "
-                        f"({', '.join(shared)}); the input turns the one link they share")
-    if shared[0] not in on.get(d, []) or shared[0] not in on.get(b, []):
-        raise FileError(f"{source}: input ({base}, {driver}): link {shared[0]} is the slot of a slider at {b} or {d}; "
-                        f"drive a link pinned at both")
-    return {"kind": "crank", "pivot": b, "point": d, "link": shared[0]}
+    found = Pair(base, driver, joints, on, pjoints, source)
+    for name in kinds.of_section("inputs"):
+        entry = kinds.get(name).from_pyslvs(found)
+        if entry is not None:
+            return entry
+    raise FileError(f"{source}: input ({base}, {driver}): no input kind drives it; a pair (base, driver) turns the "
+                    f"link two joints share, (base, base) drives a slider")
 
 
 def read_project(raw: bytes, source: str) -> tuple[str, list]:

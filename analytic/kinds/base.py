@@ -330,6 +330,20 @@ class Kind:
         (:class:`analytic.format.joints._Decomposer`: ``dec.emit``, ``dec.fail``, its links and pose)."""
         raise NotImplementedError
 
+    # ------------------------------------------------------------------------- other tools' files
+    def from_pyslvs(self, pair) -> dict | None:
+        """For inputs: the links-and-joints ``[[inputs]]`` entry of a Pyslvs input pair this kind drives
+        (``pair``: :class:`analytic.format.pyslvs.Pair`, its joints and links), None where the pair is not of
+        this kind; a FileError (``pair.fail``) where it is of this kind but cannot be driven. The importer
+        takes the first registered kind's entry."""
+        return None
+
+    def from_pmks(self, driver) -> dict | None:
+        """For inputs: the links-and-joints ``[[inputs]]`` entry of a PMKS driving joint this kind drives
+        (``driver``: :class:`analytic.format.pmks.Driver`, the joint and the form read so far), None where
+        it is not of this kind. The importer takes the first registered kind's entry."""
+        return None
+
     @property
     def unit(self) -> str:
         """For inputs: the SI unit of its coordinate (``rad`` or ``m``)."""

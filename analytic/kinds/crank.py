@@ -127,6 +127,39 @@ class Crank(Kind):
         dec.classes.append(f"input crank {link} about {pivot}")
         dec.rigid(link, where)
 
+    def from_pyslvs(self, pair):
+        """A pair (base, driver) of two joints turns the link they share about the base, a ground pivot."""
+        base, driver = pair.base, pair.driver
+        if base == driver:
+            return None
+        b, d = f"J{base}", f"J{driver}"
+        if GROUND not in pair.on.get(b, []):
+            raise pair.fail(f"input ({base}, {driver}) turns about {b}, which is not on the ground; only a "
+                            f"crank about a ground pivot can be driven")
+        shared = [x for x in pair.joints[base][3] if x in pair.joints[driver][3] and x != GROUND]
+        if len(shared) != 1:
+            raise pair.fail(f"input ({base}, {driver}): {b} and {d} share {len(shared) or 'no'} moving link(s) "
+                            f"({', '.join(shared)}); the input turns the one link they share")
+        if shared[0] not in pair.on.get(d, []) or shared[0] not in pair.on.get(b, []):
+            raise pair.fail(f"input ({base}, {driver}): link {shared[0]} is the slot of a slider at {b} or {d}; "
+                            f"drive a link pinned at both")
+        return {"kind": "crank", "pivot": b, "point": d, "link": shared[0]}
+
+    def from_pmks(self, driver):
+        """An R joint between the ground and a link turns that link about it; its point is the link's next
+        joint (the lowest-numbered other one), where it has one."""
+        links = driver.links
+        if driver.type != "R" or len(links) < 2 or GROUND not in links[:2]:
+            return None
+        a, b = links[:2]
+        p, form = driver.point, driver.form
+        driven = b if a == GROUND else a
+        pts = next(x.get("points", []) for x in form["links"] if x["name"] == driven)
+        pins = [j["point"] for j in form["joints"] if j["kind"] != "G" and driven in j.get("links", [j.get("block")])]
+        order = sorted(set(pts) | set(pins), key=lambda q: int(q[1:]))
+        other = next((q for q in order if q != p), None)
+        return {"kind": "crank", "pivot": p, **({"point": other} if other else {}), "link": driven}
+
     def forces(self, e, ctx):
         """The pivot carries the crank's whole known load, the drive its moment about the pivot."""
         link, pivot = e["link"], e["pivot"]

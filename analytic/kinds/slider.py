@@ -91,6 +91,26 @@ class Slider(Kind):
         dec.classes.append(f"input slider {s.block} at {point}")
         dec.rigid(s.block, where)
 
+    def from_pyslvs(self, pair):
+        """A pair (base, base) drives the block of the P or RP joint at the base along its ground guide."""
+        base, driver = pair.base, pair.driver
+        if base != driver:
+            return None
+        b = f"J{base}"
+        pj = next((j for j in pair.pjoints if j["point"] == b), None)
+        if pj is None:
+            raise pair.fail(f"input ({base}, {driver}) drives J{base} along a slot, but J{base} is no P or RP joint")
+        if pj["guide"] != GROUND:
+            raise pair.fail(f"input ({base}, {driver}) drives the slider at {b} along link {pj['guide']}; only a "
+                            f"slider on a ground guide can be driven")
+        return {"kind": "slider", "point": b}
+
+    def from_pmks(self, driver):
+        """A P joint between the ground and a block drives the block along it."""
+        if driver.type != "P" or len(driver.links) < 2 or GROUND not in driver.links[:2]:
+            return None
+        return {"kind": "slider", "point": driver.point}
+
     def forces(self, e, ctx):
         """The drive takes the block's known load along the guide, the guide the normal part and the
         moment about the pin."""
