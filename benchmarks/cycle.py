@@ -3,6 +3,9 @@ once, as a :class:`analytic.cycle.Cycle`).
 
 Run:  python benchmarks/cycle.py [NAME ...] [--repeats 2]
 
+The default names include three compares over an input range (RANGED: ``NAME@LO:HI``), whose run's checks
+search the dead points beyond the range.
+
 Each compare runs in this process through the command line (``sim.front.cli.main(["compare", NAME])``) with
 ``analytic.mechanism.Mechanism.solve`` wrapped by a counter keyed by its caller (the first frame outside the
 solver), after one warm-up compare of the same mechanism (imports, compiled kernels and the change-point
@@ -27,6 +30,11 @@ sys.path[0] = ROOT                       # the project, not benchmarks/analytic.
 
 DEFAULT = ("fourbar", "stephenson_ii", "double_butterfly", "jansen")
 NUMERIC = {"stephenson_ii", "double_butterfly"}
+RANGED = {                                  # compare --input-range: the dead-point search reads the cycle too
+    "double_rocker@45:100deg": ["fourbar", "--set", "l1=0.2", "--set", "l3=0.1", "--input-range", "45deg:100deg"],
+    "fourbar@10:80deg": ["fourbar", "--input-range", "10deg:80deg"],
+    "stephenson_ii@10:80deg": ["stephenson_ii", "--input-range", "10deg:80deg"],
+}
 
 
 @contextlib.contextmanager
@@ -53,14 +61,15 @@ def counting():
 def compare(name: str) -> int:
     from sim.front.cli import main
     with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
-        return main(["compare", name])
+        return main(["compare", *RANGED.get(name, [name])])
 
 
 
 
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("names", nargs="*", default=list(DEFAULT))
+    ap.add_argument("names", nargs="*", default=list(DEFAULT) + list(RANGED),
+                    help=f"library names, or a ranged compare: {', '.join(RANGED)}")
     ap.add_argument("--repeats", type=int, default=2)
     args = ap.parse_args()
     print(f"load average {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores; least CPU of {args.repeats} runs "
@@ -76,12 +85,12 @@ def main() -> int:
                 cpu = time.process_time() - t0
             best, counts = min(best, cpu), c
         solves = sum(counts.values())
-        target = 2.0 if name in NUMERIC else None
+        target = 2.0 if name.split("@")[0] in NUMERIC else None
         verdict = [f"solves {'met' if solves <= 3 else 'MISSED'} (<= 3)"]
         if target is not None:
             verdict.append(f"CPU {'met' if best <= target else 'MISSED'} (<= {target:g} s)")
         failed |= solves > 3 or (target is not None and best > target) or rc != 0
-        print(f"{name:<18s} {solves:3d} solves  {best:6.3f} s CPU  exit {rc}  " + "; ".join(verdict))
+        print(f"{name:<24s} {solves:3d} solves  {best:6.3f} s CPU  exit {rc}  " + "; ".join(verdict))
         for caller, n in counts.most_common():
             print(f"    {n:3d}  {caller}")
     return 1 if failed else 0
