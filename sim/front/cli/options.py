@@ -15,7 +15,6 @@ import sys
 from analytic import ParameterError
 from sim import service
 from sim.output.io import check_writable, write_csv
-from sim.service.loads import cutting_direction  # noqa: F401 (its old home: the app and scripts import it here)
 from sim.service.values import parse_value
 
 
@@ -224,6 +223,12 @@ def loads_from(args, mech):
             except ParameterError as exc:
                 raise ParameterError(f"--inertia {link}: {exc}") from None
     return run_loads(gravity=gravity, force=force, slow_stroke_only=slow, inertias=inertias, extra=extra)
+
+
+def cutting_direction(mech) -> float:
+    """:func:`sim.service.loads.cutting_direction`, where the app and scripts found it before."""
+    from sim.service.loads import cutting_direction as direction
+    return direction(mech)
 
 
 def write_columns(path, mech, columns, display=None) -> None:
