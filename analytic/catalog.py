@@ -4,7 +4,6 @@ so that listing the mechanisms costs one small file read each; :mod:`analytic.re
 
 from __future__ import annotations
 
-import tomllib
 from pathlib import Path
 
 LIBRARY = Path(__file__).resolve().parent / "library"
@@ -24,6 +23,7 @@ def summary(name: str) -> tuple[str, int]:
     """A library mechanism's description and number of inputs, read from its file without building its
     definition (``linkage list`` stays at one file read per mechanism; the shipped files are checked
     whole by the tests)."""
+    import tomllib
     with open(LIBRARY / f"{name}.toml", "rb") as f:
         raw = tomllib.load(f)
     return str(raw.get("description", "")), len(raw.get("inputs", ()))
