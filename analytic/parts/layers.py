@@ -106,17 +106,28 @@ def pair_distance(mech, out: Outlines, sweep: model.Sweep, a: str, b: str, thres
                   depth: int = 12, penetration_depth: bool = True, swept: dict | None = None) -> PairDistance:
     """Min signed distance of links ``a`` and ``b`` (``b`` may be FRAME) over the sweep, intervals refined
     as the module docstring says, so that a pass closer than ``threshold`` is not missed between samples;
-    ``penetration_depth`` False: overlaps count 0 (faster; enough to decide a conflict). ``swept``: a dict
-    (:func:`swept_outline`'s) that keeps each link's outlines over this sweep for the next pair."""
+    ``penetration_depth`` False: overlaps count 0 (faster; enough to decide a conflict), and a sample whose
+    outlines' bounding circles leave more than the threshold between them (and the step's margin beside it)
+    is not measured: ``first`` is the same, ``d`` and ``t`` then the least over the samples measured and
+    those bounds. ``swept``: a dict (:func:`swept_outline`'s) that keeps each link's outlines over this sweep
+    for the next pair."""
     t = sweep.t
     swept = {} if swept is None else swept
     va, pa = swept_outline(out, sweep, a, swept)
     vb, pb = (_frame_verts(out, len(t)), None) if b == FRAME else swept_outline(out, sweep, b, swept)
-    d = signed_distance(va, vb, penetration_depth, (pa, pb))
-    if not penetration_depth and d.min() < threshold:
-        k = int(np.argmin(d))
-        return PairDistance(a, b, float(d[k]), float(t[k]), float(t[np.argmax(d < threshold)]))
     margin = _step(va) + (0.0 if b == FRAME else _step(vb))
+    if penetration_depth:
+        d = signed_distance(va, vb, True, (pa, pb))
+    else:
+        d = _circles_apart(out, sweep, a, b)            # <= the outlines' distance at every sample
+        low = 0.5 * (d[:-1] + d[1:] - margin) < threshold
+        need = (d < threshold) | np.concatenate([low, [False]]) | np.concatenate([[False], low])
+        if need.any():                                  # every sample that could be below, or bound an
+            d[need] = signed_distance(va[need], vb[need], False,     # interval refined below
+                                      (pa[need], None if pb is None else pb[need]))
+        if d.min() < threshold:
+            k = int(np.argmin(d))
+            return PairDistance(a, b, float(d[k]), float(t[k]), float(t[np.argmax(d < threshold)]))
     ts, ds = list(t), list(d)
     todo = [(t[k], t[k + 1], d[k], d[k + 1], margin[k]) for k in range(len(t) - 1)
             if min(d[k], d[k + 1]) >= threshold and 0.5 * (d[k] + d[k + 1] - margin[k]) < threshold]
@@ -151,6 +162,24 @@ def swept_outline(out: Outlines, sweep: model.Sweep, link: str, swept: dict) -> 
         v = world(out, sweep, link)
         swept[link] = (v, _polys(v))
     return swept[link]
+
+
+def _circles_apart(out: Outlines, sweep: model.Sweep, a: str, b: str) -> np.ndarray:
+    """(N,) a lower bound of the distance of ``a``'s and ``b``'s outlines at every sample: the gap between
+    circles holding them (centred on each outline's bounding box), less a rounding allowance."""
+    def circle(link):
+        if link == FRAME:
+            c = 0.5 * (out.frame.min(axis=0) + out.frame.max(axis=0))
+            return np.broadcast_to(c, (len(sweep.t), 2)), float(np.max(np.hypot(*(out.frame - c).T)))
+        uv = out.local[link]
+        c = 0.5 * (uv.min(axis=0) + uv.max(axis=0))
+        f = sweep.frames[link]
+        co, si = np.cos(f[:, 2]), np.sin(f[:, 2])
+        centre = np.column_stack([f[:, 0] + c[0] * co - c[1] * si, f[:, 1] + c[0] * si + c[1] * co])
+        return centre, float(np.max(np.hypot(*(uv - c).T)))
+    (ca, ra), (cb, rb) = circle(a), circle(b)
+    reach = ra + rb
+    return np.hypot(*(ca - cb).T) - reach - 1e-9 * (reach + float(np.max(np.abs(ca))))   # rounding of a few ulps
 
 
 def _close_at_start(out: Outlines, sweep: model.Sweep, a: str, b: str, threshold: float, swept: dict) -> bool:
