@@ -9,17 +9,7 @@ import sys
 
 import numpy as np
 
-
-class ParameterError(ValueError):
-    """An invalid mechanism parameter; the message is one line that names it and the fix."""
-
-
-class FileError(ParameterError):
-    """A mechanism file that cannot be used; the message is one line naming the file and the fix."""
-
-
-class AssemblyError(ParameterError):
-    """A mechanism that cannot be assembled (or locks) at a requested input position."""
+from analytic.errors import AssemblyError, FileError, ParameterError  # noqa: F401 (defined there, light)
 
 
 def check_length(name: str, value: float) -> float:

@@ -19,8 +19,7 @@ from analytic.closed_forms import sixbar
 from analytic._common import ParameterError
 from analytic.closed_forms import Builtin
 from analytic.mechanism import Mechanism
-
-LIBRARY = Path(__file__).resolve().parent / "library"
+from analytic.catalog import LIBRARY, names, summary  # noqa: F401 (re-exported: the names and headers, light)
 
 BUILTINS: dict[str, Builtin] = {
     "fourbar": Builtin(fourbar.OUTPUTS, {"mu": "muC"}, fourbar, fourbar.FourBar,
@@ -31,22 +30,6 @@ BUILTINS: dict[str, Builtin] = {
                        fivebar, fivebar.FiveBar, figures.fivebar_figures, figures.fivebar_summary),
 }
 """The three mechanisms of SPEC.md: their SPEC outputs, aliases and closed-form modules."""
-
-
-def names() -> tuple[str, ...]:
-    """Every mechanism addressable by name: the built-ins first, then the library in name order."""
-    lib = sorted(p.stem for p in LIBRARY.glob("*.toml") if p.stem not in BUILTINS)
-    return tuple(BUILTINS) + tuple(lib)
-
-
-def summary(name: str) -> tuple[str, int]:
-    """A library mechanism's description and number of inputs, read from its file without building its
-    definition (``linkage list`` stays at one file read per mechanism; the shipped files are checked
-    whole by the tests)."""
-    import tomllib
-    with open(LIBRARY / f"{name}.toml", "rb") as f:
-        raw = tomllib.load(f)
-    return str(raw.get("description", "")), len(raw.get("inputs", ()))
 
 
 @functools.lru_cache(maxsize=64)

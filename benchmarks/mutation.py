@@ -195,8 +195,8 @@ MUTATIONS = [
              'gravity = pair("--gravity", args.gravity)',
              'gravity = tuple(-v for v in pair("--gravity", args.gravity)) if args.gravity else None', [INDEP, CLI_S],
              "tests/test_independent.py::test_gravity_is_applied_downwards_as_given (tau = m g cx cos phi)"),
-    Mutation("cutting-assists", "sim/front/cli/options.py cutting_direction: the cutting force pushes the ram along its slow "
-             "stroke instead of resisting it", "sim/front/cli/options.py", "return -math.copysign(1.0, vx)",
+    Mutation("cutting-assists", "sim/service/loads.py cutting_direction: the cutting force pushes the ram along its slow "
+             "stroke instead of resisting it", "sim/service/loads.py", "return -math.copysign(1.0, vx)",
              "return math.copysign(1.0, vx)", [INDEP, CLI_S],
              "tests/test_independent.py::test_a_cutting_force_resists_the_slow_stroke (work = F H)"),
     Mutation("verdict-ignores-torque", "sim/run/compare.py: the verdict ignores the drive torque", "sim/run/compare.py",

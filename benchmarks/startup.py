@@ -7,6 +7,11 @@ system, from ``resource.getrusage(RUSAGE_CHILDREN)``), the least of the repeats,
 on the machine changes it little (it still shares caches and cores: the machine's load is printed).
 ``--tree`` measures another checkout of the project (e.g. a worktree of an older commit) the same way.
 
+Bytecode: an installed package runs from its cached bytecode (.pyc), so the children write and read theirs in
+a temporary PYTHONPYCACHEPREFIX (the warm-up run writes it) even where PYTHONDONTWRITEBYTECODE is set, as on
+the development machines; ``--no-bytecode`` keeps the environment's setting (with PYTHONDONTWRITEBYTECODE
+every run compiles every module it imports from source: about 0.1-0.2 s more per command).
+
 Targets (issue 30): ``list`` and ``check`` at most 0.3 s, ``compare fourbar`` at most 1.5 s, a numerically
 solved group's compare (``stephenson_ii``) at most 2.5 s.
 """
@@ -18,6 +23,7 @@ import os
 import resource
 import subprocess
 import sys
+import tempfile
 
 COMMANDS = [("list", 0.3), ("check fourbar", 0.3), ("analyze fourbar", None),
             ("compare fourbar", 1.5), ("compare stephenson_ii", 2.5)]
@@ -34,11 +40,22 @@ def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeats", type=int, default=5)
     ap.add_argument("--tree", default=os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+    ap.add_argument("--no-bytecode", action="store_true",
+                    help="keep the environment's PYTHONDONTWRITEBYTECODE (compile from source on every run)")
     args = ap.parse_args()
     env = dict(os.environ, PYTHONPATH=args.tree)
     env.setdefault("MUJOCO_GL", "egl")
+    with tempfile.TemporaryDirectory(prefix="linkage-pyc-") as cache:
+        if not args.no_bytecode:
+            env.pop("PYTHONDONTWRITEBYTECODE", None)
+            env["PYTHONPYCACHEPREFIX"] = cache
+        return measure(args, env)
+
+
+def measure(args, env) -> int:
+    bytecode = "from source each run" if "PYTHONDONTWRITEBYTECODE" in env else "cached bytecode"
     print(f"tree {args.tree}; load average {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores; "
-          f"least of {args.repeats} runs")
+          f"least of {args.repeats} runs; {bytecode}")
     cpu_of([sys.executable, "-c", "pass"], env, args.tree)           # warm the file cache
     bare = min(cpu_of([sys.executable, "-c", "pass"], env, args.tree) for _ in range(args.repeats))
     print(f"  {'python -c pass':<24s} {bare:6.3f} s CPU")

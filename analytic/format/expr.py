@@ -13,7 +13,7 @@ import functools
 import math
 import re
 
-from analytic._common import ParameterError
+from analytic.errors import ParameterError
 
 FUNCTIONS = {"sqrt": math.sqrt, "sin": math.sin, "cos": math.cos, "tan": math.tan, "asin": math.asin,
              "acos": math.acos, "atan": math.atan, "atan2": math.atan2, "hypot": math.hypot,

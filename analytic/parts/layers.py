@@ -56,13 +56,14 @@ def _polys(verts) -> np.ndarray:
     return shapely.polygons(verts)
 
 
-def signed_distance(va: np.ndarray, vb: np.ndarray, depth: bool = True) -> np.ndarray:
+def signed_distance(va: np.ndarray, vb: np.ndarray, depth: bool = True, polys=(None, None)) -> np.ndarray:
     """Per sample: the distance between two convex polygons ((N, k, 2) and (N, m, 2) vertices) where
     they are apart, minus their penetration depth where they overlap (the smallest translation that
     separates them, by the separating-axis theorem on both polygons' edge normals); ``depth`` False: 0
-    where they overlap."""
+    where they overlap. ``polys``: the shapely polygons of ``va`` and ``vb`` where already made (else None)."""
     import shapely
-    d = shapely.distance(_polys(va), _polys(vb))
+    pa, pb = polys
+    d = shapely.distance(_polys(va) if pa is None else pa, _polys(vb) if pb is None else pb)
     out = np.asarray(d, dtype=float).copy()
     for k in (np.nonzero(out <= 0.0)[0] if depth else ()):
         out[k] = -penetration(va[k], vb[k])
@@ -102,18 +103,31 @@ class PairDistance:
 
 
 def pair_distance(mech, out: Outlines, sweep: model.Sweep, a: str, b: str, threshold: float,
-                  depth: int = 12, penetration_depth: bool = True) -> PairDistance:
+                  depth: int = 12, penetration_depth: bool = True, swept: dict | None = None) -> PairDistance:
     """Min signed distance of links ``a`` and ``b`` (``b`` may be FRAME) over the sweep, intervals refined
     as the module docstring says, so that a pass closer than ``threshold`` is not missed between samples;
-    ``penetration_depth`` False: overlaps count 0 (faster; enough to decide a conflict)."""
+    ``penetration_depth`` False: overlaps count 0 (faster; enough to decide a conflict), and a sample whose
+    outlines' bounding circles leave more than the threshold between them (and the step's margin beside it)
+    is not measured: ``first`` is the same, ``d`` and ``t`` then the least over the samples measured and
+    those bounds. ``swept``: a dict (:func:`swept_outline`'s) that keeps each link's outlines over this sweep
+    for the next pair."""
     t = sweep.t
-    va = world(out, sweep, a)
-    vb = _frame_verts(out, len(t)) if b == FRAME else world(out, sweep, b)
-    d = signed_distance(va, vb, penetration_depth)
-    if not penetration_depth and d.min() < threshold:
-        k = int(np.argmin(d))
-        return PairDistance(a, b, float(d[k]), float(t[k]), float(t[np.argmax(d < threshold)]))
+    swept = {} if swept is None else swept
+    va, pa = swept_outline(out, sweep, a, swept)
+    vb, pb = (_frame_verts(out, len(t)), None) if b == FRAME else swept_outline(out, sweep, b, swept)
     margin = _step(va) + (0.0 if b == FRAME else _step(vb))
+    if penetration_depth:
+        d = signed_distance(va, vb, True, (pa, pb))
+    else:
+        d = _circles_apart(out, sweep, a, b)            # <= the outlines' distance at every sample
+        low = 0.5 * (d[:-1] + d[1:] - margin) < threshold
+        need = (d < threshold) | np.concatenate([low, [False]]) | np.concatenate([[False], low])
+        if need.any():                                  # every sample that could be below, or bound an
+            d[need] = signed_distance(va[need], vb[need], False,     # interval refined below
+                                      (pa[need], None if pb is None else pb[need]))
+        if d.min() < threshold:
+            k = int(np.argmin(d))
+            return PairDistance(a, b, float(d[k]), float(t[k]), float(t[np.argmax(d < threshold)]))
     ts, ds = list(t), list(d)
     todo = [(t[k], t[k + 1], d[k], d[k + 1], margin[k]) for k in range(len(t) - 1)
             if min(d[k], d[k + 1]) >= threshold and 0.5 * (d[k] + d[k + 1] - margin[k]) < threshold]
@@ -139,6 +153,41 @@ def pair_distance(mech, out: Outlines, sweep: model.Sweep, a: str, b: str, thres
     k = int(np.argmin(ds))
     below = ts[ds < threshold]
     return PairDistance(a, b, float(ds[k]), float(ts[k]), float(below.min()) if below.size else None)
+
+
+def swept_outline(out: Outlines, sweep: model.Sweep, link: str, swept: dict) -> tuple:
+    """(vertices (N, k, 2), shapely polygons (N,)) of ``link``'s outline at every sample of ``sweep``, made
+    once and kept in ``swept`` (one dict per sweep): the layers' pairs and pins ask for each link's often."""
+    if link not in swept:
+        v = world(out, sweep, link)
+        swept[link] = (v, _polys(v))
+    return swept[link]
+
+
+def _circles_apart(out: Outlines, sweep: model.Sweep, a: str, b: str) -> np.ndarray:
+    """(N,) a lower bound of the distance of ``a``'s and ``b``'s outlines at every sample: the gap between
+    circles holding them (centred on each outline's bounding box), less a rounding allowance."""
+    def circle(link):
+        if link == FRAME:
+            c = 0.5 * (out.frame.min(axis=0) + out.frame.max(axis=0))
+            return np.broadcast_to(c, (len(sweep.t), 2)), float(np.max(np.hypot(*(out.frame - c).T)))
+        uv = out.local[link]
+        c = 0.5 * (uv.min(axis=0) + uv.max(axis=0))
+        f = sweep.frames[link]
+        co, si = np.cos(f[:, 2]), np.sin(f[:, 2])
+        centre = np.column_stack([f[:, 0] + c[0] * co - c[1] * si, f[:, 1] + c[0] * si + c[1] * co])
+        return centre, float(np.max(np.hypot(*(uv - c).T)))
+    (ca, ra), (cb, rb) = circle(a), circle(b)
+    reach = ra + rb
+    return np.hypot(*(ca - cb).T) - reach - 1e-9 * (reach + float(np.max(np.abs(ca))))   # rounding of a few ulps
+
+
+def _close_at_start(out: Outlines, sweep: model.Sweep, a: str, b: str, threshold: float, swept: dict) -> bool:
+    """Whether ``a`` and ``b`` are closer than ``threshold`` at the sweep's first sample (links pinned together
+    overlap there): a conflict decided without measuring the other samples."""
+    va, pa = swept_outline(out, sweep, a, swept)
+    vb, pb = (_frame_verts(out, 1), None) if b == FRAME else swept_outline(out, sweep, b, swept)
+    return bool(signed_distance(va[:1], vb[:1], False, (pa[:1], None if pb is None else pb[:1]))[0] < threshold)
 
 
 def _frame_verts(out: Outlines, n: int) -> np.ndarray:
@@ -287,14 +336,17 @@ def layout(mech, parts: dict, sweep: model.Sweep | None = None) -> Layout:
     group = {ln: ln for ln in links}
     for a, b in mesh:
         group[b] = group[a]
-    conflicts = []
+    conflicts, swept = [], {}
     pairs = [(a, b) for i, a in enumerate(links) for b in links[i + 1:] if group[a] != group[b]]
     if out.frame is not None:
         pairs += [(a, FRAME) for a in links]
     for a, b in pairs:
         if _bbox_apart(out, sweep, a, b, cfg.clearance):
             continue
-        pd = pair_distance(mech, out, sweep, a, b, cfg.clearance, penetration_depth=False)
+        if _close_at_start(out, sweep, a, b, cfg.clearance, swept):   # pair_distance would find it there first
+            conflicts.append((a, b))
+            continue
+        pd = pair_distance(mech, out, sweep, a, b, cfg.clearance, penetration_depth=False, swept=swept)
         if pd.first is not None:
             conflicts.append((a, b))
     nodes = list(dict.fromkeys(group[ln] for ln in links)) + ([FRAME] if out.frame is not None else [])
@@ -305,7 +357,7 @@ def layout(mech, parts: dict, sweep: model.Sweep | None = None) -> Layout:
     for ln, z in cfg.layers.items():                     # meshing gears keep one layer
         if fixed.get(group[ln], z) != z:
             raise ValueError(f"[parts].layers: {ln} meshes with a gear fixed to another layer")
-    rules = pin_rules(mech, parts, out, sweep, cfg, group)
+    rules = pin_rules(mech, parts, out, sweep, cfg, group, swept)
     try:
         colours = colour(nodes, edges, fixed, rules)
     except ValueError as exc:
@@ -335,11 +387,14 @@ def layout(mech, parts: dict, sweep: model.Sweep | None = None) -> Layout:
     return Layout(layers, z, tuple(conflicts), mesh, pins, tuple(clashes))
 
 
-def pin_rules(mech, parts, out: Outlines, sweep, cfg, group) -> list[PinRule]:
+def pin_rules(mech, parts, out: Outlines, sweep, cfg, group, swept: dict | None = None) -> list[PinRule]:
     """A :class:`PinRule` per joint: the links pinned there (and those whose slot its pin runs in: the slot
     of a block pinned there), and the other links that pass within the clearance of the pin's circle
-    (diameter ``pin_diameter``) at some sample, less a margin of their largest step between samples."""
+    (diameter ``pin_diameter``) at some sample, less a margin of their largest step between samples.
+    A link whose bounding circle (about its frame's origin) stays that far from the pin is not measured
+    further: the outline's distance is at least the circle's. ``swept``: as :func:`pair_distance`'s."""
     import shapely
+    swept = {} if swept is None else swept
     rules = []
     for p in mech.points:
         pinned = [ln for ln, part in parts.items() if any(h.point == p for h in part.holes)]
@@ -354,9 +409,13 @@ def pin_rules(mech, parts, out: Outlines, sweep, cfg, group) -> list[PinRule]:
         for ln in parts:
             if ln in members:
                 continue
-            v = world(out, sweep, ln)
-            d = np.asarray(shapely.distance(_polys(v), at)) - cfg.pin_diameter / 2
+            v, polys = swept_outline(out, sweep, ln, swept)
             margin = float(np.max(_step(v))) + step_p if len(sweep.t) > 1 else 0.0
+            reach = float(np.max(np.hypot(*out.local[ln].T)))
+            apart = np.hypot(*(sweep.points[p] - sweep.frames[ln][:, :2]).T) - reach - cfg.pin_diameter / 2
+            if apart.min() >= cfg.clearance + margin:          # a lower bound of d below: it cannot cross
+                continue
+            d = np.asarray(shapely.distance(polys, at)) - cfg.pin_diameter / 2
             if d.min() < cfg.clearance + margin:
                 crossing.append(ln)
         rules.append(PinRule(p, tuple(dict.fromkeys(group[m] for m in members)),

@@ -27,12 +27,9 @@ first compiled solve of a process: 15-20 s the first time on a machine, then loa
 
 from __future__ import annotations
 
-import hashlib
 import importlib.util
-import inspect
 import os
 import sys
-import tempfile
 import warnings
 from pathlib import Path
 
@@ -137,6 +134,8 @@ def kernel(ops, par, init, ground, need, q, qd, qdd, step, rows, out, failed, si
 
 def _kernel_source() -> tuple[str, str]:
     """(module source, module name) of the generated dispatch over every kind with a compiled row."""
+    import hashlib
+    import inspect
     imports, wraps, dispatch = ["from analytic.kinds import compiled as C"], [], []
     for name, code in codes().items():
         kind = kinds.get(name)
@@ -161,6 +160,7 @@ def _kernel_source() -> tuple[str, str]:
 
 
 def _cache_dir() -> Path:
+    import tempfile
     for base in (os.environ.get("LINKAGE_CACHE_DIR"), Path.home() / ".cache" / "linkage",
                  Path(tempfile.gettempdir()) / f"linkage-{os.getuid() if hasattr(os, 'getuid') else 'user'}"):
         if not base:

@@ -1,12 +1,12 @@
 """The offscreen OpenGL backend for MuJoCo, chosen before mujoco is imported (it is fixed then)."""
 
-import ctypes.util
 import os
 
 
 def ensure_gl_backend() -> str:
     """The user's ``MUJOCO_GL`` if set, else EGL, else OSMesa where no EGL library is installed."""
     if "MUJOCO_GL" not in os.environ:
+        import ctypes.util
         have_egl = ctypes.util.find_library("EGL") is not None
         have_osmesa = ctypes.util.find_library("OSMesa") is not None
         os.environ["MUJOCO_GL"] = "egl" if have_egl or not have_osmesa else "osmesa"

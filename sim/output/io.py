@@ -7,8 +7,6 @@ import os
 import tempfile
 from pathlib import Path
 
-import numpy as np
-
 from analytic import ParameterError
 
 
@@ -100,8 +98,9 @@ def new_files_removed_on_failure():
         raise
 
 
-def write_csv(path, columns: dict[str, np.ndarray]) -> None:
+def write_csv(path, columns: dict) -> None:
     """Write named columns as CSV with a header row, atomically. Values in full double precision."""
+    import numpy as np
     names = list(columns)
     data = np.column_stack([np.ravel(columns[n]) for n in names])
     with atomic_path(path) as tmp:

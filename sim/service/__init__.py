@@ -15,26 +15,49 @@ One module per use case:
 - :mod:`.tolerance`: Monte Carlo, first-order and Sobol tolerance analysis;
 - :mod:`.parts`: link solids, layers, interference, DXF/SVG/PDF/STEP/STL exports and the bill of materials.
 
-The first five are imported here, so ``from sim import service; service.load("fourbar")`` reaches them; the
-others load scipy, pymoo, SALib, shapely or a CAD kernel and are imported by name when used
-(``from sim.service import design``). MuJoCo and matplotlib are imported only by the functions that need
+The first five's names are given here (imported on first use, so that ``from sim import service`` stays light),
+so ``from sim import service; service.load("fourbar")`` reaches them; the others load scipy, pymoo, SALib,
+shapely or a CAD kernel and are imported by name when used (``from sim.service import design``). MuJoCo and matplotlib are imported only by the functions that need
 them, so analysis stays fast.
 """
 
 from __future__ import annotations
 
-from sim.service.mechanisms import list_mechanisms, parameter_value, load, parameter_table, describe, link_drawing
-from sim.service.analysis import (MAX_SAMPLES, MAX_REVOLUTIONS, Analysis, check_samples, check_revolutions,
-                                  check_range, analyze, figures, check_turns_fully, analysis_record, units_table,
-                                  parameters_record, analysis_columns, units_of)
-from sim.service.simulation import (check_singular, CHANGE_SWING, check_change_swing, CHANGE_START, CHANGE_SHIFT,
-                                    clear_of_change_point, start_note, change_points, passes_smoothly, prepare,
-                                    check_folded_change_points, check_fold, simulate, compare, comparison_record,
-                                    trajectory_columns)
-from sim.service.export import export_mjcf, mechanism_text
-from sim.service.forces import (ForceRun, check_forces_singular, mass_sources, forces_run, force_peaks,
-                                forces_record, loads_table, balance_record, forces_columns, forces_table,
-                                balanced_mechanism, simulated_forces_run, simulated_forces)
+from sim.service.catalog import list_mechanisms
+
+_LAZY = {
+    "mechanisms": ("parameter_value", "load", "parameter_table", "describe", "link_drawing"),
+    "analysis": ("MAX_SAMPLES", "MAX_REVOLUTIONS", "Analysis", "check_samples", "check_revolutions", "check_range",
+                 "analyze", "figures", "check_turns_fully", "analysis_record", "units_table", "parameters_record",
+                 "analysis_columns", "units_of"),
+    "simulation": ("check_singular", "CHANGE_SWING", "check_change_swing", "CHANGE_START", "CHANGE_SHIFT",
+                   "clear_of_change_point", "start_note", "change_points", "passes_smoothly", "prepare",
+                   "check_folded_change_points", "check_fold", "simulate", "compare", "comparison_record",
+                   "trajectory_columns"),
+    "export": ("export_mjcf", "mechanism_text"),
+    "forces": ("ForceRun", "check_forces_singular", "mass_sources", "forces_run", "force_peaks", "forces_record",
+               "loads_table", "balance_record", "forces_columns", "forces_table", "balanced_mechanism",
+               "simulated_forces_run", "simulated_forces"),
+}
+"""The use-case modules whose names this package gives, each imported on the first access to one of them
+(they load numpy): ``from sim import service`` costs nothing until a function is used."""
+
+
+def __getattr__(name: str):
+    """PEP 562: ``service.analyze`` imports :mod:`.analysis` on first use; a submodule by its name."""
+    import importlib
+    for module, names in _LAZY.items():
+        if name in names:
+            return getattr(importlib.import_module(f"sim.service.{module}"), name)
+    if name.startswith("__"):
+        raise AttributeError(name)
+    try:
+        return importlib.import_module(f"sim.service.{name}")
+    except ModuleNotFoundError as exc:
+        if exc.name != f"sim.service.{name}":
+            raise
+        raise AttributeError(f"module 'sim.service' has no attribute {name!r}") from None
+
 
 __all__ = ["annotations", "list_mechanisms", "parameter_value", "load", "parameter_table", "describe",
            "link_drawing", "MAX_SAMPLES", "MAX_REVOLUTIONS", "Analysis", "check_samples", "check_revolutions",

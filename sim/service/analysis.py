@@ -9,8 +9,11 @@ import numpy as np
 
 import analytic
 from analytic import ParameterError
+from analytic.applications import figures as _figures
 from analytic.applications.figures import of as figures_of
 from analytic.mechanism import Mechanism
+from analytic.quantities import (ANGLE, ANGULAR_VELOCITY, LENGTH, SI, TIME, TORQUE,  # noqa: F401 (re-exported)
+                                 Display)
 
 
 MAX_SAMPLES = 10_000_000
@@ -157,5 +160,23 @@ def analysis_columns(mech: Mechanism, a: Analysis) -> dict[str, np.ndarray]:
 
 def units_of(mech: Mechanism, columns, display=None) -> dict[str, str]:
     """The unit of each CSV column (for the sidecar) in ``display`` units (default SI)."""
-    from sim.output.units import SI, column_unit
+    from sim.output.units import column_unit
     return {c: column_unit(mech, c, display or SI) for c in columns}
+
+
+def summary_lines(mech: Mechanism, figures: dict, display=None) -> list[str]:
+    """The figures of merit of an analysis (``Analysis.figures``) as the lines ``linkage analyze`` prints,
+    in ``display`` units (an :class:`analytic.quantities.Display`; default the file's)."""
+    return _figures.summary(mech, figures, display)
+
+
+def parameters_text(mech: Mechanism, display=None) -> str:
+    """The mechanism's parameters on one line (``l1=0.1 m, ...``) in ``display`` units."""
+    from analytic.quantities import parameters_text as text
+    return text(mech, display)
+
+
+def assembly_ranges(mech: Mechanism) -> list:
+    """The intervals of the first input over which a one-input mechanism assembles, as (lo, hi) pairs [rad or
+    m]; empty where it assembles nowhere (a design to refuse)."""
+    return _figures.assembly_ranges(mech)

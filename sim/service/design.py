@@ -20,13 +20,16 @@ import numpy as np
 from analytic import ParameterError
 from analytic.applications import studies
 from analytic.format import expr
+from analytic.format.linkfile import UNITS as _LENGTH_UNITS
+from analytic.synthesis import constraints as _sc
 from analytic.synthesis import path as sp
 from analytic.synthesis.curves import DEFAULT_TYPE, FAMILIES, TYPES
 from sim.run.parallel import mapper
 
 __all__ = ["read_table", "check_repeats", "read_target", "PathOptions", "synthesize_path", "check_path_design",
            "curve", "synthesize_motion", "synthesize_function", "two_position", "parse_vary", "sweep",
-           "sweep_columns", "MAX_COMBOS"]
+           "sweep_columns", "MAX_COMBOS", "STATS", "DEFAULT_TYPE", "TYPES", "UNITS", "GRASHOF", "limits",
+           "two_position_task", "two_position_design", "two_position_feasible", "two_position_mechanism"]
 
 
 # ------------------------------------------------------------------------------------------- tables
@@ -696,6 +699,9 @@ def two_position(task, lo: float, hi: float, unit: str, limits=None) -> dict:
 
 # ------------------------------------------------------------------------------------------ sweep
 MAX_COMBOS = studies.MAX_COMBOS
+"""Largest parameter grid a sweep evaluates without being told to (``allow_large``)."""
+STATS = studies.STATS
+"""The figures of a sweep's row that are lengths, speeds or areas (``row.values``): x_min ... fluctuation."""
 SECONDS_PER_COMBO = 1e-4
 """Measured cost of one combination at 360 samples (a five-bar, this machine, batch path: 10,000 in 0.7-1.3 s,
 benchmarks/batch.py): sets the estimate shown."""
@@ -802,3 +808,48 @@ def sweep_columns(base, keys, rows, display=None) -> tuple[dict, dict]:
             q = SWEEP_QUANTITY.get(name, "")
             out[name], units[name] = (u.convert(q, v), u.unit(q)) if q else (v, "")
     return out, units
+
+
+# --------------------------------------------------------------------- what the front ends ask for
+UNITS = tuple(sorted(_LENGTH_UNITS))
+"""The length units a synthesis reads its data in and writes its designs' files in (a file's ``units``)."""
+GRASHOF = _sc.GRASHOF
+"""The four-bar types a synthesis may be limited to: any, crank-rocker, double-crank."""
+
+
+def limits(min_transmission_deg=None, max_size: float | None = None, pivot_regions=(), grashof: str = "any",
+           name: str = "min_transmission"):
+    """The limits every returned design meets (:class:`analytic.synthesis.constraints.Limits`), checked: the
+    least transmission angle [deg; a number or text such as ``"30deg"``; None: no limit], the largest side of
+    the bounding box (file units), the boxes ``NAME=x0:x1,y0:y1`` the ground pivots must lie in, the Grashof
+    type wanted. ``name`` names the angle in an error message."""
+    mu = 0.0 if min_transmission_deg is None else _sc.parse_angle_deg(name, min_transmission_deg)
+    return _sc.Limits(mu, max_size, tuple(_sc.parse_region(t) for t in pivot_regions), grashof).check()
+
+
+def two_position_task(E1, E2, A, D, phi12: float, psi12: float):
+    """Seed 001's two-position problem (:class:`analytic.synthesis.two_position.Task`): the coupler point E at
+    ``E1`` then ``E2``, the crank pivot ``A`` and the rocker pivot ``D`` (x, y; one length unit), the crank's
+    rotation ``phi12`` and the rocker's ``psi12`` [rad] between the positions."""
+    from analytic.synthesis import two_position as synthesis
+    return synthesis.Task(E1=E1, E2=E2, A=A, D=D, phi12=phi12, psi12=psi12)
+
+
+def two_position_design(task, theta: float):
+    """The four-bar solving ``task`` at coupler rotation ``theta`` [rad] (its lengths and start angles)."""
+    from analytic.synthesis import two_position as synthesis
+    return synthesis.design(task, theta)
+
+
+def two_position_feasible(task, dsg, samples: int = 721) -> bool:
+    """Whether the design moves E from E1 to E2 on one branch without locking (checked at ``samples`` crank
+    angles over its travel)."""
+    from analytic.synthesis import two_position as synthesis
+    return synthesis.feasibility(task, dsg, samples) is None
+
+
+def two_position_mechanism(task, dsg, scale: float = 1.0, omega1: float = 1.0):
+    """The design as a :class:`analytic.Mechanism`, lengths times ``scale`` (metres per unit), the crank at
+    ``omega1`` [rad/s], starting in position 1."""
+    from analytic.synthesis import two_position as synthesis
+    return synthesis.mechanism(task, dsg, scale=scale, omega1=omega1)

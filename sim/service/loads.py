@@ -11,9 +11,11 @@ import numpy as np
 
 from analytic import ParameterError
 from analytic import loads as AL
+from analytic.kinds.base import GROUND as _GROUND
 from analytic.loads import kinetostatics as K
 
-__all__ = ["K", "run_times", "at_time", "loadset", "energy_of", "table", "add_to_record", "summary"]
+__all__ = ["K", "run_times", "at_time", "loadset", "energy_of", "table", "add_to_record", "summary", "GROUND",
+           "force_load", "torque_load", "inertia", "cutting_direction"]
 
 
 def at_time(mech, value: float) -> float:
@@ -155,3 +157,43 @@ def dynamics_loads(d) -> tuple[list, dict] | None:
                    "residual": residual, "per": "last revolution"}
 
 
+
+
+GROUND = _GROUND
+"""The name of the fixed link: no load acts on it."""
+
+
+def force_load(name: str, link: str, point: str, fx: float, fy: float):
+    """A constant world-frame force (fx, fy) [N] at the named ``point`` of ``link`` (the command line's
+    ``--force FX,FY@POINT[:LINK]``), as the ``extra`` loads of :func:`sim.service.simulation.run_loads` and
+    :func:`loadset` take."""
+    from analytic.loads import force
+    return force.constant(name, link, point, fx, fy)
+
+
+def torque_load(name: str, link: str, torque: float):
+    """A constant couple ``torque`` [N m] (+ counter-clockwise) on ``link`` (the command line's ``--torque``)."""
+    from analytic.loads import torque as couple
+    return couple.constant(name, link, torque)
+
+
+def inertia(values: dict, scale: float = 1.0):
+    """One link's inertial data (``analytic.mass.Inertia``, SI) from ``values`` {m, cx, cy, I} in a file's units:
+    mass ``m`` [kg], centre of mass ``(cx, cy)`` [unit] in the link's frame, moment of inertia ``I`` [kg unit^2]
+    about it; ``scale``: metres per unit. A bad value raises :class:`analytic.ParameterError`, a missing or
+    unknown key TypeError."""
+    from analytic.mass import Inertia
+    given = Inertia(**values)
+    return Inertia(m=given.m, cx=given.cx * scale, cy=given.cy * scale, I=given.I * scale * scale)
+
+
+def cutting_direction(mech) -> float:
+    """-1 or +1: the x direction that resists the output point during its slow (cutting) stroke (where a
+    ``--cutting-force`` acts)."""
+    from sim.model import slow_stroke
+    lo, hi = slow_stroke(mech)
+    first = mech.inputs[0]
+    q = first.motion.q0 + np.linspace(lo, hi, 50)[1:-1]
+    sol = mech.solve(q, math.copysign(1.0, first.motion.rate or 1.0))
+    vx = float(np.nanmean(sol["vx" + mech.output_point]))
+    return -math.copysign(1.0, vx)

@@ -9,16 +9,7 @@ import analytic
 from analytic import ParameterError
 from analytic.format import expr
 from analytic.mechanism import Mechanism
-
-
-def list_mechanisms() -> list[dict]:
-    """Every mechanism addressable by name: name, description, number of inputs, built-in or not."""
-    out = []
-    for name in analytic.names():
-        description, inputs = analytic.registry.summary(name)
-        out.append({"name": name, "description": description, "inputs": inputs,
-                    "builtin": name in analytic.BUILTINS})
-    return out
+from sim.service.catalog import list_mechanisms  # noqa: F401 (re-exported)
 
 
 def parameter_value(mech_or_def, name: str, value) -> float:

@@ -360,3 +360,51 @@ def trajectory_columns(tr) -> dict:
     outs = {k: np.asarray(v) for k, v in tr.outputs.items() if not k.startswith(("cos", "sin"))}
     return {"t": tr.t, **tr.inputs, **outs, "loop_violation": tr.loop_violation, **tr.forces,
             **{f"cmd_{k}": v for k, v in tr.commanded.items()}, **joints}
+
+
+def comparison_table(c, size: float, display=None, output_point: str | None = None) -> str:
+    """A comparison (:func:`compare`'s second value) as the readable table ``linkage compare`` prints, in
+    ``display`` units (an :class:`analytic.quantities.Display`; None: SI): the output point's coordinates
+    first, the other moving outputs, then the drive forces. ``size``: the mechanism's size [m]."""
+    from sim.run.compare import table
+    return table(c, size, display, output_point)
+
+
+def errors_in(errors: dict, display) -> dict:
+    """A comparison's per-output error records (``c.errors``, SI) in ``display`` units: max, rms, peak and
+    tolerance converted by each output's quantity, ``unit`` relabelled."""
+    from sim.run.compare import errors_in as convert
+    return convert(errors, display)
+
+
+def chosen_timestep(mech: Mechanism, revolutions: float = 1.0) -> float:
+    """The physics time step [s] :func:`simulate` chooses for ``mech`` over ``revolutions`` when none is given
+    (from its fastest rate): to tell a user whose own time step is too coarse."""
+    from sim.model import choose_timestep
+    return choose_timestep(mech, revolutions)
+
+
+def settings(timestep: float | None = None, integrator: str | None = None):
+    """The simulation settings :func:`simulate` and :func:`compare` take (``sim.model.Settings``):
+    ``timestep`` [s] (None: chosen from the design), the MuJoCo ``integrator`` by name (None: the default)."""
+    from sim.model import Settings
+    return Settings(timestep=timestep) if integrator is None else Settings(timestep=timestep, integrator=integrator)
+
+
+def run_loads(gravity=None, force=(0.0, 0.0), slow_stroke_only: bool = False, inertias=None, extra=()):
+    """The loads of a simulated run (``sim.model.Loads``): ``gravity`` (gx, gy) [m/s^2] or None, a constant
+    ``force`` (fx, fy) [N] on the output point (only over its slow stroke with ``slow_stroke_only``), the
+    links' ``inertias`` ({link: analytic.mass.Inertia}, SI; None: the default bars) and ``extra`` loads
+    (analytic.loads dataclasses, as :func:`sim.service.loads.force_load` makes)."""
+    from sim.model import Loads
+    return Loads(gravity=gravity, force=force, slow_stroke_only=slow_stroke_only, inertias=inertias, extra=extra)
+
+
+def simulate_part(mech: Mechanism, revolutions: float):
+    """(built model, trajectory) of ``mech`` simulated over part of a turn, ``revolutions`` of its crank from
+    the file's start, without :func:`simulate`'s checks that the crank turns fully (a two-position design
+    only goes from position 1 to position 2)."""
+    from sim.model import build
+    from sim.run.simulate import simulate as run
+    built = build(mech, revolutions=revolutions)
+    return built, run(built, revolutions)

@@ -23,6 +23,8 @@ from sim.front.cli.options import guard_outputs, one_line
 COMMANDS = ("listing", "check", "analyze", "simulate", "compare", "render", "plot", "export", "run",
             "synthesize", "sweep", "dynamics", "forces", "import_file", "tolerance", "app")
 """The command modules of this package, in the order ``linkage --help`` lists them."""
+MODULE_OF = {"list": "listing", "import": "import_file"}
+"""The command modules not named as their command."""
 
 
 class _Parser(argparse.ArgumentParser):
@@ -30,10 +32,13 @@ class _Parser(argparse.ArgumentParser):
         self.exit(2, f"linkage: error: {message}\n")
 
 
-def make_parser() -> argparse.ArgumentParser:
+def make_parser(command: str | None = None) -> argparse.ArgumentParser:
+    """The parser of every command, or of ``command`` alone (what a run of it needs: the other commands'
+    modules, and what they import, are not loaded)."""
     parser = _Parser(prog="linkage", description="Planar linkage kinematics, MuJoCo simulation and rendering.")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
-    for name in COMMANDS:
+    module = MODULE_OF.get(command, command)
+    for name in (module,) if module in COMMANDS else COMMANDS:
         importlib.import_module(f"sim.front.cli.{name}").register(sub)
     return parser
 
@@ -105,8 +110,9 @@ def main(argv: list[str] | None = None) -> int:
 
 def _main(argv: list[str] | None) -> int:
     try:
-        parser = make_parser()
-        argv = _join_negative_values(parser, list(sys.argv[1:] if argv is None else argv))
+        argv = list(sys.argv[1:] if argv is None else argv)
+        parser = make_parser(argv[0] if argv else None)
+        argv = _join_negative_values(parser, argv)
         args = parser.parse_args(argv)
         guard_outputs(args)
         return args.func(args)

@@ -31,7 +31,6 @@ def run(args) -> int:
         from sim.front.cli.loads_opts import analyze_at
         return analyze_at(args, mech)
     a = service.analyze(mech, args.samples, args.revolutions, parse_range(mech, args.input_range))
-    from analytic.applications import figures
     from sim.output.units import machine_units, shown_units
     if args.csv:
         write_columns(args.csv, mech, service.analysis_columns(mech, a), machine_units(args))
@@ -41,9 +40,9 @@ def run(args) -> int:
             record["csv"] = args.csv
         print(dumps(record))
     else:
-        from analytic.quantities import parameters_text
+        from sim.service.analysis import parameters_text, summary_lines
         shown = shown_units(args, mech)
-        print("\n".join([f"{mech.name}: {parameters_text(mech, shown)}"] + figures.summary(mech, a.figures, shown)))
+        print("\n".join([f"{mech.name}: {parameters_text(mech, shown)}"] + summary_lines(mech, a.figures, shown)))
         if args.csv:
             print(f"wrote {args.csv} ({args.samples} rows)")
     return 0

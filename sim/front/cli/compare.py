@@ -25,7 +25,7 @@ def register(sub) -> None:
 
 
 def run(args) -> int:
-    from sim.run.compare import table
+    from sim.service.simulation import comparison_table
     mech = mechanism_from(args)
     built, c = service.compare(mech, args.revolutions, settings_from(args), loads_from(args, mech),
                                parse_range(mech, args.input_range))
@@ -41,12 +41,12 @@ def run(args) -> int:
             record["interference"] = clash
         print(dumps(record))
     else:
-        print(table(c, mech.size, shown_units(args, built.mech), built.mech.output_point))
+        print(comparison_table(c, mech.size, shown_units(args, built.mech), built.mech.output_point))
         if clash is not None:
             print(interference_line(clash))
     if not c.passed and getattr(args, "timestep", None) is not None:
-        from sim.model import choose_timestep
-        chosen = choose_timestep(built.mech, args.revolutions)
+        from sim.service.simulation import chosen_timestep
+        chosen = chosen_timestep(built.mech, args.revolutions)
         if args.timestep > chosen * (1 + 1e-3):              # not a value that only prints the same
             print(f"linkage: the time step {args.timestep:.4g} s given by --timestep is above the {chosen:.4g} s this "
                   f"design needs; drop --timestep", file=sys.stderr)

@@ -6,9 +6,9 @@ import math
 
 
 from analytic import ParameterError
-from analytic.format import expr
-from analytic import quantities as Q
 from sim.front.cli.options import add_common, add_sim_options, add_video_options
+from sim.service import analysis as Q
+from sim.service.values import parse_value
 
 RPM = 2 * math.pi / 60
 
@@ -22,7 +22,7 @@ def parse_speed(option: str, text: str) -> float:
         t, scale = t[:-3].strip(), RPM
     elif t.lower().endswith("rad/s"):
         t = t[:-5].strip()
-    return expr.parse_value(option, t, angle=False) * scale
+    return parse_value(option, t, angle=False) * scale
 
 
 INERTIA_UNITS = {"kg*m^2": 1.0, "kg*cm^2": 1e-4, "kg*mm^2": 1e-6, "kg*in^2": 0.0254 ** 2}
@@ -37,24 +37,23 @@ def parse_flywheel(text: str) -> float:
     for unit, scale in INERTIA_UNITS.items():
         for form in (unit, unit.replace("*", "").replace("^", "")):          # kg*mm^2 or kgmm2
             if key.endswith(form):
-                return expr.parse_value("--flywheel", key[:-len(form)], angle=False) * scale
-    return expr.parse_value("--flywheel", t, angle=False)
+                return parse_value("--flywheel", key[:-len(form)], angle=False) * scale
+    return parse_value("--flywheel", t, angle=False)
 
 
 def parse_motor(text: str):
     """``T0,W0``: stall torque [N m], no-load speed [rad/s or rpm]: an ``analytic.applications.motor.LinearMotor``."""
-    from analytic.applications import motor as amotor
+    from sim.service.dynamics import linear_motor
     parts = text.split(",")
     if len(parts) != 2:
         raise ParameterError(f"--motor {text!r} is not T0,W0 (stall torque N m, no-load speed rad/s or rpm; "
                              f"e.g. --motor 2,150rpm)")
-    return amotor.LinearMotor(expr.parse_value("--motor T0", parts[0], angle=False),
-                              parse_speed("--motor W0", parts[1]))
+    return linear_motor(parse_value("--motor T0", parts[0], angle=False), parse_speed("--motor W0", parts[1]))
 
 
 def read_table(path: str):
     """A torque-speed table: CSV with a header ``omega,tau`` (rad/s, N m) or ``rpm,tau`` (a ``TableMotor``)."""
-    from analytic.applications import motor as amotor
+    from sim.service.dynamics import table_motor
     from sim.readers import csv_rows
     rows = [r for _, r in csv_rows("--motor-table", path) if r and any(c.strip() for c in r)]
     if not rows:
@@ -72,7 +71,7 @@ def read_table(path: str):
             tau.append(float(r[1]))
         except ValueError:
             raise ParameterError(f"--motor-table {path}: row {k}: {','.join(r)!r} is not two numbers") from None
-    return amotor.TableMotor(tuple(w), tuple(tau), source=f"--motor-table {path}")
+    return table_motor(w, tau, source=f"--motor-table {path}")
 
 
 def add_motor_options(p, two: bool = True) -> None:
@@ -111,9 +110,9 @@ def motor_run(args, mech, check=True):
     """The one-input motor run the command line asks for (:func:`sim.run.motor.dynamics`): the motor, flywheel
     or target fluctuation and start speed of ``args`` (:func:`add_motor_options`) and the loads of the
     simulation options."""
-    from sim.run import motor as smotor
+    from sim.service import dynamics as dynamics_service
     from sim.front.cli.options import loads_from, settings_from
-    target = (expr.parse_value("--target-fluctuation", args.target_fluctuation, angle=False)
+    target = (parse_value("--target-fluctuation", args.target_fluctuation, angle=False)
               if args.target_fluctuation is not None else None)
     if len(args.motor) > 1 or len(args.flywheel) > 1:
         raise ParameterError(f"the {mech.name} has one input: give one --motor and at most one --flywheel")
@@ -125,7 +124,7 @@ def motor_run(args, mech, check=True):
         if not flywheel >= 0:
             raise ParameterError(f"--flywheel {flywheel:g} must be >= 0 [kg m^2] (the flywheel's moment of inertia)")
     start = parse_speed("--start-speed", args.start_speed)
-    return smotor.dynamics(mech, loads_from(args, mech), mot, flywheel, target, start, args.revolutions,
+    return dynamics_service.dynamics(mech, loads_from(args, mech), mot, flywheel, target, start, args.revolutions,
                            settings_from(args))
 
 
@@ -139,7 +138,7 @@ def check_motor_args(args) -> None:
 
 
 def cmd_dynamics(args) -> int:
-    from sim.run import motor as smotor
+    from sim.service import dynamics as dynamics_service
     from sim.front.cli.options import check_outputs, mechanism_from
     from sim.output.io import write_csv, write_text
     from sim.output.jsonout import dumps
@@ -179,7 +178,7 @@ def cmd_dynamics(args) -> int:
         if not args.json:
             print(f"wrote {stats.path}: {stats.frames} frames at {stats.stored_fps:g} fps")
     if args.json:
-        print(dumps(in_units(smotor.record(d), display)))
+        print(dumps(in_units(dynamics_service.record(d), display)))
     else:
         print(summary(d, shown_units(args, mech)))
         for path in (args.csv, args.plot):         # every file written is said, as the other commands do
@@ -224,7 +223,7 @@ def _named(text: str, mech, option: str) -> tuple[str, str]:
 
 
 def _two_motors(args, mech, target, display) -> int:
-    from sim.run import motor as smotor
+    from sim.service import dynamics as dynamics_service
     from sim.front.cli.options import loads_from, settings_from
     from sim.output.jsonout import dumps
     names = [i.q for i in mech.inputs]
@@ -249,10 +248,11 @@ def _two_motors(args, mech, target, display) -> int:
         name, value = _named(text, mech, "--flywheel")
         fly[name] = parse_flywheel(value)
     start = parse_speed("--start-speed", args.start_speed)
-    d = smotor.dynamics_two(mech, loads_from(args, mech), tuple(motors[n] for n in names),
-                            tuple(fly[n] for n in names), (start, start), args.revolutions, settings_from(args))
+    d = dynamics_service.dynamics_two(mech, loads_from(args, mech), tuple(motors[n] for n in names),
+                                      tuple(fly[n] for n in names), (start, start), args.revolutions,
+                                      settings_from(args))
     if args.json:
-        print(dumps(in_units(smotor.record_two(d), display)))
+        print(dumps(in_units(dynamics_service.record_two(d), display)))
     else:
         r, s = d.run, d.sim
         print(f"{mech.name} driven by two motors, {r.revolutions:g} revolutions of {names[0]}")
@@ -293,13 +293,13 @@ def summary(d, display=None) -> str:
 
 
 def smotor_tol() -> float:
-    from sim.run.motor import SIZING_TOL
-    return SIZING_TOL
+    from sim.service.dynamics import sizing_tolerance
+    return sizing_tolerance()
 
 
 def _motor_text(m) -> str:
-    from analytic.applications import motor as amotor
-    if isinstance(m, amotor.LinearMotor):
+    from sim.service.dynamics import is_linear_motor
+    if is_linear_motor(m):
         return f"a linear motor T0={m.T0:g} N m, W0={m.W0:g} rad/s ({m.W0 / RPM:.4g} rpm)"
     return f"a table motor ({len(m.omega)} rows, stall {m.stall:g} N m)"
 

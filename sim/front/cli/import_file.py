@@ -4,7 +4,7 @@
 from __future__ import annotations
 
 from analytic import ParameterError
-from analytic.format import foreign, joints, linkfile
+from sim.service import importing
 
 
 def parse_input(text: str) -> tuple[int, int]:
@@ -28,8 +28,8 @@ def register(sub) -> None:
     p.add_argument("--input", dest="inputs", action="append", default=[], metavar="BASE,DRIVER",
                    help="a Pyslvs input (repeatable): turn the link joints BASE and DRIVER share about BASE "
                         "(BASE,BASE: drive the slider at BASE); replaces a project's inputs")
-    p.add_argument("--units", default=foreign.DEFAULT_UNITS, choices=foreign.UNITS,
-                   help=f"the length unit of the source's numbers (default {foreign.DEFAULT_UNITS}: neither "
+    p.add_argument("--units", default=importing.DEFAULT_UNITS, choices=importing.UNITS,
+                   help=f"the length unit of the source's numbers (default {importing.DEFAULT_UNITS}: neither "
                         f"format stores one)")
     p.set_defaults(func=cmd_import)
 
@@ -39,17 +39,14 @@ def cmd_import(args) -> int:
     from sim.output.io import write_text
     source = args.mechanism
     check_outputs(args, {"out": (".toml",)})
-    kind = foreign.detect(source)
+    kind = importing.detect(source)
     if kind is None:
         raise ParameterError(f"{source}: not a Pyslvs project (.pyslvs), a Pyslvs expression (M[...]) or a PMKS text "
                              f"file (joint lines such as 'ground,input,R,0,0')")
     inputs = [parse_input(t) for t in args.inputs] or None
-    data = foreign.read(source, inputs, args.units, kind)
-    text = foreign.dumps(data)
-    d = linkfile.from_data(data, source)        # a mechanism (else one line naming the source), and the file
-    linkfile.parse(text, args.out)              # as written reads back as one
-    groups = joints.structure(data, source, linkfile.parameter_values(d))
-    write_text(args.out, text)
+    imported = importing.convert(source, inputs, args.units, kind, args.out)   # a mechanism, read back as one
+    data, groups = imported.data, imported.groups
+    write_text(args.out, imported.text)
     points = len(data["pose"])
     print(f"wrote {args.out}: {kind} {source} as {points} points, {len(data['links'])} link entries, "
           f"{len(data['joints'])} joints; units {args.units}")

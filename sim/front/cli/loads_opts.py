@@ -6,8 +6,7 @@ meaning (on the file's output point), read by :func:`sim.front.cli.loads_from`."
 from __future__ import annotations
 
 from analytic import ParameterError
-from analytic.format import expr
-from analytic.kinds import GROUND
+from sim.service.values import parse_value
 
 
 def add_options(p) -> None:
@@ -35,8 +34,7 @@ def split_force(text: str | None) -> tuple[str | None, str | None, str | None]:
 def command_loads(args, mech) -> tuple[str | None, tuple]:
     """The ``--force`` text that keeps today's meaning (None when it names a point) and the loads the
     command line adds (analytic.loads dataclasses)."""
-    from analytic.loads import force as LF
-    from analytic.loads import torque as LT
+    from sim.service.loads import GROUND, force_load, torque_load
     extra = []
     text, point, link = split_force(getattr(args, "force", None))
     if point is not None:
@@ -53,7 +51,7 @@ def command_loads(args, mech) -> tuple[str | None, tuple]:
         if point not in topo.links[link].points:
             raise ParameterError(f"--force ...@{point}:{link}: {point} is not a point of link {link}; its points: "
                                  f"{', '.join(topo.links[link].points)}")
-        extra.append(LF.constant("force", link, point, fx, fy))
+        extra.append(force_load("force", link, point, fx, fy))
         text = None
     for k, item in enumerate(getattr(args, "torque", None) or [], 1):
         if "@" not in item:
@@ -63,8 +61,8 @@ def command_loads(args, mech) -> tuple[str | None, tuple]:
         if ln not in mech.topology.links:
             raise ParameterError(f"--torque {item!r}: no moving link named {ln!r}; links: "
                                  f"{', '.join(mech.topology.links)}")
-        extra.append(LT.constant(f"torque{k}" if len(args.torque) > 1 else "torque", ln,
-                                 expr.parse_value("--torque", value.strip(), angle=False)))
+        extra.append(torque_load(f"torque{k}" if len(args.torque) > 1 else "torque", ln,
+                                 parse_value("--torque", value.strip(), angle=False)))
     return text, tuple(extra)
 
 
@@ -75,15 +73,15 @@ def at_value(args, mech) -> float | None:
         return None
     first = mech.inputs[0]
     if first.angular:
-        return expr.parse_value("--at", text, angle=None)
-    return expr.parse_value("--at", text, angle=False) * mech.scale
+        return parse_value("--at", text, angle=None)
+    return parse_value("--at", text, angle=False) * mech.scale
 
 
 def _pair(option, text):
     parts = text.split(",")
     if len(parts) != 2:
         raise ParameterError(f"{option} {text!r} is not two numbers FX,FY (e.g. {option} -500,0@C)")
-    return expr.parse_value(option, parts[0], angle=False), expr.parse_value(option, parts[1], angle=False)
+    return parse_value(option, parts[0], angle=False), parse_value(option, parts[1], angle=False)
 
 
 def analyze_at(args, mech) -> int:

@@ -9,16 +9,13 @@ from __future__ import annotations
 
 import argparse
 import json
-import math
 import os
 import sys
 
-import numpy as np
-
 from analytic import ParameterError
-from analytic.format import expr
 from sim import service
 from sim.output.io import check_writable, write_csv
+from sim.service.values import parse_value
 
 
 def sets_of(items: list[str]) -> dict[str, str]:
@@ -59,7 +56,7 @@ def check_outputs(args, suffixes: dict[str, tuple[str, ...]]) -> None:
         inputs.add(os.path.abspath(mech))
     if getattr(args, "inertia", None):
         inputs.add(os.path.abspath(args.inertia))
-    from analytic.registry import LIBRARY
+    from sim.service.catalog import LIBRARY
     library = os.path.realpath(LIBRARY)
     for out in sorted(_outputs(args)):
         if os.path.dirname(os.path.realpath(out)) == library:
@@ -80,7 +77,7 @@ OUTPUT_ARGS = ("csv", "out", "mjcf", "toml", "plot", "render")
 def guard_outputs(args) -> None:
     """Before any work, for every command: no output is one of the inputs or in the shipped library, and
     ``run --out-dir`` is not the library. One line naming the option and the fix."""
-    from analytic.registry import LIBRARY
+    from sim.service.catalog import LIBRARY
     library = os.path.realpath(LIBRARY)
     inputs: dict[str, str] = {}
     for name in INPUT_ARGS:
@@ -117,16 +114,14 @@ def one_line(text: str) -> str:
 def degrees(text: str) -> float:
     """An argparse type for an angle option given in degrees: ``30``, ``30deg`` (as every other angle the
     command line takes) or ``0.5rad``; returns degrees."""
-    import argparse
     import math
-    from analytic.format import expr
     t = text.strip()
     try:
         if t.lower().endswith("rad"):
-            return math.degrees(expr.parse_value("angle", t[:-3], angle=False))
+            return math.degrees(parse_value("angle", t[:-3], angle=False))
         if t.lower().endswith("deg"):
             t = t[:-3]
-        return expr.parse_value("angle", t, angle=False)
+        return parse_value("angle", t, angle=False)
     except ParameterError:
         raise argparse.ArgumentTypeError(f"{text!r} is not an angle in degrees (e.g. 30 or 30deg)") from None
 
@@ -173,8 +168,8 @@ def parse_range(mech, text: str | None) -> tuple[float, float] | None:
     lo, hi = text.split(":", 1)
     angle = mech.inputs[0].angular
     scale = 1.0 if angle else mech.scale
-    return (expr.parse_value("--input-range", lo, angle=None if angle else False) * scale,
-            expr.parse_value("--input-range", hi, angle=None if angle else False) * scale)
+    return (parse_value("--input-range", lo, angle=None if angle else False) * scale,
+            parse_value("--input-range", hi, angle=None if angle else False) * scale)
 
 
 def pair(option: str, text: str | None) -> tuple[float, float] | None:
@@ -183,18 +178,18 @@ def pair(option: str, text: str | None) -> tuple[float, float] | None:
     parts = text.split(",")
     if len(parts) != 2:
         raise ParameterError(f"{option} {text!r} is not two numbers X,Y (e.g. {option} 0,-9.81)")
-    return expr.parse_value(option, parts[0], angle=False), expr.parse_value(option, parts[1], angle=False)
+    return parse_value(option, parts[0], angle=False), parse_value(option, parts[1], angle=False)
 
 
 def settings_from(args):
-    from sim.model import Settings
-    return Settings(timestep=args.timestep, integrator=args.integrator)
+    from sim.service.simulation import settings
+    return settings(args.timestep, args.integrator)
 
 
 def loads_from(args, mech):
     """The Loads of the command line: gravity, external or cutting force, links' inertias."""
-    from analytic.mass import Inertia
-    from sim.model import Loads
+    from sim.service.loads import inertia
+    from sim.service.simulation import run_loads
     from sim.front.cli.loads_opts import command_loads
     gravity = pair("--gravity", args.gravity)
     force_text, extra = command_loads(args, mech)           # --force FX,FY@POINT[:LINK], --torque T@LINK
@@ -202,7 +197,7 @@ def loads_from(args, mech):
     cutting = args.cutting_force
     slow = False
     if cutting is not None:
-        cutting = expr.parse_value("--cutting-force", cutting, angle=False)
+        cutting = parse_value("--cutting-force", cutting, angle=False)
         if cutting < 0:
             raise ParameterError(f"--cutting-force {cutting:g} must be >= 0 [N] (it always resists the motion)")
         if args.force:
@@ -221,26 +216,19 @@ def loads_from(args, mech):
         for link, data in raw.items():
             if not isinstance(data, dict):
                 raise ParameterError(f"--inertia {link}: give an object with m, cx, cy and I")
-            try:
-                given = Inertia(**data)            # file units, like the file's [inertia]: m kg, cx cy, I kg unit^2
-                s = mech.scale
-                inertias[link] = Inertia(m=given.m, cx=given.cx * s, cy=given.cy * s, I=given.I * s * s)
+            try:                               # file units, like the file's [inertia]: m kg, cx cy, I kg unit^2
+                inertias[link] = inertia(data, mech.scale)
             except TypeError:
                 raise ParameterError(f"--inertia {link}: give m, cx, cy and I (got {sorted(data)})") from None
             except ParameterError as exc:
                 raise ParameterError(f"--inertia {link}: {exc}") from None
-    return Loads(gravity=gravity, force=force, slow_stroke_only=slow, inertias=inertias, extra=extra)
+    return run_loads(gravity=gravity, force=force, slow_stroke_only=slow, inertias=inertias, extra=extra)
 
 
 def cutting_direction(mech) -> float:
-    """-1 or +1: the x direction that resists the output point during its slow (cutting) stroke."""
-    from sim.model import slow_stroke
-    lo, hi = slow_stroke(mech)
-    first = mech.inputs[0]
-    q = first.motion.q0 + np.linspace(lo, hi, 50)[1:-1]
-    sol = mech.solve(q, math.copysign(1.0, first.motion.rate or 1.0))
-    vx = float(np.nanmean(sol["vx" + mech.output_point]))
-    return -math.copysign(1.0, vx)
+    """:func:`sim.service.loads.cutting_direction`, where the app and scripts found it before."""
+    from sim.service.loads import cutting_direction as direction
+    return direction(mech)
 
 
 def write_columns(path, mech, columns, display=None) -> None:

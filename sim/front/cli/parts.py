@@ -89,7 +89,7 @@ def check_paths(args) -> None:
         parent = folder.parent if str(folder.parent) else Path(".")
         if not parent.is_dir():
             raise ParameterError(f"--stl {folder}: folder {parent} does not exist; create it or choose another path")
-    from analytic.registry import LIBRARY
+    from sim.service.catalog import LIBRARY
     library = os.path.realpath(LIBRARY)
     for name in (*OUTPUTS, "stl"):
         v = getattr(args, name, None)

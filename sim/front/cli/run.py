@@ -74,7 +74,7 @@ def _run_all(args, mechs, out_dir, ext, size) -> int:
     from sim.output.io import new_files_removed_on_failure
     from sim.output.plot import sheet
     from sim.output.render import render
-    from sim.run.compare import table
+    from sim.service.simulation import comparison_table
     t_start = time.perf_counter()
     from sim.output.units import machine_units, shown_units
     compared = []                                  # every comparison first: a failure writes nothing
@@ -84,7 +84,7 @@ def _run_all(args, mechs, out_dir, ext, size) -> int:
         built, c = service.compare(mech, args.revolutions, settings_from(args), loads_from(args, mech),
                                    parse_range(mech, args.input_range))
         say_start(mech, built.mech)
-        print(table(c, mech.size, shown_units(args, mech), mech.output_point))
+        print(comparison_table(c, mech.size, shown_units(args, mech), mech.output_point))
         print()
         compared.append((mech, built, c))
     results = []
@@ -101,7 +101,7 @@ def _run_all(args, mechs, out_dir, ext, size) -> int:
             results.append((mech, c, files))
     print(f"summary ({time.perf_counter() - t_start:.1f} s):")
     for mech, c, files in results:
-        from sim.run.compare import errors_in
+        from sim.service.simulation import errors_in
         from sim.output.units import shown_units
         u = shown_units(args, mech)
         worst = max(c.errors, key=lambda k: c.errors[k]["max"] / c.errors[k]["tol"])

@@ -6,7 +6,7 @@ from __future__ import annotations
 import json
 
 from analytic import ParameterError
-from analytic.applications import studies
+from sim.service.design import MAX_COMBOS, STATS
 from sim.front.cli.options import add_common, check_outputs, mechanism_from
 from sim.output.io import write_csv
 
@@ -41,7 +41,6 @@ def register(sub) -> None:
     p.set_defaults(func=run)
 
 
-MAX_COMBOS = studies.MAX_COMBOS
 MAX_FORCE_COMBOS = 2000
 """Largest grid whose forces (one forces run per design) are computed without an explicit --yes."""
 
@@ -101,7 +100,7 @@ def _sweep_table(rows, keys, limit: int, display=None, angular: bool = True) -> 
     """The first ``limit`` rows: the varied values (file units), the path's box, area and speeds in
     ``display`` units (analytic.quantities.Display; None: SI); with ``--forces`` the peak joint force, the
     peak drive (a torque for a turning input, ``angular``, else a force) and the energy per cycle [J]."""
-    from analytic.quantities import SI
+    from sim.service.analysis import SI
     from sim.service.sweep_forces import FORCE_FIGURES
     u = display or SI
     f, L, V = u.factor("length"), u.unit("length"), u.unit("velocity")
@@ -121,7 +120,7 @@ def _sweep_table(rows, keys, limit: int, display=None, angular: bool = True) -> 
             lines.append(f"{p}  invalid: {r.reason}")
             continue
         v = {k: x * (f * f if k == "area" else f if k != "fluctuation" else 1.0) for k, x in r.values.items()
-             if k in studies.STATS}                         # lengths, speeds: f; the area f^2
+             if k in STATS}                         # lengths, speeds: f; the area f^2
         lines.append(f"{p} {v['x_min']:10.5g}..{v['x_max']:<9.5g} {v['y_min']:10.5g}..{v['y_max']:<9.5g} "
                      f"{v['area']:12.4e} {v['speed_mean']:16.5g} {v['speed_min']:8.5g} {v['speed_max']:8.5g} "
                      f"{v['fluctuation']:7.4f}" + (
@@ -150,7 +149,7 @@ def _plot_family(paths, point, out, total, display=None) -> None:
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    from analytic.quantities import SI
+    from sim.service.analysis import SI
     from sim.output.io import atomic_path
     u = display or SI
     f, L, V = u.factor("length"), u.unit("length"), u.unit("velocity")

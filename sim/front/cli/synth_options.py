@@ -6,9 +6,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from analytic.format.linkfile import UNITS
-from analytic.synthesis import constraints as sc
 from sim.front.cli.options import degrees
+from sim.service.design import GRASHOF, UNITS
 
 
 def add_units(p, help_text: str) -> None:
@@ -26,17 +25,17 @@ def add_limits(p, pivots: str, min_transmission: float | None = 30.0) -> None:
                    help="largest side of the mechanism's bounding box over its working range (file units)")
     p.add_argument("--pivot-region", metavar="NAME=x0:x1,y0:y1", action="append", default=[],
                    help=f"a box the ground pivot NAME must lie in (file units; repeatable; pivots: {pivots})")
-    p.add_argument("--grashof", choices=sc.GRASHOF, default="any",
+    p.add_argument("--grashof", choices=GRASHOF, default="any",
                    help="the four-bar type wanted: crank-rocker (the crank turns fully), double-crank, any")
 
 
-def limits_of(args) -> sc.Limits | None:
+def limits_of(args):
     """The command line's :class:`analytic.synthesis.constraints.Limits` (bad values: ParameterError); None
     where no limit is given and none is the default (two-position: seed 001's own problem)."""
     if args.min_transmission is None and args.max_size is None and not args.pivot_region and args.grashof == "any":
         return None
-    mu = 0.0 if args.min_transmission is None else sc.parse_angle_deg("--min-transmission", args.min_transmission)
-    return sc.Limits(mu, args.max_size, tuple(sc.parse_region(t) for t in args.pivot_region), args.grashof).check()
+    from sim.service.design import limits
+    return limits(args.min_transmission, args.max_size, args.pivot_region, args.grashof, "--min-transmission")
 
 
 def measure_words(d: dict, unit: str) -> str:

@@ -11,7 +11,7 @@ from pathlib import Path
 import numpy as np
 
 from analytic import ParameterError
-from analytic.format import expr
+from sim.service.values import parse_value
 from sim.front.lazy import lazy
 from sim.output.io import atomic_path, check_writable, write_text
 from sim.output.jsonout import dumps
@@ -43,7 +43,7 @@ def _pair(option: str, text: str | None):
     parts = text.split(",")
     if len(parts) != 2:
         raise ParameterError(f"{option} {text!r} is not two numbers X,Y")
-    return tuple(expr.parse_value(option, v, angle=False) for v in parts)
+    return tuple(parse_value(option, v, angle=False) for v in parts)
 
 
 def options_of(args, path_options) -> P.ParetoOptions:

@@ -7,7 +7,7 @@ from __future__ import annotations
 from pathlib import Path
 
 
-from analytic.synthesis.curves import DEFAULT_TYPE, TYPES
+from sim.service.design import DEFAULT_TYPE, TYPES
 from sim.front.lazy import lazy
 from sim.front.cli.synth_options import add_limits, add_units, limits_of, measure_words, out_names
 from sim.output.io import atomic_path, check_writable, write_text

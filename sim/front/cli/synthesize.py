@@ -9,8 +9,8 @@ import math
 import numpy as np
 
 from analytic import ParameterError
-from analytic.format import expr
-from analytic.synthesis import two_position as synthesis
+from sim.service import design as design_service
+from sim.service.values import parse_value
 from sim.front.cli.options import add_video_options
 from sim.front.cli.synth_options import add_limits, limits_of, measure_words
 from sim.output.jsonout import dumps
@@ -24,18 +24,17 @@ def _point(option: str, text: str) -> tuple[float, float]:
     parts = text.split(",")
     if len(parts) != 2:
         raise ParameterError(f"{option} {text!r} is not x,y (e.g. {option} 30,31)")
-    return expr.parse_value(option, parts[0], angle=False), expr.parse_value(option, parts[1], angle=False)
+    return parse_value(option, parts[0], angle=False), parse_value(option, parts[1], angle=False)
 
 
 def _angle_range(option: str, text: str) -> tuple[float, float]:
     if ":" not in text:
         raise ParameterError(f"{option} {text!r} is not LO:HI (e.g. {option} -90deg:90deg)")
     lo, hi = text.split(":", 1)
-    return expr.parse_value(option, lo), expr.parse_value(option, hi)
+    return parse_value(option, lo), parse_value(option, hi)
 
 
 def cmd_synthesize(args) -> int:
-    from sim.service import design as design_service
     if args.problem != "two-position":
         raise ParameterError(f"unknown synthesis problem {args.problem!r}: use two-position")
     if args.render:
@@ -43,10 +42,10 @@ def cmd_synthesize(args) -> int:
         check_video_args(args.render, args.fps, args.size)
     if args.plot:
         check_writable(args.plot, (".png", ".svg", ".pdf"))
-    task = synthesis.Task(E1=_point("--E1", args.E1), E2=_point("--E2", args.E2), A=_point("--A", args.A),
-                          D=_point("--D", args.D),
-                          phi12=expr.parse_value("--crank-rotation", args.crank_rotation),
-                          psi12=expr.parse_value("--rocker-rotation", args.rocker_rotation))
+    task = design_service.two_position_task(E1=_point("--E1", args.E1), E2=_point("--E2", args.E2),
+                                            A=_point("--A", args.A), D=_point("--D", args.D),
+                                            phi12=parse_value("--crank-rotation", args.crank_rotation),
+                                            psi12=parse_value("--rocker-rotation", args.rocker_rotation))
     lo, hi = _angle_range("--theta-range", args.theta_range)
     limits = limits_of(args)
     res = design_service.two_position(task, lo, hi, args.unit, limits)
@@ -107,8 +106,9 @@ def _plot_total(task, search, lo, hi, out, unit) -> None:
     import matplotlib.pyplot as plt
     from sim.output.io import atomic_path
     th = np.linspace(lo, hi, 721)
-    total = np.array([synthesis.design(task, float(t)).total for t in th])
-    ok = np.array([synthesis.feasibility(task, synthesis.design(task, float(t)), 91) is None for t in th])
+    total = np.array([design_service.two_position_design(task, float(t)).total for t in th])
+    ok = np.array([design_service.two_position_feasible(task, design_service.two_position_design(task, float(t)), 91)
+                   for t in th])
     fig, ax = plt.subplots(figsize=(8, 5), constrained_layout=True)
     ax.plot(np.degrees(th), np.where(ok, total, np.nan), lw=1.8, label="feasible designs")
     ax.plot(np.degrees(th), np.where(~ok, total, np.nan), lw=1.0, color="0.6", ls="--", label="excluded")
@@ -131,7 +131,7 @@ def _render_design(task, dsg, args) -> None:
     from sim.output.render import parse_size, render
     k = UNIT_TO_M[args.unit]
     duration = 2.0                                                 # seconds for the motion E1 -> E2
-    mech = synthesis.mechanism(task, dsg, scale=k, omega1=task.phi12 / duration)
+    mech = design_service.two_position_mechanism(task, dsg, scale=k, omega1=task.phi12 / duration)
     built, tr = _simulate_partial(mech, abs(task.phi12) / (2 * math.pi))
     marks = tuple(tuple(task.local(q) * k) for q in (task.E1, task.E2))
     stats = render(built, tr, args.render, args.fps, parse_size(args.size), markers=marks)
@@ -140,10 +140,8 @@ def _render_design(task, dsg, args) -> None:
 
 def _simulate_partial(mech, revolutions):
     """Simulate part of a turn (the crank need not turn fully: it only goes from position 1 to 2)."""
-    from sim.model import build
-    from sim.run.simulate import simulate
-    built = build(mech, revolutions=revolutions)
-    return built, simulate(built, revolutions)
+    from sim.service.simulation import simulate_part
+    return simulate_part(mech, revolutions)
 
 
 def register(sub) -> None:

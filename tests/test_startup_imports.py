@@ -1,0 +1,79 @@
+"""What a command loads before it works (issue 30, item 5): ``linkage list`` reads the library files' headers
+and loads no numpy and no solver; a command's parser is built from its own module alone, with the same options
+as in the full parser; the light modules that make this possible agree with the heavy ones they stand for."""
+
+from __future__ import annotations
+
+import argparse
+import subprocess
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def _loaded_after(code: str) -> set[str]:
+    prog = ("import sys, io, contextlib\n" + code + "\nprint(' '.join(sorted(sys.modules)))")
+    r = subprocess.run([sys.executable, "-c", prog], capture_output=True, text=True, cwd=ROOT, timeout=120)
+    assert r.returncode == 0, r.stderr
+    return set(r.stdout.splitlines()[-1].split())
+
+
+def test_linkage_list_loads_no_numpy_and_no_solver():
+    mods = _loaded_after("from sim.front.cli import main\n"
+                         "with contextlib.redirect_stdout(io.StringIO()):\n    assert main(['list']) == 0")
+    assert "numpy" not in mods
+    heavy = sorted(m for m in mods if m.startswith(("analytic.mechanism", "analytic.registry", "analytic.solver",
+                                                    "analytic.kinds", "analytic.closed_forms", "sim.model")))
+    assert heavy == [], heavy
+
+
+def test_linkage_list_prints_every_mechanism_the_registry_knows():
+    """The light listing (analytic.catalog, the files' headers) against the library folder and the registry
+    that builds the mechanisms: the built-ins first, then every shipped file in name order, each with the
+    description its full definition gives."""
+    import io
+    import contextlib
+    import analytic
+    from sim.front.cli import main
+    out = io.StringIO()
+    with contextlib.redirect_stdout(out):
+        assert main(["list"]) == 0
+    rows = [line.split(maxsplit=1) for line in out.getvalue().splitlines()]
+    listed = [name for name, _ in rows]
+    shipped = {p.stem for p in (ROOT / "analytic" / "library").glob("*.toml")}
+    assert set(listed) == shipped and len(listed) == len(shipped)
+    assert listed[:3] == list(analytic.BUILTINS) and listed[3:] == sorted(listed[3:])
+    for name, rest in rows:
+        assert rest.endswith(analytic.definition(name).description), name
+
+
+def _options(parser: argparse.ArgumentParser, command: str) -> list[tuple]:
+    sub = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction)).choices[command]
+    return sorted((tuple(a.option_strings), a.dest, repr(a.default), repr(a.choices)) for a in sub._actions)
+
+
+def test_a_command_parsed_alone_has_the_options_of_the_full_parser():
+    from sim.front.cli import make_parser
+    full = make_parser()
+    for command in ("list", "check", "analyze", "compare", "import", "synthesize", "dynamics"):
+        alone = make_parser(command)
+        commands = next(a for a in alone._actions if isinstance(a, argparse._SubParsersAction)).choices
+        assert list(commands) == [command]
+        assert _options(alone, command) == _options(full, command), command
+
+
+def test_the_full_parser_loads_no_heavy_library():
+    """``linkage --help`` and an unknown command build every command's options: still without scipy,
+    matplotlib, MuJoCo or Dask (each 0.2-0.7 s of CPU)."""
+    mods = _loaded_after("from sim.front.cli import make_parser\nmake_parser()")
+    heavy = ("scipy", "matplotlib", "mujoco", "dask", "SALib", "pymoo", "shapely", "ezdxf", "trimesh", "build123d")
+    assert sorted(m for m in heavy if m in mods) == []
+
+
+def test_the_errors_are_one_class_whichever_module_names_them():
+    import analytic
+    from analytic import _common, errors
+    assert analytic.ParameterError is errors.ParameterError is _common.ParameterError
+    assert issubclass(analytic.FileError, analytic.ParameterError)
+    assert issubclass(analytic.AssemblyError, analytic.ParameterError)
