@@ -155,3 +155,57 @@ def test_a_singular_pose_in_the_turn_is_still_refused_from_the_cycles_scan(tmp_p
     with counted() as n, pytest.raises(ParameterError, match=r"passes a change point at phi1=180\.00deg"):
         service.prepare(mech, 1.0)
     assert n["scans"] == 2 and n["cycle"] == 2, n   # the cycle's two (dense, refined): the turn is not scanned again
+
+
+PRESS = Path(__file__).parent / "mechanisms" / "press_loads.toml"
+
+
+def test_a_file_with_loads_and_friction_is_solved_four_times_by_compare():
+    # press_loads.toml: a punch, a spring, a damper, a torsion spring and friction in every joint. The model
+    # builder reads the loads' share of the drives from the cycle (nothing solved: it solved the mechanism 10
+    # times before); the run solves the commanded pose at every step once for the loads' wrenches (MuJoCo
+    # gets them as xfrc_applied; the run's checks read them again from the model), and the simulated inputs
+    # once (compare's, read by the drive forces, the loads' virtual work and the joint forces). Measured: 4.
+    mech = analytic.load(str(PRESS))
+    with counted() as n:
+        _, c = service.compare(mech, 1.0)
+    assert c.passed
+    assert n["cycle"] == 2 and n["run"] == 1, n
+    assert n["model"] == 1, n                      # the commanded wrenches, once (sim.model.loads.wrenches)
+    assert n["other"] == 0, n
+    assert sum(v for k, v in n.items() if k != "scans") <= 4, n
+
+
+def test_forces_simulate_hands_its_cycle_to_the_model():
+    # The simulated half of `forces --simulate` (the analytic forces run's own checks are counted apart):
+    # the cycle (two solves), the loads' commanded wrenches at the steps, one solve at the simulated inputs
+    # for the kinetostatics, the loads' virtual work and the power balance. Before: 13 (the time step's
+    # choice and the builder each made their own cycle; the builder solved the loads twice).
+    mech = analytic.load(str(PRESS))
+    run = service.forces_run(mech, 73)
+    with counted() as n:
+        s = service.simulated_forces_run(run)
+    assert s.agreement.passed
+    assert n["cycle"] == 2 and n["model"] == 1 and n["run"] == 1 and n["other"] == 0, n
+
+
+def test_export_builds_from_one_cycle_with_the_files_loads():
+    mech = analytic.load(str(PRESS))
+    with counted() as n:
+        xml = service.export_mjcf(mech)
+    assert "<mujoco" in xml
+    assert n["cycle"] == 2 and sum(n.values()) - n["scans"] == 2, n     # before: 2 + 5 in the model builder
+
+
+def test_dynamics_builds_both_models_from_one_cycle():
+    # `dynamics` builds the prescribed-motion model (the mass model MuJoCo has) and the motor-driven one:
+    # both from one cycle of the prescribed motion (before: a cycle per build and one for the time step, 4-6
+    # solves); the reduced equation's own terms are solved in sim.run (2 for a four-bar without loads).
+    from analytic.applications import motor as amotor
+    from sim.model import Loads
+    from sim.run import motor as smotor
+    mech = service.load("fourbar")
+    with counted() as n:
+        d = smotor.dynamics(mech, Loads(), amotor.LinearMotor(2.0, 20.0), 0.01, revolutions=3)
+    assert d.passed
+    assert n["cycle"] <= 2 and n["model"] == 0 and n["other"] == 0 and n["run"] <= 2, n

@@ -66,13 +66,15 @@ def add_load(spec, mech, loads):
 
 def size_drives(model, mech, drives, loads, h, extra=None, cycle=None) -> list[Drive]:
     """kp from the peak analytic drive force (DRIVE_ERROR_BUDGET), J and kv for SERVO_RATE: over the samples
-    of the run's ``cycle`` (analytic.cycle.Cycle), or, with ``extra`` (the file's loads' share of the drives,
-    sim.model.loads.drive_loads) or no cycle, over the 361 instants of one turn ``extra`` is given at."""
+    of the run's ``cycle`` (analytic.cycle.Cycle), plus ``extra`` there (the file's loads' share of the drives,
+    sim.model.loads.drive_loads, at the cycle's samples); without a cycle over the 361 instants of one turn."""
     from analytic.applications import torque
     switch = 1.0
     inertias = body_inertias(model, mech.links)
     gravity, gear = tuple(model.opt.gravity[:2]), tuple(model.actuator("load").gear[:2])
-    if cycle is not None and extra is None:
+    if extra is not None and cycle is None:
+        raise ValueError("the loads' share of the drives is given at a cycle's samples: pass the cycle")
+    if cycle is not None:
         tau = torque.drive_forces(mech, cycle.q, cycle.qd, cycle.qdd, inertias, None, gravity, gear, switch,
                                   cycle.solution, cycle.coefficients)
     else:
