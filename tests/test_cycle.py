@@ -199,13 +199,45 @@ def test_export_builds_from_one_cycle_with_the_files_loads():
 
 def test_dynamics_builds_both_models_from_one_cycle():
     # `dynamics` builds the prescribed-motion model (the mass model MuJoCo has) and the motor-driven one:
-    # both from one cycle of the prescribed motion (before: a cycle per build and one for the time step, 4-6
-    # solves); the reduced equation's own terms are solved in sim.run (2 for a four-bar without loads).
+    # both, and the time step, from the service's one cycle of the prescribed motion (before: a cycle per
+    # build and one for the time step, 4 Cycle.of); the reduced equation's own terms are solved in sim.run
+    # (2 for a four-bar without loads). The app's split run (the reduced equation, the step bound, then
+    # MuJoCo) hands the same cycle to each part.
     from analytic.applications import motor as amotor
     from sim.model import Loads
-    from sim.run import motor as smotor
+    from sim.service import dynamics as sdyn
     mech = service.load("fourbar")
+    motor = amotor.LinearMotor(2.0, 20.0)
     with counted() as n:
-        d = smotor.dynamics(mech, Loads(), amotor.LinearMotor(2.0, 20.0), 0.01, revolutions=3)
+        d = sdyn.dynamics(mech, Loads(), motor, 0.01, revolutions=3)
     assert d.passed
     assert n["cycle"] <= 2 and n["model"] == 0 and n["other"] == 0 and n["run"] <= 2, n
+    with counted() as n:
+        cycle = sdyn.cycle_of(mech)
+        d = sdyn.dynamics(mech, Loads(), motor, 0.01, revolutions=3, simulate_too=False, cycle=cycle)
+        assert sdyn.motor_timestep(d, cycle) > 0
+        d = sdyn.simulated(d, Loads(), cycle=cycle)
+    assert d.passed
+    assert n["cycle"] <= 2 and n["model"] == 0 and n["other"] == 0 and n["run"] <= 2, n
+
+
+def test_dynamics_with_loads_solves_each_grid_once():
+    # fourbar_loads.toml: a spring and a damper (MuJoCo tendons in the motor run) and a torque (not a tendon).
+    # The reduced equation's load terms solve the turn's grid and its midpoints once each (the loads' virtual
+    # work reads that solve's velocities, exact at the unit rate: before, one more solve per load and grid,
+    # 10 in all); the mass terms two more. MuJoCo's motor run evaluates the torque at each step's midpoint
+    # state, which is known only then: one one-pose solve per step (measured: 910 for 3 turns).
+    from analytic.applications import motor as amotor
+    from sim.model import Loads
+    from sim.service import dynamics as sdyn
+    mech = analytic.load(str(Path(__file__).parent / "mechanisms" / "fourbar_loads.toml"))
+    cycle = sdyn.cycle_of(mech)
+    with counted() as n:
+        d = sdyn.dynamics(mech, Loads(), amotor.LinearMotor(5.0, 20.0), 0.01, revolutions=3, simulate_too=False,
+                          cycle=cycle)
+    assert n["run"] == 4 and n["cycle"] == 0 and n["model"] == 0 and n["other"] == 0, n
+    with counted() as n:
+        d = sdyn.simulated(d, Loads(), cycle=cycle)
+    assert d.passed
+    assert n["cycle"] == 0 and n["run"] == 0 and n["other"] == 0, n
+    assert n["model"] == len(d.sim.t) - 1, (n, len(d.sim.t))          # one pose per step, nothing more

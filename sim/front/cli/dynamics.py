@@ -108,10 +108,9 @@ def register(sub) -> None:
 
 
 def motor_run(args, mech, check=True):
-    """The one-input motor run the command line asks for (:func:`sim.run.motor.dynamics`): the motor, flywheel
-    or target fluctuation and start speed of ``args`` (:func:`add_motor_options`) and the loads of the
+    """The one-input motor run the command line asks for (:func:`sim.service.dynamics.dynamics`): the motor,
+    flywheel or target fluctuation and start speed of ``args`` (:func:`add_motor_options`) and the loads of the
     simulation options."""
-    from sim.run import motor as smotor
     from sim.front.cli.options import loads_from, settings_from
     target = (expr.parse_value("--target-fluctuation", args.target_fluctuation, angle=False)
               if args.target_fluctuation is not None else None)
@@ -125,8 +124,9 @@ def motor_run(args, mech, check=True):
         if not flywheel >= 0:
             raise ParameterError(f"--flywheel {flywheel:g} must be >= 0 [kg m^2] (the flywheel's moment of inertia)")
     start = parse_speed("--start-speed", args.start_speed)
-    return smotor.dynamics(mech, loads_from(args, mech), mot, flywheel, target, start, args.revolutions,
-                           settings_from(args))
+    from sim.service import dynamics as sdyn
+    return sdyn.dynamics(mech, loads_from(args, mech), mot, flywheel, target, start, args.revolutions,
+                         settings_from(args))
 
 
 def check_motor_args(args) -> None:
