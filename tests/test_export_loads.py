@@ -158,3 +158,26 @@ def test_a_constant_torque_and_a_link_force_are_actuators(tmp_path, frame):
     assert abs(angle) > 0.05                        # the rod is turned: world and link directions differ
     want = generalized(model, data, "load_F", 10.0 * u)
     assert np.allclose(force, want, rtol=0, atol=1e-9 * np.max(np.abs(want)))                  # rounding
+
+
+def test_a_constant_pressure_is_its_force(tmp_path):
+    # 0.5 N/mm^2 on 100 mm^2 is 50 N (0.5e6 Pa x 1e-4 m^2) along -x at the piston pin
+    text = PRESS.read_text().split("[[loads]]")[0] + (
+        '[[loads]]\nname = "gas"\nkind = "pressure"\nlink = "piston"\narea = 100\ndirection = [-1, 0]\n'
+        'magnitude = 0.5\n')
+    p = tmp_path / "press.toml"
+    p.write_text(text)
+    out = tmp_path / "press.xml"
+    r = run("export", p, "--mjcf", out)
+    assert r.returncode == 0 and r.stderr == "", r.stderr
+    model = mujoco.MjModel.from_xml_path(str(out))
+    data = mujoco.MjData(model)
+    mujoco.mj_resetDataKeyframe(model, data, model.key("home").id)
+    mujoco.mj_forward(model, data)
+    gid = model.actuator("load_gas").id
+    assert model.actuator_biasprm[gid, 0] == pytest.approx(50.0, rel=1e-12)          # rounding
+    qa = data.qfrc_actuator.copy()
+    model.actuator_biasprm[gid, 0] = 0.0
+    mujoco.mj_forward(model, data)
+    want = generalized(model, data, "load_gas", np.array([-50.0, 0.0, 0.0]))
+    assert np.allclose(qa - data.qfrc_actuator, want, rtol=0, atol=1e-9 * np.max(np.abs(want)))   # rounding

@@ -249,15 +249,14 @@ def add_native(context, bodies, loadset, sol) -> tuple:
 def not_in_xml(ld) -> str | None:
     """Why MJCF cannot hold the load ``ld`` statically (an exported model, ``linkage export --mjcf``), or None
     where it can: a linear spring, a damper and a torsion spring as tendons (:func:`add_native`), a constant
-    force (world- or link-fixed) or torque always on as a constant-force actuator (:func:`add_static`)."""
-    from analytic.loads import damper, force, pressure, spring, torque, torsion_spring
+    force (world- or link-fixed), pressure or torque always on as a constant-force actuator
+    (:func:`add_static`)."""
+    from analytic.loads import damper, force, spring, torque, torsion_spring
     if isinstance(ld, spring.Spring):
         return "a force-length table" if ld.table is not None else None
     if isinstance(ld, (damper.Damper, torsion_spring.TorsionSpring)):
         return None
-    if isinstance(ld, pressure.Pressure):
-        return "a pressure table"
-    if isinstance(ld, (force.Force, torque.Torque)):
+    if isinstance(ld, (force.Force, torque.Torque)):           # a pressure too (a force times its area)
         law = ld.law
         if law.expression is not None:
             return f"its magnitude {law.expression!r} follows the motion"
@@ -302,7 +301,8 @@ def add_static(context, bodies, loadset, skip=()) -> tuple:
         act.gear = gear
         act.gainprm[0] = 0.0
         act.biastype = mujoco.mjtBias.mjBIAS_AFFINE
-        act.biasprm[:3] = [float(ld.law.constant * ld.law.unit), 0.0, 0.0]
+        value = float(ld.law.constant * ld.law.unit) * float(getattr(ld, "area", 1.0))   # a pressure's area
+        act.biasprm[:3] = [value, 0.0, 0.0]
         act.ctrllimited = False
         done.append(ld.name)
     return tuple(done)
