@@ -241,3 +241,19 @@ def test_dynamics_with_loads_solves_each_grid_once():
     assert d.passed
     assert n["cycle"] == 0 and n["run"] == 0 and n["other"] == 0, n
     assert n["model"] == len(d.sim.t) - 1, (n, len(d.sim.t))          # one pose per step, nothing more
+
+
+def test_the_model_builder_reads_the_loads_share_from_the_cycle():
+    # press_loads: the loads' share of the drives (friction's fixed point included) at the cycle's samples,
+    # from its solution and velocity coefficients: the builder solves nothing (it solved 5 times before);
+    # that share is what the servos are sized from: the drive's stiffness grows with the punch
+    from sim.model import build
+    mech = analytic.load(str(PRESS))
+    cycle = Cycle.of(mech, 1.0)
+    with counted() as n:
+        loaded = build(mech, cycle=cycle)
+    assert not n, n
+    kp = loaded.drives[0].kp
+    # a 500 N punch at up to ~55 mm of lever (r = 50 mm, the rod's angle): > 20 N m of drive share; the
+    # inertia-only drive of these light links is < 1 N m, so kp (peak / budget) is > 20x the bare one's
+    assert kp * 1e-6 > 20.0, kp                      # DRIVE_ERROR_BUDGET = 1e-6 rad: kp = peak / budget
