@@ -176,20 +176,16 @@ def balance(mech, loaded: Loaded, loadset, inertias: dict, gravity=(0.0, 0.0), c
 
 def generalized(mech, q, state: State, apps, coefficients=None) -> dict:
     """The generalized force [N m per rad or N] of wrenches ``apps`` on each input: sum F . dv_P/dqdot_j +
-    M domega/dqdot_j, with the velocity coefficients of the solver at unit input rate (virtual work);
-    ``coefficients``: those solutions, one per input, at the same samples (analytic.cycle.Cycle's), else
-    solved here."""
+    M domega/dqdot_j, with the velocity coefficients of the solver at unit input rate (virtual work):
+    ``coefficients``, one solution per input at ``q`` (an analytic.cycle.Cycle's), or solved here."""
     k = len(mech.inputs)
     q = np.asarray(q, dtype=float).reshape(state.n, k)
     out = {}
     for j, inp in enumerate(mech.inputs):
-        if coefficients is not None:
-            coeff = coefficients[j]
-        else:
-            unit = np.zeros_like(q)
-            unit[:, j] = 1.0
-            coeff = mech.solve(q, unit, 0.0, outputs=[c + p for p in mech.points for c in ("vx", "vy")]
-                               + ["omega" + ln for ln in mech.links])
+        unit = np.zeros_like(q)
+        unit[:, j] = 1.0
+        coeff = coefficients[j] if coefficients is not None else mech.solve(
+            q, unit, 0.0, outputs=[c + p for p in mech.points for c in ("vx", "vy")] + ["omega" + ln for ln in mech.links])
         Q = np.zeros(state.n)
         for a in apps:
             if a.link == "ground":

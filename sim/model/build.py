@@ -116,9 +116,8 @@ class Built:
     (sim.model.loads); None when there are none."""
     native: tuple = ()
     """Loads carried as MuJoCo tendons instead (a motor-driven run: sim.model.loads.add_native)."""
-    invweight_scale: float | None = None
-    """The factor applied to the compiled body_ and tendon_invweight0 (:func:`regularization`), which an
-    exported file carries (sim.model.export)."""
+    regularization: float | None = None
+    """The factor the constraints' inverse weights were scaled by (:func:`regularization`), as built."""
     memo: dict = field(default_factory=dict, repr=False, compare=False)
     """What a run reads several times from the model's commanded motion, kept once per model: the loads'
     wrenches at every step start (sim.model.loads.wrenches)."""
@@ -284,7 +283,7 @@ def build_model(mech, settings, loads, h, sol, points, q_start, revolutions, nat
         held = held if held else None
     draft = Built(mech, model, settings, loads, tuple(drives), tuple(loops), tuple(mech.links), None, None, None,
                   None, window, xml, held, () if export else carried)
-    extra = ML.drive_loads(draft, cycle) if held else None
+    extra = ML.drive_loads(draft, revolutions, cycle) if held else None
     scale = regularization(model, mech, loads, extra)
     model.body_invweight0[:] *= scale
     model.tendon_invweight0[:] *= scale             # a tendon equality (a gear coupling) is sized by these

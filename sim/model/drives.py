@@ -66,21 +66,16 @@ def add_load(spec, mech, loads):
 
 def size_drives(model, mech, drives, loads, h, extra=None, cycle=None) -> list[Drive]:
     """kp from the peak analytic drive force (DRIVE_ERROR_BUDGET), J and kv for SERVO_RATE: over the samples
-    of the run's ``cycle`` (analytic.cycle.Cycle), plus ``extra`` there (the file's loads' share of the drives,
-    sim.model.loads.drive_loads, at the cycle's samples); without a cycle over the 361 instants of one turn."""
+    of the run's ``cycle`` (analytic.cycle.Cycle; made here when None), with ``extra`` (the file's loads'
+    share of the drives at the same samples, sim.model.loads.drive_loads) added where given."""
     from analytic.applications import torque
+    from analytic.cycle import Cycle
     switch = 1.0
     inertias = body_inertias(model, mech.links)
     gravity, gear = tuple(model.opt.gravity[:2]), tuple(model.actuator("load").gear[:2])
-    if extra is not None and cycle is None:
-        raise ValueError("the loads' share of the drives is given at a cycle's samples: pass the cycle")
-    if cycle is not None:
-        tau = torque.drive_forces(mech, cycle.q, cycle.qd, cycle.qdd, inertias, None, gravity, gear, switch,
-                                  cycle.solution, cycle.coefficients)
-    else:
-        t = np.linspace(0.0, mech.duration(1.0), 361)
-        q, qd, qdd = mech.drive(t)
-        tau = torque.drive_forces(mech, q, qd, qdd, inertias, None, gravity, gear, switch)
+    cycle = cycle if cycle is not None else Cycle.of(mech)
+    tau = torque.drive_forces(mech, cycle.q, cycle.qd, cycle.qdd, inertias, None, gravity, gear, switch,
+                              cycle.solution, cycle.coefficients)
     if extra is not None:
         tau = {k: v + extra.tau[k] for k, v in tau.items()}
     out = []
@@ -151,8 +146,9 @@ def input_jerk(mech, t):
 
 def slow_stroke(mech, cycle=None) -> tuple[float, float]:
     """The first input's phase interval [rad from its start] in which the output point makes its slower
-    stroke along x (the cutting stroke of a quick-return mechanism), from 3601 instants of one turn: the
-    dense samples of the run's ``cycle`` where it is one period (analytic.cycle.Cycle), else solved here."""
+    stroke along x (the cutting stroke of a quick-return mechanism), from analytic.cycle.SAMPLES + 1 instants
+    of one turn: the dense samples of the run's ``cycle`` where it is one period (analytic.cycle.Cycle), else
+    the same instants solved here."""
     from analytic.cycle import SAMPLES, periodic
     first = mech.inputs[0]
     T = mech.duration(1.0)
@@ -160,7 +156,7 @@ def slow_stroke(mech, cycle=None) -> tuple[float, float]:
         t = cycle.t[cycle.dense]
         x = np.asarray(cycle.solution["x" + mech.output_point])[cycle.dense]
     else:
-        t = np.linspace(0.0, T, 3601)
+        t = np.linspace(0.0, T, SAMPLES + 1)
         x = mech.solve(*mech.drive(t))["x" + mech.output_point]
     k_min, k_max = int(np.nanargmin(x)), int(np.nanargmax(x))
     a, b = sorted((k_min, k_max))

@@ -59,9 +59,13 @@ def export_xml(built: Built) -> str:
         keyframe = ET.SubElement(root, "keyframe")
     ET.SubElement(keyframe, "key", name="home", qpos=fmt(built.qpos0), qvel=fmt(built.qvel0), act=fmt(built.act0),
                   ctrl=fmt(built.ctrl0))
-    scale = built.invweight_scale                   # what build_model applied (the file's loads included)
+    scale = getattr(built, "regularization", None)          # what build_model applied (masses are not scaled)
     if scale is None:
-        scale = regularization(m, built.mech, built.loads)
+        extra = None
+        if getattr(built, "loadset", None) is not None:    # the file's loads enter the scale (sim.model.loads)
+            from sim.model.loads import drive_loads
+            extra = drive_loads(built)
+        scale = regularization(m, built.mech, built.loads, extra)
     custom = root.find("custom")
     if custom is None:
         custom = ET.SubElement(root, "custom")

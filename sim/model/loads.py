@@ -46,7 +46,7 @@ def loadset_of(mech, loads):
 def applications(built, t, q=None, qd=None, qdd=None, sol=None):
     """Every load's wrenches (friction's included) at times ``t`` along the commanded motion (or the given
     inputs), with the compiled model's masses, gravity and shorthand load; and the State. ``sol``: the
-    solution there with every output (a cycle's), else solved here."""
+    solution there (an analytic.cycle.Cycle's), or solved here."""
     from analytic.loads import kinetostatics as K
     from sim.model.inertia import body_inertias
     mech, model = built.mech, built.model
@@ -129,23 +129,26 @@ def _kept(built, t) -> Wrenches | None:
 
 @dataclass(frozen=True)
 class DriveLoads:
-    """The loads' share of each drive [N m or N] at the run's cycle's samples (analytic.cycle.Cycle: the first
-    at t = 0), as sim.model.drives sizes the servos from, and the largest total load force [N] (the
+    """The loads' share of each drive [N m or N] at the samples of the run's cycle (analytic.cycle.Cycle, the
+    first at t = 0), as sim.model.drives sizes the servos from, and the largest total load force [N] (the
     regulariser's scale)."""
 
     tau: dict
     peak_force: float
 
 
-def drive_loads(built, cycle) -> DriveLoads:
+def drive_loads(built, revolutions: float = 1.0, cycle=None) -> DriveLoads:
     """What the drives must add to hold the commanded motion against the loads: minus the loads' generalized
     forces (virtual work, analytic.loads.kinetostatics.generalized), at the samples of the run's ``cycle``
-    (its solution and velocity coefficients read, nothing solved but friction's fixed point)."""
-    from analytic.loads.kinetostatics import generalized
+    (made here when None), where size_drives reads the drive forces: its poses and velocity coefficients."""
+    from analytic.cycle import Cycle
+    from analytic.loads.kinetostatics import full_wanted, generalized
     mech = built.mech
-    t = cycle.t
-    apps, state, _, _ = applications(built, t, cycle.q, cycle.qd, cycle.qdd, sol=cycle.solution)
-    Q = generalized(mech, cycle.q, state, apps, cycle.coefficients)
+    cycle = cycle if cycle is not None else Cycle.of(mech, revolutions)
+    t, q = cycle.t, cycle.q
+    sol = {k: np.asarray(cycle.solution[k]) for k in full_wanted(mech)}
+    apps, state, _, _ = applications(built, t, q, cycle.qd, cycle.qdd, sol)
+    Q = generalized(mech, q, state, apps, cycle.coefficients)
     peak = np.zeros(len(t))
     size = mech.size
     for a in apps:
