@@ -7,6 +7,7 @@ in the file's units and against the JSON's SI numbers converted by hand (1 lbf =
 from __future__ import annotations
 
 import json
+import re
 from types import SimpleNamespace
 
 import numpy as np
@@ -145,3 +146,15 @@ def test_the_videos_force_legend_is_a_round_value_in_the_files_unit(inch_pound):
         # half the 1000 N peak is 112.4 lbf: the round value below it is 100 lbf (444.8 N); in N: 500 N
         assert force_legend_text(sc) == text
         assert sc.force_ref == pytest.approx(newtons, rel=1e-12)                  # rounding
+
+
+def test_units_si_prints_newtons_for_a_pound_file(inch_pound):
+    # the printed table with --units SI: the 10 lbf push is 44.48 N at A, the drive 20 lbf in = 2.2597 N m
+    # (inertia at 60 deg/s adds ~3e-4 at the peak: the table's 5 digits show it)
+    text = cli_runner.run("forces", inch_pound, "--units", "SI").stdout
+    a = re.search(r"^\s+A\s+R\s+ground-1\s+(\S+)", text, re.M)
+    m = re.search(r"drive of phi1: peak torque (\S+) (.+?) at", text)
+    assert "peak |F| [N]" in text and float(a.group(1)) == pytest.approx(10 * LBF, rel=1e-3)
+    assert m.group(2) == "N m" and float(m.group(1)) == pytest.approx(20 * LBF_IN, rel=1e-3)
+    rec = json.loads(cli_runner.run("forces", inch_pound, "--units", "SI", "--json").stdout)
+    assert rec["units"]["force"] == "N" and rec["units"]["drives"]["phi1"] == "N m"
