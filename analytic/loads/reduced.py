@@ -104,9 +104,12 @@ def _evaluate(mech, loadset, s, q0, u, closed: bool = False):
     variables = state.variables(scales(mech.definition, mech.parameters))
     QL, C = np.zeros(n + 1), np.zeros(n + 1)
     per = {}
+    coefficients = None
+    if len(mech.inputs) == 1:         # the velocities at the input's unit rate s (s = +-1), no acceleration:
+        coefficients = ({k: v / s for k, v in sol.items() if k.startswith(("vx", "vy", "omega"))},)   # exact
     for ld in loadset.loads:
         apps = ld.applications(state, variables)
-        Q = s * generalized(mech, q, state, apps)[mech.inputs[0].link]       # on u, at unit speed
+        Q = s * generalized(mech, q, state, apps, coefficients)[mech.inputs[0].link]       # on u, at unit speed
         if isinstance(ld, D.Damper):
             C = C - Q
         else:

@@ -482,7 +482,7 @@ def dynamics(body: dict) -> dict:
     equation's answer and, with ``simulate`` (default), MuJoCo's and the verdict; with ``target_fluctuation``
     the flywheel sized for that Cs. The MuJoCo run is refused before it starts when it would take more than
     MAX_DYNAMICS_STEPS steps (the reduced equation's run gives its duration)."""
-    from sim.run import motor as smotor
+    from sim.service import dynamics as sdyn
     check_fields(body, "dynamics")
     mech = mechanism_of(body)
     if len(mech.inputs) != 1:
@@ -501,15 +501,16 @@ def dynamics(body: dict) -> dict:
     flywheel = None if target is not None else float(number(body, "flywheel", 0.0, 0.0, MAX_FLYWHEEL))
     simulate_too = flag(body, "simulate", True)
     loads = loads_of(body, mech)
-    d = smotor.dynamics(mech, loads, motor, flywheel, target, start, revolutions, simulate_too=False)
+    cycle = sdyn.cycle_of(mech)                     # one prescribed-motion cycle for every model of the run
+    d = sdyn.dynamics(mech, loads, motor, flywheel, target, start, revolutions, simulate_too=False, cycle=cycle)
     if simulate_too:
-        h = smotor.timestep_for(mech, d.run.reduced, motor, float(np.max(np.abs(d.run.omega))))
+        h = sdyn.motor_timestep(d, cycle)
         steps = float(d.run.t[-1]) / h
         if steps > MAX_DYNAMICS_STEPS:
             raise RequestError(400, f"MuJoCo would take about {steps:,.0f} steps of {h:.3g} s for this run (at most "
                                     f"{MAX_DYNAMICS_STEPS:,}): lower the revolutions, or run `linkage dynamics` "
                                     f"on the command line")
-        d = smotor.simulated(d, loads, start)
+        d = sdyn.simulated(d, loads, start, cycle=cycle)
     return dynamics_view(d)
 
 

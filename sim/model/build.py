@@ -118,6 +118,9 @@ class Built:
     """Loads carried as MuJoCo tendons instead (a motor-driven run: sim.model.loads.add_native)."""
     regularization: float | None = None
     """The factor the constraints' inverse weights were scaled by (:func:`regularization`), as built."""
+    memo: dict = field(default_factory=dict, repr=False, compare=False)
+    """What a run reads several times from the model's commanded motion, kept once per model: the loads'
+    wrenches at every step start (sim.model.loads.wrenches)."""
 
     @property
     def name(self) -> str:
@@ -170,12 +173,13 @@ def spanning_tree(mech):
 
 
 def build(mech, settings: Settings = Settings(), loads: Loads = Loads(), revolutions: float = 1.0,
-          native: bool = False, cycle=None) -> Built:
+          native: bool = False, cycle=None, export: bool = False) -> Built:
     """Generate and compile the model of ``mech`` with its initial state from the analytic solver; ``native``:
     linear springs and dampers as MuJoCo tendons (a motor-driven run, sim.model.loads.add_native). ``cycle``:
     the run's motion solved once (:class:`analytic.cycle.Cycle`, made by the service; made here when None),
     read for the time step, the initial pose, the drives' sizes and the camera: the model never solves the
-    mechanism itself."""
+    mechanism itself. ``export``: the model written as a file (sim.model.export): the loads MJCF can hold
+    statically in it (sim.model.loads.not_in_xml), as tendons and constant-force actuators."""
     from analytic.cycle import Cycle
     if cycle is None:
         cycle = Cycle.of(mech, revolutions)
@@ -192,10 +196,12 @@ def build(mech, settings: Settings = Settings(), loads: Loads = Loads(), revolut
     if not sol.valid.all():
         mech.check_assembles(q0)
     points = {p: (float(sol["x" + p][0]), float(sol["y" + p][0])) for p in mech.points}
-    return build_model(mech, settings, loads, h, sol, points, (q0[0], qd0[0], qdd0[0]), revolutions, native, cycle)
+    return build_model(mech, settings, loads, h, sol, points, (q0[0], qd0[0], qdd0[0]), revolutions, native, cycle,
+                       export)
 
 
-def build_model(mech, settings, loads, h, sol, points, q_start, revolutions, native=False, cycle=None) -> Built:
+def build_model(mech, settings, loads, h, sol, points, q_start, revolutions, native=False, cycle=None,
+                export=False) -> Built:
     spec = mujoco.MjSpec.from_file(str(TEMPLATE))
     spec.modelname = mech.name
     size = mech.size
@@ -253,10 +259,12 @@ def build_model(mech, settings, loads, h, sol, points, q_start, revolutions, nat
         kinds.get(e["kind"]).mjcf(e, context)
     from sim.model import loads as ML
     loadset = ML.loadset_of(mech, loads)
-    carried = ML.add_native(context, bodies, loadset, sol) if native and loadset else ()
+    carried = ML.add_native(context, bodies, loadset, sol) if (native or export) and loadset else ()
     add_inertias(spec, mech, points, frames, loads)
     drives = add_drives(spec, mech, order, q_start, h)
     add_load(spec, mech, loads)
+    if export and loadset:                             # after the drives and the load: their indices stay
+        carried = carried + ML.add_static(context, bodies, loadset, carried)
     add_sensors(spec, mech, drives, loops)
     spec.option.timestep = h
     spec.option.integrator = INTEGRATORS[settings.integrator]
@@ -269,9 +277,13 @@ def build_model(mech, settings, loads, h, sol, points, q_start, revolutions, nat
     except ValueError as exc:
         raise ParameterError(f"MuJoCo cannot compile the {mech.name}: {str(exc).splitlines()[0]}") from None
     window = slow_stroke(mech, cycle) if loads.slow_stroke_only else None
+    held = loadset
+    if export and loadset:                             # an exported model's servos hold the loads it carries
+        held = replace(loadset, loads=tuple(ld for ld in loadset.loads if ld.name in carried), friction=None)
+        held = held if held else None
     draft = Built(mech, model, settings, loads, tuple(drives), tuple(loops), tuple(mech.links), None, None, None,
-                  None, window, xml, loadset, carried)
-    extra = ML.drive_loads(draft, revolutions, cycle) if loadset else None
+                  None, window, xml, held, () if export else carried)
+    extra = ML.drive_loads(draft, revolutions, cycle) if held else None
     scale = regularization(model, mech, loads, extra)
     model.body_invweight0[:] *= scale
     model.tendon_invweight0[:] *= scale             # a tendon equality (a gear coupling) is sized by these

@@ -79,6 +79,9 @@ def wrenches(built, t, q=None, qd=None) -> Wrenches:
     t = np.atleast_1d(np.asarray(t, dtype=float))
     n = len(t)
     if q is None:
+        kept = _kept(built, t)
+        if kept is not None:
+            return kept
         apps, state, inertias, Ft = applications(built, t)
     else:
         q = np.asarray(q, dtype=float).reshape(n, -1)
@@ -103,7 +106,25 @@ def wrenches(built, t, q=None, qd=None) -> Wrenches:
         xfrc[:, b, 0] += fx
         xfrc[:, b, 1] += fy
         xfrc[:, b, 5] += (px - gx) * fy - (py - gy) * fx + m
-    return Wrenches(xfrc, ground, Ft)
+    out = Wrenches(xfrc, ground, Ft)
+    if q is None and n > 1 and np.array_equal(t, np.arange(n) * built.timestep):
+        memo = getattr(built, "memo", None)
+        if memo is not None and n > len(memo.get("wrenches", Wrenches(xfrc[:0], ground[:0], {})).xfrc):
+            memo["wrenches"] = out             # every step start of a run: what the run's checks read again
+    return out
+
+
+def _kept(built, t) -> Wrenches | None:
+    """The wrenches along the commanded motion at step starts ``t`` (whole multiples of the time step) from
+    the ones kept for the run's every step start (:func:`wrenches`), or None."""
+    kept = (getattr(built, "memo", None) or {}).get("wrenches")
+    if kept is None:
+        return None
+    h = built.timestep
+    k = np.rint(t / h).astype(int)
+    if k.min() < 0 or k.max() >= len(kept.xfrc) or not np.array_equal(t, k * h):
+        return None
+    return Wrenches(kept.xfrc[k], kept.ground[k], {j: np.asarray(v)[k] for j, v in kept.Ft.items()})
 
 
 @dataclass(frozen=True)
@@ -136,13 +157,15 @@ def drive_loads(built, revolutions: float = 1.0, cycle=None) -> DriveLoads:
     return DriveLoads({k: -v for k, v in Q.items()}, float(np.max(peak)) if len(t) else 0.0)
 
 
-def drive_share(built, t, inputs) -> dict:
+def drive_share(built, t, inputs, solved=None) -> dict:
     """The loads' share of each drive at the given inputs (q, qd, qdd) and times: minus their generalized
-    forces there (virtual work)."""
+    forces there (virtual work). ``solved``: the solution at those inputs and its velocity coefficients
+    (analytic.cycle.solve_with_coefficients), else solved here."""
     from analytic.loads.kinetostatics import generalized
     q, qd, qdd = inputs
-    apps, state, _, _ = applications(built, t, q, qd, qdd)
-    return {k: -v for k, v in generalized(built.mech, q, state, apps).items()}
+    sol, coefficients = solved if solved is not None else (None, None)
+    apps, state, _, _ = applications(built, t, q, qd, qdd, sol=sol)
+    return {k: -v for k, v in generalized(built.mech, q, state, apps, coefficients).items()}
 
 
 def step_work(built, tr) -> np.ndarray:
@@ -224,3 +247,65 @@ def add_native(context, bodies, loadset, sol) -> tuple:
             native.append(ld.name)
     del mujoco
     return tuple(native)
+
+
+def not_in_xml(ld) -> str | None:
+    """Why MJCF cannot hold the load ``ld`` statically (an exported model, ``linkage export --mjcf``), or None
+    where it can: a linear spring, a damper and a torsion spring as tendons (:func:`add_native`), a constant
+    force (world- or link-fixed), pressure or torque always on as a constant-force actuator
+    (:func:`add_static`)."""
+    from analytic.loads import damper, force, spring, torque, torsion_spring
+    if isinstance(ld, spring.Spring):
+        return "a force-length table" if ld.table is not None else None
+    if isinstance(ld, (damper.Damper, torsion_spring.TorsionSpring)):
+        return None
+    if isinstance(ld, (force.Force, torque.Torque)):           # a pressure too (a force times its area)
+        law = ld.law
+        if law.expression is not None:
+            return f"its magnitude {law.expression!r} follows the motion"
+        if law.table is not None:
+            return "its magnitude is a table over the input"
+        if law.active is not None or law.stroke is not None:
+            return "it acts over part of the cycle only (active/stroke)"
+        return None
+    return "its kind has no MJCF element"
+
+
+def add_static(context, bodies, loadset, skip=()) -> tuple:
+    """For an exported model: every constant force (its direction fixed in the world, or turning with its
+    link) and constant torque as a constant-force actuator (gain 0, affine bias = the value) with a site
+    transmission: the force along the actuator's gear, in the world frame (refsite ``origin``) or the site's
+    (the link's frame), at the load's point; a torque as the gear's z moment. Returns the names so carried."""
+    import mujoco
+    from analytic.loads import force, torque
+    from sim.model.frames import local
+    spec, mech = context.spec, context.mech
+    done = []
+    for ld in loadset.loads:
+        if ld.name in skip or not isinstance(ld, (force.Force, torque.Torque)) or not_in_xml(ld) is not None:
+            continue
+        if isinstance(ld, force.Force):
+            e = ld.end
+            if e.link == GROUND:
+                continue                            # a load on the frame moves nothing
+            if e.point is not None:
+                x, y = context.points[e.point] if e.point in context.points else mech.geometry.ground[e.point]
+                lx, ly = local(context.frames[e.link], x, y)
+            else:
+                lx, ly = e.u, e.v
+            body, gear = e.link, [ld.direction[0], ld.direction[1], 0.0, 0.0, 0.0, 0.0]
+            world = not ld.turning
+        else:
+            lx, ly, body, gear, world = 0.0, 0.0, ld.link, [0.0, 0.0, 0.0, 0.0, 0.0, 1.0], True
+        site = bodies[body].add_site(name=f"load_{ld.name}", pos=[lx, ly, 0], size=[1e-3] * 3, group=4)
+        act = spec.add_actuator(name=f"load_{ld.name}", target=site.name, trntype=mujoco.mjtTrn.mjTRN_SITE)
+        if world:
+            act.refsite = "origin"
+        act.gear = gear
+        act.gainprm[0] = 0.0
+        act.biastype = mujoco.mjtBias.mjBIAS_AFFINE
+        value = float(ld.law.constant * ld.law.unit) * float(getattr(ld, "area", 1.0))   # a pressure's area
+        act.biasprm[:3] = [value, 0.0, 0.0]
+        act.ctrllimited = False
+        done.append(ld.name)
+    return tuple(done)

@@ -44,7 +44,7 @@ class Scene:
     force_scale: float = 0.0
     """[m per N] The length of a joint-force arrow per newton (0: no arrows), see :func:`force_arrows`."""
     force_ref: float = 0.0
-    """[N] The force of the legend's arrow: a round value near half the peak."""
+    """[N] The force of the legend's arrow: a round value (in the display's force unit) near half the peak."""
     force_label: str = "joint forces (first link on the second)"
     """The legend's words for the arrows (joint forces, the file's loads, or both)."""
 
@@ -112,14 +112,27 @@ FORCE_COLOR = "#c51b8a"
 
 def force_arrows(sc: Scene, peak: float, label: str | None = None) -> Scene:
     """The scene with joint-force arrows: the peak force [N] drawn ARROW_REACH of the mechanism's size long,
-    the legend's arrow a round force (1, 2 or 5 x 10^k N) at most half the peak."""
+    the legend's arrow a round force in the display's force unit (1, 2 or 5 x 10^k of the file's
+    ``force_units``: N, kN, lbf) at most half the peak."""
     from dataclasses import replace
     if not (math.isfinite(peak) and peak > 0):
         return sc
-    half = 0.5 * peak
+    f = _force_factor(sc)                              # display force units per newton
+    half = 0.5 * peak * f
     ref = 10 ** math.floor(math.log10(half))
     ref = max(m * ref for m in (1, 2, 5) if m * ref <= half * (1 + 1e-12))
-    return replace(sc, force_scale=ARROW_REACH * sc.size / peak, force_ref=ref, force_label=label or sc.force_label)
+    return replace(sc, force_scale=ARROW_REACH * sc.size / peak, force_ref=ref / f,
+                   force_label=label or sc.force_label)
+
+
+def _force_factor(sc: Scene) -> float:
+    return sc.display.factor("force") if sc.display is not None else 1.0
+
+
+def force_legend_text(sc: Scene) -> str:
+    """The legend's arrow value in the display's force unit (``500 N``, ``2 kN``, ``100 lbf``)."""
+    unit = sc.display.unit("force") if sc.display is not None else "N"
+    return f"{sc.force_ref * _force_factor(sc):.6g} {unit}"
 
 
 def nice_step(span: float) -> float:
@@ -325,7 +338,7 @@ class Painter:
         n = sc.force_ref * sc.force_scale * self.s
         x0, y = 10 * u, self.H - 14 * u
         self._shaft(d, x0, y, n, 0.0, n)
-        d.text((x0 + n + 6 * u, y), f"{sc.force_ref:g} N", fill="#222222", font=self.small, anchor="lm")
+        d.text((x0 + n + 6 * u, y), force_legend_text(sc), fill="#222222", font=self.small, anchor="lm")
         d.text((x0, y - 10 * u), sc.force_label, fill="#333333", font=self.small,
                anchor="ls")
 

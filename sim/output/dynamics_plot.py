@@ -82,26 +82,40 @@ def startup(d, ax=None, display=None):
     return ax
 
 
-def torque(d, ax=None):
-    """Motor torque [N m] against time [s]; returns the Axes."""
+def torque(d, ax=None, display=None):
+    """Motor torque against time [s], in ``display``'s moment unit (the file's force unit x its length unit;
+    None: N m); returns the Axes."""
     import matplotlib.pyplot as plt
+    from analytic import quantities as Q
     ax = ax or plt.gca()
+    f, unit = (display.factor(Q.TORQUE), display.unit(Q.TORQUE)) if display is not None else (1.0, "N m")
     r, s = d.run, d.sim
-    ax.plot(r.t, r.torque, color="tab:green", lw=1.2, label="reduced equation")
+    ax.plot(r.t, np.asarray(r.torque) * f, color="tab:green", lw=1.2, label="reduced equation")
     if s is not None:
         step = max(1, len(s.t) // 300)
-        ax.plot(s.t[::step], s.torque[::step], ".", color="tab:red", ms=2, label="MuJoCo")
+        ax.plot(s.t[::step], np.asarray(s.torque[::step]) * f, ".", color="tab:red", ms=2, label="MuJoCo")
     ax.set_xlabel("time [s]")
-    ax.set_ylabel("motor torque [N m]")
-    ax.set_title(f"peak {r.peak_torque:.3g} N m, peak power {r.peak_power:.3g} W, "
+    ax.set_ylabel(f"motor torque [{unit}]")
+    ax.set_title(f"peak {r.peak_torque * f:.3g} {unit}, peak power {r.peak_power:.3g} W, "
                  f"{r.energy_per_cycle:.3g} J per cycle", fontsize=8)
     ax.legend(fontsize=7, loc="best")
     return ax
 
 
 def sheet(d, out: str, display=None) -> None:
-    """Draw the three panels and save them atomically to ``out`` (.png, .svg or .pdf), speeds and angles in
-    ``display``'s units (:class:`analytic.quantities.Display`; None: rpm and deg)."""
+    """Draw the three panels (:func:`figure`) and save them atomically to ``out`` (.png, .svg or .pdf)."""
+    import matplotlib.pyplot as plt
+    fig = figure(d, display)
+    try:
+        with atomic_path(out) as tmp:
+            fig.savefig(tmp, dpi=90)
+    finally:
+        plt.close(fig)
+
+
+def figure(d, display=None):
+    """The three panels as a matplotlib Figure, speeds, angles and the torque in ``display``'s units
+    (:class:`analytic.quantities.Display`; None: rpm, deg and N m)."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -110,12 +124,8 @@ def sheet(d, out: str, display=None) -> None:
     fig.suptitle(f"{d.mech.name} under a motor, flywheel {d.flywheel:.4g} kg m²{verdict}", fontsize=10)
     speed_vs_angle(d, axes[0], display)
     startup(d, axes[1], display)
-    torque(d, axes[2])
+    torque(d, axes[2], display)
     fig.tight_layout()
     from sim.output.fit import fit_titles
     fit_titles(fig)
-    try:
-        with atomic_path(out) as tmp:
-            fig.savefig(tmp, dpi=90)
-    finally:
-        plt.close(fig)
+    return fig

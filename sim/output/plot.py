@@ -26,6 +26,21 @@ def check_plot_path(out: str):
     return check_writable(out, PLOT_SUFFIXES)
 
 
+def force_scale(u) -> tuple[float, str, float, str]:
+    """(display value per newton, its label, per newton metre, its label) in display units ``u``: the file's
+    ``force_units`` and moments in force unit x length unit (SPEC "Units of results"; N and N m for SI)."""
+    from analytic import quantities as Q
+    return u.factor(Q.FORCE), u.unit(Q.FORCE), u.factor(Q.TORQUE), u.unit(Q.TORQUE)
+
+
+def drive_scale(u, inp) -> tuple[float, str]:
+    """(display value per SI value, its label) of input ``inp``'s drive: a torque for a turning input, a force
+    for a sliding one."""
+    from analytic import quantities as Q
+    q = Q.TORQUE if inp.angular else Q.FORCE
+    return u.factor(q), u.unit(q)
+
+
 def panels(mech, display=None) -> list[tuple[str, list[tuple[str, str, float]], str]]:
     """The six curve panels of a mechanism, from its reported outputs: link angles, their rates and
     accelerations, transmission angles (or slides), the output point's velocity and acceleration; each
@@ -78,8 +93,19 @@ def _series(ax, x, c: Comparison, lines, colors, mech) -> None:
 
 
 def sheet(c: Comparison, built, out: str, display=None):
-    """Draw the analysis sheet of comparison ``c`` and save it atomically to ``out`` (.png/.svg/.pdf), in
-    ``display`` units (analytic.quantities.Display; None: the file's length unit)."""
+    """Draw the analysis sheet of comparison ``c`` (:func:`sheet_figure`) and save it atomically to ``out``
+    (.png/.svg/.pdf)."""
+    import matplotlib.pyplot as plt
+    fig = sheet_figure(c, built, display)
+    with atomic_path(out) as tmp:
+        fig.savefig(tmp, dpi=90)
+    plt.close(fig)
+    return out
+
+
+def sheet_figure(c: Comparison, built, display=None):
+    """The analysis sheet of comparison ``c`` as a matplotlib Figure, in ``display`` units
+    (analytic.quantities.Display; None: the file's length unit, N and N m)."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -104,14 +130,11 @@ def sheet(c: Comparison, built, out: str, display=None):
         _error_panel(ax, x, c, units, title, xlabel, u)
     _summary_panel(axes[1, 3], c, built, u)
     _speed_panel(axes[2, 3], x, c, xlabel, colors, mech, u)
-    _torque_panels(axes[3], x, c, xlabel, colors, built)
+    _torque_panels(axes[3], x, c, xlabel, colors, built, u)
     fig.suptitle(f"{mech.name}: MuJoCo simulation (markers) over the analytic solution (lines)", fontsize=14)
     from sim.output.fit import fit_titles
     fit_titles(fig)
-    with atomic_path(out) as tmp:
-        fig.savefig(tmp, dpi=90)
-    plt.close(fig)
-    return out
+    return fig
 
 
 def _mark_strokes(ax, x, load) -> None:
@@ -242,21 +265,27 @@ def drive_power(c: Comparison, built) -> tuple[np.ndarray, float, float]:
     return power, averages.period_mean(tr.t, power, period), float(np.ptp(energy))
 
 
-def _torque_panels(axes, x, c: Comparison, xlabel, colors, built) -> None:
-    """Drive torque(s), simulated over analytic; their error; the flywheel energy; the figures."""
+def _torque_panels(axes, x, c: Comparison, xlabel, colors, built, u) -> None:
+    """Drive torque(s), simulated over analytic; their error; the flywheel energy; the figures; torques and
+    forces in display units ``u`` (the file's force unit)."""
     mech = built.mech
     tr = c.trajectory
     names = sorted(c.torques)
+    by_link = {i.link: i for i in mech.inputs}
+    units = []
     for name, color in zip(names, colors):
-        ref, sim = c.torques[name], tr.forces[name]
         link = mech.table[name].of
+        f, unit = drive_scale(u, by_link[link])
+        units.append(unit)
+        ref, sim = np.asarray(c.torques[name]) * f, np.asarray(tr.forces[name]) * f
         axes[0].plot(x, ref, color=color, lw=1.6, label=f"$\\tau_{{{link}}}$ analytic")
         axes[0].plot(x[::MARK_EVERY], sim[::MARK_EVERY], "o", ms=3.5, mfc="none", color=color,
                      label=f"$\\tau_{{{link}}}$ MuJoCo")
         axes[1].plot(x, np.abs(sim - ref), color=color, lw=1.0, label=name)
-        axes[1].axhline(c.errors[name]["tol"], color=color, ls="--", lw=0.8)
-    axes[0].set(title="Driving torque", xlabel=xlabel, ylabel="[N m]")
-    axes[1].set(title="Torque error (dashed: tolerance)", xlabel=xlabel, ylabel="|MuJoCo - analytic| [N m]")
+        axes[1].axhline(c.errors[name]["tol"] * f, color=color, ls="--", lw=0.8)
+    unit = " or ".join(dict.fromkeys(units)) or "N m"
+    axes[0].set(title="Driving torque", xlabel=xlabel, ylabel=f"[{unit}]")
+    axes[1].set(title="Torque error (dashed: tolerance)", xlabel=xlabel, ylabel=f"|MuJoCo - analytic| [{unit}]")
     axes[1].set_yscale("log")
     from analytic.applications import averages
     period = mech.duration(1.0)
@@ -272,8 +301,8 @@ def _torque_panels(axes, x, c: Comparison, xlabel, colors, built) -> None:
     axes[3].axis("off")
     lines = []
     for name in names:
-        ref = c.torques[name]
-        unit = c.errors[name]["unit"]
+        f, unit = drive_scale(u, by_link[mech.table[name].of])
+        ref = np.asarray(c.torques[name]) * f
         lines.append(f"{name}: peak {np.max(np.abs(ref)):.4g} {unit}, "
                      f"RMS {averages.period_rms(tr.t, ref, period):.4g} {unit}")
     lines += [f"mean drive power {mean_power:.4g} W",
@@ -317,17 +346,18 @@ def force_figure(c: Comparison, built, display=None):
     grounded = [k for k, j in enumerate(an.joints) if j.a == "ground"][:4]
     slides = [k for k, j in enumerate(an.joints) if j.kind == "prismatic"]
     revolute = [k for k, j in enumerate(an.joints) if j.kind == "revolute"]
-    draw = [lambda ax, k=k, n=n: _bearing_panel(ax, an, mj, k, colors[n % len(colors)]) for n, k in enumerate(grounded)]
+    draw = [lambda ax, k=k, n=n: _bearing_panel(ax, an, mj, k, colors[n % len(colors)], u)
+            for n, k in enumerate(grounded)]
     draw.append(lambda ax: _magnitude_panel(ax, x, xlabel, an, mj, revolute, colors,
-                                            "Pin forces $|F|$ (revolute joints)"))
+                                            "Pin forces $|F|$ (revolute joints)", u))
     if slides:
-        draw.append(lambda ax: _slide_panel(ax, x, xlabel, an, mj, slides, colors))
-    draw += [lambda ax: _drive_panel(ax, x, xlabel, an, mj, power, mech, colors),
-             lambda ax: _shaking_locus(ax, an, mj, colors[0], c.trajectory.t, mech.duration(1.0)),
-             lambda ax: _shaking_panel(ax, x, xlabel, an, mj, colors),
+        draw.append(lambda ax: _slide_panel(ax, x, xlabel, an, mj, slides, colors, u))
+    draw += [lambda ax: _drive_panel(ax, x, xlabel, an, mj, power, mech, colors, u),
+             lambda ax: _shaking_locus(ax, an, mj, colors[0], c.trajectory.t, mech.duration(1.0), u),
+             lambda ax: _shaking_panel(ax, x, xlabel, an, mj, colors, u),
              lambda ax: _force_error_panel(ax, x, xlabel, an, mj, mech, colors),
              lambda ax: _force_summary(ax, c, built, an, mech, x, u),
-             lambda ax: _force_summary_agreement(ax, c)]
+             lambda ax: _force_summary_agreement(ax, c, u)]
     rows = math.ceil(len(draw) / 4)
     fig, axes = plt.subplots(rows, 4, figsize=(17, 3.9 * rows), constrained_layout=True)
     for n, ax in enumerate(axes.flat):
@@ -347,12 +377,14 @@ def force_figure(c: Comparison, built, display=None):
     return fig
 
 
-def _bearing_panel(ax, an, mj, k, color) -> None:
-    """The polar diagram of ground joint ``k``: the load its bearing takes, -F (F: the ground on the link)."""
+def _bearing_panel(ax, an, mj, k, color, u) -> None:
+    """The polar diagram of ground joint ``k``: the load its bearing takes, -F (F: the ground on the link), in
+    the display's force unit."""
+    ff, fl, _, _ = force_scale(u)
     j = an.joints[k]
-    fx, fy = -an.F[k, 0], -an.F[k, 1]
+    fx, fy = -an.F[k, 0] * ff, -an.F[k, 1] * ff
     ax.plot(fx, fy, color=color, lw=1.6, label="analytic")
-    ax.plot(-mj.F[k, 0][::MARK_EVERY], -mj.F[k, 1][::MARK_EVERY], "o", ms=3.5, mfc="none", color=color,
+    ax.plot(-mj.F[k, 0][::MARK_EVERY] * ff, -mj.F[k, 1][::MARK_EVERY] * ff, "o", ms=3.5, mfc="none", color=color,
             label="MuJoCo")
     i = int(np.argmax(np.hypot(fx, fy)))
     ax.annotate("", xy=(fx[i], fy[i]), xytext=(0.0, 0.0), arrowprops=dict(arrowstyle="->", color=color, lw=1.2))
@@ -361,51 +393,56 @@ def _bearing_panel(ax, an, mj, k, color) -> None:
     ax.plot([0.0], [0.0], "k+", ms=8)
     kind = "guide" if j.kind == "prismatic" else "bearing"
     ax.set(title=f"{kind.capitalize()} {j.name}: load on the frame from link {j.b}\n(polar diagram; peak "
-                 f"{np.max(np.hypot(fx, fy)):.4g} N)", xlabel="$F_x$ [N]", ylabel="$F_y$ [N]")
+                 f"{np.max(np.hypot(fx, fy)):.4g} {fl})", xlabel=f"$F_x$ [{fl}]", ylabel=f"$F_y$ [{fl}]")
     ax.set_aspect("equal", adjustable="datalim")
     ax.legend(fontsize=7, loc="best")
     ax.grid(alpha=0.3)
 
 
-def _magnitude_panel(ax, x, xlabel, an, mj, joints, colors, title) -> None:
+def _magnitude_panel(ax, x, xlabel, an, mj, joints, colors, title, u) -> None:
+    ff, fl, _, _ = force_scale(u)
     for n, k in enumerate(joints):
         color = colors[n % len(colors)]
         j = an.joints[k]
-        ax.plot(x, np.hypot(an.F[k, 0], an.F[k, 1]), color=color, lw=1.4, label=f"{j.name} ({j.a}-{j.b})")
-        ax.plot(x[::MARK_EVERY], np.hypot(mj.F[k, 0], mj.F[k, 1])[::MARK_EVERY], "o", ms=3, mfc="none", color=color)
-    ax.set(title=title, xlabel=xlabel, ylabel="[N]")
+        ax.plot(x, np.hypot(an.F[k, 0], an.F[k, 1]) * ff, color=color, lw=1.4, label=f"{j.name} ({j.a}-{j.b})")
+        ax.plot(x[::MARK_EVERY], np.hypot(mj.F[k, 0], mj.F[k, 1])[::MARK_EVERY] * ff, "o", ms=3, mfc="none",
+                color=color)
+    ax.set(title=title, xlabel=xlabel, ylabel=f"[{fl}]")
     if joints:
         ax.legend(fontsize=7, ncol=2, loc="best")
     ax.grid(alpha=0.3)
 
 
-def _slide_panel(ax, x, xlabel, an, mj, slides, colors) -> None:
+def _slide_panel(ax, x, xlabel, an, mj, slides, colors, u) -> None:
     """Each prismatic pair's normal force (signed, along the guide's normal) and, on the right axis, its couple."""
+    ff, fl, mf, ml = force_scale(u)
     right = ax.twinx()
     for n, k in enumerate(slides):
         color = colors[n % len(colors)]
         j = an.joints[k]
-        ax.plot(x, np.hypot(an.F[k, 0], an.F[k, 1]), color=color, lw=1.4, label=f"{j.name}: |N|")
-        ax.plot(x[::MARK_EVERY], np.hypot(mj.F[k, 0], mj.F[k, 1])[::MARK_EVERY], "o", ms=3, mfc="none", color=color)
-        right.plot(x, an.M(k), color=color, lw=1.0, ls="--", label=f"{j.name}: M")
-        right.plot(x[::MARK_EVERY], mj.M(k)[::MARK_EVERY], "s", ms=2.5, mfc="none", color=color)
-    ax.set(title="Prismatic pairs: normal force (solid), couple (dashed)", xlabel=xlabel, ylabel="|N| [N]")
-    right.set_ylabel("M [N m]")
+        ax.plot(x, np.hypot(an.F[k, 0], an.F[k, 1]) * ff, color=color, lw=1.4, label=f"{j.name}: |N|")
+        ax.plot(x[::MARK_EVERY], np.hypot(mj.F[k, 0], mj.F[k, 1])[::MARK_EVERY] * ff, "o", ms=3, mfc="none",
+                color=color)
+        right.plot(x, an.M(k) * mf, color=color, lw=1.0, ls="--", label=f"{j.name}: M")
+        right.plot(x[::MARK_EVERY], mj.M(k)[::MARK_EVERY] * mf, "s", ms=2.5, mfc="none", color=color)
+    ax.set(title="Prismatic pairs: normal force (solid), couple (dashed)", xlabel=xlabel, ylabel=f"|N| [{fl}]")
+    right.set_ylabel(f"M [{ml}]")
     lines = ax.get_legend_handles_labels()
     more = right.get_legend_handles_labels()
     ax.legend(lines[0] + more[0], lines[1] + more[1], fontsize=7, loc="best")
     ax.grid(alpha=0.3)
 
 
-def _drive_panel(ax, x, xlabel, an, mj, power, mech, colors) -> None:
+def _drive_panel(ax, x, xlabel, an, mj, power, mech, colors, u) -> None:
     """Each drive's three answers: Newton-Euler (line), the power balance (dashed), MuJoCo (markers)."""
     for n, inp in enumerate(mech.inputs):
         color = colors[n % len(colors)]
-        ax.plot(x, an.drives[inp.link], color=color, lw=1.8, label=f"{inp.q}: Newton-Euler")
-        ax.plot(x, power[inp.link], color="k", lw=0.9, ls="--", label=f"{inp.q}: power balance")
-        ax.plot(x[::MARK_EVERY], mj.drives[inp.link][::MARK_EVERY], "o", ms=3.5, mfc="none", color=color,
+        f, _ = drive_scale(u, inp)
+        ax.plot(x, an.drives[inp.link] * f, color=color, lw=1.8, label=f"{inp.q}: Newton-Euler")
+        ax.plot(x, power[inp.link] * f, color="k", lw=0.9, ls="--", label=f"{inp.q}: power balance")
+        ax.plot(x[::MARK_EVERY], mj.drives[inp.link][::MARK_EVERY] * f, "o", ms=3.5, mfc="none", color=color,
                 label=f"{inp.q}: MuJoCo")
-    unit = "N m" if all(i.angular for i in mech.inputs) else "N m or N"
+    unit = " or ".join(dict.fromkeys(drive_scale(u, i)[1] for i in mech.inputs))
     ax.set(title="Drives: three answers", xlabel=xlabel, ylabel=f"[{unit}]")
     ax.legend(fontsize=7, loc="best")
     ax.grid(alpha=0.3)
@@ -428,30 +465,34 @@ def _force_error_panel(ax, x, xlabel, an, mj, mech, colors) -> None:
     ax.grid(alpha=0.3, which="both")
 
 
-def _shaking_locus(ax, an, mj, color, t, period) -> None:
+def _shaking_locus(ax, an, mj, color, t, period, u) -> None:
     from analytic.applications.averages import period_rms
-    fx, fy = an.shaking[0], an.shaking[1]
+    ff, fl, _, _ = force_scale(u)
+    fx, fy = an.shaking[0] * ff, an.shaking[1] * ff
     ax.plot(fx, fy, color=color, lw=1.6, label="analytic")
-    ax.plot(mj.shaking[0][::MARK_EVERY], mj.shaking[1][::MARK_EVERY], "o", ms=3.5, mfc="none", color=color,
-            label="MuJoCo")
+    ax.plot(mj.shaking[0][::MARK_EVERY] * ff, mj.shaking[1][::MARK_EVERY] * ff, "o", ms=3.5, mfc="none",
+            color=color, label="MuJoCo")
     ax.axhline(0.0, color="k", lw=0.6)
     ax.axvline(0.0, color="k", lw=0.6)
     rms = period_rms(t, np.hypot(fx, fy), period)                  # over exactly one turn
-    ax.set(title=f"Shaking force on the frame (RMS {rms:.4g} N)", xlabel="$F_x$ [N]", ylabel="$F_y$ [N]")
+    ax.set(title=f"Shaking force on the frame (RMS {rms:.4g} {fl})", xlabel=f"$F_x$ [{fl}]",
+           ylabel=f"$F_y$ [{fl}]")
     ax.set_aspect("equal", adjustable="datalim")
     ax.legend(fontsize=7, loc="best")
     ax.grid(alpha=0.3)
 
 
-def _shaking_panel(ax, x, xlabel, an, mj, colors) -> None:
-    ax.plot(x, np.hypot(an.shaking[0], an.shaking[1]), color=colors[0], lw=1.6, label="|shaking force| [N]")
-    ax.plot(x[::MARK_EVERY], np.hypot(mj.shaking[0], mj.shaking[1])[::MARK_EVERY], "o", ms=3.5, mfc="none",
+def _shaking_panel(ax, x, xlabel, an, mj, colors, u) -> None:
+    ff, fl, mf, ml = force_scale(u)
+    ax.plot(x, np.hypot(an.shaking[0], an.shaking[1]) * ff, color=colors[0], lw=1.6,
+            label=f"|shaking force| [{fl}]")
+    ax.plot(x[::MARK_EVERY], np.hypot(mj.shaking[0], mj.shaking[1])[::MARK_EVERY] * ff, "o", ms=3.5, mfc="none",
             color=colors[0])
     right = ax.twinx()
-    right.plot(x, an.shaking[2], color=colors[1], lw=1.4, label="shaking moment [N m]")
-    right.plot(x[::MARK_EVERY], mj.shaking[2][::MARK_EVERY], "s", ms=3, mfc="none", color=colors[1])
-    right.set_ylabel("moment about the origin [N m]")
-    ax.set(title="Shaking force and moment", xlabel=xlabel, ylabel="[N]")
+    right.plot(x, an.shaking[2] * mf, color=colors[1], lw=1.4, label=f"shaking moment [{ml}]")
+    right.plot(x[::MARK_EVERY], mj.shaking[2][::MARK_EVERY] * mf, "s", ms=3, mfc="none", color=colors[1])
+    right.set_ylabel(f"moment about the origin [{ml}]")
+    ax.set(title="Shaking force and moment", xlabel=xlabel, ylabel=f"[{fl}]")
     lines, more = ax.get_legend_handles_labels(), right.get_legend_handles_labels()
     ax.legend(lines[0] + more[0], lines[1] + more[1], fontsize=7, loc="best")
     ax.grid(alpha=0.3)
@@ -460,23 +501,25 @@ def _shaking_panel(ax, x, xlabel, an, mj, colors) -> None:
 def _force_summary(ax, c, built, an, mech, x, u) -> None:
     """Each joint's peak force and the input where it occurs, each drive's peak."""
     ax.axis("off")
+    ff, fl, mf, ml = force_scale(u)
     first = mech.inputs[0]
     deg = first.angular
-    mag = an.magnitude()
+    mag = an.magnitude() * ff
     lines = [f"peaks (analytic; at {first.q})"]
     for k, j in enumerate(an.joints):
         i = int(np.argmax(mag[k]))
         at = f"{x[i] % 360:.1f} deg" if deg else f"{x[i]:.4g} {u.unit('length')}"
-        extra = f", M {np.max(np.abs(an.M(k))):.3g} N m" if j.kind == "prismatic" else ""
-        lines.append(f"{j.name:<8s} {j.kind[0].upper()} {j.a}-{j.b}: {mag[k, i]:.4g} N at {at}{extra}")
+        extra = f", M {np.max(np.abs(an.M(k))) * mf:.3g} {ml}" if j.kind == "prismatic" else ""
+        lines.append(f"{j.name:<8s} {j.kind[0].upper()} {j.a}-{j.b}: {mag[k, i]:.4g} {fl} at {at}{extra}")
     for inp in mech.inputs:
         d = an.drives[inp.link]
-        lines.append(f"drive {inp.q}: {np.max(np.abs(d)):.4g} {inp.spec.drive_unit}")
+        f, unit = drive_scale(u, inp)
+        lines.append(f"drive {inp.q}: {np.max(np.abs(d)) * f:.4g} {unit}")
     ax.text(0.0, 1.0, "\n".join(textwrap.shorten(s, 58) for s in lines[:26]), va="top", family="monospace",
             fontsize=8, transform=ax.transAxes)
 
 
-def _force_summary_agreement(ax, c) -> None:
+def _force_summary_agreement(ax, c, u) -> None:
     ax.axis("off")
     a = c.forces
     if a is None:
@@ -484,7 +527,7 @@ def _force_summary_agreement(ax, c) -> None:
                 family="monospace", fontsize=9, transform=ax.transAxes)
         return
     lines = [f"MuJoCo vs analytic (tol {a.tol:.0e} of the peak)",
-             f"peak joint force {a.peak:.4g} N",
+             f"peak joint force {a.peak * force_scale(u)[0]:.4g} {force_scale(u)[1]}",
              f"worst {a.worst:.2e} ({a.worst_of})",
              f"median over the joints {a.median:.2e}",
              f"shaking force {a.shaking['F_share']:.2e}, moment {a.shaking['M_share']:.2e}"]

@@ -65,23 +65,33 @@ def convert_columns(mech, columns: dict, display: Display) -> dict[str, np.ndarr
 # ---------------------------------------------------------------------------------- command line
 def add_unit_options(p) -> None:
     """``--units``, ``--angles``, ``--speeds`` on a command (SPEC "Units of results")."""
-    p.add_argument("--units", choices=tuple(Q.LENGTH_UNITS), default=None,
-                   help="length unit of results (default: the file's for what you read, m for CSV/JSON)")
+    p.add_argument("--units", choices=tuple(Q.LENGTH_UNITS) + (SI_CHOICE,), default=None,
+                   help="length unit of results (default: the file's for what you read, m for CSV/JSON); SI: "
+                        "metres and forces in N, moments in N m (whatever the file's force_units)")
     p.add_argument("--angles", choices=("rad", "deg"), default=None, help="angles in rad (default) or deg")
     p.add_argument("--speeds", choices=("rpm",), default=None,
                    help="angular speeds in rpm (default: rad/s, or deg/s with --angles deg)")
 
 
+SI_CHOICE = "SI"
+"""``--units SI``: metres, newtons and newton metres in everything shown and written."""
+
+
 def shown_units(args, mech) -> Display:
     """What people read: the file's length unit unless ``--units``; angles and speeds as asked; forces in the
-    file's ``force_units`` (moments in force unit x length unit unless N: SPEC "Loads")."""
+    file's ``force_units`` (moments in force unit x length unit unless N: SPEC "Loads"); ``--units SI``: m, N,
+    N m."""
+    if getattr(args, "units", None) == SI_CHOICE:
+        return Display("m", getattr(args, "angles", None) or "rad", getattr(args, "speeds", None) or "", "N")
     return display_for(mech.units, getattr(args, "units", None), getattr(args, "angles", None),
                        getattr(args, "speeds", None), force_units(mech))
 
 
 def machine_units(args, mech=None) -> Display:
     """What CSV and JSON hold: SI unless ``--units``/``--angles``/``--speeds`` was given; with ``--units`` and
-    ``mech`` forces in its file's ``force_units``."""
+    ``mech`` forces in its file's ``force_units``; ``--units SI``: m, N, N m."""
+    if getattr(args, "units", None) == SI_CHOICE:
+        return Display("m", getattr(args, "angles", None) or "rad", getattr(args, "speeds", None) or "", "N")
     return machine_display(getattr(args, "units", None), getattr(args, "angles", None), getattr(args, "speeds", None),
                            force_units(mech) if mech is not None else "N")
 

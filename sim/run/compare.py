@@ -166,7 +166,7 @@ def analytic_forces(tr: Trajectory, built, mech=None, solved=None) -> dict[str, 
                                  tuple(model.opt.gravity[:2]), gear, tr.load, *(solved or (None, None)))
     if getattr(built, "loadset", None) is not None:       # the file's loads: minus their generalized forces
         from sim.model.loads import drive_share
-        share = drive_share(built, np.asarray(tr.t), simulated_inputs(tr, mech))
+        share = drive_share(built, np.asarray(tr.t), simulated_inputs(tr, mech), solved)
         forces = {k: v + share[k] for k, v in forces.items()}
     return {f"tau{k}": v for k, v in forces.items()}
 

@@ -360,18 +360,21 @@ def analytic_at(built, tr, steps, solved=None) -> tuple[F.Forces, tuple, dict]:
     gravity = tuple(float(x) for x in model.opt.gravity[:2])
     load = tuple(float(x) for x in model.actuator("load").gear[:2])
     on = np.asarray(tr.load)[steps]
-    if built.loadset is not None:          # the file's loads: the kinetostatics with them, and their virtual work
-        from analytic.loads import kinetostatics as K
-        t = np.asarray(tr.t)[steps]
-        res = K.solve(mech, q, qd, qdd, t, inertias, built.loadset, gravity, load, on)
-        apps = [a for v in res.applications.values() for a in v] + list(res.friction_apps)
-        Q = K.generalized(mech, q, res.state, apps)
-        power = torque.drive_forces(mech, q, qd, qdd, inertias, None, gravity, load, on)
-        return res.forces, (q, qd, qdd), {k: v - Q[k] for k, v in power.items()}
     sol, coefficients = None, None
     if solved is not None:
         from analytic.cycle import take
         sol, coefficients = take(solved[0], steps), tuple(take(c, steps) for c in solved[1])
+    if built.loadset is not None:          # the file's loads: the kinetostatics with them, and their virtual work
+        from analytic.cycle import solve_with_coefficients
+        from analytic.loads import kinetostatics as K
+        if sol is None:                    # one solve at the simulated inputs serves all three
+            sol, coefficients = solve_with_coefficients(mech, q, qd, qdd)
+        t = np.asarray(tr.t)[steps]
+        res = K.solve(mech, q, qd, qdd, t, inertias, built.loadset, gravity, load, on, sol=sol)
+        apps = [a for v in res.applications.values() for a in v] + list(res.friction_apps)
+        Q = K.generalized(mech, q, res.state, apps, coefficients)
+        power = torque.drive_forces(mech, q, qd, qdd, inertias, None, gravity, load, on, sol, coefficients)
+        return res.forces, (q, qd, qdd), {k: v - Q[k] for k, v in power.items()}
     an = F.solve(mech, q, qd, qdd, inertias, gravity, load, on, sol=sol)
     power = torque.drive_forces(mech, q, qd, qdd, inertias, None, gravity, load, on, sol, coefficients)
     return an, (q, qd, qdd), power
@@ -607,10 +610,12 @@ def aligned_timestep(spacing: float, wanted: float) -> float:
     return spacing / k
 
 
-def simulate_run(run, settings=None, loads=None) -> Simulated:
+def simulate_run(run, settings=None, loads=None, cycle=None) -> Simulated:
     """Simulate ``run``'s mechanism over its run (its revolutions, or its rocking range) with ``loads``, the
     time step chosen for the design (or ``settings.timestep``) shortened to fall on the run's samples, and
-    read MuJoCo's forces at those samples."""
+    read MuJoCo's forces at those samples. ``cycle``: the run's motion solved once
+    (:class:`analytic.cycle.Cycle`, made by the service; made here when None), read by the time step's choice
+    and the model builder."""
     from dataclasses import replace
     from sim.model import Loads, Settings, build, choose_timestep
     from sim.run.simulate import simulate
@@ -620,9 +625,12 @@ def simulate_run(run, settings=None, loads=None) -> Simulated:
     t = np.asarray(run.t)
     revolutions = float(t[-1] / mech.duration(1.0))
     spacing = float(t[1] - t[0])
-    wanted = settings.timestep or choose_timestep(mech, revolutions)
+    if cycle is None:
+        from analytic.cycle import Cycle
+        cycle = Cycle.of(mech, revolutions)
+    wanted = settings.timestep or choose_timestep(mech, revolutions, cycle)
     h = aligned_timestep(spacing, wanted)
-    built = build(mech, replace(settings, timestep=h), loads, revolutions)
+    built = build(mech, replace(settings, timestep=h), loads, revolutions, cycle=cycle)
     tr = simulate(built, revolutions)
     k = round(spacing / h)
     steps = np.arange(len(t)) * k

@@ -22,6 +22,7 @@ import numpy as np
 
 from analytic import ParameterError
 from analytic.applications import motor as amotor
+from analytic.cycle import Cycle
 from sim import model as M
 
 SPEED_TOL = 1e-4
@@ -66,12 +67,12 @@ class MotorRun:
     qvel: np.ndarray
 
 
-def timestep_for(mech, red, motor, w_max: float) -> float:
+def timestep_for(mech, red, motor, w_max: float, cycle=None) -> float:
     """The step for a run reaching speed ``w_max``: sim.model's choice for the prescribed motion scaled
     from its speed to w_max (every rate of the motion scales with the input speed), and at most
-    MOTOR_STEP of the motor's time constant."""
+    MOTOR_STEP of the motor's time constant. ``cycle``: the prescribed motion's (made here when None)."""
     rate = abs(mech.inputs[0].motion.rate) or 1.0
-    h = M.choose_timestep(mech) * rate / max(w_max, 1e-9)
+    h = M.choose_timestep(mech, 1.0, cycle) * rate / max(w_max, 1e-9)
     _, b = motor.affine(np.array([0.0, w_max]))
     slope = float(np.max(np.abs(b)))
     if slope > 0:
@@ -83,12 +84,15 @@ def timestep_for(mech, red, motor, w_max: float) -> float:
     return min(h, M.MAX_TIMESTEP)
 
 
-def build(mech, loads, red, motor, w_max: float, settings=M.Settings()):
+def build(mech, loads, red, motor, w_max: float, settings=M.Settings(), cycle=None):
     """The model of ``mech`` with ``loads``, its drive a motor (set per step by :func:`simulate`) and the
-    flywheel ``red.flywheel`` as the input joint's armature."""
+    flywheel ``red.flywheel`` as the input joint's armature. ``cycle``: the prescribed motion over one turn
+    (:class:`analytic.cycle.Cycle`; made here when None), for the time step and the model builder."""
+    if cycle is None:
+        cycle = Cycle.of(mech, 1.0)
     if settings.timestep is None:
-        settings = replace(settings, timestep=timestep_for(mech, red, motor, w_max))
-    built = M.build(mech, settings, loads, native=True)
+        settings = replace(settings, timestep=timestep_for(mech, red, motor, w_max, cycle))
+    built = M.build(mech, settings, loads, native=True, cycle=cycle)
     d = built.drives[0]
     built.model.dof_armature[built.model.jnt_dofadr[built.model.joint(d.joint).id]] = red.flywheel
     return built
@@ -134,6 +138,7 @@ def simulate(built, red, motor, revolutions: float, start_speed: float = 0.0) ->
     limit = 20_000_000                       # as sim.run.simulate.MAX_STEPS
     from sim.model.loads import wrenches
     held = built.loadset is not None and any(ld.name not in built.native for ld in built.loadset.loads)
+    kinks = np.asarray(getattr(motor, "omega", ()), dtype=float)[1:-1]      # a table motor's inner rows [rad/s]
     steps = 0
     while mi < len(marks):
         u, w = u_of(), s * data.qvel[vadr]
@@ -165,6 +170,14 @@ def simulate(built, red, motor, revolutions: float, start_speed: float = 0.0) ->
                 disc = w * w + 2 * alpha * gap
                 dt = (2 * gap / (w + math.sqrt(disc))) if disc >= 0 and w + math.sqrt(max(disc, 0)) > 0 else h
             dt = min(max(dt, 1e-3 * h), h)
+        if kinks.size and alpha != 0.0:
+            # a table motor's torque bends at its rows: land on the next row's speed, so that every step sees
+            # one piece of the curve (the piece is set at the step's start; a step across a row would carry
+            # the old piece's slope past it: 2 % speed error in a start-up of six steps, issue 27 item 6)
+            ahead = (kinks - w) / alpha
+            ahead = ahead[ahead > 1e-9 * h]
+            if ahead.size and ahead.min() < dt:
+                dt = max(float(ahead.min()) * (1.0 + 1e-9), 1e-3 * h)
         if w <= 0 and data.time > 0 and alpha <= 0:
             raise amotor.Stall(f"in MuJoCo the motor stalls the {mech.name} at "
                                f"phi={math.degrees(red.angle(u)):.1f}deg (t={data.time:.3g} s)")
@@ -308,10 +321,11 @@ class Dynamics:
         return bool(ok and (self.sizing_passed is not False))
 
 
-def reduced_for(mech, loads, settings=M.Settings()):
+def reduced_for(mech, loads, settings=M.Settings(), cycle=None):
     """(make_reduced(J), the model built for the prescribed motion): the mass model and loads as MuJoCo's
-    model has them (sim.model.body_inertias, its gravity, its load actuator and slow-stroke window)."""
-    b0 = M.build(mech, settings, loads)
+    model has them (sim.model.body_inertias, its gravity, its load actuator and slow-stroke window).
+    ``cycle``: the prescribed motion over one turn (made here when None)."""
+    b0 = M.build(mech, settings, loads, cycle=cycle if cycle is not None else Cycle.of(mech, 1.0))
     inertias = M.body_inertias(b0.model, mech.links)
     gravity = tuple(float(x) for x in b0.model.opt.gravity[:2]) if loads.gravity is not None else (0.0, 0.0)
     force = tuple(float(x) for x in b0.model.actuator("load").gear[:2])
@@ -323,9 +337,11 @@ def reduced_for(mech, loads, settings=M.Settings()):
 
 def dynamics(mech, loads, motor, flywheel: float | None = 0.0, target: float | None = None,
              start_speed: float = 0.0, revolutions: float = 10.0, settings=M.Settings(),
-             simulate_too: bool = True) -> Dynamics:
+             simulate_too: bool = True, cycle=None) -> Dynamics:
     """Drive ``mech`` by ``motor`` under ``loads``: the reduced equation's answer and MuJoCo's, with the
-    flywheel given or (``target``) sized for that Cs and checked by both runs."""
+    flywheel given or (``target``) sized for that Cs and checked by both runs. ``cycle``: the prescribed
+    motion over one turn (:class:`analytic.cycle.Cycle`, made by the service; made here when None), which
+    both models are built from."""
     if flywheel is not None and target is not None and flywheel > 0:
         raise ParameterError("give --flywheel or --target-fluctuation, not both")
     if target is not None and not (isinstance(target, (int, float)) and math.isfinite(target) and 0 < target < 1):
@@ -334,7 +350,9 @@ def dynamics(mech, loads, motor, flywheel: float | None = 0.0, target: float | N
         raise ParameterError(f"--flywheel {flywheel!r} must be a finite number >= 0 [kg m^2]")
     if not flywheel and target is None:
         check_inertia(mech, loads)
-    make, _ = reduced_for(mech, loads)
+    if cycle is None:
+        cycle = Cycle.of(mech, 1.0)
+    make, _ = reduced_for(mech, loads, cycle=cycle)
     J = flywheel or 0.0
     if target is not None:
         J, steady = amotor.size_flywheel(make, motor, target)
@@ -345,7 +363,7 @@ def dynamics(mech, loads, motor, flywheel: float | None = 0.0, target: float | N
     sizing = None if target is None else bool(abs(r.fluctuation / target - 1) <= SIZING_TOL)
     d = Dynamics(mech, motor, J, r, None, None, target, sizing, None,
                  revolutions if r.revolutions > revolutions else None)
-    return simulated(d, loads, start_speed, settings) if simulate_too else d
+    return simulated(d, loads, start_speed, settings, cycle) if simulate_too else d
 
 
 def check_inertia(mech, loads) -> None:
@@ -376,13 +394,13 @@ def settled(red, motor, r, steady_cs: float, start_speed: float = 0.0):
     return r
 
 
-def simulated(d: Dynamics, loads, start_speed: float = 0.0, settings=M.Settings()) -> Dynamics:
+def simulated(d: Dynamics, loads, start_speed: float = 0.0, settings=M.Settings(), cycle=None) -> Dynamics:
     """``d`` (the reduced equation's answer, from :func:`dynamics` with ``simulate_too=False``) with MuJoCo's
     run from the same initial state under the same ``loads``, their agreement and the sizing checked by both
     runs: a front end can look at the reduced equation's run (its duration, its peak speed) before paying
     for the simulation."""
     r = d.run
-    built = build(d.mech, loads, r.reduced, d.motor, float(np.max(np.abs(r.omega))), settings)
+    built = build(d.mech, loads, r.reduced, d.motor, float(np.max(np.abs(r.omega))), settings, cycle)
     s = simulate(built, r.reduced, d.motor, r.revolutions, start_speed)
     sizing = d.sizing_passed
     if d.target is not None:

@@ -10,6 +10,7 @@ One module per use case:
 - :mod:`.forces`: joint forces, drives, shaking, balancing (``forces_run``), and MuJoCo's answer;
 - :mod:`.export`: the MJCF model and the mechanism file as text;
 - :mod:`.loads`: the loads a run applies and their work (``[[loads]]``, ``--force``, ``--torque``, ``--at``);
+- :mod:`.dynamics`: the motor-driven run (``dynamics``), its models built from one cycle;
 - :mod:`.design`: synthesis (path, motion, function, two-position) and sweeps; :mod:`.pareto` the
   multi-objective search; :mod:`.synth_checks` the simulation of every returned design;
 - :mod:`.tolerance`: Monte Carlo, first-order and Sobol tolerance analysis;

@@ -1,6 +1,8 @@
-"""A motor drives the linkage (SPEC "Dynamics under a motor"; ``linkage dynamics``): the speed over time from
-the reduced equation of motion and from MuJoCo, their agreement, the start-up, the speed fluctuation and a
-flywheel sized for a target fluctuation; two motors on a two-input five-bar.
+"""A motor drives the linkage (SPEC "Dynamics under a motor"; ``linkage dynamics``, the app's dynamics panel):
+the speed over time from the reduced equation of motion and from MuJoCo, their agreement, the start-up, the speed
+fluctuation and a flywheel sized for a target fluctuation; two motors on a two-input five-bar. Both models of a run
+are built from one :class:`analytic.cycle.Cycle` of the prescribed motion (the mass model MuJoCo has, the time
+step, the motor-driven model), made here and handed down (issue 30 item 2).
 
 The motors are :mod:`analytic.applications.motor`'s; the runs are :mod:`sim.run.motor`'s. Values are SI
 (rad/s, N m, kg m^2); errors are :class:`analytic.ParameterError` with one-line messages."""
@@ -9,8 +11,8 @@ from __future__ import annotations
 
 from analytic.applications import motor as _motor
 
-__all__ = ["sizing_tolerance", "linear_motor", "table_motor", "is_linear_motor", "dynamics", "dynamics_two", "record",
-           "record_two"]
+__all__ = ["sizing_tolerance", "linear_motor", "table_motor", "is_linear_motor", "cycle_of", "dynamics",
+           "motor_timestep", "simulated", "dynamics_two", "record", "record_two"]
 
 
 def sizing_tolerance() -> float:
@@ -36,15 +38,42 @@ def is_linear_motor(motor) -> bool:
     return isinstance(motor, _motor.LinearMotor)
 
 
-def dynamics(mech, loads, motor, flywheel: float | None = 0.0, target: float | None = None, start_speed: float = 0.0,
-             revolutions: float = 10.0, settings=None):
-    """Drive the one-input ``mech`` by ``motor`` under ``loads`` (:func:`sim.service.simulation.run_loads`) from
-    ``start_speed`` [rad/s] for ``revolutions``: the reduced equation's run and MuJoCo's, with the ``flywheel``
-    [kg m^2] given, or sized for the fluctuation ``target`` (Cs in (0, 1)) and checked by both runs.
-    ``settings``: MuJoCo's (:func:`sim.service.simulation.settings`; None: the defaults)."""
-    from sim.run import motor as run
-    extra = {} if settings is None else {"settings": settings}
-    return run.dynamics(mech, loads, motor, flywheel, target, start_speed, revolutions, **extra)
+def cycle_of(mech):
+    """The prescribed motion over one turn, solved once (:class:`analytic.cycle.Cycle`), which the models of a
+    motor run are built from."""
+    from analytic.cycle import Cycle
+    return Cycle.of(mech, 1.0)
+
+
+def dynamics(mech, loads, motor, flywheel: float | None = 0.0, target: float | None = None,
+             start_speed: float = 0.0, revolutions: float = 10.0, settings=None, simulate_too: bool = True,
+             cycle=None):
+    """:func:`sim.run.motor.dynamics` (one motor on the first input) with the service's cycle: the reduced
+    equation's run, the flywheel given or sized for ``target`` (Cs), and with ``simulate_too`` MuJoCo's run and
+    their agreement (:class:`sim.run.motor.Dynamics`)."""
+    from sim.model import Settings
+    from sim.run import motor as smotor
+    cycle = cycle if cycle is not None else cycle_of(mech)
+    return smotor.dynamics(mech, loads, motor, flywheel, target, start_speed, revolutions, settings or Settings(),
+                           simulate_too, cycle)
+
+
+def motor_timestep(d, cycle=None) -> float:
+    """The MuJoCo step a motor run ``d`` (the reduced equation's answer) will take [s]: a front end bounds the
+    run's steps before paying for it."""
+    import numpy as np
+    from sim.run import motor as smotor
+    return smotor.timestep_for(d.mech, d.run.reduced, d.motor, float(np.max(np.abs(d.run.omega))),
+                               cycle if cycle is not None else cycle_of(d.mech))
+
+
+def simulated(d, loads, start_speed: float = 0.0, settings=None, cycle=None):
+    """``d`` (from :func:`dynamics` with ``simulate_too=False``) with MuJoCo's run and the agreement
+    (:func:`sim.run.motor.simulated`), its model built from ``cycle`` (made here when None)."""
+    from sim.model import Settings
+    from sim.run import motor as smotor
+    return smotor.simulated(d, loads, start_speed, settings or Settings(),
+                            cycle if cycle is not None else cycle_of(d.mech))
 
 
 def dynamics_two(mech, loads, motors, flywheel=(0.0, 0.0), start_speed=(0.0, 0.0), revolutions: float = 10.0,

@@ -9,8 +9,22 @@ from analytic.mechanism import Mechanism
 
 def export_mjcf(mech: Mechanism, settings=None, revolutions: float = 1.0) -> str:
     """The generated MJCF of ``mech`` as a standalone document (its time step chosen for ``revolutions``)."""
+    from analytic.cycle import Cycle
     from sim.model import Settings, build, export_xml
-    return export_xml(build(mech, settings or Settings(), revolutions=revolutions))
+    cycle = Cycle.of(mech, revolutions)              # the motion solved once, handed to the model builder
+    return export_xml(build(mech, settings or Settings(), revolutions=revolutions, cycle=cycle, export=True))
+
+
+def loads_left_out(mech: Mechanism) -> list[str]:
+    """The file's loads that an exported MJCF model cannot hold (``NAME (KIND): why``; friction too): what
+    ``linkage export --mjcf`` notes on stderr and writes into the file (sim.model.export.left_out)."""
+    from sim.model.loads import loadset_of, not_in_xml
+    from sim.model import Loads
+    ls = loadset_of(mech, Loads())
+    if ls is None:
+        return []
+    out = [f"{ld.name} ({ld.kind}): {not_in_xml(ld)}" for ld in ls.loads if not_in_xml(ld) is not None]
+    return out + (["[friction] (Coulomb): its torque follows the joint forces it changes"] if ls.friction else [])
 
 
 def mechanism_text(mech: Mechanism) -> str:

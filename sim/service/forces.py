@@ -430,8 +430,10 @@ def balanced_mechanism(mech: Mechanism, links=None) -> tuple[Mechanism, object]:
 def simulated_forces_run(run: ForceRun, settings=None, loads=None):
     """``run`` simulated in MuJoCo, its joint forces read at the run's samples and compared with the analytic
     ones at the simulated inputs (:class:`sim.run.forces.Simulated`)."""
+    from analytic.cycle import Cycle
     from sim.run import forces as simforces
-    return simforces.simulate_run(run, settings, loads)
+    t = np.asarray(run.t)
+    return simforces.simulate_run(run, settings, loads, Cycle.of(run.mech, float(t[-1] / run.mech.duration(1.0))))
 
 
 def simulated_forces(run: ForceRun, settings=None, loads=None, display=None) -> dict:

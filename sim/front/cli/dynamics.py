@@ -107,8 +107,8 @@ def register(sub) -> None:
 
 
 def motor_run(args, mech, check=True):
-    """The one-input motor run the command line asks for (:func:`sim.run.motor.dynamics`): the motor, flywheel
-    or target fluctuation and start speed of ``args`` (:func:`add_motor_options`) and the loads of the
+    """The one-input motor run the command line asks for (:func:`sim.service.dynamics.dynamics`): the motor,
+    flywheel or target fluctuation and start speed of ``args`` (:func:`add_motor_options`) and the loads of the
     simulation options."""
     from sim.service import dynamics as dynamics_service
     from sim.front.cli.options import loads_from, settings_from

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import sys
 
 
 from analytic import ParameterError
@@ -39,6 +40,11 @@ def run(args) -> int:
     if args.mjcf:
         write_text(args.mjcf, service.export_mjcf(mech, settings_from(args), getattr(args, "revolutions", 1.0)))
         print(f"wrote {args.mjcf}")
+        from sim.service.export import loads_left_out
+        left = loads_left_out(mech)
+        if left:                                   # the file says so too (custom text, header comment)
+            print(f"note: {args.mjcf} leaves out the loads MJCF cannot hold (simulate/compare apply them each "
+                  f"step): {'; '.join(left)}", file=sys.stderr)
     if args.toml:
         write_text(args.toml, service.mechanism_text(mech))
         print(f"wrote {args.toml}")
