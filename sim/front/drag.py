@@ -237,45 +237,68 @@ def scales(mech: Mechanism, vars_: list[Variable]) -> np.ndarray:
 
 
 # ----------------------------------------------------------------------------------- the drag
+def jacobian(model: _Model, vars_: list[Variable], x: np.ndarray, p: np.ndarray, scale: np.ndarray) -> np.ndarray:
+    """d(position)/d(values) at ``x`` by forward differences (backward where the forward value cannot be
+    assembled), one placement per value."""
+    J = np.empty((2, len(x)))
+    for j in range(len(x)):
+        h = 1e-7 * scale[j]
+        xs = x.copy()
+        xs[j] += h
+        try:
+            J[:, j] = (model.place(vars_, xs) - p) / h
+        except ParameterError:
+            xs[j] -= 2 * h
+            J[:, j] = (p - model.place(vars_, xs)) / h
+    return J
+
+
 def solve_drag(model: _Model, vars_: list[Variable], x0: np.ndarray, target: np.ndarray, scale: np.ndarray,
                size: float) -> tuple[np.ndarray, np.ndarray, str | None]:
-    """Damped Gauss-Newton with least-norm steps: (values, position, why it stopped short or None)."""
+    """Damped Gauss-Newton with least-norm steps: (values, position, why it stopped short or None).
+
+    The derivatives are taken by finite differences once, then carried from step to step by Broyden's rank-one
+    update (what each step's move did to the point corrects them): a drag step moves the point a few pixels,
+    where the first derivatives stay good, so the later iterations cost one placement each instead of one
+    per value. A step the carried derivatives cannot make better takes them afresh before giving up, so the
+    answer (the point within TOLERANCE of the target, or the same limit) is the plain Gauss-Newton's."""
     x = x0.copy()
     p = model.place(vars_, x)
     why = None
     spent = model.calls
+    J = None                        # in the scaled values z = x / scale
     for _ in range(MAX_ITERATIONS):
         if model.calls - spent > MAX_CALLS:                      # creeping along a limit: stop there
             break
         r = p - target
         if np.hypot(*r) <= TOLERANCE * size:
             break
-        J = np.empty((2, len(x)))
-        for j in range(len(x)):
-            h = 1e-7 * scale[j]
-            xs = x.copy()
-            xs[j] += h
-            try:
-                J[:, j] = (model.place(vars_, xs) - p) / h
-            except ParameterError:
-                xs[j] -= 2 * h
-                J[:, j] = (p - model.place(vars_, xs)) / h
-        dz = np.linalg.lstsq(J * scale, -r, rcond=1e-10)[0]
+        fresh = J is None
+        if fresh:
+            J = jacobian(model, vars_, x, p, scale) * scale
+        dz = np.linalg.lstsq(J, -r, rcond=1e-10)[0]
         if np.linalg.norm(dz) < STEP_DONE:                     # the least miss: a limit, a lock
-            break
+            if fresh:
+                break
+            J = None
+            continue
         step = dz * scale
         t, moved, before = 1.0, False, np.hypot(*r)
         while t > 1e-4:
             try:
                 pn = model.place(vars_, x + t * step)
                 if np.hypot(*(pn - target)) < before:
+                    dzt = t * dz
+                    J = J + np.outer(pn - p - J @ dzt, dzt) / float(dzt @ dzt)     # Broyden's update
                     x, p, moved = x + t * step, pn, True
                     break
             except ParameterError as exc:
                 why = str(exc)
             t *= 0.5
         if not moved:
-            break
+            if fresh:
+                break
+            J = None                                            # stale derivatives: take them afresh
     return x, p, why
 
 

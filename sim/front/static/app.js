@@ -115,7 +115,7 @@
     const version = state.version;
     const extra = kind === "full"
       ? { samples: SAMPLES, figures: true, outputs: wantedOutputs() }
-      : { samples: SAMPLES, figures: false, digits: DRAG_DIGITS, outputs: wantedOutputs() };
+      : { samples: SAMPLES, figures: false, digits: DRAG_DIGITS, outputs: wantedOutputs(true) };
     const current = () => version >= state.opened && version >= state.applied;
     // with the forces panel open, each edit's forces are asked for at once and drawn with its curves
     const forcesToo = kind === "curves" && state.tab === "forces" && state.built === state.opened;
@@ -150,8 +150,13 @@
     }
   }
 
-  function wantedOutputs() {
-    const many = state.built === state.opened && state.describe.outputs.length > FEW_OUTPUTS;
+  // The outputs to fetch: every one for a mechanism with few (the figures' answer, the output picker), only the
+  // plotted ones for one with many; while a value or a point is being dragged (``plottedOnly``) the plotted
+  // ones alone, which cuts the answer to a fraction (a four-bar's 13 outputs are half its bytes) -- the full
+  // answer that follows the edit (FIGURES_DELAY_MS after it settles) brings the others back.
+  function wantedOutputs(plottedOnly) {
+    const built = state.built === state.opened;
+    const many = built && (plottedOnly || state.describe.outputs.length > FEW_OUTPUTS);
     return many ? state.selected : undefined;
   }
 
@@ -2040,7 +2045,7 @@
     const version = ++state.version;
     state.holdUntil = performance.now() + HOLD_MS;
     const locked = [...document.querySelectorAll("#params input[data-lock]:checked")].map((c) => c.dataset.lock);
-    const body = requestBody({ samples: SAMPLES, figures: false, digits: DRAG_DIGITS, outputs: wantedOutputs(),
+    const body = requestBody({ samples: SAMPLES, figures: false, digits: DRAG_DIGITS, outputs: wantedOutputs(true),
       point: d ? d.point : "", target, input: d ? d.input : poseInputs(), locked });
     if ($("#round-values").checked) body.round = gridStep() * lengthUnit().f;
     window.linkageDragBody = body;                  // for the drag benchmark's replay
