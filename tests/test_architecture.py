@@ -17,9 +17,6 @@ case), the output layer, the readers of the command line's small input files and
 modules; of ``analytic`` only the package's names (``ParameterError``, ``load``, ...)."""
 
 FRONT_DEBT = {
-    "sim/front/app.py": {"analytic.applications.figures", "analytic.applications.motor",
-                        "analytic.format.foreign", "analytic.format.linkfile", "analytic.mechanism",
-                        "analytic.quantities", "analytic.synthesis.curves", "sim.model", "sim.run.motor"},
     "sim/front/cli/analyze.py": {"analytic.applications.figures", "analytic.quantities"},
     "sim/front/cli/check.py": {"analytic.applications.figures", "analytic.kinds", "analytic.quantities"},
     "sim/front/cli/compare.py": {"sim.model", "sim.run.compare"},
@@ -37,12 +34,6 @@ FRONT_DEBT = {
     "sim/front/cli/synth_path.py": {"analytic.synthesis.curves"},
     "sim/front/cli/synthesize.py": {"analytic.format.expr", "analytic.synthesis.two_position", "sim.model.build",
                                    "sim.run.simulate"},
-    "sim/front/draw.py": {"analytic.kinds"},
-    "sim/front/loads_panel.py": {"analytic.kinds", "analytic.loads", "analytic.loads.common", "analytic.loads.damper",
-                                 "analytic.loads.spring", "analytic.loads.torque", "analytic.loads.torsion_spring"},
-    "sim/front/requests.py": {"analytic.format.expr", "analytic.mechanism"},
-    "sim/front/drag.py": {"analytic.format.expr", "analytic.kinds", "analytic.mechanism"},
-    "sim/front/synth_job.py": {"analytic.synthesis.path"},
 }
 """Front-end imports that still bypass the service (issue 30's debt, measured when the rule was written):
 the test fails on any other, and on an entry here that is no longer needed, so the list only shrinks."""

@@ -31,11 +31,9 @@ from pathlib import Path
 import numpy as np
 
 import analytic
-from analytic import ParameterError
-from analytic import quantities as Q
-from analytic.applications.figures import summary as figures_summary
-from analytic.mechanism import Mechanism
+from analytic import Mechanism, ParameterError
 from sim import service
+from sim.service import driving, path_targets, viewing
 from sim.front import loads_panel
 from sim.front.requests import (MAX_REVOLUTIONS, MAX_SAMPLES, RequestError, _short, input_range_of,  # noqa: F401
                                 mechanism_of, number, run_options, series)
@@ -207,7 +205,7 @@ def solve(body: dict) -> dict:
         "points": point_paths(mech, sol, n, digits=digits),
         "angles": {ln: series(sol["phi" + ln], n, digits) for ln in mech.slides if "phi" + ln in sol},
         "figures": clean(a.figures) if figures else None,
-        "summary": figures_summary(mech, a.figures) if figures else None,
+        "summary": viewing.figures_summary(mech, a.figures) if figures else None,
     }
 
 
@@ -295,14 +293,13 @@ def render_video(body: dict) -> bytes:
 
 def synthesis_types() -> tuple[str, ...]:
     """The linkage types path synthesis offers (``linkage synthesize path --type``)."""
-    from analytic.synthesis.curves import TYPES
-    return tuple(TYPES)
+    return path_targets.types()
 
 
 def length_unit(body: dict) -> str:
     unit = body.get("unit", "m")
-    if unit not in Q.LENGTH_UNITS:
-        raise RequestError(400, f"unit must be one of {', '.join(Q.LENGTH_UNITS)} (got {_short(unit)})")
+    if unit not in path_targets.LENGTH_UNITS:
+        raise RequestError(400, f"unit must be one of {', '.join(path_targets.LENGTH_UNITS)} (got {_short(unit)})")
     return unit
 
 
@@ -324,7 +321,7 @@ def targets(body: dict) -> dict:
             raise RequestError(400, str(exc).replace(str(path), base)) from None
     if len(target.xy) > MAX_TARGETS:
         raise RequestError(400, f"{base}: {len(target.xy)} target points; the page takes at most {MAX_TARGETS}")
-    return {"targets": (target.xy * Q.LENGTH_UNITS[unit]).tolist()}
+    return {"targets": (target.xy * path_targets.LENGTH_UNITS[unit]).tolist()}
 
 
 def synthesize(body: dict, server: "AppServer") -> dict:
@@ -340,8 +337,7 @@ def synthesize(body: dict, server: "AppServer") -> dict:
             and all(isinstance(p, list) and len(p) == 2 and all(isinstance(c, (int, float)) and not isinstance(c, bool)
                                                                and math.isfinite(c) for c in p) for p in pts)):
         raise RequestError(400, f"targets must be 4 to {MAX_TARGETS} points [[x, y], ...] in metres")
-    from analytic.synthesis.curves import DEFAULT_TYPE
-    kind = body.get("type", DEFAULT_TYPE)
+    kind = body.get("type", path_targets.default_type())
     if kind not in synthesis_types():
         raise RequestError(400, f"type must be one of {', '.join(synthesis_types())} (got {_short(kind)})")
     budget = number(body, "budget", 30.0, 1.0, MAX_SYNTH_BUDGET)
@@ -404,19 +400,19 @@ def pair_of(body: dict, key: str, example: str) -> tuple[float, float] | None:
 
 
 def loads_of(body: dict, mech: Mechanism):
-    """The loads of a request (:class:`sim.model.Loads`): ``gravity`` [gx, gy] m/s^2, ``force`` [Fx, Fy] N on
-    the output point, or ``cutting`` F >= 0 N resisting its slow stroke along x (as ``--cutting-force``)."""
-    from sim.model import Loads
+    """The loads of a request (:func:`sim.service.driving.run_loads`): ``gravity`` [gx, gy] m/s^2, ``force``
+    [Fx, Fy] N on the output point, or ``cutting`` F >= 0 N resisting its slow stroke along x (as
+    ``--cutting-force``)."""
     gravity = pair_of(body, "gravity", "[0, -9.81]")
     force = pair_of(body, "force", "[10, 0]") or (0.0, 0.0)
     cutting = body.get("cutting")
     if cutting is None:
-        return Loads(gravity=gravity, force=force)
+        return driving.run_loads(gravity, force)
     cutting = float(number(body, "cutting", 0.0, 0.0, MAX_LOAD))
     if force != (0.0, 0.0):
         raise RequestError(400, "give either force or cutting (a force on the slow stroke), not both")
     from sim.front.cli.options import cutting_direction
-    return Loads(gravity=gravity, force=(cutting_direction(mech) * cutting, 0.0), slow_stroke_only=True)
+    return driving.run_loads(gravity, (cutting_direction(mech) * cutting, 0.0), slow_stroke_only=True)
 
 
 def force_series(rec: dict, digits: int | None) -> dict:
@@ -465,7 +461,6 @@ def forces(body: dict) -> dict:
 
 def motor_of(body: dict):
     """The request's linear motor: ``motor`` = {"T0": stall torque N m, "W0": no-load speed rad/s}."""
-    from analytic.applications.motor import LinearMotor
     m = body.get("motor")
     if not isinstance(m, dict) or set(m) != {"T0", "W0"}:
         raise RequestError(400, "motor must be {\"T0\": stall torque [N m], \"W0\": no-load speed [rad/s]}, e.g. "
@@ -474,15 +469,14 @@ def motor_of(body: dict):
         v = m[key]
         if isinstance(v, bool) or not isinstance(v, (int, float)) or not (math.isfinite(v) and 0 < v <= MAX_MOTOR):
             raise RequestError(400, f"motor.{key}={_short(v)}: the {what} must be a number in (0, {MAX_MOTOR:g}]")
-    return LinearMotor(float(m["T0"]), float(m["W0"]))
+    return driving.linear_motor(m["T0"], m["W0"])
 
 
 def dynamics(body: dict) -> dict:
-    """The dynamics panel: the linkage driven by a motor (:func:`sim.run.motor.dynamics`), the reduced
+    """The dynamics panel: the linkage driven by a motor (:mod:`sim.service.driving`), the reduced
     equation's answer and, with ``simulate`` (default), MuJoCo's and the verdict; with ``target_fluctuation``
     the flywheel sized for that Cs. The MuJoCo run is refused before it starts when it would take more than
     MAX_DYNAMICS_STEPS steps (the reduced equation's run gives its duration)."""
-    from sim.run import motor as smotor
     check_fields(body, "dynamics")
     mech = mechanism_of(body)
     if len(mech.inputs) != 1:
@@ -501,15 +495,14 @@ def dynamics(body: dict) -> dict:
     flywheel = None if target is not None else float(number(body, "flywheel", 0.0, 0.0, MAX_FLYWHEEL))
     simulate_too = flag(body, "simulate", True)
     loads = loads_of(body, mech)
-    d = smotor.dynamics(mech, loads, motor, flywheel, target, start, revolutions, simulate_too=False)
+    d = driving.reduced_run(mech, loads, motor, flywheel, target, start, revolutions)
     if simulate_too:
-        h = smotor.timestep_for(mech, d.run.reduced, motor, float(np.max(np.abs(d.run.omega))))
-        steps = float(d.run.t[-1]) / h
+        steps, h = driving.mujoco_steps(d, motor)
         if steps > MAX_DYNAMICS_STEPS:
             raise RequestError(400, f"MuJoCo would take about {steps:,.0f} steps of {h:.3g} s for this run (at most "
                                     f"{MAX_DYNAMICS_STEPS:,}): lower the revolutions, or run `linkage dynamics` "
                                     f"on the command line")
-        d = smotor.simulated(d, loads, start)
+        d = driving.simulated(d, loads, start)
     return dynamics_view(d)
 
 
@@ -518,8 +511,7 @@ def dynamics_view(d) -> dict:
     against time (at most DYNAMICS_POINTS samples), the last revolution's speed against the input's advance
     [rad from its start], MuJoCo's the same and the verdict."""
     from sim.output.dynamics_plot import last_cycle
-    from sim.run import motor as smotor
-    rec = smotor.record(d)
+    rec = driving.record(d)
     r = d.run
     u, w, us, ws = last_cycle(d, CYCLE_POINTS)
 
@@ -551,7 +543,7 @@ def open_file(body: dict) -> dict:
     expression or a PMKS text file (told apart as ``linkage import`` does, by the file name's extension and
     the content) converted to ``linkage/1`` text. The text goes into a private temporary folder under a name
     made here (only the extension and a cleaned stem come from the request)."""
-    from analytic.format import foreign
+    from sim.service import opening
     check_fields(body, "open")
     text, filename = body.get("text"), body.get("filename", "mechanism.toml")
     if not isinstance(text, str):
@@ -567,12 +559,12 @@ def open_file(body: dict) -> dict:
         path = Path(folder) / f"{stem}{suffix if re.fullmatch(r'[.][a-z0-9]{1,8}', suffix) else '.txt'}"
         path.write_text(text, encoding="utf-8")
         try:
-            kind = foreign.detect(path)
-            converted = None if kind is None else foreign.dumps(foreign.read(path, kind=kind))
+            found = opening.foreign_text(path)
         except ParameterError as exc:        # the message names the temporary file: name the user's instead
             raise RequestError(400, str(exc).replace(str(path), base)) from None
-    if converted is None:
+    if found is None:
         return {"mechanism": service.load("<upload>", text=text).name, "text": text, "kind": "linkage/1"}
+    kind, converted = found
     return {"mechanism": service.load("<upload>", text=converted).name, "text": converted, "kind": kind}
 
 
@@ -850,12 +842,12 @@ class Handler(BaseHTTPRequestHandler):
 
 
 def drag(body: dict) -> dict:
-    """A point dragged on the drawing (:func:`sim.front.drag.drag`): ``point``, ``target`` [x, y] m, the
+    """A point dragged on the drawing (:func:`sim.service.editing.drag`): ``point``, ``target`` [x, y] m, the
     pose's ``input`` values, ``locked`` parameters, ``round`` (a step in file units, or absent). Answers the
     drag (the new ``set`` and ``text``, the input value to show, where the point is, whether it got there,
     one line) and the solve of the new values, in one round trip; a drag whose values cannot run the cycle
     keeps the old ones and says why."""
-    from sim.front import drag as dragging
+    from sim.service import editing as dragging
     check_fields(body, "drag")
     mech = mechanism_of(body)
     point = body.get("point")
@@ -958,13 +950,8 @@ def initial_mechanism(name: str) -> dict:
         return {"name": name}
     if not Path(name).exists():
         raise ParameterError(f"{name!r} is neither a mechanism (linkage list) nor a linkage/1 file")
-    from analytic.format import foreign, linkfile
-    if foreign.detect(name):            # a Pyslvs or PMKS file: sent as its linkage/1 (links and joints) text
-        foreign.definition(name)        # a mechanism, or one line naming the file
-        text = foreign.dumps(foreign.read(name))
-        return {"name": service.load(name, text=text).name, "text": text}
-    linkfile.read(name)                 # a regular UTF-8 file within the size cap, or one line saying why
-    text = Path(name).read_bytes()[:linkfile.MAX_FILE_BYTES].decode("utf-8-sig")
+    from sim.service import opening
+    text = opening.file_text(name)      # a Pyslvs or PMKS file as its linkage/1 (links and joints) text
     return {"name": service.load(name, text=text).name, "text": text}
 
 

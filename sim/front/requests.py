@@ -10,9 +10,9 @@ import math
 import numpy as np
 
 import analytic
-from analytic.format import expr
-from analytic.mechanism import Mechanism
+from analytic import Mechanism
 from sim import service
+from sim.service import inputs
 
 
 MAX_SAMPLES = 20_001
@@ -67,10 +67,8 @@ def input_range_of(body: dict, mech: Mechanism) -> tuple[float, float] | None:
     v = body.get("input_range")
     if v is None or v == "":
         return None
-    angle = None if mech.inputs[0].angular else False
     if isinstance(v, str) and ":" in v:
-        lo, hi = v.split(":", 1)
-        return expr.parse_value("input range", lo.strip(), angle), expr.parse_value("input range", hi.strip(), angle)
+        return inputs.input_range(mech, v)
     if isinstance(v, list) and len(v) == 2 and all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in v):
         return float(v[0]), float(v[1])
     raise RequestError(400, f"input_range {_short(v)} is not LO:HI (e.g. \"-100deg:-45deg\") or [LO, HI]")

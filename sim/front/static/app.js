@@ -1926,7 +1926,7 @@
 
   // -------------------------------------------------------------------------------- dragging
   // Grab a point of the drawing and drag it: /api/drag changes the file's values that place it (the
-  // server inverts the file's parameterisation: sim/front/drag.py) and answers the new values with their
+  // server inverts the file's parameterisation: sim/service/editing.py) and answers the new values with their
   // solve, so each step is one round trip; the input's tip scrubs the pose. Undo/redo restores the values
   // (and the file's text where a links-and-joints pose was changed) as they were before each drag.
   const HIT_PX = 10;

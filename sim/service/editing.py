@@ -1,5 +1,10 @@
-"""Dragging a point on the app's drawing: the file's values that place it, changed so that it lands where
-it was dragged to (the inverse of the file's parameterisation).
+"""Editing a mechanism by its drawing (the app's direct manipulation; public API): :func:`drag` moves a point of
+the drawing and gives the file's values that place it there (the inverse of the file's parameterisation), and
+:func:`assur_groups` names the groups a drawn linkage was decomposed into.
+
+``drag(mech, text, point, target, q, locked=(), round_to=None)`` returns a :class:`Drag`: the changed
+parameter values, the file's new text where a links-and-joints ``[pose]`` changed, the input value to show,
+where the point landed, whether it reached the target, and one line for the user.
 
 A point is placed by its element (a ground entry, an input, an Assur group, a point on a link) or, in the
 links-and-joints form, by its ``[pose]`` entry. The values that can move it are the parameters its fields
@@ -423,3 +428,14 @@ def _replace_entry(lines: list[str], section: str, name: str, xy) -> list[str]:
             lines[k] = f"{m.group(1)}{m.group(2)} = {value}{m.group(3)}"
             return lines
     raise ParameterError(f"cannot find {section}.{name} written as [x, y] on one line: edit the file by hand")
+
+
+def assur_groups(mech: Mechanism) -> list[dict]:
+    """The Assur groups ``mech`` was decomposed into, in solving order: the points each places, its links and
+    its class (``RRR``, ``RRP``, a triad, ...); inputs and ground entries are left out."""
+    out = []
+    for e, r in zip(mech.definition.order, mech.geometry.elements):
+        cls = kinds.get(e.kind).group_label(r)
+        if cls:
+            out.append({"places": list(e.places), "links": list(e.links()), "class": cls})
+    return out
