@@ -14,6 +14,10 @@ One module per use case:
   multi-objective search; :mod:`.synth_checks` the simulation of every returned design;
 - :mod:`.tolerance`: Monte Carlo, first-order and Sobol tolerance analysis;
 - :mod:`.parts`: link solids, layers, interference, DXF/SVG/PDF/STEP/STL exports and the bill of materials.
+- the app's use cases: :mod:`.editing` (a point dragged: the file's values that place it; a drawn linkage's
+  groups), :mod:`.driving` (a motor drives the linkage), :mod:`.opening` (a file as ``linkage/1`` text),
+  :mod:`.load_editing` (the file's loads drawn and checked), :mod:`.path_targets` (path synthesis from placed
+  points), :mod:`.inputs` (input values from text), :mod:`.viewing` (the figures' summary).
 
 The first five are imported here, so ``from sim import service; service.load("fourbar")`` reaches them; the
 others load scipy, pymoo, SALib, shapely or a CAD kernel and are imported by name when used
