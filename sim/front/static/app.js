@@ -2380,15 +2380,74 @@
     ctx.closePath(); ctx.fill();
   }
 
-  function loadLabel(text, x, y) {
-    ctx.save();
-    ctx.font = "11px system-ui, sans-serif";
+  // The loads' labels are placed after every load is drawn, so that none covers another, a joint or a joint's
+  // name: each wants the spot next to its load (``x``, ``y``: the text's left end on its baseline) and takes
+  // the nearest free one among spots stepped a line at a time above and below it and to the left of its
+  // anchor; one that had to move from its spot gets a thin leader line to the anchor (``ax``, ``ay``).
+  const LABEL_LINE = 13;          // px: an 11 px label's height with a pixel above and below
+
+  function labelBox(text, x, y, font) {
+    ctx.save(); ctx.font = font;
     const w = ctx.measureText(text).width;
-    if (x + w > canvas.clientWidth - MARGIN.right - 2) x = Math.max(MARGIN.left + 2, x - w - 10);   // keep it in view
-    ctx.lineWidth = 3; ctx.strokeStyle = "rgba(255,255,255,0.85)";
-    ctx.strokeText(text, x, y);
-    ctx.fillStyle = LOAD_COLOR; ctx.fillText(text, x, y);
     ctx.restore();
+    return { x, y: y - LABEL_LINE + 3, w, h: LABEL_LINE };
+  }
+
+  function overlaps(a, b) {
+    return a.x < b.x + b.w && b.x < a.x + a.w && a.y < b.y + b.h && b.y < a.y + a.h;
+  }
+
+  function jointObstacles(v, i) {                 // every joint (its circle) and its name, as drawJoint draws them
+    const data = state.solve; const d = data.describe;
+    const out = [];
+    for (const name of d.points) {
+      const q = data.points[name];
+      if (!q || q.x[i] === null || q.y[i] === null) continue;
+      const p = [v.X(q.x[i]), v.Y(q.y[i])];
+      out.push({ x: p[0] - 6, y: p[1] - 6, w: 12, h: 12 });
+      const ground = d.ground.includes(name);
+      out.push(labelBox(name, p[0] + 7, p[1] - (ground ? -4 : 7), "bold 12px system-ui, sans-serif"));
+    }
+    return out;
+  }
+
+  function placeLabels(labels, obstacles, v) {
+    const placed = [];
+    const taken = [...obstacles];
+    const inView = (b) => b.x >= MARGIN.left + 2 && b.x + b.w <= MARGIN.left + v.w - 2 && b.y >= MARGIN.top + 2
+      && b.y + b.h <= MARGIN.top + v.h - 2;
+    for (const lb of labels) {
+      const font = lb.font || "11px system-ui, sans-serif";
+      const first = labelBox(lb.text, lb.x, lb.y, font);
+      const spots = [];
+      for (let k = 0; k <= 8; k++) {
+        for (const dy of k ? [k * LABEL_LINE, -k * LABEL_LINE] : [0]) {
+          for (const x of [lb.x, lb.ax - first.w - 10, lb.ax + 10]) spots.push([x, lb.y + dy]);
+        }
+      }
+      spots.sort((a, b) => Math.hypot(a[0] - lb.x, a[1] - lb.y) - Math.hypot(b[0] - lb.x, b[1] - lb.y));
+      let best = null;
+      for (const [x, y] of spots) {
+        const box = labelBox(lb.text, x, y, font);
+        if (inView(box) && !taken.some((o) => overlaps(o, box))) { best = { ...box, bx: x, by: y }; break; }
+      }
+      if (!best) best = { ...first, bx: lb.x, by: lb.y };            // no free spot: where it wanted to be
+      taken.push(best);
+      placed.push({ text: lb.text, x: best.x, y: best.y, w: best.w, h: best.h, ax: lb.ax, ay: lb.ay });
+      ctx.save(); ctx.font = font;
+      if (Math.hypot(best.bx - lb.x, best.by - lb.y) > 1) {           // a leader line back to its load
+        const cx = Math.min(Math.max(lb.ax, best.x), best.x + best.w);
+        const cy = Math.min(Math.max(lb.ay, best.y), best.y + best.h);
+        ctx.strokeStyle = lb.color; ctx.globalAlpha = 0.6; ctx.lineWidth = 0.8;
+        ctx.beginPath(); ctx.moveTo(lb.ax, lb.ay); ctx.lineTo(cx, cy); ctx.stroke();
+        ctx.globalAlpha = 1;
+      }
+      ctx.lineWidth = 3; ctx.strokeStyle = "rgba(255,255,255,0.85)";
+      ctx.strokeText(lb.text, best.bx, best.by);
+      ctx.fillStyle = lb.color; ctx.fillText(lb.text, best.bx, best.by);
+      ctx.restore();
+    }
+    window.linkageLabels = { labels: placed, obstacles };
   }
 
   function drawLoads(v, i) {
@@ -2396,6 +2455,8 @@
     if (!L || !state.solve || L.samples !== state.solve.t.length) return;
     ctx.save();
     ctx.strokeStyle = LOAD_COLOR; ctx.fillStyle = LOAD_COLOR; ctx.lineCap = "round";
+    const labels = [];
+    const loadLabel = (text, x, y, ax, ay) => labels.push({ text, x, y, ax, ay, color: LOAD_COLOR });
     for (const ld of L.loads) {
       if (ld.shape === "arrow") {
         const x = ld.x[i]; const y = ld.y[i]; const fx = ld.fx[i]; const fy = ld.fy[i];
@@ -2410,7 +2471,7 @@
         ctx.strokeStyle = LOAD_COLOR; ctx.lineWidth = 2.2;
         ctx.beginPath(); ctx.moveTo(p[0], p[1]); ctx.lineTo(tip[0], tip[1]); ctx.stroke();
         if (len) arrowHead(tip[0], tip[1], ang, 9);
-        loadLabel(`${ld.name} ${fmt(m, 3)} ${ld.unit}`, tip[0] + 4, tip[1] - 4);
+        loadLabel(`${ld.name} ${fmt(m, 3)} ${ld.unit}`, tip[0] + 4, tip[1] - 4, tip[0], tip[1]);
       } else if (ld.shape === "moment" || ld.shape === "pin") {
         const x = ld.x[i]; const y = ld.y[i]; const val = ld.value[i];
         if (x === null || y === null || val === null) continue;
@@ -2424,7 +2485,7 @@
         ctx.setLineDash([]);
         const ex = p[0] + r * Math.cos(a1); const ey = p[1] + r * Math.sin(a1);
         arrowHead(ex, ey, a1 + (ccw ? -Math.PI / 2 : Math.PI / 2), 8);
-        loadLabel(`${ld.name} ${fmt(val, 3)} ${ld.unit}`, p[0] + r + 4, p[1] + r + 2);
+        loadLabel(`${ld.name} ${fmt(val, 3)} ${ld.unit}`, p[0] + r + 4, p[1] + r + 2, p[0] + r * 0.7, p[1] + r * 0.7);
       } else if (ld.shape === "between") {
         const a = [v.X(ld.x1[i]), v.Y(ld.y1[i])]; const b = [v.X(ld.x2[i]), v.Y(ld.y2[i])];
         if ([...a, ...b].some((c) => !Number.isFinite(c))) continue;
@@ -2458,7 +2519,8 @@
           ctx.moveTo(...at(pst, 0)); ctx.lineTo(b[0], b[1]); ctx.stroke();
         }
         const mid = at(0.5 * len, off < 0 ? -14 : 12);
-        loadLabel(`${ld.name} ${fmt(ld.value[i], 3)} ${ld.unit}`, mid[0], mid[1]);
+        const centre = at(0.5 * len, 0);
+        loadLabel(`${ld.name} ${fmt(ld.value[i], 3)} ${ld.unit}`, mid[0], mid[1], centre[0], centre[1]);
       }
     }
     const data = state.solve;
@@ -2475,12 +2537,13 @@
         ctx.lineTo(p[0] + 13 * Math.cos(a + 0.3), p[1] + 13 * Math.sin(a + 0.3));
       }
       ctx.stroke();
-      ctx.fillStyle = "#6d4c41"; ctx.font = "10px system-ui, sans-serif";
-      ctx.textAlign = "right";
-      ctx.fillText(`μ ${fmt(f.mu, 2)}`, p[0] - 14, p[1] - 8);
-      ctx.textAlign = "left";
+      const text = `μ ${fmt(f.mu, 2)}`;
+      const font = "10px system-ui, sans-serif";
+      const w = labelBox(text, 0, 0, font).w;
+      labels.push({ text, x: p[0] - 14 - w, y: p[1] - 8, ax: p[0] - 9, ay: p[1] - 4, color: "#6d4c41", font });
     }
     ctx.restore();
+    placeLabels(labels, jointObstacles(v, i), v);
   }
 
   function describeLoad(it) {
