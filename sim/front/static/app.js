@@ -1023,6 +1023,31 @@
 
   // ---------------------------------------------------------------------------------- dynamics
   const RPM = 30 / Math.PI;           // rpm per rad/s
+  const SPEED_UNITS = { rpm: 1 / RPM, "rad/s": 1 };     // rad/s per unit: the units `linkage dynamics` takes
+
+  // A speed field [rad/s]: a number in the unit chosen beside W0, or a number with its unit written after it
+  // ("150rpm", "15.7 rad/s"), as `linkage dynamics --motor T0,W0` reads W0 (where a bare number is rad/s).
+  function readSpeed(id, name) {
+    const el = $(id);
+    const row = el.closest(".param");
+    const m = /^\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:e[-+]?\d+)?)\s*(rpm|rad\/s)?\s*$/i.exec(el.value);
+    const ok = m !== null && Number.isFinite(Number(m[1]));
+    const unit = ok && m[2] ? m[2].toLowerCase() : $("#dyn-speed-unit").value;
+    row.querySelector(".field-error").textContent = ok ? "" : `${name}: give a number, in ${$("#dyn-speed-unit").value} or with rpm or rad/s after it`;
+    row.classList.toggle("invalid", !ok);
+    if (!ok) throw new ApiError(`${name}: give a number, or one with rpm or rad/s after it`, 0);
+    return Number(m[1]) * SPEED_UNITS[unit];
+  }
+
+  function speedUnitChanged(e) {              // the boxes' bare numbers converted: the motor stays the same
+    const to = e.target.value; const from = to === "rpm" ? "rad/s" : "rpm";
+    for (const id of ["#dyn-W0", "#dyn-start"]) {
+      const el = $(id);
+      const m = /^\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:e[-+]?\d+)?)\s*$/i.exec(el.value);
+      if (m) el.value = fmt(Number(m[1]) * SPEED_UNITS[from] / SPEED_UNITS[to], 6);
+    }
+    $("#dyn-start-unit").textContent = to;
+  }
 
   function dynamicsInputs(size) {
     const read = (id, name) => {
@@ -1036,8 +1061,8 @@
       return v;
     };
     const body = {
-      motor: { T0: read("#dyn-T0", "T0"), W0: read("#dyn-W0", "W0") / RPM },
-      start_speed: read("#dyn-start", "start") / RPM,
+      motor: { T0: read("#dyn-T0", "T0"), W0: readSpeed("#dyn-W0", "W0") },
+      start_speed: readSpeed("#dyn-start", "start"),
       revolutions: read("#dyn-revolutions", "revolutions"),
       simulate: $("#dynamics-mujoco").checked,
       ...loadsBody(),
@@ -1156,6 +1181,7 @@
     const ag = sim ? sim.agreement : null;
     add(["mean speed [rpm]", fmt(data.mean_speed * RPM, 6), sim ? fmt(sim.mean_speed * RPM, 6) : "–",
       ag ? `${fmt(ag.mean_speed, 2)} (relative)` : "", ag ? fmt(ag.tolerances.mean_speed, 2) : ""]);
+    add(["mean speed [rad/s]", fmt(data.mean_speed, 6), sim ? fmt(sim.mean_speed, 6) : "–", "", ""]);
     add(["fluctuation Cs", fmt(data.fluctuation, 5), sim ? fmt(sim.fluctuation, 5) : "–", ag ? fmt(ag.fluctuation, 2) : "",
       ag ? fmt(ag.tolerances.fluctuation, 2) : ""]);
     add(["start-up time [s]", fmt(data.startup_time, 5), sim ? fmt(sim.startup_time, 5) : "–", "", ""]);
@@ -2264,6 +2290,7 @@
     }
     $("#forces-simulate").addEventListener("click", simulateForces);
     $("#dynamics-run").addEventListener("click", () => runDynamics(false));
+    $("#dyn-speed-unit").addEventListener("change", speedUnitChanged);
     $("#dynamics-size").addEventListener("click", () => runDynamics(true));
     canvas.addEventListener("click", pickTarget);
     canvas.addEventListener("pointerdown", dragStart);
