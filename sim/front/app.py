@@ -898,6 +898,7 @@ cycle: the step stops within 1/256 of the way of the limit."""
 def drag_limit(mech: Mechanism, body: dict, solve_body: dict, values: dict):
     """(values, solve) as far along the way from ``mech``'s values to ``values`` as the cycle still runs (the
     input turns fully, every group closes), or None when none of it does or a branch had to flip."""
+    from sim.service import editing as dragging
     if not values or any(mech.definition.parameter_kind.get(k) == "branch" for k in values):
         return None
     old = mech.values
@@ -907,7 +908,12 @@ def drag_limit(mech: Mechanism, body: dict, solve_body: dict, values: dict):
         trial = {k: old[k] + mid * (v - old[k]) for k, v in values.items()}
         b = {**solve_body, "set": {**body.get("set", {}), **trial}}
         try:
-            analysis(mechanism_of(b), b, figures=False)
+            m = mechanism_of(b)
+            # a stretch of the turn that plainly does not assemble: refused without the full check's refinement
+            if input_range_of(b, m) is None and dragging.cannot_turn_fully(m):
+                hi = mid
+                continue
+            analysis(m, b, figures=False)
             best, lo = b, mid
         except (ParameterError, RequestError, ValueError):
             hi = mid

@@ -439,3 +439,24 @@ def assur_groups(mech: Mechanism) -> list[dict]:
         if cls:
             out.append({"places": list(e.places), "links": list(e.links()), "class": cls})
     return out
+
+
+def cannot_turn_fully(mech: Mechanism) -> bool:
+    """True where a quick look already shows that ``mech``'s first input (a single crank, not rocking) cannot
+    make a full turn: a stretch of the turn that does not assemble spans two neighbouring samples of the
+    scan, so it is wider than a scan step (2 pi / 1440), far wider than the gaps at a fold that
+    :func:`sim.service.check_turns_fully` closes (1e-7 rad). False where it cannot tell: that check then
+    decides, as it does for groups solved numerically. The scan is the one the change points were found with
+    where the mechanism has one (no solve), else one solve of 3600 samples."""
+    first = mech.inputs[0]
+    if len(mech.inputs) != 1 or mech.rock is not None or not first.angular:
+        return False
+    if any(kinds.get(e["kind"]).continuous for e in mech.geometry.elements):
+        return False
+    scan = mech.turn_scan
+    if scan is not None:
+        bad = ~np.asarray(scan[1].valid).ravel()
+    else:
+        q0 = first.motion.q0
+        bad = ~np.asarray(mech.solve(np.linspace(q0, q0 + 2 * math.pi, 3601), outputs=()).valid).ravel()
+    return bool(np.any(bad[1:] & bad[:-1]))
