@@ -102,10 +102,11 @@ def server_cpu(parts: list[dict]) -> float:
     """Median CPU time [ms] of the server's work for the same drag requests (/api/drag and the JSON of its
     answer), replayed in this thread: what the step costs without the other processes' load."""
     out = []
+    cache = app.Mechanisms()                             # as the server keeps them from step to step
     for p in parts:
         if p.get("body"):
             c0 = time.thread_time()
-            app._json_bytes(app.drag(p["body"]))
+            app._json_bytes(app.drag(p["body"], cache))
             out.append((time.thread_time() - c0) * 1e3)
     return statistics.median(out) if out else float("nan")
 

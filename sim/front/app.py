@@ -35,8 +35,8 @@ from analytic import Mechanism, ParameterError
 from sim import service
 from sim.service import driving, path_targets, viewing
 from sim.front import loads_panel
-from sim.front.requests import (MAX_REVOLUTIONS, MAX_SAMPLES, RequestError, _short, input_range_of,  # noqa: F401
-                                mechanism_of, number, run_options, series)
+from sim.front.requests import (MAX_REVOLUTIONS, MAX_SAMPLES, Mechanisms, RequestError, _short,  # noqa: F401
+                                input_range_of, mechanism_of, number, run_options, series)
 from sim.output.jsonout import clean
 from sim.output.units import output_kind
 
@@ -183,14 +183,15 @@ def point_paths(mech: Mechanism, sol, n: int, stride: int = 1, digits: int | Non
             for p in mech.points}
 
 
-def solve(body: dict) -> dict:
-    """Curves of the outputs against the input, every point's path, block angles, figures of merit."""
+def solve(body: dict, cache: Mechanisms | None = None) -> dict:
+    """Curves of the outputs against the input, every point's path, block angles, figures of merit.
+    ``cache``: the server's recently loaded mechanisms (:class:`sim.front.requests.Mechanisms`)."""
     check_fields(body, "solve")
     figures = body.get("figures", True)
     if not isinstance(figures, bool):
         raise RequestError(400, "figures must be true or false")
     digits = int(number(body, "digits", 15, 3, 15, integer=True)) if "digits" in body else None
-    mech = mechanism_of(body)
+    mech = mechanism_of(body, cache)
     names = outputs_of(body, mech)
     run = analysis(mech, body, figures)
     a = run.analysis
@@ -684,6 +685,7 @@ class AppServer(ThreadingHTTPServer):
         self.initial = initial
         self.page = page(initial)
         self.synthesis = None                   # the page's synthesis job (sim.front.synth_job.Job), if any
+        self.mechanisms = Mechanisms()          # the last ones loaded: a drag's next step starts from them
         self.synthesis_lock = threading.Lock()
 
     @property
@@ -784,7 +786,9 @@ class Handler(BaseHTTPRequestHandler):
             self.stopping = True
             return 200, _json_bytes({"stopped": True}), "application/json", {}
         if path == "/api/solve":
-            return 200, _json_bytes(solve(body)), "application/json", {}
+            return 200, _json_bytes(solve(body, self.server.mechanisms)), "application/json", {}
+        if path == "/api/drag":
+            return 200, _json_bytes(drag(body, self.server.mechanisms)), "application/json", {}
         if path == "/api/simulate":
             return 200, _json_bytes(simulate(body)), "application/json", {}
         if path == "/api/render":
@@ -841,15 +845,16 @@ class Handler(BaseHTTPRequestHandler):
             self.wfile.write(data)
 
 
-def drag(body: dict) -> dict:
+def drag(body: dict, cache: Mechanisms | None = None) -> dict:
     """A point dragged on the drawing (:func:`sim.service.editing.drag`): ``point``, ``target`` [x, y] m, the
     pose's ``input`` values, ``locked`` parameters, ``round`` (a step in file units, or absent). Answers the
     drag (the new ``set`` and ``text``, the input value to show, where the point is, whether it got there,
     one line) and the solve of the new values, in one round trip; a drag whose values cannot run the cycle
-    keeps the old ones and says why."""
+    keeps the old ones and says why. ``cache``: the server's recently loaded mechanisms (a step starts from the
+    values the last one solved)."""
     from sim.service import editing as dragging
     check_fields(body, "drag")
-    mech = mechanism_of(body)
+    mech = mechanism_of(body, cache)
     point = body.get("point")
     if not isinstance(point, str):
         raise RequestError(400, "point must be the dragged point's name")
@@ -875,10 +880,10 @@ def drag(body: dict) -> dict:
     if d.text is not None:
         solve_body["text"] = d.text
     try:
-        solved = solve(solve_body) if (d.values or d.text is not None) else None
+        solved = solve(solve_body, cache) if (d.values or d.text is not None) else None
     except (ParameterError, RequestError, ValueError) as exc:
         reason = _first_line(str(exc))
-        limit = drag_limit(mech, body, solve_body, d.values) if d.text is None else None
+        limit = drag_limit(mech, body, solve_body, d.values, cache) if d.text is None else None
         if limit is None:
             answer.update(set=body.get("set", {}), text=None, input=None, reached=False, changed={}, position=None,
                           message=f"{point} stops here: {reason}")
@@ -895,7 +900,7 @@ LIMIT_STEPS = 8
 cycle: the step stops within 1/256 of the way of the limit."""
 
 
-def drag_limit(mech: Mechanism, body: dict, solve_body: dict, values: dict):
+def drag_limit(mech: Mechanism, body: dict, solve_body: dict, values: dict, cache: Mechanisms | None = None):
     """(values, solve) as far along the way from ``mech``'s values to ``values`` as the cycle still runs (the
     input turns fully, every group closes), or None when none of it does or a branch had to flip."""
     from sim.service import editing as dragging
@@ -919,7 +924,7 @@ def drag_limit(mech: Mechanism, body: dict, solve_body: dict, values: dict):
             hi = mid
     if best is None:
         return None
-    return {k: best["set"][k] for k in values}, solve(best)
+    return {k: best["set"][k] for k in values}, solve(best, cache)
 
 
 def draw(body: dict) -> dict:
