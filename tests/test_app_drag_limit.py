@@ -26,12 +26,37 @@ def test_it_refuses_only_a_crank_that_cannot_turn_fully(l1):
             service.check_turns_fully(mech)
 
 
-def test_the_limit_a_drag_stops_at_is_the_same_with_the_quick_refusal(monkeypatch):
-    body = {"mechanism": "fourbar", "point": "B", "target": [0.0, 0.4], "input": [1.0], "samples": 361,
-            "figures": False}
-    fast = app.drag(body)["drag"]
-    monkeypatch.setattr(editing, "cannot_turn_fully", lambda mech: False)
-    slow = app.drag(body)["drag"]
+BODY = {"mechanism": "fourbar", "point": "B", "target": [0.0, 0.4], "input": [1.0], "samples": 361, "figures": False}
+"""The crank's tip dragged from l1 = 0.1 towards 0.4: past Grashof's limit at 0.25."""
+
+
+def full_bisection(monkeypatch) -> dict:
+    """The drag with the limit found by the full check alone (no cheap look, no quick refusal)."""
+    with monkeypatch.context() as m:
+        m.setattr(editing, "plain_turn_applies", lambda mech: False)
+        m.setattr(editing, "cannot_turn_fully", lambda mech: False)
+        return app.drag(BODY)["drag"]
+
+
+@pytest.mark.parametrize("l1, turns", [(0.1, True), (0.2499, True), (0.2501, False), (0.3, False)])
+def test_the_cheap_look_sees_grashofs_limit(l1, turns):
+    assert editing.turns_on_its_geometry(service.load("fourbar", {"l1": l1})) is turns
+
+
+def test_the_limit_a_drag_stops_at_is_the_same_with_the_quick_looks(monkeypatch):
+    fast = app.drag(BODY)["drag"]
+    slow = full_bisection(monkeypatch)
     assert "stops at the limit" in fast["message"]
     assert fast["set"] == slow["set"] and fast["message"] == slow["message"]
     assert 0.25 - 0.3 / 256 <= fast["set"]["l1"] <= 0.25     # Grashof's limit, within a halving of the way
+
+
+@pytest.mark.parametrize("lie", ["always", "never", "early"])
+def test_a_cheap_look_the_full_check_does_not_confirm_is_not_taken(monkeypatch, lie):
+    """A look that says it always turns, never turns, or stops turning early (at l1 = 0.2, where the full
+    check still turns a step further): the full check's own limit every time."""
+    slow = full_bisection(monkeypatch)
+    looks = {"always": lambda mech: True, "never": lambda mech: False, "early": lambda mech: mech.values["l1"] < 0.2}
+    monkeypatch.setattr(editing, "turns_on_its_geometry", looks[lie])
+    got = app.drag(BODY)["drag"]
+    assert got["set"] == slow["set"] and got["message"] == slow["message"]

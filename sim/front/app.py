@@ -902,26 +902,56 @@ cycle: the step stops within 1/256 of the way of the limit."""
 
 def drag_limit(mech: Mechanism, body: dict, solve_body: dict, values: dict, cache: Mechanisms | None = None):
     """(values, solve) as far along the way from ``mech``'s values to ``values`` as the cycle still runs (the
-    input turns fully, every group closes), or None when none of it does or a branch had to flip."""
+    input turns fully, every group closes), or None when none of it does or a branch had to flip.
+
+    A crank turning fully is first searched for by the cheap look on the file's geometry
+    (:func:`sim.service.editing.turns_on_its_geometry`, ~1 ms a trial where the full check schedules the
+    change points of every trial, up to 20 ms); the limit it finds is taken only when the full check agrees
+    on both sides of it (the values it gives run the cycle, a step of the way further does not); otherwise,
+    and for other drives, the halving goes by the full check itself."""
     from sim.service import editing as dragging
     if not values or any(mech.definition.parameter_kind.get(k) == "branch" for k in values):
         return None
     old = mech.values
-    lo, hi, best = 0.0, 1.0, None
-    for _ in range(LIMIT_STEPS):                    # the analysis alone decides; the answer is solved once
-        mid = 0.5 * (lo + hi)
-        trial = {k: old[k] + mid * (v - old[k]) for k, v in values.items()}
-        b = {**solve_body, "set": {**body.get("set", {}), **trial}}
+
+    def trial(f: float) -> dict:
+        return {**solve_body, "set": {**body.get("set", {}), **{k: old[k] + f * (v - old[k]) for k, v in values.items()}}}
+
+    def runs(b: dict, m=None) -> bool:
         try:
-            m = mechanism_of(b)
-            # a stretch of the turn that plainly does not assemble: refused without the full check's refinement
-            if input_range_of(b, m) is None and dragging.cannot_turn_fully(m):
-                hi = mid
-                continue
+            m = m or mechanism_of(b, cache)
             analysis(m, b, figures=False)
-            best, lo = b, mid
+            return True
         except (ParameterError, RequestError, ValueError):
-            hi = mid
+            return False
+
+    best = None
+    if input_range_of(body, mech) is None and dragging.plain_turn_applies(mech):
+        lo, hi = 0.0, 1.0
+        for _ in range(LIMIT_STEPS):
+            mid = 0.5 * (lo + hi)
+            try:
+                ok = dragging.turns_on_its_geometry(mechanism_of(trial(mid)))
+            except (ParameterError, RequestError, ValueError):
+                ok = False
+            lo, hi = (mid, hi) if ok else (lo, mid)
+        if lo > 0 and runs(trial(lo)) and (hi >= 1.0 or not runs(trial(hi))):
+            best = trial(lo)
+    if best is None:
+        lo, hi = 0.0, 1.0
+        for _ in range(LIMIT_STEPS):                # the analysis alone decides; the answer is solved once
+            mid = 0.5 * (lo + hi)
+            b = trial(mid)
+            try:
+                m = mechanism_of(b)
+                # a stretch of the turn that plainly does not assemble: refused without the full check's refinement
+                ok = not (input_range_of(b, m) is None and dragging.cannot_turn_fully(m)) and runs(b, m)
+            except (ParameterError, RequestError, ValueError):
+                ok = False
+            if ok:
+                best, lo = b, mid
+            else:
+                hi = mid
     if best is None:
         return None
     return {k: best["set"][k] for k in values}, solve(best, cache)

@@ -460,3 +460,24 @@ def cannot_turn_fully(mech: Mechanism) -> bool:
         q0 = first.motion.q0
         bad = ~np.asarray(mech.solve(np.linspace(q0, q0 + 2 * math.pi, 3601), outputs=()).valid).ravel()
     return bool(np.any(bad[1:] & bad[:-1]))
+
+
+def plain_turn_applies(mech: Mechanism) -> bool:
+    """Whether :func:`turns_on_its_geometry` speaks for ``mech``'s kind of drive: one crank turning fully (not
+    rocking) and no group solved numerically (those trace their solution along the turn)."""
+    first = mech.inputs[0]
+    return (len(mech.inputs) == 1 and mech.rock is None and first.angular
+            and not any(kinds.get(e["kind"]).continuous for e in mech.geometry.elements))
+
+
+def turns_on_its_geometry(mech: Mechanism, samples: int = 3600) -> bool:
+    """Whether every one of ``samples`` + 1 crank angles over a turn assembles on the file's geometry as it is
+    (each group on its declared branch, no change points scheduled: the cheap look, ~1 ms, that a drag's
+    search for its limit goes by before the full check, :func:`sim.service.check_turns_fully`, confirms the
+    limit it found)."""
+    q0 = mech.inputs[0].motion.q0
+    q = np.linspace(q0, q0 + 2 * math.pi, samples + 1)[None, :]
+    zero = np.zeros_like(q)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        _, failed, _ = block(mech.geometry, q, zero, zero, set(), None, False)
+    return bool(np.all(np.asarray(failed) < 0))
