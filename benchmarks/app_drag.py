@@ -1,9 +1,10 @@
 """Drag-step latency of ``linkage app`` in a real browser (Playwright + /usr/bin/chromium): a joint of each
 library mechanism dragged round a small circle; each step is a pointer move on the canvas -> /api/drag (the
 file's values inverted and solved on the server) -> the redraw of the animation, curves and figures -> the
-next animation frame. Prints per mechanism the median and the 95th percentile, with the request's and the
-drawing's shares of the median and the server's CPU time for the same requests replayed in one thread (the
-part of a step that does not depend on how loaded the machine is), then the same over all steps::
+next animation frame. Prints per mechanism the median and the 95th percentile, with the request's, the
+drawing's and the wait for the next frame's shares of the median and the server's CPU time for the same
+requests replayed in one thread (the part of a step that does not depend on how loaded the machine is), then
+the same over all steps and an empty request's round trip (the transport's own share of every request)::
 
     python benchmarks/app_drag.py [--mechanisms fourbar,jansen] [--steps 30] [--screenshot PNG]
 
@@ -33,15 +34,17 @@ STEP = """async ([x, y]) => {
   const canvas = document.querySelector("#view");
   const r0 = +document.body.dataset.revision;
   const t0 = performance.now();
+  let drawn = t0;
   canvas.dispatchEvent(new PointerEvent("pointermove", { clientX: x, clientY: y, bubbles: true, pointerId: 1 }));
   await new Promise((resolve) => {
     const obs = new MutationObserver(() => {
-      if (+document.body.dataset.revision > r0) { obs.disconnect(); resolve(); }
+      if (+document.body.dataset.revision > r0) { obs.disconnect(); drawn = performance.now(); resolve(); }
     });
     obs.observe(document.body, { attributes: true, attributeFilter: ["data-revision"] });
   });
   await new Promise((resolve) => requestAnimationFrame(() => resolve()));
-  return [performance.now() - t0, window.linkageTiming];
+  const end = performance.now();
+  return [end - t0, { ...window.linkageTiming, frame_ms: end - drawn }];
 }"""
 
 
@@ -85,14 +88,25 @@ def measure(page, name: str, steps: int) -> tuple[str, list[float], list[dict]]:
     return point, totals, parts
 
 
+FLOOR = """async (n) => { const out = [];
+  for (let i = 0; i < n; i++) { const t0 = performance.now();
+    const r = await fetch("/api/synthesize/status", { method: "POST", headers: { "Content-Type": "application/json" },
+                                                       body: "{}" });
+    await r.json(); out.push(performance.now() - t0); await new Promise((ok) => setTimeout(ok, 16)); }
+  out.sort((a, b) => a - b); return out[n >> 1]; }"""
+"""The round trip of a request the server answers at once (~0.2 ms of its CPU), on the page's keep-alive
+connection: the part of every step's request that is the browser's and the loopback's, not the work."""
+
+
 def server_cpu(parts: list[dict]) -> float:
     """Median CPU time [ms] of the server's work for the same drag requests (/api/drag and the JSON of its
     answer), replayed in this thread: what the step costs without the other processes' load."""
     out = []
+    cache = app.Mechanisms()                             # as the server keeps them from step to step
     for p in parts:
         if p.get("body"):
             c0 = time.thread_time()
-            app._json_bytes(app.drag(p["body"]))
+            app._json_bytes(app.drag(p["body"], cache))
             out.append((time.thread_time() - c0) * 1e3)
     return statistics.median(out) if out else float("nan")
 
@@ -114,20 +128,23 @@ def main() -> int:
         page = browser.new_page(viewport={"width": 1440, "height": 900})
         page.goto(srv.url)
         page.wait_for_function("window.linkageState && window.linkageState.figures")
+        floor = page.evaluate(FLOOR, 40)
         print(f"{'mechanism':20s} {'point':6s} {'median':>8s} {'p95':>8s} {'request':>8s} {'drawing':>8s} "
-              f"{'server CPU':>10s}  [ms]")
+              f"{'frame':>8s} {'server CPU':>10s}  [ms]")
         for name in args.mechanisms.split(","):
             point, totals, parts = measure(page, name, args.steps)
             every += totals
             req = statistics.median(p.get("request_ms", float("nan")) for p in parts)
             draw = statistics.median(p.get("draw_ms", float("nan")) for p in parts)
+            frame = statistics.median(p.get("frame_ms", float("nan")) for p in parts)
             cpu = server_cpu(parts)
             cpus.append(cpu)
             print(f"{name:20s} {point:6s} {statistics.median(totals):8.1f} {percentile(totals, 0.95):8.1f} "
-                  f"{req:8.1f} {draw:8.1f} {cpu:10.1f}", flush=True)
+                  f"{req:8.1f} {draw:8.1f} {frame:8.1f} {cpu:10.1f}", flush=True)
         print(f"{'all':20s} {'':6s} {statistics.median(every):8.1f} {percentile(every, 0.95):8.1f}   "
               f"({len(every)} steps; target 16 ms median, 33 ms p95); server CPU per step: median over the "
-              f"mechanisms {statistics.median(cpus):.1f} ms, at most {max(cpus):.1f}")
+              f"mechanisms {statistics.median(cpus):.1f} ms, at most {max(cpus):.1f}; an empty request's round "
+              f"trip {floor:.1f} ms (median)")
         if args.screenshot:
             page.screenshot(path=args.screenshot)
         browser.close()

@@ -1,4 +1,4 @@
-"""Dragging a point (sim/front/drag.py, /api/drag): the file's values that place it change so that it lands
+"""Dragging a point (sim/service/editing.py, /api/drag): the file's values that place it change so that it lands
 where it was dragged, checked against the geometry written out here (circle distances, a crank's angle, a
 coupler point's local frame), never against the solver's own answer alone."""
 
@@ -11,7 +11,7 @@ import pytest
 from analytic import ParameterError
 from sim import service
 from sim.front import app
-from sim.front import drag as D
+from sim.service import editing as D
 
 PEERS = Path(__file__).parent / "peers_examples"
 TOL = 1e-7

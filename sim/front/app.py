@@ -31,14 +31,12 @@ from pathlib import Path
 import numpy as np
 
 import analytic
-from analytic import ParameterError
-from analytic import quantities as Q
-from analytic.applications.figures import summary as figures_summary
-from analytic.mechanism import Mechanism
+from analytic import Mechanism, ParameterError
 from sim import service
+from sim.service import dynamics as sdyn, path_targets, simulation, viewing
 from sim.front import loads_panel
-from sim.front.requests import (MAX_REVOLUTIONS, MAX_SAMPLES, RequestError, _short, input_range_of,  # noqa: F401
-                                mechanism_of, number, run_options, series)
+from sim.front.requests import (MAX_REVOLUTIONS, MAX_SAMPLES, Mechanisms, RequestError, _short,  # noqa: F401
+                                input_range_of, mechanism_of, number, run_options, series)
 from sim.output.jsonout import clean
 from sim.output.units import output_kind
 
@@ -185,14 +183,15 @@ def point_paths(mech: Mechanism, sol, n: int, stride: int = 1, digits: int | Non
             for p in mech.points}
 
 
-def solve(body: dict) -> dict:
-    """Curves of the outputs against the input, every point's path, block angles, figures of merit."""
+def solve(body: dict, cache: Mechanisms | None = None) -> dict:
+    """Curves of the outputs against the input, every point's path, block angles, figures of merit.
+    ``cache``: the server's recently loaded mechanisms (:class:`sim.front.requests.Mechanisms`)."""
     check_fields(body, "solve")
     figures = body.get("figures", True)
     if not isinstance(figures, bool):
         raise RequestError(400, "figures must be true or false")
     digits = int(number(body, "digits", 15, 3, 15, integer=True)) if "digits" in body else None
-    mech = mechanism_of(body)
+    mech = mechanism_of(body, cache)
     names = outputs_of(body, mech)
     run = analysis(mech, body, figures)
     a = run.analysis
@@ -207,7 +206,7 @@ def solve(body: dict) -> dict:
         "points": point_paths(mech, sol, n, digits=digits),
         "angles": {ln: series(sol["phi" + ln], n, digits) for ln in mech.slides if "phi" + ln in sol},
         "figures": clean(a.figures) if figures else None,
-        "summary": figures_summary(mech, a.figures) if figures else None,
+        "summary": viewing.figures_summary(mech, a.figures) if figures else None,
     }
 
 
@@ -295,14 +294,13 @@ def render_video(body: dict) -> bytes:
 
 def synthesis_types() -> tuple[str, ...]:
     """The linkage types path synthesis offers (``linkage synthesize path --type``)."""
-    from analytic.synthesis.curves import TYPES
-    return tuple(TYPES)
+    return path_targets.types()
 
 
 def length_unit(body: dict) -> str:
     unit = body.get("unit", "m")
-    if unit not in Q.LENGTH_UNITS:
-        raise RequestError(400, f"unit must be one of {', '.join(Q.LENGTH_UNITS)} (got {_short(unit)})")
+    if unit not in path_targets.LENGTH_UNITS:
+        raise RequestError(400, f"unit must be one of {', '.join(path_targets.LENGTH_UNITS)} (got {_short(unit)})")
     return unit
 
 
@@ -324,7 +322,7 @@ def targets(body: dict) -> dict:
             raise RequestError(400, str(exc).replace(str(path), base)) from None
     if len(target.xy) > MAX_TARGETS:
         raise RequestError(400, f"{base}: {len(target.xy)} target points; the page takes at most {MAX_TARGETS}")
-    return {"targets": (target.xy * Q.LENGTH_UNITS[unit]).tolist()}
+    return {"targets": (target.xy * path_targets.LENGTH_UNITS[unit]).tolist()}
 
 
 def synthesize(body: dict, server: "AppServer") -> dict:
@@ -340,8 +338,7 @@ def synthesize(body: dict, server: "AppServer") -> dict:
             and all(isinstance(p, list) and len(p) == 2 and all(isinstance(c, (int, float)) and not isinstance(c, bool)
                                                                and math.isfinite(c) for c in p) for p in pts)):
         raise RequestError(400, f"targets must be 4 to {MAX_TARGETS} points [[x, y], ...] in metres")
-    from analytic.synthesis.curves import DEFAULT_TYPE
-    kind = body.get("type", DEFAULT_TYPE)
+    kind = body.get("type", path_targets.default_type())
     if kind not in synthesis_types():
         raise RequestError(400, f"type must be one of {', '.join(synthesis_types())} (got {_short(kind)})")
     budget = number(body, "budget", 30.0, 1.0, MAX_SYNTH_BUDGET)
@@ -404,19 +401,19 @@ def pair_of(body: dict, key: str, example: str) -> tuple[float, float] | None:
 
 
 def loads_of(body: dict, mech: Mechanism):
-    """The loads of a request (:class:`sim.model.Loads`): ``gravity`` [gx, gy] m/s^2, ``force`` [Fx, Fy] N on
-    the output point, or ``cutting`` F >= 0 N resisting its slow stroke along x (as ``--cutting-force``)."""
-    from sim.model import Loads
+    """The loads of a request (:func:`sim.service.simulation.run_loads`): ``gravity`` [gx, gy] m/s^2, ``force``
+    [Fx, Fy] N on the output point, or ``cutting`` F >= 0 N resisting its slow stroke along x (as
+    ``--cutting-force``)."""
     gravity = pair_of(body, "gravity", "[0, -9.81]")
     force = pair_of(body, "force", "[10, 0]") or (0.0, 0.0)
     cutting = body.get("cutting")
     if cutting is None:
-        return Loads(gravity=gravity, force=force)
+        return simulation.run_loads(gravity, force)
     cutting = float(number(body, "cutting", 0.0, 0.0, MAX_LOAD))
     if force != (0.0, 0.0):
         raise RequestError(400, "give either force or cutting (a force on the slow stroke), not both")
     from sim.front.cli.options import cutting_direction
-    return Loads(gravity=gravity, force=(cutting_direction(mech) * cutting, 0.0), slow_stroke_only=True)
+    return simulation.run_loads(gravity, (cutting_direction(mech) * cutting, 0.0), slow_stroke_only=True)
 
 
 def force_series(rec: dict, digits: int | None) -> dict:
@@ -465,7 +462,6 @@ def forces(body: dict) -> dict:
 
 def motor_of(body: dict):
     """The request's linear motor: ``motor`` = {"T0": stall torque N m, "W0": no-load speed rad/s}."""
-    from analytic.applications.motor import LinearMotor
     m = body.get("motor")
     if not isinstance(m, dict) or set(m) != {"T0", "W0"}:
         raise RequestError(400, "motor must be {\"T0\": stall torque [N m], \"W0\": no-load speed [rad/s]}, e.g. "
@@ -474,15 +470,14 @@ def motor_of(body: dict):
         v = m[key]
         if isinstance(v, bool) or not isinstance(v, (int, float)) or not (math.isfinite(v) and 0 < v <= MAX_MOTOR):
             raise RequestError(400, f"motor.{key}={_short(v)}: the {what} must be a number in (0, {MAX_MOTOR:g}]")
-    return LinearMotor(float(m["T0"]), float(m["W0"]))
+    return sdyn.linear_motor(float(m["T0"]), float(m["W0"]))
 
 
 def dynamics(body: dict) -> dict:
-    """The dynamics panel: the linkage driven by a motor (:func:`sim.run.motor.dynamics`), the reduced
+    """The dynamics panel: the linkage driven by a motor (:mod:`sim.service.dynamics`), the reduced
     equation's answer and, with ``simulate`` (default), MuJoCo's and the verdict; with ``target_fluctuation``
     the flywheel sized for that Cs. The MuJoCo run is refused before it starts when it would take more than
     MAX_DYNAMICS_STEPS steps (the reduced equation's run gives its duration)."""
-    from sim.service import dynamics as sdyn
     check_fields(body, "dynamics")
     mech = mechanism_of(body)
     if len(mech.inputs) != 1:
@@ -519,8 +514,7 @@ def dynamics_view(d) -> dict:
     against time (at most DYNAMICS_POINTS samples), the last revolution's speed against the input's advance
     [rad from its start], MuJoCo's the same and the verdict."""
     from sim.output.dynamics_plot import last_cycle
-    from sim.run import motor as smotor
-    rec = smotor.record(d)
+    rec = sdyn.record(d)
     r = d.run
     u, w, us, ws = last_cycle(d, CYCLE_POINTS)
 
@@ -552,7 +546,7 @@ def open_file(body: dict) -> dict:
     expression or a PMKS text file (told apart as ``linkage import`` does, by the file name's extension and
     the content) converted to ``linkage/1`` text. The text goes into a private temporary folder under a name
     made here (only the extension and a cleaned stem come from the request)."""
-    from analytic.format import foreign
+    from sim.service import opening
     check_fields(body, "open")
     text, filename = body.get("text"), body.get("filename", "mechanism.toml")
     if not isinstance(text, str):
@@ -568,12 +562,12 @@ def open_file(body: dict) -> dict:
         path = Path(folder) / f"{stem}{suffix if re.fullmatch(r'[.][a-z0-9]{1,8}', suffix) else '.txt'}"
         path.write_text(text, encoding="utf-8")
         try:
-            kind = foreign.detect(path)
-            converted = None if kind is None else foreign.dumps(foreign.read(path, kind=kind))
+            found = opening.foreign_text(path)
         except ParameterError as exc:        # the message names the temporary file: name the user's instead
             raise RequestError(400, str(exc).replace(str(path), base)) from None
-    if converted is None:
+    if found is None:
         return {"mechanism": service.load("<upload>", text=text).name, "text": text, "kind": "linkage/1"}
+    kind, converted = found
     return {"mechanism": service.load("<upload>", text=converted).name, "text": converted, "kind": kind}
 
 
@@ -693,6 +687,7 @@ class AppServer(ThreadingHTTPServer):
         self.initial = initial
         self.page = page(initial)
         self.synthesis = None                   # the page's synthesis job (sim.front.synth_job.Job), if any
+        self.mechanisms = Mechanisms()          # the last ones loaded: a drag's next step starts from them
         self.synthesis_lock = threading.Lock()
 
     @property
@@ -793,7 +788,9 @@ class Handler(BaseHTTPRequestHandler):
             self.stopping = True
             return 200, _json_bytes({"stopped": True}), "application/json", {}
         if path == "/api/solve":
-            return 200, _json_bytes(solve(body)), "application/json", {}
+            return 200, _json_bytes(solve(body, self.server.mechanisms)), "application/json", {}
+        if path == "/api/drag":
+            return 200, _json_bytes(drag(body, self.server.mechanisms)), "application/json", {}
         if path == "/api/simulate":
             return 200, _json_bytes(simulate(body)), "application/json", {}
         if path == "/api/render":
@@ -850,15 +847,16 @@ class Handler(BaseHTTPRequestHandler):
             self.wfile.write(data)
 
 
-def drag(body: dict) -> dict:
-    """A point dragged on the drawing (:func:`sim.front.drag.drag`): ``point``, ``target`` [x, y] m, the
+def drag(body: dict, cache: Mechanisms | None = None) -> dict:
+    """A point dragged on the drawing (:func:`sim.service.editing.drag`): ``point``, ``target`` [x, y] m, the
     pose's ``input`` values, ``locked`` parameters, ``round`` (a step in file units, or absent). Answers the
     drag (the new ``set`` and ``text``, the input value to show, where the point is, whether it got there,
     one line) and the solve of the new values, in one round trip; a drag whose values cannot run the cycle
-    keeps the old ones and says why."""
-    from sim.front import drag as dragging
+    keeps the old ones and says why. ``cache``: the server's recently loaded mechanisms (a step starts from the
+    values the last one solved)."""
+    from sim.service import editing as dragging
     check_fields(body, "drag")
-    mech = mechanism_of(body)
+    mech = mechanism_of(body, cache)
     point = body.get("point")
     if not isinstance(point, str):
         raise RequestError(400, "point must be the dragged point's name")
@@ -884,10 +882,10 @@ def drag(body: dict) -> dict:
     if d.text is not None:
         solve_body["text"] = d.text
     try:
-        solved = solve(solve_body) if (d.values or d.text is not None) else None
+        solved = solve(solve_body, cache) if (d.values or d.text is not None) else None
     except (ParameterError, RequestError, ValueError) as exc:
         reason = _first_line(str(exc))
-        limit = drag_limit(mech, body, solve_body, d.values) if d.text is None else None
+        limit = drag_limit(mech, body, solve_body, d.values, cache) if d.text is None else None
         if limit is None:
             answer.update(set=body.get("set", {}), text=None, input=None, reached=False, changed={}, position=None,
                           message=f"{point} stops here: {reason}")
@@ -904,25 +902,61 @@ LIMIT_STEPS = 8
 cycle: the step stops within 1/256 of the way of the limit."""
 
 
-def drag_limit(mech: Mechanism, body: dict, solve_body: dict, values: dict):
+def drag_limit(mech: Mechanism, body: dict, solve_body: dict, values: dict, cache: Mechanisms | None = None):
     """(values, solve) as far along the way from ``mech``'s values to ``values`` as the cycle still runs (the
-    input turns fully, every group closes), or None when none of it does or a branch had to flip."""
+    input turns fully, every group closes), or None when none of it does or a branch had to flip.
+
+    A crank turning fully is first searched for by the cheap look on the file's geometry
+    (:func:`sim.service.editing.turns_on_its_geometry`, ~1 ms a trial where the full check schedules the
+    change points of every trial, up to 20 ms); the limit it finds is taken only when the full check agrees
+    on both sides of it (the values it gives run the cycle, a step of the way further does not); otherwise,
+    and for other drives, the halving goes by the full check itself."""
+    from sim.service import editing as dragging
     if not values or any(mech.definition.parameter_kind.get(k) == "branch" for k in values):
         return None
     old = mech.values
-    lo, hi, best = 0.0, 1.0, None
-    for _ in range(LIMIT_STEPS):                    # the analysis alone decides; the answer is solved once
-        mid = 0.5 * (lo + hi)
-        trial = {k: old[k] + mid * (v - old[k]) for k, v in values.items()}
-        b = {**solve_body, "set": {**body.get("set", {}), **trial}}
+
+    def trial(f: float) -> dict:
+        return {**solve_body, "set": {**body.get("set", {}), **{k: old[k] + f * (v - old[k]) for k, v in values.items()}}}
+
+    def runs(b: dict, m=None) -> bool:
         try:
-            analysis(mechanism_of(b), b, figures=False)
-            best, lo = b, mid
+            m = m or mechanism_of(b, cache)
+            analysis(m, b, figures=False)
+            return True
         except (ParameterError, RequestError, ValueError):
-            hi = mid
+            return False
+
+    best = None
+    if input_range_of(body, mech) is None and dragging.plain_turn_applies(mech):
+        lo, hi = 0.0, 1.0
+        for _ in range(LIMIT_STEPS):
+            mid = 0.5 * (lo + hi)
+            try:
+                ok = dragging.turns_on_its_geometry(mechanism_of(trial(mid)))
+            except (ParameterError, RequestError, ValueError):
+                ok = False
+            lo, hi = (mid, hi) if ok else (lo, mid)
+        if lo > 0 and runs(trial(lo)) and (hi >= 1.0 or not runs(trial(hi))):
+            best = trial(lo)
+    if best is None:
+        lo, hi = 0.0, 1.0
+        for _ in range(LIMIT_STEPS):                # the analysis alone decides; the answer is solved once
+            mid = 0.5 * (lo + hi)
+            b = trial(mid)
+            try:
+                m = mechanism_of(b)
+                # a stretch of the turn that plainly does not assemble: refused without the full check's refinement
+                ok = not (input_range_of(b, m) is None and dragging.cannot_turn_fully(m)) and runs(b, m)
+            except (ParameterError, RequestError, ValueError):
+                ok = False
+            if ok:
+                best, lo = b, mid
+            else:
+                hi = mid
     if best is None:
         return None
-    return {k: best["set"][k] for k in values}, solve(best)
+    return {k: best["set"][k] for k in values}, solve(best, cache)
 
 
 def draw(body: dict) -> dict:
@@ -959,13 +993,8 @@ def initial_mechanism(name: str) -> dict:
         return {"name": name}
     if not Path(name).exists():
         raise ParameterError(f"{name!r} is neither a mechanism (linkage list) nor a linkage/1 file")
-    from analytic.format import foreign, linkfile
-    if foreign.detect(name):            # a Pyslvs or PMKS file: sent as its linkage/1 (links and joints) text
-        foreign.definition(name)        # a mechanism, or one line naming the file
-        text = foreign.dumps(foreign.read(name))
-        return {"name": service.load(name, text=text).name, "text": text}
-    linkfile.read(name)                 # a regular UTF-8 file within the size cap, or one line saying why
-    text = Path(name).read_bytes()[:linkfile.MAX_FILE_BYTES].decode("utf-8-sig")
+    from sim.service import opening
+    text = opening.file_text(name)      # a Pyslvs or PMKS file as its linkage/1 (links and joints) text
     return {"name": service.load(name, text=text).name, "text": text}
 
 

@@ -111,7 +111,7 @@ def check(drawing: dict) -> dict:
     None) with ``names`` (the points and links it names, for the page to mark); ``groups`` (the Assur groups
     found: the points each places, its links, its class) when it loads."""
     from sim import service
-    from analytic import kinds
+    from sim.service import editing
     points, links, driven = parse(drawing)
     m = mobility(points, links)
     out = {"text": None, "mobility": m, "error": None, "names": [], "groups": [], "output": None}
@@ -142,10 +142,6 @@ def check(drawing: dict) -> dict:
         message = re.sub(r"<(drawn|upload)>:? ?", "", str(exc))
         names = [n for n in list(points) + [lk for lk, _ in links] if re.search(rf"\b{re.escape(n)}\b", message)]
         return {**out, "error": message.splitlines()[0], "names": names}
-    d = mech.definition
-    for e, r in zip(d.order, mech.geometry.elements):
-        cls = kinds.get(e.kind).group_label(r)
-        if cls:
-            out["groups"].append({"places": list(e.places), "links": list(e.links()), "class": cls})
+    out["groups"] = editing.assur_groups(mech)
     out["output"] = mech.output_point
     return out

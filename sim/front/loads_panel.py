@@ -24,9 +24,7 @@ import tomllib
 import numpy as np
 
 from analytic import ParameterError
-from analytic import loads as AL
-from analytic.kinds import GROUND
-from analytic.loads import common as LC
+from sim.service import load_editing
 
 DRAW_FIELDS = {"mechanism", "text", "set", "samples", "revolutions", "input_range", "digits"}
 EDIT_FIELDS = {"mechanism", "text", "set", "action", "name", "load"}
@@ -49,74 +47,14 @@ def check_fields(body: dict, fields: set, action: str) -> None:
 
 
 # ------------------------------------------------------------------------------------------ drawing
-def moment_unit(mech, force_units: str) -> str:
-    return f"{force_units} {mech.units}"
-
-
 def geometry(mech, t, q, qd, loadset, digits: int | None = None) -> dict:
     """Where and how much each load of ``loadset`` acts over the samples ``t`` (inputs ``q``, ``qd``):
-    the JSON ``draw`` answers (see the module's text)."""
-    from analytic.loads import damper as D
-    from analytic.loads import spring as S
-    from analytic.loads import torque as T
-    from analytic.loads import torsion_spring as TS
+    :func:`sim.service.load_editing.load_geometry` with its arrays as JSON lists (``digits`` significant)."""
     from sim.front.requests import series
-    sol = mech.solve(q, qd, np.zeros_like(q), outputs=AL.wanted(mech))
-    n = len(t)
-    sol = {k: np.reshape(np.asarray(sol[k]), n) for k in AL.wanted(mech)}
-    state = AL.State(mech, sol, q, qd, t)
-    variables = state.variables(AL.scales(mech.definition, mech.parameters))
-    fu = loadset.force_units if loadset else mech.definition.force_units
-    per_force = 1.0 / AL.FORCE_UNITS[fu]                 # N -> the file's force unit
-    per_moment = per_force * mech.scale                 # N m -> force unit x length unit
-
-    def s(a):
-        return series(np.broadcast_to(np.asarray(a, dtype=float), (n,)), digits=digits)
-
-    def centre(link):
-        if link == GROUND:
-            return np.zeros(n), np.zeros(n)
-        pts = mech.definition.topology.links[link].points
-        return (np.mean([sol["x" + p] for p in pts], axis=0), np.mean([sol["y" + p] for p in pts], axis=0))
-
-    out = []
-    for ld in loadset.loads if loadset else ():
-        try:
-            apps = ld.applications(state, variables)
-        except ValueError as exc:
-            raise LC.LoadError(f"load {ld.name}: {exc}") from None
-        entry = {"name": ld.name, "kind": ld.kind, "link": ld.link}
-        if isinstance(ld, (S.Spring, D.Damper)) and getattr(ld, "ends", None):
-            (x1, y1), (x2, y2), _, _, _ = S.Spring.geometry(ld, state)
-            a = apps[0]                                   # on the first end: + tension pulls it to the second
-            ex, ey = np.asarray(x2 - x1), np.asarray(y2 - y1)
-            tension = (np.asarray(a.fx) * ex + np.asarray(a.fy) * ey) / np.maximum(np.hypot(ex, ey), 1e-300)
-            entry.update(shape="between", x1=s(x1), y1=s(y1), x2=s(x2), y2=s(y2), value=s(tension * per_force),
-                         unit=fu)
-        elif isinstance(ld, (TS.TorsionSpring, D.Damper)):
-            x, y = state.xy(ld.joint)
-            entry.update(shape="pin", joint=ld.joint, x=s(x), y=s(y), value=s(np.asarray(apps[0].couple) * per_moment),
-                         unit=moment_unit(mech, fu))
-        elif isinstance(ld, T.Torque):
-            x, y = centre(ld.link)
-            entry.update(shape="moment", x=s(x), y=s(y), value=s(np.asarray(apps[0].couple) * per_moment),
-                         unit=moment_unit(mech, fu))
-        else:                                             # force, pressure: one application at the point
-            a = apps[0]
-            entry.update(shape="arrow", x=s(a.px), y=s(a.py), fx=s(np.asarray(a.fx) * per_force),
-                         fy=s(np.asarray(a.fy) * per_force), unit=fu)
-        out.append(entry)
-    friction = []
-    fr = loadset.friction if loadset else None
-    if fr:
-        joints = mech.definition.topology.joints
-        for k, mu, r in fr.pins:
-            j = joints[k]
-            friction.append({"joint": j.name, "point": j.point, "kind": "R", "mu": mu, "pin_radius": r / mech.scale})
-        for k, mu in fr.slides:
-            j = joints[k]
-            friction.append({"joint": j.name, "point": j.point, "kind": "P", "mu": mu})
-    return {"force_units": fu, "length_unit": mech.units, "loads": out, "friction": friction}
+    g = load_editing.load_geometry(mech, t, q, qd, loadset)
+    g["loads"] = [{k: series(v, digits=digits) if isinstance(v, np.ndarray) else v for k, v in e.items()}
+                  for e in g["loads"]]
+    return g
 
 
 def draw(body: dict) -> dict:
@@ -130,7 +68,7 @@ def draw(body: dict) -> dict:
     a = service.analyze(mech, samples, revolutions, rng, figures=False)
     q = np.column_stack([np.broadcast_to(a.inputs[i.q], a.t.shape) for i in mech.inputs])
     qd = np.column_stack([np.broadcast_to(a.inputs[i.qd], a.t.shape) for i in mech.inputs])
-    loadset = AL.resolve(mech)
+    loadset = load_editing.resolve(mech)
     from sim.output.jsonout import clean
     items = clean([dict(x) for x in mech.definition.loads or () if isinstance(x, dict)])
     return {"mechanism": mech.name, "samples": samples, "items": items,
@@ -201,12 +139,13 @@ def check_load(load, action: str) -> dict:
         raise LoadsRequestError(f"load.name {json.dumps(name)[:40]}: give the load a name of letters, digits and _ "
                                 f"(not starting with a digit)")
     kind = load.get("kind")
-    if kind not in AL.KINDS:
-        raise LoadsRequestError(f"load.kind {json.dumps(kind)[:40]}: use one of {', '.join(AL.KINDS)}")
-    unknown = sorted(set(load) - AL.KINDS[kind].FIELDS)
+    fields = load_editing.load_fields()
+    if kind not in fields:
+        raise LoadsRequestError(f"load.kind {json.dumps(kind)[:40]}: use one of {', '.join(fields)}")
+    unknown = sorted(set(load) - fields[kind])
     if unknown:
         raise LoadsRequestError(f"load.{unknown[0]}: not a field of a {kind}; it takes "
-                                f"{', '.join(sorted(AL.KINDS[kind].FIELDS))}")
+                                f"{', '.join(sorted(fields[kind]))}")
     toml_value(load, "load")                      # every value writable
     return dict(load)
 
@@ -270,7 +209,7 @@ def edit(body: dict) -> dict:
         app.mechanism_of(body)                    # the file as it is must read (its own error first)
     new, loads = edited(text, action, body.get("name"), body.get("load"))
     mech = service.load("<upload>", body.get("set") or {}, text=new)
-    AL.resolve(mech)                              # every load resolves, as forces and dynamics will resolve it
+    load_editing.resolve(mech)                    # every load resolves, as forces and dynamics will resolve it
     return {"mechanism": mech.name, "text": new, "loads": loads}
 
 

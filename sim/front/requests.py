@@ -5,14 +5,16 @@ server that imports them."""
 
 from __future__ import annotations
 
+import collections
 import math
+import threading
 
 import numpy as np
 
 import analytic
-from analytic.format import expr
-from analytic.mechanism import Mechanism
+from analytic import Mechanism
 from sim import service
+from sim.service import inputs
 
 
 MAX_SAMPLES = 20_001
@@ -41,8 +43,33 @@ def number(body: dict, key: str, default: float, lo: float, hi: float, integer: 
     return v
 
 
-def mechanism_of(body: dict) -> Mechanism:
-    """The mechanism of a request: a known name, or an uploaded file's text; never a path."""
+class Mechanisms:
+    """The mechanisms a server's last requests loaded, by what names them (the name or the file's text, and the
+    values set): a drag's next step starts from the values its last step solved, and a Mechanism keeps what
+    it worked out once (the change points' schedule and its scan of the turn, 1-3 ms), so the step finds
+    them done. A mechanism is immutable; the cache holds the last ``size`` and belongs to one server."""
+
+    def __init__(self, size: int = 8):
+        self.size = size
+        self._items: collections.OrderedDict = collections.OrderedDict()
+        self._lock = threading.Lock()
+
+    def get(self, key, make):
+        with self._lock:
+            if key in self._items:
+                self._items.move_to_end(key)
+                return self._items[key]
+        mech = make()                                   # outside the lock: two threads may both load it
+        with self._lock:
+            self._items[key] = mech
+            while len(self._items) > self.size:
+                self._items.popitem(last=False)
+        return mech
+
+
+def mechanism_of(body: dict, cache: Mechanisms | None = None) -> Mechanism:
+    """The mechanism of a request: a known name, or an uploaded file's text; never a path. ``cache``: a
+    server's :class:`Mechanisms`, to reuse one loaded with the same values."""
     values = body.get("set", {})
     if not isinstance(values, dict):
         raise RequestError(400, "set must be an object of parameter values, e.g. {\"l1\": 0.12}")
@@ -53,13 +80,16 @@ def mechanism_of(body: dict) -> Mechanism:
     if text is not None:
         if not isinstance(text, str):
             raise RequestError(400, "text must be the mechanism file's contents as a string")
-        return service.load("<upload>", values, text=text)
+        key = ("<upload>", text, tuple(sorted(values.items())))
+        return cache.get(key, lambda: service.load("<upload>", values, text=text)) if cache else \
+            service.load("<upload>", values, text=text)
     name = body.get("mechanism")
     if not isinstance(name, str):
         raise RequestError(400, "mechanism must be a name (GET /api/mechanisms lists them) or give text")
     if name not in analytic.names():
         raise RequestError(404, f"unknown mechanism {_short(name)}; known: {', '.join(analytic.names())}")
-    return service.load(name, values)
+    key = (name, None, tuple(sorted(values.items())))
+    return cache.get(key, lambda: service.load(name, values)) if cache else service.load(name, values)
 
 
 def input_range_of(body: dict, mech: Mechanism) -> tuple[float, float] | None:
@@ -67,10 +97,8 @@ def input_range_of(body: dict, mech: Mechanism) -> tuple[float, float] | None:
     v = body.get("input_range")
     if v is None or v == "":
         return None
-    angle = None if mech.inputs[0].angular else False
     if isinstance(v, str) and ":" in v:
-        lo, hi = v.split(":", 1)
-        return expr.parse_value("input range", lo.strip(), angle), expr.parse_value("input range", hi.strip(), angle)
+        return inputs.input_range(mech, v)
     if isinstance(v, list) and len(v) == 2 and all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in v):
         return float(v[0]), float(v[1])
     raise RequestError(400, f"input_range {_short(v)} is not LO:HI (e.g. \"-100deg:-45deg\") or [LO, HI]")

@@ -12,7 +12,6 @@ a last line
 from __future__ import annotations
 
 import json
-import math
 import os
 import signal
 import subprocess
@@ -65,11 +64,11 @@ def _gap(a: np.ndarray, b: np.ndarray) -> float:
 
 def run(request: dict, emit) -> dict:
     """The search of one request, its stages sent to ``emit``; the answer the page draws."""
-    from analytic.synthesis import path as sp
     from sim.service import design as design_service
+    from sim.service import path_targets
     from sim.output.jsonout import clean
     xy = np.asarray(request["targets"], dtype=float)
-    target = sp.Target(xy, None, bool(request["closed"]))
+    target = path_targets.target(xy, request["closed"])
     # the process start came out of the budget; the candidates' MuJoCo checks follow the search
     budget = max(0.1, SEARCH_SHARE * (float(request["deadline"]) - time.time()))
     options = design_service.PathOptions(types=(request["type"],), budget=budget, designs=DESIGNS,
@@ -86,15 +85,13 @@ def run(request: dict, emit) -> dict:
 
     emit({"stage": "search", "done": 0, "total": restarts})
     found = design_service.synthesize_path(target, options, "m", progress=progress)
-    phi = np.linspace(0.0, 2 * math.pi, 361)
     designs = []
     for k, f in enumerate(found):
-        d = f["design"]
-        E, _ = d.family.points(np.asarray(d.x)[None, :d.family.size], phi[None], d.branch)
+        cx, cy = path_targets.coupler_curve(f["design"], 361)
         designs.append({"name": f"synthesised_{k + 1}", "text": f["text"], "error": clean(f["error"]),
                         "mu_min_deg": clean(f["parameters"].get("mu_min_deg")), "failed": f["failed"],
                         "compare_passed": bool(f["compare_passed"]),
-                        "curve": {"x": clean(E[0, :, 0].tolist()), "y": clean(E[0, :, 1].tolist())}})
+                        "curve": {"x": clean(cx.tolist()), "y": clean(cy.tolist())}})
     size = float(np.ptp(xy, axis=0).max())
     kept = distinct(designs, size)
     for k, d in enumerate(kept):

@@ -10,11 +10,17 @@ One module per use case:
 - :mod:`.forces`: joint forces, drives, shaking, balancing (``forces_run``), and MuJoCo's answer;
 - :mod:`.export`: the MJCF model and the mechanism file as text;
 - :mod:`.loads`: the loads a run applies and their work (``[[loads]]``, ``--force``, ``--torque``, ``--at``);
-- :mod:`.dynamics`: the motor-driven run (``dynamics``), its models built from one cycle;
+- :mod:`.dynamics`: the motor-driven run (``dynamics``, the app's Dynamics tab), its models built from one cycle;
+- :mod:`.importing`: Pyslvs and PMKS files as ``linkage/1`` (``import``); :mod:`.structure`: ``check``'s report;
+  :mod:`.values`: typed numbers and angles; :mod:`.catalog`: the library's names and headers (no numpy);
 - :mod:`.design`: synthesis (path, motion, function, two-position) and sweeps; :mod:`.pareto` the
   multi-objective search; :mod:`.synth_checks` the simulation of every returned design;
 - :mod:`.tolerance`: Monte Carlo, first-order and Sobol tolerance analysis;
 - :mod:`.parts`: link solids, layers, interference, DXF/SVG/PDF/STEP/STL exports and the bill of materials.
+- the app's use cases: :mod:`.editing` (a point dragged: the file's values that place it; a drawn linkage's
+  groups), :mod:`.opening` (a file as ``linkage/1`` text),
+  :mod:`.load_editing` (the file's loads drawn and checked), :mod:`.path_targets` (path synthesis from placed
+  points), :mod:`.inputs` (input values from text), :mod:`.viewing` (the figures' summary).
 
 The first five's names are given here (imported on first use, so that ``from sim import service`` stays light),
 so ``from sim import service; service.load("fourbar")`` reaches them; the others load scipy, pymoo, SALib,

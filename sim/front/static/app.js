@@ -115,7 +115,7 @@
     const version = state.version;
     const extra = kind === "full"
       ? { samples: SAMPLES, figures: true, outputs: wantedOutputs() }
-      : { samples: SAMPLES, figures: false, digits: DRAG_DIGITS, outputs: wantedOutputs() };
+      : { samples: SAMPLES, figures: false, digits: DRAG_DIGITS, outputs: wantedOutputs(true) };
     const current = () => version >= state.opened && version >= state.applied;
     // with the forces panel open, each edit's forces are asked for at once and drawn with its curves
     const forcesToo = kind === "curves" && state.tab === "forces" && state.built === state.opened;
@@ -150,8 +150,13 @@
     }
   }
 
-  function wantedOutputs() {
-    const many = state.built === state.opened && state.describe.outputs.length > FEW_OUTPUTS;
+  // The outputs to fetch: every one for a mechanism with few (the figures' answer, the output picker), only the
+  // plotted ones for one with many; while a value or a point is being dragged (``plottedOnly``) the plotted
+  // ones alone, which cuts the answer to a fraction (a four-bar's 13 outputs are half its bytes) -- the full
+  // answer that follows the edit (FIGURES_DELAY_MS after it settles) brings the others back.
+  function wantedOutputs(plottedOnly) {
+    const built = state.built === state.opened;
+    const many = built && (plottedOnly || state.describe.outputs.length > FEW_OUTPUTS);
     return many ? state.selected : undefined;
   }
 
@@ -1018,6 +1023,31 @@
 
   // ---------------------------------------------------------------------------------- dynamics
   const RPM = 30 / Math.PI;           // rpm per rad/s
+  const SPEED_UNITS = { rpm: 1 / RPM, "rad/s": 1 };     // rad/s per unit: the units `linkage dynamics` takes
+
+  // A speed field [rad/s]: a number in the unit chosen beside W0, or a number with its unit written after it
+  // ("150rpm", "15.7 rad/s"), as `linkage dynamics --motor T0,W0` reads W0 (where a bare number is rad/s).
+  function readSpeed(id, name) {
+    const el = $(id);
+    const row = el.closest(".param");
+    const m = /^\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:e[-+]?\d+)?)\s*(rpm|rad\/s)?\s*$/i.exec(el.value);
+    const ok = m !== null && Number.isFinite(Number(m[1]));
+    const unit = ok && m[2] ? m[2].toLowerCase() : $("#dyn-speed-unit").value;
+    row.querySelector(".field-error").textContent = ok ? "" : `${name}: give a number, in ${$("#dyn-speed-unit").value} or with rpm or rad/s after it`;
+    row.classList.toggle("invalid", !ok);
+    if (!ok) throw new ApiError(`${name}: give a number, or one with rpm or rad/s after it`, 0);
+    return Number(m[1]) * SPEED_UNITS[unit];
+  }
+
+  function speedUnitChanged(e) {              // the boxes' bare numbers converted: the motor stays the same
+    const to = e.target.value; const from = to === "rpm" ? "rad/s" : "rpm";
+    for (const id of ["#dyn-W0", "#dyn-start"]) {
+      const el = $(id);
+      const m = /^\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:e[-+]?\d+)?)\s*$/i.exec(el.value);
+      if (m) el.value = fmt(Number(m[1]) * SPEED_UNITS[from] / SPEED_UNITS[to], 6);
+    }
+    $("#dyn-start-unit").textContent = to;
+  }
 
   function dynamicsInputs(size) {
     const read = (id, name) => {
@@ -1031,8 +1061,8 @@
       return v;
     };
     const body = {
-      motor: { T0: read("#dyn-T0", "T0"), W0: read("#dyn-W0", "W0") / RPM },
-      start_speed: read("#dyn-start", "start") / RPM,
+      motor: { T0: read("#dyn-T0", "T0"), W0: readSpeed("#dyn-W0", "W0") },
+      start_speed: readSpeed("#dyn-start", "start"),
       revolutions: read("#dyn-revolutions", "revolutions"),
       simulate: $("#dynamics-mujoco").checked,
       ...loadsBody(),
@@ -1151,6 +1181,7 @@
     const ag = sim ? sim.agreement : null;
     add(["mean speed [rpm]", fmt(data.mean_speed * RPM, 6), sim ? fmt(sim.mean_speed * RPM, 6) : "–",
       ag ? `${fmt(ag.mean_speed, 2)} (relative)` : "", ag ? fmt(ag.tolerances.mean_speed, 2) : ""]);
+    add(["mean speed [rad/s]", fmt(data.mean_speed, 6), sim ? fmt(sim.mean_speed, 6) : "–", "", ""]);
     add(["fluctuation Cs", fmt(data.fluctuation, 5), sim ? fmt(sim.fluctuation, 5) : "–", ag ? fmt(ag.fluctuation, 2) : "",
       ag ? fmt(ag.tolerances.fluctuation, 2) : ""]);
     add(["start-up time [s]", fmt(data.startup_time, 5), sim ? fmt(sim.startup_time, 5) : "–", "", ""]);
@@ -1921,7 +1952,7 @@
 
   // -------------------------------------------------------------------------------- dragging
   // Grab a point of the drawing and drag it: /api/drag changes the file's values that place it (the
-  // server inverts the file's parameterisation: sim/front/drag.py) and answers the new values with their
+  // server inverts the file's parameterisation: sim/service/editing.py) and answers the new values with their
   // solve, so each step is one round trip; the input's tip scrubs the pose. Undo/redo restores the values
   // (and the file's text where a links-and-joints pose was changed) as they were before each drag.
   const HIT_PX = 10;
@@ -2040,7 +2071,7 @@
     const version = ++state.version;
     state.holdUntil = performance.now() + HOLD_MS;
     const locked = [...document.querySelectorAll("#params input[data-lock]:checked")].map((c) => c.dataset.lock);
-    const body = requestBody({ samples: SAMPLES, figures: false, digits: DRAG_DIGITS, outputs: wantedOutputs(),
+    const body = requestBody({ samples: SAMPLES, figures: false, digits: DRAG_DIGITS, outputs: wantedOutputs(true),
       point: d ? d.point : "", target, input: d ? d.input : poseInputs(), locked });
     if ($("#round-values").checked) body.round = gridStep() * lengthUnit().f;
     window.linkageDragBody = body;                  // for the drag benchmark's replay
@@ -2259,6 +2290,7 @@
     }
     $("#forces-simulate").addEventListener("click", simulateForces);
     $("#dynamics-run").addEventListener("click", () => runDynamics(false));
+    $("#dyn-speed-unit").addEventListener("change", speedUnitChanged);
     $("#dynamics-size").addEventListener("click", () => runDynamics(true));
     canvas.addEventListener("click", pickTarget);
     canvas.addEventListener("pointerdown", dragStart);
@@ -2375,15 +2407,74 @@
     ctx.closePath(); ctx.fill();
   }
 
-  function loadLabel(text, x, y) {
-    ctx.save();
-    ctx.font = "11px system-ui, sans-serif";
+  // The loads' labels are placed after every load is drawn, so that none covers another, a joint or a joint's
+  // name: each wants the spot next to its load (``x``, ``y``: the text's left end on its baseline) and takes
+  // the nearest free one among spots stepped a line at a time above and below it and to the left of its
+  // anchor; one that had to move from its spot gets a thin leader line to the anchor (``ax``, ``ay``).
+  const LABEL_LINE = 13;          // px: an 11 px label's height with a pixel above and below
+
+  function labelBox(text, x, y, font) {
+    ctx.save(); ctx.font = font;
     const w = ctx.measureText(text).width;
-    if (x + w > canvas.clientWidth - MARGIN.right - 2) x = Math.max(MARGIN.left + 2, x - w - 10);   // keep it in view
-    ctx.lineWidth = 3; ctx.strokeStyle = "rgba(255,255,255,0.85)";
-    ctx.strokeText(text, x, y);
-    ctx.fillStyle = LOAD_COLOR; ctx.fillText(text, x, y);
     ctx.restore();
+    return { x, y: y - LABEL_LINE + 3, w, h: LABEL_LINE };
+  }
+
+  function overlaps(a, b) {
+    return a.x < b.x + b.w && b.x < a.x + a.w && a.y < b.y + b.h && b.y < a.y + a.h;
+  }
+
+  function jointObstacles(v, i) {                 // every joint (its circle) and its name, as drawJoint draws them
+    const data = state.solve; const d = data.describe;
+    const out = [];
+    for (const name of d.points) {
+      const q = data.points[name];
+      if (!q || q.x[i] === null || q.y[i] === null) continue;
+      const p = [v.X(q.x[i]), v.Y(q.y[i])];
+      out.push({ x: p[0] - 6, y: p[1] - 6, w: 12, h: 12 });
+      const ground = d.ground.includes(name);
+      out.push(labelBox(name, p[0] + 7, p[1] - (ground ? -4 : 7), "bold 12px system-ui, sans-serif"));
+    }
+    return out;
+  }
+
+  function placeLabels(labels, obstacles, v) {
+    const placed = [];
+    const taken = [...obstacles];
+    const inView = (b) => b.x >= MARGIN.left + 2 && b.x + b.w <= MARGIN.left + v.w - 2 && b.y >= MARGIN.top + 2
+      && b.y + b.h <= MARGIN.top + v.h - 2;
+    for (const lb of labels) {
+      const font = lb.font || "11px system-ui, sans-serif";
+      const first = labelBox(lb.text, lb.x, lb.y, font);
+      const spots = [];
+      for (let k = 0; k <= 8; k++) {
+        for (const dy of k ? [k * LABEL_LINE, -k * LABEL_LINE] : [0]) {
+          for (const x of [lb.x, lb.ax - first.w - 10, lb.ax + 10]) spots.push([x, lb.y + dy]);
+        }
+      }
+      spots.sort((a, b) => Math.hypot(a[0] - lb.x, a[1] - lb.y) - Math.hypot(b[0] - lb.x, b[1] - lb.y));
+      let best = null;
+      for (const [x, y] of spots) {
+        const box = labelBox(lb.text, x, y, font);
+        if (inView(box) && !taken.some((o) => overlaps(o, box))) { best = { ...box, bx: x, by: y }; break; }
+      }
+      if (!best) best = { ...first, bx: lb.x, by: lb.y };            // no free spot: where it wanted to be
+      taken.push(best);
+      placed.push({ text: lb.text, x: best.x, y: best.y, w: best.w, h: best.h, ax: lb.ax, ay: lb.ay });
+      ctx.save(); ctx.font = font;
+      if (Math.hypot(best.bx - lb.x, best.by - lb.y) > 1) {           // a leader line back to its load
+        const cx = Math.min(Math.max(lb.ax, best.x), best.x + best.w);
+        const cy = Math.min(Math.max(lb.ay, best.y), best.y + best.h);
+        ctx.strokeStyle = lb.color; ctx.globalAlpha = 0.6; ctx.lineWidth = 0.8;
+        ctx.beginPath(); ctx.moveTo(lb.ax, lb.ay); ctx.lineTo(cx, cy); ctx.stroke();
+        ctx.globalAlpha = 1;
+      }
+      ctx.lineWidth = 3; ctx.strokeStyle = "rgba(255,255,255,0.85)";
+      ctx.strokeText(lb.text, best.bx, best.by);
+      ctx.fillStyle = lb.color; ctx.fillText(lb.text, best.bx, best.by);
+      ctx.restore();
+    }
+    window.linkageLabels = { labels: placed, obstacles };
   }
 
   function drawLoads(v, i) {
@@ -2391,6 +2482,8 @@
     if (!L || !state.solve || L.samples !== state.solve.t.length) return;
     ctx.save();
     ctx.strokeStyle = LOAD_COLOR; ctx.fillStyle = LOAD_COLOR; ctx.lineCap = "round";
+    const labels = [];
+    const loadLabel = (text, x, y, ax, ay) => labels.push({ text, x, y, ax, ay, color: LOAD_COLOR });
     for (const ld of L.loads) {
       if (ld.shape === "arrow") {
         const x = ld.x[i]; const y = ld.y[i]; const fx = ld.fx[i]; const fy = ld.fy[i];
@@ -2405,7 +2498,7 @@
         ctx.strokeStyle = LOAD_COLOR; ctx.lineWidth = 2.2;
         ctx.beginPath(); ctx.moveTo(p[0], p[1]); ctx.lineTo(tip[0], tip[1]); ctx.stroke();
         if (len) arrowHead(tip[0], tip[1], ang, 9);
-        loadLabel(`${ld.name} ${fmt(m, 3)} ${ld.unit}`, tip[0] + 4, tip[1] - 4);
+        loadLabel(`${ld.name} ${fmt(m, 3)} ${ld.unit}`, tip[0] + 4, tip[1] - 4, tip[0], tip[1]);
       } else if (ld.shape === "moment" || ld.shape === "pin") {
         const x = ld.x[i]; const y = ld.y[i]; const val = ld.value[i];
         if (x === null || y === null || val === null) continue;
@@ -2419,7 +2512,7 @@
         ctx.setLineDash([]);
         const ex = p[0] + r * Math.cos(a1); const ey = p[1] + r * Math.sin(a1);
         arrowHead(ex, ey, a1 + (ccw ? -Math.PI / 2 : Math.PI / 2), 8);
-        loadLabel(`${ld.name} ${fmt(val, 3)} ${ld.unit}`, p[0] + r + 4, p[1] + r + 2);
+        loadLabel(`${ld.name} ${fmt(val, 3)} ${ld.unit}`, p[0] + r + 4, p[1] + r + 2, p[0] + r * 0.7, p[1] + r * 0.7);
       } else if (ld.shape === "between") {
         const a = [v.X(ld.x1[i]), v.Y(ld.y1[i])]; const b = [v.X(ld.x2[i]), v.Y(ld.y2[i])];
         if ([...a, ...b].some((c) => !Number.isFinite(c))) continue;
@@ -2453,7 +2546,8 @@
           ctx.moveTo(...at(pst, 0)); ctx.lineTo(b[0], b[1]); ctx.stroke();
         }
         const mid = at(0.5 * len, off < 0 ? -14 : 12);
-        loadLabel(`${ld.name} ${fmt(ld.value[i], 3)} ${ld.unit}`, mid[0], mid[1]);
+        const centre = at(0.5 * len, 0);
+        loadLabel(`${ld.name} ${fmt(ld.value[i], 3)} ${ld.unit}`, mid[0], mid[1], centre[0], centre[1]);
       }
     }
     const data = state.solve;
@@ -2470,12 +2564,13 @@
         ctx.lineTo(p[0] + 13 * Math.cos(a + 0.3), p[1] + 13 * Math.sin(a + 0.3));
       }
       ctx.stroke();
-      ctx.fillStyle = "#6d4c41"; ctx.font = "10px system-ui, sans-serif";
-      ctx.textAlign = "right";
-      ctx.fillText(`μ ${fmt(f.mu, 2)}`, p[0] - 14, p[1] - 8);
-      ctx.textAlign = "left";
+      const text = `μ ${fmt(f.mu, 2)}`;
+      const font = "10px system-ui, sans-serif";
+      const w = labelBox(text, 0, 0, font).w;
+      labels.push({ text, x: p[0] - 14 - w, y: p[1] - 8, ax: p[0] - 9, ay: p[1] - 4, color: "#6d4c41", font });
     }
     ctx.restore();
+    placeLabels(labels, jointObstacles(v, i), v);
   }
 
   function describeLoad(it) {

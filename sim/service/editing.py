@@ -1,5 +1,10 @@
-"""Dragging a point on the app's drawing: the file's values that place it, changed so that it lands where
-it was dragged to (the inverse of the file's parameterisation).
+"""Editing a mechanism by its drawing (the app's direct manipulation; public API): :func:`drag` moves a point of
+the drawing and gives the file's values that place it there (the inverse of the file's parameterisation), and
+:func:`assur_groups` names the groups a drawn linkage was decomposed into.
+
+``drag(mech, text, point, target, q, locked=(), round_to=None)`` returns a :class:`Drag`: the changed
+parameter values, the file's new text where a links-and-joints ``[pose]`` changed, the input value to show,
+where the point landed, whether it reached the target, and one line for the user.
 
 A point is placed by its element (a ground entry, an input, an Assur group, a point on a link) or, in the
 links-and-joints form, by its ``[pose]`` entry. The values that can move it are the parameters its fields
@@ -237,45 +242,68 @@ def scales(mech: Mechanism, vars_: list[Variable]) -> np.ndarray:
 
 
 # ----------------------------------------------------------------------------------- the drag
+def jacobian(model: _Model, vars_: list[Variable], x: np.ndarray, p: np.ndarray, scale: np.ndarray) -> np.ndarray:
+    """d(position)/d(values) at ``x`` by forward differences (backward where the forward value cannot be
+    assembled), one placement per value."""
+    J = np.empty((2, len(x)))
+    for j in range(len(x)):
+        h = 1e-7 * scale[j]
+        xs = x.copy()
+        xs[j] += h
+        try:
+            J[:, j] = (model.place(vars_, xs) - p) / h
+        except ParameterError:
+            xs[j] -= 2 * h
+            J[:, j] = (p - model.place(vars_, xs)) / h
+    return J
+
+
 def solve_drag(model: _Model, vars_: list[Variable], x0: np.ndarray, target: np.ndarray, scale: np.ndarray,
                size: float) -> tuple[np.ndarray, np.ndarray, str | None]:
-    """Damped Gauss-Newton with least-norm steps: (values, position, why it stopped short or None)."""
+    """Damped Gauss-Newton with least-norm steps: (values, position, why it stopped short or None).
+
+    The derivatives are taken by finite differences once, then carried from step to step by Broyden's rank-one
+    update (what each step's move did to the point corrects them): a drag step moves the point a few pixels,
+    where the first derivatives stay good, so the later iterations cost one placement each instead of one
+    per value. A step the carried derivatives cannot make better takes them afresh before giving up, so the
+    answer (the point within TOLERANCE of the target, or the same limit) is the plain Gauss-Newton's."""
     x = x0.copy()
     p = model.place(vars_, x)
     why = None
     spent = model.calls
+    J = None                        # in the scaled values z = x / scale
     for _ in range(MAX_ITERATIONS):
         if model.calls - spent > MAX_CALLS:                      # creeping along a limit: stop there
             break
         r = p - target
         if np.hypot(*r) <= TOLERANCE * size:
             break
-        J = np.empty((2, len(x)))
-        for j in range(len(x)):
-            h = 1e-7 * scale[j]
-            xs = x.copy()
-            xs[j] += h
-            try:
-                J[:, j] = (model.place(vars_, xs) - p) / h
-            except ParameterError:
-                xs[j] -= 2 * h
-                J[:, j] = (p - model.place(vars_, xs)) / h
-        dz = np.linalg.lstsq(J * scale, -r, rcond=1e-10)[0]
+        fresh = J is None
+        if fresh:
+            J = jacobian(model, vars_, x, p, scale) * scale
+        dz = np.linalg.lstsq(J, -r, rcond=1e-10)[0]
         if np.linalg.norm(dz) < STEP_DONE:                     # the least miss: a limit, a lock
-            break
+            if fresh:
+                break
+            J = None
+            continue
         step = dz * scale
         t, moved, before = 1.0, False, np.hypot(*r)
         while t > 1e-4:
             try:
                 pn = model.place(vars_, x + t * step)
                 if np.hypot(*(pn - target)) < before:
+                    dzt = t * dz
+                    J = J + np.outer(pn - p - J @ dzt, dzt) / float(dzt @ dzt)     # Broyden's update
                     x, p, moved = x + t * step, pn, True
                     break
             except ParameterError as exc:
                 why = str(exc)
             t *= 0.5
         if not moved:
-            break
+            if fresh:
+                break
+            J = None                                            # stale derivatives: take them afresh
     return x, p, why
 
 
@@ -400,3 +428,56 @@ def _replace_entry(lines: list[str], section: str, name: str, xy) -> list[str]:
             lines[k] = f"{m.group(1)}{m.group(2)} = {value}{m.group(3)}"
             return lines
     raise ParameterError(f"cannot find {section}.{name} written as [x, y] on one line: edit the file by hand")
+
+
+def assur_groups(mech: Mechanism) -> list[dict]:
+    """The Assur groups ``mech`` was decomposed into, in solving order: the points each places, its links and
+    its class (``RRR``, ``RRP``, a triad, ...); inputs and ground entries are left out."""
+    out = []
+    for e, r in zip(mech.definition.order, mech.geometry.elements):
+        cls = kinds.get(e.kind).group_label(r)
+        if cls:
+            out.append({"places": list(e.places), "links": list(e.links()), "class": cls})
+    return out
+
+
+def cannot_turn_fully(mech: Mechanism) -> bool:
+    """True where a quick look already shows that ``mech``'s first input (a single crank, not rocking) cannot
+    make a full turn: a stretch of the turn that does not assemble spans two neighbouring samples of the
+    scan, so it is wider than a scan step (2 pi / 1440), far wider than the gaps at a fold that
+    :func:`sim.service.check_turns_fully` closes (1e-7 rad). False where it cannot tell: that check then
+    decides, as it does for groups solved numerically. The scan is the one the change points were found with
+    where the mechanism has one (no solve), else one solve of 3600 samples."""
+    first = mech.inputs[0]
+    if len(mech.inputs) != 1 or mech.rock is not None or not first.angular:
+        return False
+    if any(kinds.get(e["kind"]).continuous for e in mech.geometry.elements):
+        return False
+    scan = mech.turn_scan
+    if scan is not None:
+        bad = ~np.asarray(scan[1].valid).ravel()
+    else:
+        q0 = first.motion.q0
+        bad = ~np.asarray(mech.solve(np.linspace(q0, q0 + 2 * math.pi, 3601), outputs=()).valid).ravel()
+    return bool(np.any(bad[1:] & bad[:-1]))
+
+
+def plain_turn_applies(mech: Mechanism) -> bool:
+    """Whether :func:`turns_on_its_geometry` speaks for ``mech``'s kind of drive: one crank turning fully (not
+    rocking) and no group solved numerically (those trace their solution along the turn)."""
+    first = mech.inputs[0]
+    return (len(mech.inputs) == 1 and mech.rock is None and first.angular
+            and not any(kinds.get(e["kind"]).continuous for e in mech.geometry.elements))
+
+
+def turns_on_its_geometry(mech: Mechanism, samples: int = 3600) -> bool:
+    """Whether every one of ``samples`` + 1 crank angles over a turn assembles on the file's geometry as it is
+    (each group on its declared branch, no change points scheduled: the cheap look, ~1 ms, that a drag's
+    search for its limit goes by before the full check, :func:`sim.service.check_turns_fully`, confirms the
+    limit it found)."""
+    q0 = mech.inputs[0].motion.q0
+    q = np.linspace(q0, q0 + 2 * math.pi, samples + 1)[None, :]
+    zero = np.zeros_like(q)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        _, failed, _ = block(mech.geometry, q, zero, zero, set(), None, False)
+    return bool(np.all(np.asarray(failed) < 0))
