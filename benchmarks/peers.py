@@ -3,7 +3,8 @@
     python benchmarks/peers.py [--pyslvs DIR ...] [--pmks DIR ...] [--pylinkage] [--no-compare] [--json PATH]
 
 For every file in the given folders (default: the research copies under /tmp/research/examples/ where they
-exist; the examples are never part of this repository): import it as ``linkage import`` would, solve it at
+exist, as benchmarks/peers_layout.py lays them out from checkouts of Pyslvs and PMKS; the examples are never
+part of this repository): import it as ``linkage import`` would, solve it at
 the source's own input values and measure how far each source point lies from where the source draws it
 (relative to the mechanism's size; the goal is 1e-6), then run ``linkage compare`` (MuJoCo against the
 analytic solution) over a turn of the input (a slider: one second at its default speed, the mechanism's size),

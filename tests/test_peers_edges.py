@@ -36,9 +36,7 @@ def test_the_rhombus_rocker_turns_with_its_crank_through_its_folded_pose():
     so its rate and acceleration are the crank's and the coupler does not turn (the geometry, not the solver)."""
     m = mech_of("rhombus.txt", [(0, 2)])
     w, a = 2 * math.pi, 0.0
-    # (a crank speeding up is not checked here: the limit of the accelerations at any change point, folded or
-    # not, is wrong while the input accelerates -- rrr.limit_rates advances P and Q by a second-order Taylor
-    # expansion, whose O(t) acceleration error the 1/sin of the closed form turns into O(1); left for its issue)
+    # (a crank speeding up: tests/test_change_point_acceleration.py)
     for d in (1e-3, 1e-5, 1e-6, 1e-8, 1e-10, 0.0, -1e-10, -1e-8, -1e-6, -1e-5, -1e-3):
         s = m.solve(np.array([d]), w, a)
         assert s["omegarocker"][0] == pytest.approx(w, rel=RATE_TOL), d

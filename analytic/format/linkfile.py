@@ -22,7 +22,7 @@ from pathlib import Path
 from analytic import kinds, topology
 from analytic._common import FileError, ParameterError
 from analytic.format import expr, joints
-from analytic.kinds.base import GROUND, REQUIRED, Guide
+from analytic.kinds.base import GROUND, REQUIRED, SIZE_PER_SECOND, Guide
 
 FORMAT = "linkage/1"
 UNITS = {"m": 1.0, "mm": 1e-3, "cm": 1e-2, "in": 0.0254}
@@ -257,6 +257,7 @@ def _check(data: dict, source: str, default_name: str) -> Definition:
         for i, item in enumerate(items, 1):
             where = labels[len(elements)] if labels else f"{section}[{i}]"
             elements.append(_element(item, where, section, source))
+    elements = _sized_rates(elements, ground, params, source, name)
     inputs = tuple(e for e in elements if kinds.get(e.kind).section == "inputs")
     groups = tuple(e for e in elements if kinds.get(e.kind).section == "groups")
     if not elements:
@@ -420,6 +421,9 @@ def _element(item, where: str, section: str, source: str) -> Element:
         if fname not in item:
             if fld.default is REQUIRED:
                 raise _fail(source, label, f"field {fname!r} is missing")
+            if fld.default is SIZE_PER_SECOND:          # filled in by _sized_rates once every element is read
+                fields[fname] = SIZE_PER_SECOND
+                continue
             value = _default(fld.default, item)
         else:
             value = item[fname]
@@ -428,6 +432,43 @@ def _element(item, where: str, section: str, source: str) -> Element:
     if problem:
         raise _fail(source, label, problem)
     return Element(name, fields, where, tuple(kind.places(fields)))
+
+
+def _sized_rates(elements: list[Element], ground: dict, params: dict, source: str, name: str) -> list[Element]:
+    """The elements with each rate left to :data:`SIZE_PER_SECOND` given its value: the mechanism's size (as
+    :func:`analytic.solver.kinematics.size_of` measures it, in file units, at the parameters' values) per second.
+    A value that cannot be evaluated yet is left out of the size (resolving the file names it later)."""
+    if not any(v is SIZE_PER_SECOND for e in elements for v in e.fields.values()):
+        return elements
+    from types import SimpleNamespace
+    try:
+        values = parameter_values(SimpleNamespace(parameters=params, parameter_order=tuple(params), source=source,
+                                                  name=name))
+    except (FileError, ParameterError, ValueError):
+        values = {}
+
+    def num(v, kind, where):
+        q = expr.quantity(v) if isinstance(v, str) else None
+        return float(v) if isinstance(v, (int, float)) else q[0] if q else expr.evaluate(v, values)
+
+    sizes, xy = [], []
+    for x, y in ground.values():
+        try:
+            xy.append((num(x, "length", ""), num(y, "length", "")))
+        except (ValueError, TypeError):
+            pass
+    if len(xy) > 1:
+        sizes += [max(p[k] for p in xy) - min(p[k] for p in xy) for k in (0, 1)]
+    for e in elements:
+        kind = kinds.get(e.kind)
+        try:
+            sizes.append(kind.extent({f: 0.0 if v is SIZE_PER_SECOND else
+                                      resolve_field(v, kind.fields[f].type, num, "", source) for f, v in e.fields.items()}))
+        except (ValueError, TypeError, KeyError, FileError, ParameterError):
+            pass
+    size = max([s for s in sizes if math.isfinite(s)] + [1e-12])
+    return [replace(e, fields={f: kinds.get(e.kind).default_rate(size)[1] if v is SIZE_PER_SECOND else v
+                               for f, v in e.fields.items()}) for e in elements]
 
 
 def _default(default, item):

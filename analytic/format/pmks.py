@@ -2,8 +2,9 @@
 ``mech=`` URLs hold them), read into the links-and-joints form (:mod:`analytic.format.joints`).
 
 The text, as PMKS documents and reads it (read from its reader; no code taken): pieces separated by line
-breaks or ``|``; a piece with ``=`` is a setting (``mech=`` starts the joints and may hold the first one,
-``d=`` names the driving joint by its index; others are ignored); every other piece is one joint::
+breaks or ``|``; a piece with ``=`` holds settings (a URL's query: ``?set=s5&mech=...``, joined by ``&``;
+``mech=`` starts the joints and may hold the first one, ``d=`` names the driving joint by its index; others are
+ignored); every other piece is one joint::
 
     link link ... TYPE x y [angle] [flags]
 
@@ -77,21 +78,23 @@ def parse(text: str, source: str) -> tuple[list, int | None, list[bool]]:
         piece = piece.strip()
         if not piece:
             continue
-        if "=" in piece:
-            key, value = (x.strip() for x in piece.split("=", 1))
-            key = key.lower()
-            if key.endswith("mech"):
-                piece = value
-                if not piece:
+        if "=" in piece:                   # settings: a URL's query holds several, joined by '&' after its '?'
+            first = None
+            for setting in re.split(r"[?&]", piece):
+                if "=" not in setting:
                     continue
-            elif key == "d":
-                try:
-                    driver = int(value)
-                except ValueError:
-                    raise FileError(f"{source}: d={value!r} must be the driving joint's index") from None
+                key, value = (x.strip() for x in setting.split("=", 1))
+                key = key.lower()
+                if key.endswith("mech"):
+                    first = value
+                elif key == "d":
+                    try:
+                        driver = int(value)
+                    except ValueError:
+                        raise FileError(f"{source}: d={value!r} must be the driving joint's index") from None
+            if not first:
                 continue
-            else:
-                continue
+            piece = first
         words = [w for w in re.split(r"[,\s]+", piece) if w]
         t = _type_index(words)
         if t is None or t == 0:

@@ -39,6 +39,17 @@ import numpy as np
 REQUIRED = object()
 """A field with no default: the file must give it."""
 
+
+class _SizePerSecond:
+    def __repr__(self) -> str:
+        return "SIZE_PER_SECOND"
+
+
+SIZE_PER_SECOND = _SizePerSecond()
+"""The default of an input's rate that scales with the mechanism: its size (its longest link or its ground's
+spread, as :attr:`analytic.mechanism.Mechanism.size`, at the file's parameter values) per second, in file
+units to 3 digits (:meth:`Kind.default_rate`); filled in when the file is read."""
+
 GROUND = "ground"
 """The name of the frame link (the ground)."""
 

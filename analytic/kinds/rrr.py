@@ -218,7 +218,9 @@ def _through_change_points(e, st: State, flips: dict):
     apart = np.abs(c1 * s2 - s1 * c2)
     at = np.flatnonzero((apart < LIMIT_MEASURE) | (np.isnan(apart) & _on_each_other(P, Q, a, n)))
     if at.size:
-        C_, links = limit_rates(e, flips, P, Q, (q1, qd1, qdd1), C_, links, at)
+        others = [np.broadcast_to(x, (n,)) for rates in (st.qd[1:], st.qdd[1:]) for x in rates]
+        alone = np.logical_and.reduce([x == 0 for x in others]) if others else np.ones(n, bool)
+        C_, links = limit_rates(e, flips, P, Q, (q1, qd1, qdd1), C_, links, at, alone)
     return C_, links, mu
 
 
@@ -228,15 +230,26 @@ def _on_each_other(P, Q, a, n) -> np.ndarray:
     return dx * dx + dy * dy <= (1e-12 * a) ** 2
 
 
-def limit_rates(e, flips, P, Q, inputs, C_, links, at):
+def limit_rates(e, flips, P, Q, inputs, C_, links, at, alone=None):
     """The rates at samples ``at`` (at a change point) as the limit of the rates a little before and a
     little after along the motion (LIMIT_STEP): P, Q and the first input are advanced by their Taylor
-    expansions (velocity, acceleration) over times +-tau and +-2 tau, the dyad solved there on its own
+    expansions (velocity, acceleration, jerk) over times +-tau and +-2 tau, the dyad solved there on its own
     branch, and the means of the two sides extrapolated to tau = 0.
-    Where P and Q do not move relative to each other, the dyad moves with them (its links at rest)."""
+    Where P and Q do not move relative to each other, the dyad moves with them (its links at rest).
+
+    The jerk of P (and Q) is the part the input's acceleration brings, 3 P2 qd qdd (P2 = d2P/dq2 =
+    (aP - vP qdd / qd) / qd^2), where the first input moves alone (``alone``: the others at rest): without it
+    the side samples' accelerations are off by O(tau), which the closed form's 1/sin turns into an O(1) error
+    of the limit (a parallelogram's rocker read alpha = 0 at its fold while the crank accelerated). The term
+    P3 qd^3 (P3 = d3P/dq3) stays out, as before (the sample does not hold it); the limit does not depend on
+    it where P3 has no component along the aligned links (a crank's pin: P3 = -P1, normal to them there)."""
     a, b = e["lengths"]
     P_, Q_ = [np.array([np.broadcast_to(x, (len(C_[0]),))[at] for x in pt]) for pt in (P, Q)]
     q1, qd1, qdd1 = (np.asarray(x)[at] for x in inputs)
+    alone = np.ones(len(at), bool) if alone is None else np.asarray(alone)[at]
+    moves = alone & (qd1 != 0)
+    k = np.where(moves, qdd1 / np.where(moves, qd1, 1.0), 0.0)          # qdd / qd [1/s]
+    jerk = [(3 * k * (X[4] - X[2] * k), 3 * k * (X[5] - X[3] * k)) for X in (P_, Q_)]
     dx, dy = Q_[0] - P_[0], Q_[1] - P_[1]
     d = np.hypot(dx, dy)
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -246,11 +259,12 @@ def limit_rates(e, flips, P, Q, inputs, C_, links, at):
     tau = np.where(moving, LIMIT_STEP / np.where(moving, rate, 1.0), 0.0)
 
     def side(t):
-        def ahead(X):
-            return (X[0] + X[2] * t + 0.5 * X[4] * t * t, X[1] + X[3] * t + 0.5 * X[5] * t * t,
-                    X[2] + X[4] * t, X[3] + X[5] * t, X[4], X[5])
+        def ahead(X, J):
+            t2, t3 = t * t / 2, t * t * t / 6
+            return (X[0] + X[2] * t + X[4] * t2 + J[0] * t3, X[1] + X[3] * t + X[5] * t2 + J[1] * t3,
+                    X[2] + X[4] * t + J[0] * t2, X[3] + X[5] * t + J[1] * t2, X[4] + J[0] * t, X[5] + J[1] * t)
         sign = e["branch"] * signs(flips, q1 + qd1 * t + 0.5 * qdd1 * t * t)
-        C, (l1, l2), _ = rrr(ahead(P_), ahead(Q_), a, b, sign, False)
+        C, (l1, l2), _ = rrr(ahead(P_, jerk[0]), ahead(Q_, jerk[1]), a, b, sign, False)
         C = (C[0] - P_[0], C[1] - P_[1]) + C[2:]              # C relative to P: P moved along with the sides
         return list(C) + list(l1) + list(l2)
 

@@ -1,7 +1,9 @@
 """``slider``: a block driven along a ground line (an input).
 
 Fields: ``point`` (the block's pin it places), ``guide`` (a ground line), ``link`` (the block, default
-point + ``_block``) and its motion law ``s(t) = s0 + v t + a t^2 / 2``, measured from the guide's origin.
+point + ``_block``) and its motion law ``s(t) = s0 + v t + a t^2 / 2``, measured from the guide's origin; ``v``
+by default the mechanism's size per second (:data:`analytic.kinds.base.SIZE_PER_SECOND`), as in the
+links-and-joints form.
 """
 
 from __future__ import annotations
@@ -9,8 +11,8 @@ from __future__ import annotations
 import numpy as np
 
 from . import compiled as C
-from .base import (GROUND, Field, JitSpec, Kind, LinkPart, Slide, State, Structure, guide_line, guide_link, on_frame,
-                   slide_origin)
+from .base import (GROUND, SIZE_PER_SECOND, Field, JitSpec, Kind, LinkPart, Slide, State, Structure, guide_line,
+                   guide_link, on_frame, slide_origin)
 
 
 class Slider(Kind):
@@ -21,7 +23,7 @@ class Slider(Kind):
     columns = ("s", "ds", "dds")
     motion_fields = ("s0", "v", "a")
     fields = {"point": Field("new"), "guide": Field("guide"), "s0": Field("length", 0.0),
-              "v": Field("length", 0.1), "a": Field("length", 0.0), "link": Field("link", "{point}_block")}
+              "v": Field("length", SIZE_PER_SECOND), "a": Field("length", 0.0), "link": Field("link", "{point}_block")}
 
     joints_form = {"point": "point", "v": "length", "a": "length"}
     joints_summary = "a block driven along a ground guide"

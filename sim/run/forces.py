@@ -517,7 +517,10 @@ to a change point (compare's ``change_points``): there the aligned links carry a
 equations lose rank), so the force along them is not fixed by the equations, and MuJoCo's regularised
 solution and the analytic one, continuous through the change point, differ by it as 1/distance. Measured on
 a parallelogram (pylinkage's Watt example): 3e-4 of the peak at 0.3 deg, 1.6e-5 beyond 0.5 deg, 1.5e-6
-beyond 2 deg; the kinematic outputs are still judged at every sample."""
+beyond 2 deg; the kinematic outputs are still judged at every sample. Compare judges the drive forces away from
+the change points too (sim.run.compare): where the crank lies along the aligned links the self-stress turns it
+through the small lever left near them (a pylinkage parallelogram: 1.0x the drive's tolerance 0.2 deg past the
+change point, below 0.05x of it beyond 0.5 deg)."""
 
 CHECKED_STEPS = 1000
 """The most steps :func:`check` reads by default (evenly spread, both ends kept): every step of a one-turn run
