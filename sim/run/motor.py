@@ -23,6 +23,7 @@ import numpy as np
 from analytic import ParameterError
 from analytic.applications import motor as amotor
 from sim import model as M
+from sim.model.armature import set_armature
 
 SPEED_TOL = 1e-4
 """[relative] mean speed over the last revolution, MuJoCo against the reduced equation: the issue's bound;
@@ -90,7 +91,7 @@ def build(mech, loads, red, motor, w_max: float, settings=M.Settings()):
         settings = replace(settings, timestep=timestep_for(mech, red, motor, w_max))
     built = M.build(mech, settings, loads, native=True)
     d = built.drives[0]
-    built.model.dof_armature[built.model.jnt_dofadr[built.model.joint(d.joint).id]] = red.flywheel
+    set_armature(built.model, d.joint, red.flywheel)
     return built
 
 
@@ -434,7 +435,7 @@ def build_two(mech, loads, motors, run2, armature=(0.0, 0.0), settings=M.Setting
         settings = replace(settings, timestep=min(max(h, M.MIN_TIMESTEP), M.MAX_TIMESTEP))
     built = M.build(mech, settings, loads)
     for d, a in zip(built.drives, armature):
-        built.model.dof_armature[built.model.jnt_dofadr[built.model.joint(d.joint).id]] = a
+        set_armature(built.model, d.joint, a)
     return built
 
 
