@@ -270,8 +270,10 @@ def test_bevan_6_7_friction_circles_of_an_eccentric_and_crosshead(tmp_path):
     assert M1 == pytest.approx(3.06, abs=0.005)                         # printed to 0.01 ton ft
     assert M1 / M0 == pytest.approx(0.8417, abs=0.00005)                # printed 84.17 %
     # the eccentric rod is in tension along the line tangent to both friction circles (crossing between them)
-    Fx, Fy = (joint(fr, "P")[k][0] for k in ("Fx", "Fy"))
-    assert Fx < 0                                                       # the rod pulls the crosshead back
+    # the rod pulls the crosshead back with the whole pull along the frictionless guide: the book's 6 tons, in N
+    # in the JSON (SI) by the exact pound-force; this is what a wrong lbf factor would move
+    for d in (nf, fr):
+        assert joint(d, "P")["Fx"][0] == pytest.approx(-6 * 2240 * LBF, rel=1e-9)   # rounding of the solve
 
 
 # ---------------------------------------------------------------------- (e) an inch-pound engine, as printed
