@@ -274,6 +274,15 @@ def test_bevan_6_7_friction_circles_of_an_eccentric_and_crosshead(tmp_path):
     # in the JSON (SI) by the exact pound-force; this is what a wrong lbf factor would move
     for d in (nf, fr):
         assert joint(d, "P")["Fx"][0] == pytest.approx(-6 * 2240 * LBF, rel=1e-9)   # rounding of the solve
+    # each pin's friction moment (SPEC: Mf, by links[0] on links[1], also at one pose) is the friction circle's
+    # mu r |F|, against the relative rotation: the crank turns clockwise, so the ground holds it back
+    # counter-clockwise at O, and the rod (turning ~1/20 as fast) turns counter-clockwise relative to it at C
+    for name, radius_in in (("O", 7.0), ("C", 15.0), ("P", 4.4)):
+        j = joint(fr, name)
+        assert abs(j["Mf"][0]) == pytest.approx(0.05 * radius_in * INCH * math.hypot(j["Fx"][0], j["Fy"][0]),
+                                                rel=1e-9)                             # rounding
+    assert joint(fr, "O")["Mf"][0] > 0 and joint(fr, "C")["Mf"][0] < 0
+    assert "Mf" not in joint(nf, "O")
 
 
 # ---------------------------------------------------------------------- (e) an inch-pound engine, as printed
