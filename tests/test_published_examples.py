@@ -363,3 +363,92 @@ def test_bevan_12_3_steam_engine_torque_in_lbf_in(tmp_path):
     lo, hi = 6110 * 12 * om_exact / om_series, 6111 * 12 * om_exact / om_series
     assert lo <= T < hi                                                 # the book's truncated digits
     assert float(m.group(1)) == pytest.approx(T, rel=5e-5)              # the summary rounds to 5 digits
+
+
+# ---------------------------------------------------------------------------------- (d) a spring-loaded bar
+HIBBELER_18_2 = f"""\
+    format = "linkage/1"
+    name = "hibbeler_18_2"
+    units = "m"
+
+    [ground]
+    O = [0, 0]
+
+    [[inputs]]                 # the bar, 3 m, from horizontal turning (slowly) clockwise, downwards
+    kind = "crank"
+    pivot = "O"
+    point = "E"
+    length = 3
+    link = "bar"
+    phi0 = 0
+    omega = "-1deg"
+
+    [[groups]]                 # the spring's end on the bar, 2 m from the pivot
+    kind = "point"
+    point = "B"
+    on = ["O", "E"]
+    at = [2, 0]
+
+    [[groups]]                 # the roller guide that keeps the spring vertical: a yoke on a line 3 m up
+    kind = "RPP"
+    point = "Y"
+    through = "B"
+    guide = {{ through = [0, 3], angle = "0deg" }}
+    offset = 0
+    angle = "90deg"
+    links = ["block", "yoke"]
+
+    [inertia]                  # the 10 kg bar, its centre of mass 1.5 m out; the guide's parts massless
+    bar = {{ m = 10, I = 7.5, cx = 1.5, cy = 0 }}
+    block = {MASSLESS}
+    yoke = {MASSLESS}
+
+    [[loads]]                  # k = 30 N/m, stretched 0.25 m when the bar is horizontal (length 3 m there)
+    name = "spring"
+    kind = "spring"
+    between = [["yoke", "Y"], ["bar", "B"]]
+    stiffness = 30
+    free_length = 2.75
+
+    [[loads]]                  # P = 80 N at the end, always square to the bar
+    name = "P"
+    kind = "force"
+    link = "bar"
+    point = "E"
+    frame = "link"
+    direction = [0, -1]
+    magnitude = 80
+
+    [[loads]]                  # the couple M = 50 N m, turning the bar the way it goes
+    name = "M"
+    kind = "torque"
+    link = "bar"
+    magnitude = -50
+    """
+
+
+def test_hibbeler_18_2_work_on_a_spring_loaded_bar(tmp_path):
+    """R. C. Hibbeler, *Engineering Mechanics: Statics and Dynamics*, Example 18.2 (p. 772): the total work
+    done on a 10 kg bar turning down through 90 deg about its pivot by its weight, a couple M = 50 N m, a force
+    P = 80 N square to its end and a spring k = 30 N/m. Printed (FOSSEE companion, folder
+    ``Engineering_Mechanics_Statics_and_Dynamics_by_Hibbeler_and_Gupta``, Chapter_18_..._Work_and_Energy.ipynb):
+    U = 527.6 J, from U_W = 98.1 x 1.5, U_M = 50 pi / 2, U_s = -(30 x 2.25^2 / 2 - 30 x 0.25^2 / 2) and
+    U_P = 80 x 4.712. The companion prints the works, not the figure; the mechanism is the one those works
+    describe: the centre of mass 1.5 m from the pivot (its drop), P at 3 m (its arc 4.712 m over 90 deg), the
+    spring kept vertical by a roller guide (here a yoke sliding on a line 3 m above the pivot) on the bar 2 m
+    out, stretched from 0.25 m to 2.25 m.
+
+    Compared: `forces --gravity 0,-9.81` at 1 deg/s over 3601 samples; the loads' work over the quarter turn
+    is minus the drive's, the integral of the drive torque over the first 90 deg (kinetic energy at 1 deg/s:
+    below 1e-3 J). Tolerance: half the printed 0.1 J, plus the book's arc 4.712 for 3 pi / 2 (0.031 J less
+    than exact), plus the trapezoid rule's error at 0.1 deg steps (below 1e-4 J)."""
+    path = write(tmp_path, "bar.toml", HIBBELER_18_2)
+    d = cli_json("forces", path, "--gravity", "0,-9.81", "--samples", "3601")
+    phi, T = np.array(d["inputs"]["phibar"]), np.array(d["drives"]["phibar"])
+    quarter = phi >= -math.pi / 2 - 1e-9
+    assert np.count_nonzero(quarter) == 901
+    U = -np.trapezoid(T[quarter], phi[quarter])
+    assert U == pytest.approx(527.6, abs=0.05 + 80 * abs(4.712 - 1.5 * math.pi) + 1e-4)
+    # over the whole turn the spring and the weight give back what they took (SPEC's per-cycle works)
+    work = {ld["name"]: ld["work_per_cycle"] for ld in d["loads"]}
+    assert abs(work["spring"]) < 1e-9 and abs(work["gravity"]) < 1e-9                # rounding
