@@ -2,13 +2,15 @@
 file in the book's units, runs our command and compares with the numbers the worked solution prints.
 
 Sources. The textbooks' solutions are read from the FOSSEE Python Textbook Companions (IIT Bombay), which
-work each example of the book in a notebook and print its answers:
-github.com/FOSSEE/Python-Textbook-Companions, folders
-``Theory_Of_Machines_by_R._S._Khurmi_And_J._K._Gupta`` (R. S. Khurmi and J. K. Gupta, *Theory of Machines*,
-S. Chand) and ``The_Theory_of_Machines_by_T._Bevan`` (T. Bevan, *The Theory of Machines*, 3rd ed., CBS/
-Longman). The printed numbers quoted below are the notebooks' outputs; every tolerance is the half unit of
-the last printed digit (or the truncation the notebook applies), widened only where the book's own method is
-an approximation our exact kinematics does not make -- that approximation is then computed here from the
+work each example of a book in a notebook and print its answers: github.com/FOSSEE/Python-Textbook-Companions
+(read at commit d34b2ae7; see each test for the notebook), folders
+``Theory_Of_Machines_by_R._S._Khurmi_And_J._K._Gupta`` (R. S. Khurmi and J. K. Gupta, *Theory of Machines*),
+``The_Theory_of_Machines_by_T._Bevan`` (T. Bevan, *The Theory of Machines*) and
+``Engineering_Mechanics_Statics_and_Dynamics_by_Hibbeler_and_Gupta`` (R. C. Hibbeler, *Engineering
+Mechanics: Statics and Dynamics*). Example numbers and pages are the notebooks' headings. The printed numbers
+quoted below are the notebooks' outputs; every tolerance is the half unit of the last printed digit (or the
+truncation the notebook applies), widened only where the book's own method is an approximation our exact
+kinematics does not make, or rounds an intermediate value -- that share is then computed here from the
 geometry (not by the code under test) and named.
 """
 

@@ -333,8 +333,13 @@ def dynamics(mech, loads, motor, flywheel: float | None = 0.0, target: float | N
         raise ParameterError(f"--target-fluctuation {target!r} must be a number in (0, 1) (e.g. 0.02)")
     if flywheel is not None and not (math.isfinite(flywheel) and flywheel >= 0):
         raise ParameterError(f"--flywheel {flywheel!r} must be a finite number >= 0 [kg m^2]")
-    if not flywheel and target is None:
-        check_inertia(mech, loads)
+    if not flywheel:                          # sizing starts from the bare linkage: the same singular equation
+        try:
+            check_inertia(mech, loads)
+        except ParameterError as exc:
+            if target is None:
+                raise
+            raise ParameterError(f"--target-fluctuation sizes the flywheel from the bare linkage, but {exc}") from None
     make, _ = reduced_for(mech, loads)
     J = flywheel or 0.0
     if target is not None:
