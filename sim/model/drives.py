@@ -13,6 +13,7 @@ from dataclasses import dataclass, replace
 import mujoco
 import numpy as np
 
+from sim.model.armature import set_armature
 from sim.model.inertia import body_inertias
 
 DRIVE_ERROR_BUDGET = 1e-6
@@ -91,7 +92,7 @@ def size_drives(model, mech, drives, loads, h, extra=None, cycle=None) -> list[D
         a = model.actuator(d.actuator)
         a.gainprm[0] = kp
         a.biasprm[:3] = [0.0, -kp, -kv]
-        model.dof_armature[model.jnt_dofadr[model.joint(d.joint).id]] = J
+        set_armature(model, d.joint, J)
         out.append(replace(d, kp=kp, kv=kv, armature=J))
     return out
 

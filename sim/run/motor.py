@@ -24,6 +24,7 @@ from analytic import ParameterError
 from analytic.applications import motor as amotor
 from analytic.cycle import Cycle
 from sim import model as M
+from sim.model.armature import set_armature
 
 SPEED_TOL = 1e-4
 """[relative] mean speed over the last revolution, MuJoCo against the reduced equation: the issue's bound;
@@ -94,7 +95,7 @@ def build(mech, loads, red, motor, w_max: float, settings=M.Settings(), cycle=No
         settings = replace(settings, timestep=timestep_for(mech, red, motor, w_max, cycle))
     built = M.build(mech, settings, loads, native=True, cycle=cycle)
     d = built.drives[0]
-    built.model.dof_armature[built.model.jnt_dofadr[built.model.joint(d.joint).id]] = red.flywheel
+    set_armature(built.model, d.joint, red.flywheel)
     return built
 
 
@@ -348,8 +349,13 @@ def dynamics(mech, loads, motor, flywheel: float | None = 0.0, target: float | N
         raise ParameterError(f"--target-fluctuation {target!r} must be a number in (0, 1) (e.g. 0.02)")
     if flywheel is not None and not (math.isfinite(flywheel) and flywheel >= 0):
         raise ParameterError(f"--flywheel {flywheel!r} must be a finite number >= 0 [kg m^2]")
-    if not flywheel and target is None:
-        check_inertia(mech, loads)
+    if not flywheel:                          # sizing starts from the bare linkage: the same singular equation
+        try:
+            check_inertia(mech, loads)
+        except ParameterError as exc:
+            if target is None:
+                raise
+            raise ParameterError(f"--target-fluctuation sizes the flywheel from the bare linkage, but {exc}") from None
     if cycle is None:
         cycle = Cycle.of(mech, 1.0)
     make, _ = reduced_for(mech, loads, cycle=cycle)
@@ -452,7 +458,7 @@ def build_two(mech, loads, motors, run2, armature=(0.0, 0.0), settings=M.Setting
         settings = replace(settings, timestep=min(max(h, M.MIN_TIMESTEP), M.MAX_TIMESTEP))
     built = M.build(mech, settings, loads)
     for d, a in zip(built.drives, armature):
-        built.model.dof_armature[built.model.jnt_dofadr[built.model.joint(d.joint).id]] = a
+        set_armature(built.model, d.joint, a)
     return built
 
 

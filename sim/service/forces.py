@@ -209,9 +209,8 @@ def forces_record(run: ForceRun, display=None) -> dict:
                         "drives": {inp.q: inp.spec.drive_unit for inp in mech.inputs}}}
     if run.balance is not None:
         record["balance"] = balance_record(run, display)
-    if run.energy is not None:
-        from sim.service import loads as L
-        L.add_to_record(record, run, display)
+    from sim.service import loads as L
+    L.add_to_record(record, run, display)          # friction's Mf at one pose (--at) too; energy per cycle
     if display.unit(Q.FORCE) != "N":
         _force_units(record, mech, display)
     return record
