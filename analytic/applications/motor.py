@@ -34,13 +34,16 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
-from scipy.integrate import OdeSolution, solve_ivp
 
 from analytic._common import ParameterError
 from analytic.applications.torque import _com
 from analytic.periodic import Trig as _Trig
+
+if TYPE_CHECKING:   # scipy.integrate is imported by the functions that integrate: loading it costs ~0.6 s of CPU
+    from scipy.integrate import OdeSolution     # and ~40 MB, and the app imports this module at its start
 
 __all__ = ["LinearMotor", "TableMotor", "Coast", "Reduced", "Run", "Run2", "Stall", "reduce", "run", "steady_cycle",
            "size_flywheel", "mass_matrix", "run_two", "STARTUP_FRACTION"]
@@ -403,6 +406,7 @@ def run(red: Reduced, motor, revolutions: float, start_speed: float = 0.0, rtol:
         samples_per_rev: int = 360) -> Run:
     """Integrate the reduced equation from advance 0 at ``start_speed`` [rad/s, >= 0] for ``revolutions``
     turns (>= 1) of the input. Raises :class:`Stall` when the speed falls to zero."""
+    from scipy.integrate import OdeSolution, solve_ivp
     if not (isinstance(revolutions, (int, float)) and math.isfinite(revolutions) and 1 <= revolutions <= 1e5):
         raise ParameterError(f"--revolutions {revolutions!r} must be a number in [1, 1e5] (the last full "
                              f"revolution is the one measured)")
@@ -614,6 +618,7 @@ def run_two(mech, inertias: dict, motors, revolutions: float, start_speed=(0.0, 
     """Integrate M(u) w' + h(u, w) = tau(w) + Q(u) for two motors on the two inputs of ``mech`` until
     the first input has turned ``revolutions`` (>= 1). Raises :class:`Stall` if either speed falls to 0
     after the start (``stall=False``: a speed may pass through zero, e.g. coasting)."""
+    from scipy.integrate import solve_ivp
     if len(mech.inputs) != 2 or any(not i.angular for i in mech.inputs):
         raise ParameterError(f"the {mech.name} is not driven by two cranks; give one --motor")
     if not (isinstance(revolutions, (int, float)) and math.isfinite(revolutions) and 1 <= revolutions <= 1e4):
