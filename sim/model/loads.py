@@ -137,24 +137,37 @@ class DriveLoads:
     peak_force: float
 
 
+SIZING_SAMPLES = 360
+"""Samples per turn at which the loads' share of the drives is evaluated to size the servos (as before the
+cycle was handed down: 361 per turn); interpolated to the cycle's other samples."""
+
+
 def drive_loads(built, revolutions: float = 1.0, cycle=None) -> DriveLoads:
     """What the drives must add to hold the commanded motion against the loads: minus the loads' generalized
-    forces (virtual work, analytic.loads.kinetostatics.generalized), at the samples of the run's ``cycle``
-    (made here when None), where size_drives reads the drive forces: its poses and velocity coefficients."""
-    from analytic.cycle import Cycle
+    forces (virtual work, analytic.loads.kinetostatics.generalized) at the samples of the run's ``cycle``
+    (made here when None), where size_drives reads the drive forces. They are evaluated at SIZING_SAMPLES of
+    the cycle's evenly spaced samples per turn (t = 0 among them: the servos' start) and interpolated to the
+    rest: they only size the servos' gains (a peak) and their start, and friction's reactions cost a fixed
+    point at every sample they are evaluated at."""
+    from analytic.cycle import Cycle, take
     from analytic.loads.kinetostatics import full_wanted, generalized
     mech = built.mech
     cycle = cycle if cycle is not None else Cycle.of(mech, revolutions)
-    t, q = cycle.t, cycle.q
-    sol = {k: np.asarray(cycle.solution[k]) for k in full_wanted(mech)}
-    apps, state, _, _ = applications(built, t, q, cycle.qd, cycle.qdd, sol)
-    Q = generalized(mech, q, state, apps, cycle.coefficients)
+    dense = cycle.dense
+    stride = max(1, int(np.ceil((len(dense) - 1) / (SIZING_SAMPLES * max(1.0, cycle.revolutions)))))
+    rows = np.unique(np.r_[dense[::stride], dense[-1:]])
+    t, q = cycle.t[rows], cycle.q[rows]
+    sol = {k: np.asarray(cycle.solution[k])[rows] for k in full_wanted(mech)}
+    coefficients = tuple(take(c, rows) for c in cycle.coefficients)
+    apps, state, _, _ = applications(built, t, q, cycle.qd[rows], cycle.qdd[rows], sol)
+    Q = generalized(mech, q, state, apps, coefficients)
     peak = np.zeros(len(t))
     size = mech.size
     for a in apps:
         if a.link != GROUND:
             peak = peak + np.hypot(a.fx, a.fy) + np.abs(np.broadcast_to(a.couple, (len(t),))) / size
-    return DriveLoads({k: -v for k, v in Q.items()}, float(np.max(peak)) if len(t) else 0.0)
+    tau = {k: -np.interp(cycle.t, t, np.asarray(v, dtype=float)) for k, v in Q.items()}
+    return DriveLoads(tau, float(np.max(peak)) if len(t) else 0.0)
 
 
 def drive_share(built, t, inputs, solved=None) -> dict:
