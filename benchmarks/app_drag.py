@@ -97,6 +97,15 @@ FLOOR = """async (n) => { const out = [];
 """The round trip of a request the server answers at once (~0.2 ms of its CPU), on the page's keep-alive
 connection: the part of every step's request that is the browser's and the loopback's, not the work."""
 
+SOCKET_FLOOR = """async (n) => { const s = window.linkageSocket, out = [];
+  if (!s || !s.ws || s.ws.readyState !== 1) return null;
+  for (let i = 0; i < n; i++) { const t0 = performance.now(), id = s.next++;
+    await new Promise((ok) => { s.waiting.set(id, { resolve: ok, reject: ok, retry: ok });
+                                s.ws.send(JSON.stringify({ id, path: "/none", body: {} })); });
+    out.push(performance.now() - t0); await new Promise((ok) => setTimeout(ok, 16)); }
+  out.sort((a, b) => a - b); return out[n >> 1]; }"""
+"""The same over the page's WebSocket (opened by the drags): a message the server refuses at once."""
+
 
 def server_cpu(parts: list[dict]) -> float:
     """Median CPU time [ms] of the server's work for the same drag requests (/api/drag and the JSON of its
@@ -141,10 +150,14 @@ def main() -> int:
             cpus.append(cpu)
             print(f"{name:20s} {point:6s} {statistics.median(totals):8.1f} {percentile(totals, 0.95):8.1f} "
                   f"{req:8.1f} {draw:8.1f} {frame:8.1f} {cpu:10.1f}", flush=True)
+        sfloor = page.evaluate(SOCKET_FLOOR, 40)
+        sockets = sum(bool(p.get("socket")) for p in parts)
         print(f"{'all':20s} {'':6s} {statistics.median(every):8.1f} {percentile(every, 0.95):8.1f}   "
               f"({len(every)} steps; target 16 ms median, 33 ms p95); server CPU per step: median over the "
               f"mechanisms {statistics.median(cpus):.1f} ms, at most {max(cpus):.1f}; an empty request's round "
-              f"trip {floor:.1f} ms (median)")
+              f"trip {floor:.1f} ms by fetch, "
+              f"{'-' if sfloor is None else f'{sfloor:.1f}'} ms over the WebSocket (median); the last mechanism's "
+              f"steps over the WebSocket: {sockets} of {len(parts)}")
         if args.screenshot:
             page.screenshot(path=args.screenshot)
         browser.close()

@@ -725,7 +725,31 @@ class Handler(BaseHTTPRequestHandler):
     stopping = False
 
     def do_GET(self) -> None:
-        self._answer(self._get)
+        if self.path.split("?", 1)[0] == "/api/socket":
+            self._socket()
+        else:
+            self._answer(self._get)
+
+    def _socket(self) -> None:
+        """GET /api/socket: a WebSocket (:mod:`sim.front.websocket`) for drag steps, from this page only; each
+        text message ``{"id", "path": "/api/drag" or "/api/solve", "body"}`` is answered
+        ``{"id", "status", "answer"}`` (or ``"error"``), as the POST of that path would."""
+        from sim.front import websocket as ws
+        try:
+            self._check_origin()
+            problem = ws.upgrade_problem(self.headers, self.server.origins)
+            if problem:
+                raise RequestError(403 if "origin" in problem else 400, problem)
+        except RequestError as exc:
+            self._send(exc.status, _json_bytes({"error": _first_line(str(exc))}), "application/json", close=True)
+            return
+        self.send_response(101)
+        self.send_header("Upgrade", "websocket")
+        self.send_header("Connection", "Upgrade")
+        self.send_header("Sec-WebSocket-Accept", ws.accept_key(self.headers["Sec-WebSocket-Key"]))
+        self.end_headers()
+        self.close_connection = True
+        ws.serve(self.rfile, self.wfile, lambda text: socket_answer(text, self.server.mechanisms), MAX_BODY)
 
     def do_POST(self) -> None:
         self._answer(self._post)
@@ -973,6 +997,35 @@ ACTIONS = {"/api/draw": draw, "/api/drag": drag, "/api/forces": forces, "/api/dy
 POSTS = {"/api/solve", "/api/simulate", "/api/render", "/api/exit", "/api/synthesize", "/api/synthesize/status",
          "/api/synthesize/cancel", *ACTIONS,
          *(f"/api/export/{k}" for k in ("csv", "json", "toml", "mjcf", *PARTS_EXPORTS))}
+
+
+SOCKET_ACTIONS = {"/api/drag": drag, "/api/solve": solve}
+"""What the page's WebSocket answers (:meth:`Handler._socket`): the requests a drag repeats."""
+
+
+def socket_answer(text: str, cache: Mechanisms | None = None) -> bytes:
+    """One WebSocket message's answer: the JSON its POST would answer, or its one-line error, with its id."""
+    ident = None
+    try:
+        message = parse_json(text.encode("utf-8"))
+        ident = message.get("id")
+        if not isinstance(ident, int) or isinstance(ident, bool):
+            raise RequestError(400, "id must be an integer")
+        action = SOCKET_ACTIONS.get(message.get("path"))
+        if action is None:
+            raise RequestError(404, f"path must be one of {', '.join(SOCKET_ACTIONS)}")
+        body = message.get("body")
+        if not isinstance(body, dict):
+            raise RequestError(400, "body must be a JSON object")
+        data = _json_bytes(action(body, cache))
+        return b'{"id":%d,"status":200,"answer":%s}' % (ident, data)
+    except RequestError as exc:
+        status, error = exc.status, _first_line(str(exc))
+    except MemoryError:
+        status, error = 400, "out of memory: lower the samples or revolutions"
+    except Exception as exc:                  # ParameterError, and any failure to compute: the page's message
+        status, error = 400, _first_line(str(exc)) or type(exc).__name__
+    return _json_bytes({"id": ident if isinstance(ident, int) else None, "status": status, "error": error})
 
 
 def _json_bytes(obj) -> bytes:
