@@ -142,3 +142,32 @@ def test_unmasked_frame_closes_with_protocol_error(server):
         s.sendall(RFC_UNMASKED_HELLO)
         op, data = _read_server_frame(s)
         assert op == ws.CLOSE and struct.unpack("!H", data[:2])[0] == ws.PROTOCOL_ERROR
+
+
+def test_packed_arrays_are_exact_float64():
+    import base64
+    from sim.front.requests import packed
+    a = np.array([0.1, -2.5e-300, np.pi, np.nan, 1e300])
+    got = np.frombuffer(base64.b64decode(packed(a)["f64"]), dtype="<f8")
+    np.testing.assert_array_equal(got, a)             # bit for bit: nothing rounded, NaN kept as the gap
+    assert np.frombuffer(base64.b64decode(packed(np.float64(2.0), 3)["f64"]), "<f8").tolist() == [2.0, 2.0, 2.0]
+
+
+def test_solve_with_packed_arrays_holds_the_listed_values():
+    import base64
+    from sim.front import app
+    body = {"mechanism": "fourbar", "samples": 37, "figures": False}
+    listed = app.solve(body)
+    packed = app.solve({**body, "arrays": "f64"})
+
+    def un(v):
+        return np.frombuffer(base64.b64decode(v["f64"]), "<f8")
+    np.testing.assert_array_equal(un(packed["t"]), np.array(listed["t"], float))
+    assert packed["outputs"].keys() == listed["outputs"].keys() and packed["points"].keys() == listed["points"].keys()
+    for k, v in listed["outputs"].items():
+        np.testing.assert_array_equal(un(packed["outputs"][k]), np.array(v, float))
+    for p, xy in listed["points"].items():
+        for c in "xy":
+            np.testing.assert_array_equal(un(packed["points"][p][c]), np.array(xy[c], float))
+    with pytest.raises(app.RequestError):
+        app.solve({**body, "arrays": "f32"})

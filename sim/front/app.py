@@ -36,7 +36,7 @@ from sim import service
 from sim.service import dynamics as sdyn, path_targets, simulation, viewing
 from sim.front import loads_panel
 from sim.front.requests import (MAX_REVOLUTIONS, MAX_SAMPLES, Mechanisms, RequestError, _short,  # noqa: F401
-                                input_range_of, mechanism_of, number, run_options, series)
+                                input_range_of, mechanism_of, number, packed, run_options, series)
 from sim.output.jsonout import clean
 from sim.output.units import output_kind
 
@@ -96,7 +96,8 @@ SECURITY_HEADERS = {
 
 LOAD_FIELDS = {"gravity", "force", "cutting"}
 FIELDS = {
-    "solve": {"mechanism", "text", "set", "samples", "revolutions", "input_range", "outputs", "figures", "digits"},
+    "solve": {"mechanism", "text", "set", "samples", "revolutions", "input_range", "outputs", "figures", "digits",
+              "arrays"},
     "simulate": {"mechanism", "text", "set", "revolutions", "input_range", "outputs"},
     "render": {"mechanism", "text", "set", "revolutions", "input_range", "size", "fps"},
     "export": {"mechanism", "text", "set", "samples", "revolutions", "input_range"},
@@ -109,7 +110,7 @@ FIELDS = {
     "synthesize": {"targets", "type", "closed", "budget", "unit"},
     "draw": {"drawing"},
     "drag": {"mechanism", "text", "set", "samples", "revolutions", "input_range", "outputs", "figures", "digits",
-             "point", "target", "input", "locked", "round"},
+             "arrays", "point", "target", "input", "locked", "round"},
 }
 """The fields each POST accepts; any other is refused, so a misspelt field is never silently ignored."""
 
@@ -191,6 +192,10 @@ def solve(body: dict, cache: Mechanisms | None = None) -> dict:
     if not isinstance(figures, bool):
         raise RequestError(400, "figures must be true or false")
     digits = int(number(body, "digits", 15, 3, 15, integer=True)) if "digits" in body else None
+    if body.get("arrays", "lists") not in ("lists", "f64"):
+        raise RequestError(400, "arrays must be \"lists\" (JSON numbers) or \"f64\" (base64 float64, exact)")
+    ser = (lambda v, m=None: packed(v, m)) if body.get("arrays") == "f64" else \
+        (lambda v, m=None: series(v, m, digits))
     mech = mechanism_of(body, cache)
     names = outputs_of(body, mech)
     run = analysis(mech, body, figures)
@@ -201,10 +206,11 @@ def solve(body: dict, cache: Mechanisms | None = None) -> dict:
         "input_range": list(run.input_range) if run.input_range else None,
         "describe": describe(mech), "parameters": clean(mech.parameters),
         "input": mech.inputs[0].q, "units": units(mech, body.get("text") or body["mechanism"]),
-        "t": series(a.t), "inputs": {k: series(v, n, digits) for k, v in a.inputs.items()},
-        "outputs": {k: series(sol[k], n, digits) for k in names},
-        "points": point_paths(mech, sol, n, digits=digits),
-        "angles": {ln: series(sol["phi" + ln], n, digits) for ln in mech.slides if "phi" + ln in sol},
+        "t": series(a.t) if body.get("arrays") != "f64" else packed(a.t),
+        "inputs": {k: ser(v, n) for k, v in a.inputs.items()},
+        "outputs": {k: ser(sol[k], n) for k in names},
+        "points": {p: {c: ser(np.broadcast_to(sol[c + p], (n,))) for c in "xy"} for p in mech.points},
+        "angles": {ln: ser(sol["phi" + ln], n) for ln in mech.slides if "phi" + ln in sol},
         "figures": clean(a.figures) if figures else None,
         "summary": viewing.figures_summary(mech, a.figures) if figures else None,
     }

@@ -5,6 +5,7 @@ server that imports them."""
 
 from __future__ import annotations
 
+import base64
 import collections
 import math
 import threading
@@ -125,6 +126,15 @@ def series(a, n: int | None = None, digits: int | None = None) -> list:
     if finite.all():
         return a.tolist()
     return [v if ok else None for v, ok in zip(a.tolist(), finite.tolist())]
+
+
+def packed(a, n: int | None = None) -> dict:
+    """An array as ``{"f64": base64}``: its float64 values, little-endian, exact (NaN where a value is not
+    finite, which the page reads as a gap). ~100 times cheaper to encode than the numbers' text, and ~10.7
+    characters a value where the text takes up to 24: what a drag step asks for (``"arrays": "f64"``)."""
+    a = np.asarray(a, dtype="<f8")
+    a = np.broadcast_to(a, (n,)) if n is not None and a.ndim == 0 else a.ravel()
+    return {"f64": base64.b64encode(np.ascontiguousarray(a).tobytes()).decode("ascii")}
 
 
 def _short(v) -> str:
