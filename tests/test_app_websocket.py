@@ -66,7 +66,7 @@ def test_fragments_joined_and_ping_answered():
 
 def _handshake(srv, origin: str | None, key: str = RFC_KEY) -> tuple[socket.socket, bytes]:
     s = socket.create_connection(("127.0.0.1", srv.port), timeout=10)
-    lines = [f"GET /api/socket HTTP/1.1", f"Host: 127.0.0.1:{srv.port}", "Upgrade: websocket",
+    lines = ["GET /api/socket HTTP/1.1", f"Host: 127.0.0.1:{srv.port}", "Upgrade: websocket",
              "Connection: Upgrade", f"Sec-WebSocket-Key: {key}", "Sec-WebSocket-Version: 13"]
     if origin is not None:
         lines.append(f"Origin: {origin}")
