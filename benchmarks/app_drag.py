@@ -139,17 +139,19 @@ def main() -> int:
         page.wait_for_function("window.linkageState && window.linkageState.figures")
         floor = page.evaluate(FLOOR, 40)
         print(f"{'mechanism':20s} {'point':6s} {'median':>8s} {'p95':>8s} {'request':>8s} {'drawing':>8s} "
-              f"{'frame':>8s} {'server CPU':>10s}  [ms]")
+              f"{'frame':>8s} {'other':>8s} {'server CPU':>10s}  [ms]")
         for name in args.mechanisms.split(","):
             point, totals, parts = measure(page, name, args.steps)
             every += totals
             req = statistics.median(p.get("request_ms", float("nan")) for p in parts)
             draw = statistics.median(p.get("draw_ms", float("nan")) for p in parts)
             frame = statistics.median(p.get("frame_ms", float("nan")) for p in parts)
+            other = statistics.median(t - p.get("request_ms", 0) - p.get("draw_ms", 0) - p.get("frame_ms", 0)
+                                      for t, p in zip(totals, parts))
             cpu = server_cpu(parts)
             cpus.append(cpu)
             print(f"{name:20s} {point:6s} {statistics.median(totals):8.1f} {percentile(totals, 0.95):8.1f} "
-                  f"{req:8.1f} {draw:8.1f} {frame:8.1f} {cpu:10.1f}", flush=True)
+                  f"{req:8.1f} {draw:8.1f} {frame:8.1f} {other:8.1f} {cpu:10.1f}", flush=True)
         sfloor = page.evaluate(SOCKET_FLOOR, 40)
         sockets = sum(bool(p.get("socket")) for p in parts)
         print(f"{'all':20s} {'':6s} {statistics.median(every):8.1f} {percentile(every, 0.95):8.1f}   "

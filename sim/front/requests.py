@@ -55,6 +55,12 @@ class Mechanisms:
         self._items: collections.OrderedDict = collections.OrderedDict()
         self._lock = threading.Lock()
 
+    def holds(self, key) -> bool:
+        """Whether ``key``, or a key of the same library name (the name is then known), is held."""
+        with self._lock:
+            return key in self._items or (key[1] is None and any(k[0] == key[0] and k[1] is None
+                                                                   for k in self._items))
+
     def get(self, key, make):
         with self._lock:
             if key in self._items:
@@ -87,9 +93,9 @@ def mechanism_of(body: dict, cache: Mechanisms | None = None) -> Mechanism:
     name = body.get("mechanism")
     if not isinstance(name, str):
         raise RequestError(400, "mechanism must be a name (GET /api/mechanisms lists them) or give text")
-    if name not in analytic.names():
-        raise RequestError(404, f"unknown mechanism {_short(name)}; known: {', '.join(analytic.names())}")
     key = (name, None, tuple(sorted(values.items())))
+    if not (cache and cache.holds(key)) and name not in analytic.names():   # names() lists a folder: ~0.4 ms
+        raise RequestError(404, f"unknown mechanism {_short(name)}; known: {', '.join(analytic.names())}")
     return cache.get(key, lambda: service.load(name, values)) if cache else service.load(name, values)
 
 
