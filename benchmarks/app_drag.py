@@ -1,10 +1,12 @@
 """Drag-step latency of ``linkage app`` in a real browser (Playwright + /usr/bin/chromium): a joint of each
 library mechanism dragged round a small circle; each step is a pointer move on the canvas -> /api/drag (the
 file's values inverted and solved on the server) -> the redraw of the animation, curves and figures -> the
-next animation frame. Prints per mechanism the median and the 95th percentile, with the request's, the
-drawing's and the wait for the next frame's shares of the median and the server's CPU time for the same
-requests replayed in one thread (the part of a step that does not depend on how loaded the machine is), then
-the same over all steps and an empty request's round trip (the transport's own share of every request)::
+next animation frame. Prints per mechanism the median and the 95th percentile, with the medians of the
+request's, the drawing's, the wait for the next frame's and the rest's (the pointer event to the request,
+the page's bookkeeping) shares of a step and the server's CPU time for the same requests replayed in one
+thread (the part of a step that does not depend on how loaded the machine is), then the same over all steps
+and an empty request's round trip by fetch and over the page's WebSocket (the transport's own share of every
+request; the drag steps go over the WebSocket once it is open)::
 
     python benchmarks/app_drag.py [--mechanisms fourbar,jansen] [--steps 30] [--screenshot PNG]
 

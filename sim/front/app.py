@@ -945,25 +945,39 @@ def drag_limit(mech: Mechanism, body: dict, solve_body: dict, values: dict, cach
     if not values or any(mech.definition.parameter_kind.get(k) == "branch" for k in values):
         return None
     old = mech.values
+    trials = Mechanisms(2 * LIMIT_STEPS + 2)        # both halvings often try the same values: built once
 
     def trial(f: float) -> dict:
         return {**solve_body, "set": {**body.get("set", {}), **{k: old[k] + f * (v - old[k]) for k, v in values.items()}}}
 
     def runs(b: dict, m=None) -> bool:
         try:
-            m = m or mechanism_of(b, cache)
+            m = m or mechanism_of(b, trials)
             analysis(m, b, figures=False)
             return True
         except (ParameterError, RequestError, ValueError):
             return False
 
+    def full(b: dict) -> bool:
+        try:
+            m = mechanism_of(b, trials)
+            # a stretch of the turn that plainly does not assemble: refused without the full check's refinement
+            return not (input_range_of(b, m) is None and dragging.cannot_turn_fully(m)) and runs(b, m)
+        except (ParameterError, RequestError, ValueError):
+            return False
+
+    # the smallest step the halvings could take fails: the point is at the limit already (a drag pressing on
+    # it, the common case there: one trial instead of 2 * LIMIT_STEPS), and the way is not taken past a stretch
+    # that does not run to values beyond it that would
+    if not full(trial(0.5 ** LIMIT_STEPS)):
+        return None
     best = None
     if input_range_of(body, mech) is None and dragging.plain_turn_applies(mech):
         lo, hi = 0.0, 1.0
         for _ in range(LIMIT_STEPS):
             mid = 0.5 * (lo + hi)
             try:
-                ok = dragging.turns_on_its_geometry(mechanism_of(trial(mid)))
+                ok = dragging.turns_on_its_geometry(mechanism_of(trial(mid), trials))
             except (ParameterError, RequestError, ValueError):
                 ok = False
             lo, hi = (mid, hi) if ok else (lo, mid)
@@ -974,13 +988,7 @@ def drag_limit(mech: Mechanism, body: dict, solve_body: dict, values: dict, cach
         for _ in range(LIMIT_STEPS):                # the analysis alone decides; the answer is solved once
             mid = 0.5 * (lo + hi)
             b = trial(mid)
-            try:
-                m = mechanism_of(b)
-                # a stretch of the turn that plainly does not assemble: refused without the full check's refinement
-                ok = not (input_range_of(b, m) is None and dragging.cannot_turn_fully(m)) and runs(b, m)
-            except (ParameterError, RequestError, ValueError):
-                ok = False
-            if ok:
+            if full(b):
                 best, lo = b, mid
             else:
                 hi = mid
