@@ -198,7 +198,7 @@
   }
 
   // ------------------------------------------------------------------------------------ redraw
-  function applySolve(data, version, full, bump = true) {
+  function applySolve(data, version, full, bump = true, draw = true) {
     state.applied = version;
     const rebuild = state.built !== state.opened;
     state.describe = data.describe;
@@ -223,7 +223,7 @@
     syncParameters(data.parameters);
     if (!state.drag || !state.geometry) state.geometry = geometry(data);    // the view holds still under a drag
     updateCharts();
-    drawFrame();
+    if (draw) drawFrame();
     if (full) showFigures(data);
     if (full || rebuild || !state.loadsDraw || hasFileLoads()) requestLoadsDraw();   // the loads follow each edit
     if (bump) bumpRevision();
@@ -2163,7 +2163,7 @@
     for (const [name, v] of Object.entries(g.changed)) showValue(name, v);
     if (answer.solve) {
       $("#figures").classList.add("pending");
-      applySolve(answer.solve, version, false, false);
+      applySolve(answer.solve, version, false, false, false);   // drawn once below, at the pose to show
       if (state.tab === "forces") requestForces();     // the joint forces follow the drag (one request at a time)
     }
     if (g.input !== null) setFrame(nearestFrame(g.input));
