@@ -36,7 +36,7 @@ from sim import service
 from sim.service import dynamics as sdyn, path_targets, simulation, viewing
 from sim.front import loads_panel
 from sim.front.requests import (MAX_REVOLUTIONS, MAX_SAMPLES, Mechanisms, RequestError, _short,  # noqa: F401
-                                input_range_of, mechanism_of, number, packed, run_options, series)
+                                Seeded, input_range_of, mechanism_of, number, packed, run_options, series)
 from sim.output.jsonout import clean
 from sim.output.units import output_kind
 
@@ -966,11 +966,6 @@ def drag_limit(mech: Mechanism, body: dict, solve_body: dict, values: dict, cach
         except (ParameterError, RequestError, ValueError):
             return False
 
-    # the smallest step the halvings could take fails: the point is at the limit already (a drag pressing on
-    # it, the common case there: one trial instead of 2 * LIMIT_STEPS), and the way is not taken past a stretch
-    # that does not run to values beyond it that would
-    if not full(trial(0.5 ** LIMIT_STEPS)):
-        return None
     best = None
     if input_range_of(body, mech) is None and dragging.plain_turn_applies(mech):
         lo, hi = 0.0, 1.0
@@ -983,6 +978,11 @@ def drag_limit(mech: Mechanism, body: dict, solve_body: dict, values: dict, cach
             lo, hi = (mid, hi) if ok else (lo, mid)
         if lo > 0 and runs(trial(lo)) and (hi >= 1.0 or not runs(trial(hi))):
             best = trial(lo)
+    # the smallest step the full halving could take fails: the point is at the limit already (a drag pressing
+    # on it, the common case there: one full check instead of LIMIT_STEPS), and the way is not taken past a
+    # stretch that does not run to values beyond it that would
+    if best is None and not full(trial(0.5 ** LIMIT_STEPS)):
+        return None
     if best is None:
         lo, hi = 0.0, 1.0
         for _ in range(LIMIT_STEPS):                # the analysis alone decides; the answer is solved once
@@ -994,7 +994,7 @@ def drag_limit(mech: Mechanism, body: dict, solve_body: dict, values: dict, cach
                 hi = mid
     if best is None:
         return None
-    return {k: best["set"][k] for k in values}, solve(best, cache)
+    return {k: best["set"][k] for k in values}, solve(best, Seeded(cache, trials) if cache else trials)
 
 
 def draw(body: dict) -> dict:

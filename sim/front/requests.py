@@ -74,6 +74,20 @@ class Mechanisms:
         return mech
 
 
+class Seeded:
+    """A server's :class:`Mechanisms` that takes what ``spare`` already built (a drag limit's trials, whose change
+    points are scheduled) instead of building it again."""
+
+    def __init__(self, cache: Mechanisms, spare: Mechanisms):
+        self.cache, self.spare = cache, spare
+
+    def holds(self, key) -> bool:
+        return self.cache.holds(key) or self.spare.holds(key)
+
+    def get(self, key, make):
+        return self.cache.get(key, lambda: self.spare.get(key, make))
+
+
 def mechanism_of(body: dict, cache: Mechanisms | None = None) -> Mechanism:
     """The mechanism of a request: a known name, or an uploaded file's text; never a path. ``cache``: a
     server's :class:`Mechanisms`, to reuse one loaded with the same values."""
