@@ -967,15 +967,19 @@ def drag_limit(mech: Mechanism, body: dict, solve_body: dict, values: dict, cach
             return False
 
     best = None
-    if input_range_of(body, mech) is None and dragging.plain_turn_applies(mech):
+    def turns(f: float) -> bool:
+        try:
+            return dragging.turns_on_its_geometry(mechanism_of(trial(f), trials))
+        except (ParameterError, RequestError, ValueError):
+            return False
+
+    # the geometry's halving is skipped where its smallest step already fails to turn (a point pressed on its
+    # limit): it could find nothing the full check below would not refuse at once
+    if input_range_of(body, mech) is None and dragging.plain_turn_applies(mech) and turns(0.5 ** LIMIT_STEPS):
         lo, hi = 0.0, 1.0
         for _ in range(LIMIT_STEPS):
             mid = 0.5 * (lo + hi)
-            try:
-                ok = dragging.turns_on_its_geometry(mechanism_of(trial(mid), trials))
-            except (ParameterError, RequestError, ValueError):
-                ok = False
-            lo, hi = (mid, hi) if ok else (lo, mid)
+            lo, hi = (mid, hi) if turns(mid) else (lo, mid)
         if lo > 0 and runs(trial(lo)) and (hi >= 1.0 or not runs(trial(hi))):
             best = trial(lo)
     # the smallest step the full halving could take fails: the point is at the limit already (a drag pressing
