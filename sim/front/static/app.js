@@ -1479,6 +1479,10 @@
   const ctx = canvas.getContext("2d");
   const MARGIN = { left: 52, right: 12, top: 12, bottom: 38 };
 
+  // The canvas's CSS size as sizeCanvas set it: read from here, not from canvas.clientWidth, which forces a
+  // layout of the whole page when a redraw follows DOM changes (a drag step's values and charts: ~1 ms).
+  const canvasCss = { w: 0, h: 0 };
+
   function sizeCanvas() {
     const wrap = canvas.parentElement;
     const w = wrap.clientWidth;
@@ -1486,6 +1490,8 @@
     const dpr = window.devicePixelRatio || 1;
     canvas.style.width = `${w}px`;
     canvas.style.height = `${h}px`;
+    canvasCss.w = w;
+    canvasCss.h = h;
     canvas.width = Math.round(w * dpr);
     canvas.height = Math.round(h * dpr);
     ctx.setTransform(dpr, 0, 0, dpr, 0, 0);
@@ -1493,8 +1499,8 @@
 
   function view() {
     const g = state.geometry;
-    const w = canvas.clientWidth - MARGIN.left - MARGIN.right;
-    const h = canvas.clientHeight - MARGIN.top - MARGIN.bottom;
+    const w = canvasCss.w - MARGIN.left - MARGIN.right;
+    const h = canvasCss.h - MARGIN.top - MARGIN.bottom;
     const s = Math.min(w / (g.x1 - g.x0), h / (g.y1 - g.y0));
     const cx = MARGIN.left + w / 2 - s * (g.x0 + g.x1) / 2;
     const cy = MARGIN.top + h / 2 + s * (g.y0 + g.y1) / 2;
@@ -1575,7 +1581,7 @@
     if (state.draw) { drawDrawing(); return; }
     const data = state.solve;
     if (!data || !state.geometry) return;
-    const W = canvas.clientWidth; const H = canvas.clientHeight;
+    const W = canvasCss.w; const H = canvasCss.h;
     ctx.clearRect(0, 0, W, H);
     const v = view();
     drawAxes(v);
