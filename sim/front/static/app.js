@@ -101,13 +101,15 @@
   }
 
   // The JSON answer of a POST to ``path``: over the socket when it is open, else by fetch.
+  // ``sock.last``: how the last answer came ("socket" or "fetch"), for the drag's timing.
   function apiJson(path, body) {
     const ws = sock.ws;
-    if (!ws || ws.readyState !== WebSocket.OPEN) return api(path, body).then((res) => res.json());
+    const fetched = () => api(path, body).then((res) => res.json()).then((data) => { sock.last = "fetch"; return data; });
+    if (!ws || ws.readyState !== WebSocket.OPEN) return fetched();
     return new Promise((resolve, reject) => {
       const id = sock.next++;
-      const retry = () => api(path, body).then((res) => res.json()).then(resolve, reject);
-      sock.waiting.set(id, { resolve, reject, retry });
+      const retry = () => fetched().then(resolve, reject);
+      sock.waiting.set(id, { resolve: (data) => { sock.last = "socket"; resolve(data); }, reject, retry });
       ws.send(JSON.stringify({ id, path, body: body || {} }));
     });
   }
@@ -2121,9 +2123,9 @@
     window.linkageDragBody = body;                  // for the drag benchmark's replay
     try {
       const started = performance.now();
-      const socket = !!sock.ws && sock.ws.readyState === WebSocket.OPEN;
       const answer = await apiJson("/api/drag", body);
       const received = performance.now();
+      const socket = sock.last === "socket";
       applyDrag(answer, version);
       const done = performance.now();
       window.linkageTiming = { kind: "drag", request_ms: received - started, draw_ms: done - received, socket };
