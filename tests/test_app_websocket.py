@@ -171,3 +171,13 @@ def test_solve_with_packed_arrays_holds_the_listed_values():
             np.testing.assert_array_equal(un(packed["points"][p][c]), np.array(xy[c], float))
     with pytest.raises(app.RequestError):
         app.solve({**body, "arrays": "f32"})
+
+
+@pytest.mark.parametrize("text, status", [("not json", 400), ('{"id": 1, "path": ["x"], "body": {}}', 404),
+                                          ('{"id": "a", "path": "/api/drag", "body": {}}', 400),
+                                          ('{"id": 2, "path": "/api/drag", "body": []}', 400),
+                                          ('{"id": 3, "path": "/api/drag", "body": {"point": 1}}', 400)])
+def test_bad_socket_messages_answer_one_line(text, status):
+    from sim.front import app
+    got = json.loads(app.socket_answer(text))
+    assert got["status"] == status and isinstance(got["error"], str) and "\n" not in got["error"]

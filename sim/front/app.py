@@ -1029,7 +1029,8 @@ def socket_answer(text: str, cache: Mechanisms | None = None) -> bytes:
         ident = message.get("id")
         if not isinstance(ident, int) or isinstance(ident, bool):
             raise RequestError(400, "id must be an integer")
-        action = SOCKET_ACTIONS.get(message.get("path"))
+        path = message.get("path")
+        action = SOCKET_ACTIONS.get(path) if isinstance(path, str) else None
         if action is None:
             raise RequestError(404, f"path must be one of {', '.join(SOCKET_ACTIONS)}")
         body = message.get("body")
