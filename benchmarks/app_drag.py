@@ -1,10 +1,12 @@
 """Drag-step latency of ``linkage app`` in a real browser (Playwright + /usr/bin/chromium): a joint of each
 library mechanism dragged round a small circle; each step is a pointer move on the canvas -> /api/drag (the
 file's values inverted and solved on the server) -> the redraw of the animation, curves and figures -> the
-next animation frame. Prints per mechanism the median and the 95th percentile, with the request's, the
-drawing's and the wait for the next frame's shares of the median and the server's CPU time for the same
-requests replayed in one thread (the part of a step that does not depend on how loaded the machine is), then
-the same over all steps and an empty request's round trip (the transport's own share of every request)::
+next animation frame. Prints per mechanism the median and the 95th percentile, with the medians of the
+request's, the drawing's, the wait for the next frame's and the rest's (the pointer event to the request,
+the page's bookkeeping) shares of a step and the server's CPU time for the same requests replayed in one
+thread (the part of a step that does not depend on how loaded the machine is), then the same over all steps
+and an empty request's round trip by fetch and over the page's WebSocket (the transport's own share of every
+request; the drag steps go over the WebSocket once it is open)::
 
     python benchmarks/app_drag.py [--mechanisms fourbar,jansen] [--steps 30] [--screenshot PNG]
 
@@ -97,6 +99,15 @@ FLOOR = """async (n) => { const out = [];
 """The round trip of a request the server answers at once (~0.2 ms of its CPU), on the page's keep-alive
 connection: the part of every step's request that is the browser's and the loopback's, not the work."""
 
+SOCKET_FLOOR = """async (n) => { const s = window.linkageSocket, out = [];
+  if (!s || !s.ws || s.ws.readyState !== 1) return null;
+  for (let i = 0; i < n; i++) { const t0 = performance.now(), id = s.next++;
+    await new Promise((ok) => { s.waiting.set(id, { resolve: ok, reject: ok, retry: ok });
+                                s.ws.send(JSON.stringify({ id, path: "/none", body: {} })); });
+    out.push(performance.now() - t0); await new Promise((ok) => setTimeout(ok, 16)); }
+  out.sort((a, b) => a - b); return out[n >> 1]; }"""
+"""The same over the page's WebSocket (opened by the drags): a message the server refuses at once."""
+
 
 def server_cpu(parts: list[dict]) -> float:
     """Median CPU time [ms] of the server's work for the same drag requests (/api/drag and the JSON of its
@@ -130,21 +141,27 @@ def main() -> int:
         page.wait_for_function("window.linkageState && window.linkageState.figures")
         floor = page.evaluate(FLOOR, 40)
         print(f"{'mechanism':20s} {'point':6s} {'median':>8s} {'p95':>8s} {'request':>8s} {'drawing':>8s} "
-              f"{'frame':>8s} {'server CPU':>10s}  [ms]")
+              f"{'frame':>8s} {'other':>8s} {'server CPU':>10s}  [ms]")
         for name in args.mechanisms.split(","):
             point, totals, parts = measure(page, name, args.steps)
             every += totals
             req = statistics.median(p.get("request_ms", float("nan")) for p in parts)
             draw = statistics.median(p.get("draw_ms", float("nan")) for p in parts)
             frame = statistics.median(p.get("frame_ms", float("nan")) for p in parts)
+            other = statistics.median(t - p.get("request_ms", 0) - p.get("draw_ms", 0) - p.get("frame_ms", 0)
+                                      for t, p in zip(totals, parts))
             cpu = server_cpu(parts)
             cpus.append(cpu)
             print(f"{name:20s} {point:6s} {statistics.median(totals):8.1f} {percentile(totals, 0.95):8.1f} "
-                  f"{req:8.1f} {draw:8.1f} {frame:8.1f} {cpu:10.1f}", flush=True)
+                  f"{req:8.1f} {draw:8.1f} {frame:8.1f} {other:8.1f} {cpu:10.1f}", flush=True)
+        sfloor = page.evaluate(SOCKET_FLOOR, 40)
+        sockets = sum(bool(p.get("socket")) for p in parts)
         print(f"{'all':20s} {'':6s} {statistics.median(every):8.1f} {percentile(every, 0.95):8.1f}   "
               f"({len(every)} steps; target 16 ms median, 33 ms p95); server CPU per step: median over the "
               f"mechanisms {statistics.median(cpus):.1f} ms, at most {max(cpus):.1f}; an empty request's round "
-              f"trip {floor:.1f} ms (median)")
+              f"trip {floor:.1f} ms by fetch, "
+              f"{'-' if sfloor is None else f'{sfloor:.1f}'} ms over the WebSocket (median); the last mechanism's "
+              f"steps over the WebSocket: {sockets} of {len(parts)}")
         if args.screenshot:
             page.screenshot(path=args.screenshot)
         browser.close()

@@ -29,8 +29,8 @@ PEERS = Path(__file__).parent / "peers_examples"
 BOX = 1e-5
 """Relative: the number boxes show 6 significant digits (half a unit in the 6th is 5e-6 of the value)."""
 DRAWN = 2e-6
-"""[m] the drag's solve is sent with 7 significant digits of each series' peak (~0.5 m): 5e-8, far below;
-what is left is the drag's own closure (1e-9 of the size)."""
+"""[m] the drag's solve arrives as exact float64 (``"arrays": "f64"``; before, 7 significant digits of each
+series' peak, ~0.5 m: 5e-8, far below); what is left is the drag's own closure (1e-9 of the size)."""
 
 
 

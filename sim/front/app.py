@@ -36,7 +36,7 @@ from sim import service
 from sim.service import dynamics as sdyn, path_targets, simulation, viewing
 from sim.front import loads_panel
 from sim.front.requests import (MAX_REVOLUTIONS, MAX_SAMPLES, Mechanisms, RequestError, _short,  # noqa: F401
-                                input_range_of, mechanism_of, number, run_options, series)
+                                Seeded, input_range_of, mechanism_of, number, packed, run_options, series)
 from sim.output.jsonout import clean
 from sim.output.units import output_kind
 
@@ -96,7 +96,8 @@ SECURITY_HEADERS = {
 
 LOAD_FIELDS = {"gravity", "force", "cutting"}
 FIELDS = {
-    "solve": {"mechanism", "text", "set", "samples", "revolutions", "input_range", "outputs", "figures", "digits"},
+    "solve": {"mechanism", "text", "set", "samples", "revolutions", "input_range", "outputs", "figures", "digits",
+              "arrays"},
     "simulate": {"mechanism", "text", "set", "revolutions", "input_range", "outputs"},
     "render": {"mechanism", "text", "set", "revolutions", "input_range", "size", "fps"},
     "export": {"mechanism", "text", "set", "samples", "revolutions", "input_range"},
@@ -109,7 +110,7 @@ FIELDS = {
     "synthesize": {"targets", "type", "closed", "budget", "unit"},
     "draw": {"drawing"},
     "drag": {"mechanism", "text", "set", "samples", "revolutions", "input_range", "outputs", "figures", "digits",
-             "point", "target", "input", "locked", "round"},
+             "arrays", "point", "target", "input", "locked", "round"},
 }
 """The fields each POST accepts; any other is refused, so a misspelt field is never silently ignored."""
 
@@ -191,6 +192,10 @@ def solve(body: dict, cache: Mechanisms | None = None) -> dict:
     if not isinstance(figures, bool):
         raise RequestError(400, "figures must be true or false")
     digits = int(number(body, "digits", 15, 3, 15, integer=True)) if "digits" in body else None
+    if body.get("arrays", "lists") not in ("lists", "f64"):
+        raise RequestError(400, "arrays must be \"lists\" (JSON numbers) or \"f64\" (base64 float64, exact)")
+    ser = (lambda v, m=None: packed(v, m)) if body.get("arrays") == "f64" else \
+        (lambda v, m=None: series(v, m, digits))
     mech = mechanism_of(body, cache)
     names = outputs_of(body, mech)
     run = analysis(mech, body, figures)
@@ -201,10 +206,11 @@ def solve(body: dict, cache: Mechanisms | None = None) -> dict:
         "input_range": list(run.input_range) if run.input_range else None,
         "describe": describe(mech), "parameters": clean(mech.parameters),
         "input": mech.inputs[0].q, "units": units(mech, body.get("text") or body["mechanism"]),
-        "t": series(a.t), "inputs": {k: series(v, n, digits) for k, v in a.inputs.items()},
-        "outputs": {k: series(sol[k], n, digits) for k in names},
-        "points": point_paths(mech, sol, n, digits=digits),
-        "angles": {ln: series(sol["phi" + ln], n, digits) for ln in mech.slides if "phi" + ln in sol},
+        "t": series(a.t) if body.get("arrays") != "f64" else packed(a.t),
+        "inputs": {k: ser(v, n) for k, v in a.inputs.items()},
+        "outputs": {k: ser(sol[k], n) for k in names},
+        "points": {p: {c: ser(np.broadcast_to(sol[c + p], (n,))) for c in "xy"} for p in mech.points},
+        "angles": {ln: ser(sol["phi" + ln], n) for ln in mech.slides if "phi" + ln in sol},
         "figures": clean(a.figures) if figures else None,
         "summary": viewing.figures_summary(mech, a.figures) if figures else None,
     }
@@ -725,7 +731,31 @@ class Handler(BaseHTTPRequestHandler):
     stopping = False
 
     def do_GET(self) -> None:
-        self._answer(self._get)
+        if self.path.split("?", 1)[0] == "/api/socket":
+            self._socket()
+        else:
+            self._answer(self._get)
+
+    def _socket(self) -> None:
+        """GET /api/socket: a WebSocket (:mod:`sim.front.websocket`) for drag steps, from this page only; each
+        text message ``{"id", "path": "/api/drag" or "/api/solve", "body"}`` is answered
+        ``{"id", "status", "answer"}`` (or ``"error"``), as the POST of that path would."""
+        from sim.front import websocket as ws
+        try:
+            self._check_origin()
+            problem = ws.upgrade_problem(self.headers, self.server.origins)
+            if problem:
+                raise RequestError(403 if "origin" in problem else 400, problem)
+        except RequestError as exc:
+            self._send(exc.status, _json_bytes({"error": _first_line(str(exc))}), "application/json", close=True)
+            return
+        self.send_response(101)
+        self.send_header("Upgrade", "websocket")
+        self.send_header("Connection", "Upgrade")
+        self.send_header("Sec-WebSocket-Accept", ws.accept_key(self.headers["Sec-WebSocket-Key"]))
+        self.end_headers()
+        self.close_connection = True
+        ws.serve(self.rfile, self.wfile, lambda text: socket_answer(text, self.server.mechanisms), MAX_BODY)
 
     def do_POST(self) -> None:
         self._answer(self._post)
@@ -915,48 +945,60 @@ def drag_limit(mech: Mechanism, body: dict, solve_body: dict, values: dict, cach
     if not values or any(mech.definition.parameter_kind.get(k) == "branch" for k in values):
         return None
     old = mech.values
+    trials = Mechanisms(2 * LIMIT_STEPS + 2)        # both halvings often try the same values: built once
 
     def trial(f: float) -> dict:
         return {**solve_body, "set": {**body.get("set", {}), **{k: old[k] + f * (v - old[k]) for k, v in values.items()}}}
 
     def runs(b: dict, m=None) -> bool:
         try:
-            m = m or mechanism_of(b, cache)
+            m = m or mechanism_of(b, trials)
             analysis(m, b, figures=False)
             return True
         except (ParameterError, RequestError, ValueError):
             return False
 
+    def full(b: dict) -> bool:
+        try:
+            m = mechanism_of(b, trials)
+            # a stretch of the turn that plainly does not assemble: refused without the full check's refinement
+            return not (input_range_of(b, m) is None and dragging.cannot_turn_fully(m)) and runs(b, m)
+        except (ParameterError, RequestError, ValueError):
+            return False
+
     best = None
-    if input_range_of(body, mech) is None and dragging.plain_turn_applies(mech):
+    def turns(f: float) -> bool:
+        try:
+            return dragging.turns_on_its_geometry(mechanism_of(trial(f), trials))
+        except (ParameterError, RequestError, ValueError):
+            return False
+
+    # the geometry's halving is skipped where its smallest step already fails to turn (a point pressed on its
+    # limit): it could find nothing the full check below would not refuse at once
+    if input_range_of(body, mech) is None and dragging.plain_turn_applies(mech) and turns(0.5 ** LIMIT_STEPS):
         lo, hi = 0.0, 1.0
         for _ in range(LIMIT_STEPS):
             mid = 0.5 * (lo + hi)
-            try:
-                ok = dragging.turns_on_its_geometry(mechanism_of(trial(mid)))
-            except (ParameterError, RequestError, ValueError):
-                ok = False
-            lo, hi = (mid, hi) if ok else (lo, mid)
+            lo, hi = (mid, hi) if turns(mid) else (lo, mid)
         if lo > 0 and runs(trial(lo)) and (hi >= 1.0 or not runs(trial(hi))):
             best = trial(lo)
+    # the smallest step the full halving could take fails: the point is at the limit already (a drag pressing
+    # on it, the common case there: one full check instead of LIMIT_STEPS), and the way is not taken past a
+    # stretch that does not run to values beyond it that would
+    if best is None and not full(trial(0.5 ** LIMIT_STEPS)):
+        return None
     if best is None:
         lo, hi = 0.0, 1.0
         for _ in range(LIMIT_STEPS):                # the analysis alone decides; the answer is solved once
             mid = 0.5 * (lo + hi)
             b = trial(mid)
-            try:
-                m = mechanism_of(b)
-                # a stretch of the turn that plainly does not assemble: refused without the full check's refinement
-                ok = not (input_range_of(b, m) is None and dragging.cannot_turn_fully(m)) and runs(b, m)
-            except (ParameterError, RequestError, ValueError):
-                ok = False
-            if ok:
+            if full(b):
                 best, lo = b, mid
             else:
                 hi = mid
     if best is None:
         return None
-    return {k: best["set"][k] for k in values}, solve(best, cache)
+    return {k: best["set"][k] for k in values}, solve(best, Seeded(cache, trials) if cache else trials)
 
 
 def draw(body: dict) -> dict:
@@ -973,6 +1015,36 @@ ACTIONS = {"/api/draw": draw, "/api/drag": drag, "/api/forces": forces, "/api/dy
 POSTS = {"/api/solve", "/api/simulate", "/api/render", "/api/exit", "/api/synthesize", "/api/synthesize/status",
          "/api/synthesize/cancel", *ACTIONS,
          *(f"/api/export/{k}" for k in ("csv", "json", "toml", "mjcf", *PARTS_EXPORTS))}
+
+
+SOCKET_ACTIONS = {"/api/drag": drag, "/api/solve": solve}
+"""What the page's WebSocket answers (:meth:`Handler._socket`): the requests a drag repeats."""
+
+
+def socket_answer(text: str, cache: Mechanisms | None = None) -> bytes:
+    """One WebSocket message's answer: the JSON its POST would answer, or its one-line error, with its id."""
+    ident = None
+    try:
+        message = parse_json(text.encode("utf-8"))
+        ident = message.get("id")
+        if not isinstance(ident, int) or isinstance(ident, bool):
+            raise RequestError(400, "id must be an integer")
+        path = message.get("path")
+        action = SOCKET_ACTIONS.get(path) if isinstance(path, str) else None
+        if action is None:
+            raise RequestError(404, f"path must be one of {', '.join(SOCKET_ACTIONS)}")
+        body = message.get("body")
+        if not isinstance(body, dict):
+            raise RequestError(400, "body must be a JSON object")
+        data = _json_bytes(action(body, cache))
+        return b'{"id":%d,"status":200,"answer":%s}' % (ident, data)
+    except RequestError as exc:
+        status, error = exc.status, _first_line(str(exc))
+    except MemoryError:
+        status, error = 400, "out of memory: lower the samples or revolutions"
+    except Exception as exc:                  # ParameterError, and any failure to compute: the page's message
+        status, error = 400, _first_line(str(exc)) or type(exc).__name__
+    return _json_bytes({"id": ident if isinstance(ident, int) else None, "status": status, "error": error})
 
 
 def _json_bytes(obj) -> bytes:

@@ -5,6 +5,7 @@ server that imports them."""
 
 from __future__ import annotations
 
+import base64
 import collections
 import math
 import threading
@@ -54,6 +55,12 @@ class Mechanisms:
         self._items: collections.OrderedDict = collections.OrderedDict()
         self._lock = threading.Lock()
 
+    def holds(self, key) -> bool:
+        """Whether ``key``, or a key of the same library name (the name is then known), is held."""
+        with self._lock:
+            return key in self._items or (key[1] is None and any(k[0] == key[0] and k[1] is None
+                                                                   for k in self._items))
+
     def get(self, key, make):
         with self._lock:
             if key in self._items:
@@ -65,6 +72,20 @@ class Mechanisms:
             while len(self._items) > self.size:
                 self._items.popitem(last=False)
         return mech
+
+
+class Seeded:
+    """A server's :class:`Mechanisms` that takes what ``spare`` already built (a drag limit's trials, whose change
+    points are scheduled) instead of building it again."""
+
+    def __init__(self, cache: Mechanisms, spare: Mechanisms):
+        self.cache, self.spare = cache, spare
+
+    def holds(self, key) -> bool:
+        return self.cache.holds(key) or self.spare.holds(key)
+
+    def get(self, key, make):
+        return self.cache.get(key, lambda: self.spare.get(key, make))
 
 
 def mechanism_of(body: dict, cache: Mechanisms | None = None) -> Mechanism:
@@ -86,9 +107,9 @@ def mechanism_of(body: dict, cache: Mechanisms | None = None) -> Mechanism:
     name = body.get("mechanism")
     if not isinstance(name, str):
         raise RequestError(400, "mechanism must be a name (GET /api/mechanisms lists them) or give text")
-    if name not in analytic.names():
-        raise RequestError(404, f"unknown mechanism {_short(name)}; known: {', '.join(analytic.names())}")
     key = (name, None, tuple(sorted(values.items())))
+    if not (cache and cache.holds(key)) and name not in analytic.names():   # names() lists a folder: ~0.4 ms
+        raise RequestError(404, f"unknown mechanism {_short(name)}; known: {', '.join(analytic.names())}")
     return cache.get(key, lambda: service.load(name, values)) if cache else service.load(name, values)
 
 
@@ -125,6 +146,15 @@ def series(a, n: int | None = None, digits: int | None = None) -> list:
     if finite.all():
         return a.tolist()
     return [v if ok else None for v, ok in zip(a.tolist(), finite.tolist())]
+
+
+def packed(a, n: int | None = None) -> dict:
+    """An array as ``{"f64": base64}``: its float64 values, little-endian, exact (NaN where a value is not
+    finite, which the page reads as a gap). ~100 times cheaper to encode than the numbers' text, and ~10.7
+    characters a value where the text takes up to 24: what a drag step asks for (``"arrays": "f64"``)."""
+    a = np.asarray(a, dtype="<f8")
+    a = np.broadcast_to(a, (n,)) if n is not None and a.ndim == 0 else a.ravel()
+    return {"f64": base64.b64encode(np.ascontiguousarray(a).tobytes()).decode("ascii")}
 
 
 def _short(v) -> str:

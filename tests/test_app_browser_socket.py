@@ -1,0 +1,66 @@
+"""Drag steps over the page's WebSocket (sim/front/websocket.py) in a real browser (Playwright driving Debian's
+/usr/bin/chromium): the steps go over the socket once a drag opens it, and a page without WebSocket (the
+fallback, fetch) ends the same drag at the same values and the same drawn pose."""
+
+import os
+
+import numpy as np
+import pytest
+
+sync_api = pytest.importorskip("playwright.sync_api", reason="playwright is not installed")
+CHROMIUM = "/usr/bin/chromium"
+if not os.path.exists(CHROMIUM):
+    pytest.skip(f"{CHROMIUM} is not installed", allow_module_level=True)
+
+pytestmark = pytest.mark.slow
+ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
+        "--disable-component-update", "--no-first-run"]
+TIMEOUT_MS = 30_000
+
+
+def _drag_fourbar(browser, server, without_socket: bool):
+    ctx = browser.new_context(viewport={"width": 1440, "height": 900})
+    if without_socket:
+        ctx.add_init_script("delete window.WebSocket;")
+    pg = ctx.new_page()
+    pg.set_default_timeout(TIMEOUT_MS)
+    errors = []
+    pg.on("pageerror", lambda e: errors.append(str(e)))
+    pg.goto(server.url)
+    pg.wait_for_function("window.linkageState && window.linkageState.figures")
+    pg.click("#play")
+    pg.fill("#scrub", "50")
+    pg.dispatch_event("#scrub", "input")
+    xy = pg.evaluate("(() => { const s = window.linkageState; return [s.points.C.x[50], s.points.C.y[50]]; })()")
+    x, y = pg.evaluate("([x, y]) => window.linkageCanvas.toClient(x, y)", xy)
+    pg.mouse.move(x, y)
+    pg.mouse.down()
+    sockets = []
+    for k in range(1, 7):
+        r0 = pg.evaluate("+document.body.dataset.revision")
+        pg.mouse.move(x + 40 * k / 6, y - 25 * k / 6)
+        pg.wait_for_function(f"+document.body.dataset.revision > {r0}")
+        pg.wait_for_function("window.linkageTiming && window.linkageTiming.kind === 'drag'")
+        sockets.append(pg.evaluate("window.linkageTiming.socket"))
+    pg.wait_for_function("([x, y]) => { const t = window.linkageCanvas.toClient(...window.linkageDrag.target); "
+                         "return Math.hypot(t[0] - x, t[1] - y) < 1.5; }", arg=[x + 40, y - 25])
+    pg.mouse.up()
+    values = pg.evaluate("window.linkageDrag.set")
+    c = pg.evaluate("(() => { const s = window.linkageState, i = +document.querySelector('#scrub').value; "
+                    "return [s.points.C.x[i], s.points.C.y[i]]; })()")
+    ctx.close()
+    assert errors == []
+    return sockets, values, np.array(c)
+
+
+def test_drag_goes_over_the_socket_and_the_fallback_ends_alike(browser, server):
+    sockets, values, c = _drag_fourbar(browser, server, without_socket=False)
+    assert sockets[-1] is True                      # opened at pointerdown: the later steps travel over it
+    fetched, values_f, c_f = _drag_fourbar(browser, server, without_socket=True)
+    assert not any(fetched)
+    assert values.keys() == values_f.keys() and values
+    for k, v in values.items():
+        # the same pointer path solved by the same server: only the pointer's whole-pixel rounding could differ,
+        # and both pages round alike
+        assert values_f[k] == pytest.approx(v, rel=1e-9)
+    np.testing.assert_allclose(c_f, c, rtol=1e-9, atol=1e-12)      # as above: the pose drawn at the end
