@@ -389,6 +389,11 @@ MUTATIONS = [
              "tau = np.array([float(motors[0].torque(w[0])), float(motors[1].torque(w[1]))])",
              "tau = np.array([float(motors[0].torque(w[0])), float(motors[1].torque(w[0]))])", [FLY],
              "tests/test_flywheel_energy.py"),
+    Mutation("titles-unfitted", "sim/front/cli/synth_path.py: the panels' titles laid out as written (cut at the edge)",
+             "sim/front/cli/synth_path.py", "    fit(fig, fig.tight_layout)\n", "    fig.tight_layout()\n",
+             ["tests/test_plot_titles.py"], "tests/test_plot_titles.py"),
+    Mutation("ticks-unthinned", "sim/output/titles.py: overlapping tick labels left as they are", "sim/output/titles.py",
+             "        changed |= thin_ticks(fig)\n", "", ["tests/test_plot_titles.py"], "tests/test_plot_titles.py"),
 ]
 
 
