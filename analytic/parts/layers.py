@@ -22,6 +22,12 @@ FRAME = "frame"
 
 MAX_EXACT = 40
 """Links up to which the colouring is exact (backtracking); above it DSatur's greedy colouring."""
+MAX_LINKS = 40
+"""The most links the layering lays out: its pair distances over the cycle grow as the square of the count and
+its outlines' memory as the count (31 links all within reach of one another: 5 s, 190 MB)."""
+PROBE = 24
+"""Deciding whether two outlines come closer than the clearance, every PROBE-th sample where their discs come
+near is measured first (two links pinned together touch at every sample: one measurement decides it)."""
 
 
 @dataclass(frozen=True)
@@ -56,13 +62,52 @@ def _polys(verts) -> np.ndarray:
     return shapely.polygons(verts)
 
 
-def signed_distance(va: np.ndarray, vb: np.ndarray, depth: bool = True) -> np.ndarray:
+class Swept:
+    """Every link's outline over the sweep, as vertices (:func:`world`) and shapely polygons, each made once
+    per layout (a pair's distance and a pin's rule read them again for every other link: made per use, they
+    cost as much as the distances themselves)."""
+
+    def __init__(self, out: Outlines, sweep: model.Sweep):
+        self.out, self.sweep, self._v, self._p, self._s = out, sweep, {}, {}, {}
+
+    def verts(self, link: str) -> np.ndarray:
+        if link not in self._v:
+            self._v[link] = (_frame_verts(self.out, len(self.sweep.t)) if link == FRAME
+                             else world(self.out, self.sweep, link))
+        return self._v[link]
+
+    def polys(self, link: str) -> np.ndarray:
+        if link not in self._p:
+            self._p[link] = _polys(self.verts(link))
+        return self._p[link]
+
+    def step(self, link: str) -> np.ndarray:
+        """(N-1,) each step's largest vertex displacement (:func:`_step`); zeros for the frame."""
+        if link not in self._s:
+            self._s[link] = np.zeros(len(self.sweep.t) - 1) if link == FRAME else _step(self.verts(link))
+        return self._s[link]
+
+    def disc(self, link: str) -> tuple[np.ndarray, float]:
+        """(N, 2) centres and the radius of a disc that holds the outline at every sample."""
+        if link == FRAME:
+            c = self.out.frame.mean(axis=0)
+            return np.broadcast_to(c, (len(self.sweep.t), 2)), float(np.max(np.hypot(*(self.out.frame - c).T)))
+        return self.sweep.frames[link][:, :2], float(np.max(np.hypot(*self.out.local[link].T)))
+
+    def gap(self, a: str, b: str) -> np.ndarray:
+        """(N,) a lower bound of the two outlines' distance at every sample: their discs' gap."""
+        (ca, ra), (cb, rb) = self.disc(a), self.disc(b)
+        return np.hypot(*(ca - cb).T) - ra - rb
+
+
+def signed_distance(va: np.ndarray, vb: np.ndarray, depth: bool = True, polys=None) -> np.ndarray:
     """Per sample: the distance between two convex polygons ((N, k, 2) and (N, m, 2) vertices) where
     they are apart, minus their penetration depth where they overlap (the smallest translation that
     separates them, by the separating-axis theorem on both polygons' edge normals); ``depth`` False: 0
-    where they overlap."""
+    where they overlap. ``polys``: the two polygon arrays if already made."""
     import shapely
-    d = shapely.distance(_polys(va), _polys(vb))
+    pa, pb = polys if polys is not None else (_polys(va), _polys(vb))
+    d = shapely.distance(pa, pb)
     out = np.asarray(d, dtype=float).copy()
     for k in (np.nonzero(out <= 0.0)[0] if depth else ()):
         out[k] = -penetration(va[k], vb[k])
@@ -102,18 +147,45 @@ class PairDistance:
 
 
 def pair_distance(mech, out: Outlines, sweep: model.Sweep, a: str, b: str, threshold: float,
-                  depth: int = 12, penetration_depth: bool = True) -> PairDistance:
+                  depth: int = 12, penetration_depth: bool = True, swept: Swept | None = None) -> PairDistance:
     """Min signed distance of links ``a`` and ``b`` (``b`` may be FRAME) over the sweep, intervals refined
     as the module docstring says, so that a pass closer than ``threshold`` is not missed between samples;
-    ``penetration_depth`` False: overlaps count 0 (faster; enough to decide a conflict)."""
+    ``penetration_depth`` False: overlaps count 0 (faster; enough to decide a conflict). ``swept``: the
+    outlines over ``sweep`` already made; with ``penetration_depth`` False too (the layering's question:
+    does the pair come closer than ``threshold``?) only ``first`` is exact, ``d`` and ``t`` those of the
+    samples measured (the discs' gap stands in elsewhere; a conflict returns at its first sample)."""
     t = sweep.t
-    va = world(out, sweep, a)
-    vb = _frame_verts(out, len(t)) if b == FRAME else world(out, sweep, b)
-    d = signed_distance(va, vb, penetration_depth)
+    if swept is not None and not penetration_depth:
+        # the polygons measured only where their discs come near: elsewhere the discs' gap stands in for the
+        # distance (a lower bound above threshold + the steps' margin, so the refinement below and ``first``
+        # decide as the distances would; ``d`` is then exact only where it is below that)
+        step = swept.step(a) + swept.step(b)
+        near_margin = np.concatenate([[step[0]], np.maximum(step[1:], step[:-1]), [step[-1]]]) if len(t) > 1 else 0
+        d = swept.gap(a, b)
+        near = np.nonzero(d < threshold + near_margin)[0]
+        if near.size:
+            import shapely
+            d = d.copy()
+            pa, pb = swept.polys(a), swept.polys(b)
+            probe = near[::PROBE]                       # a conflict is mostly found among a few samples
+            dp = shapely.distance(pa[probe], pb[probe])
+            if dp.min() < threshold:                    # the first sample below it: among those up to this one
+                upto = near[near <= probe[int(np.argmax(dp < threshold))]]
+                du = shapely.distance(pa[upto], pb[upto])
+                k = int(np.argmax(du < threshold))
+                return PairDistance(a, b, float(du[k]), float(t[upto[k]]), float(t[upto[k]]))
+            d[near] = shapely.distance(pa[near], pb[near])
+    elif swept is not None:
+        va, vb = swept.verts(a), swept.verts(b)
+        d = signed_distance(va, vb, penetration_depth, (swept.polys(a), swept.polys(b)))
+    else:
+        va = world(out, sweep, a)
+        vb = _frame_verts(out, len(t)) if b == FRAME else world(out, sweep, b)
+        d = signed_distance(va, vb, penetration_depth)
     if not penetration_depth and d.min() < threshold:
         k = int(np.argmin(d))
         return PairDistance(a, b, float(d[k]), float(t[k]), float(t[np.argmax(d < threshold)]))
-    margin = _step(va) + (0.0 if b == FRAME else _step(vb))
+    margin = (swept.step(a) + swept.step(b)) if swept is not None else _step(va) + (0.0 if b == FRAME else _step(vb))
     ts, ds = list(t), list(d)
     todo = [(t[k], t[k + 1], d[k], d[k + 1], margin[k]) for k in range(len(t) - 1)
             if min(d[k], d[k + 1]) >= threshold and 0.5 * (d[k] + d[k + 1] - margin[k]) < threshold]
@@ -195,7 +267,7 @@ def colour(nodes, edges, fixed=None, pins=()) -> dict:
             adj[b].add(a)
     if len(nodes) > MAX_EXACT:
         return _dsatur(nodes, adj, fixed)
-    low = max([0] + [v + 1 for v in fixed.values()])
+    low = max([0, _clique(nodes, adj)] + [v + 1 for v in fixed.values()])
     free = [n for n in nodes if n not in fixed]
     order = {n: i for i, n in enumerate(free)}
     due: dict = {}                                      # each rule checked once its last node is coloured
@@ -206,11 +278,14 @@ def colour(nodes, edges, fixed=None, pins=()) -> dict:
         last = max((order[n] for n in involved if n in order), default=-1)
         due.setdefault(last, []).append(rule)
     plain = None
+    budget = [PLAIN_SEARCH]
     for k in range(max(1, low), len(nodes) + low + 2):
         out = dict(fixed)
-        if _fill(free, 0, adj, out, k, {}, [math.inf]):
+        if _fill(free, 0, adj, out, k, {}, budget):
             plain = out
             break
+        if budget[0] < 0:                                # a conflict graph too dense to colour exactly in time
+            return _dsatur(nodes, adj, fixed)
     if not due or any(not r.holds(fixed) for r in due.get(-1, [])):
         return plain
     k0 = max(plain.values(), default=-1) + 1
@@ -222,6 +297,10 @@ def colour(nodes, edges, fixed=None, pins=()) -> dict:
     return plain
 
 
+PLAIN_SEARCH = 200_000
+"""Assignments tried in search of the fewest layers (every count from the largest clique found up), before
+DSatur's greedy colouring is taken instead (a dense conflict graph: every one of many links near every other;
+the library's designs need a few hundred)."""
 PIN_SEARCH = 200_000
 """Assignments tried in search of layers that every pin rule allows, before the plain colouring is kept and
 the pins that clash are reported (``Layout.clashes``)."""
@@ -242,6 +321,19 @@ def _fill(free, i, adj, out, k, due, budget) -> bool:
                 return True
             del out[n]
     return False
+
+
+def _clique(nodes, adj) -> int:
+    """The size of a clique of the conflict graph (greedy from each node, the most connected neighbours first):
+    a lower bound of the layers needed."""
+    best = 0
+    for n in nodes:
+        clique = [n]
+        for m in sorted(adj[n], key=lambda m: -len(adj[m])):
+            if all(m in adj[c] for c in clique):
+                clique.append(m)
+        best = max(best, len(clique))
+    return best
 
 
 def _dsatur(nodes, adj, fixed) -> dict:
@@ -279,6 +371,10 @@ def layout(mech, parts: dict, sweep: model.Sweep | None = None) -> Layout:
     """Layers (see the module docstring): the conflict graph over the cycle, meshing gears merged, the
     frame (if any) fixed on layer 0, ``[parts].layers`` kept; then z: each layer as thick as its thickest
     part, ``layer_gap`` between layers."""
+    if len(parts) > MAX_LINKS:
+        from analytic._common import ParameterError
+        raise ParameterError(f"{mech.definition.source}: {len(parts)} moving links; the parts' layering lays out at "
+                             f"most {MAX_LINKS} (its distances over the cycle grow as the square of the count)")
     sweep = sweep if sweep is not None else model.cycle(mech)
     cfg = model.settings(mech)
     out = outlines(mech, parts)
@@ -288,13 +384,14 @@ def layout(mech, parts: dict, sweep: model.Sweep | None = None) -> Layout:
     for a, b in mesh:
         group[b] = group[a]
     conflicts = []
+    swept = Swept(out, sweep)
     pairs = [(a, b) for i, a in enumerate(links) for b in links[i + 1:] if group[a] != group[b]]
     if out.frame is not None:
         pairs += [(a, FRAME) for a in links]
     for a, b in pairs:
         if _bbox_apart(out, sweep, a, b, cfg.clearance):
             continue
-        pd = pair_distance(mech, out, sweep, a, b, cfg.clearance, penetration_depth=False)
+        pd = pair_distance(mech, out, sweep, a, b, cfg.clearance, penetration_depth=False, swept=swept)
         if pd.first is not None:
             conflicts.append((a, b))
     nodes = list(dict.fromkeys(group[ln] for ln in links)) + ([FRAME] if out.frame is not None else [])
@@ -305,7 +402,7 @@ def layout(mech, parts: dict, sweep: model.Sweep | None = None) -> Layout:
     for ln, z in cfg.layers.items():                     # meshing gears keep one layer
         if fixed.get(group[ln], z) != z:
             raise ValueError(f"[parts].layers: {ln} meshes with a gear fixed to another layer")
-    rules = pin_rules(mech, parts, out, sweep, cfg, group)
+    rules = pin_rules(mech, parts, out, sweep, cfg, group, swept)
     try:
         colours = colour(nodes, edges, fixed, rules)
     except ValueError as exc:
@@ -335,11 +432,14 @@ def layout(mech, parts: dict, sweep: model.Sweep | None = None) -> Layout:
     return Layout(layers, z, tuple(conflicts), mesh, pins, tuple(clashes))
 
 
-def pin_rules(mech, parts, out: Outlines, sweep, cfg, group) -> list[PinRule]:
+def pin_rules(mech, parts, out: Outlines, sweep, cfg, group, swept: Swept | None = None) -> list[PinRule]:
     """A :class:`PinRule` per joint: the links pinned there (and those whose slot its pin runs in: the slot
     of a block pinned there), and the other links that pass within the clearance of the pin's circle
-    (diameter ``pin_diameter``) at some sample, less a margin of their largest step between samples."""
+    (diameter ``pin_diameter``) at some sample, less a margin of their largest step between samples (a link
+    whose bounding disc about its frame's origin never comes that close is passed over without its polygons)."""
     import shapely
+    swept = swept if swept is not None else Swept(out, sweep)
+    radius = {ln: float(np.max(np.hypot(*out.local[ln].T))) for ln in parts}
     rules = []
     for p in mech.points:
         pinned = [ln for ln, part in parts.items() if any(h.point == p for h in part.holes)]
@@ -354,11 +454,18 @@ def pin_rules(mech, parts, out: Outlines, sweep, cfg, group) -> list[PinRule]:
         for ln in parts:
             if ln in members:
                 continue
-            v = world(out, sweep, ln)
-            d = np.asarray(shapely.distance(_polys(v), at)) - cfg.pin_diameter / 2
-            margin = float(np.max(_step(v))) + step_p if len(sweep.t) > 1 else 0.0
-            if d.min() < cfg.clearance + margin:
-                crossing.append(ln)
+            # the disc about the frame's origin holds the outline: where it stays clear, so does the outline
+            disc = np.hypot(*(sweep.frames[ln][:, :2] - sweep.points[p]).T) - radius[ln] - cfg.pin_diameter / 2
+            margin = float(np.max(swept.step(ln))) + step_p if len(sweep.t) > 1 else 0.0
+            near = np.nonzero(disc < cfg.clearance + margin)[0]
+            if not near.size:
+                continue
+            polys = swept.polys(ln)
+            for idx in (near[::PROBE], near):            # a few samples first: a crossing link is mostly found
+                d = np.asarray(shapely.distance(polys[idx], at[idx])) - cfg.pin_diameter / 2
+                if d.min() < cfg.clearance + margin:
+                    crossing.append(ln)
+                    break
         rules.append(PinRule(p, tuple(dict.fromkeys(group[m] for m in members)),
                              tuple(dict.fromkeys(group[c] for c in crossing if group[c] not in
                                                  {group[m] for m in members})), p in mech.ground_points))
