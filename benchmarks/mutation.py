@@ -394,6 +394,23 @@ MUTATIONS = [
              ["tests/test_plot_titles.py"], "tests/test_plot_titles.py"),
     Mutation("ticks-unthinned", "sim/output/titles.py: overlapping tick labels left as they are", "sim/output/titles.py",
              "        changed |= thin_ticks(fig)\n", "", ["tests/test_plot_titles.py"], "tests/test_plot_titles.py"),
+    Mutation("layers-no-clique-bound", "analytic/parts/layers.py colour: the search counts up from one layer (no clique "
+             "bound)", "analytic/parts/layers.py", "low = max([0, _clique(nodes, adj)]", "low = max([0, 0]",
+             ["tests/test_parts_bounded.py"], "tests/test_parts_bounded.py::test_a_complete_conflict_graph_..."),
+    Mutation("layers-disc-too-small", "analytic/parts/layers.py Swept.disc: the bounding disc half as wide (not a bound)",
+             "analytic/parts/layers.py", "return self.sweep.frames[link][:, :2], float(np.max(np.hypot(*self.out.local[link].T)))",
+             "return self.sweep.frames[link][:, :2], 0.5 * float(np.max(np.hypot(*self.out.local[link].T)))",
+             ["tests/test_parts_bounded.py"], "tests/test_parts_bounded.py (brute force)"),
+    Mutation("layers-pin-disc-too-small", "analytic/parts/layers.py pin_rules: the link's disc half as wide",
+             "analytic/parts/layers.py", "radius = {ln: float(np.max(np.hypot(*out.local[ln].T))) for ln in parts}",
+             "radius = {ln: 0.5 * float(np.max(np.hypot(*out.local[ln].T))) for ln in parts}",
+             ["tests/test_parts_bounded.py"], "tests/test_parts_bounded.py (brute force)"),
+    Mutation("layers-no-size-limit", "analytic/parts/layers.py: no limit on the links laid out", "analytic/parts/layers.py",
+             "    if len(parts) > MAX_LINKS:\n", "    if False:\n", ["tests/test_parts_bounded.py"],
+             "tests/test_parts_bounded.py::test_past_max_links_..."),
+    Mutation("titles-no-layout", "sim/output/titles.py fit: the layout run only when a title or tick changed",
+             "sim/output/titles.py", "    if layout is not None:\n        layout()\n    for _ in range(5):",
+             "    for _ in range(5):", ["tests/test_plot_titles.py"], "tests/test_plot_titles.py"),
 ]
 
 

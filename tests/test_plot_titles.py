@@ -27,8 +27,8 @@ def _boxes(fig):
 
 
 def assert_fits(fig, words: dict):
-    """Every title inside the figure, within its panel's width x SLACK, not overlapping its row's neighbours,
-    with its words; x tick labels apart."""
+    """Every title inside the figure, within its panel's width x SLACK, not overlapping another title or the
+    labels of the panel above, with its words; x tick labels apart."""
     r, boxes = _boxes(fig)
     W, H = fig.bbox.width, fig.bbox.height
     for ax, t, b in boxes:
@@ -41,6 +41,12 @@ def assert_fits(fig, words: dict):
         for (_, t2, b2) in boxes:
             if t1 is not t2 and b1.overlaps(b2):
                 raise AssertionError(f"titles overlap: {t1.get_text()!r} and {t2.get_text()!r}")
+    # no title runs into the axis labels or tick labels of the panel above it
+    others = [(ax, t) for ax in fig.axes if ax.axison for t in [ax.xaxis.label, *ax.get_xticklabels()] if t.get_text()]
+    for ax1, t1, b1 in boxes:
+        for ax2, t2 in others:
+            if ax2 is not ax1 and b1.overlaps(t2.get_window_extent(r)):
+                raise AssertionError(f"title {t1.get_text()!r} runs into {t2.get_text()!r}")
     for ax in fig.axes:
         if not ax.axison:
             continue

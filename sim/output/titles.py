@@ -88,9 +88,11 @@ def thin_ticks(fig) -> bool:
 
 def fit(fig, layout=None) -> None:
     """Titles and tick labels of ``fig`` fitted (:func:`fit_titles`, :func:`thin_ticks`), ``layout`` (e.g.
-    ``fig.tight_layout``; none for a constrained layout, which the measuring draw runs) after each pass that
-    changed something, until a pass finds everything fitting (a wrapped title can narrow a panel of fixed
+    ``fig.tight_layout``; none for a constrained layout, which the measuring draw runs) first and after each
+    pass that changed something, until a pass finds everything fitting (a wrapped title can narrow a panel of fixed
     aspect: at most 5 passes)."""
+    if layout is not None:
+        layout()
     for _ in range(5):
         changed = fit_titles(fig)
         changed |= thin_ticks(fig)
