@@ -349,6 +349,9 @@ MUTATIONS = [
              "size", "analytic/kinds/rpr.py", "return np.abs(st.slides[e[\"links\"][1]][0]) / size",
              "return np.abs(st.slides[e[\"links\"][1]][0]) / (size + 0.1 * e[\"length\"])", [SV],
              "tests/test_singularity_values.py"),
+    Mutation("sv-group-unnormalised", "analytic/solver/general_group.py singularity: the Jacobian's rows not scaled to "
+             "unit length", "analytic/solver/general_group.py",
+             "        J /= np.sqrt(np.sum(J * J, axis=1, keepdims=True))\n", "", [SV], "tests/test_singularity_values.py"),
     Mutation("cmd-columns-si", "sim/output/units.py: commanded columns (cmd_) left SI", "sim/output/units.py",
              "    if column.startswith(\"cmd_\"):\n        column = column[4:]\n",
              "    if column.startswith(\"cmd_\"):\n        return \"\"\n", [CMD], "tests/test_commanded_columns.py"),

@@ -64,3 +64,57 @@ def test_a_slot_at_a_fixed_angle_measures_its_sine(file, point, angle, phi):
     mech = analytic.load(str(KINDS / file))
     got, _ = _measures(mech, phi)
     assert got[point] == pytest.approx(abs(math.sin(math.radians(angle))), abs=HAND)
+
+
+# ------------------------------------------------------------------------------------ the general group
+GROUP_DYAD = """
+format = "linkage/1"
+output = "C"
+
+[ground]
+A = [0, 0]
+D = [0.3, 0]
+
+[[inputs]]
+kind = "crank"
+pivot = "A"
+point = "B"
+length = 0.1
+link = "crank"
+omega = "360deg"
+
+[[groups]]
+kind = "group"
+points = ["C"]
+links = { coupler = ["B", "C"], rocker = ["D", "C"] }
+pose = { B = [0.1, 0], D = [0.3, 0], C = [0.3, 0.25] }
+"""
+
+
+def test_a_general_group_of_two_links_measures_the_sine_between_them(tmp_path):
+    """A four-bar's dyad written as a general group: at phi = 0 the pose itself, C = (0.3, 0.25) over
+    B = (0.1, 0) and D = (0.3, 0): CB = (-0.2, -0.25), CD = (0, -0.25), sin = 0.05 / (0.25 sqrt(0.1025))."""
+    f = tmp_path / "g.toml"
+    f.write_text(GROUP_DYAD)
+    got, sol = _measures(analytic.load(str(f)), 0.0)
+    assert (float(sol["xC"][0]), float(sol["yC"][0])) == pytest.approx((0.3, 0.25), abs=1e-9)   # Newton's tol
+    assert got["point C"] == pytest.approx(0.05 / (0.25 * math.sqrt(0.1025)), abs=1e-9)
+
+
+def test_a_triad_is_singular_where_its_three_rods_meet_in_a_point():
+    """tests/kinds/group.toml's class III triad (coupler Q1 Q2 Q3 hung from rods P1-Q1, P2-Q2, G2-Q3): the
+    triad is singular exactly where the three rods' lines are concurrent (the coupler's instant centre is
+    then undetermined). The rods' far ends moved onto lines through one point O: the measure is 0 (rounding);
+    the ground pivot moved off its line: it is not."""
+    mech = analytic.load(str(KINDS / "group.toml"))
+    sol = dict(mech.solve(np.array([[0.0]]), 1.0, 0.0))
+    label = "groups[2] (points Q1, Q2, Q3)"
+    assert float(np.ravel(figures.singularity(mech, sol)[label])[0]) > 0.1          # the file's pose: regular
+    O = np.array([0.3, 0.0])
+    for p, q, f in (("P1", "Q1", 0.5), ("P2", "Q2", 0.4), ("G2", "Q3", 0.6)):
+        Q = np.array([sol["x" + q][0], sol["y" + q][0]])
+        P = O + f * (Q - O)
+        sol["x" + p], sol["y" + p] = np.array([P[0]]), np.array([P[1]])
+    assert float(np.ravel(figures.singularity(mech, sol)[label])[0]) <= 1e-12      # a determinant's rounding
+    sol["xG2"] = sol["xG2"] + 0.05
+    assert float(np.ravel(figures.singularity(mech, sol)[label])[0]) > 0.01
