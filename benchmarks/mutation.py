@@ -393,10 +393,11 @@ MUTATIONS = [
              "tau = np.array([float(motors[0].torque(w[0])), float(motors[1].torque(w[0]))])", [FLY],
              "tests/test_flywheel_energy.py"),
     Mutation("titles-unfitted", "sim/front/cli/synth_path.py: the panels' titles laid out as written (cut at the edge)",
-             "sim/front/cli/synth_path.py", "    fit(fig, fig.tight_layout)\n", "    fig.tight_layout()\n",
+             "sim/front/cli/synth_path.py", "    fig.tight_layout()\n    fit(fig)\n", "    fig.tight_layout()\n",
              ["tests/test_plot_titles.py"], "tests/test_plot_titles.py"),
-    Mutation("ticks-unthinned", "sim/output/titles.py: overlapping tick labels left as they are", "sim/output/titles.py",
-             "        changed |= thin_ticks(fig)\n", "", ["tests/test_plot_titles.py"], "tests/test_plot_titles.py"),
+    Mutation("ticks-unthinned", "sim/output/fit.py: overlapping tick labels left as they are", "sim/output/fit.py",
+             "        if not (fit_titles(fig) | thin_ticks(fig)):", "        if not fit_titles(fig):",
+             ["tests/test_plot_titles.py"], "tests/test_plot_titles.py"),
     Mutation("layers-no-clique-bound", "analytic/parts/layers.py colour: the search counts up from one layer (no clique "
              "bound)", "analytic/parts/layers.py", "low = max([0, _clique(nodes, adj)]", "low = max([0, 0]",
              ["tests/test_parts_bounded.py"], "tests/test_parts_bounded.py::test_a_complete_conflict_graph_..."),
@@ -411,9 +412,13 @@ MUTATIONS = [
     Mutation("layers-no-size-limit", "analytic/parts/layers.py: no limit on the links laid out", "analytic/parts/layers.py",
              "    if len(parts) > MAX_LINKS:\n", "    if False:\n", ["tests/test_parts_bounded.py"],
              "tests/test_parts_bounded.py::test_past_max_links_..."),
-    Mutation("titles-no-layout", "sim/output/titles.py fit: the layout run only when a title or tick changed",
-             "sim/output/titles.py", "    if layout is not None:\n        layout()\n    for _ in range(5):",
-             "    for _ in range(5):", ["tests/test_plot_titles.py"], "tests/test_plot_titles.py"),
+    Mutation("titles-no-relayout", "sim/output/fit.py: the figure not laid out again after wrapping a title",
+             "sim/output/fit.py", "        fig.tight_layout()                        # laid out once by tight_layout",
+             "        pass                                      # laid out once by tight_layout",
+             ["tests/test_plot_titles.py"], "tests/test_plot_titles.py"),
+    Mutation("titles-no-shrink", "sim/output/fit.py: a word wider than its room left as it is",
+             "sim/output/fit.py", "        text_artist.set_fontsize(max(MIN_FONTSIZE, 0.9 * text_artist.get_fontsize()))",
+             "        break", ["tests/test_plot_titles.py"], "tests/test_plot_titles.py"),
 ]
 
 

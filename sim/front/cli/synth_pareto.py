@@ -80,7 +80,7 @@ def plot(path: str, target, front: list[dict], objectives: list[str], unit: str)
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    from sim.output.titles import fit
+    from sim.output.fit import fit
     keys = [P.OBJECTIVES[o] for o in objectives]
     others = keys[1:]
     k = len(front)
@@ -121,7 +121,8 @@ def plot(path: str, target, front: list[dict], objectives: list[str], unit: str)
             ax.legend(fontsize=7, loc="best")
     for n in range(k, (nrows - 1) * ncols):
         axes[1 + n // ncols][n % ncols].axis("off")
-    fit(fig, fig.tight_layout)
+    fig.tight_layout()
+    fit(fig)
     with atomic_path(path) as tmp:
         fig.savefig(tmp, dpi=100, format=Path(path).suffix.lstrip(".") or "png")
     plt.close(fig)

@@ -106,7 +106,7 @@ def _plot_total(task, search, lo, hi, out, unit) -> None:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     from sim.output.io import atomic_path
-    from sim.output.titles import fit
+    from sim.output.fit import fit
     th = np.linspace(lo, hi, 721)
     total = np.array([synthesis.design(task, float(t)).total for t in th])
     ok = np.array([synthesis.feasibility(task, synthesis.design(task, float(t)), 91) is None for t in th])
