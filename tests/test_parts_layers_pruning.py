@@ -28,7 +28,7 @@ def test_the_bounding_circles_never_come_closer_than_the_outlines(name):
     mech, sweep, out, _, links = _swept(name)
     for a, b in itertools.combinations(links, 2):
         true = layers.signed_distance(layers.world(out, sweep, a), layers.world(out, sweep, b), depth=False)
-        bound = layers._circles_apart(out, sweep, a, b)
+        bound = layers.Swept(out, sweep).gap(a, b)
         assert np.all(bound <= true), (a, b, float(np.max(bound - true)))
 
 
@@ -36,7 +36,7 @@ def test_the_fourbars_crank_and_rocker_are_told_apart_by_their_circles_alone():
     """What the bound is for: the four-bar's crank and rocker (not pinned together) stay farther apart than
     the clearance at every sample by their circles, so none of their 721 poses is measured as polygons."""
     mech, sweep, out, cfg, _ = _swept("fourbar")
-    assert np.all(layers._circles_apart(out, sweep, "1", "3") > cfg.clearance)
+    assert np.all(layers.Swept(out, sweep).gap("1", "3") > cfg.clearance)
 
 
 @pytest.mark.parametrize("name", NAMES)
@@ -46,7 +46,8 @@ def test_the_pruned_conflict_search_agrees_with_measuring_every_sample(name):
     mech, sweep, out, cfg, links = _swept(name)
     thr = cfg.clearance
     for a, b in itertools.combinations(links, 2):
-        pruned = layers.pair_distance(mech, out, sweep, a, b, thr, penetration_depth=False)
+        pruned = layers.pair_distance(mech, out, sweep, a, b, thr, penetration_depth=False,
+                                       swept=layers.Swept(out, sweep))
         full = layers.pair_distance(mech, out, sweep, a, b, thr, penetration_depth=True)
         assert (pruned.first is None) == (full.first is None), (a, b)
         d = layers.signed_distance(layers.world(out, sweep, a), layers.world(out, sweep, b), depth=False)
@@ -61,8 +62,7 @@ def test_the_layout_is_the_same_with_every_sample_measured(monkeypatch):
         parts = model.build(mech, sweep)
         fast = layers.layout(mech, parts, sweep)
         with monkeypatch.context() as m:
-            m.setattr(layers, "_circles_apart", lambda out, sweep, a, b: np.full(len(sweep.t), -np.inf))
-            m.setattr(layers, "_close_at_start", lambda *args: False)
+            m.setattr(layers.Swept, "gap", lambda self, a, b: np.full(len(self.sweep.t), -np.inf))
             slow = layers.layout(mech, parts, sweep)
         assert (fast.layers, fast.z, fast.pins, fast.clashes, fast.conflicts) == (
             slow.layers, slow.z, slow.pins, slow.clashes, slow.conflicts), name

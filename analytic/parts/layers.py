@@ -22,6 +22,12 @@ FRAME = "frame"
 
 MAX_EXACT = 40
 """Links up to which the colouring is exact (backtracking); above it DSatur's greedy colouring."""
+MAX_LINKS = 40
+"""The most links the layering lays out: its pair distances over the cycle grow as the square of the count and
+its outlines' memory as the count (31 links all within reach of one another: 5 s, 190 MB)."""
+PROBE = 24
+"""Deciding whether two outlines come closer than the clearance, every PROBE-th sample where their discs come
+near is measured first (two links pinned together touch at every sample: one measurement decides it)."""
 
 
 @dataclass(frozen=True)
@@ -56,14 +62,62 @@ def _polys(verts) -> np.ndarray:
     return shapely.polygons(verts)
 
 
-def signed_distance(va: np.ndarray, vb: np.ndarray, depth: bool = True, polys=(None, None)) -> np.ndarray:
+class Swept:
+    """Every link's outline over the sweep, as vertices (:func:`world`) and shapely polygons, each made once
+    per layout (a pair's distance and a pin's rule read them again for every other link: made per use, they
+    cost as much as the distances themselves)."""
+
+    def __init__(self, out: Outlines, sweep: model.Sweep):
+        self.out, self.sweep, self._v, self._p, self._s, self._d = out, sweep, {}, {}, {}, {}
+
+    def verts(self, link: str) -> np.ndarray:
+        if link not in self._v:
+            self._v[link] = (_frame_verts(self.out, len(self.sweep.t)) if link == FRAME
+                             else world(self.out, self.sweep, link))
+        return self._v[link]
+
+    def polys(self, link: str) -> np.ndarray:
+        if link not in self._p:
+            self._p[link] = _polys(self.verts(link))
+        return self._p[link]
+
+    def step(self, link: str) -> np.ndarray:
+        """(N-1,) each step's largest vertex displacement (:func:`_step`); zeros for the frame."""
+        if link not in self._s:
+            self._s[link] = np.zeros(len(self.sweep.t) - 1) if link == FRAME else _step(self.verts(link))
+        return self._s[link]
+
+    def disc(self, link: str) -> tuple[np.ndarray, float]:
+        """(N, 2) centres and the radius of a disc that holds the outline at every sample (centred on the
+        outline's bounding box in its link's frame)."""
+        if link not in self._d:
+            uv = self.out.frame if link == FRAME else self.out.local[link]
+            c = 0.5 * (uv.min(axis=0) + uv.max(axis=0))
+            r = float(np.max(np.hypot(*(uv - c).T)))
+            if link == FRAME:
+                self._d[link] = (np.broadcast_to(c, (len(self.sweep.t), 2)), r)
+            else:
+                f = self.sweep.frames[link]
+                co, si = np.cos(f[:, 2]), np.sin(f[:, 2])
+                self._d[link] = (np.column_stack([f[:, 0] + c[0] * co - c[1] * si, f[:, 1] + c[0] * si + c[1] * co]), r)
+        return self._d[link]
+
+    def gap(self, a: str, b: str) -> np.ndarray:
+        """(N,) a lower bound of the two outlines' distance at every sample: their discs' gap, less a rounding
+        allowance of a few ulps."""
+        (ca, ra), (cb, rb) = self.disc(a), self.disc(b)
+        reach = ra + rb
+        return np.hypot(*(ca - cb).T) - reach - 1e-9 * (reach + float(np.max(np.abs(ca))))
+
+
+def signed_distance(va: np.ndarray, vb: np.ndarray, depth: bool = True, polys=None) -> np.ndarray:
     """Per sample: the distance between two convex polygons ((N, k, 2) and (N, m, 2) vertices) where
     they are apart, minus their penetration depth where they overlap (the smallest translation that
     separates them, by the separating-axis theorem on both polygons' edge normals); ``depth`` False: 0
-    where they overlap. ``polys``: the shapely polygons of ``va`` and ``vb`` where already made (else None)."""
+    where they overlap. ``polys``: the two polygon arrays if already made."""
     import shapely
-    pa, pb = polys
-    d = shapely.distance(_polys(va) if pa is None else pa, _polys(vb) if pb is None else pb)
+    pa, pb = polys if polys is not None else (_polys(va), _polys(vb))
+    d = shapely.distance(pa, pb)
     out = np.asarray(d, dtype=float).copy()
     for k in (np.nonzero(out <= 0.0)[0] if depth else ()):
         out[k] = -penetration(va[k], vb[k])
@@ -103,31 +157,45 @@ class PairDistance:
 
 
 def pair_distance(mech, out: Outlines, sweep: model.Sweep, a: str, b: str, threshold: float,
-                  depth: int = 12, penetration_depth: bool = True, swept: dict | None = None) -> PairDistance:
+                  depth: int = 12, penetration_depth: bool = True, swept: Swept | None = None) -> PairDistance:
     """Min signed distance of links ``a`` and ``b`` (``b`` may be FRAME) over the sweep, intervals refined
     as the module docstring says, so that a pass closer than ``threshold`` is not missed between samples;
-    ``penetration_depth`` False: overlaps count 0 (faster; enough to decide a conflict), and a sample whose
-    outlines' bounding circles leave more than the threshold between them (and the step's margin beside it)
-    is not measured: ``first`` is the same, ``d`` and ``t`` then the least over the samples measured and
-    those bounds. ``swept``: a dict (:func:`swept_outline`'s) that keeps each link's outlines over this sweep
-    for the next pair."""
+    ``penetration_depth`` False: overlaps count 0 (faster; enough to decide a conflict). ``swept``: the
+    outlines over ``sweep`` already made; with ``penetration_depth`` False too (the layering's question:
+    does the pair come closer than ``threshold``?) only ``first`` is exact, ``d`` and ``t`` those of the
+    samples measured (the discs' gap stands in elsewhere; a conflict returns at its first sample)."""
     t = sweep.t
-    swept = {} if swept is None else swept
-    va, pa = swept_outline(out, sweep, a, swept)
-    vb, pb = (_frame_verts(out, len(t)), None) if b == FRAME else swept_outline(out, sweep, b, swept)
-    margin = _step(va) + (0.0 if b == FRAME else _step(vb))
-    if penetration_depth:
-        d = signed_distance(va, vb, True, (pa, pb))
+    if swept is not None and not penetration_depth:
+        # the polygons measured only where their discs come near: elsewhere the discs' gap stands in for the
+        # distance (a lower bound above threshold + the steps' margin, so the refinement below and ``first``
+        # decide as the distances would; ``d`` is then exact only where it is below that)
+        step = swept.step(a) + swept.step(b)
+        near_margin = np.concatenate([[step[0]], np.maximum(step[1:], step[:-1]), [step[-1]]]) if len(t) > 1 else 0
+        d = swept.gap(a, b)
+        near = np.nonzero(d < threshold + near_margin)[0]
+        if near.size:
+            import shapely
+            d = d.copy()
+            pa, pb = swept.polys(a), swept.polys(b)
+            probe = near[::PROBE]                       # a conflict is mostly found among a few samples
+            dp = shapely.distance(pa[probe], pb[probe])
+            if dp.min() < threshold:                    # the first sample below it: among those up to this one
+                upto = near[near <= probe[int(np.argmax(dp < threshold))]]
+                du = shapely.distance(pa[upto], pb[upto])
+                k = int(np.argmax(du < threshold))
+                return PairDistance(a, b, float(du[k]), float(t[upto[k]]), float(t[upto[k]]))
+            d[near] = shapely.distance(pa[near], pb[near])
+    elif swept is not None:
+        va, vb = swept.verts(a), swept.verts(b)
+        d = signed_distance(va, vb, penetration_depth, (swept.polys(a), swept.polys(b)))
     else:
-        d = _circles_apart(out, sweep, a, b)            # <= the outlines' distance at every sample
-        low = 0.5 * (d[:-1] + d[1:] - margin) < threshold
-        need = (d < threshold) | np.concatenate([low, [False]]) | np.concatenate([[False], low])
-        if need.any():                                  # every sample that could be below, or bound an
-            d[need] = signed_distance(va[need], vb[need], False,     # interval refined below
-                                      (pa[need], None if pb is None else pb[need]))
-        if d.min() < threshold:
-            k = int(np.argmin(d))
-            return PairDistance(a, b, float(d[k]), float(t[k]), float(t[np.argmax(d < threshold)]))
+        va = world(out, sweep, a)
+        vb = _frame_verts(out, len(t)) if b == FRAME else world(out, sweep, b)
+        d = signed_distance(va, vb, penetration_depth)
+    if not penetration_depth and d.min() < threshold:
+        k = int(np.argmin(d))
+        return PairDistance(a, b, float(d[k]), float(t[k]), float(t[np.argmax(d < threshold)]))
+    margin = (swept.step(a) + swept.step(b)) if swept is not None else _step(va) + (0.0 if b == FRAME else _step(vb))
     ts, ds = list(t), list(d)
     todo = [(t[k], t[k + 1], d[k], d[k + 1], margin[k]) for k in range(len(t) - 1)
             if min(d[k], d[k + 1]) >= threshold and 0.5 * (d[k] + d[k + 1] - margin[k]) < threshold]
@@ -153,41 +221,6 @@ def pair_distance(mech, out: Outlines, sweep: model.Sweep, a: str, b: str, thres
     k = int(np.argmin(ds))
     below = ts[ds < threshold]
     return PairDistance(a, b, float(ds[k]), float(ts[k]), float(below.min()) if below.size else None)
-
-
-def swept_outline(out: Outlines, sweep: model.Sweep, link: str, swept: dict) -> tuple:
-    """(vertices (N, k, 2), shapely polygons (N,)) of ``link``'s outline at every sample of ``sweep``, made
-    once and kept in ``swept`` (one dict per sweep): the layers' pairs and pins ask for each link's often."""
-    if link not in swept:
-        v = world(out, sweep, link)
-        swept[link] = (v, _polys(v))
-    return swept[link]
-
-
-def _circles_apart(out: Outlines, sweep: model.Sweep, a: str, b: str) -> np.ndarray:
-    """(N,) a lower bound of the distance of ``a``'s and ``b``'s outlines at every sample: the gap between
-    circles holding them (centred on each outline's bounding box), less a rounding allowance."""
-    def circle(link):
-        if link == FRAME:
-            c = 0.5 * (out.frame.min(axis=0) + out.frame.max(axis=0))
-            return np.broadcast_to(c, (len(sweep.t), 2)), float(np.max(np.hypot(*(out.frame - c).T)))
-        uv = out.local[link]
-        c = 0.5 * (uv.min(axis=0) + uv.max(axis=0))
-        f = sweep.frames[link]
-        co, si = np.cos(f[:, 2]), np.sin(f[:, 2])
-        centre = np.column_stack([f[:, 0] + c[0] * co - c[1] * si, f[:, 1] + c[0] * si + c[1] * co])
-        return centre, float(np.max(np.hypot(*(uv - c).T)))
-    (ca, ra), (cb, rb) = circle(a), circle(b)
-    reach = ra + rb
-    return np.hypot(*(ca - cb).T) - reach - 1e-9 * (reach + float(np.max(np.abs(ca))))   # rounding of a few ulps
-
-
-def _close_at_start(out: Outlines, sweep: model.Sweep, a: str, b: str, threshold: float, swept: dict) -> bool:
-    """Whether ``a`` and ``b`` are closer than ``threshold`` at the sweep's first sample (links pinned together
-    overlap there): a conflict decided without measuring the other samples."""
-    va, pa = swept_outline(out, sweep, a, swept)
-    vb, pb = (_frame_verts(out, 1), None) if b == FRAME else swept_outline(out, sweep, b, swept)
-    return bool(signed_distance(va[:1], vb[:1], False, (pa[:1], None if pb is None else pb[:1]))[0] < threshold)
 
 
 def _frame_verts(out: Outlines, n: int) -> np.ndarray:
@@ -244,7 +277,7 @@ def colour(nodes, edges, fixed=None, pins=()) -> dict:
             adj[b].add(a)
     if len(nodes) > MAX_EXACT:
         return _dsatur(nodes, adj, fixed)
-    low = max([0] + [v + 1 for v in fixed.values()])
+    low = max([0, _clique(nodes, adj)] + [v + 1 for v in fixed.values()])
     free = [n for n in nodes if n not in fixed]
     order = {n: i for i, n in enumerate(free)}
     due: dict = {}                                      # each rule checked once its last node is coloured
@@ -255,11 +288,14 @@ def colour(nodes, edges, fixed=None, pins=()) -> dict:
         last = max((order[n] for n in involved if n in order), default=-1)
         due.setdefault(last, []).append(rule)
     plain = None
+    budget = [PLAIN_SEARCH]
     for k in range(max(1, low), len(nodes) + low + 2):
         out = dict(fixed)
-        if _fill(free, 0, adj, out, k, {}, [math.inf]):
+        if _fill(free, 0, adj, out, k, {}, budget):
             plain = out
             break
+        if budget[0] < 0:                                # a conflict graph too dense to colour exactly in time
+            return _dsatur(nodes, adj, fixed)
     if not due or any(not r.holds(fixed) for r in due.get(-1, [])):
         return plain
     k0 = max(plain.values(), default=-1) + 1
@@ -271,6 +307,10 @@ def colour(nodes, edges, fixed=None, pins=()) -> dict:
     return plain
 
 
+PLAIN_SEARCH = 200_000
+"""Assignments tried in search of the fewest layers (every count from the largest clique found up), before
+DSatur's greedy colouring is taken instead (a dense conflict graph: every one of many links near every other;
+the library's designs need a few hundred)."""
 PIN_SEARCH = 200_000
 """Assignments tried in search of layers that every pin rule allows, before the plain colouring is kept and
 the pins that clash are reported (``Layout.clashes``)."""
@@ -291,6 +331,19 @@ def _fill(free, i, adj, out, k, due, budget) -> bool:
                 return True
             del out[n]
     return False
+
+
+def _clique(nodes, adj) -> int:
+    """The size of a clique of the conflict graph (greedy from each node, the most connected neighbours first):
+    a lower bound of the layers needed."""
+    best = 0
+    for n in nodes:
+        clique = [n]
+        for m in sorted(adj[n], key=lambda m: -len(adj[m])):
+            if all(m in adj[c] for c in clique):
+                clique.append(m)
+        best = max(best, len(clique))
+    return best
 
 
 def _dsatur(nodes, adj, fixed) -> dict:
@@ -328,6 +381,10 @@ def layout(mech, parts: dict, sweep: model.Sweep | None = None) -> Layout:
     """Layers (see the module docstring): the conflict graph over the cycle, meshing gears merged, the
     frame (if any) fixed on layer 0, ``[parts].layers`` kept; then z: each layer as thick as its thickest
     part, ``layer_gap`` between layers."""
+    if len(parts) > MAX_LINKS:
+        from analytic._common import ParameterError
+        raise ParameterError(f"{mech.definition.source}: {len(parts)} moving links; the parts' layering lays out at "
+                             f"most {MAX_LINKS} (its distances over the cycle grow as the square of the count)")
     sweep = sweep if sweep is not None else model.cycle(mech)
     cfg = model.settings(mech)
     out = outlines(mech, parts)
@@ -336,15 +393,13 @@ def layout(mech, parts: dict, sweep: model.Sweep | None = None) -> Layout:
     group = {ln: ln for ln in links}
     for a, b in mesh:
         group[b] = group[a]
-    conflicts, swept = [], {}
+    conflicts = []
+    swept = Swept(out, sweep)
     pairs = [(a, b) for i, a in enumerate(links) for b in links[i + 1:] if group[a] != group[b]]
     if out.frame is not None:
         pairs += [(a, FRAME) for a in links]
     for a, b in pairs:
         if _bbox_apart(out, sweep, a, b, cfg.clearance):
-            continue
-        if _close_at_start(out, sweep, a, b, cfg.clearance, swept):   # pair_distance would find it there first
-            conflicts.append((a, b))
             continue
         pd = pair_distance(mech, out, sweep, a, b, cfg.clearance, penetration_depth=False, swept=swept)
         if pd.first is not None:
@@ -387,14 +442,14 @@ def layout(mech, parts: dict, sweep: model.Sweep | None = None) -> Layout:
     return Layout(layers, z, tuple(conflicts), mesh, pins, tuple(clashes))
 
 
-def pin_rules(mech, parts, out: Outlines, sweep, cfg, group, swept: dict | None = None) -> list[PinRule]:
+def pin_rules(mech, parts, out: Outlines, sweep, cfg, group, swept: Swept | None = None) -> list[PinRule]:
     """A :class:`PinRule` per joint: the links pinned there (and those whose slot its pin runs in: the slot
     of a block pinned there), and the other links that pass within the clearance of the pin's circle
-    (diameter ``pin_diameter``) at some sample, less a margin of their largest step between samples.
-    A link whose bounding circle (about its frame's origin) stays that far from the pin is not measured
-    further: the outline's distance is at least the circle's. ``swept``: as :func:`pair_distance`'s."""
+    (diameter ``pin_diameter``) at some sample, less a margin of their largest step between samples (a link
+    whose bounding disc about its frame's origin never comes that close is passed over without its polygons)."""
     import shapely
-    swept = {} if swept is None else swept
+    swept = swept if swept is not None else Swept(out, sweep)
+    radius = {ln: float(np.max(np.hypot(*out.local[ln].T))) for ln in parts}
     rules = []
     for p in mech.points:
         pinned = [ln for ln, part in parts.items() if any(h.point == p for h in part.holes)]
@@ -409,15 +464,18 @@ def pin_rules(mech, parts, out: Outlines, sweep, cfg, group, swept: dict | None 
         for ln in parts:
             if ln in members:
                 continue
-            v, polys = swept_outline(out, sweep, ln, swept)
-            margin = float(np.max(_step(v))) + step_p if len(sweep.t) > 1 else 0.0
-            reach = float(np.max(np.hypot(*out.local[ln].T)))
-            apart = np.hypot(*(sweep.points[p] - sweep.frames[ln][:, :2]).T) - reach - cfg.pin_diameter / 2
-            if apart.min() >= cfg.clearance + margin:          # a lower bound of d below: it cannot cross
+            # the disc about the frame's origin holds the outline: where it stays clear, so does the outline
+            disc = np.hypot(*(sweep.frames[ln][:, :2] - sweep.points[p]).T) - radius[ln] - cfg.pin_diameter / 2
+            margin = float(np.max(swept.step(ln))) + step_p if len(sweep.t) > 1 else 0.0
+            near = np.nonzero(disc < cfg.clearance + margin)[0]
+            if not near.size:
                 continue
-            d = np.asarray(shapely.distance(polys, at)) - cfg.pin_diameter / 2
-            if d.min() < cfg.clearance + margin:
-                crossing.append(ln)
+            polys = swept.polys(ln)
+            for idx in (near[::PROBE], near):            # a few samples first: a crossing link is mostly found
+                d = np.asarray(shapely.distance(polys[idx], at[idx])) - cfg.pin_diameter / 2
+                if d.min() < cfg.clearance + margin:
+                    crossing.append(ln)
+                    break
         rules.append(PinRule(p, tuple(dict.fromkeys(group[m] for m in members)),
                              tuple(dict.fromkeys(group[c] for c in crossing if group[c] not in
                                                  {group[m] for m in members})), p in mech.ground_points))

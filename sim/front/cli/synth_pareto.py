@@ -80,6 +80,7 @@ def plot(path: str, target, front: list[dict], objectives: list[str], unit: str)
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    from sim.output.fit import fit
     keys = [P.OBJECTIVES[o] for o in objectives]
     others = keys[1:]
     k = len(front)
@@ -121,6 +122,7 @@ def plot(path: str, target, front: list[dict], objectives: list[str], unit: str)
     for n in range(k, (nrows - 1) * ncols):
         axes[1 + n // ncols][n % ncols].axis("off")
     fig.tight_layout()
+    fit(fig)
     with atomic_path(path) as tmp:
         fig.savefig(tmp, dpi=100, format=Path(path).suffix.lstrip(".") or "png")
     plt.close(fig)

@@ -22,6 +22,7 @@ def plot(path: str, target, found: list[dict], unit: str) -> None:
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    from sim.output.fit import fit
     k = len(found)
     fig, axes = plt.subplots(1, k, figsize=(5 * k, 5), squeeze=False)
     for i, (ax, f) in enumerate(zip(axes[0], found)):
@@ -38,6 +39,7 @@ def plot(path: str, target, found: list[dict], unit: str) -> None:
         ax.set_ylabel(f"y [{unit}]")
         ax.legend(fontsize=7, loc="best")
     fig.tight_layout()
+    fit(fig)
     with atomic_path(path) as tmp:
         fig.savefig(tmp, dpi=110, format=Path(path).suffix.lstrip(".") or "png")
     plt.close(fig)

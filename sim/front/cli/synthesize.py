@@ -105,6 +105,7 @@ def _plot_total(task, search, lo, hi, out, unit) -> None:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     from sim.output.io import atomic_path
+    from sim.output.fit import fit
     th = np.linspace(lo, hi, 721)
     total = np.array([design_service.two_position_design(task, float(t)).total for t in th])
     ok = np.array([design_service.two_position_feasible(task, design_service.two_position_design(task, float(t)), 91)
@@ -121,6 +122,7 @@ def _plot_total(task, search, lo, hi, out, unit) -> None:
            title="Two-position synthesis: total length against coupler rotation")
     ax.grid(alpha=0.3)
     ax.legend()
+    fit(fig)
     with atomic_path(out) as tmp:
         fig.savefig(tmp, dpi=100)
     plt.close(fig)
