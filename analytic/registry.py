@@ -19,7 +19,7 @@ from analytic.closed_forms import sixbar
 from analytic._common import ParameterError
 from analytic.closed_forms import Builtin
 from analytic.mechanism import Mechanism
-from analytic.catalog import LIBRARY, names, summary  # noqa: F401 (re-exported: the names and headers, light)
+from analytic.catalog import BUILTIN_NAMES, LIBRARY, names, summary  # noqa: F401 (re-exported: the names and headers, light)
 
 BUILTINS: dict[str, Builtin] = {
     "fourbar": Builtin(fourbar.OUTPUTS, {"mu": "muC"}, fourbar, fourbar.FourBar,
@@ -37,10 +37,18 @@ def _library_definition(name: str) -> linkfile.Definition:
     return linkfile.read(LIBRARY / f"{name}.toml")
 
 
+def is_name(name: str) -> bool:
+    """Whether ``name`` is in :func:`names` (a built-in, or a ``.toml`` file of the library folder), asked of
+    that one file rather than by listing the folder (every drag step loads its mechanism by name)."""
+    if name in BUILTIN_NAMES:
+        return True
+    return isinstance(name, str) and bool(name) and "/" not in name and "\\" not in name and (LIBRARY / f"{name}.toml").is_file()
+
+
 def definition(name_or_path: str) -> linkfile.Definition:
     """The definition of a built-in or library mechanism by name, or of a file by path (a ``linkage/1`` file,
     or a Pyslvs or PMKS file: :mod:`analytic.format.foreign`)."""
-    if name_or_path in names():
+    if is_name(name_or_path):
         return _library_definition(name_or_path)
     p = Path(name_or_path)
     if p.exists() and foreign.detect(p):            # a Pyslvs or PMKS file, opened as it is

@@ -8,7 +8,18 @@ thread (the part of a step that does not depend on how loaded the machine is), t
 and an empty request's round trip by fetch and over the page's WebSocket (the transport's own share of every
 request; the drag steps go over the WebSocket once it is open)::
 
-    python benchmarks/app_drag.py [--mechanisms fourbar,jansen] [--steps 30] [--screenshot PNG]
+    python benchmarks/app_drag.py [--mechanisms fourbar,jansen] [--steps 30] [--input synthetic|real|both]
+                                  [--screenshot PNG]
+
+Two ways of moving the pointer (``--input``): ``synthetic`` (the default) dispatches a PointerEvent on the
+canvas from the page's own script, at whatever phase of the frame the script happens to run, and times from
+that call; ``real`` moves the mouse through Playwright's ``page.mouse.move`` (CDP Input.dispatchMouseEvent:
+a real input event, which Chromium, as for a user's mouse, delivers aligned to the animation frames) and
+times from the event's own ``timeStamp`` (when the browser received the input, on the performance.now
+clock) to the next animation frame after the redraw; ``both`` prints each mechanism's two rows. In the real
+mode the "other" column holds the wait from the input's arrival to its delivery to the page's handler (printed
+apart): Chromium holds a pointermove for the next frame's input phase, so a real step pays up to a frame
+before the handler runs as well as the frame wait after the redraw; the synthetic mode starts at the handler.
 
 Target (issue 31): 16 ms median, 33 ms p95 (one frame at 60 Hz, two at most).
 """
@@ -50,6 +61,26 @@ STEP = """async ([x, y]) => {
 }"""
 
 
+REAL_ARM = """() => { const r0 = +document.body.dataset.revision;
+  window.linkageBenchStep = new Promise((resolve) => {
+    const timer = setTimeout(() => resolve(null), 2000);     // no pointermove came: the step is left out
+    window.addEventListener("pointermove", (ev) => {
+      const t0 = ev.timeStamp, handled = performance.now();
+      let drawn = handled;
+      const obs = new MutationObserver(() => {
+        if (+document.body.dataset.revision > r0) {
+          obs.disconnect(); drawn = performance.now();
+          requestAnimationFrame(() => { clearTimeout(timer); const end = performance.now();
+            resolve([end - t0, { ...window.linkageTiming, frame_ms: end - drawn, delivered_ms: handled - t0 }]); });
+        }
+      });
+      obs.observe(document.body, { attributes: true, attributeFilter: ["data-revision"] });
+    }, { capture: true, once: true });
+  }); }"""
+"""``--input real``: armed before the mouse moves; the step runs from the pointermove's timeStamp (the input's
+arrival) through its delivery to the page, the request and the redraw, to the next animation frame."""
+
+
 def pick_point(page) -> str:
     """The first point a drag can move freely: not on the ground, not an input's tip."""
     d = page.evaluate("window.linkageState.describe")
@@ -64,7 +95,7 @@ def percentile(values: list[float], q: float) -> float:
     return s[lo] + (s[hi] - s[lo]) * (k - lo)
 
 
-def measure(page, name: str, steps: int) -> tuple[str, list[float], list[dict]]:
+def measure(page, name: str, steps: int, mode: str = "synthetic") -> tuple[str, list[float], list[dict]]:
     page.evaluate("(n) => { const s = document.querySelector('#mechanism'); s.value = n; "
                   "s.dispatchEvent(new Event('change')); }", name)
     page.wait_for_function(f"window.linkageState && window.linkageState.mechanism === {name!r} && "
@@ -80,8 +111,17 @@ def measure(page, name: str, steps: int) -> tuple[str, list[float], list[dict]]:
     radius = 6.0                                         # [px] a small circle: every step reachable
     totals, parts = [], []
     for k in range(steps + 3):
-        a = 2 * math.pi * k / 12
-        total, timing = page.evaluate(STEP, [x + radius * math.sin(a), y + radius * (1 - math.cos(a))])
+        a = 2 * math.pi * (k + (mode == "real")) / 12    # real input: no move to where the mouse already is
+        tx, ty = x + radius * math.sin(a), y + radius * (1 - math.cos(a))
+        if mode == "real":
+            page.evaluate(REAL_ARM)
+            page.mouse.move(tx, ty)
+            step = page.evaluate("window.linkageBenchStep")
+            if step is None:
+                continue
+            total, timing = step
+        else:
+            total, timing = page.evaluate(STEP, [tx, ty])
         if k >= 3:                                       # the first moves warm up the page's code paths
             totals.append(total)
             parts.append({**(timing or {}), "body": page.evaluate("window.linkageDragBody")})
@@ -127,13 +167,17 @@ def main() -> int:
     ap.add_argument("--mechanisms", default=",".join(analytic.names()),
                     help="comma-separated library mechanisms (default: all)")
     ap.add_argument("--steps", type=int, default=30)
+    ap.add_argument("--input", choices=("synthetic", "real", "both"), default="synthetic",
+                    help="pointer moves dispatched by the page's script (synthetic) or real input events through "
+                         "CDP, timed from the event's timeStamp (real); both: each mechanism's two rows")
     ap.add_argument("--screenshot", metavar="PNG", help="the page after the last mechanism's drag")
     args = ap.parse_args()
     from playwright.sync_api import sync_playwright
 
     srv = app.AppServer(0, {"name": "fourbar"})
     threading.Thread(target=srv.serve_forever, daemon=True).start()
-    every, cpus = [], []
+    modes = ("synthetic", "real") if args.input == "both" else (args.input,)
+    every, cpus = {m: [] for m in modes}, []
     with sync_playwright() as pw:
         browser = pw.chromium.launch(executable_path=CHROMIUM, args=ARGS)
         page = browser.new_page(viewport={"width": 1440, "height": 900})
@@ -143,21 +187,32 @@ def main() -> int:
         print(f"{'mechanism':20s} {'point':6s} {'median':>8s} {'p95':>8s} {'request':>8s} {'drawing':>8s} "
               f"{'frame':>8s} {'other':>8s} {'server CPU':>10s}  [ms]")
         for name in args.mechanisms.split(","):
-            point, totals, parts = measure(page, name, args.steps)
-            every += totals
-            req = statistics.median(p.get("request_ms", float("nan")) for p in parts)
-            draw = statistics.median(p.get("draw_ms", float("nan")) for p in parts)
-            frame = statistics.median(p.get("frame_ms", float("nan")) for p in parts)
-            other = statistics.median(t - p.get("request_ms", 0) - p.get("draw_ms", 0) - p.get("frame_ms", 0)
-                                      for t, p in zip(totals, parts))
-            cpu = server_cpu(parts)
-            cpus.append(cpu)
-            print(f"{name:20s} {point:6s} {statistics.median(totals):8.1f} {percentile(totals, 0.95):8.1f} "
-                  f"{req:8.1f} {draw:8.1f} {frame:8.1f} {other:8.1f} {cpu:10.1f}", flush=True)
+            for mode in modes:
+                point, totals, parts = measure(page, name, args.steps, mode)
+                every[mode] += totals
+                req = statistics.median(p.get("request_ms", float("nan")) for p in parts)
+                draw = statistics.median(p.get("draw_ms", float("nan")) for p in parts)
+                frame = statistics.median(p.get("frame_ms", float("nan")) for p in parts)
+                other = statistics.median(t - p.get("request_ms", 0) - p.get("draw_ms", 0) - p.get("frame_ms", 0)
+                                          for t, p in zip(totals, parts))
+                cpu = server_cpu(parts)
+                if mode == modes[0]:
+                    cpus.append(cpu)
+                label = name if len(modes) == 1 else f"{name[:15]} {mode[:4]}"
+                delivered = [p["delivered_ms"] for p in parts if "delivered_ms" in p]
+                print(f"{label:20s} {point:6s} {statistics.median(totals):8.1f} {percentile(totals, 0.95):8.1f} "
+                      f"{req:8.1f} {draw:8.1f} {frame:8.1f} {other:8.1f} {cpu:10.1f}"
+                      + (f"  (of other: input to handler {statistics.median(delivered):.1f})" if delivered else ""),
+                      flush=True)
         sfloor = page.evaluate(SOCKET_FLOOR, 40)
         sockets = sum(bool(p.get("socket")) for p in parts)
-        print(f"{'all':20s} {'':6s} {statistics.median(every):8.1f} {percentile(every, 0.95):8.1f}   "
-              f"({len(every)} steps; target 16 ms median, 33 ms p95); server CPU per step: median over the "
+        for mode in modes[:-1]:
+            print(f"{'all ' + mode:20s} {'':6s} {statistics.median(every[mode]):8.1f} "
+                  f"{percentile(every[mode], 0.95):8.1f}   ({len(every[mode])} steps, {mode} input)")
+        last = every[modes[-1]]
+        print(f"{'all' + ('' if len(modes) == 1 else ' ' + modes[-1]):20s} {'':6s} {statistics.median(last):8.1f} "
+              f"{percentile(last, 0.95):8.1f}   "
+              f"({len(last)} steps, {modes[-1]} input; target 16 ms median, 33 ms p95); server CPU per step: median over the "
               f"mechanisms {statistics.median(cpus):.1f} ms, at most {max(cpus):.1f}; an empty request's round "
               f"trip {floor:.1f} ms by fetch, "
               f"{'-' if sfloor is None else f'{sfloor:.1f}'} ms over the WebSocket (median); the last mechanism's "

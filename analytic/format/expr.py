@@ -1,7 +1,7 @@
 """Values in mechanism files: numbers, quantities such as ``"30deg"``, parameter names and small
 arithmetic expressions of them (``"l3*(1 + sqrt(1 - (l1/l6)**2))/2"``).
 
-An expression is parsed with :mod:`ast` and evaluated by walking the tree: only numbers, parameter
+An expression is parsed with :mod:`ast` and evaluated by walking the tree (turned once into closures): only numbers, parameter
 names, ``+ - * / **``, parentheses and the functions in :data:`FUNCTIONS` are accepted. Nothing in a
 file is ever executed.
 """
@@ -99,46 +99,78 @@ _ALLOWED = (ast.Expression, ast.BinOp, ast.UnaryOp, ast.Constant, ast.Name, ast.
 
 def evaluate(text: str, values: dict[str, float]) -> float:
     """Evaluate an expression with parameter ``values``; raises ValueError with a readable message."""
-    tree = _parse(text)
-
-    def walk(node):
-        if isinstance(node, ast.Expression):
-            return walk(node.body)
-        if isinstance(node, ast.Constant):
-            return float(node.value)
-        if isinstance(node, ast.Name):
-            if node.id in CONSTANTS:
-                return CONSTANTS[node.id]
-            if node.id not in values:
-                raise ValueError(f"{_short(text)} uses {node.id!r}, which is not a parameter")
-            return values[node.id]
-        if isinstance(node, ast.UnaryOp):
-            v = walk(node.operand)
-            return -v if isinstance(node.op, ast.USub) else v
-        if isinstance(node, ast.BinOp):
-            a, b = walk(node.left), walk(node.right)
-            op = type(node.op)
-            if op is ast.Pow and abs(b) > 64:
-                raise ValueError(f"{_short(text)}: exponent {b:g} is too large")
-            try:
-                return {ast.Add: a + b, ast.Sub: a - b, ast.Mult: a * b}[op] if op in (
-                    ast.Add, ast.Sub, ast.Mult) else (a / b if op is ast.Div else a ** b)
-            except (ZeroDivisionError, OverflowError):
-                raise ValueError(f"{_short(text)} divides by zero or overflows") from None
-        if isinstance(node, ast.Call) and node.func.id == _DEG_MARK:
-            return math.radians(walk(node.args[0]))
-        if isinstance(node, ast.Call):
-            args = [walk(a) for a in node.args]
-            try:
-                return float(FUNCTIONS[node.func.id](*args))
-            except (ValueError, TypeError, OverflowError):
-                raise ValueError(f"{_short(text)}: {node.func.id}({', '.join(f'{a:g}' for a in args)}) is undefined")
-        raise ValueError(f"{_short(text)} is not a valid expression")
-
-    result = walk(tree)
+    result = _compiled(text)(values)
     if isinstance(result, complex) or not math.isfinite(result):
         raise ValueError(f"{_short(text)} evaluates to {result!r}, not a finite number")
     return float(result)
+
+
+@functools.lru_cache(maxsize=4096)
+def _compiled(text: str):
+    """The checked tree of ``text`` (:func:`_parse`) turned once into nested closures ``values -> value``: the
+    same operations in the same order, with the same errors, as walking the tree at every evaluation, without
+    the per-node dispatch (a file's expressions are evaluated again at every step of a drag). Nothing is
+    executed that the tree walk would not have done."""
+    return _closure(_parse(text), text)
+
+
+def _closure(node, text: str):
+    if isinstance(node, ast.Expression):
+        return _closure(node.body, text)
+    if isinstance(node, ast.Constant):
+        c = float(node.value)
+        return lambda values: c
+    if isinstance(node, ast.Name):
+        name = node.id
+        if name in CONSTANTS:
+            c = CONSTANTS[name]
+            return lambda values: c
+
+        def lookup(values):
+            if name not in values:
+                raise ValueError(f"{_short(text)} uses {name!r}, which is not a parameter")
+            return values[name]
+        return lookup
+    if isinstance(node, ast.UnaryOp):
+        operand = _closure(node.operand, text)
+        if isinstance(node.op, ast.USub):
+            return lambda values: -operand(values)
+        return operand
+    if isinstance(node, ast.BinOp):
+        left, right, op = _closure(node.left, text), _closure(node.right, text), type(node.op)
+        if op is ast.Add:
+            return lambda values: left(values) + right(values)
+        if op is ast.Sub:
+            return lambda values: left(values) - right(values)
+        if op is ast.Mult:
+            return lambda values: left(values) * right(values)
+
+        def divide_or_power(values):
+            a, b = left(values), right(values)
+            if op is ast.Pow and abs(b) > 64:
+                raise ValueError(f"{_short(text)}: exponent {b:g} is too large")
+            try:
+                return a / b if op is ast.Div else a ** b
+            except (ZeroDivisionError, OverflowError):
+                raise ValueError(f"{_short(text)} divides by zero or overflows") from None
+        return divide_or_power
+    if isinstance(node, ast.Call) and node.func.id == _DEG_MARK:
+        arg = _closure(node.args[0], text)
+        return lambda values: math.radians(arg(values))
+    if isinstance(node, ast.Call):
+        args_of, fname = [_closure(a, text) for a in node.args], node.func.id
+
+        def call(values):
+            args = [a(values) for a in args_of]
+            try:
+                return float(FUNCTIONS[fname](*args))
+            except (ValueError, TypeError, OverflowError):
+                raise ValueError(f"{_short(text)}: {fname}({', '.join(f'{a:g}' for a in args)}) is undefined")
+        return call
+
+    def invalid(values):
+        raise ValueError(f"{_short(text)} is not a valid expression")
+    return invalid
 
 
 def parse_value(name: str, text: str, angle: bool | None = None) -> float:

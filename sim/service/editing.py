@@ -259,16 +259,17 @@ def jacobian(model: _Model, vars_: list[Variable], x: np.ndarray, p: np.ndarray,
 
 
 def solve_drag(model: _Model, vars_: list[Variable], x0: np.ndarray, target: np.ndarray, scale: np.ndarray,
-               size: float) -> tuple[np.ndarray, np.ndarray, str | None]:
+               size: float, p0: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray, str | None]:
     """Damped Gauss-Newton with least-norm steps: (values, position, why it stopped short or None).
 
     The derivatives are taken by finite differences once, then carried from step to step by Broyden's rank-one
     update (what each step's move did to the point corrects them): a drag step moves the point a few pixels,
     where the first derivatives stay good, so the later iterations cost one placement each instead of one
     per value. A step the carried derivatives cannot make better takes them afresh before giving up, so the
-    answer (the point within TOLERANCE of the target, or the same limit) is the plain Gauss-Newton's."""
+    answer (the point within TOLERANCE of the target, or the same limit) is the plain Gauss-Newton's.
+    ``p0``: the point's position at ``x0`` where the caller has it already (the same placement)."""
     x = x0.copy()
-    p = model.place(vars_, x)
+    p = model.place(vars_, x) if p0 is None else p0
     why = None
     spent = model.calls
     J = None                        # in the scaled values z = x / scale
@@ -330,7 +331,8 @@ def drag(mech: Mechanism, text: str | None, point: str, target, q, locked=(), ro
                     f"{point}: no value of the file places it freely"
                     f"{' (its values are locked)' if locked else ''}: edit the file or unlock a parameter")
     scale = scales(mech, vars_)
-    x0 = start_values(mech, data, vars_, q)
+    start = start_values(mech, data, vars_, q)
+    x0 = start.copy()
     first = mech.inputs[0]
     if first.angular and point == first.point:
         # the crank's tip: start from the pointer's angle about the pivot (the scrub in closed form)
@@ -340,7 +342,9 @@ def drag(mech: Mechanism, text: str | None, point: str, target, q, locked=(), ro
         for k, var in enumerate(vars_):
             if var.kind == "input":
                 x0[k] += (turn + math.pi) % (2 * math.pi) - math.pi
-    x, p, why = solve_drag(model, vars_, x0, target, scale, size)
+    # at the file's own values the first placement is the one just made (a pose value would rebuild the file)
+    same = np.array_equal(x0, start) and all(v.kind != "pose" for v in vars_)
+    x, p, why = solve_drag(model, vars_, x0, target, scale, size, here if same else None)
     flipped = None
     if np.hypot(*(p - target)) > FLIP_MISS * size and branches:       # across the line: the other branch
         for b in branches:
