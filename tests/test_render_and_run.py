@@ -67,7 +67,8 @@ def test_an_existing_file_survives_a_failed_render(tmp_path):
     assert [p.name for p in tmp_path.iterdir()] == ["keep.mp4"]         # no temporary left behind
 
 
-@pytest.mark.parametrize("name", ["fourbar", "sixbar", "fivebar"])
+@pytest.mark.parametrize("name", ["fourbar", pytest.param("sixbar", marks=pytest.mark.slow),
+                                  pytest.param("fivebar", marks=pytest.mark.slow)])
 def test_plot_writes_a_sheet(tmp_path, name):
     out = tmp_path / f"{name}.png"
     r = run("plot", name, "--out", str(out), "--revolutions", "0.5")

@@ -43,6 +43,7 @@ def test_a_transmission_limit_is_kept_over_the_working_range_by_the_cosine_law()
     assert best["input_range"][1] - best["input_range"][0] == pytest.approx(math.radians(35.0), abs=1e-12)
 
 
+@pytest.mark.slow
 def test_limits_no_design_meets_are_refused_in_one_line():
     r = cli_runner.run("synthesize", "two-position", "--min-transmission", "89")
     assert r.returncode == 2 and r.stderr.count("\n") == 1 and "within the limits" in r.stderr, r.stderr
