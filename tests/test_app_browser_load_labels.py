@@ -11,6 +11,7 @@ import threading
 from pathlib import Path
 
 import pytest
+from fourbar_text import fourbar_text  # the hand four-bar as text (tests/fourbar_text.py)
 
 from sim.front import app
 
@@ -22,31 +23,7 @@ TIMEOUT_MS = 30_000
 NEAR = 110
 """[px] the farthest a label may be put from its load: within a few lines of text (13 px) and its own width."""
 
-CROWDED = """\
-format = "linkage/1"
-name = "crowded"
-output = "C"
-[parameters]
-omega1 = 1.0
-[ground]
-A = [0, 0]
-D = [0.3, 0]
-[[inputs]]
-kind = "crank"
-pivot = "A"
-point = "B"
-length = 0.1
-link = "1"
-phi0 = 0
-omega = "omega1"
-[[groups]]
-kind = "RRR"
-point = "C"
-from = ["B", "D"]
-lengths = [0.3, 0.25]
-links = ["2", "3"]
-branch = 1
-
+CROWDED = fourbar_text("crowded", 1.0) + """
 [friction]
 mu = 0.1
 pin_radius = 0.005

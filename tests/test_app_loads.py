@@ -13,34 +13,11 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from fourbar_text import fourbar_text  # the hand four-bar as text (tests/fourbar_text.py)
 
 
 HERE = Path(__file__).parent
-FOURBAR = """\
-format = "linkage/1"
-name = "slow_fourbar"
-output = "C"
-[parameters]
-omega1 = 0.001
-[ground]
-A = [0, 0]
-D = [0.3, 0]
-[[inputs]]
-kind = "crank"
-pivot = "A"
-point = "B"
-length = 0.1
-link = "1"
-phi0 = 0
-omega = "omega1"
-[[groups]]
-kind = "RRR"
-point = "C"
-from = ["B", "D"]
-lengths = [0.3, 0.25]
-links = ["2", "3"]
-branch = 1
-"""
+FOURBAR = fourbar_text("slow_fourbar", 0.001)
 """A four-bar turning at 1e-3 rad/s: the inertia forces (~m r w^2 ~ 1e-7 N) leave statics."""
 
 

@@ -121,6 +121,10 @@ class Family:
     shape_dim: int = 0
     label: str = ""
 
+    pareto_front: bool = False
+    """Whether a multi-objective front is searched for the family (one crank, one loop: its forces are
+    evaluated in batches, sim.service.pareto)."""
+
     closed_form_mu: bool = False
     """Whether a transmission angle of the family (a slider-crank's rod against its slider line) is not one
     the general solver's groups report, so its closed form is taken beside theirs."""
@@ -287,6 +291,7 @@ class FourBar(Family):
     links: tuple[int, ...] = (3, 4, 5, 6)
     shape_dim: int = 5
     label: str = "four-bar"
+    pareto_front: bool = True
 
     def points(self, x, phi, branch):
         x = np.atleast_2d(np.asarray(x, dtype=float))
@@ -363,6 +368,7 @@ class SliderCrank(Family):
     shape_dim: int = 4
     label: str = "slider-crank"
     pivot_names: tuple[str, ...] = ("A",)
+    pareto_front: bool = True
     closed_form_mu: bool = True
 
     def joints(self, x, phi, branch):

@@ -23,7 +23,7 @@ One module per use case:
   points), :mod:`.inputs` (input values from text), :mod:`.viewing` (the figures' summary).
 
 The first five's names are given here (imported on first use, so that ``from sim import service`` stays light),
-so ``from sim import service; service.load("fourbar")`` reaches them; the others load scipy, pymoo, SALib,
+so ``from sim import service; service.load("my_linkage.toml")`` reaches them; the others load scipy, pymoo, SALib,
 shapely or a CAD kernel and are imported by name when used (``from sim.service import design``). MuJoCo and matplotlib are imported only by the functions that need
 them, so analysis stays fast.
 """

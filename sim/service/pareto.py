@@ -53,13 +53,14 @@ def parse_objectives(text: str) -> tuple[str, ...]:
     return names
 
 
-FRONT_TYPES = ("fourbar", "slider_crank")
-"""The ``--type`` values a front is searched for (their forces and sizes are evaluated in batches here)."""
+FRONT_TYPES = tuple(name for name, fam in FAMILIES.items() if fam.pareto_front)
+"""The ``--type`` values a front is searched for (their forces and sizes are evaluated in batches here): the
+families that say so (:attr:`analytic.synthesis.curves.Family.pareto_front`)."""
 
 
 @dataclass(frozen=True)
 class ParetoOptions:
-    """``objectives``; ``family`` (a path family with one crank: fourbar or slider_crank); ``seed``;
+    """``objectives``; ``family`` (a path family with one crank, one of FRONT_TYPES); ``seed``;
     NSGA-II ``popsize`` and ``generations`` (the evaluations: their product, plus the starting atlas);
     ``samples`` per turn for the search's forces; ``front`` designs returned at most (spread along the
     error); the loads: ``force`` (Fx, Fy) [N] on the traced point (``cutting``: only on its slow stroke),
@@ -83,8 +84,8 @@ class ParetoOptions:
     def check(self) -> "ParetoOptions":
         parse_objectives(",".join(self.objectives))
         if self.family not in FRONT_TYPES:
-            raise ParameterError(f"--objectives: --type {self.family} is not searched for a front; use fourbar "
-                                 f"or slider_crank")
+            raise ParameterError(f"--objectives: --type {self.family} is not searched for a front; use "
+                                 f"{' or '.join(FRONT_TYPES)}")
         for name in ("popsize", "generations", "front"):
             if getattr(self, name) < 1:
                 raise ParameterError(f"--{name} {getattr(self, name)} must be >= 1")

@@ -6,7 +6,7 @@ A script does what the command does::
 
     from sim import service
     from sim.service import tolerance as ts
-    mech = service.load("fourbar")
+    mech = service.load("my_linkage.toml")
     result = ts.tolerance(mech, ["l1=±0.0005", "l2=normal:0.0002"], samples=1000, sobol=True)
     record = ts.tolerance_record(result, mech)
 """
