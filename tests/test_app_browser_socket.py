@@ -64,3 +64,46 @@ def test_drag_goes_over_the_socket_and_the_fallback_ends_alike(browser, server):
         # and both pages round alike
         assert values_f[k] == pytest.approx(v, rel=1e-9)
     np.testing.assert_allclose(c_f, c, rtol=1e-9, atol=1e-12)      # as above: the pose drawn at the end
+
+
+COUNT_DRAGS = """() => { window.dragRequests = 0;
+  const send = WebSocket.prototype.send;
+  WebSocket.prototype.send = function (data) {
+    if (String(data).includes('"/api/drag"')) window.dragRequests++;
+    return send.call(this, data);
+  };
+  const fetched = window.fetch;
+  window.fetch = (url, opts) => { if (String(url).endsWith("/api/drag")) window.dragRequests++; return fetched(url, opts); };
+}"""
+
+
+def test_a_real_pointer_move_sends_its_step_as_it_arrives_and_once(browser, server):
+    """A mouse move reaches the page twice: as pointerrawupdate when it arrives (the page on 127.0.0.1 is a
+    secure context, where Chromium sends it) and as pointermove at the next frame's input phase. The step
+    leaves on the first, and the second sends nothing: six moves, six requests."""
+    ctx = browser.new_context(viewport={"width": 1440, "height": 900})
+    pg = ctx.new_page()
+    pg.set_default_timeout(TIMEOUT_MS)
+    pg.goto(server.url)
+    pg.wait_for_function("window.linkageState && window.linkageState.figures")
+    assert pg.evaluate("isSecureContext && 'onpointerrawupdate' in window")
+    pg.click("#play")
+    pg.fill("#scrub", "50")
+    pg.dispatch_event("#scrub", "input")
+    pg.evaluate(COUNT_DRAGS)
+    xy = pg.evaluate("(() => { const s = window.linkageState; return [s.points.C.x[50], s.points.C.y[50]]; })()")
+    x, y = pg.evaluate("([x, y]) => window.linkageCanvas.toClient(x, y)", xy)
+    pg.mouse.move(x, y)
+    pg.mouse.down()
+    via = []
+    for k in range(1, 7):
+        r0 = pg.evaluate("+document.body.dataset.revision")
+        pg.mouse.move(x + 30 * k / 6, y - 20 * k / 6)
+        pg.wait_for_function(f"+document.body.dataset.revision > {r0}")
+        via.append(pg.evaluate("window.linkageTiming.via"))
+    pg.wait_for_timeout(200)                       # ten frames: a pointermove that sent would have answered
+    sent = pg.evaluate("window.dragRequests")
+    pg.mouse.up()
+    ctx.close()
+    assert via == ["pointerrawupdate"] * 6
+    assert sent == 6

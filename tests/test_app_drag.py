@@ -199,3 +199,43 @@ def test_the_api_answers_the_drag_with_the_solve_of_the_new_values():
     assert s["inputs"]["phi1"][q_index] == pytest.approx(q, abs=1e-12)
     got = np.array([s["points"]["C"]["x"][q_index], s["points"]["C"]["y"][q_index]])
     assert np.allclose(got, target, atol=TOL)
+
+
+# ------------------------------------------------------------------------ placing by the elements up to P
+def _every_group_closes(m, q) -> bool:
+    return m.solve(np.array([[q]])).first_failure() is None
+
+
+@pytest.mark.parametrize("name, point, angle, reach", [
+    ("jansen", "C", 0.0, 0.2), ("jansen", "D", 0.0, 0.1), ("stephenson_six_bar", "C", 0.0, 0.4),
+    ("peaucellier", "C", 1.9634954084936207, 0.8)])
+def test_a_drag_that_leaves_a_later_group_open_is_solved_with_the_whole_mechanism(name, point, angle, reach):
+    """The drag places the point by the elements up to it; where the values it finds leave a group after the
+    point unable to close in this pose, the drag is solved again on the whole mechanism (the answer the
+    drag gave before it placed by the elements up to the point), which stops where that group opens."""
+    m = service.load(name)
+    q = 0.5
+    target = solved(m, q, point) + reach * m.size * np.array([math.cos(angle), math.sin(angle)])
+    with pytest.raises(D._Downstream):                       # the pruned solve ends with a later group open
+        D._drag(m, None, point, target, [q], (), None, prune=True)
+    d = D.drag(m, None, point, target, [q])
+    whole = D._drag(m, None, point, target, [q], (), None, prune=False)
+    assert d == whole
+    assert _every_group_closes(m.with_values(**d.values), q)     # every group of the answer closes in the pose
+    assert not d.reached and "stops at the limit" in d.message
+
+
+@pytest.mark.parametrize("name", ["fourbar", "jansen", "klann", "watt_six_bar", "stephenson_six_bar", "hoekens"])
+def test_placing_by_the_elements_up_to_the_point_gives_the_whole_mechanisms_answer(name):
+    """Later elements cannot move the point: the drag placed by the elements up to it lands on the same values,
+    to the last bit, as placing the whole mechanism each time."""
+    m = service.load(name)
+    q = 0.9
+    tips = {i.point for i in m.inputs}
+    point = next(p for p in m.points if p not in m.definition.ground and p not in tips)
+    target = solved(m, q, point) + 0.01 * m.size * np.array([0.6, -0.8])
+    d = D.drag(m, None, point, target, [q])
+    whole = D._drag(m, None, point, target, [q], (), None, prune=False)
+    assert d.reached and d.values
+    assert d == whole
+    assert np.allclose(solved(m.with_values(**d.values), q, point), target, atol=TOL)

@@ -980,7 +980,7 @@ def drag_limit(mech: Mechanism, body: dict, solve_body: dict, values: dict, cach
         for _ in range(LIMIT_STEPS):
             mid = 0.5 * (lo + hi)
             lo, hi = (mid, hi) if turns(mid) else (lo, mid)
-        if lo > 0 and runs(trial(lo)) and (hi >= 1.0 or not runs(trial(hi))):
+        if lo > 0 and runs(trial(lo)) and (hi >= 1.0 or not full(trial(hi))):
             best = trial(lo)
     # the smallest step the full halving could take fails: the point is at the limit already (a drag pressing
     # on it, the common case there: one full check instead of LIMIT_STEPS), and the way is not taken past a

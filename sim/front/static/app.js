@@ -2087,8 +2087,21 @@
       if (state.tab !== "synthesis" && state.solve) canvas.style.cursor = pointAt(e) ? "grab" : "";
       return;
     }
+    if (state.drag.raw) return;                    // this drag's moves come as pointerrawupdate (dragRaw)
     state.drag.moved = true;
-    dragSend(worldAt(e));
+    dragSend(worldAt(e), e.type);
+  }
+
+  // A drag step goes to the server as the pointer moves, not when the page's next frame hands the move over:
+  // Chromium holds a pointermove for the next frame's input phase (up to a frame, ~7 ms median measured by
+  // benchmarks/app_drag.py --input real), while pointerrawupdate (a secure context: the app's localhost page)
+  // comes as the input arrives. The answer is then drawn at the frame after it, one frame wait instead of two.
+  // Events coming faster than the server answers are coalesced (dragSend keeps only the latest target).
+  function dragRaw(e) {
+    if (state.draw || !state.drag) return;
+    state.drag.raw = true;
+    state.drag.moved = true;
+    dragSend(worldAt(e), e.type);
   }
 
   function dragEnd() {
@@ -2109,8 +2122,8 @@
     }
   }
 
-  async function dragSend(target) {
-    if (dragCh.busy) { dragCh.next = target; return; }
+  async function dragSend(target, via = "") {   // via: the event that moved the pointer (for the benchmark)
+    if (dragCh.busy) { dragCh.next = { target, via }; return; }
     dragCh.busy = true;
     dragCh.next = null;
     const d = state.drag;
@@ -2128,13 +2141,13 @@
       const socket = sock.last === "socket";
       applyDrag(answer, version);
       const done = performance.now();
-      window.linkageTiming = { kind: "drag", request_ms: received - started, draw_ms: done - received, socket };
+      window.linkageTiming = { kind: "drag", request_ms: received - started, draw_ms: done - received, socket, via };
     } catch (err) {
       dragNote(err.message || String(err), true);
       bumpRevision();
     } finally {
       dragCh.busy = false;
-      if (dragCh.next && state.drag) dragSend(dragCh.next);
+      if (dragCh.next && state.drag) dragSend(dragCh.next.target, dragCh.next.via);
     }
   }
 
@@ -2363,6 +2376,7 @@
     canvas.addEventListener("click", pickTarget);
     canvas.addEventListener("pointerdown", dragStart);
     canvas.addEventListener("pointermove", dragMove);
+    canvas.addEventListener("pointerrawupdate", dragRaw);
     canvas.addEventListener("pointerup", dragEnd);
     canvas.addEventListener("pointercancel", dragEnd);
     $("#undo").addEventListener("click", undo);
