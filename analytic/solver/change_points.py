@@ -38,6 +38,10 @@ point the measure is ~ slope x |q - q*| and the nearest sample lies within pi / 
 to 20 (a link turning 20x faster than the input there) is not missed."""
 CHANGE = 1e-6
 """A refined minimum below this is a change point (figures.SINGULAR): the links align to rounding."""
+FLOOR = 4 * np.finfo(float).eps
+"""A golden-section bracket narrower than this fraction of its value (or of 1) is done: its ends are a few
+units of the last place apart (~59 steps from a scan's bracket instead of 70; the change points move by
+< 2e-15 rad on the tests' parallelograms)."""
 
 
 def candidates(geometry: Geometry) -> list[int]:
@@ -149,11 +153,6 @@ def _change_points(mech, label: str, q: np.ndarray, m: np.ndarray, crank: bool) 
     x = 0.5 * (a + b)
     values = measure(x)
     return [float(xi) for xi, v in zip(x, values) if v < CHANGE]
-
-
-FLOOR = 4 * np.finfo(float).eps
-"""A golden-section bracket narrower than this fraction of its value (or of 1) is done: its ends are a few
-units of the last place apart (~59 steps from a scan's bracket instead of 70)."""
 
 
 MEET = 1e-6
