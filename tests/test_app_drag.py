@@ -239,3 +239,17 @@ def test_placing_by_the_elements_up_to_the_point_gives_the_whole_mechanisms_answ
     assert d.reached and d.values
     assert d == whole
     assert np.allclose(solved(m.with_values(**d.values), q, point), target, atol=TOL)
+
+
+def test_a_pose_where_a_later_group_is_open_is_refused_before_any_drag():
+    """Jansen's leg with k = 40 mm: at phiOA = 0 the group placing F cannot close (its links are too short to
+    meet), though C's group, before it, does. Dragging C there is refused with the pose named, as when every
+    placement solved the whole mechanism: the drag's start is placed whole."""
+    m = service.load("jansen").with_values(k=40.0)
+    failure = m.solve(np.array([[0.0]])).first_failure()
+    assert failure is not None and "point F" in failure[1]                  # F open at this pose ...
+    c = solved(m, 0.0, "C")                                                   # ... C placed
+    with pytest.raises(ParameterError, match="C is not assembled in this pose"):
+        D.drag(m, None, "C", c + [0.002, 0.001], [0.0])
+    with pytest.raises(ParameterError, match="C is not assembled in this pose"):     # nothing free to change
+        D.drag(m, None, "C", c + [0.002, 0.001], [0.0], locked=("b", "j"))

@@ -181,7 +181,7 @@ class _Model:
     """The mechanism with some of its values replaced, solved for one point at one input value.
 
     ``prune``: place the point by the elements up to it only (:func:`upstream`; a third of the work for a
-    jansen's C); the drag then checks the whole mechanism once where it ends (:meth:`check_whole`)."""
+    jansen's C); the drag places the whole mechanism where it starts and where it ends (``whole=True``)."""
 
     def __init__(self, mech: Mechanism, values: dict, data: dict | None, point: str, q: np.ndarray,
                  prune: bool = False):
@@ -334,8 +334,8 @@ def drag(mech: Mechanism, text: str | None, point: str, target, q, locked=(), ro
     the changed lengths and coordinates to multiples of this [file units] (the point then lands near).
 
     The point is placed by the elements up to it; where the values found leave a later element unable to
-    close in this pose (or the pose did not assemble to begin with), the drag is solved again placing the
-    whole mechanism each time, which stops at that element's limit as before."""
+    close in this pose, the drag is solved again placing the whole mechanism each time, which stops at that
+    element's limit as before."""
     try:
         return _drag(mech, text, point, target, q, locked, round_to, prune=True)
     except _Downstream:
@@ -354,7 +354,7 @@ def _drag(mech: Mechanism, text: str | None, point: str, target, q, locked, roun
     model = _Model(mech, mech.values, data, point, q, prune)
     size = mech.size
     try:
-        here = model.place([], np.array([]))
+        here = model.place([], np.array([]), whole=True)
     except ParameterError as exc:
         raise ParameterError(f"{point} is not assembled in this pose ({exc}): pick another pose") from None
     if not vars_:
