@@ -38,3 +38,20 @@ def test_a_drag_through_the_cache_answers_as_without_it():
     # the next step's starting mechanism is the one the last step solved: its change points already scheduled
     assert "_scheduled" in mechanism_of(body, cache).__dict__
     assert "_scheduled" not in mechanism_of(body).__dict__
+
+
+def test_the_unit_table_is_worked_out_once_per_file_and_reads_as_without_the_cache(monkeypatch):
+    """Units follow from a mechanism's structure: a server works them out once per library name or file text,
+    not at every drag step or slider move, and the answer is the one worked out afresh."""
+    from sim import service
+    calls = []
+    real = service.units_of
+    monkeypatch.setattr(service, "units_of", lambda *a, **k: calls.append(1) or real(*a, **k))
+    cache = Mechanisms()
+    bodies = [{"mechanism": "fourbar", "set": {"l1": v}, "samples": 37, "figures": False} for v in (0.1, 0.11, 0.12)]
+    answers = [app.solve(b, cache)["units"] for b in bodies]
+    assert len(calls) == 1                                   # three values of one mechanism: one table
+    app.solve({"mechanism": "sixbar", "samples": 37, "figures": False}, cache)
+    assert len(calls) == 2                                   # another mechanism: its own
+    fresh = app.solve(bodies[-1])["units"]                   # no cache: worked out for this answer
+    assert len(calls) == 3 and answers[-1] == fresh and answers[0] == fresh

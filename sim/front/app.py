@@ -205,7 +205,7 @@ def solve(body: dict, cache: Mechanisms | None = None) -> dict:
         "mechanism": mech.name, "samples": run.samples, "revolutions": run.revolutions,
         "input_range": list(run.input_range) if run.input_range else None,
         "describe": describe(mech), "parameters": clean(mech.parameters),
-        "input": mech.inputs[0].q, "units": units(mech, body.get("text") or body["mechanism"]),
+        "input": mech.inputs[0].q, "units": units(mech, body.get("text") or body["mechanism"], cache),
         "t": series(a.t) if body.get("arrays") != "f64" else packed(a.t),
         "inputs": {k: ser(v, n) for k, v in a.inputs.items()},
         "outputs": {k: ser(sol[k], n) for k in names},
@@ -216,19 +216,13 @@ def solve(body: dict, cache: Mechanisms | None = None) -> dict:
     }
 
 
-_UNITS: dict[str, dict[str, str]] = {}
-
-
-def units(mech: Mechanism, key: str) -> dict[str, str]:
-    """The unit of every input and output column. Units follow from the mechanism's structure, not its
-    values, so they are worked out once per mechanism (``key``: its name or file text) rather than on every
-    slider move (~5 ms for a 70-output walking leg)."""
-    if key not in _UNITS:
-        if len(_UNITS) >= 64:
-            _UNITS.clear()
+def units(mech: Mechanism, key: str, cache: Mechanisms | None = None) -> dict[str, str]:
+    """The unit of every input and output column; a server's ``cache`` keeps them per file text or library name
+    (``key``), since units follow from the mechanism's structure, not its values."""
+    def make() -> dict[str, str]:
         columns = [q for i in mech.inputs for q in (i.q, i.qd, i.qdd)] + list(mech.outputs)
-        _UNITS[key] = service.units_of(mech, columns)
-    return _UNITS[key]
+        return service.units_of(mech, columns)
+    return cache.units(key, make) if cache else make()
 
 
 def describe(mech: Mechanism) -> dict:
