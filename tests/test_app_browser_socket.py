@@ -18,10 +18,26 @@ ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-background-net
 TIMEOUT_MS = 30_000
 
 
-def _drag_fourbar(browser, server, without_socket: bool):
+COUNT_DRAGS = """() => { window.dragRequests = 0;
+  if (window.WebSocket) {
+    const send = WebSocket.prototype.send;
+    WebSocket.prototype.send = function (data) {
+      if (String(data).includes('"/api/drag"')) window.dragRequests++;
+      return send.call(this, data);
+    };
+  }
+  const fetched = window.fetch;
+  window.fetch = (url, opts) => { if (String(url).endsWith("/api/drag")) window.dragRequests++; return fetched(url, opts); };
+}"""
+"""Counts the page's drag requests (``window.dragRequests``), over the WebSocket and by fetch."""
+
+
+def _grab_C(browser, server, init_script: str | None = None):
+    """(context, page, errors, x, y): the four-bar's page paused at frame 50, the mouse pressed on its joint C at
+    client pixel (x, y)."""
     ctx = browser.new_context(viewport={"width": 1440, "height": 900})
-    if without_socket:
-        ctx.add_init_script("delete window.WebSocket;")
+    if init_script:
+        ctx.add_init_script(init_script)
     pg = ctx.new_page()
     pg.set_default_timeout(TIMEOUT_MS)
     errors = []
@@ -31,10 +47,16 @@ def _drag_fourbar(browser, server, without_socket: bool):
     pg.click("#play")
     pg.fill("#scrub", "50")
     pg.dispatch_event("#scrub", "input")
+    pg.evaluate(COUNT_DRAGS)
     xy = pg.evaluate("(() => { const s = window.linkageState; return [s.points.C.x[50], s.points.C.y[50]]; })()")
     x, y = pg.evaluate("([x, y]) => window.linkageCanvas.toClient(x, y)", xy)
     pg.mouse.move(x, y)
     pg.mouse.down()
+    return ctx, pg, errors, x, y
+
+
+def _drag_fourbar(browser, server, without_socket: bool):
+    ctx, pg, errors, x, y = _grab_C(browser, server, "delete window.WebSocket;" if without_socket else None)
     sockets = []
     for k in range(1, 7):
         r0 = pg.evaluate("+document.body.dataset.revision")
@@ -66,35 +88,12 @@ def test_drag_goes_over_the_socket_and_the_fallback_ends_alike(browser, server):
     np.testing.assert_allclose(c_f, c, rtol=1e-9, atol=1e-12)      # as above: the pose drawn at the end
 
 
-COUNT_DRAGS = """() => { window.dragRequests = 0;
-  const send = WebSocket.prototype.send;
-  WebSocket.prototype.send = function (data) {
-    if (String(data).includes('"/api/drag"')) window.dragRequests++;
-    return send.call(this, data);
-  };
-  const fetched = window.fetch;
-  window.fetch = (url, opts) => { if (String(url).endsWith("/api/drag")) window.dragRequests++; return fetched(url, opts); };
-}"""
-
-
 def test_a_real_pointer_move_sends_its_step_as_it_arrives_and_once(browser, server):
     """A mouse move reaches the page twice: as pointerrawupdate when it arrives (the page on 127.0.0.1 is a
     secure context, where Chromium sends it) and as pointermove at the next frame's input phase. The step
     leaves on the first, and the second sends nothing: six moves, six requests."""
-    ctx = browser.new_context(viewport={"width": 1440, "height": 900})
-    pg = ctx.new_page()
-    pg.set_default_timeout(TIMEOUT_MS)
-    pg.goto(server.url)
-    pg.wait_for_function("window.linkageState && window.linkageState.figures")
+    ctx, pg, _, x, y = _grab_C(browser, server)
     assert pg.evaluate("isSecureContext && 'onpointerrawupdate' in window")
-    pg.click("#play")
-    pg.fill("#scrub", "50")
-    pg.dispatch_event("#scrub", "input")
-    pg.evaluate(COUNT_DRAGS)
-    xy = pg.evaluate("(() => { const s = window.linkageState; return [s.points.C.x[50], s.points.C.y[50]]; })()")
-    x, y = pg.evaluate("([x, y]) => window.linkageCanvas.toClient(x, y)", xy)
-    pg.mouse.move(x, y)
-    pg.mouse.down()
     via = []
     for k in range(1, 7):
         r0 = pg.evaluate("+document.body.dataset.revision")

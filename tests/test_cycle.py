@@ -18,6 +18,7 @@ from analytic import ParameterError
 from analytic.cycle import Cycle
 from analytic.mechanism import Mechanism
 from sim import service
+from test_library import OTHER_FORMS  # the driven slider's text, as the library's tests load it
 
 
 @contextlib.contextmanager
@@ -169,23 +170,7 @@ def test_a_singular_pose_in_the_turn_is_still_refused_from_the_cycles_scan(tmp_p
 
 DOUBLE_ROCKER = {"l1": 0.2, "l3": 0.1}       # with l2 = l4 = 0.3: dead points where B, C, D are aligned
 
-DRIVEN_SLIDER = """
-format = "linkage/1"
-[ground]
-O = [0, 0]
-Q = [0.25, 0.05]
-[[inputs]]
-kind = "slider"
-point = "S"
-guide = { through = "O", angle = "30deg" }
-s0 = 0.02
-v = 0.1
-[[groups]]
-kind = "RRR"
-point = "C"
-from = ["S", "Q"]
-lengths = [0.2, 0.15]
-"""
+DRIVEN_SLIDER = OTHER_FORMS["driven_slider"]
 """A driven slider moving an RRR dyad (tests/test_library.py's): a slider's range [m], a dyad's scan."""
 
 

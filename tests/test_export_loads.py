@@ -36,6 +36,33 @@ def generalized(model, data, site, f):
     return jacp.T @ f
 
 
+def exported_press(tmp_path, loads: str):
+    """The press with ``loads`` (TOML) in place of its own, written by ``export --mjcf`` and loaded in plain
+    MuJoCo at its home keyframe: (model, data)."""
+    p = tmp_path / "press.toml"
+    p.write_text(PRESS.read_text().split("[[loads]]")[0] + loads)
+    out = tmp_path / "press.xml"
+    r = run("export", p, "--mjcf", out)
+    assert r.returncode == 0 and r.stderr == "", r.stderr
+    model = mujoco.MjModel.from_xml_path(str(out))
+    data = mujoco.MjData(model)
+    mujoco.mj_resetDataKeyframe(model, data, model.key("home").id)
+    return model, data
+
+
+def actuator_share(model, data, name: str) -> np.ndarray:
+    """The generalized force actuator ``name`` adds: qfrc_actuator with its constant (biasprm[0]) less without."""
+    i = model.actuator(name).id
+    mujoco.mj_forward(model, data)
+    with_it = data.qfrc_actuator.copy()
+    constant, model.actuator_biasprm[i, 0] = model.actuator_biasprm[i, 0], 0.0
+    mujoco.mj_forward(model, data)
+    share = with_it - data.qfrc_actuator
+    model.actuator_biasprm[i, 0] = constant
+    mujoco.mj_forward(model, data)
+    return share
+
+
 def test_the_exported_press_carries_its_spring_and_punch(tmp_path):
     out = tmp_path / "press.xml"
     r = run("export", PRESS, "--mjcf", out)
@@ -120,39 +147,19 @@ def test_loads_mjcf_cannot_hold_are_named(tmp_path):
 def test_a_constant_torque_and_a_link_force_are_actuators(tmp_path, frame):
     # a torque of 3 N mm = 3e-3 N m on the rod: its generalized force is 3e-3 times the rod's angular
     # Jacobian (z); a link-fixed force turns with the rod (its direction in the rod's frame)
-    text = PRESS.read_text().split("[[loads]]")[0] + (
+    model, data = exported_press(tmp_path, (
         '[[loads]]\nname = "T"\nkind = "torque"\nlink = "2"\nmagnitude = 3\n\n'
         f'[[loads]]\nname = "F"\nkind = "force"\nlink = "2"\nat = [75, 0]\ndirection = [0, 1]\nframe = "{frame}"\n'
-        'magnitude = 10\n')
-    p = tmp_path / "press.toml"
-    p.write_text(text)
-    out = tmp_path / "press.xml"
-    r = run("export", p, "--mjcf", out)
-    assert r.returncode == 0 and r.stderr == "", r.stderr
-    model = mujoco.MjModel.from_xml_path(str(out))
-    data = mujoco.MjData(model)
-    mujoco.mj_resetDataKeyframe(model, data, model.key("home").id)
+        'magnitude = 10\n'))
     for _ in range(50):
         mujoco.mj_step(model, data)
     mujoco.mj_forward(model, data)
     body = model.body("2").id
     jacr = np.zeros((3, model.nv))
     mujoco.mj_jacBody(model, data, None, jacr, body)
-    tid = model.actuator("load_T").id
-    qa = data.qfrc_actuator.copy()
-    model.actuator_biasprm[tid, 0] = 0.0
-    mujoco.mj_forward(model, data)
-    torque = qa - data.qfrc_actuator
-    model.actuator_biasprm[tid, 0] = 3e-3
+    torque = actuator_share(model, data, "load_T")
     assert np.allclose(torque, 3e-3 * jacr[2], rtol=0, atol=1e-12)          # rounding
-    mujoco.mj_forward(model, data)
-    fid = model.actuator("load_F").id
-    qa = data.qfrc_actuator.copy()
-    model.actuator_biasprm[fid, 0] = 0.0
-    mujoco.mj_forward(model, data)
-    force = qa - data.qfrc_actuator
-    model.actuator_biasprm[fid, 0] = 10.0
-    mujoco.mj_forward(model, data)
+    force = actuator_share(model, data, "load_F")
     angle = math.atan2(data.xmat[body][3], data.xmat[body][0])            # the rod's angle in the world
     u = np.array([0.0, 1.0, 0.0]) if frame == "world" else np.array([-math.sin(angle), math.cos(angle), 0.0])
     assert abs(angle) > 0.05                        # the rod is turned: world and link directions differ
@@ -162,22 +169,12 @@ def test_a_constant_torque_and_a_link_force_are_actuators(tmp_path, frame):
 
 def test_a_constant_pressure_is_its_force(tmp_path):
     # 0.5 N/mm^2 on 100 mm^2 is 50 N (0.5e6 Pa x 1e-4 m^2) along -x at the piston pin
-    text = PRESS.read_text().split("[[loads]]")[0] + (
+    model, data = exported_press(tmp_path, (
         '[[loads]]\nname = "gas"\nkind = "pressure"\nlink = "piston"\narea = 100\ndirection = [-1, 0]\n'
-        'magnitude = 0.5\n')
-    p = tmp_path / "press.toml"
-    p.write_text(text)
-    out = tmp_path / "press.xml"
-    r = run("export", p, "--mjcf", out)
-    assert r.returncode == 0 and r.stderr == "", r.stderr
-    model = mujoco.MjModel.from_xml_path(str(out))
-    data = mujoco.MjData(model)
-    mujoco.mj_resetDataKeyframe(model, data, model.key("home").id)
+        'magnitude = 0.5\n'))
     mujoco.mj_forward(model, data)
     gid = model.actuator("load_gas").id
     assert model.actuator_biasprm[gid, 0] == pytest.approx(50.0, rel=1e-12)          # rounding
-    qa = data.qfrc_actuator.copy()
-    model.actuator_biasprm[gid, 0] = 0.0
-    mujoco.mj_forward(model, data)
+    share = actuator_share(model, data, "load_gas")
     want = generalized(model, data, "load_gas", np.array([-50.0, 0.0, 0.0]))
-    assert np.allclose(qa - data.qfrc_actuator, want, rtol=0, atol=1e-9 * np.max(np.abs(want)))   # rounding
+    assert np.allclose(share, want, rtol=0, atol=1e-9 * np.max(np.abs(want)))   # rounding
