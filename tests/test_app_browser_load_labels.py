@@ -16,7 +16,10 @@ from fourbar_text import fourbar_text  # the hand four-bar as text (tests/fourba
 from sim.front import app
 
 pytestmark = pytest.mark.slow
+pytest.importorskip("playwright.sync_api", reason="playwright is not installed")
 CHROMIUM = "/usr/bin/chromium"
+if not os.path.exists(CHROMIUM):
+    pytest.skip(f"{CHROMIUM} is not installed", allow_module_level=True)
 ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
         "--disable-component-update", "--no-first-run"]
 TIMEOUT_MS = 30_000

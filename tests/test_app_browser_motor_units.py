@@ -6,11 +6,15 @@ it was given. The request is caught before it reaches the server (no motor run i
 from __future__ import annotations
 
 import math
+import os
 
 import pytest
 
 pytestmark = pytest.mark.slow
+pytest.importorskip("playwright.sync_api", reason="playwright is not installed")
 CHROMIUM = "/usr/bin/chromium"
+if not os.path.exists(CHROMIUM):
+    pytest.skip(f"{CHROMIUM} is not installed", allow_module_level=True)
 ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
         "--disable-component-update", "--no-first-run"]
 TIMEOUT_MS = 30_000
