@@ -940,6 +940,7 @@ def drag_limit(mech: Mechanism, body: dict, solve_body: dict, values: dict, cach
         return None
     old = mech.values
     trials = Mechanisms(2 * LIMIT_STEPS + 2)        # both halvings often try the same values: built once
+    seeded = Seeded(cache, trials) if cache else trials
 
     def trial(f: float) -> dict:
         return {**solve_body, "set": {**body.get("set", {}), **{k: old[k] + f * (v - old[k]) for k, v in values.items()}}}
@@ -974,8 +975,11 @@ def drag_limit(mech: Mechanism, body: dict, solve_body: dict, values: dict, cach
         for _ in range(LIMIT_STEPS):
             mid = 0.5 * (lo + hi)
             lo, hi = (mid, hi) if turns(mid) else (lo, mid)
-        if lo > 0 and runs(trial(lo)) and (hi >= 1.0 or not full(trial(hi))):
-            best = trial(lo)
+        if lo > 0 and (hi >= 1.0 or not full(trial(hi))):
+            try:                                    # its solve is its full check: refused, the halving decides
+                return {k: trial(lo)["set"][k] for k in values}, solve(trial(lo), seeded)
+            except (ParameterError, RequestError, ValueError):
+                pass
     # the smallest step the full halving could take fails: the point is at the limit already (a drag pressing
     # on it, the common case there: one full check instead of LIMIT_STEPS), and the way is not taken past a
     # stretch that does not run to values beyond it that would
@@ -992,7 +996,7 @@ def drag_limit(mech: Mechanism, body: dict, solve_body: dict, values: dict, cach
                 hi = mid
     if best is None:
         return None
-    return {k: best["set"][k] for k in values}, solve(best, Seeded(cache, trials) if cache else trials)
+    return {k: best["set"][k] for k in values}, solve(best, seeded)
 
 
 def draw(body: dict) -> dict:
