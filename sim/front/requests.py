@@ -66,31 +66,27 @@ class Mechanisms:
                                                                    for k in self._items))
 
     def get(self, key, make):
-        with self._lock:
-            if key in self._items:
-                self._items.move_to_end(key)
-                return self._items[key]
-        mech = make()                                   # outside the lock: two threads may both load it
-        with self._lock:
-            self._items[key] = mech
-            while len(self._items) > self.size:
-                self._items.popitem(last=False)
-        return mech
+        """The mechanism ``key`` names, loaded by ``make()`` unless held."""
+        return self._kept(self._items, self.size, key, make)
 
     def units(self, key: str, make) -> dict[str, str]:
         """The unit of every column of the mechanism that ``key`` (its file's text or library name) names:
         units follow from a mechanism's structure, not its values, so they are worked out once per text rather
         than at every drag step or slider move (``make()``, ~5 ms for a 70-output walking leg)."""
+        return self._kept(self._units, self.UNITS, key, make)
+
+    def _kept(self, store: collections.OrderedDict, size: int, key, make):
+        """``store[key]``, made by ``make()`` where absent; the ``size`` last used are kept."""
         with self._lock:
-            if key in self._units:
-                self._units.move_to_end(key)
-                return self._units[key]
-        table = make()
+            if key in store:
+                store.move_to_end(key)
+                return store[key]
+        value = make()                                  # outside the lock: two threads may both make it
         with self._lock:
-            self._units[key] = table
-            while len(self._units) > self.UNITS:
-                self._units.popitem(last=False)
-        return table
+            store[key] = value
+            while len(store) > size:
+                store.popitem(last=False)
+        return value
 
 
 class Seeded:
