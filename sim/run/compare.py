@@ -154,15 +154,17 @@ def analytic_solved(tr: Trajectory, mech):
 
 
 def analytic_forces(tr: Trajectory, built, mech=None, solved=None) -> dict[str, np.ndarray]:
-    """Inverse-dynamics drive forces at the simulated state, with the compiled model's inertias,
-    armature, gravity and the load as applied; ``solved``: :func:`analytic_solved`'s (solved here when None)."""
+    """Inverse-dynamics drive forces at the simulated state, with the compiled model's inertias, gravity and
+    the load as applied, and none of the simulation's own constants (the drives' rotor inertia, gains): the
+    force that reaches each input's link, as the simulation reports it (sim.run.simulate.delivered), so that
+    nothing the two sides share can hide a difference; ``solved``: :func:`analytic_solved`'s (solved here
+    when None)."""
     from analytic.applications import torque
     from sim.model import body_inertias
     model = built.model
     mech = mech or built.mech
-    armature = {d.input.link: d.armature for d in built.drives}
     gear = tuple(model.actuator("load").gear[:2])
-    forces = torque.drive_forces(mech, *simulated_inputs(tr, mech), body_inertias(model, mech.links), armature,
+    forces = torque.drive_forces(mech, *simulated_inputs(tr, mech), body_inertias(model, mech.links), None,
                                  tuple(model.opt.gravity[:2]), gear, tr.load, *(solved or (None, None)))
     if getattr(built, "loadset", None) is not None:       # the file's loads: minus their generalized forces
         from sim.model.loads import drive_share
