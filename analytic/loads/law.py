@@ -56,13 +56,39 @@ class Law:
             v = np.interp(q1, x, y, period=2 * math.pi) if self.periodic else np.interp(q1, x, y)
         v = v * self.unit
         if self.active is not None:
-            lo, hi = self.active
-            if self.crank:
-                on = np.mod(q1 - lo, 2 * math.pi) <= (hi - lo) + 1e-12
-            else:
-                on = (q1 >= lo) & (q1 <= hi)
-            v = np.where(on, v, 0.0)
+            v = np.where(self.on(q1), v, 0.0)
         return v
+
+    def on(self, q1) -> np.ndarray:
+        """Where the first input's values ``q1`` [rad or m] lie in the ``active`` window (everywhere without one)."""
+        q1 = np.asarray(q1, dtype=float)
+        if self.active is None:
+            return np.ones(q1.shape, dtype=bool)
+        lo, hi = self.active
+        if self.crank:
+            return np.mod(q1 - lo, 2 * math.pi) <= (hi - lo) + 1e-12
+        return (q1 >= lo) & (q1 <= hi)
+
+    def crossing(self, a, b) -> np.ndarray:
+        """The value [rad or m] at which the first input, going from ``a`` to ``b`` (arrays, one interval each),
+        passes an edge of the ``active`` window (a crank's edges on every turn), the one nearest ``a``; NaN
+        where it passes none."""
+        a, b = np.broadcast_arrays(np.asarray(a, dtype=float), np.asarray(b, dtype=float))
+        best = np.full(a.shape, np.nan)
+        if self.active is None:
+            return best
+        eps = 1e-9 * max(1.0, *(abs(e) for e in self.active))      # an edge met at a sample, to rounding
+        step = b - a
+        for e in self.active:
+            if self.crank:                                  # the edge's turn nearest a, ahead in the motion
+                d = np.where(step >= 0, np.mod(e - a + eps, 2 * math.pi) - eps,
+                             -(np.mod(a - e + eps, 2 * math.pi) - eps))
+            else:
+                d = e - a
+            inside = (d * np.sign(step) >= -eps) & (np.abs(d) <= np.abs(step) + eps)
+            better = inside & ~(np.abs(d) >= np.abs(best - a))
+            best = np.where(better, a + d, best)
+        return best
 
     def gate(self, v, velocity=None, omega=None):
         """``v`` where the stroke condition holds (the point's velocity (vx, vy), or the link's rate, of the
