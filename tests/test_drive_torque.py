@@ -4,8 +4,8 @@ inertia (armature x qacc, sim.run.simulate.delivered), checked against hand stat
 crank-rod geometry (virtual work, T = -F_x dx/dphi), against ``linkage forces``, and by a compare that must
 fail when the rotor's term is put back (compare's reference is inverse dynamics without the armature).
 
-Before the fix the 5 kN press below read 147 N m of rotor torque on top of a 207 N m drive (the servo's
-tracking acceleration times a 1.8e6 kg m^2 armature), and compare could not see it: its reference carried
+Before the fix the 5 kN press below read up to 197 N m of rotor torque on a 207 N m drive (the servo's
+tracking acceleration times a 1.9e6 kg m^2 armature), and compare could not see it: its reference carried
 the same armature."""
 
 from __future__ import annotations

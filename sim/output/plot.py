@@ -244,9 +244,9 @@ def flywheel_energy(t: np.ndarray, power: np.ndarray, period: float) -> tuple[np
 def drive_power(c: Comparison, built) -> tuple[np.ndarray, float, float]:
     """(the drives' power at each step [W], its mean over exactly the last turn [W], the flywheel's energy
     swing over that turn [J]) of the design along its commanded motion: the inverse-dynamics drive forces
-    (the model's inertias, gravity and load; no rotor inertia: the power that reaches the links) at the commanded inputs times the commanded rates,
-    so that the servo's start-up ripple of the first turn does not count; averaged each instant once
-    (analytic.applications.averages)."""
+    (the model's inertias, gravity and load; not the servo's rotor: the power that reaches the links) at the
+    commanded inputs times the commanded rates, so that the servo's start-up ripple of the first turn does not
+    count; averaged each instant once (analytic.applications.averages)."""
     from dataclasses import replace
 
     from analytic.applications import averages

@@ -145,9 +145,10 @@ def measure(built: Built, sens: np.ndarray):
 def delivered(drive, actuator_force: np.ndarray, qdd: np.ndarray) -> np.ndarray:
     """What drive ``drive`` applies to its link [N m or N]: its servo's actuator force less its rotor's inertia
     term, armature x qdd (qdd: the driven joint's measured acceleration, the input's own column). The rotor
-    inertia is a numerical constant of the servo (sim.model.drives.SERVO_RATE: 66,166 kg m^2 on a 2 kg crank
-    was measured), not part of the design; its term reached 147 N m on a 204 N m press (tests/test_drive_torque.py),
-    and what reaches the link is what ``forces`` and hand statics give."""
+    inertia is a numerical constant of the servo (sim.model.drives.SERVO_RATE), not part of the design: 1.9e6
+    kg m^2 on the 5 kN press of tests/test_drive_torque.py, whose rotor term reached 197 N m on a 207 N m drive;
+    what reaches the link is what ``forces`` and hand statics give (docs/CONVENTIONS.md, "What the simulation
+    adds")."""
     return np.asarray(actuator_force) - drive.armature * np.asarray(qdd)
 
 
