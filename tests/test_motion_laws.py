@@ -298,3 +298,16 @@ def test_mujoco_follows_the_profile_through_the_dwell():
     # rounding, as the midpoint rate did, leaves 3.8e-5): DRIVE_ERROR_BUDGET 1e-6 rad x 2
     assert np.max(np.abs(tr.inputs["phi1"][dwell] - 1.5 * math.pi)) <= 2e-6
     assert np.max(np.abs(tr.outputs["vyC"][dwell])) <= 1e-8      # the ram held (m/s; peak 1.07 m/s)
+
+
+def test_the_links_and_joints_form_takes_a_law_too(tmp_path):
+    text = (Path(__file__).parent / "peers_examples" / "stephenson.toml").read_text()
+    law = 'segments = [{ shape = "cycloidal", duration = 0.5, rise = "60deg" }, { shape = "poly345", duration = 0.5, rise = "-60deg" }]\n'
+    text = re.sub(r"(\[\[inputs\]\]\n(?:[^\[\n][^\n]*\n)*)", lambda g: g.group(1) + law, text, count=1)
+    (tmp_path / "triad.toml").write_text(text)
+    m = analytic.load(str(tmp_path / "triad.toml"))
+    assert abs(m.duration(1.0) - 1.0) <= 1e-15
+    q, qd, _ = m.drive(np.array([0.25, 0.5]))
+    q0 = m.inputs[0].motion.q0
+    assert abs(q[0, 0] - q0 - math.radians(30)) <= 1e-12 and abs(q[1, 0] - q0 - math.radians(60)) <= 1e-12
+    assert abs(qd[0, 0] - 2 * math.radians(60) / 0.5) <= 1e-12          # cycloidal C_v = 2 at mid-rise
