@@ -311,3 +311,18 @@ def test_the_links_and_joints_form_takes_a_law_too(tmp_path):
     q0 = m.inputs[0].motion.q0
     assert abs(q[0, 0] - q0 - math.radians(30)) <= 1e-12 and abs(q[1, 0] - q0 - math.radians(60)) <= 1e-12
     assert abs(qd[0, 0] - 2 * math.radians(60) / 0.5) <= 1e-12          # cycloidal C_v = 2 at mid-rise
+
+
+def test_a_sweep_follows_the_law(tmp_path):
+    r = run("sweep", "servo_press", "--vary", "r=0.04,0.05", "--csv", tmp_path / "sw.csv")
+    assert r.returncode == 0, r.stderr
+    head, *rows = (tmp_path / "sw.csv").read_text().splitlines()
+    col = head.split(",")
+    for row in rows:
+        v = dict(zip(col, map(float, row.split(","))))
+        m = analytic.load("servo_press", r=v["r"])
+        _, sol = m.solve_at(np.linspace(0.0, 1.0, 361))                # the sweep's default samples
+        speed = np.hypot(sol["vxC"], sol["vyC"])
+        assert v["speed_min"] <= 1e-12                                 # the dwells: a constant speed never rests
+        assert abs(v["speed_max"] - speed.max()) <= 1e-9 * speed.max()   # the same samples; two solvers' rounding
+        assert abs(v["period"] - 1.0) <= 1e-12
