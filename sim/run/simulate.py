@@ -19,7 +19,7 @@ from mujoco import rollout
 from analytic import ParameterError
 from analytic import kinds
 from analytic.solution import Solution, StateView
-from sim.model import DEFAULT_INTEGRATOR, INTEGRATORS, Built, drive_command
+from sim.model import DEFAULT_INTEGRATOR, INTEGRATORS, Built, drive_command, input_jerk
 from sim.model.drives import load_switch
 
 MAX_STEPS = 20_000_000
@@ -69,19 +69,26 @@ def steps_for(built: Built, revolutions: float) -> int:
 
 
 def controls(built: Built, t: np.ndarray) -> np.ndarray:
-    """Controls at step start times t, shape (len(t), nu): each drive's activation rate over the step, the
-    change of its target (:func:`sim.model.drive_command`) from the step's start to its end over h, so
-    that the activation it integrates meets the target at every step's end whatever the motion law (the
-    midpoint rate that equals it for a speed linear in time misses a motion law's jumps and drifts by its
-    rounding), and the load switch."""
+    """Controls at step start times t, shape (len(t), nu): each drive's activation rate at the step's
+    midpoint (the activation integrates it exactly for a steady drive), and the load switch. A drive whose
+    input follows a motion law takes instead the change of its target over the step, divided by h, so that
+    its activation meets the target at every step's end: the midpoint rate misses a law's jumps and its
+    rounding accumulates (a dwell then held 3.8e-5 rad off)."""
     model, mech = built.model, built.mech
     h = built.timestep
-    start, end = mech.drive(t), mech.drive(t + h)
+    mid = t + 0.5 * h
+    q, qd, qdd = mech.drive(mid)
+    jerk = input_jerk(mech, mid)
     ctrl = np.zeros((len(t), model.nu))
+    ends = None
     for k, d in enumerate(built.drives):
-        a0, _ = drive_command(d, *(x[:, k] for x in start), 0.0)
-        a1, _ = drive_command(d, *(x[:, k] for x in end), 0.0)
-        ctrl[:, model.actuator(d.actuator).id] = (a1 - a0) / h
+        _, rate = drive_command(d, q[:, k], qd[:, k], qdd[:, k], jerk[:, k])
+        if d.input.motion.law is not None:
+            ends = ends or (mech.drive(t), mech.drive(t + h))
+            a0, _ = drive_command(d, *(x[:, k] for x in ends[0]), 0.0)
+            a1, _ = drive_command(d, *(x[:, k] for x in ends[1]), 0.0)
+            rate = (a1 - a0) / h
+        ctrl[:, model.actuator(d.actuator).id] = rate
     ctrl[:, model.actuator("load").id] = load_switch(built, t)
     return ctrl
 
