@@ -47,7 +47,8 @@ class Output:
     si_unit: str
     owner: str
     role: str = ""
-    """What owns it: ``point``, ``link``, ``slide``, ``drive``, ``transmission`` or ``extra`` (a kind's own)."""
+    """What owns it: ``point``, ``link``, ``slide``, ``drive``, ``transmission``, ``extra`` (a kind's own) or
+    ``input`` (a motion law's jerk, ``jphi1``)."""
     of: str = ""
     """The owner's name: the point, link, prismatic pair, the drive's link, the transmission angle's point."""
 
