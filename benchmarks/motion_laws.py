@@ -7,8 +7,8 @@ Run:  python benchmarks/motion_laws.py [--samples 361 3600 100000] [--repeats 5]
 Three figures per sample count, each the least wall time of the repeats after one warm-up (imports, compiled
 kernels): ``drive`` (``Mechanism.drive(t)``: the inputs' q, qd, qdd at t), ``solve_at`` (``drive`` plus the
 whole solve, every output) and ``analyze`` (``sim.service.analyze``: the run ``linkage analyze`` makes, its
-figures of merit included). Target: the law's ``solve_at`` and ``analyze`` within 20 % of the constant
-speed's.
+figures of merit included); and once, ``compare`` (``sim.service.compare``: the MuJoCo run and its checks,
+one cycle). Target: the law's ``solve_at``, ``analyze`` and ``compare`` within 20 % of the constant speed's.
 """
 
 from __future__ import annotations
@@ -58,6 +58,13 @@ def main(argv=None) -> int:
             a = best(lambda: fn(law), args.repeats)
             b = best(lambda: fn(const), args.repeats)
             print(f"{n:>8} {what:>9} {a * 1e3:>10.3f} {b * 1e3:>14.3f} {a / b:>7.2f}")
+    a = best(lambda: service.compare(law, 1.0), max(1, args.repeats // 2))
+    b = best(lambda: service.compare(const, 1.0), max(1, args.repeats // 2))
+    steps = [service.compare(m, 1.0)[1].trajectory.steps for m in (law, const)]
+    print(f"{'1 cycle':>8} {'compare':>9} {a * 1e3:>10.3f} {b * 1e3:>14.3f} {a / b:>7.2f}   MuJoCo steps "
+          f"{steps[0]} and {steps[1]} (the step follows the peak speed: the law's is 3.3 times the mean)")
+    print(f"{'per step':>8} {'compare':>9} {a * 1e3 / steps[0]:>10.4f} {b * 1e3 / steps[1]:>14.4f} "
+          f"{a / steps[0] / (b / steps[1]):>7.2f}")
     return 0
 
 
