@@ -103,7 +103,8 @@ def solve_with_coefficients(mech, q, qd, qdd) -> tuple[Solution, tuple[Solution,
 
 
 def periodic(mech) -> bool:
-    """Whether the motion repeats every turn of the first input: one input, at constant speed or rocking."""
+    """Whether the motion repeats every turn of the first input: one input, at constant speed, rocking or
+    driven by a law (its cycle)."""
     if len(mech.inputs) != 1:
         return False
     m = mech.inputs[0].motion
@@ -193,7 +194,7 @@ class Cycle:
         if len(mech.inputs) != 1 or not mech.inputs[0].angular:
             return False
         m = mech.inputs[0].motion
-        return m.rock is None and m.accel == 0.0 and m.rate != 0.0 and self.revolutions == 1.0
+        return m.constant and m.rate != 0.0 and self.revolutions == 1.0
 
     def at_start(self) -> tuple[tuple[np.ndarray, np.ndarray, np.ndarray], Solution]:
         """The inputs and the solution at t = 0 (shapes (1, n_inputs) and (1,))."""
@@ -209,7 +210,7 @@ def _from_turn_scan(mech, end: float):
     if len(mech.inputs) != 1 or not mech.inputs[0].angular:
         return None
     m = mech.inputs[0].motion
-    if m.rock is not None or m.accel != 0.0 or m.rate == 0.0 or mech.turn_scan is None:
+    if not m.constant or m.rate == 0.0 or mech.turn_scan is None:
         return None
     q, sol = mech.turn_scan
     w = abs(m.rate)

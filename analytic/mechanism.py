@@ -26,7 +26,7 @@ import numpy as np
 from analytic import kinds
 from analytic._common import BLOCK, AssemblyError, ParameterError, fmt_deg, keep_freed_memory
 from analytic.format import linkfile
-from analytic.motion import Input, Motion
+from analytic.motion import Input, Motion, law_rate
 from analytic.solution import Solution
 from analytic.solver import kinematics
 from analytic.topology import Joint
@@ -133,12 +133,15 @@ class Mechanism:
             if kind.section != "inputs":
                 continue
             q0, rate, accel = kind.motion_fields
-            motion = Motion(e[q0], e[rate], e[accel])
+            law = e.get("law")
+            motion = (Motion(e[q0], e[rate], e[accel]) if law is None
+                      else Motion(e[q0], law_rate(law), 0.0, law=law))
             names = tuple(_param_name(e_def.fields[f]) for f in kind.motion_fields)
             out.append(Input(kind.name, e["link"], e["point"], kind.input_joint(e), motion, names))
         if self.rock is not None:                  # a slider rocks at |v| / size rad/s: its rate over the size
             rate = out[0].motion.rate / out[0].spec.rate_scale(self.size)
-            out[0] = replace(out[0], motion=replace(out[0].motion, rock=self.rock, q0=self.rock[0], rate=rate))
+            out[0] = replace(out[0], motion=replace(out[0].motion, rock=self.rock, q0=self.rock[0], rate=rate,
+                                                                 law=None))
         return tuple(out)
 
     @property
@@ -228,11 +231,12 @@ class Mechanism:
         return kinematics.size_of(self.geometry)
 
     # ------------------------------------------------------------------ motion and solving
-    def drive(self, t) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """The inputs' motion at times ``t`` [s]: (q, qd, qdd), each of shape (N, n_inputs)."""
+    def drive(self, t, jerk: bool = False) -> tuple[np.ndarray, ...]:
+        """The inputs' motion at times ``t`` [s]: (q, qd, qdd), each of shape (N, n_inputs); ``jerk``: and
+        d3q/dt3 (a motion law's evaluated once for the four)."""
         t = np.atleast_1d(np.asarray(t, dtype=float))
-        cols = [i.motion.at(t) for i in self.inputs]
-        return tuple(np.stack([c[k] for c in cols], axis=-1) for k in range(3))
+        cols = [i.motion.at_with_jerk(t) if jerk else i.motion.at(t) for i in self.inputs]
+        return tuple(np.stack([c[k] for c in cols], axis=-1) for k in range(4 if jerk else 3))
 
     def duration(self, revolutions: float) -> float:
         """Time [s] for ``revolutions`` turns of the first input (rocking cycles, for a rocking drive)."""

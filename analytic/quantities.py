@@ -20,9 +20,11 @@ from dataclasses import dataclass
 LENGTH, VELOCITY, ACCELERATION = "length", "velocity", "acceleration"
 ANGLE, ANGULAR_VELOCITY, ANGULAR_ACCELERATION = "angle", "angular_velocity", "angular_acceleration"
 FORCE, TORQUE, TIME, RATIO = "force", "torque", "time", "ratio"
+JERK, ANGULAR_JERK = "jerk", "angular_jerk"
 
 SI_UNIT = {LENGTH: "m", VELOCITY: "m/s", ACCELERATION: "m/s^2", ANGLE: "rad", ANGULAR_VELOCITY: "rad/s",
-           ANGULAR_ACCELERATION: "rad/s^2", FORCE: "N", TORQUE: "N m", TIME: "s", RATIO: ""}
+           ANGULAR_ACCELERATION: "rad/s^2", FORCE: "N", TORQUE: "N m", TIME: "s", RATIO: "", JERK: "m/s^3",
+           ANGULAR_JERK: "rad/s^3"}
 """The SI unit of each quantity (what the solver, the simulation, CSV and JSON use by default)."""
 
 LENGTH_UNITS = {"m": 1.0, "mm": 1e-3, "cm": 1e-2, "in": 0.0254}
@@ -45,7 +47,8 @@ class Output:
     si_unit: str
     owner: str
     role: str = ""
-    """What owns it: ``point``, ``link``, ``slide``, ``drive``, ``transmission`` or ``extra`` (a kind's own)."""
+    """What owns it: ``point``, ``link``, ``slide``, ``drive``, ``transmission``, ``extra`` (a kind's own) or
+    ``input`` (a motion law's jerk, ``jphi1``)."""
     of: str = ""
     """The owner's name: the point, link, prismatic pair, the drive's link, the transmission angle's point."""
 
@@ -75,6 +78,8 @@ def output_table(mech) -> dict[str, Output]:
             role, of = ("transmission", x.transmission) if x.transmission else ("extra", e["point"])
             table[x.name] = _entry(x.name, x.quantity, x.owner, role, of)
     for i in mech.inputs:
+        if i.motion.law is not None:                 # a motion law's jerk (SPEC "Motion laws")
+            table[i.qddd] = _entry(i.qddd, ANGULAR_JERK if i.angular else JERK, f"input {i.q}", "input", i.q)
         q = i.spec.drive_quantity
         table["tau" + i.link] = _entry("tau" + i.link, q, f"drive of link {i.link}", "drive", i.link)
     for alias, target in mech.aliases.items():
@@ -166,7 +171,7 @@ class Display:
 
     def unit(self, quantity: str) -> str:
         """The unit label of ``quantity`` in these display units."""
-        if quantity in (LENGTH, VELOCITY, ACCELERATION):
+        if quantity in (LENGTH, VELOCITY, ACCELERATION, JERK):
             return SI_UNIT[quantity].replace("m", self.length, 1)
         if quantity == ANGLE:
             return self.angle
@@ -174,6 +179,8 @@ class Display:
             return "rpm" if self.speed == "rpm" else f"{self.angle}/s"
         if quantity == ANGULAR_ACCELERATION:
             return f"{self.angle}/s^2"
+        if quantity == ANGULAR_JERK:
+            return f"{self.angle}/s^3"
         if quantity == FORCE:
             return self.force
         if quantity == TORQUE and self.force != "N":
@@ -182,10 +189,10 @@ class Display:
 
     def factor(self, quantity: str) -> float:
         """Display value per SI value of ``quantity``."""
-        if quantity in (LENGTH, VELOCITY, ACCELERATION):
+        if quantity in (LENGTH, VELOCITY, ACCELERATION, JERK):
             return 1.0 / LENGTH_UNITS[self.length]
         deg = 180.0 / math.pi if self.angle == "deg" else 1.0
-        if quantity == ANGLE or quantity == ANGULAR_ACCELERATION:
+        if quantity in (ANGLE, ANGULAR_ACCELERATION, ANGULAR_JERK):
             return deg
         if quantity == ANGULAR_VELOCITY:
             return RPM if self.speed == "rpm" else deg

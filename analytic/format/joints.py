@@ -37,6 +37,7 @@ import numpy as np
 from analytic import kinds
 from analytic._common import FileError
 from analytic.format import expr
+from analytic.format.lawfield import FIELDS as LAW_FIELDS
 from analytic.format.sym import Sym, Vec, const, direction
 from analytic.kinds.base import GROUND
 
@@ -427,7 +428,7 @@ def _read_inputs(data: dict, source: str, measures: _Measures) -> list[tuple[dic
             known = [k for k in kinds.KINDS.values() if k.section == "inputs" and k.joints_form is not None]
             listed = " or ".join(f"\"{k.name}\" ({k.joints_summary})" for k in known)
             raise _fail(source, where, f"unknown kind {kind!r}; an input is kind = {listed}")
-        _fields(item, where, {"kind", *own.joints_form}, source, f"a {kind}")
+        _fields(item, where, {"kind", *own.joints_form, *LAW_FIELDS}, source, f"a {kind}")
         for f, what in own.joints_form.items():
             if what in ("angle", "length"):
                 measures.use(item.get(f), what, f"{where}: field {f!r}")
@@ -653,7 +654,14 @@ class _Decomposer:
     # ---------------------------------------------------------------------------------- inputs
     def inputs(self):
         for item, where in self.f.inputs:                  # each input kind places its own
-            kinds.get(item["kind"]).from_joints(item, where, self)
+            n = len(self.items)
+            kind = kinds.get(item["kind"])
+            kind.from_joints(item, where, self)
+            law = {f: item[f] for f in LAW_FIELDS if f in item}
+            if law and len(self.items) > n:                # a motion law replaces the kind's own (SPEC "Motion
+                emitted, w = self.items[n]                 # laws"): its rates dropped, a table's start too
+                drop = kind.motion_fields[1:] if "segments" in law else kind.motion_fields
+                self.items[n] = ({**{k: v for k, v in emitted.items() if k not in drop}, **law}, w)
 
     # what the input kinds' from_joints use (analytic.kinds.base.Kind.from_joints)
     SINGULAR = SINGULAR

@@ -21,7 +21,7 @@ from pathlib import Path
 
 from analytic import kinds, topology
 from analytic._common import FileError, ParameterError
-from analytic.format import expr, joints
+from analytic.format import expr, joints, lawfield
 from analytic.kinds.base import GROUND, REQUIRED, SIZE_PER_SECOND, Guide
 
 FORMAT = "linkage/1"
@@ -51,6 +51,9 @@ class Element:
     fields: dict
     where: str
     places: tuple[str, ...]
+    law: lawfield.Written | None = None
+    """An input's motion law as written (``segments`` or ``table``, SPEC "Motion laws"), or None: its kind's
+    constant-acceleration law."""
 
     @property
     def point(self) -> str:
@@ -256,7 +259,12 @@ def _check(data: dict, source: str, default_name: str) -> Definition:
             raise _fail(source, section, f"must be an array of tables ([[{section}]])")
         for i, item in enumerate(items, 1):
             where = labels[len(elements)] if labels else f"{section}[{i}]"
-            elements.append(_element(item, where, section, source))
+            el = _element(item, where, section, source)
+            if section == "inputs":
+                written = lawfield.check(item, kinds.get(el.kind), kinds.get(el.kind).motion_fields, el.label,
+                                         source, UNITS[units])
+                el = replace(el, law=written) if written is not None else el
+            elements.append(el)
     elements = _sized_rates(elements, ground, params, source, name)
     inputs = tuple(e for e in elements if kinds.get(e.kind).section == "inputs")
     groups = tuple(e for e in elements if kinds.get(e.kind).section == "groups")
@@ -413,7 +421,7 @@ def _element(item, where: str, section: str, source: str) -> Element:
         if len(set(first)) != len(first):
             raise _fail(source, where, f"field {placed!r}: a point is listed twice")
         label = f"{where} (points {', '.join(first)})"
-    unknown = sorted(set(item) - set(spec) - {"kind"})
+    unknown = sorted(set(item) - set(spec) - {"kind"} - (set(lawfield.FIELDS) if section == "inputs" else set()))
     if unknown:
         raise _fail(source, label, f"unknown field {unknown[0]!r}; a {name} takes {', '.join(spec)}")
     fields = {}
@@ -695,6 +703,9 @@ def _parameter_kinds(source: str, params: dict, ground: dict, elements: list[Ele
                     use(v, "length", where)
             elif ftype in _FIELD_KIND:
                 use(value, _FIELD_KIND[ftype], where)
+        if e.law is not None:
+            for value, measure in lawfield.uses(e.law, kinds.get(e.kind)):
+                use(value, measure, f"{e.label}: field 'segments'")
     if undefined:
         where, n = undefined[0]
         raise _fail(source, where, f"{n!r} is not a parameter; define it under [parameters]")
@@ -825,6 +836,10 @@ def resolve(d: Definition, values: dict[str, float]) -> Geometry:
             n_inputs += 1
         for fname, fld in kind.fields.items():
             out[fname] = resolve_field(e.fields[fname], fld.type, num, f"{e.label}: field {fname!r}", d.source)
+        if e.law is not None:
+            out["law"] = lawfield.resolve(e.law, kind, num, e.label, d.source)
+            if e.law.table is not None:                # a table's first q is the input's start value
+                out[kind.motion_fields[0]] = e.law.table[1][0]
         kind.resolve_extra(out, d.topology)
         problem = kind.check_resolved(out)
         if problem:

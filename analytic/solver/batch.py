@@ -334,7 +334,8 @@ def motion_table(designs: Designs) -> np.ndarray:
 def motions(designs: Designs, row: np.ndarray) -> tuple[Motion, ...]:
     """The input motion laws of one row of :func:`motion_table` (as :attr:`Mechanism.inputs` gives them,
     a rocking drive kept)."""
-    out = [Motion(float(q0), float(rate), float(acc)) for q0, rate, acc in row]
+    out = [Motion(float(q0), float(rate), float(acc)) if i.motion.law is None else replace(i.motion, q0=float(q0))
+           for (q0, rate, acc), i in zip(row, designs.base.inputs)]        # a motion law: the base's
     if designs.base.rock is not None:
         out[0] = replace(out[0], rock=designs.base.rock, q0=designs.base.rock[0])
     return tuple(out)
@@ -348,7 +349,12 @@ def drive(designs: Designs, t: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.n
     cols: list[list[np.ndarray]] = []
     for j in range(table.shape[1]):
         q0, rate, acc = (table[:, j, c, None] for c in range(3))
-        if j == 0 and designs.base.rock is not None:
+        law = designs.base.inputs[j].motion.law
+        if law is not None and not (j == 0 and designs.base.rock is not None):    # the base's motion law
+            q, v, a, _ = law.at(t)
+            q = q0 + q
+            cols.append([q, np.broadcast_to(v, q.shape), np.broadcast_to(a, q.shape)])
+        elif j == 0 and designs.base.rock is not None:
             lo, hi = designs.base.rock
             w, amp = np.abs(rate), 0.5 * (hi - lo)
             cols.append([0.5 * (lo + hi) - amp * np.cos(w * t), amp * w * np.sin(w * t),

@@ -9,3 +9,4 @@ for m in $(linkage list | awk '{print $1}'); do
   linkage render "$m" --out "renders/readme/gallery/$m.gif" --size 240x180 --fps 12
 done
 linkage plot fourbar --out renders/readme/fourbar_sheet.png
+linkage plot servo_press --out renders/readme/servo_press_sheet.png

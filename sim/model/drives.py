@@ -135,13 +135,10 @@ def initial_controls(model, mech, drives, q_start, loads, extra=None, cycle=None
 
 
 def input_jerk(mech, t):
-    """d^3 q / dt^3 of every input at times t (nonzero only for a rocking drive)."""
+    """d^3 q / dt^3 of every input at times t (nonzero for a rocking drive or a motion law)."""
     out = np.zeros((len(t), len(mech.inputs)))
     for k, inp in enumerate(mech.inputs):
-        m = inp.motion
-        if m.rock is not None:
-            w, amp = abs(m.rate), 0.5 * (m.rock[1] - m.rock[0])
-            out[:, k] = -amp * w ** 3 * np.sin(w * t)
+        out[:, k] = inp.motion.jerk(t)
     return out
 
 

@@ -188,8 +188,10 @@ def fold_factor(mech, revolutions: float = 1.0, cycle=None) -> float:
 def motion_scale(mech) -> float:
     """Omega [1/s]: the fastest commanded input speed (a slider's over the size) over one turn of the first
     input: at its ends (a speed linear in time, q0 + rate t + accel t^2 / 2) or a quarter period in (a rocking
-    drive's amp w; only the first input rocks)."""
-    t = np.array([0.0, 0.25, 1.0]) * mech.duration(1.0)
+    drive's amp w; only the first input rocks); with a motion law, the largest of 4097 samples of its cycle (a
+    segment's peak speed lies within 1/4096 of a cycle of one, so within 1e-5 of it for any smooth shape)."""
+    laws = any(i.motion.law is not None for i in mech.inputs)
+    t = (np.linspace(0.0, 1.0, 4097) if laws else np.array([0.0, 0.25, 1.0])) * mech.duration(1.0)
     qd = mech.drive(t)[1]
     scales = [np.max(np.abs(qd[:, k])) / i.spec.rate_scale(mech.size) for k, i in enumerate(mech.inputs)]
     return float(max(scales))

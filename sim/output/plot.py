@@ -113,9 +113,12 @@ def sheet_figure(c: Comparison, built, display=None):
 
     mech = built.mech
     u = display or Display(mech.units)
+    driven = [i for i in mech.inputs if i.motion.law is not None]
     x, xlabel = _input_angle(c, mech, u)
+    if driven:                                   # a law's dwells hold the input: time is the abscissa
+        x, xlabel = c.trajectory.t, "time $t$ [s]"
     colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
-    fig, axes = plt.subplots(4, 4, figsize=(17, 14.5), constrained_layout=True)
+    fig, axes = plt.subplots(5 if driven else 4, 4, figsize=(17, 18.2 if driven else 14.5), constrained_layout=True)
     slots = [axes[0, 0], axes[0, 1], axes[0, 2], axes[1, 0], axes[1, 1], axes[1, 2]]
     for ax, (title, lines, ylabel) in zip(slots, panels(mech, u)):
         _series(ax, x, c, lines, colors, mech)
@@ -131,10 +134,66 @@ def sheet_figure(c: Comparison, built, display=None):
     _summary_panel(axes[1, 3], c, built, u)
     _speed_panel(axes[2, 3], x, c, xlabel, colors, mech, u)
     _torque_panels(axes[3], x, c, xlabel, colors, built, u)
+    if driven:
+        law_panels(axes[4], mech, driven, u, c.trajectory)
     fig.suptitle(f"{mech.name}: MuJoCo simulation (markers) over the analytic solution (lines)", fontsize=14)
     from sim.output.fit import fit_titles
     fit_titles(fig)
     return fig
+
+
+LAW_SAMPLES = 2000
+"""Samples of each cycle of a motion law's s-v-a-j curves (besides every segment boundary, from both sides)."""
+
+
+def law_panels(axes, mech, driven, u, trajectory=None) -> None:
+    """The s-v-a-j diagram of each input driven by a motion law (SPEC "Motion laws") on four axes: its
+    position, velocity, acceleration and jerk against time over the run (or one cycle), the segments'
+    boundaries dotted, each jump in velocity or acceleration marked; the simulated input (MuJoCo) over the
+    position and velocity where ``trajectory`` is given. Angles in deg, lengths in display units ``u``."""
+    from analytic import laws
+    from analytic import quantities as Q
+    end = float(trajectory.t[-1]) if trajectory is not None else mech.duration(1.0)
+    titles = ("position $s$", "velocity $v$", "acceleration $a$", "jerk $j$")
+    colors = ("tab:blue", "tab:orange", "tab:green", "tab:red")
+    for k, i in enumerate(driven):
+        law = i.motion.law
+        T = law.duration
+        edges = (np.r_[law.starts] if isinstance(law, laws.Profile) else np.array([0.0, T]))
+        cycles = np.arange(int(np.ceil(end / T - 1e-9)))
+        bounds = np.unique(np.clip((cycles[:, None] * T + edges[None, :]).ravel(), 0.0, end))
+        grid = np.linspace(0.0, end, int(LAW_SAMPLES * max(1.0, end / T)) + 1)
+        t = np.sort(np.r_[grid, bounds[1:] - 1e-9 * T, bounds[:-1] + 1e-9 * T])   # each side of a boundary
+        q, v, a = i.motion.at(t)
+        j = i.motion.jerk(t)
+        if i.angular:
+            f, unit = DEG, "deg"
+        else:
+            f, unit = u.factor(Q.LENGTH), u.unit(Q.LENGTH)
+        series = (q, v, a, j)
+        units = (unit, f"{unit}/s", f"{unit}/s$^2$", f"{unit}/s$^3$")
+        color = colors[k % len(colors)] if len(driven) > 1 else None
+        for n, (ax, y, yu) in enumerate(zip(axes, series, units)):
+            ax.plot(t, y * f, lw=1.4, color=color or colors[n], label=f"${i.q}$ law")
+            for b in bounds:
+                ax.axvline(b, color="0.6", ls=":", lw=0.8)
+            ax.set(title=f"Input law: {titles[n]}", xlabel="time $t$ [s]", ylabel=f"[{yu}]")
+            ax.grid(alpha=0.3)
+        if trajectory is not None and i.q in trajectory.inputs:
+            for ax, name in ((axes[0], i.q), (axes[1], i.qd)):
+                if name in trajectory.inputs:
+                    ax.plot(trajectory.t[::MARK_EVERY], np.asarray(trajectory.inputs[name])[::MARK_EVERY] * f, "o",
+                            ms=3, mfc="none", color="k", label=f"${name}$ MuJoCo")
+        for jump in law.jumps():
+            for cyc in cycles:
+                tj = cyc * T + jump.t
+                if tj > end + 1e-9 * T:
+                    continue
+                for ax, size in ((axes[1], jump.dv), (axes[2], jump.da)):
+                    if size:
+                        ax.axvline(tj, color="tab:red", lw=1.2, alpha=0.6)
+        for ax in axes:
+            ax.legend(fontsize=7, loc="best")
 
 
 def _mark_strokes(ax, x, load) -> None:

@@ -17,7 +17,7 @@ __all__ = ["SI", "Display", "display_for", "machine_display", "output_kind", "co
 
 _KIND = {Q.ANGLE: "angle", Q.LENGTH: "position", Q.ANGULAR_VELOCITY: "ang_velocity", Q.VELOCITY: "velocity",
          Q.ANGULAR_ACCELERATION: "ang_acceleration", Q.ACCELERATION: "acceleration", Q.FORCE: "force",
-         Q.TORQUE: "force"}
+         Q.TORQUE: "force", Q.JERK: "jerk", Q.ANGULAR_JERK: "ang_jerk"}
 
 
 def output_kind(mech, name: str) -> tuple[str, str]:

@@ -70,15 +70,24 @@ def steps_for(built: Built, revolutions: float) -> int:
 
 def controls(built: Built, t: np.ndarray) -> np.ndarray:
     """Controls at step start times t, shape (len(t), nu): each drive's activation rate at the step's
-    midpoint (the activation integrates it exactly for a steady drive), and the load switch."""
+    midpoint (the activation integrates it exactly for a steady drive), and the load switch. A drive whose
+    input follows a motion law takes instead the change of its target over the step, divided by h, so that
+    its activation meets the target at every step's end: the midpoint rate misses a law's jumps and its
+    rounding accumulates (a dwell then held 3.8e-5 rad off)."""
     model, mech = built.model, built.mech
     h = built.timestep
     mid = t + 0.5 * h
     q, qd, qdd = mech.drive(mid)
     jerk = input_jerk(mech, mid)
     ctrl = np.zeros((len(t), model.nu))
+    ends = None
     for k, d in enumerate(built.drives):
         _, rate = drive_command(d, q[:, k], qd[:, k], qdd[:, k], jerk[:, k])
+        if d.input.motion.law is not None:
+            ends = ends or (mech.drive(t), mech.drive(t + h))
+            a0, _ = drive_command(d, *(x[:, k] for x in ends[0]), 0.0)
+            a1, _ = drive_command(d, *(x[:, k] for x in ends[1]), 0.0)
+            rate = (a1 - a0) / h
         ctrl[:, model.actuator(d.actuator).id] = rate
     ctrl[:, model.actuator("load").id] = load_switch(built, t)
     return ctrl

@@ -72,12 +72,12 @@ def analyze(mech: Mechanism, samples: int = 361, revolutions: float = 1.0,
         q1 = np.linspace(lo, hi, samples)
         rate = first.motion.rate if first.motion.rate != 0 else 1.0
         t = (q1 - lo) / abs(rate)
-        q, qd, qdd = mech.drive(t)
-        q[:, 0], qd[:, 0], qdd[:, 0] = q1, first.motion.rate, 0.0
+        q, qd, qdd, jerk = mech.drive(t, jerk=True)
+        q[:, 0], qd[:, 0], qdd[:, 0], jerk[:, 0] = q1, first.motion.rate, 0.0, 0.0
     else:
         check_turns_fully(mech)
         t = np.linspace(0.0, mech.duration(revolutions), samples)
-        q, qd, qdd = mech.drive(t)
+        q, qd, qdd, jerk = mech.drive(t, jerk=True)
     sol = mech.solve(q, qd, qdd)
     if sol.first_failure() is not None:      # which samples assemble is the positions' alone: refused as the
         mech.check_assembles(q)              # positions' own check words it
@@ -85,6 +85,9 @@ def analyze(mech: Mechanism, samples: int = 361, revolutions: float = 1.0,
     for attr, arr in (("q", q), ("qd", qd), ("qdd", qdd)):          # phi2 phi4 omega2 omega4 alpha2 alpha4
         for k, inp in enumerate(mech.inputs):
             cols[getattr(inp, attr)] = arr[:, k]
+    for k, inp in enumerate(mech.inputs):                            # a motion law's jerk: jphi2
+        if inp.motion.law is not None:
+            cols[inp.qddd] = jerk[:, k]
     return Analysis(t, cols, sol, figures_of(mech, sol) if figures else {})
 
 
@@ -100,6 +103,9 @@ def check_turns_fully(mech: Mechanism, cycle=None) -> None:
     one turn of the crank at constant speed that assembles at every sample (the 3600 of a turn that
     analytic.applications.figures.assembly_ranges scans, and the refined ones) turns fully."""
     if len(mech.inputs) != 1 or mech.rock is not None or not mech.inputs[0].angular:
+        return
+    law = mech.inputs[0].motion.law
+    if law is not None and law.rise == 0.0:      # a law that returns to its start: its samples are checked
         return
     if cycle is not None and cycle.full_turn and cycle.solution.valid.all():
         return

@@ -23,9 +23,9 @@ def at_time(mech, value: float) -> float:
     a crank): a constant-speed input's."""
     first = mech.inputs[0]
     m = first.motion
-    if m.rock is not None or m.accel != 0.0 or m.rate == 0.0:
+    if not m.constant or m.rate == 0.0:
         raise ParameterError(f"--at needs the first input {first.q} to move at a constant, non-zero speed "
-                             f"(not rocking, no acceleration); give its speed with --set")
+                             f"(not rocking, no acceleration, no motion law); give its speed with --set")
     t = (value - m.q0) / m.rate
     if first.angular:
         t = math.fmod(t, 2 * math.pi / abs(m.rate))

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import math
 
-from analytic import kinds
+from analytic import kinds, laws
 from analytic.applications import figures
 from analytic.quantities import LENGTH, Display
 from sim.service.simulation import passes_smoothly
@@ -34,6 +34,11 @@ def structure_report(mech, display=None) -> str:
     lines.append(f"  independent loops: {len(topo.loops)}")
     lines.append(f"  mobility (Gruebler): {topo.gruebler()}; inputs: "
                  + ", ".join(f"{i.q} ({i.kind} at {i.joint})" for i in mech.inputs))
+    for i in mech.inputs:                         # a motion law: its segments and their jumps (SPEC "Motion laws")
+        if i.motion.law is not None:
+            law_lines = laws.describe(i.motion.law, i.angular, i.q, i.motion.q0,
+                                      (display.factor(LENGTH) ** -1, display.unit(LENGTH)))
+            lines += [f"  {i.q} {law_lines[0]}"] + [f"  {x}" for x in law_lines[1:]]
     lines.append("  solve order: " + " -> ".join(f"{'+'.join(e.places)} ({e.kind})" for e in d.order))
     groups = [(e, kinds.get(e.kind).group_label(r)) for e, r in zip(d.order, mech.geometry.elements)]
     lines.append("  Assur groups: " + (", ".join(f"{'+'.join(e.places)} (links {', '.join(e.links())}): {cls}"

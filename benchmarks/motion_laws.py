@@ -1,0 +1,72 @@
+"""A motion law costs nothing next to the solve (issue 37, item 3): the servo press (``servo_press``: a
+slider-crank driven by segments) against the same mechanism at constant speed (its ``segments`` replaced by
+``omega = "360deg"``, same duration), in-process, per sample count.
+
+Run:  python benchmarks/motion_laws.py [--samples 361 3600 100000] [--repeats 5]
+
+Three figures per sample count, each the least wall time of the repeats after one warm-up (imports, compiled
+kernels): ``drive`` (``Mechanism.drive(t)``: the inputs' q, qd, qdd at t), ``solve_at`` (``drive`` plus the
+whole solve, every output) and ``analyze`` (``sim.service.analyze``: the run ``linkage analyze`` makes, its
+figures of merit included); and once, ``compare`` (``sim.service.compare``: the MuJoCo run and its checks,
+one cycle). Target: the law's ``solve_at``, ``analyze`` and ``compare`` within 20 % of the constant speed's.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import re
+import sys
+import time
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+sys.path[0] = ROOT                       # the project, not benchmarks/, is ``analytic``
+
+
+def best(fn, repeats: int) -> float:
+    fn()
+    out = []
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        fn()
+        out.append(time.perf_counter() - t0)
+    return min(out)
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--samples", type=int, nargs="+", default=[361, 3600, 100_000])
+    ap.add_argument("--repeats", type=int, default=5)
+    args = ap.parse_args(argv)
+    import numpy as np
+
+    import analytic
+    from analytic.format import linkfile
+    from sim import service
+    path = os.path.join(ROOT, "analytic", "library", "servo_press.toml")
+    text = open(path).read()
+    constant = re.sub(r"segments = \[.*?\n\]\n", 'omega = "360deg"\n', text, flags=re.S)
+    law = analytic.Mechanism.from_definition(linkfile.parse(text, path))
+    const = analytic.Mechanism.from_definition(linkfile.parse(constant, "servo_press (constant speed)"))
+    assert law.duration(1.0) == const.duration(1.0) == 1.0
+    print(f"{'samples':>8} {'what':>9} {'law [ms]':>10} {'constant [ms]':>14} {'ratio':>7}")
+    for n in args.samples:
+        t = np.linspace(0.0, 1.0, n)
+        rows = (("drive", lambda m: m.drive(t)), ("solve_at", lambda m: m.solve_at(t)),
+                ("analyze", lambda m: service.analyze(m, samples=n)))
+        for what, fn in rows:
+            a = best(lambda: fn(law), args.repeats)
+            b = best(lambda: fn(const), args.repeats)
+            print(f"{n:>8} {what:>9} {a * 1e3:>10.3f} {b * 1e3:>14.3f} {a / b:>7.2f}")
+    a = best(lambda: service.compare(law, 1.0), max(1, args.repeats // 2))
+    b = best(lambda: service.compare(const, 1.0), max(1, args.repeats // 2))
+    steps = [service.compare(m, 1.0)[1].trajectory.steps for m in (law, const)]
+    print(f"{'1 cycle':>8} {'compare':>9} {a * 1e3:>10.3f} {b * 1e3:>14.3f} {a / b:>7.2f}   MuJoCo steps "
+          f"{steps[0]} and {steps[1]} (the step follows the peak speed: the law's is 3.3 times the mean)")
+    print(f"{'per step':>8} {'compare':>9} {a * 1e3 / steps[0]:>10.4f} {b * 1e3 / steps[1]:>14.4f} "
+          f"{a / steps[0] / (b / steps[1]):>7.2f}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
