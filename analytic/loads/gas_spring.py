@@ -40,7 +40,7 @@ def _log_ratio(u):
     """-ln(1 - u) / u, 1 at u = 0."""
     u = np.asarray(u, dtype=float)
     small = np.abs(u) < 1e-8
-    safe = np.where(small, 1.0, u)
+    safe = np.where(small, 0.5, u)
     return np.where(small, 1.0 + 0.5 * u, -np.log1p(-safe) / safe)
 
 

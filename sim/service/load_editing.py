@@ -8,7 +8,6 @@ from __future__ import annotations
 import numpy as np
 
 from analytic import loads as AL
-from analytic.kinds import GROUND
 from analytic.loads import common as LC
 
 
