@@ -360,3 +360,26 @@ def test_table_spring_follows_its_table():
     want = [integrate.quad(lambda s: np.interp(s, *zip(*rows)), 0.0, v, points=[0.05, 0.1], epsrel=1e-12)[0]
             for v in d]
     assert np.allclose(E, want, rtol=1e-9, atol=1e-12)                    # quad's error on the kinks
+
+
+@pytest.mark.parametrize("path", EXAMPLES, ids=lambda p: p.stem)
+def test_the_panel_adds_each_kind_as_the_file_writes_it(path):
+    """The app's panel (POST /api/loads/edit) adds the load, given as its table, to the file without loads:
+    the new file reads back to the same record."""
+    from sim.front import loads_panel
+    mech, held, _ = load(path)
+    table = held.file_table(AL.scales(mech.definition, mech.parameters))
+    bare = path.read_text().split("[[loads]]")[0]
+    out = loads_panel.edit({"text": bare, "action": "add", "load": table})
+    from sim import service
+    again = service.load("<upload>", {}, text=out["text"])
+    same(held, again.definition.loadset.loads[0])
+
+
+def test_a_file_with_force_units_and_no_loads_reads():
+    """``force_units`` alone (the loads all removed in the panel) was refused as "loads: must be an array"."""
+    text = (HERE / "loads" / "torque.toml").read_text().split("[[loads]]")[0]
+    assert 'force_units = "N"' in text
+    from sim import service
+    m = service.load("<upload>", {}, text=text)
+    assert m.definition.force_units == "N" and not AL.resolve(m)

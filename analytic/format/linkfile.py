@@ -308,7 +308,7 @@ def _check(data: dict, source: str, default_name: str) -> Definition:
         from analytic import loads
         definition = replace(definition, force_units=loads.check_units(source, data.get("force_units")),
                              loads=tuple(data.get("loads", ())) if isinstance(data.get("loads", ()), list)
-                             else data.get("loads"), friction=data.get("friction"))
+                             else data.get("loads", ()), friction=data.get("friction"))
         definition = replace(definition, loadset=loads.parse(definition, parameter_values(definition)))
     return definition
 

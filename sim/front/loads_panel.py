@@ -87,15 +87,18 @@ def form_html() -> str:
     fields: dict[str, dict] = {}
     for kind, fs in kinds.items():
         for f in fs:
-            entry = fields.setdefault(f.name, {"field": f, "kinds": [], "hints": []})
+            entry = fields.setdefault(f.name, {"field": f, "kinds": [], "hints": [], "types": set()})
             entry["kinds"].append(kind)
+            entry["types"].add(f.type)
             if f.hint and f.hint not in entry["hints"]:
                 entry["hints"].append(f.hint)
     rows = [f'<label>kind <select id="load-kind">{options}</select></label>']
     for name, e in fields.items():
         f = e["field"]
         ident = "load-" + name.replace("_", "-")
-        attrs = f'id="{ident}" data-field="{escape(name)}" data-type="{escape(f.type)}"'
+        # a field text for one kind and a number for another (``stroke``) is read as a number where it is one
+        kind_of = "number" if e["types"] == {"text", "number"} else f.type
+        attrs = f'id="{ident}" data-field="{escape(name)}" data-type="{escape(kind_of)}"'
         if f.type == "frame":
             control = (f'<select {attrs}><option value="world">world</option>'
                        '<option value="link">link (turns with it)</option></select>')
