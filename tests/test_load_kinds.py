@@ -383,3 +383,15 @@ def test_a_file_with_force_units_and_no_loads_reads():
     from sim import service
     m = service.load("<upload>", {}, text=text)
     assert m.definition.force_units == "N" and not AL.resolve(m)
+
+
+def test_gas_spring_that_does_not_fit_at_the_start_pose_is_refused_by_the_panel():
+    from sim.front import loads_panel
+    path = HERE / "loads" / "gas_spring.toml"
+    text = path.read_text()
+    bare = text.split("[[loads]]")[0]
+    mech, held, _ = load(path)
+    table = {**held.file_table(AL.scales(mech.definition, mech.parameters)), "extended_length": 0.2}
+    with pytest.raises(analytic.ParameterError) as err:       # its length at the start pose is 0.274 m > 0.2
+        loads_panel.edit({"text": bare, "action": "add", "load": table})
+    assert "load gas" in str(err.value) and "\n" not in str(err.value)

@@ -62,6 +62,14 @@ class GasSpring(Load):
     def link(self) -> str:
         return self.ends[1].link
 
+    needs_start = True
+    """Checked at the start pose: a strut that does not fit its ends there is refused when the file's loads
+    are resolved (the panel's edit, every command), before any motion."""
+
+    def at_start(self, state) -> "GasSpring":
+        self.compression(state)
+        return self
+
     @property
     def a(self) -> float:
         """The share of the volume the full stroke takes: 1 - ratio^(-1/n)."""
