@@ -395,3 +395,10 @@ def test_gas_spring_that_does_not_fit_at_the_start_pose_is_refused_by_the_panel(
     with pytest.raises(analytic.ParameterError) as err:       # its length at the start pose is 0.274 m > 0.2
         loads_panel.edit({"text": bare, "action": "add", "load": table})
     assert "load gas" in str(err.value) and "\n" not in str(err.value)
+
+
+def test_the_page_holds_the_registrys_form():
+    from sim.front import app
+    html = app.page({"name": "fourbar"}).decode()
+    assert "<!--LOAD_FORM-->" not in html and 'id="load-kind"' in html
+    assert all(f'<option value="{k}">' in html for k in AL.KINDS)
