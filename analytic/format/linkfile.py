@@ -99,6 +99,9 @@ class Definition:
     loads: tuple = ()
     """The ``[[loads]]`` tables as written (checked; resolved by :func:`analytic.loads.resolve`)."""
     friction: dict | None = None
+    loadset: object = field(default=None, compare=False, repr=False)
+    """The loads parsed once when the file is read, at its parameter values (an
+    :class:`analytic.loads.LoadSet` of typed records; None without loads), reused wherever those values hold."""
     input_range: str = ""
     """The file's ``input_range`` ("LO:HI", '' if none): the working range commands default to."""
     parts: dict = field(default_factory=dict)
@@ -313,8 +316,8 @@ def _check(data: dict, source: str, default_name: str) -> Definition:
         from analytic import loads
         definition = replace(definition, force_units=loads.check_units(source, data.get("force_units")),
                              loads=tuple(data.get("loads", ())) if isinstance(data.get("loads", ()), list)
-                             else data.get("loads"), friction=data.get("friction"))
-        loads.parse(definition, parameter_values(definition))
+                             else data.get("loads", ()), friction=data.get("friction"))
+        definition = replace(definition, loadset=loads.parse(definition, parameter_values(definition)))
     return definition
 
 

@@ -1,22 +1,37 @@
 """Loads as machines meet them (SPEC "Loads: [[loads]], and friction"): forces and torques on any link with a
-law over the motion, pressure on a piston, springs, torsion springs, dampers, and Coulomb friction in the
-joints. One module per kind (:mod:`.force`, :mod:`.torque`, :mod:`.pressure`, :mod:`.spring`,
-:mod:`.torsion_spring`, :mod:`.damper`; :mod:`.friction` for ``[friction]``); each load resolves to a
-frozen dataclass in SI whose ``applications(state, variables)`` gives the wrenches it puts on links
-(:class:`~analytic.loads.common.Application`), which the kinetostatics adds to the links' known loads
-(:mod:`analytic.loads.kinetostatics`), the power balance to the generalized forces and MuJoCo to its bodies.
+law over the motion, pressure on a piston, springs (linear, by a force-deflection table, gas springs),
+torsion springs, dampers, and Coulomb friction in the joints. One module per kind, listed once in
+:data:`MODULES` (:mod:`.friction` for ``[friction]``); each implements the protocol of :mod:`.base`: its
+``[[loads]]`` tables are parsed once (when the file is read, :attr:`Definition.loadset`) into frozen records
+in SI whose hooks give the wrenches they put on links (:class:`~analytic.loads.common.Application`), their
+energy and dissipation, their MuJoCo form, their drawing and their table as written. Nothing outside a
+kind's module switches on its class or name.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+import importlib
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
-from analytic.loads import damper, force, friction, pressure, spring, torque, torsion_spring
+from analytic.loads import friction
+from analytic.loads.base import Load, LoadKind
 from analytic.loads.common import FORCE_UNITS, Application, LoadError, Scales, State, wanted
 
-KINDS = {"force": force, "torque": torque, "pressure": pressure, "spring": spring,
-         "torsion_spring": torsion_spring, "damper": damper}
+MODULES = (
+    "force",
+    "torque",
+    "pressure",
+    "spring",
+    "torsion_spring",
+    "damper",
+    "gas_spring",
+    "table_spring",
+)
+"""The load kinds' modules, in the order the docs and the editor list them: adding a kind is one line here."""
+
+KINDS: dict[str, LoadKind] = {k.name: k for k in (importlib.import_module(f"{__name__}.{m}").KIND for m in MODULES)}
+"""Every load kind by name."""
 TOP_LEVEL = ("force_units", "loads", "friction")
 MAX_LOADS = 200
 
@@ -29,6 +44,8 @@ class LoadSet:
     loads: tuple = ()
     friction: object = None
     force_units: str = "N"
+    parameters: dict = field(default_factory=dict, compare=False)
+    """The parameter values (file units) the file's loads were resolved with."""
 
     def __bool__(self) -> bool:
         return bool(self.loads) or bool(self.friction)
@@ -94,36 +111,49 @@ def parse(definition, parameters: dict) -> LoadSet:
             raise sc.fail(f"{where}.name", "is used by another load; names are unique")
         names.add(name)
         kind = item.get("kind")
-        if kind not in KINDS:
-            raise sc.fail(f"{where}.kind", f"{kind!r}: use one of {', '.join(KINDS)}")
-        unknown = sorted(set(item) - KINDS[kind].FIELDS)
+        if not isinstance(kind, str) or kind not in KINDS:
+            raise sc.fail(f"{where}.kind", f"{kind!r} is not a load kind; use one of {', '.join(KINDS)}")
+        k = KINDS[kind]
+        unknown = sorted(set(item) - k.field_names)
         if unknown:
             raise sc.fail(f"{where}.{unknown[0]}", f"unknown field for a {kind}; it takes "
-                                                   f"{', '.join(sorted(KINDS[kind].FIELDS))}")
-        out.append(KINDS[kind].parse(item, where, sc))
+                                                   f"{', '.join(sorted(k.field_names))}")
+        out.append(k.parse(item, where, sc))
     fr = friction.parse(definition.friction, sc, definition.topology.joints)
-    return LoadSet(tuple(out), fr if fr else None, definition.force_units)
+    return LoadSet(tuple(out), fr if fr else None, definition.force_units, dict(parameters))
+
+
+def tables(loadset: LoadSet, sc: Scales) -> list[dict]:
+    """The ``[[loads]]`` tables (file units of ``sc``) that read back to ``loadset``'s records."""
+    return [ld.file_table(sc) for ld in loadset.loads]
+
+
+def parsed(mech) -> LoadSet:
+    """The file's loads as parsed at ``mech``'s parameter values: those the definition holds (parsed when the
+    file was read) where the values are the file's, else parsed here."""
+    d = mech.definition
+    held = getattr(d, "loadset", None)
+    return held if held is not None and held.parameters == mech.parameters else parse(d, mech.parameters)
 
 
 def resolve(mech, extra=()) -> LoadSet:
-    """The loads of ``mech`` (its file's, with its parameter values) plus ``extra`` (the command line's),
-    springs given by a preload fixed at the start pose (t = 0)."""
-    d = mech.definition
-    ls = parse(d, mech.parameters).with_loads(extra)
-    if any(isinstance(ld, spring.Spring) and ld.free_length is None and ld.table is None for ld in ls.loads):
+    """The loads of ``mech`` (its file's, with its parameter values: those parsed when the file was read
+    where the values are the file's) plus ``extra`` (the command line's), completed at the start pose (t = 0:
+    a spring given by its preload)."""
+    ls = parsed(mech).with_loads(extra)
+    if any(ld.needs_start for ld in ls.loads):
         import numpy as np
         (q, qd, _), _ = mech.solve_at([0.0])
         sol = mech.solve(q, qd, 0.0, outputs=wanted(mech))
         state = State(mech, sol, q, qd, np.zeros(1))
-        new = []
-        for ld in ls.loads:
-            if isinstance(ld, spring.Spring):
-                _, _, length, _, _ = ld.geometry(state)
-                ld = ld.at_start(float(length[0]))
-            new.append(ld)
-        ls = replace(ls, loads=tuple(new))
+        ls = replace(ls, loads=tuple(ld.at_start(state) for ld in ls.loads))
     return ls
 
 
-__all__ = ["KINDS", "LoadSet", "LoadError", "Application", "State", "Scales", "FORCE_UNITS", "parse", "resolve",
+def get(name: str) -> LoadKind:
+    """The load kind called ``name`` (KeyError if there is none)."""
+    return KINDS[name]
+
+
+__all__ = ["KINDS", "MODULES", "Load", "LoadKind", "get", "tables", "parsed", "LoadSet", "LoadError", "Application", "State", "Scales", "FORCE_UNITS", "parse", "resolve",
            "wanted", "input_names", "check_units"]

@@ -10,13 +10,12 @@ import numpy as np
 
 from analytic.loads import spring as S
 from analytic.loads import torsion_spring as TS
+from analytic.loads.base import Field, LineTendon, Load, LoadKind, PinTendon, between_drawing, ends_table, pin_drawing
 from analytic.loads.common import Application, Scales
-
-FIELDS = {"name", "kind", "between", "joint", "links", "damping"}
 
 
 @dataclass(frozen=True)
-class Damper:
+class Damper(Load):
     name: str
     damping: float
     """[N s/m] between ends; [N m s/rad] at a pin"""
@@ -24,6 +23,8 @@ class Damper:
     joint: str | None = None
     links: tuple | None = None
     kind: str = "damper"
+
+    speed_linear = True
 
     @property
     def link(self) -> str:
@@ -33,7 +34,7 @@ class Damper:
         """dL/dt [m/s] (between ends) or omega1 - omega0 [rad/s] (at a pin)."""
         if self.ends is None:
             return state.omega(self.links[1]) - state.omega(self.links[0])
-        (x1, y1), (x2, y2), length, ex, ey = S.Spring.geometry(self, state)
+        (x1, y1), (x2, y2), length, ex, ey = S.geometry(self.ends, state)
         v1, v2 = state.velocity(self.ends[0]), state.velocity(self.ends[1])
         return (v2[0] - v1[0]) * ex + (v2[1] - v1[1]) * ey
 
@@ -43,7 +44,7 @@ class Damper:
             m = -self.damping * r
             z = np.zeros(state.n)
             return [Application(self.links[1], z, z, z, z, m), Application(self.links[0], z, z, z, z, -m)]
-        (x1, y1), (x2, y2), _, ex, ey = S.Spring.geometry(self, state)
+        (x1, y1), (x2, y2), _, ex, ey = S.geometry(self.ends, state)
         T = self.damping * r
         return [Application(self.ends[0].link, T * ex, T * ey, x1, y1),
                 Application(self.ends[1].link, -T * ex, -T * ey, x2, y2)]
@@ -52,6 +53,23 @@ class Damper:
         """The power it dissipates [W] (>= 0)."""
         r = self.rate(state)
         return self.damping * r * r
+
+    def mujoco(self):
+        if self.ends is not None:
+            return LineTendon(self.ends, damping=self.damping)
+        return PinTendon(self.links, damping=self.damping)
+
+    def drawing(self, state, apps) -> dict:
+        if self.ends is not None:
+            return between_drawing(self, state, apps, "dashpot")
+        return pin_drawing(self, state, apps, "dashpot")
+
+    def file_table(self, sc) -> dict:
+        out = {"name": self.name, "kind": self.kind}
+        if self.ends is not None:
+            return {**out, "between": ends_table(self, sc), "damping": self.damping * sc.length / sc.force}
+        return {**out, "joint": self.joint, "links": list(self.links),
+                "damping": self.damping / (sc.force * sc.length)}
 
     def record(self, scale: float) -> dict:
         out = {"name": self.name, "kind": self.kind, "link": self.link}
@@ -77,4 +95,9 @@ def parse(item: dict, where: str, sc: Scales) -> Damper:
     return Damper(item["name"], c * sc.force * sc.length, joint=j, links=ls)
 
 
-__all__ = ["Damper", "parse", "FIELDS"]
+KIND = LoadKind("damper", (S.BETWEEN, TS.JOINT, TS.LINKS,
+                           Field("damping", "number", "damping", "force per speed (at a pin: moment per angular speed)")),
+                parse, "viscous, between two ends or at a pin")
+FIELDS = KIND.field_names
+
+__all__ = ["Damper", "KIND", "parse", "FIELDS"]

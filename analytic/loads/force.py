@@ -7,13 +7,17 @@ import math
 from dataclasses import dataclass
 
 from analytic.loads import law as L
+from analytic.loads.base import ConstantActuator, Field, Load, LoadKind
 from analytic.loads.common import Application, End, Scales, end
 
-FIELDS = {"name", "kind", "link", "point", "at", "direction", "frame"} | set(L.LAW_FIELDS)
+PLACE = (Field("link", "text", "link", "the link it acts on"),
+         Field("point", "point", "point or u,v", "a point's name, or u,v in the link's frame (file units)"),
+         Field("direction", "pair", "direction", "x,y e.g. 0,-1"),
+         Field("frame", "frame", "frame", "world (fixed), or link (turns with it)"))
 
 
 @dataclass(frozen=True)
-class Force:
+class Force(Load):
     name: str
     end: End
     direction: tuple
@@ -36,6 +40,33 @@ class Force:
         if self.law.stroke is not None:
             v = self.law.gate(v, state.velocity(self.end), state.omega(self.end.link))
         return [Application(self.end.link, v * ux, v * uy, px, py)]
+
+    def rates_read(self) -> frozenset:
+        return self.law.reads()
+
+    def mujoco(self):
+        """A constant-force actuator where the law is a constant always on; else why not."""
+        law = self.law
+        if law.expression is not None:
+            return f"its magnitude {law.expression!r} follows the motion"
+        if law.table is not None:
+            return "its magnitude is a table over the input"
+        if law.active is not None or law.stroke is not None:
+            return "it acts over part of the cycle only (active/stroke)"
+        return ConstantActuator(self.end.link, self.end, self.direction, not self.turning,
+                                float(law.constant * law.unit) * self.area_factor)
+
+    area_factor = 1.0
+    """What the law's value is multiplied by to give the force [m^2 for a pressure]."""
+
+    def place_fields(self, sc) -> dict:
+        e = self.end
+        where = {"point": e.point} if e.point else {"at": [e.u / sc.length, e.v / sc.length]}
+        return {"link": e.link, **where, "direction": list(self.direction),
+                **({"frame": "link"} if self.turning else {})}
+
+    def file_table(self, sc) -> dict:
+        return {"name": self.name, "kind": self.kind, **self.place_fields(sc), **self.law.fields(sc)}
 
     def record(self, scale: float) -> dict:
         return {"name": self.name, "kind": self.kind, "link": self.end.link, **self.end.record(scale),
@@ -70,4 +101,7 @@ def constant(name: str, link: str, point: str, fx: float, fy: float, crank: bool
     return Force(name, End(link, math.nan, math.nan, point), u, False, L.Law(1.0, constant=mag, crank=crank))
 
 
-__all__ = ["Force", "parse", "constant", "direction", "FIELDS"]
+KIND = LoadKind("force", PLACE + L.editor_fields(), parse, "a force at a point of a link, its magnitude a law")
+FIELDS = KIND.field_names
+
+__all__ = ["Force", "KIND", "parse", "constant", "direction", "FIELDS", "PLACE"]

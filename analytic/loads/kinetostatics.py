@@ -19,9 +19,6 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from analytic.applications import forces as F
-from analytic.loads import damper as D
-from analytic.loads import spring as S
-from analytic.loads import torsion_spring as TS
 from analytic.loads.common import GROUND, LoadError, State, power, wanted
 
 FRICTION_TOL = 1e-12
@@ -68,6 +65,8 @@ def solve(mech, q, qd, qdd, t, inertias: dict, loadset, gravity=(0.0, 0.0), forc
     for ld in loadset.loads if loadset else ():
         try:
             apps[ld.name] = ld.applications(state, variables)
+        except LoadError:
+            raise
         except ValueError as exc:
             raise LoadError(f"load {ld.name}: {exc}") from None
     given = [a for v in apps.values() for a in v] + list(extra_apps)
@@ -200,17 +199,18 @@ def balance(mech, loaded: Loaded, loadset, inertias: dict, gravity=(0.0, 0.0), c
     for ld in loadset.loads if loadset else ():
         p = power(st, loaded.applications[ld.name])
         p_loads = p_loads + p
+        e = ld.energy(st)
+        d = ld.dissipation(st) if e is None else None
         if switched(ld):                                     # exact at its window's edges (switched_work)
             w = switched_work(mech, st, loaded.applications[ld.name], ld.law)
             external += w
             p_switched, W_switched = p_switched + p, W_switched + w
-        elif isinstance(ld, (S.Spring, TS.TorsionSpring)):
-            e = ld.energy(st)
+        elif e is not None:
             change = float(e[-1]) - float(e[0])
             w = -change                                          # exact: minus the change of its energy
             spring_change += change
-        elif isinstance(ld, D.Damper):
-            w = -_trapz(ld.dissipation(st), t)
+        elif d is not None:
+            w = -_trapz(d, t)
             damper += -w
         else:
             w = _trapz(p, t)

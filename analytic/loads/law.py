@@ -17,6 +17,18 @@ from analytic.format import expr
 from analytic.loads.common import Scales
 
 LAW_FIELDS = ("magnitude", "table", "active", "stroke")
+
+
+def editor_fields(what: str = "force unit", turning: bool = False) -> tuple:
+    """The law's fields as the load editor shows them (:class:`analytic.loads.base.Field`)."""
+    from analytic.loads.base import Field
+    return (Field("magnitude", "number", "magnitude",
+                  f"a number ({what}) or an expression of phi1, omega1, t"),
+            Field("table", "table", "table", "rows input,value separated by ';' (input in deg, or file units for a "
+                                             "slide) instead of a magnitude"),
+            Field("active", "text", "active", "optional: only over this range of the first input, e.g. 120deg:240deg"),
+            Field("stroke", "text", "stroke", "optional: only while the link turns this way (+ or -)" if turning else
+                  "optional: only while the point moves this way (+x, -x, +y, -y)"))
 STROKES = {"+x": (0, 1.0), "-x": (0, -1.0), "+y": (1, 1.0), "-y": (1, -1.0), "+": (2, 1.0), "-": (2, -1.0)}
 """stroke -> (axis: 0 x, 1 y, 2 the link's rotation; sign)."""
 MAX_ROWS = 100000
@@ -98,6 +110,29 @@ class Law:
         axis, sign = self.stroke
         rate = omega if axis == 2 else velocity[axis]
         return np.where(sign * rate > 0, v, 0.0)
+
+    def fields(self, sc: Scales) -> dict:
+        """The law's fields as the file writes them (file units of ``sc``): what :func:`parse` reads back."""
+        out = {}
+        if self.constant is not None:
+            out["magnitude"] = self.constant
+        elif self.expression is not None:
+            out["magnitude"] = self.expression
+        else:
+            x, y = self.table
+            xs = np.degrees(x) if self.crank else np.asarray(x) / sc.length
+            out["table"] = [[float(a), float(b)] for a, b in zip(xs, y)]
+        if self.active is not None:
+            lo, hi = self.active
+            out["active"] = (f"{math.degrees(lo)!r}deg:{math.degrees(hi)!r}deg" if self.crank
+                             else f"{lo / sc.length!r}:{hi / sc.length!r}")
+        if self.stroke is not None:
+            out["stroke"] = next(k for k, v in STROKES.items() if v == self.stroke)
+        return out
+
+    def reads(self) -> frozenset:
+        """The names its expression reads (none for a constant or a table)."""
+        return frozenset(expr.names_in(self.expression)) if self.expression is not None else frozenset()
 
     def record(self) -> dict:
         out = {}

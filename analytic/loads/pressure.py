@@ -8,9 +8,8 @@ from dataclasses import dataclass
 
 from analytic.loads import force as Fo
 from analytic.loads import law as L
+from analytic.loads.base import Field, LoadKind
 from analytic.loads.common import Application, Scales, end
-
-FIELDS = {"name", "kind", "link", "point", "at", "area", "direction", "frame"} | set(L.LAW_FIELDS)
 
 
 @dataclass(frozen=True)
@@ -22,6 +21,13 @@ class Pressure(Fo.Force):
     def applications(self, state, variables) -> list[Application]:
         return [Application(a.link, a.fx * self.area, a.fy * self.area, a.px, a.py)
                 for a in super().applications(state, variables)]
+
+    @property
+    def area_factor(self) -> float:
+        return self.area
+
+    def file_table(self, sc) -> dict:
+        return {**super().file_table(sc), "area": self.area / sc.length ** 2}
 
     def record(self, scale: float) -> dict:
         return {**super().record(scale), "area": self.area / scale ** 2}
@@ -43,4 +49,9 @@ def parse(item: dict, where: str, sc: Scales) -> Pressure:
     return Pressure(item["name"], e, u, turning, law, area=area * sc.length ** 2)
 
 
-__all__ = ["Pressure", "parse", "FIELDS"]
+KIND = LoadKind("pressure", Fo.PLACE + (Field("area", "number", "area", "file units squared"),)
+                + L.editor_fields("force per area"), parse,
+                "a pressure times an area pushing a block or piston (an indicator diagram)")
+FIELDS = KIND.field_names
+
+__all__ = ["Pressure", "KIND", "parse", "FIELDS"]

@@ -17,7 +17,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from analytic.loads import damper as D
 from analytic.loads.common import LoadError, State
 
 GRID = 8192
@@ -68,11 +67,9 @@ def check(mech, loadset) -> None:
                         "losses along a prescribed motion, or remove [friction]")
     rates = {"t"} | {n for inp in mech.inputs for n in (inp.qd,)} | {f"omega{k + 1}" for k in range(len(mech.inputs))} \
         | {f"ds{k + 1}" for k in range(len(mech.inputs))}
-    from analytic.format import expr
     for ld in loadset.loads:
-        law = getattr(ld, "law", None)
-        if law is not None and law.expression is not None and expr.names_in(law.expression) & rates:
-            used = sorted(expr.names_in(law.expression) & rates)
+        used = sorted(ld.rates_read() & rates)
+        if used:
             raise LoadError(f"load {ld.name}: its magnitude reads {', '.join(used)}; the reduced equation takes loads "
                             f"of the pose only (and dampers); write it in the input angle")
 
@@ -110,7 +107,7 @@ def _evaluate(mech, loadset, s, q0, u, closed: bool = False):
     for ld in loadset.loads:
         apps = ld.applications(state, variables)
         Q = s * generalized(mech, q, state, apps, coefficients)[mech.inputs[0].link]       # on u, at unit speed
-        if isinstance(ld, D.Damper):
+        if ld.speed_linear:
             C = C - Q
         else:
             QL = QL + Q

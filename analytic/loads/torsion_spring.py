@@ -9,13 +9,15 @@ from dataclasses import dataclass
 import numpy as np
 
 from analytic.kinds import GROUND
+from analytic.loads.base import Field, Load, LoadKind, PinTendon, pin_drawing
 from analytic.loads.common import Application, Scales
 
-FIELDS = {"name", "kind", "joint", "links", "stiffness", "free_angle"}
+JOINT = Field("joint", "text", "joint", "a pin's point")
+LINKS = Field("links", "links", "links", "the two links the pin joins, e.g. 2,3")
 
 
 @dataclass(frozen=True)
-class TorsionSpring:
+class TorsionSpring(Load):
     name: str
     joint: str
     links: tuple
@@ -42,6 +44,16 @@ class TorsionSpring:
 
     def energy(self, state):
         return 0.5 * self.stiffness * self.angle(state) ** 2
+
+    def mujoco(self):
+        return PinTendon(self.links, stiffness=self.stiffness, free_angle=self.free_angle)
+
+    def drawing(self, state, apps) -> dict:
+        return pin_drawing(self, state, apps, "arc")
+
+    def file_table(self, sc) -> dict:
+        return {"name": self.name, "kind": self.kind, "joint": self.joint, "links": list(self.links),
+                "stiffness": self.stiffness / (sc.force * sc.length), "free_angle": self.free_angle}
 
     def record(self, scale: float) -> dict:
         return {"name": self.name, "kind": self.kind, "link": self.links[1], "point": self.joint,
@@ -78,4 +90,9 @@ def parse(item: dict, where: str, sc: Scales) -> TorsionSpring:
     return TorsionSpring(item["name"], j, ls, k, a)
 
 
-__all__ = ["TorsionSpring", "parse", "pin", "FIELDS"]
+KIND = LoadKind("torsion_spring", (JOINT, LINKS, Field("stiffness", "number", "stiffness", "moment per radian"),
+                                   Field("free_angle", "number", "free angle", "e.g. 90deg")),
+                parse, "a spring at a pin between its two links")
+FIELDS = KIND.field_names
+
+__all__ = ["TorsionSpring", "KIND", "parse", "pin", "FIELDS", "JOINT", "LINKS"]

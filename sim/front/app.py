@@ -625,7 +625,8 @@ def page(initial: dict) -> bytes:
     holds every ``<input name=PARAM>`` (the script rebuilds the rows when the mechanism changes)."""
     mech = service.load(initial["name"], text=initial.get("text"))
     rows = "".join(parameter_row(p) for p in describe(mech)["parameters"])
-    return (STATIC / "index.html").read_text().replace("<!--PARAMETERS-->", rows).encode()
+    return (STATIC / "index.html").read_text().replace("<!--PARAMETERS-->", rows).replace(
+        "<!--LOAD_FORM-->", loads_panel.form_html()).encode()
 
 
 def parameter_row(p: dict) -> str:

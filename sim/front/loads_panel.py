@@ -75,6 +75,41 @@ def draw(body: dict) -> dict:
             **geometry(mech, a.t, q, qd, loadset, digits)}
 
 
+# ------------------------------------------------------------------------------------------ the form
+def form_html() -> str:
+    """The load form's kind menu and fields, from the registry (analytic.loads.KINDS): one ``<option>`` per
+    kind, one labelled input per field name (``id="load-NAME"``, ``data-field``, ``data-type``: how app.js
+    reads it) shown for the kinds that take it (``data-kinds``); where kinds describe a field differently
+    (``stroke``: a law's direction, a gas spring's length) the title gives each."""
+    from html import escape
+    kinds = load_editing.editor_fields()
+    options = "".join(f'<option value="{escape(k)}">{escape(k.replace("_", " "))}</option>' for k in kinds)
+    fields: dict[str, dict] = {}
+    for kind, fs in kinds.items():
+        for f in fs:
+            entry = fields.setdefault(f.name, {"field": f, "kinds": [], "hints": [], "types": set()})
+            entry["kinds"].append(kind)
+            entry["types"].add(f.type)
+            if f.hint and f.hint not in entry["hints"]:
+                entry["hints"].append(f.hint)
+    rows = [f'<label>kind <select id="load-kind">{options}</select></label>']
+    for name, e in fields.items():
+        f = e["field"]
+        ident = "load-" + name.replace("_", "-")
+        # a field text for one kind and a number for another (``stroke``) is read as a number where it is one
+        kind_of = "number" if e["types"] == {"text", "number"} else f.type
+        attrs = f'id="{ident}" data-field="{escape(name)}" data-type="{escape(kind_of)}"'
+        if f.type == "frame":
+            control = (f'<select {attrs}><option value="world">world</option>'
+                       '<option value="link">link (turns with it)</option></select>')
+        else:
+            control = f'<input type="text" {attrs} autocomplete="off" spellcheck="false">'
+        title = escape(" / ".join(e["hints"]))
+        rows.append(f'<label data-kinds="{escape(" ".join(e["kinds"]))}" title="{title}">{escape(f.label or name)} '
+                    f'{control}</label>')
+    return "\n      ".join(rows)
+
+
 # ------------------------------------------------------------------------------------------ editing
 def toml_value(v, where: str, depth: int = 0) -> str:
     """One value as TOML (strings, finite numbers, booleans, arrays, inline tables)."""
@@ -213,5 +248,5 @@ def edit(body: dict) -> dict:
     return {"mechanism": mech.name, "text": new, "loads": loads}
 
 
-__all__ = ["draw", "edit", "geometry", "edited", "loads_text", "without_loads", "toml_value", "LoadsRequestError",
+__all__ = ["draw", "edit", "geometry", "form_html", "edited", "loads_text", "without_loads", "toml_value", "LoadsRequestError",
            "DRAW_FIELDS", "EDIT_FIELDS"]

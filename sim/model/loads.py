@@ -200,20 +200,15 @@ def step_work(built, tr) -> np.ndarray:
     return work
 
 
-def native_kinds():
-    from analytic.loads import damper, spring, torsion_spring
-    return spring.Spring, torsion_spring.TorsionSpring, damper.Damper
-
-
 def add_native(context, bodies, loadset, sol) -> tuple:
-    """For a motor-driven run (sim.run.motor), where the motion is not known in advance: linear springs and
-    dampers between two ends as MuJoCo spatial tendons (stiffness, spring length, damping) between sites at
-    the ends, torsion springs and dampers at a pin as fixed tendons over the hinges that turn the two links
-    (their relative angle), so MuJoCo's integrator evaluates them within its steps from its own state. Their
-    forces then act in joint space (``qfrc_passive``), not in ``cfrc_ext``: only the motor runs, which read no
-    joint forces, use this. Returns the names of the loads so carried (they are left out of the wrenches)."""
-    import mujoco
-    from analytic.loads import damper, spring, torsion_spring
+    """For a motor-driven run (sim.run.motor), where the motion is not known in advance: the loads whose MuJoCo
+    form (:meth:`analytic.loads.base.Load.mujoco`) is a tendon -- linear springs and dampers between two ends
+    as spatial tendons (stiffness, spring length, damping) between sites at the ends, torsion springs and
+    dampers at a pin as fixed tendons over the hinges that turn the two links (their relative angle) -- so
+    MuJoCo's integrator evaluates them within its steps from its own state. Their forces then act in joint
+    space (``qfrc_passive``), not in ``cfrc_ext``: only the motor runs, which read no joint forces, use this.
+    Returns the names of the loads so carried (they are left out of the wrenches)."""
+    from analytic.loads.base import LineTendon, PinTendon
     from sim.model.frames import local
     spec, mech = context.spec, context.mech
     native = []
@@ -228,19 +223,20 @@ def add_native(context, bodies, loadset, sol) -> tuple:
         return bodies[link].add_site(name=f"load_{tag}", pos=[lx, ly, 0], size=[1e-3, 1e-3, 1e-3], group=4)
 
     for ld in loadset.loads:
-        if isinstance(ld, (spring.Spring, damper.Damper)) and ld.ends is not None and getattr(ld, "table", None) is None:
+        form = ld.mujoco()
+        if isinstance(form, LineTendon):
             t = spec.add_tendon(name=f"load_{ld.name}")
-            s1, s2 = site(ld.ends[0], f"{ld.name}_1"), site(ld.ends[1], f"{ld.name}_2")
+            s1, s2 = site(form.ends[0], f"{ld.name}_1"), site(form.ends[1], f"{ld.name}_2")
             t.wrap_site(s1.name)
             t.wrap_site(s2.name)
-            if isinstance(ld, spring.Spring):
-                t.stiffness = [ld.stiffness, 0.0, 0.0]
-                t.springlength = [ld.free_length, ld.free_length]
-            else:
-                t.damping = [ld.damping, 0.0, 0.0]
+            if form.stiffness:
+                t.stiffness = [form.stiffness, 0.0, 0.0]
+                t.springlength = [form.length, form.length]
+            if form.damping:
+                t.damping = [form.damping, 0.0, 0.0]
             native.append(ld.name)
-        elif isinstance(ld, torsion_spring.TorsionSpring) or (isinstance(ld, damper.Damper) and ld.ends is None):
-            l0, l1 = ld.links
+        elif isinstance(form, PinTendon):
+            l0, l1 = form.links
             terms = dict(context.angle_terms(l1))
             for j, c in context.angle_terms(l0).items():
                 terms[j] = terms.get(j, 0.0) - c
@@ -248,40 +244,25 @@ def add_native(context, bodies, loadset, sol) -> tuple:
             for j, c in terms.items():
                 if c != 0.0:
                     t.wrap_joint(j, c)
-            if isinstance(ld, torsion_spring.TorsionSpring):
+            if form.stiffness:
                 def phi(ln):
                     return 0.0 if ln == GROUND else float(np.arctan2(sol["sin" + ln][0], sol["cos" + ln][0]))
-                d = phi(l1) - phi(l0) - ld.free_angle
+                d = phi(l1) - phi(l0) - form.free_angle
                 theta0 = float(np.pi - np.mod(np.pi - d, 2 * np.pi))
-                t.stiffness = [ld.stiffness, 0.0, 0.0]
+                t.stiffness = [form.stiffness, 0.0, 0.0]
                 t.springlength = [-theta0, -theta0]
-            else:
-                t.damping = [ld.damping, 0.0, 0.0]
+            if form.damping:
+                t.damping = [form.damping, 0.0, 0.0]
             native.append(ld.name)
-    del mujoco
     return tuple(native)
 
 
 def not_in_xml(ld) -> str | None:
     """Why MJCF cannot hold the load ``ld`` statically (an exported model, ``linkage export --mjcf``), or None
-    where it can: a linear spring, a damper and a torsion spring as tendons (:func:`add_native`), a constant
-    force (world- or link-fixed), pressure or torque always on as a constant-force actuator
-    (:func:`add_static`)."""
-    from analytic.loads import damper, force, spring, torque, torsion_spring
-    if isinstance(ld, spring.Spring):
-        return "a force-length table" if ld.table is not None else None
-    if isinstance(ld, (damper.Damper, torsion_spring.TorsionSpring)):
-        return None
-    if isinstance(ld, (force.Force, torque.Torque)):           # a pressure too (a force times its area)
-        law = ld.law
-        if law.expression is not None:
-            return f"its magnitude {law.expression!r} follows the motion"
-        if law.table is not None:
-            return "its magnitude is a table over the input"
-        if law.active is not None or law.stroke is not None:
-            return "it acts over part of the cycle only (active/stroke)"
-        return None
-    return "its kind has no MJCF element"
+    where it can: its kind's MuJoCo form (:meth:`analytic.loads.base.Load.mujoco`), a tendon
+    (:func:`add_native`) or a constant-force actuator (:func:`add_static`), else its kind's sentence."""
+    form = ld.mujoco()
+    return form if isinstance(form, str) else None
 
 
 def add_static(context, bodies, loadset, skip=()) -> tuple:
@@ -290,15 +271,16 @@ def add_static(context, bodies, loadset, skip=()) -> tuple:
     transmission: the force along the actuator's gear, in the world frame (refsite ``origin``) or the site's
     (the link's frame), at the load's point; a torque as the gear's z moment. Returns the names so carried."""
     import mujoco
-    from analytic.loads import force, torque
+    from analytic.loads.base import ConstantActuator
     from sim.model.frames import local
     spec, mech = context.spec, context.mech
     done = []
     for ld in loadset.loads:
-        if ld.name in skip or not isinstance(ld, (force.Force, torque.Torque)) or not_in_xml(ld) is not None:
+        form = ld.mujoco()
+        if ld.name in skip or not isinstance(form, ConstantActuator):
             continue
-        if isinstance(ld, force.Force):
-            e = ld.end
+        e = form.end
+        if e is not None:
             if e.link == GROUND:
                 continue                            # a load on the frame moves nothing
             if e.point is not None:
@@ -306,10 +288,10 @@ def add_static(context, bodies, loadset, skip=()) -> tuple:
                 lx, ly = local(context.frames[e.link], x, y)
             else:
                 lx, ly = e.u, e.v
-            body, gear = e.link, [ld.direction[0], ld.direction[1], 0.0, 0.0, 0.0, 0.0]
-            world = not ld.turning
+            body, gear = e.link, [form.direction[0], form.direction[1], 0.0, 0.0, 0.0, 0.0]
+            world = form.world
         else:
-            lx, ly, body, gear, world = 0.0, 0.0, ld.link, [0.0, 0.0, 0.0, 0.0, 0.0, 1.0], True
+            lx, ly, body, gear, world = 0.0, 0.0, form.link, [0.0, 0.0, 0.0, 0.0, 0.0, 1.0], True
         site = bodies[body].add_site(name=f"load_{ld.name}", pos=[lx, ly, 0], size=[1e-3] * 3, group=4)
         act = spec.add_actuator(name=f"load_{ld.name}", target=site.name, trntype=mujoco.mjtTrn.mjTRN_SITE)
         if world:
@@ -317,8 +299,7 @@ def add_static(context, bodies, loadset, skip=()) -> tuple:
         act.gear = gear
         act.gainprm[0] = 0.0
         act.biastype = mujoco.mjtBias.mjBIAS_AFFINE
-        value = float(ld.law.constant * ld.law.unit) * float(getattr(ld, "area", 1.0))   # a pressure's area
-        act.biasprm[:3] = [value, 0.0, 0.0]
+        act.biasprm[:3] = [form.value, 0.0, 0.0]
         act.ctrllimited = False
         done.append(ld.name)
     return tuple(done)

@@ -147,6 +147,8 @@ def generate(mech) -> str:
     lines.append(f"output = {_value(d.output)}")
     if getattr(d, "input_range", ""):
         lines.append(f"input_range = {_value(d.input_range)}")
+    if d.loads or d.friction:
+        lines.append(f"force_units = {_value(d.force_units)}")
     if d.parameters:
         lines += ["", "[parameters]"]
         for p in d.parameter_order:
@@ -170,7 +172,27 @@ def generate(mech) -> str:
             lines.append(f"{json.dumps(link)} = {{ {inner} }}")
     lines += _mass_section(d.mass)
     lines += _parts_section(getattr(d, "parts", None))
+    lines += _loads_section(mech)
     return "\n".join(lines) + "\n"
+
+
+def _loads_section(mech) -> list[str]:
+    """The ``[[loads]]`` tables (each record as its kind writes it: analytic.loads.tables) and ``[friction]``
+    as written."""
+    d = mech.definition
+    if not (d.loads or d.friction):
+        return []
+    from analytic import loads as AL
+    lines = []
+    for table in AL.tables(AL.parsed(mech), AL.scales(d, mech.parameters)):
+        lines += ["", "[[loads]]"] + [f"{k} = {_value(v)}" for k, v in table.items()]
+    if d.friction:
+        def inline(v):
+            if isinstance(v, dict):
+                return "{ " + ", ".join(f"{json.dumps(str(k))} = {inline(x)}" for k, x in v.items()) + " }"
+            return _value(v)
+        lines += ["", "[friction]"] + [f"{k} = {inline(v)}" for k, v in d.friction.items()]
+    return lines
 
 
 def _parts_section(parts) -> list[str]:

@@ -8,13 +8,18 @@ from __future__ import annotations
 import numpy as np
 
 from analytic import loads as AL
-from analytic.kinds import GROUND
 from analytic.loads import common as LC
 
 
 def load_fields() -> dict[str, frozenset]:
     """{kind: the fields a ``[[loads]]`` table of that kind takes}."""
-    return {kind: frozenset(cls.FIELDS) for kind, cls in AL.KINDS.items()}
+    return {name: kind.field_names for name, kind in AL.KINDS.items()}
+
+
+def editor_fields() -> dict[str, tuple]:
+    """{kind: its fields as the editor shows them (analytic.loads.base.Field: name, type, label, hint)}, in the
+    registry's order."""
+    return {name: kind.fields for name, kind in AL.KINDS.items()}
 
 
 def resolve(mech):
@@ -26,14 +31,11 @@ def resolve(mech):
 def load_geometry(mech, t, q, qd, loadset) -> dict:
     """Where and how much each load of ``loadset`` acts over the samples ``t`` (inputs ``q``, ``qd``):
     {"force_units", "length_unit", "loads": [...], "friction": [...]}. Each load's entry has its
-    ``name``, ``kind``, ``link``, ``shape`` and arrays of shape (N,): a spring's or damper's two ends
-    (``between``: x1 y1 x2 y2 [m], ``value`` its tension), a pin's position and moment (``pin``), a torque's
-    link centre and moment (``moment``), a force's point and components (``arrow``: x y fx fy). Forces are in
-    the file's ``force_units``, moments in force unit x the file's length unit."""
-    from analytic.loads import damper as D
-    from analytic.loads import spring as S
-    from analytic.loads import torque as T
-    from analytic.loads import torsion_spring as TS
+    ``name``, ``kind``, ``link``, ``shape``, ``symbol`` and arrays of shape (N,), as its kind draws it
+    (:meth:`analytic.loads.base.Load.drawing`): a load between two ends (``between``: x1 y1 x2 y2 [m],
+    ``value`` its tension), a pin's position and moment (``pin``), a torque's link centre and moment
+    (``moment``), a force's point and components (``arrow``: x y fx fy). Forces are in the file's
+    ``force_units``, moments in force unit x the file's length unit."""
     sol = mech.solve(q, qd, np.zeros_like(q), outputs=AL.wanted(mech))
     n = len(t)
     sol = {k: np.reshape(np.asarray(sol[k]), n) for k in AL.wanted(mech)}
@@ -47,38 +49,21 @@ def load_geometry(mech, t, q, qd, loadset) -> dict:
     def s(a):
         return np.broadcast_to(np.asarray(a, dtype=float), (n,))
 
-    def centre(link):
-        if link == GROUND:
-            return np.zeros(n), np.zeros(n)
-        pts = mech.definition.topology.links[link].points
-        return (np.mean([sol["x" + p] for p in pts], axis=0), np.mean([sol["y" + p] for p in pts], axis=0))
-
     out = []
     for ld in loadset.loads if loadset else ():
         try:
             apps = ld.applications(state, variables)
+        except LC.LoadError:
+            raise
         except ValueError as exc:
             raise LC.LoadError(f"load {ld.name}: {exc}") from None
-        entry = {"name": ld.name, "kind": ld.kind, "link": ld.link}
-        if isinstance(ld, (S.Spring, D.Damper)) and getattr(ld, "ends", None):
-            (x1, y1), (x2, y2), _, _, _ = S.Spring.geometry(ld, state)
-            a = apps[0]                                   # on the first end: + tension pulls it to the second
-            ex, ey = np.asarray(x2 - x1), np.asarray(y2 - y1)
-            tension = (np.asarray(a.fx) * ex + np.asarray(a.fy) * ey) / np.maximum(np.hypot(ex, ey), 1e-300)
-            entry.update(shape="between", x1=s(x1), y1=s(y1), x2=s(x2), y2=s(y2), value=s(tension * per_force),
-                         unit=fu)
-        elif isinstance(ld, (TS.TorsionSpring, D.Damper)):
-            x, y = state.xy(ld.joint)
-            entry.update(shape="pin", joint=ld.joint, x=s(x), y=s(y), value=s(np.asarray(apps[0].couple) * per_moment),
-                         unit=moment_unit)
-        elif isinstance(ld, T.Torque):
-            x, y = centre(ld.link)
-            entry.update(shape="moment", x=s(x), y=s(y), value=s(np.asarray(apps[0].couple) * per_moment),
-                         unit=moment_unit)
-        else:                                             # force, pressure: one application at the point
-            a = apps[0]
-            entry.update(shape="arrow", x=s(a.px), y=s(a.py), fx=s(np.asarray(a.fx) * per_force),
-                         fy=s(np.asarray(a.fy) * per_force), unit=fu)
+        drawn = ld.drawing(state, apps)
+        per, unit = (per_force, fu) if drawn.pop("quantity") == "force" else (per_moment, moment_unit)
+        entry = {"name": ld.name, "kind": ld.kind, "link": ld.link, "shape": drawn.pop("shape"),
+                 "symbol": drawn.pop("symbol")}
+        for k, v in drawn.items():
+            entry[k] = v if isinstance(v, str) else s(np.asarray(v) * (per if k in ("value", "fx", "fy") else 1.0))
+        entry["unit"] = unit
         out.append(entry)
     friction = []
     fr = loadset.friction if loadset else None

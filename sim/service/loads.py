@@ -136,13 +136,12 @@ def dynamics_loads(d) -> tuple[list, dict] | None:
     du = 2 * math.pi / len(u)
     last0 = 2 * math.pi * (r.revolutions - 1)
     w = r.speed_at(last0 + u)
-    from analytic.loads import damper as D
     ls = d.built.loadset if d.built is not None else AL.resolve(d.mech)
     kinds = {ld.name: ld for ld in (ls.loads if ls else ())}
     table, total = [], 0.0
     for name, Q in terms.per_load.items():
         ld = kinds.get(name)
-        W = float(np.sum(Q * w) * du) if isinstance(ld, D.Damper) else float(np.sum(Q) * du)
+        W = float(np.sum(Q * w) * du) if ld is not None and ld.speed_linear else float(np.sum(Q) * du)
         total += W
         entry = ld.record(d.mech.scale / d.mech.scale) if ld is not None else {"name": name}
         table.append({**entry, "work_per_cycle": W})

@@ -2589,7 +2589,7 @@
         const ccw = val >= 0;                                           // + counter-clockwise in the world
         const a0 = ccw ? 0.5 : -0.5; const a1 = ccw ? -Math.PI * 1.25 : Math.PI * 1.25;
         ctx.lineWidth = 2;
-        ctx.setLineDash(ld.kind === "damper" ? [3, 2] : []);
+        ctx.setLineDash(ld.symbol === "dashpot" ? [3, 2] : []);
         ctx.beginPath(); ctx.arc(p[0], p[1], r, a0, a1, ccw); ctx.stroke();
         ctx.setLineDash([]);
         const ex = p[0] + r * Math.cos(a1); const ey = p[1] + r * Math.sin(a1);
@@ -2613,11 +2613,17 @@
         const at = (s, w) => [a[0] + ux * s + nx * w, a[1] + uy * s + ny * w];
         ctx.lineWidth = 1.6;
         ctx.beginPath(); ctx.moveTo(a[0], a[1]);
-        if (ld.kind === "spring") {                                    // a zig-zag over the middle 70 %
+        if (ld.symbol === "zigzag") {                                  // a zig-zag over the middle 70 %
           const z = 10; const s0 = 0.15 * len; const s1 = 0.85 * len;
           ctx.lineTo(...at(s0, 0));
           for (let k = 1; k < 2 * z; k++) ctx.lineTo(...at(s0 + (s1 - s0) * k / (2 * z), (k % 2 ? 1 : -1) * 6));
           ctx.lineTo(...at(s1, 0)); ctx.lineTo(b[0], b[1]); ctx.stroke();
+        } else if (ld.symbol === "strut") {                            // a gas strut: a body and its rod
+          const c1 = 0.55 * len;
+          ctx.stroke();
+          ctx.beginPath(); ctx.moveTo(...at(0, -5)); ctx.lineTo(...at(c1, -5)); ctx.lineTo(...at(c1, 5));
+          ctx.lineTo(...at(0, 5)); ctx.closePath(); ctx.stroke();
+          ctx.beginPath(); ctx.moveTo(...at(c1, 0)); ctx.lineTo(b[0], b[1]); ctx.stroke();
         } else {                                                         // a dashpot: cylinder and piston
           const c0 = 0.3 * len; const c1 = 0.62 * len; const pst = 0.5 * len;
           ctx.lineTo(...at(c0, 0)); ctx.stroke();
@@ -2683,10 +2689,9 @@
     }
   }
 
-  const LOAD_INPUTS = { link: "#load-link", direction: "#load-direction", magnitude: "#load-magnitude",
-    table: "#load-table", area: "#load-area", between: "#load-between", joint: "#load-joint", links: "#load-links",
-    stiffness: "#load-stiffness", free_length: "#load-free-length", preload: "#load-preload",
-    free_angle: "#load-free-angle", damping: "#load-damping", active: "#load-active", stroke: "#load-stroke" };
+  // the form's fields come from the load kinds' registry (written into the page: sim.front.loads_panel.form_html):
+  // each input has data-field (the [[loads]] key) and data-type (how its text is read), its label data-kinds
+  const loadInputs = () => [...document.querySelectorAll("#load-form [data-field]")];
 
   function loadKindChanged() {
     const kind = $("#load-kind").value;
@@ -2698,35 +2703,27 @@
   function numberOrText(t) { const n = Number(t); return t !== "" && Number.isFinite(n) ? n : t; }
   function pairOf(t) { return t.split(",").map((x) => numberOrText(x.trim())); }
 
+  const READ_FIELD = {                           // data-type -> the [[loads]] value(s) of the typed text
+    text: (t, k) => ({ [k]: t }),
+    number: (t, k) => ({ [k]: numberOrText(t) }),
+    pair: (t, k) => ({ [k]: pairOf(t) }),
+    point: (t) => (t.includes(",") ? { at: pairOf(t) } : { point: t }),
+    table: (t, k) => ({ [k]: t.split(";").filter((r) => r.trim()).map(pairOf) }),
+    links: (t, k) => ({ [k]: t.split(",").map((x) => x.trim()) }),
+    between: (t, k) => ({ [k]: t.split(/\s+/).map((e) => {
+      const [link, rest] = [e.slice(0, e.indexOf(":")), e.slice(e.indexOf(":") + 1)];
+      return [link, rest.includes(",") ? pairOf(rest) : rest];
+    }) }),
+    frame: (t, k) => (t === "link" ? { [k]: "link" } : {}),
+  };
+
   function loadFromForm() {                      // the form as a [[loads]] table (the server checks it)
-    const kind = $("#load-kind").value;
-    const out = { name: $("#load-name").value.trim(), kind };
-    const shown = (sel) => !$(sel).closest("label").hidden && $(sel).value.trim() !== "";
-    const val = (sel) => $(sel).value.trim();
-    if (shown("#load-link")) out.link = val("#load-link");
-    if (shown("#load-point")) {
-      const t = val("#load-point");
-      if (t.includes(",")) out.at = pairOf(t); else out.point = t;
+    const out = { name: $("#load-name").value.trim(), kind: $("#load-kind").value };
+    for (const el of loadInputs()) {
+      const t = el.value.trim();
+      if (el.closest("label").hidden || t === "") continue;
+      Object.assign(out, (READ_FIELD[el.dataset.type] || READ_FIELD.text)(t, el.dataset.field));
     }
-    if (shown("#load-direction")) out.direction = pairOf(val("#load-direction"));
-    if (!$("#load-frame").closest("label").hidden && $("#load-frame").value === "link") out.frame = "link";
-    if (shown("#load-area")) out.area = numberOrText(val("#load-area"));
-    if (shown("#load-magnitude")) out.magnitude = numberOrText(val("#load-magnitude"));
-    if (shown("#load-table")) out.table = val("#load-table").split(";").filter((r) => r.trim()).map(pairOf);
-    if (shown("#load-between")) {
-      out.between = val("#load-between").split(/\s+/).map((e) => {
-        const [link, rest] = [e.slice(0, e.indexOf(":")), e.slice(e.indexOf(":") + 1)];
-        return [link, rest.includes(",") ? pairOf(rest) : rest];
-      });
-    }
-    if (shown("#load-joint")) out.joint = val("#load-joint");
-    if (shown("#load-links")) out.links = val("#load-links").split(",").map((x) => x.trim());
-    for (const k of ["stiffness", "free_length", "preload", "damping"]) {
-      if (shown(LOAD_INPUTS[k])) out[k] = numberOrText(val(LOAD_INPUTS[k]));
-    }
-    if (shown("#load-free-angle")) out.free_angle = numberOrText(val("#load-free-angle"));
-    if (shown("#load-active")) out.active = val("#load-active");
-    if (shown("#load-stroke")) out.stroke = val("#load-stroke");
     return out;
   }
 
@@ -2735,16 +2732,24 @@
     $("#load-name").value = it.name;
     $("#load-kind").value = it.kind;
     loadKindChanged();
-    for (const sel of [...Object.values(LOAD_INPUTS), "#load-point"]) $(sel).value = "";
     const text = (v) => (Array.isArray(v) ? v.join(",") : String(v));
-    for (const [k, sel] of Object.entries(LOAD_INPUTS)) {
-      if (it[k] === undefined) continue;
-      if (k === "table" && Array.isArray(it.table)) $(sel).value = it.table.map(text).join("; ");
-      else if (k === "between") $(sel).value = it.between.map((e) => `${e[0]}:${text(e[1])}`).join(" ");
-      else $(sel).value = text(it[k]);
+    for (const el of loadInputs()) {
+      const k = el.dataset.field; const type = el.dataset.type;
+      el.value = type === "frame" ? "world" : "";
+      if (type === "point") {
+        if (it.point !== undefined) el.value = it.point; else if (it.at) el.value = text(it.at);
+      } else if (it[k] === undefined) {
+        continue;
+      } else if (type === "table" && Array.isArray(it[k])) {
+        el.value = it[k].map(text).join("; ");
+      } else if (type === "between") {
+        el.value = it[k].map((e) => `${e[0]}:${text(e[1])}`).join(" ");
+      } else if (type === "frame") {
+        el.value = it[k] === "link" ? "link" : "world";
+      } else {
+        el.value = text(it[k]);
+      }
     }
-    if (it.point !== undefined) $("#load-point").value = it.point; else if (it.at) $("#load-point").value = text(it.at);
-    $("#load-frame").value = it.frame === "link" ? "link" : "world";
     $("#load-save").hidden = false; $("#load-cancel").hidden = false;
     $("#load-add").hidden = true;
   }
