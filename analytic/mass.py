@@ -6,11 +6,15 @@ angle ``phiL``; a centre of mass ``(cx, cy)`` is given in that frame. Per link, 
 
 1. ``given`` (the command line's ``--inertia``, already in SI);
 2. the file's ``[inertia]`` table (file units: m in kg, cx, cy in the length unit, I in kg unit^2);
-3. the file's ``[mass]`` section: the link as **bars** (a bar of ``width`` x ``thickness`` from the link's
+3. with a ``[parts]`` section (:mod:`analytic.parts`): the link's part, exactly (its outline less its holes and
+   slots, :func:`analytic.parts.model.mass_properties`), made of ``[mass]``'s material where it gives one and of
+   the parts' defaults (printed PLA) where not: the bill of materials' masses are the analysis's (:func:`sources`
+   says which of these gave each link);
+4. the file's ``[mass]`` section: the link as **bars** (a bar of ``width`` x ``thickness`` from the link's
    origin to each of its other points, density ``density``) or as a **plate** (the convex hull of its points,
    ``thickness`` thick; a hull without area, two points or points on a line, is a bar of ``width``); a sliding
    block is a square of side ``width``, ``thickness`` thick, centred on its pin;
-4. the default: slender bars of :data:`LINEAR_DENSITY` (1 kg/m) from the origin to each point (a star of bars
+5. the default: slender bars of :data:`LINEAR_DENSITY` (1 kg/m) from the origin to each point (a star of bars
    for a link with several points), a block a small mass at its pin (0.1 size kg), with a floor on the moment
    of inertia (1 % of the size as radius of gyration) that keeps MuJoCo's bodies regular.
 
@@ -30,7 +34,7 @@ from analytic._common import ParameterError
 
 __all__ = ["Inertia", "Material", "Counterweight", "LINEAR_DENSITY", "BLOCK_FRACTION", "GYRATION_FLOOR",
            "SHAPES", "bars", "plate", "block", "polygon", "convex_hull", "combine", "add_counterweights",
-           "materials", "counterweights", "local_points", "default", "link_inertia", "model"]
+           "materials", "counterweights", "local_points", "default", "link_inertia", "parts_inertias", "sources", "model"]
 
 MAX_MAGNITUDE = 1e12
 """The largest magnitude of an inertial value (as every other number the command line takes): a mass of
@@ -306,18 +310,46 @@ def model(mech, given: dict | None = None, local=None) -> dict[str, Inertia]:
     mats = materials(mech)
     s = mech.scale
     table = mech.definition.inertia or {}
+    source = sources(mech, given)
+    from_parts = parts_inertias(mech) if "parts" in source.values() else {}
     weights: dict[str, list] = {}
     for w in counterweights(mech):
         weights.setdefault(w.link, []).append(w)
     out = {}
     for ln in mech.links:
-        if ln in given:
+        if source[ln] == "--inertia":
             b = given[ln]
-        elif ln in table:
+        elif source[ln] == "[inertia]":
             v = table[ln]
             b = Inertia(m=float(v["m"]), cx=float(v.get("cx", 0.0)) * s, cy=float(v.get("cy", 0.0)) * s,
                         I=float(v["I"]) * s * s)
+        elif source[ln] == "parts":
+            b = from_parts[ln]
         else:
             b = link_inertia(mech, ln, local[ln], mats.get(ln))
         out[ln] = add_counterweights(b, weights.get(ln, ()))
+    return out
+
+
+def sources(mech, given: dict | None = None) -> dict[str, str]:
+    """What gives each link's inertia (the module docstring's order): ``"--inertia"``, ``"[inertia]"``,
+    ``"parts"`` (the file has a ``[parts]`` section), ``"[mass]"`` or ``"default"``; counterweights come on top
+    of any of them."""
+    given = given or {}
+    table = mech.definition.inertia or {}
+    has_parts = bool(getattr(mech.definition, "parts", None))
+    mats = materials(mech)
+    return {ln: "--inertia" if ln in given else "[inertia]" if ln in table else "parts" if has_parts
+            else "[mass]" if ln in mats else "default" for ln in mech.links}
+
+
+def parts_inertias(mech) -> dict[str, Inertia]:
+    """Every link's inertia (SI, its frame) from its part (:mod:`analytic.parts`): the exact mass properties of
+    its outline less its holes and slots, as the bill of materials gives them."""
+    from analytic.parts import model as parts_model
+    s = mech.scale
+    out = {}
+    for ln, part in parts_model.build(mech).items():
+        mp = parts_model.mass_properties(part, s)
+        out[ln] = Inertia(m=mp.m, cx=mp.cx * s, cy=mp.cy * s, I=mp.I)
     return out

@@ -57,3 +57,17 @@ def test_every_reported_transmission_angle_lies_in_0_to_90_deg(name):
         mu = np.asarray(a.solution[column], dtype=float)
         mu = mu[np.isfinite(mu)]
         assert mu.size and np.all(mu > 0) and np.all(mu <= math.pi / 2 + 1e-12), (column, mu.min(), mu.max())
+
+
+@pytest.mark.parametrize("phi, e", [(math.pi / 2, 0.0), (0.0, 0.0), (math.pi / 2, 0.02), (-math.pi / 2, 0.02)])
+def test_slider_crank_transmission_angle_is_the_rod_to_the_guides_normal(phi, e):
+    # B = r (cos phi, sin phi), C on the line y = e: the rod leans sin(beta) = |r sin phi - e| / l off the
+    # guide, so its angle to the guide's normal is 90 deg - beta (90 deg at the dead centres, where it pushes
+    # straight along the guide)
+    mech = analytic.load("slider_crank", e=e)
+    sol = _at(mech, phi)
+    beta = math.asin(abs(0.05 * math.sin(phi) - e) / 0.2)
+    # closed-form solver against the right triangle: rounding only (1e-12 rad)
+    assert float(sol["muC"][0]) == pytest.approx(math.pi / 2 - beta, abs=1e-12)
+    (label, measure), = figures.singularity(mech, sol).items()
+    assert float(np.ravel(measure)[0]) == pytest.approx(math.sin(math.pi / 2 - beta), abs=1e-12)

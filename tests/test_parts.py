@@ -140,8 +140,17 @@ def test_mass_properties_against_the_mass_model_and_mujoco(tmp_path):
     r = rows["3"]                                             # the rocker: a bar D-C of 250 mm
     rh = (8 + 0.2) / 2 * 1e-3
     w = 20e-3
+    # with [parts] the analysis uses the part itself (one mass truth: the BOM's mass is the analysis's)
+    assert r["model"]["m"] == pytest.approx(r["parts"]["m"], rel=1e-12)
+    assert r["model"]["I"] == pytest.approx(r["parts"]["I"], rel=1e-12)
+    # without [parts], [mass]'s bars: the rectangle L x w, short of the part by the two round ends (pi w^2 / 4)
+    # less the two holes (2 pi rh^2), exactly
+    from analytic import mass
+    bare = tmp_path / "alu_bars.toml"
+    bare.write_text(path.read_text().replace("[parts]\npin_diameter = 8\nclearance = 0.2", ""))
+    bars = mass.model(service.load(str(bare), {}))["3"]
     correction = 2700 * 5e-3 * (math.pi * w * w / 4 - 2 * math.pi * rh * rh)
-    assert r["parts"]["m"] - r["model"]["m"] == pytest.approx(correction, rel=1e-9)   # hand formula, exact
+    assert r["parts"]["m"] - bars.m == pytest.approx(correction, rel=1e-9)   # hand formula, exact
     _, m_hand, i_hand = stadium_minus_holes(0.25, w / 2, rh, 5e-3, 2700)
     assert r["parts"]["m"] == pytest.approx(m_hand, rel=1e-12)
     assert r["parts"]["I"] == pytest.approx(i_hand, rel=1e-11)

@@ -336,7 +336,7 @@ def test_bad_options_are_one_line_and_exit_2(args, words):
 
 
 def test_transmission_of_a_mechanism_without_one_is_refused():
-    p = run("tolerance", "slider_crank", "--tol", "r=±0.001", "--outputs", "transmission_min")
+    p = run("tolerance", "scotch_yoke", "--tol", "r=±0.001", "--outputs", "transmission_min")
     assert p.returncode == 2 and "transmission" in p.stderr and len(p.stderr.strip().splitlines()) == 1
 
 

@@ -5,6 +5,10 @@ Fields: ``point`` (the rod's end and the block's pin), ``from`` P, ``length`` |P
 P->Q of a link, or a ground line), ``offset`` (the block's line shifted that far to the guide's left),
 ``links`` [rod, block], ``branch`` (+1: the intersection farther along the guide's direction). The block
 slides by ``s`` from the guide's origin (its first point, or ``through``); its angle is the guide's.
+
+Its own output: ``muC`` (C the placed point), the transmission angle between the rod and the guide's normal in
+[0, pi/2]: 90 deg where the rod lies along the guide (the block pushed straight), 0 where it stands across it
+(the dyad folds; :meth:`RRP.singularity` is its sine).
 """
 
 from __future__ import annotations
@@ -13,9 +17,10 @@ import math
 
 import numpy as np
 
+from ..quantities import ANGLE
 from . import compiled as C
-from .base import (Field, JitSpec, Kind, LinkPart, Slide, State, Structure, guide_line, guide_link, link_from,
-                   on_frame, slide_origin)
+from .base import (ExtraOutput, Field, JitSpec, Kind, LinkPart, Slide, State, Structure, guide_line, guide_link,
+                   link_from, on_frame, slide_origin)
 
 
 class RRP(Kind):
@@ -34,6 +39,9 @@ class RRP(Kind):
         return Structure(links=(LinkPart(rod, f["from"], (f["from"], c)), LinkPart(block, c, (c,), block=True)),
                          slides=(Slide(block, guide_link(f["guide"]), c),))
 
+    def extra_outputs(self, e):
+        return (ExtraOutput("mu" + e["point"], ANGLE, "transmission angle at " + e["point"], e["point"]),)
+
     def rails(self, e):
         return ((e["links"][1], e["guide"], e["offset"]),) if "points" not in e["guide"] else ()
 
@@ -49,6 +57,12 @@ class RRP(Kind):
         zero = np.zeros(np.shape(C_[0]))
         st.links[block_name] = tuple(zero + x for x in block)
         st.slides[block_name] = slide
+        if st.extras_wanted:
+            st.extras["mu" + e["point"]] = transmission(st.points[e["from"]], C_, block[0], block[1])
+
+    def measured_extras(self, e, st):
+        c, s = st.links[e["links"][1]][:2]
+        return {"mu" + e["point"]: transmission(st.points[e["from"]], st.points[e["point"]], c, s)}
 
     def singularity(self, e, st, size):
         P, Cp = st.points[e["from"]], st.points[e["point"]]
@@ -74,6 +88,13 @@ class RRP(Kind):
         fcx, fcy = -wb[0] - nx, -wb[1] - ny         # the rod's force on the block at C
         ctx.pin(point, block, fcx, fcy, other=rod)
         ctx.pin(p, rod, fcx - wr[0], fcy - wr[1])
+
+
+def transmission(P, C, c, s):
+    """The angle between the rod P -> C and the normal of a guide of direction (c, s), in [0, pi/2]: its
+    cosine is the rod's share across the guide |r x u| / |r|, its sine the share along it |r . u| / |r|."""
+    rx, ry = C[0] - P[0], C[1] - P[1]
+    return np.arctan2(np.abs(rx * c + ry * s), np.abs(rx * s - ry * c))
 
 
 def rrp(P, guide, length, offset, branch):
@@ -107,11 +128,12 @@ def _layout(e, L, row, par):
     row[3] = L.new_link(e["links"][0])
     row[4] = L.new_link(e["links"][1])
     row[8] = L.new_slide(e["links"][1])
+    row[9] = L.new_extra("mu" + e["point"], 2, L.OUT_ABS_ANGLE)   # along, across: mu = atan2(|along|, |across|)
     L.new_point(e["point"])
 
 
 def _kernel(st, m, e, ops, par, q, qd, qdd, step, i0, need):
-    n, p, o, Lr, Lb, sl = ops[e, 1], ops[e, 2], ops[e, 6], ops[e, 3], ops[e, 4], ops[e, 8]
+    n, p, o, Lr, Lb, sl, mu = ops[e, 1], ops[e, 2], ops[e, 6], ops[e, 3], ops[e, 4], ops[e, 8], ops[e, 9]
     length, offset, branch = par[e, 0], par[e, 1], par[e, 4]
     l2 = length * length
     for i in range(m):
@@ -145,6 +167,8 @@ def _kernel(st, m, e, ops, par, q, qd, qdd, step, i0, need):
         st[sl, i] = sd
         st[sl + 1, i] = ds
         st[sl + 2, i] = dds
+        st[mu, i] = ru
+        st[mu + 1, i] = rx * s - ry * c
 
 
 KIND = RRP()

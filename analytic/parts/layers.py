@@ -156,6 +156,12 @@ class PairDistance:
     first: float | None
 
 
+REFINE_BUDGET = 2048
+"""The most intervals :func:`pair_distance` refines at each level: parts that graze all along the cycle (a
+block in its lever's slot with no clearance) put every interval within the threshold, and halving each of 720
+twelve times is 2.9 million outlines (memory past 20 GB); the intervals whose bound comes closest are kept."""
+
+
 def pair_distance(mech, out: Outlines, sweep: model.Sweep, a: str, b: str, threshold: float,
                   depth: int = 12, penetration_depth: bool = True, swept: Swept | None = None) -> PairDistance:
     """Min signed distance of links ``a`` and ``b`` (``b`` may be FRAME) over the sweep, intervals refined
@@ -216,6 +222,9 @@ def pair_distance(mech, out: Outlines, sweep: model.Sweep, a: str, b: str, thres
             for lo, hi, dl, dh in ((t0, tm, d0, dmid), (tm, t1, dmid, d1)):
                 if 0.5 * (dl + dh - 0.5 * m) < threshold:
                     nxt.append((lo, hi, dl, dh, 0.5 * m))
+        if len(nxt) > REFINE_BUDGET:                    # the intervals that may come closest, the rest dropped
+            nxt.sort(key=lambda x: 0.5 * (x[2] + x[3] - x[4]))
+            nxt = nxt[:REFINE_BUDGET]
         todo = nxt
     ts, ds = np.asarray(ts), np.asarray(ds)
     k = int(np.argmin(ds))

@@ -155,13 +155,9 @@ class Measure:
 
 
 def _transmissions(mech, sol) -> list[np.ndarray]:
-    """Every transmission angle of the solved mechanism [rad], folded into [0, pi/2]."""
+    """Every transmission angle of the solved mechanism [rad], folded into [0, pi/2] (the kinds' ``mu``
+    outputs: an RRR's between its links, an RRP's between the rod and the guide's normal)."""
     out = [np.asarray(sol[name]) for name in mech.transmission_angles.values()]
-    for e in mech.geometry.elements:
-        if e["kind"] == "RRP":
-            rod, block = e["links"]
-            s = np.abs(np.sin(np.asarray(sol["phi" + rod]) - np.asarray(sol["phi" + block])))
-            out.append(np.arccos(np.clip(s, 0.0, 1.0)))
     return [np.minimum(v, math.pi - v) for v in out]
 
 

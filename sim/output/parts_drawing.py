@@ -228,9 +228,10 @@ def parts_list(ax, pm, fs: float = 7.0) -> None:
     from sim.output.parts_files import bom_rows
     rows = bom_rows(pm)
     unit = pm.mech.units
-    head = ["link", "layer", "kind", f"length [{unit}]", f"width [{unit}]", f"thick. [{unit}]", "holes", "mass [g]"]
+    head = ["link", "layer", "kind", f"length [{unit}]", f"width [{unit}]", f"thick. [{unit}]", "holes", "mass [g]",
+            "analysis [g]"]
     body = [[r["link"], r["layer"], r["kind"], _fmt(r["length"]), _fmt(r["width"]), _fmt(r["thickness"]), r["holes"],
-             f"{1000 * r['mass_kg']:.3g}"] for r in rows]
+             f"{1000 * r['mass_kg']:.3g}", _analysis_mass(r)] for r in rows]
     ax.axis("off")
     table = ax.table(cellText=body, colLabels=head, loc="upper left", cellLoc="center", colLoc="center")
     table.auto_set_font_size(False)
@@ -241,6 +242,28 @@ def parts_list(ax, pm, fs: float = 7.0) -> None:
         if r == 0:
             cell.set_facecolor("#e9eef5")
     ax.set_title("PARTS LIST", fontsize=fs + 2, loc="left")
+
+
+def _analysis_mass(row) -> str:
+    """The parts list's "analysis" cell: the mass the analysis gives the link and what gave it ("= part" where
+    it is the part's own)."""
+    m = f"{1000 * row['analysis_mass_kg']:.3g}"
+    if row["analysis_mass_from"] == "parts":
+        same = abs(row["analysis_mass_kg"] - row["mass_kg"]) <= 1e-9 * max(row["mass_kg"], 1e-30)
+        return "= part" if same else f"{m} (part + counterweights)"
+    return f"{m} ({row['analysis_mass_from']})"
+
+
+def mass_note(pm) -> str:
+    """What the drawing says of the analysis's masses (forces, dynamics, MuJoCo) against these parts'."""
+    from analytic import mass
+    src = set(mass.sources(pm.mech).values())
+    if src == {"parts"}:
+        return "4. The analysis (forces, dynamics, MuJoCo) uses these parts' masses (holes and slots cut)."
+    if "parts" in src:
+        return "4. The analysis uses these parts' masses, except where the column 'analysis' names [inertia]."
+    return ("4. The analysis uses other masses (column 'analysis'); with a [parts] section in the file it uses "
+            "these parts'.")
 
 
 def title_block(ax, pm, fs: float = 7.0) -> None:
@@ -275,7 +298,8 @@ def figure(pm):
     ax.axis("off")
     notes = ["NOTES", "1. Outlines: rounded plates over each link's joints; holes = pin + clearance on every joint.",
              "2. Links on one layer never come closer than the clearance over the cycle (linkage check --interference).",
-             "3. Ground pivots dimensioned from the file's origin; link dimensions are centre distances."]
+             "3. Ground pivots dimensioned from the file's origin; link dimensions are centre distances.",
+             mass_note(pm)]
     for k, t in enumerate(notes):
         ax.text(0.0, 0.9 - 0.22 * k, t, fontsize=8 if k else 9, weight="bold" if k == 0 else "normal",
                 transform=ax.transAxes)

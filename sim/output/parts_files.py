@@ -195,16 +195,23 @@ def write_step(pm, path) -> None:
 
 
 # ------------------------------------------------------------------------------------------------- BOM
-BOM_COLUMNS = ("link", "layer", "mass_kg", "length", "width", "thickness", "holes", "kind", "volume", "density_kg_m3")
+BOM_COLUMNS = ("link", "layer", "mass_kg", "length", "width", "thickness", "holes", "kind", "volume", "density_kg_m3",
+               "analysis_mass_kg", "analysis_mass_from")
+"""``analysis_mass_kg``: the mass ``forces``, ``dynamics`` and the MuJoCo model give the link (counterweights
+included); ``analysis_mass_from``: what gave it (:func:`analytic.mass.sources`: ``parts`` where the file has a
+``[parts]`` section, else ``[inertia]``, ``[mass]`` or ``default``)."""
 
 
 def bom_rows(pm) -> list[dict]:
+    from analytic import mass
+    analysis, source = mass.model(pm.mech), mass.sources(pm.mech)
     rows = []
     for ln, part in pm.parts.items():
         mp = model.mass_properties(part, pm.mech.scale)
         rows.append({"link": ln, "layer": pm.layout.layers[ln], "mass_kg": mp.m, "length": part.length,
                      "width": part.width, "thickness": part.thickness, "holes": len(part.holes), "kind": part.kind,
-                     "volume": mp.volume, "density_kg_m3": part.density})
+                     "volume": mp.volume, "density_kg_m3": part.density, "analysis_mass_kg": analysis[ln].m,
+                     "analysis_mass_from": source[ln]})
     return rows
 
 
