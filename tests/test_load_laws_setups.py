@@ -198,6 +198,11 @@ def test_a_table_spring_stores_the_integral_of_its_table(tmp_path):
     assert out["energy"]["cycles"] == pytest.approx(0.5, abs=1e-12)
     assert out["energy"]["spring_change"] * out["energy"]["cycles"] == pytest.approx(energy, abs=1e-9)
     assert abs(energy) > 1e-3                                      # the half turn stretches it measurably
+    # the work it does on the mechanism is minus the energy it stores (the half turn shortens it: it gives
+    # its energy back, positive work)
+    (s,) = [ld for ld in out["loads"] if ld["name"] == "s"]
+    assert s["work_per_cycle"] * out["energy"]["cycles"] == pytest.approx(-energy, abs=1e-9)
+    assert s["work_per_cycle"] > 0
     phi = np.asarray(out["inputs"]["phi1"])
     expected = np.interp(L(phi), x, y) * ddphi(L, phi) * 1e-3
     # central differences, h = 1e-6 rad, away from the table's corners (within 1e-4 mm of a row the
