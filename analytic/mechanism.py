@@ -135,7 +135,7 @@ class Mechanism:
             q0, rate, accel = kind.motion_fields
             motion = Motion(e[q0], e[rate], e[accel])
             names = tuple(_param_name(e_def.fields[f]) for f in kind.motion_fields)
-            out.append(Input(kind.name, e["link"], e["point"], kind.input_joint(e), motion, names))
+            out.append(Input(kind.name, kind.input_key(e), e["point"], kind.input_joint(e), motion, names))
         if self.rock is not None:                  # a slider rocks at |v| / size rad/s: its rate over the size
             rate = out[0].motion.rate / out[0].spec.rate_scale(self.size)
             out[0] = replace(out[0], motion=replace(out[0].motion, rock=self.rock, q0=self.rock[0], rate=rate))
@@ -360,7 +360,7 @@ def block(geometry, q, qd, qdd, want=None, start=None, extras=True):
         kind = kinds.get(e["kind"])
         if kind.section == "inputs":
             for prefix, arr in zip(kind.columns, (q, qd, qdd)):
-                name = prefix + e["link"]
+                name = prefix + kind.input_key(e)
                 if name not in out and (want is None or name in want):
                     out[name] = np.broadcast_to(arr, np.shape(q))[e["input"]]
     return out, failed, st.carry

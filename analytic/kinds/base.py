@@ -141,8 +141,9 @@ class Structure:
     couplings: tuple[Coupling, ...] = ()
     pins: tuple[tuple[str, str], ...] = ()
     """Extra (point, link) incidences: a link pinned at a point it did not create."""
-    driven_pin: tuple[str, str] | None = None
-    """For a driven revolute (a crank): (its point, the driven link); the other link there is the ground."""
+    driven_pin: tuple[str, ...] | None = None
+    """For a driven revolute: (its point, the driven link) with the ground as its base (a crank), or (its point,
+    the driven link, the base link) between two moving links (a motor); the joint is between base and link."""
 
 
 @dataclass(frozen=True)
@@ -321,6 +322,17 @@ class Kind:
     def input_joint(self, e: dict) -> str:
         """For inputs: the point it turns or slides about (its pivot, or the guide's origin)."""
         raise NotImplementedError
+
+    def input_key(self, e: dict) -> str:
+        """For inputs: what its columns and its drive are named after (:attr:`analytic.motion.Input.link`): its
+        driven link by default (``phi1`` for crank link 1); an input that drives a pair of moving parts (an
+        actuator, a motor between two links) is named by its own ``name`` instead."""
+        return e["link"]
+
+    def motion_problem(self, e: dict, column: str, t, q) -> str | None:
+        """For inputs: a problem with the input's motion ``q`` at times ``t`` [s] (``t`` None: samples of unknown
+        time), one line naming the field (an actuator driven past its stroke), or None."""
+        return None
 
     # ---------------------------------------------------------------------- links-and-joints form
     joints_form: dict[str, str] | None = None

@@ -1,0 +1,208 @@
+"""``actuator``: a linear actuator (hydraulic, pneumatic or electric cylinder) between two pins (an input).
+
+Fields: ``name`` (its input's name: columns ``s_NAME``, ``ds_NAME``, ``dds_NAME``), ``point`` (the pin it places,
+the rod's end D), ``from`` [A, C] (A: the pivot of ``link``, D at ``length`` from it; C: the barrel's pin, on any
+link), ``length`` (|AD|), ``link`` (the new link A-D, default A + D), ``l0``, ``v``, ``a`` (the pin-to-pin length
+|CD| at t = 0 and its law l(t) = l0 + v t + a t^2 / 2), ``stroke`` [retracted, extended] (the lengths it can
+reach: a motion outside them is refused), ``bore`` and ``rod`` (optional diameters, 0: not given; with a bore
+the forces report the pressure on the push area pi bore^2 / 4 or the pull area pi (bore^2 - rod^2) / 4) and
+``branch`` (+1: D left of the directed line A -> C).
+
+It is the RRR dyad whose second length is driven: D at ``length`` from A and at l(t) from C, in closed form.
+The cylinder itself is two links: the barrel ``NAME_barrel`` pinned at C and the rod ``NAME_rod`` pinned at D,
+joined by the driven prismatic pair (named after the rod, measured from C along C -> D); both point C -> D.
+Its drive is the force along C -> D the barrel puts on the rod: positive when it pushes (extends).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .base import SIZE_PER_SECOND, Field, Kind, LinkPart, Slide, State, Structure
+
+STROKE_ROUNDING = 1e-12
+"""[of the stroke's extended length] A length this far beyond an end of the stroke is at the end (rounding of
+the motion law's sum)."""
+
+
+class Actuator(Kind):
+    name = "actuator"
+    section = "inputs"
+    summary = ("a linear actuator (cylinder) between pin C and the pin D it places on link A-D: its pin-to-pin "
+               "length l(t) = l0 + v t + a t^2/2 is driven")
+    group_class = "dyad RRR with a driven length (class II)"
+    angular = False
+    columns = ("s", "ds", "dds")
+    motion_fields = ("l0", "v", "a")
+    fields = {"name": Field("link", "{point}"), "point": Field("new"), "from": Field("pair"),
+              "length": Field("size"), "link": Field("link", "{from0}{point}"), "l0": Field("size"),
+              "v": Field("length", SIZE_PER_SECOND), "a": Field("length", 0.0), "stroke": Field("lengths2"),
+              "bore": Field("length", 0.0), "rod": Field("length", 0.0), "branch": Field("branch", 1)}
+
+    def default_rate(self, size):
+        """A tenth of the mechanism's size per second, to 3 digits [file units / s]: a cylinder's stroke is a
+        fraction of the machine it moves."""
+        return "v", float(f"{0.1 * size:.3g}")
+
+    def input_key(self, e):
+        """``_NAME``: its columns are ``s_NAME ds_NAME dds_NAME``, its drive ``tau_NAME``."""
+        return "_" + e["name"]
+
+    def needs(self, f):
+        return tuple(f["from"])
+
+    def check_resolved(self, e):
+        lo, hi = e["stroke"]
+        if not hi > lo:
+            return f"field 'stroke': the extended length {hi:g} m must exceed the retracted {lo:g} m"
+        l0 = e["l0"]
+        if not lo <= l0 <= hi:
+            by = lo - l0 if l0 < lo else l0 - hi
+            return (f"field 'l0': {l0:g} m is outside the stroke [{lo:g}, {hi:g}] m by {by:.4g} m; give a start "
+                    f"length within it")
+        if e["bore"] < 0 or e["rod"] < 0:
+            return f"field '{'bore' if e['bore'] < 0 else 'rod'}': a diameter must be >= 0 (0: not given)"
+        if e["rod"] > 0 and not e["rod"] < e["bore"]:
+            return f"field 'rod': the rod's diameter {e['rod']:g} m must be smaller than the bore {e['bore']:g} m"
+        return None
+
+    def motion_problem(self, e, column, t, q):
+        """Refuse a motion that drives the actuator past either end of its stroke: the first time (or sample)
+        it does and the farthest it goes."""
+        lo, hi = e["stroke"]
+        q = np.asarray(q, dtype=float)
+        tol = STROKE_ROUNDING * hi
+        out = (q < lo - tol) | (q > hi + tol)
+        if not out.any():
+            return None
+        k = int(np.argmax(out))
+        over, under = float(np.max(q)) - hi, lo - float(np.min(q))
+        end, by, edge = ("extended", over, hi) if over > under else ("retracted", under, lo)
+        when = f"at t = {float(np.asarray(t)[k]):.4g} s" if t is not None else f"at {column} = {q[k]:.6g} m"
+        return (f"field 'stroke': the motion leaves the stroke [{lo:g}, {hi:g}] m {when} and goes {by:.4g} m "
+                f"beyond the {end} length {edge:g} m; shorten the motion (or its speed) or lengthen the stroke")
+
+    def structure(self, f):
+        (a, c), d, n = f["from"], f["point"], f["name"]
+        barrel, rod = cylinder(n)
+        return Structure(links=(LinkPart(f["link"], a, (a, d)), LinkPart(barrel, c, (c,)),
+                                LinkPart(rod, d, (d,), block=True)),
+                         slides=(Slide(rod, barrel, d, driven=True),))
+
+    def slide_frames(self, e):
+        return {cylinder(e["name"])[1]: (e["from"][1], e["point"], 0.0)}
+
+    def input_joint(self, e):
+        return e["from"][1]
+
+    def solve(self, e, st: State):
+        j = e["input"]
+        a_, c_ = e["from"]
+        (D, (cl, sl, w1, al1), (ce, se, w2, al2)), lq = actuated(
+            st.points[a_], st.points[c_], e["length"], st.q[j], st.qd[j], st.qdd[j], e["branch"], e["stroke"])
+        st.points[e["point"]] = D
+        st.links[e["link"]] = (cl, sl, w1, al1)
+        barrel, rod = cylinder(e["name"])
+        st.links[barrel] = st.links[rod] = (ce, se, w2, al2)
+        st.slides[rod] = lq
+
+    def measured_extras(self, e, st):
+        """Its length and rates: the measured rod's slide."""
+        s, ds, dds = st.slides[cylinder(e["name"])[1]]
+        key = self.input_key(e)
+        return dict(zip((c + key for c in self.columns), (s, ds, dds)))
+
+    def singularity(self, e, st, size):
+        c1, s1, _, _ = st.links[e["link"]]
+        c2, s2, _, _ = st.links[cylinder(e["name"])[0]]
+        return np.abs(c1 * s2 - s1 * c2)            # sin of the angle between the link and the cylinder
+
+    def forces(self, e, ctx):
+        """Closed form. With r1 = D - A, r2 = D - C and G the force the link puts on the rod at D: the
+        cylinder (barrel and rod, their internal forces cancelling) about C gives r2 x G = -(M_barrel(C) +
+        M_rod(C)), the link about A gives r1 x G = M_link(A): a 2x2 system of determinant r1 x r2 (zero where
+        the link and the cylinder align). The rod's balance along C -> D is the drive, across it the guide's
+        normal force, its moment about D the guide's couple; C and A carry the rest of each part's load."""
+        (a, c), d, link = e["from"], e["point"], e["link"]
+        barrel, rod = cylinder(e["name"])
+        ax, ay = ctx.xy(a)
+        cx, cy = ctx.xy(c)
+        dx, dy = ctx.xy(d)
+        r1x, r1y, r2x, r2y = dx - ax, dy - ay, dx - cx, dy - cy
+        m1 = ctx.moment(link, a)
+        m2 = -(ctx.moment(barrel, c) + ctx.moment(rod, c))
+        det = r1x * r2y - r1y * r2x
+        gx = (m1 * r2x - m2 * r1x) / det             # G = (m1 r2 - m2 r1) / det: r1 x G = m1, r2 x G = m2
+        gy = (m1 * r2y - m2 * r1y) / det
+        fr, fb, fl = ctx.resultant(rod), ctx.resultant(barrel), ctx.resultant(link)
+        ux, uy = ctx.direction(rod)
+        tx, ty = fr[0] + gx, fr[1] + gy              # what the barrel must balance on the rod
+        drive = -(ux * tx + uy * ty)
+        normal = uy * tx - ux * ty                   # the guide's force along n = (-uy, ux)
+        ctx.pin(d, rod, gx, gy, other=link)
+        ctx.guide(rod, -uy * normal, ux * normal, -ctx.moment(rod, d))
+        ctx.drive(e, drive)
+        # the barrel gets minus the rod's guide force and drive: its pin C takes the rest
+        ctx.pin(c, barrel, -(fb[0] + tx), -(fb[1] + ty))
+        ctx.pin(a, link, -(fl[0] - gx), -(fl[1] - gy))
+
+
+def cylinder(name: str) -> tuple[str, str]:
+    """The barrel's and the rod's link names of the actuator called ``name``."""
+    return f"{name}_barrel", f"{name}_rod"
+
+
+def pressure(e: dict, force) -> tuple[np.ndarray, np.ndarray] | None:
+    """The pressure [Pa] an actuator's ``force`` [N] needs over its samples, on the push area pi bore^2 / 4 where
+    it pushes (force >= 0) and on the pull area pi (bore^2 - rod^2) / 4 where it pulls, and which area (True:
+    push); None without a bore."""
+    bore, rod = e["bore"], e["rod"]
+    if bore <= 0:
+        return None
+    force = np.asarray(force, dtype=float)
+    push = force >= 0
+    a_push, a_pull = math.pi * bore * bore / 4, math.pi * (bore * bore - rod * rod) / 4
+    return np.where(push, force / a_push, -force / a_pull), push
+
+
+def actuated(A, C, a, b, bd, bdd, branch, stroke=None):
+    """D with |D - A| = a, |D - C| = b(t) (left of A -> C for branch +1), with the rates of a driven b.
+
+    The position is the RRR's circle-circle intersection. With r1 = D - A, r2 = D - C and det = r1 x r2:
+    |r1| = a gives vD = vA + w1 perp(r1), and d(|r2|^2)/dt = 2 b bd gives w1 = (r2.(vC - vA) + b bd) / det;
+    twice differentiated, alpha1 = (b bdd + bd^2 - |vD - vC|^2 + r2.(aC - aA) + w1^2 r1.r2) / det. The
+    cylinder's angle (C -> D) turns at w2 = r2 x (vD - vC) / b^2 and alpha2 = (r2 x (aD - aC) - 2 b bd w2) / b^2.
+    Returns ((D, link A-D, cylinder C-D), (b, bd, bdd)); NaN where the circles do not meet or b is outside
+    ``stroke``."""
+    b = np.asarray(b, dtype=float)
+    if stroke is not None:
+        lo, hi = stroke
+        tol = STROKE_ROUNDING * hi
+        b = np.where((b >= lo - tol) & (b <= hi + tol), b, np.nan)
+    ax_, ay_, avx, avy, aax, aay = A
+    dx, dy = C[0] - ax_, C[1] - ay_
+    L2 = dx * dx + dy * dy
+    k1 = (0.5 * (a * a - b * b)) / L2 + 0.5
+    k2 = np.sqrt(a * a / L2 - k1 * k1) * branch      # NaN where the circles do not meet
+    r1x, r1y = k1 * dx - k2 * dy, k1 * dy + k2 * dx
+    r2x, r2y = r1x - dx, r1y - dy
+    det = k2 * L2                                    # cross(r1, r2)
+    dvx, dvy = C[2] - avx, C[3] - avy
+    w1 = (r2x * dvx + r2y * dvy + b * bd) / det
+    vx, vy = avx - w1 * r1y, avy + w1 * r1x
+    ux, uy = vx - C[2], vy - C[3]                    # vD - vC
+    w1s = w1 * w1
+    al1 = (b * bdd + bd * bd - (ux * ux + uy * uy) + r2x * (C[4] - aax) + r2y * (C[5] - aay)
+           + w1s * (r1x * r2x + r1y * r2y)) / det
+    accx, accy = aax - al1 * r1y - w1s * r1x, aay + al1 * r1x - w1s * r1y
+    b2 = b * b
+    w2 = (r2x * uy - r2y * ux) / b2
+    al2 = (r2x * (accy - C[5]) - r2y * (accx - C[4]) - 2 * b * bd * w2) / b2
+    D = (ax_ + r1x, ay_ + r1y, vx, vy, accx, accy)
+    zero = np.zeros(np.shape(det))
+    return (D, (r1x / a, r1y / a, w1, al1), (r2x / b, r2y / b, w2, al2)), (b + zero, bd + zero, bdd + zero)
+
+
+KIND = Actuator()
