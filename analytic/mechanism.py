@@ -315,9 +315,22 @@ class Mechanism:
         q, qd, qdd = self.drive(t)
         return (q, qd, qdd), self.solve(q, qd, qdd)
 
+    def check_motion(self, q, t=None) -> None:
+        """Raise ParameterError where an input's kind refuses the inputs' motion ``q`` ((N, n_inputs), at times
+        ``t`` [s] when given): an actuator driven past its stroke, naming the input, the field, when and by how
+        much."""
+        q = np.asarray(q, dtype=float).reshape(-1, len(self.inputs))
+        elements = [e for e in self.geometry.elements if kinds.get(e["kind"]).section == "inputs"]
+        for e in sorted(elements, key=lambda x: x["input"]):
+            inp = self.inputs[e["input"]]
+            problem = kinds.get(e["kind"]).motion_problem(e, inp.q, t, q[:, e["input"]])
+            if problem:
+                raise ParameterError(f"{self.definition.source}: {e['label']}: {problem}")
+
     def check_assembles(self, q) -> None:
         """Raise AssemblyError naming the first input value (and element) where the mechanism cannot be
-        assembled, and the range of the first input where it can."""
+        assembled, and the range of the first input where it can (after :meth:`check_motion`)."""
+        self.check_motion(q)
         sol = self.solve(q)
         failure = sol.first_failure()
         if failure is None:

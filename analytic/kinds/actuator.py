@@ -80,7 +80,13 @@ class Actuator(Kind):
         k = int(np.argmax(out))
         over, under = float(np.max(q)) - hi, lo - float(np.min(q))
         end, by, edge = ("extended", over, hi) if over > under else ("retracted", under, lo)
-        when = f"at t = {float(np.asarray(t)[k]):.4g} s" if t is not None else f"at {column} = {q[k]:.6g} m"
+        if t is not None:                            # the crossing, between the samples on either side of it
+            t = np.asarray(t, dtype=float)
+            edge_k = hi if q[k] > hi else lo
+            at = float(t[k]) if k == 0 else float(t[k - 1] + (edge_k - q[k - 1]) / (q[k] - q[k - 1]) * (t[k] - t[k - 1]))
+            when = f"at t = {at:.4g} s"
+        else:
+            when = f"where {column} reaches {q[k]:.6g} m"
         return (f"field 'stroke': the motion leaves the stroke [{lo:g}, {hi:g}] m {when} and goes {by:.4g} m "
                 f"beyond the {end} length {edge:g} m; shorten the motion (or its speed) or lengthen the stroke")
 
@@ -107,6 +113,16 @@ class Actuator(Kind):
         barrel, rod = cylinder(e["name"])
         st.links[barrel] = st.links[rod] = (ce, se, w2, al2)
         st.slides[rod] = lq
+
+    report_units = {"actuators": {"pressure": "Pa"}}
+
+    def drive_report(self, e, drive):
+        """With a bore: ``{"actuators": {NAME: {"pressure": [Pa], "area": "push"|"pull" per sample}}}``."""
+        p = pressure(e, drive)
+        if p is None:
+            return {}
+        value, push = p
+        return {"actuators": {e["name"]: {"pressure": value, "area": ["push" if x else "pull" for x in push]}}}
 
     def measured_extras(self, e, st):
         """Its length and rates: the measured rod's slide."""

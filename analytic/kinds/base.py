@@ -422,6 +422,15 @@ class Kind:
         closed form overrides it."""
         ctx.generic(e)
 
+    report_units: dict = {}
+    """For inputs: the units of what :meth:`drive_report` reports, {section: {field: unit}}."""
+
+    def drive_report(self, e: dict, drive) -> dict:
+        """For inputs: what ``linkage forces --json`` reports of its drive besides the drive itself (``drive``:
+        over the samples, SI), as {section: {name: entry}} merged into the record (an actuator's pressure);
+        {} for nothing."""
+        return {}
+
     # -------------------------------------------------------------------------------- simulation
     def mjcf(self, e: dict, model) -> None:
         """Add constraints the MuJoCo model needs besides its joints and loop closures (``model`` is the
