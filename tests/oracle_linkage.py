@@ -167,8 +167,8 @@ def _frame(geometry, on, pts):
             return pts[e["pivot"]], _unit(pts[e["pivot"]], pts[e["point"]])
         if k == "actuator" and on == e["link"]:
             return pts[e["from"][0]], _unit(pts[e["from"][0]], pts[e["point"]])
-        if k == "actuator" and on in (e["name"] + "_barrel", e["name"] + "_rod"):
-            P = pts[e["from"][1]] if on.endswith("_barrel") else pts[e["point"]]
+        if k == "actuator" and on in e["cylinder"]:
+            P = pts[e["from"][1]] if on == e["cylinder"][0] else pts[e["point"]]
             return P, _unit(pts[e["from"][1]], pts[e["point"]])
         if k == "motor" and e["link"] == on:
             return pts[e["pivot"]], _unit(pts[e["pivot"]], pts[e["point"]])
@@ -558,7 +558,7 @@ def slides(geometry, points):
             Cp = J[e["from"][1]]
             ux, uy = _unit(Cp, R)
             s = _dot(R[0] - Cp[0], R[1] - Cp[1], ux, uy)
-            out[e["name"] + "_rod"] = (s.c0, s.c1, 2.0 * s.c2)
+            out[e["cylinder"][1]] = (s.c0, s.c1, 2.0 * s.c2)
             continue
         if e["kind"] in ("RRP", "slider"):
             O, (ux, uy) = _guide(e["guide"], J)
@@ -606,7 +606,7 @@ def link_rates(geometry, points):
             out[e["link"]] = rates(e["pivot"], pt)
         elif k == "actuator":
             out[e["link"]] = rates(e["from"][0], pt)
-            out[e["name"] + "_barrel"] = out[e["name"] + "_rod"] = rates(e["from"][1], pt)
+            out[e["cylinder"][0]] = out[e["cylinder"][1]] = rates(e["from"][1], pt)
         elif k == "slider":
             G = e["guide"]
             out[e["link"]] = rates(*G["points"]) if "points" in G else (0.0, 0.0)

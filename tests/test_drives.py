@@ -205,3 +205,151 @@ def test_a_motor_whose_carrier_does_not_hold_its_pivot_is_refused(tmp_path):
 def test_a_motor_on_the_ground_is_refused(tmp_path):
     bad = _edit(tmp_path, MOTOR, 'on = "upper"', 'on = "ground"')
     _refused(run("check", bad), "inputs[2] (point C)", "field 'on'", 'kind = "crank"')
+
+
+# ------------------------------------------------------------------------------ links and joints
+TIPPER_JOINTS = """
+format = "linkage/1"
+name = "tipper_joints"
+output = "E"
+[pose]
+A = [0, 0]
+C = [-2.4, -0.9]
+D = [-1.9, 0.4]
+E = [-4.6, 1.3]
+[[links]]
+name = "body"
+points = ["A", "D", "E"]
+[[links]]
+name = "barrel"
+points = ["C"]
+[[links]]
+name = "ram"
+points = ["D"]
+[[joints]]
+kind = "R"
+point = "A"
+links = ["ground", "body"]
+[[joints]]
+kind = "R"
+point = "C"
+links = ["ground", "barrel"]
+[[joints]]
+kind = "R"
+point = "D"
+links = ["body", "ram"]
+[[joints]]
+kind = "P"
+point = "D"
+guide = "barrel"
+block = "ram"
+along = "C"
+[[inputs]]
+kind = "actuator"
+joint = "D"
+name = "tip"
+v = 0.8
+stroke = [0.95, 2.70]
+"""
+
+ARM_JOINTS = """
+format = "linkage/1"
+name = "arm_joints"
+output = "C"
+[pose]
+O = [0, 0]
+B = [0.34641016151377546, 0.2]
+C = [0.34641016151377546, 0.5]
+[[links]]
+name = "upper"
+points = ["O", "B"]
+[[links]]
+name = "fore"
+points = ["B", "C"]
+[[joints]]
+kind = "R"
+point = "O"
+links = ["ground", "upper"]
+[[joints]]
+kind = "R"
+point = "B"
+links = ["upper", "fore"]
+[[inputs]]
+kind = "crank"
+pivot = "O"
+omega = "45deg"
+[[inputs]]
+kind = "motor"
+joint = "B"
+name = "elbow"
+omega = "-90deg"
+"""
+
+
+def _element_tipper(tmp_path) -> Path:
+    """The joints-form tipper written as elements, its numbers from its pose by hand."""
+    A, C, D, E = (0.0, 0.0), (-2.4, -0.9), (-1.9, 0.4), (-4.6, 1.3)
+    ad, cd = math.hypot(D[0] - A[0], D[1] - A[1]), math.hypot(D[0] - C[0], D[1] - C[1])
+    ex, ey = (D[0] - A[0]) / ad, (D[1] - A[1]) / ad
+    u, v = ex * (E[0] - A[0]) + ey * (E[1] - A[1]), ex * (E[1] - A[1]) - ey * (E[0] - A[0])
+    branch = 1 if (C[0] - A[0]) * (D[1] - A[1]) - (C[1] - A[1]) * (D[0] - A[0]) > 0 else -1
+    path = tmp_path / "tipper_elements.toml"
+    path.write_text(f"""format = "linkage/1"
+output = "E"
+[ground]
+A = [0, 0]
+C = [-2.4, -0.9]
+[[inputs]]
+kind = "actuator"
+name = "tip"
+point = "D"
+from = ["A", "C"]
+length = {ad!r}
+link = "body"
+l0 = {cd!r}
+v = 0.8
+stroke = [0.95, 2.70]
+branch = {branch}
+cylinder = ["barrel", "ram"]
+[[groups]]
+kind = "point"
+point = "E"
+on = "body"
+at = [{u!r}, {v!r}]
+""")
+    return path
+
+
+@pytest.mark.parametrize("text, ref", [(TIPPER_JOINTS, None), (ARM_JOINTS, "arm_2r")], ids=["actuator", "motor"])
+def test_the_links_and_joints_form_marks_a_p_or_r_joint_between_moving_links_as_the_input(tmp_path, text, ref):
+    path = tmp_path / "joints.toml"
+    path.write_text(text)
+    m = analytic.load(str(path))
+    other = analytic.load(ref) if ref else analytic.load(str(_element_tipper(tmp_path)))
+    assert [i.q for i in m.inputs] == [i.q for i in other.inputs]
+    t = np.linspace(0.0, 1.0, 9)
+    _, a = m.solve_at(t)
+    _, b = other.solve_at(t)
+    for k in ("x", "y", "vx", "vy", "ax", "ay"):
+        p = m.output_point
+        # the pose's numbers through the form's symbolic lengths vs the same numbers typed: rounding
+        np.testing.assert_allclose(a[k + p], b[k + p], rtol=0, atol=1e-12, err_msg=k + p)
+    r = run("check", path)
+    said = "D (links body, barrel, ram): dyad RRR with a driven length" if ref is None else "q_elbow (motor at B)"
+    assert r.returncode == 0 and said in r.stdout, r.stdout
+
+
+@pytest.mark.parametrize("old, new, needles", [
+    ('joint = "B"', 'joint = "O"', ("inputs[2] (joint O)", "field 'joint'", 'kind = "crank"')),
+    ('joint = "B"', 'joint = "C"', ("inputs[2] (joint C)", "field 'joint'", "no R joint")),
+])
+def test_a_motor_on_a_joint_it_cannot_drive_is_refused(tmp_path, old, new, needles):
+    path = tmp_path / "bad.toml"
+    path.write_text(ARM_JOINTS.replace(old, new))
+    _refused(run("check", path), *needles)
+
+
+def test_an_actuator_whose_p_joint_is_not_along_its_pins_is_refused(tmp_path):
+    path = tmp_path / "bad.toml"
+    path.write_text(TIPPER_JOINTS.replace('along = "C"', 'angle = "10deg"'))
+    _refused(run("check", path), "inputs[1] (joint D)", "not along the cylinder C -> D")

@@ -651,9 +651,16 @@ class _Decomposer:
         return name
 
     # ---------------------------------------------------------------------------------- inputs
-    def inputs(self):
-        for item, where in self.f.inputs:                  # each input kind places its own
-            kinds.get(item["kind"]).from_joints(item, where, self)
+    def inputs(self) -> bool:
+        """Place every input whose kind says it is ready (each input kind places its own); the others wait for
+        the groups that place what they need (a motor's carrier). Whether one was placed."""
+        placed = False
+        for item, where in list(self.waiting):
+            if kinds.get(item["kind"]).joints_ready(item, self):
+                self.waiting.remove((item, where))
+                kinds.get(item["kind"]).from_joints(item, where, self)
+                placed = True
+        return placed
 
     # what the input kinds' from_joints use (analytic.kinds.base.Kind.from_joints)
     SINGULAR = SINGULAR
@@ -670,15 +677,25 @@ class _Decomposer:
 
     # ------------------------------------------------------------------------------------ groups
     def run(self) -> None:
+        self.waiting = list(self.f.inputs)
         self.inputs()
         while True:
+            if self.waiting and self.inputs():
+                continue
             todo = [ln for ln in self.points if ln not in self.known]
             if not todo:
                 break
             for ln in todo:
                 self.check_single(ln)
             if not (self.gears(todo) or self.dyad(todo)):
-                self.group(todo)
+                try:
+                    self.group(todo)
+                except FileError:
+                    for item, where in self.waiting:      # an input still waiting says what it lacks first
+                        kinds.get(item["kind"]).from_joints(item, where, self)
+                    raise
+        for item, where in self.waiting:                  # an input whose links other groups placed
+            kinds.get(item["kind"]).from_joints(item, where, self)
         if self.geared != len(self.f.meshes):
             names = ", ".join(f"{m.point} ({m.a}, {m.b})" for m in self.f.meshes)
             raise self.fail(f"gear meshes {names}", f"{len(self.f.meshes)} gear meshes but only {self.geared} links "

@@ -481,7 +481,9 @@ def _default(default, item):
 
 def _names(item) -> dict:
     f = item.get("from")
+    name = item.get("name", item.get("point", ""))
     return {"pivot": item.get("pivot", ""), "point": item.get("point", ""), "through": item.get("through", ""),
+            "name": name if isinstance(name, str) else "",
             "from": f if isinstance(f, str) else "", "from0": f[0] if isinstance(f, list) and f else "",
             "from1": f[1] if isinstance(f, list) and len(f) > 1 else ""}
 

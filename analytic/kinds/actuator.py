@@ -6,10 +6,11 @@ link), ``length`` (|AD|), ``link`` (the new link A-D, default A + D), ``l0``, ``
 |CD| at t = 0 and its law l(t) = l0 + v t + a t^2 / 2), ``stroke`` [retracted, extended] (the lengths it can
 reach: a motion outside them is refused), ``bore`` and ``rod`` (optional diameters, 0: not given; with a bore
 the forces report the pressure on the push area pi bore^2 / 4 or the pull area pi (bore^2 - rod^2) / 4) and
-``branch`` (+1: D left of the directed line A -> C).
+``branch`` (+1: D left of the directed line A -> C), ``cylinder`` [barrel, rod] (the two links' names, default
+``NAME_barrel``, ``NAME_rod``).
 
 It is the RRR dyad whose second length is driven: D at ``length`` from A and at l(t) from C, in closed form.
-The cylinder itself is two links: the barrel ``NAME_barrel`` pinned at C and the rod ``NAME_rod`` pinned at D,
+The cylinder itself is two links: the barrel pinned at C and the rod pinned at D (``cylinder``),
 joined by the driven prismatic pair (named after the rod, measured from C along C -> D); both point C -> D.
 Its drive is the force along C -> D the barrel puts on the rod: positive when it pushes (extends).
 """
@@ -20,7 +21,7 @@ import math
 
 import numpy as np
 
-from .base import SIZE_PER_SECOND, Field, Kind, LinkPart, Slide, State, Structure
+from .base import GROUND, SIZE_PER_SECOND, Field, Kind, LinkPart, Slide, State, Structure
 
 STROKE_ROUNDING = 1e-12
 """[of the stroke's extended length] A length this far beyond an end of the stroke is at the end (rounding of
@@ -39,12 +40,89 @@ class Actuator(Kind):
     fields = {"name": Field("link", "{point}"), "point": Field("new"), "from": Field("pair"),
               "length": Field("size"), "link": Field("link", "{from0}{point}"), "l0": Field("size"),
               "v": Field("length", SIZE_PER_SECOND), "a": Field("length", 0.0), "stroke": Field("lengths2"),
-              "bore": Field("length", 0.0), "rod": Field("length", 0.0), "branch": Field("branch", 1)}
+              "bore": Field("length", 0.0), "rod": Field("length", 0.0), "branch": Field("branch", 1),
+              "cylinder": Field("links2", ("{name}_barrel", "{name}_rod"))}
 
     def default_rate(self, size):
         """A tenth of the mechanism's size per second, to 3 digits [file units / s]: a cylinder's stroke is a
         fraction of the machine it moves."""
         return "v", float(f"{0.1 * size:.3g}")
+
+    joints_form = {"joint": "point", "name": "link", "v": "length", "a": "length", "stroke": "lengths",
+                   "bore": "length", "rod": "length"}
+    joints_summary = "a cylinder: the P joint between its barrel and its rod, pinned at C and D"
+
+    @staticmethod
+    def _parts(item, dec):
+        """(slide, barrel, rod, driven link, C, A) of the entry's P joint, as far as they are found."""
+        s = next((x for x in dec.f.slides if x.point == item.get("joint")), None)
+        if s is None:
+            return None, None, None, None, None, None
+        barrel, rod, d = s.guide, s.block, s.point
+        links = [ln for ln in dec.f.pins.get(d, []) if ln not in (barrel, rod)]
+        link = links[0] if len(links) == 1 else None
+        cs = [p for p in dec.points.get(barrel, []) if p in dec.placed]
+        a_ = [p for p in dec.points.get(link, []) if p in dec.placed and p != d] if link else []
+        return s, barrel, rod, link, (cs[0] if len(cs) == 1 else None), (a_[0] if len(a_) == 1 else None)
+
+    def joints_ready(self, item, dec):
+        """Once the barrel's pin C and the driven link's pivot A are placed."""
+        s, _, _, link, c, a = self._parts(item, dec)
+        return s is None or (c is not None and a is not None and link not in dec.known)
+
+    def from_joints(self, item, where, dec):
+        """The P joint ``joint`` between two moving links is the cylinder: its guide the barrel (pinned at C to
+        a placed link), its block the rod, pinned at the joint's point D to the driven link, which turns about
+        its one placed point A; lengths, the start length and the branch from the pose."""
+        d = dec.point_name(item.get("joint"), f"{where}: field 'joint'")
+        label, where = where, f"{where} (joint {d})"
+        s, barrel, rod, link, c, a = self._parts(item, dec)
+        if s is None:
+            raise dec.fail(where, f"field 'joint': no P joint at {d!r}; an actuator drives the P joint between its "
+                                  f"barrel and its rod")
+        if GROUND in (barrel, rod):
+            raise dec.fail(where, f"the P joint at {d!r} slides on the ground; a block driven along a ground guide "
+                                  f"is kind = \"slider\"")
+        if link is None:
+            raise dec.fail(where, f"the rod {rod!r} must be pinned at {d!r} to one link (the one the actuator "
+                                  f"turns); links there: {', '.join(dec.f.pins.get(d, [])) or 'none'}")
+        if "stroke" not in item:
+            raise dec.fail(where, "field 'stroke' is missing: give the retracted and extended pin-to-pin lengths")
+        for ln in (barrel, rod, link):
+            if ln in dec.known:
+                raise dec.fail(where, f"link {ln!r} is already placed by other joints; the actuator places its "
+                                      f"barrel, its rod and the link it turns")
+        if c is None or a is None:
+            which = f"barrel {barrel!r}" if c is None else f"link {link!r}"
+            raise dec.fail(where, f"the {which} must be held at exactly one point placed by the rest of the "
+                                  f"mechanism (the barrel's pin C; the link's pivot A)")
+        rd, rc = dec.pose[d] - dec.pose[a], dec.pose[d] - dec.pose[c]
+        size = dec.SINGULAR * dec.f.size
+        if rc.norm().value <= size or rd.norm().value <= size:
+            raise dec.fail(where, f"{d!r} coincides with {c if rc.norm().value <= size else a!r} in the pose")
+        u = rc.unit()
+        ux, uy = u.value
+        along = math.atan2(uy, ux)
+        if abs(math.sin(s.angle.value - along)) > 1e-9:
+            raise dec.fail(where, f"the P joint at {d!r} slides at {math.degrees(s.angle.value):.6g} deg, not along "
+                                  f"the cylinder {c} -> {d} ({math.degrees(along):.6g} deg): its line must pass both pins")
+        side = (dec.pose[c] - dec.pose[a]).cross(rd)
+        if abs(side.value) <= size * rd.norm().value:
+            raise dec.singular(where, f"{a}, {c} and {d} are in a line")
+        entry = {"kind": "actuator", "name": item.get("name", d), "point": d, "from": [a, c],
+                 "length": dec.out(rd.norm(), where, "the link's length"), "link": link,
+                 "l0": dec.out(rc.norm(), where, "the start length"),
+                 "v": item.get("v", self.default_rate(dec.f.size)[1]), "a": item.get("a", 0.0),
+                 "stroke": item["stroke"], "branch": 1 if side.value > 0 else -1, "cylinder": [barrel, rod]}
+        entry.update({k: item[k] for k in ("bore", "rod") if k in item})
+        dec.emit(entry, label)
+        dec.placed.add(d)
+        dec.pair_frame(link, a, d)
+        dec.set_frame(barrel, c, u)
+        dec.set_frame(rod, d, u)
+        dec.classes.append(f"input actuator {barrel}-{rod} from {c} to {d}, turning {link} about {a}")
+        for ln in (link, barrel, rod):
+            dec.rigid(ln, where)
 
     def input_key(self, e):
         """``_NAME``: its columns are ``s_NAME ds_NAME dds_NAME``, its drive ``tau_NAME``."""
@@ -91,14 +169,14 @@ class Actuator(Kind):
                 f"beyond the {end} length {edge:g} m; shorten the motion (or its speed) or lengthen the stroke")
 
     def structure(self, f):
-        (a, c), d, n = f["from"], f["point"], f["name"]
-        barrel, rod = cylinder(n)
+        (a, c), d = f["from"], f["point"]
+        barrel, rod = f["cylinder"]
         return Structure(links=(LinkPart(f["link"], a, (a, d)), LinkPart(barrel, c, (c,)),
                                 LinkPart(rod, d, (d,), block=True)),
                          slides=(Slide(rod, barrel, d, driven=True),))
 
     def slide_frames(self, e):
-        return {cylinder(e["name"])[1]: (e["from"][1], e["point"], 0.0)}
+        return {e["cylinder"][1]: (e["from"][1], e["point"], 0.0)}
 
     def input_joint(self, e):
         return e["from"][1]
@@ -110,7 +188,7 @@ class Actuator(Kind):
             st.points[a_], st.points[c_], e["length"], st.q[j], st.qd[j], st.qdd[j], e["branch"], e["stroke"])
         st.points[e["point"]] = D
         st.links[e["link"]] = (cl, sl, w1, al1)
-        barrel, rod = cylinder(e["name"])
+        barrel, rod = e["cylinder"]
         st.links[barrel] = st.links[rod] = (ce, se, w2, al2)
         st.slides[rod] = lq
 
@@ -126,13 +204,13 @@ class Actuator(Kind):
 
     def measured_extras(self, e, st):
         """Its length and rates: the measured rod's slide."""
-        s, ds, dds = st.slides[cylinder(e["name"])[1]]
+        s, ds, dds = st.slides[e["cylinder"][1]]
         key = self.input_key(e)
         return dict(zip((c + key for c in self.columns), (s, ds, dds)))
 
     def singularity(self, e, st, size):
         c1, s1, _, _ = st.links[e["link"]]
-        c2, s2, _, _ = st.links[cylinder(e["name"])[0]]
+        c2, s2, _, _ = st.links[e["cylinder"][0]]
         return np.abs(c1 * s2 - s1 * c2)            # sin of the angle between the link and the cylinder
 
     def forces(self, e, ctx):
@@ -142,7 +220,7 @@ class Actuator(Kind):
         the link and the cylinder align). The rod's balance along C -> D is the drive, across it the guide's
         normal force, its moment about D the guide's couple; C and A carry the rest of each part's load."""
         (a, c), d, link = e["from"], e["point"], e["link"]
-        barrel, rod = cylinder(e["name"])
+        barrel, rod = e["cylinder"]
         ax, ay = ctx.xy(a)
         cx, cy = ctx.xy(c)
         dx, dy = ctx.xy(d)
@@ -163,11 +241,6 @@ class Actuator(Kind):
         # the barrel gets minus the rod's guide force and drive: its pin C takes the rest
         ctx.pin(c, barrel, -(fb[0] + tx), -(fb[1] + ty))
         ctx.pin(a, link, -(fl[0] - gx), -(fl[1] - gy))
-
-
-def cylinder(name: str) -> tuple[str, str]:
-    """The barrel's and the rod's link names of the actuator called ``name``."""
-    return f"{name}_barrel", f"{name}_rod"
 
 
 def pressure(e: dict, force) -> tuple[np.ndarray, np.ndarray] | None:

@@ -347,6 +347,12 @@ class Kind:
         (``size``: the mechanism's size in file units)."""
         raise NotImplementedError
 
+    def joints_ready(self, item: dict, dec) -> bool:
+        """For inputs in the links-and-joints form: whether what the entry's input needs is placed (a crank's
+        ground pivot: at once; a motor's carrier link: once the groups before it are found); the decomposer
+        asks again after each group until it is."""
+        return True
+
     def from_joints(self, item: dict, where: str, dec) -> None:
         """For inputs in the links-and-joints form: check the entry ``item`` (at ``where``, e.g.
         ``inputs[1]``) against the links and joints and write its element, through the decomposer ``dec``
