@@ -21,7 +21,7 @@ import math
 
 import numpy as np
 
-from .base import GROUND, SIZE_PER_SECOND, Field, Kind, LinkPart, Slide, State, Structure
+from .base import GROUND, SIZE_PER_SECOND, Cylinder, Field, Kind, LinkPart, Slide, State, Structure
 
 STROKE_ROUNDING = 1e-12
 """[of the stroke's extended length] A length this far beyond an end of the stroke is at the end (rounding of
@@ -177,6 +177,11 @@ class Actuator(Kind):
 
     def slide_frames(self, e):
         return {e["cylinder"][1]: (e["from"][1], e["point"], 0.0)}
+
+    def cylinders(self, e):
+        barrel, rod = e["cylinder"]
+        lo, hi = e["stroke"]
+        return (Cylinder(barrel, rod, e["from"][1], e["point"], lo, hi, e["bore"]),)
 
     def input_joint(self, e):
         return e["from"][1]

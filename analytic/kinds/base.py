@@ -173,6 +173,26 @@ class Wheel:
     ring: bool = False
 
 
+BARREL = 0.85
+"""A cylinder's barrel as drawn (videos, MuJoCo's geoms): this fraction of its retracted pin-to-pin length long."""
+ROD_INSIDE = 0.55
+"""A cylinder's rod as drawn: from its pin back to this fraction of the retracted length from the barrel's pin."""
+
+
+@dataclass(frozen=True)
+class Cylinder:
+    """A linear actuator as drawn: its barrel link pinned at ``base`` and its rod link pinned at ``end`` (point
+    names), its retracted and extended pin-to-pin lengths [m] and its bore [m] (0: not given)."""
+
+    barrel: str
+    rod: str
+    base: str
+    end: str
+    retracted: float
+    extended: float
+    bore: float = 0.0
+
+
 @dataclass(frozen=True)
 class JitSpec:
     """A kind's compiled row (see :mod:`analytic.solver.jit`): ``layout(e, L, row, par)`` fills the kind's
@@ -412,6 +432,10 @@ class Kind:
 
     def wheels(self, e: dict, pose: dict) -> tuple[Wheel, ...]:
         """Gears to draw on links (:class:`Wheel`), given the start pose ({point: (x, y)} [m])."""
+        return ()
+
+    def cylinders(self, e: dict) -> tuple[Cylinder, ...]:
+        """Linear actuators to draw as a barrel and a rod (:class:`Cylinder`), instead of their two links."""
         return ()
 
     def describe(self, e: dict, pose: dict, unit: tuple[float, str]) -> str:
