@@ -146,6 +146,9 @@ class Actuator(Kind):
             return f"field 'rod': the rod's diameter {e['rod']:g} m must be smaller than the bore {e['bore']:g} m"
         return None
 
+    def stops(self, e):
+        return tuple(e["stroke"])
+
     def motion_problem(self, e, column, t, q):
         """Refuse a motion that drives the actuator past either end of its stroke: the first time (or sample)
         it does and the farthest it goes."""

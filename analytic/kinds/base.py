@@ -349,6 +349,10 @@ class Kind:
         actuator, a motor between two links) is named by its own ``name`` instead."""
         return e["link"]
 
+    def stops(self, e: dict) -> tuple[float, float] | None:
+        """For inputs: the ends its coordinate cannot pass whatever the linkage (an actuator's stroke), or None."""
+        return None
+
     def motion_problem(self, e: dict, column: str, t, q) -> str | None:
         """For inputs: a problem with the input's motion ``q`` at times ``t`` [s] (``t`` None: samples of unknown
         time), one line naming the field (an actuator driven past its stroke), or None."""
