@@ -85,6 +85,13 @@ def wheels_of(mech) -> tuple:
     return tuple(w for k, e in hooks for w in k.wheels(e, pose))
 
 
+def cylinders_of(mech) -> tuple:
+    """The linear actuators drawn as a barrel and a rod (:class:`analytic.kinds.base.Cylinder`), as ``mech``'s
+    kinds give them (the videos here, the app's page from :func:`sim.front.app.describe`)."""
+    from analytic import kinds
+    return tuple(c for e in mech.geometry.elements for c in kinds.get(e["kind"]).cylinders(e))
+
+
 def scene(built, xy: np.ndarray, display, path: np.ndarray | None = None) -> Scene:
     """The scene of a run whose points move through ``xy`` (frames, points, 2), the view holding them
     and the output point's whole recorded ``path`` (steps, 2) [m] (its tips may fall between frames)."""
@@ -101,8 +108,7 @@ def scene(built, xy: np.ndarray, display, path: np.ndarray | None = None) -> Sce
     lo, hi = (finite.min(axis=0), finite.max(axis=0)) if len(finite) else (np.array([-1.0, -1]), np.array([1.0, 1]))
     pad = PAD * max(float(np.max(hi - lo)), 1e-9)
     first = mech.inputs[0]
-    from analytic import kinds
-    cylinders = tuple(c for e in mech.geometry.elements for c in kinds.get(e["kind"]).cylinders(e))
+    cylinders = cylinders_of(mech)
     drawn = {ln for c in cylinders for ln in (c.barrel, c.rod)}    # the cylinders draw their own two links
     return Scene(tuple((d["name"], tuple(d["points"]), d["block"]) for d in link_drawing(mech) if d["name"] not in drawn),
                  tuple(mech.points), tuple(mech.ground_points), mech.output_point,
