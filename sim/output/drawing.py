@@ -92,6 +92,14 @@ def cylinders_of(mech) -> tuple:
     return tuple(c for e in mech.geometry.elements for c in kinds.get(e["kind"]).cylinders(e))
 
 
+def cylinder_drawing(mech) -> list[dict]:
+    """:func:`cylinders_of` as the app's page draws them: each cylinder's fields and its drawn barrel's length and
+    its rod's inner end from the barrel's pin [m] (BARREL, ROD_INSIDE of the retracted length)."""
+    import dataclasses
+    return [{**dataclasses.asdict(c), "barrel_length": BARREL * c.retracted, "rod_inside": ROD_INSIDE * c.retracted}
+            for c in cylinders_of(mech)]
+
+
 def scene(built, xy: np.ndarray, display, path: np.ndarray | None = None) -> Scene:
     """The scene of a run whose points move through ``xy`` (frames, points, 2), the view holding them
     and the output point's whole recorded ``path`` (steps, 2) [m] (its tips may fall between frames)."""
