@@ -353,3 +353,23 @@ def test_an_actuator_whose_p_joint_is_not_along_its_pins_is_refused(tmp_path):
     path = tmp_path / "bad.toml"
     path.write_text(TIPPER_JOINTS.replace('along = "C"', 'angle = "10deg"'))
     _refused(run("check", path), "inputs[1] (joint D)", "not along the cylinder C -> D")
+
+
+# ------------------------------------------------------------------------------------- power balance
+@pytest.mark.parametrize("path", [ACTUATOR, EXAMPLES / "actuator__on_links.toml", MOTOR], ids=lambda p: p.stem)
+def test_the_drives_equal_the_power_balance(path):
+    """Newton-Euler per group (the kinds' closed forms) against the power balance (each input's virtual power
+    from the velocity coefficients, analytic.applications.torque): two derivations of one drive."""
+    from agreement import drive, rng_for
+    from analytic import mass
+    from analytic.applications import forces as F
+    from analytic.applications import torque
+    m = analytic.load(str(path))
+    _, q, qd, qdd = drive(m, 41, rng_for(path.stem + "power"))
+    inertias = mass.model(m)
+    ne = F.solve(m, q, qd, qdd, inertias, gravity=(0.7, -G), force=(30.0, -20.0))
+    pb = torque.drive_forces(m, q, qd, qdd, inertias, None, (0.7, -G), (30.0, -20.0))
+    for inp in m.inputs:
+        peak = float(np.max(np.abs(pb[inp.link])))
+        # rounding of two eliminations of one linear system, relative to the drive's peak
+        assert np.max(np.abs(ne.drives[inp.link] - pb[inp.link])) <= 1e-9 * peak, inp.q
