@@ -373,3 +373,30 @@ def test_the_drives_equal_the_power_balance(path):
         peak = float(np.max(np.abs(pb[inp.link])))
         # rounding of two eliminations of one linear system, relative to the drive's peak
         assert np.max(np.abs(ne.drives[inp.link] - pb[inp.link])) <= 1e-9 * peak, inp.q
+
+
+# ------------------------------------------------------------------------------------------- library
+@pytest.mark.parametrize("name", ["arm_2r", "dump_tipper", "excavator", "scissor_lift"])
+def test_the_drive_mechanisms_of_the_library_pass_compare_under_gravity(name):
+    """MuJoCo (the cylinders as barrel and rod bodies on a driven slide, the elbow a driven hinge between its
+    links) against the closed forms, with their joint forces, under gravity."""
+    from sim import service
+    from sim.model.settings import Loads
+    _, c = service.compare(analytic.load(name), loads=Loads(gravity=(0.0, -G)))
+    failed = {k: v for k, v in c.errors.items() if not v["passed"]}
+    assert c.passed, (failed, c.drive_error, c.work_balance)
+
+
+def test_the_model_tree_hangs_a_driven_link_from_its_base():
+    """A pair driven between two moving links is measured by MuJoCo's joint as the driven link relative to its
+    base, so the spanning tree must have the base as the parent. Joints listed so that, taken in order, the
+    tree would reach the driven link b through m and hang the base from it: b's other joint is left out."""
+    from analytic.topology import Joint, _spanning_tree
+    joints = (Joint("revolute", "P", "on", "b", "P", 0, None),        # driven: b relative to on
+              Joint("revolute", "Q", "ground", "m", "Q", None, None),
+              Joint("revolute", "R", "m", "b", "R", None, None),
+              Joint("revolute", "S", "ground", "on", "S", None, None))
+    tree, loops = _spanning_tree(joints, {"on": None, "b": None, "m": None})
+    parent = {child: par for par, child, _ in tree}
+    assert parent["b"] == "on" and parent["on"] == "ground"
+    assert [lp.joint.name for lp in loops] == ["R"]
