@@ -400,3 +400,10 @@ def test_the_model_tree_hangs_a_driven_link_from_its_base():
     parent = {child: par for par, child, _ in tree}
     assert parent["b"] == "on" and parent["on"] == "ground"
     assert [lp.joint.name for lp in loops] == ["R"]
+
+
+def test_two_inputs_of_one_name_are_refused(tmp_path):
+    # a wrist motor named like the elbow: their columns (q_elbow) would collide
+    bad = _edit(tmp_path, MOTOR, "[[groups]]", '[[inputs]]\nkind = "motor"\nname = "elbow"\npivot = "C"\non = "fore"\n'
+                                              'point = "W"\nlength = 50\nlink = "wrist"\n\n[[groups]]')
+    _refused(run("check", bad), "inputs[3] (point W)", "field 'name'", "'elbow' is already named by inputs[2]")

@@ -634,6 +634,15 @@ def _check_names(source: str, params: dict, ground: dict, elements: list[Element
             if ln in params or ln in ground or ln == GROUND or any(ln in x.places for x in elements):
                 raise _fail(source, e.label, f"link name {ln!r} is also a parameter or point name; choose another")
             links[ln] = e.label
+    named: dict[str, str] = {}
+    for e in elements:                               # an input's columns and drive are named after its key
+        kind = kinds.get(e.kind)
+        if kind.section == "inputs":
+            key = kind.input_key(e.fields)
+            if key in named:
+                raise _fail(source, e.label, f"field 'name': the input {key.lstrip('_')!r} is already named by "
+                                             f"{named[key]}; give each input its own name")
+            named[key] = e.label
     points = set(ground) | {p for e in elements for p in e.places}
     for e in elements:
         kind = kinds.get(e.kind)
