@@ -407,3 +407,15 @@ def test_two_inputs_of_one_name_are_refused(tmp_path):
     bad = _edit(tmp_path, MOTOR, "[[groups]]", '[[inputs]]\nkind = "motor"\nname = "elbow"\npivot = "C"\non = "fore"\n'
                                               'point = "W"\nlength = 50\nlink = "wrist"\n\n[[groups]]')
     _refused(run("check", bad), "inputs[3] (point W)", "field 'name'", "'elbow' is already named by inputs[2]")
+
+
+def test_the_inputs_own_columns_are_converted_to_the_display_units(tmp_path):
+    out = tmp_path / "a.csv"
+    r = run("analyze", "dump_tipper", "--units", "mm", "--csv", out, "--samples", "3")
+    assert r.returncode == 0, r.stderr
+    header, first = out.read_text().splitlines()[:2]
+    row = dict(zip(header.split(","), first.split(",")))
+    assert float(row["s_tip"]) == pytest.approx(1000.0, rel=1e-12)      # l0 = 1.00 m in mm; one product
+    assert float(row["ds_tip"]) == pytest.approx(1200.0, rel=1e-12)     # v = 1.2 m/s in mm/s
+    units = json.loads((tmp_path / "a.csv.units.json").read_text())["units"]
+    assert (units["s_tip"], units["ds_tip"], units["dds_tip"]) == ("mm", "mm/s", "mm/s^2")
