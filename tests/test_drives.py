@@ -419,3 +419,13 @@ def test_the_inputs_own_columns_are_converted_to_the_display_units(tmp_path):
     assert float(row["ds_tip"]) == pytest.approx(1200.0, rel=1e-12)     # v = 1.2 m/s in mm/s
     units = json.loads((tmp_path / "a.csv.units.json").read_text())["units"]
     assert (units["s_tip"], units["ds_tip"], units["dds_tip"]) == ("mm", "mm/s", "mm/s^2")
+
+
+def test_forces_prints_the_peak_pressure():
+    r = run("forces", "dump_tipper", "--gravity", "0,-9.81", "--samples", "7")
+    assert r.returncode == 0, r.stderr
+    j = json.loads(run("forces", "dump_tipper", "--gravity", "0,-9.81", "--samples", "7", "--json").stdout)
+    peak = max(j["actuators"]["tip"]["pressure"]) / 1e5
+    line = next(ln for ln in r.stdout.splitlines() if "pressure of tip" in ln)
+    shown = float(re.search(r"peak ([0-9.]+) bar on its push area", line).group(1))
+    assert shown == pytest.approx(peak, rel=1e-4)        # printed to 5 digits

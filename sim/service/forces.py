@@ -390,6 +390,17 @@ def forces_table(run: ForceRun, display=None) -> str:
         unit, conv = (MU, M) if inp.angular else (FU, F)
         lines.append(f"  drive of {inp.q}: peak {inp.spec.drive_quantity} {conv(d['value']):.5g} "
                      f"{unit} at {at(d['at'])}")
+    for e in mech.geometry.elements:               # what a kind reports of its drive: an actuator's pressure
+        kind = kinds.get(e["kind"])
+        if kind.section != "inputs":
+            continue
+        for entries in kind.drive_report(e, f.drives[kind.input_key(e)]).values():
+            for name, rec in entries.items():
+                p = np.asarray(rec.get("pressure", []), dtype=float)
+                if p.size and np.isfinite(p).any():
+                    i = int(np.nanargmax(p))
+                    lines.append(f"  pressure of {name}: peak {p[i] / 1e5:.5g} bar on its {rec['area'][i]} area "
+                                 f"at {at(i)}")
     s = peaks["shaking"]
     lines.append(f"  shaking force: peak {F(s['F']):.5g} {FU} at {at(s['at'])} (RMS {F(s['F_rms']):.5g} {FU}); "
                  f"shaking moment about the origin: peak {M(s['M']):.5g} {MU} at {at(s['at_M'])}")
