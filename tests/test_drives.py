@@ -58,7 +58,7 @@ def test_the_motor_coordinate_is_the_relative_angle():
     rel = sol["phifore"] - sol["phiupper"]
     # q_elbow = phi(fore) - phi(upper), both atan2'd: equal modulo 2 pi to rounding
     np.testing.assert_allclose(np.angle(np.exp(1j * (rel - q[:, 1]))), 0.0, atol=1e-12)
-    np.testing.assert_allclose(sol["omegafore"] - sol["omegaupper"], math.radians(-90.0), atol=1e-12)
+    np.testing.assert_allclose(sol["omegafore"] - sol["omegaupper"], math.radians(-180.0), atol=1e-12)
 
 
 # ------------------------------------------------------------------------------ closed form, not Newton
@@ -277,12 +277,12 @@ links = ["upper", "fore"]
 [[inputs]]
 kind = "crank"
 pivot = "O"
-omega = "45deg"
+omega = "90deg"
 [[inputs]]
 kind = "motor"
 joint = "B"
 name = "elbow"
-omega = "-90deg"
+omega = "-180deg"
 """
 
 
