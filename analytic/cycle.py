@@ -140,6 +140,7 @@ class Cycle:
         turns = max(1.0, span)
         t = np.linspace(0.0, end, int(min(SAMPLES * turns, SAMPLES_MAX)) + 1)
         q, qd, qdd = mech.drive(t)
+        mech.check_motion(q, t)
         scanned = (_from_turn_scan(mech, end) or _from_rocking_scan(mech, end)) if span == 1.0 else None
         if scanned is not None:                  # the change points' scan of the turn, at unit rate
             ts, r = scanned

@@ -137,7 +137,7 @@ class Mechanism:
             motion = (Motion(e[q0], e[rate], e[accel]) if law is None
                       else Motion(e[q0], law_rate(law), 0.0, law=law))
             names = tuple(_param_name(e_def.fields[f]) for f in kind.motion_fields)
-            out.append(Input(kind.name, e["link"], e["point"], kind.input_joint(e), motion, names))
+            out.append(Input(kind.name, kind.input_key(e), e["point"], kind.input_joint(e), motion, names))
         if self.rock is not None:                  # a slider rocks at |v| / size rad/s: its rate over the size
             rate = out[0].motion.rate / out[0].spec.rate_scale(self.size)
             out[0] = replace(out[0], motion=replace(out[0].motion, rock=self.rock, q0=self.rock[0], rate=rate,
@@ -319,9 +319,22 @@ class Mechanism:
         q, qd, qdd = self.drive(t)
         return (q, qd, qdd), self.solve(q, qd, qdd)
 
+    def check_motion(self, q, t=None) -> None:
+        """Raise ParameterError where an input's kind refuses the inputs' motion ``q`` ((N, n_inputs), at times
+        ``t`` [s] when given): an actuator driven past its stroke, naming the input, the field, when and by how
+        much."""
+        q = np.asarray(q, dtype=float).reshape(-1, len(self.inputs))
+        elements = [e for e in self.geometry.elements if kinds.get(e["kind"]).section == "inputs"]
+        for e in sorted(elements, key=lambda x: x["input"]):
+            inp = self.inputs[e["input"]]
+            problem = kinds.get(e["kind"]).motion_problem(e, inp.q, t, q[:, e["input"]])
+            if problem:
+                raise ParameterError(f"{self.definition.source}: {e['label']}: {problem}")
+
     def check_assembles(self, q) -> None:
         """Raise AssemblyError naming the first input value (and element) where the mechanism cannot be
-        assembled, and the range of the first input where it can."""
+        assembled, and the range of the first input where it can (after :meth:`check_motion`)."""
+        self.check_motion(q)
         sol = self.solve(q)
         failure = sol.first_failure()
         if failure is None:
@@ -364,7 +377,7 @@ def block(geometry, q, qd, qdd, want=None, start=None, extras=True):
         kind = kinds.get(e["kind"])
         if kind.section == "inputs":
             for prefix, arr in zip(kind.columns, (q, qd, qdd)):
-                name = prefix + e["link"]
+                name = prefix + kind.input_key(e)
                 if name not in out and (want is None or name in want):
                     out[name] = np.broadcast_to(arr, np.shape(q))[e["input"]]
     return out, failed, st.carry

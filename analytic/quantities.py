@@ -82,6 +82,10 @@ def output_table(mech) -> dict[str, Output]:
             table[i.qddd] = _entry(i.qddd, ANGULAR_JERK if i.angular else JERK, f"input {i.q}", "input", i.q)
         q = i.spec.drive_quantity
         table["tau" + i.link] = _entry("tau" + i.link, q, f"drive of link {i.link}", "drive", i.link)
+        own = (ANGLE, ANGULAR_VELOCITY, ANGULAR_ACCELERATION) if i.angular else (LENGTH, VELOCITY, ACCELERATION)
+        for name, qty in zip((i.q, i.qd, i.qdd), own):   # an input's own columns (an actuator's, a motor's)
+            if name not in table:
+                table[name] = _entry(name, qty, f"input {i.q}", "input", i.link)
     for alias, target in mech.aliases.items():
         if target in table:
             table[alias] = dataclasses.replace(table[target], name=alias)

@@ -244,12 +244,13 @@ def build(ground, elements) -> Topology:
         slides.append(s.block)
     for point, at in incidence.items():
         for other in at[1:]:
-            driven = None
-            for (pin, link), k in driven_pins.items():
-                if pin == point and {at[0], other} == {GROUND, link}:
-                    driven = k
+            first, driven = at[0], None
+            for pin_, k in driven_pins.items():
+                pin, link, base = (tuple(pin_) + (GROUND,))[:3]
+                if pin == point and other == link and base in at:
+                    first, driven = base, k            # a driven revolute joins its link to its base
             name = point if len(at) == 2 else f"{point}_{other}"
-            joints.append(Joint("revolute", name, at[0], other, point, driven, None))
+            joints.append(Joint("revolute", name, first, other, point, driven, None))
     coup = []
     for i, c in couplings:
         for ln in (c.link, c.mesh, c.carrier):
@@ -264,8 +265,13 @@ def build(ground, elements) -> Topology:
 
 def _spanning_tree(joints, links):
     """(tree, loops): the tree's (parent, child, joint) from the ground outwards, driven and prismatic pairs
-    taken first, and a Loop for every joint left out."""
-    ranked = sorted(joints, key=lambda j: (j.input is None, j.kind != "prismatic"))
+    taken first (and the other joints of a link driven relative to a moving link last), and a Loop for every
+    joint left out."""
+    # a pair driven between two moving links (a motor, an actuator's slide) hangs its driven side b from its
+    # base a: b's other joints are left out first, so that the model measures b relative to a
+    hung = {j.b for j in joints if j.input is not None and GROUND not in (j.a, j.b)}
+    ranked = sorted(joints, key=lambda j: (j.input is None, j.kind != "prismatic",
+                                           j.input is None and bool(hung & {j.a, j.b})))
     parent = {GROUND: GROUND}
 
     def root(x):

@@ -37,7 +37,7 @@ def rng_for(name: str, salt: int = 0) -> np.random.Generator:
 
 
 def _laws(m):
-    """Each input's (crank or slider, q0, rate) as written in the file."""
+    """Each input's (kind name, q0, rate) as written in the file."""
     out = []
     for e in m.geometry.elements:
         kind = kinds.get(e["kind"])
@@ -50,7 +50,7 @@ def _laws(m):
 def period(m) -> float:
     """The time after which every input is back where it started (a slider: one second)."""
     laws = _laws(m)
-    if any(k == "slider" for k, _, _ in laws):
+    if any(not kinds.get(k).angular for k, _, _ in laws):      # a slider or an actuator
         return 1.0
     turns = [2 * math.pi / abs(w) for _, _, w in laws]
     if len(turns) == 1:
@@ -69,7 +69,7 @@ def drive(m, n: int, rng: np.random.Generator | None = None, endpoint: bool = Fa
     qd = np.stack([np.full(n, w) for _, _, w in laws], -1)
     qdd = np.zeros_like(q)
     if rng is not None:
-        qdd = np.stack([rng.uniform(-3, 3, n) * w * w / (1.0 if k == "crank" else m.size) for k, _, w in laws], -1)
+        qdd = np.stack([rng.uniform(-3, 3, n) * w * w / (1.0 if kinds.get(k).angular else m.size) for k, _, w in laws], -1)
     return t, q, qd, qdd
 
 

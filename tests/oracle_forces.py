@@ -115,15 +115,15 @@ def solve(mech, sol, inertias, gravity=(0.0, 0.0), force=(0.0, 0.0), force_on=1.
                 continue
             add_force(row_of[ln], ln, j.point, col[("N", j.name)], -s, c, sign)
             A[:, row_of[ln] + 2, col[("M", j.name)]] += sign
-    for inp in mech.inputs:
+    for inp in mech.inputs:                            # a couple on a driven revolute's link b (a crank, a
         jt = next(j for j in topo.joints if j.input is not None and mech.inputs[j.input].link == inp.link)
-        if inp.kind == "crank":
-            A[:, row_of[inp.link] + 2, col[("drive", inp.link)]] += 1.0
+        if jt.kind == "revolute":                      # motor), minus on its base a; a force along a driven
+            A[:, row_of[jt.b] + 2, col[("drive", inp.link)]] += 1.0     # slide's block b (a slider, an actuator's rod)
             if jt.a != GROUND:
                 A[:, row_of[jt.a] + 2, col[("drive", inp.link)]] -= 1.0
         else:
-            c, s = sol["cos" + inp.link], sol["sin" + inp.link]
-            add_force(row_of[inp.link], inp.link, jt.point, col[("drive", inp.link)], c, s)
+            c, s = sol["cos" + jt.b], sol["sin" + jt.b]
+            add_force(row_of[jt.b], jt.b, jt.point, col[("drive", inp.link)], c, s)
             if jt.a != GROUND:
                 add_force(row_of[jt.a], jt.a, jt.point, col[("drive", inp.link)], c, s, -1.0)
     for k, c in enumerate(topo.couplings):
@@ -171,10 +171,10 @@ def solve(mech, sol, inertias, gravity=(0.0, 0.0), force=(0.0, 0.0), force_on=1.
         if jt.a != GROUND:
             continue
         d = drives[inp.link]
-        if inp.kind == "crank":
+        if jt.kind == "revolute":
             sm = sm - d
         else:
-            c, s = sol["cos" + inp.link], sol["sin" + inp.link]
+            c, s = sol["cos" + jt.b], sol["sin" + jt.b]
             px, py = P(jt.point)
             sx, sy, sm = sx - d * c, sy - d * s, sm - (px * d * s - py * d * c)
     for k, c in enumerate(topo.couplings):

@@ -6,6 +6,8 @@ two scalar constraint equations per element, in the element's own point (x, y):
 
 * ``crank``   P = pivot + r (cos q, sin q)
 * ``slider``  P = O + q u                              (u: unit direction of the ground guide)
+* ``actuator`` |D - A|^2 = length^2,  |D - C|^2 = q^2  (the cylinder's pin-to-pin length is the input)
+* ``motor``   P = pivot + r (cos psi, sin psi), psi = phi_on + q (the carrier's angle as for a gear)
 * ``RRR``     |C - P|^2 = a^2,  |C - Q|^2 = b^2
 * ``RRP``     |C - P|^2 = l^2,  cross(u, C - O) = offset   (O, u: the guide line, possibly moving)
 * ``RPR``     |R - P|^2 = l^2,  cross(R - P, Q - P) = l * offset
@@ -162,6 +164,13 @@ def _frame(geometry, on, pts):
     for e in geometry.elements:
         k = e["kind"]
         if k == "crank" and e["link"] == on:
+            return pts[e["pivot"]], _unit(pts[e["pivot"]], pts[e["point"]])
+        if k == "actuator" and on == e["link"]:
+            return pts[e["from"][0]], _unit(pts[e["from"][0]], pts[e["point"]])
+        if k == "actuator" and on in e["cylinder"]:
+            P = pts[e["from"][1]] if on == e["cylinder"][0] else pts[e["point"]]
+            return P, _unit(pts[e["from"][1]], pts[e["point"]])
+        if k == "motor" and e["link"] == on:
             return pts[e["pivot"]], _unit(pts[e["pivot"]], pts[e["point"]])
         if k == "slider" and e["link"] == on:
             return pts[e["point"]], _guide(e["guide"], pts)[1]
@@ -348,6 +357,16 @@ def residual(geometry, X, Q):
             q = Q[k]
             k += 1
             rows += [R[0] - O[0] - q * ux, R[1] - O[1] - q * uy]
+        elif kind == "actuator":
+            (P, Qp), a, q = (pts[n] for n in e["from"]), e["length"], Q[k]
+            k += 1
+            rows += [_dot(R[0] - P[0], R[1] - P[1], R[0] - P[0], R[1] - P[1]) - a * a,
+                     _dot(R[0] - Qp[0], R[1] - Qp[1], R[0] - Qp[0], R[1] - Qp[1]) - q * q]
+        elif kind == "motor":
+            P, q = pts[e["pivot"]], Q[k]
+            k += 1
+            psi = _link_angle(geometry, e["on"], pts, Q)[0] + q
+            rows += [R[0] - P[0] - e["length"] * jcos(psi), R[1] - P[1] - e["length"] * jsin(psi)]
         elif kind == "RRR":
             (P, Qp), (a, b) = (pts[n] for n in e["from"]), e["lengths"]
             rows += [_dot(R[0] - P[0], R[1] - P[1], R[0] - P[0], R[1] - P[1]) - a * a,
@@ -465,7 +484,7 @@ def branch_violations(geometry, points):
             bad[e["label"]] = _group_branch_violations(e, P)
             continue
         R = P[e["point"]]
-        if e["kind"] == "RRR":
+        if e["kind"] in ("RRR", "actuator"):
             A, B = (P[n] for n in e["from"])
             side = _cross(B[0] - A[0], B[1] - A[1], R[0] - A[0], R[1] - A[1])
         elif e["kind"] == "RRP":
@@ -535,6 +554,12 @@ def slides(geometry, points):
                 out[b] = (s.c0, s.c1, 2.0 * s.c2)
             continue
         R = J[e["point"]]
+        if e["kind"] == "actuator":                 # the rod's pin D from the barrel's C along C -> D
+            Cp = J[e["from"][1]]
+            ux, uy = _unit(Cp, R)
+            s = _dot(R[0] - Cp[0], R[1] - Cp[1], ux, uy)
+            out[e["cylinder"][1]] = (s.c0, s.c1, 2.0 * s.c2)
+            continue
         if e["kind"] in ("RRP", "slider"):
             O, (ux, uy) = _guide(e["guide"], J)
             s = _dot(R[0] - O[0], R[1] - O[1], ux, uy)
@@ -577,8 +602,11 @@ def link_rates(geometry, points):
     out = {}
     for e in geometry.elements:
         k, pt = e["kind"], e["point"]
-        if k == "crank":
+        if k in ("crank", "motor"):
             out[e["link"]] = rates(e["pivot"], pt)
+        elif k == "actuator":
+            out[e["link"]] = rates(e["from"][0], pt)
+            out[e["cylinder"][0]] = out[e["cylinder"][1]] = rates(e["from"][1], pt)
         elif k == "slider":
             G = e["guide"]
             out[e["link"]] = rates(*G["points"]) if "points" in G else (0.0, 0.0)

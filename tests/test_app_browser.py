@@ -255,3 +255,13 @@ def test_open_a_gear_train_and_a_pyslvs_project(page, tmp_path):
     settle(page, r0)
     page.wait_for_function("window.linkageState.mechanism === 'fourbar' && window.linkageState.describe.wheels.length === 0")
     assert page.locator("#mechanism option:checked").inner_text() == "fourbar (Pyslvs project)"
+
+
+def test_an_actuator_mechanism_opens_with_its_cylinders_drawn(page):
+    r0 = revision(page)
+    page.select_option("#mechanism", "excavator")
+    settle(page, r0)
+    page.wait_for_function("window.linkageState.mechanism === 'excavator'")
+    cyl = page.evaluate("window.linkageState.describe.cylinders.map(c => [c.barrel, c.rod, c.base, c.end])")
+    assert cyl == [["boom_barrel", "boom_rod", "C1", "D1"], ["stick_barrel", "stick_rod", "C2", "D2"],
+                   ["bucket_barrel", "bucket_rod", "C3", "D3"]]

@@ -97,13 +97,15 @@ def test_the_shaking_force_is_what_the_ground_joints_carry(name):
             continue
         x, y = sol["x" + j.point], sol["y" + j.point]
         sx, sy, sm = sx - f.F[k, 0], sy - f.F[k, 1], sm - (x * f.F[k, 1] - y * f.F[k, 0]) - f.M(k)
-    for inp in m.inputs:
-        d = f.drives[inp.link]
-        if inp.kind == "crank":
+    for k, j in enumerate(f.joints):               # a drive housed on the ground (a motor's on a moving link
+        if j.input is None or j.a != "ground":     # or an actuator's barrel: no reaction on the ground)
+            continue
+        d = f.drives[m.inputs[j.input].link]
+        if j.kind == "revolute":
             sm = sm - d
         else:
-            c, s = sol["cos" + inp.link], sol["sin" + inp.link]
-            x, y = sol["x" + inp.point], sol["y" + inp.point]
+            c, s = sol["cos" + j.b], sol["sin" + j.b]
+            x, y = sol["x" + j.point], sol["y" + j.point]
             sx, sy, sm = sx - d * c, sy - d * s, sm - (x * d * s - y * d * c)
     plan = F.plan(m)
     for k, (c, r) in enumerate(zip(plan.couplings, plan.ratios)):   # a gear pair's couple on a ground carrier

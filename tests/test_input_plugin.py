@@ -184,8 +184,9 @@ STEPHENSON = Path(__file__).resolve().parent / "peers_examples" / "stephenson.to
     ('kind = "geared_crank"\nspeed = 2', "inputs[1]: unknown field 'speed'; a geared_crank takes kind, omega, pivot, "
                                          "point, ratio"),
     ('kind = "cam"', 'inputs[1]: unknown kind \'cam\'; an input is kind = "crank" (a link turned about a ground '
-                     'pivot) or "slider" (a block driven along a ground guide) or "geared_crank" (a link turned by a '
-                     'motor through a gear pair)'),
+                     'pivot) or "slider" (a block driven along a ground guide) or "actuator" (a cylinder: the P joint '
+                     'between its barrel and its rod, pinned at C and D) or "motor" (a link turned by a motor at an R '
+                     'joint with another moving link) or "geared_crank" (a link turned by a motor through a gear pair)'),
 ])
 def test_the_links_and_joints_form_asks_the_registered_kinds(tmp_path, monkeypatch, entry, expected):
     monkeypatch.setitem(kinds.KINDS, GearedInJoints.name, GearedInJoints())

@@ -285,7 +285,8 @@ def reduce(mech, inertias: dict, flywheel: float = 0.0, gravity=(0.0, 0.0), forc
                              f"coordinate needs one (two cranks: run_two, a motor on each)")
     inp = mech.inputs[0]
     if not inp.angular:
-        raise ParameterError(f"the {mech.name}'s input {inp.q} is a slider; a motor drives a crank")
+        raise ParameterError(f"the {mech.name}'s input {inp.q} is a {inp.kind} (a length); a motor drives an "
+                             f"angle (a crank, a motor)")
     if not (isinstance(flywheel, (int, float)) and math.isfinite(flywheel) and flywheel >= 0):
         raise ParameterError(f"--flywheel {flywheel!r} must be a finite number >= 0 [kg m^2]")
     unknown = set(inertias) - set(mech.links)

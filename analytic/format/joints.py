@@ -652,16 +652,24 @@ class _Decomposer:
         return name
 
     # ---------------------------------------------------------------------------------- inputs
-    def inputs(self):
-        for item, where in self.f.inputs:                  # each input kind places its own
-            n = len(self.items)
+    def inputs(self) -> bool:
+        """Place every input whose kind says it is ready (each input kind places its own); the others wait for
+        the groups that place what they need (a motor's carrier). Whether one was placed. A motion law on the
+        entry (SPEC "Motion laws") replaces the kind's own: its rates dropped, a table's start too."""
+        placed = False
+        for item, where in list(self.waiting):
             kind = kinds.get(item["kind"])
-            kind.from_joints(item, where, self)
-            law = {f: item[f] for f in LAW_FIELDS if f in item}
-            if law and len(self.items) > n:                # a motion law replaces the kind's own (SPEC "Motion
-                emitted, w = self.items[n]                 # laws"): its rates dropped, a table's start too
-                drop = kind.motion_fields[1:] if "segments" in law else kind.motion_fields
-                self.items[n] = ({**{k: v for k, v in emitted.items() if k not in drop}, **law}, w)
+            if kind.joints_ready(item, self):
+                self.waiting.remove((item, where))
+                n = len(self.items)
+                kind.from_joints(item, where, self)
+                law = {f: item[f] for f in LAW_FIELDS if f in item}
+                if law and len(self.items) > n:
+                    emitted, w = self.items[n]
+                    drop = kind.motion_fields[1:] if "segments" in law else kind.motion_fields
+                    self.items[n] = ({**{k: v for k, v in emitted.items() if k not in drop}, **law}, w)
+                placed = True
+        return placed
 
     # what the input kinds' from_joints use (analytic.kinds.base.Kind.from_joints)
     SINGULAR = SINGULAR
@@ -678,15 +686,25 @@ class _Decomposer:
 
     # ------------------------------------------------------------------------------------ groups
     def run(self) -> None:
+        self.waiting = list(self.f.inputs)
         self.inputs()
         while True:
+            if self.waiting and self.inputs():
+                continue
             todo = [ln for ln in self.points if ln not in self.known]
             if not todo:
                 break
             for ln in todo:
                 self.check_single(ln)
             if not (self.gears(todo) or self.dyad(todo)):
-                self.group(todo)
+                try:
+                    self.group(todo)
+                except FileError:
+                    for item, where in self.waiting:      # an input still waiting says what it lacks first
+                        kinds.get(item["kind"]).from_joints(item, where, self)
+                    raise
+        for item, where in self.waiting:                  # an input whose links other groups placed
+            kinds.get(item["kind"]).from_joints(item, where, self)
         if self.geared != len(self.f.meshes):
             names = ", ".join(f"{m.point} ({m.a}, {m.b})" for m in self.f.meshes)
             raise self.fail(f"gear meshes {names}", f"{len(self.f.meshes)} gear meshes but only {self.geared} links "

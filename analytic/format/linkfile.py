@@ -492,7 +492,9 @@ def _default(default, item):
 
 def _names(item) -> dict:
     f = item.get("from")
+    name = item.get("name", item.get("point", ""))
     return {"pivot": item.get("pivot", ""), "point": item.get("point", ""), "through": item.get("through", ""),
+            "name": name if isinstance(name, str) else "",
             "from": f if isinstance(f, str) else "", "from0": f[0] if isinstance(f, list) and f else "",
             "from1": f[1] if isinstance(f, list) and len(f) > 1 else ""}
 
@@ -643,6 +645,15 @@ def _check_names(source: str, params: dict, ground: dict, elements: list[Element
             if ln in params or ln in ground or ln == GROUND or any(ln in x.places for x in elements):
                 raise _fail(source, e.label, f"link name {ln!r} is also a parameter or point name; choose another")
             links[ln] = e.label
+    named: dict[str, str] = {}
+    for e in elements:                               # an input's columns and drive are named after its key
+        kind = kinds.get(e.kind)
+        if kind.section == "inputs":
+            key = kind.input_key(e.fields)
+            if key in named:
+                raise _fail(source, e.label, f"field 'name': the input {key.lstrip('_')!r} is already named by "
+                                             f"{named[key]}; give each input its own name")
+            named[key] = e.label
     points = set(ground) | {p for e in elements for p in e.places}
     for e in elements:
         kind = kinds.get(e.kind)

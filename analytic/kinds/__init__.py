@@ -11,6 +11,8 @@ from .base import GROUND, Kind
 MODULES = (
     "crank",
     "slider",
+    "actuator",
+    "motor",
     "rrr",
     "rrp",
     "rpr",

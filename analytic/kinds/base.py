@@ -141,8 +141,9 @@ class Structure:
     couplings: tuple[Coupling, ...] = ()
     pins: tuple[tuple[str, str], ...] = ()
     """Extra (point, link) incidences: a link pinned at a point it did not create."""
-    driven_pin: tuple[str, str] | None = None
-    """For a driven revolute (a crank): (its point, the driven link); the other link there is the ground."""
+    driven_pin: tuple[str, ...] | None = None
+    """For a driven revolute: (its point, the driven link) with the ground as its base (a crank), or (its point,
+    the driven link, the base link) between two moving links (a motor); the joint is between base and link."""
 
 
 @dataclass(frozen=True)
@@ -170,6 +171,26 @@ class Wheel:
     teeth: int
     phase: float
     ring: bool = False
+
+
+BARREL = 0.85
+"""A cylinder's barrel as drawn (videos, MuJoCo's geoms): this fraction of its retracted pin-to-pin length long."""
+ROD_INSIDE = 0.55
+"""A cylinder's rod as drawn: from its pin back to this fraction of the retracted length from the barrel's pin."""
+
+
+@dataclass(frozen=True)
+class Cylinder:
+    """A linear actuator as drawn: its barrel link pinned at ``base`` and its rod link pinned at ``end`` (point
+    names), its retracted and extended pin-to-pin lengths [m] and its bore [m] (0: not given)."""
+
+    barrel: str
+    rod: str
+    base: str
+    end: str
+    retracted: float
+    extended: float
+    bore: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -322,6 +343,21 @@ class Kind:
         """For inputs: the point it turns or slides about (its pivot, or the guide's origin)."""
         raise NotImplementedError
 
+    def input_key(self, e: dict) -> str:
+        """For inputs: what its columns and its drive are named after (:attr:`analytic.motion.Input.link`): its
+        driven link by default (``phi1`` for crank link 1); an input that drives a pair of moving parts (an
+        actuator, a motor between two links) is named by its own ``name`` instead."""
+        return e["link"]
+
+    def stops(self, e: dict) -> tuple[float, float] | None:
+        """For inputs: the ends its coordinate cannot pass whatever the linkage (an actuator's stroke), or None."""
+        return None
+
+    def motion_problem(self, e: dict, column: str, t, q) -> str | None:
+        """For inputs: a problem with the input's motion ``q`` at times ``t`` [s] (``t`` None: samples of unknown
+        time), one line naming the field (an actuator driven past its stroke), or None."""
+        return None
+
     # ---------------------------------------------------------------------- links-and-joints form
     joints_form: dict[str, str] | None = None
     """For inputs the links-and-joints form (:mod:`analytic.format.joints`) takes: the fields its
@@ -334,6 +370,12 @@ class Kind:
         """For inputs: the field of its rate and the value written when a file or an importer gives none
         (``size``: the mechanism's size in file units)."""
         raise NotImplementedError
+
+    def joints_ready(self, item: dict, dec) -> bool:
+        """For inputs in the links-and-joints form: whether what the entry's input needs is placed (a crank's
+        ground pivot: at once; a motor's carrier link: once the groups before it are found); the decomposer
+        asks again after each group until it is."""
+        return True
 
     def from_joints(self, item: dict, where: str, dec) -> None:
         """For inputs in the links-and-joints form: check the entry ``item`` (at ``where``, e.g.
@@ -396,6 +438,10 @@ class Kind:
         """Gears to draw on links (:class:`Wheel`), given the start pose ({point: (x, y)} [m])."""
         return ()
 
+    def cylinders(self, e: dict) -> tuple[Cylinder, ...]:
+        """Linear actuators to draw as a barrel and a rod (:class:`Cylinder`), instead of their two links."""
+        return ()
+
     def describe(self, e: dict, pose: dict, unit: tuple[float, str]) -> str:
         """A line about the resolved element at a pose ({point: (x, y)} [m]) for ``linkage check`` (a gear
         pair's pitch radii), lengths in ``unit`` (metres per unit, its name); "" for nothing to say."""
@@ -409,6 +455,15 @@ class Kind:
         the element's Newton-Euler equations from the topology and solves them per sample; a kind with a
         closed form overrides it."""
         ctx.generic(e)
+
+    report_units: dict = {}
+    """For inputs: the units of what :meth:`drive_report` reports, {section: {field: unit}}."""
+
+    def drive_report(self, e: dict, drive) -> dict:
+        """For inputs: what ``linkage forces --json`` reports of its drive besides the drive itself (``drive``:
+        over the samples, SI), as {section: {name: entry}} merged into the record (an actuator's pressure);
+        {} for nothing."""
+        return {}
 
     # -------------------------------------------------------------------------------- simulation
     def mjcf(self, e: dict, model) -> None:

@@ -235,8 +235,9 @@ def describe(mech: Mechanism) -> dict:
         base = "rad" if i.angular else mech.units
         _, speed, accel = i.parameters
         rates.update({name: unit for name, unit in ((speed, f"{base}/s"), (accel, f"{base}/s^2")) if name})
-    from sim.output.drawing import wheels_of
+    from sim.output.drawing import cylinder_drawing, wheels_of
     d["wheels"] = [dataclasses.asdict(w) for w in wheels_of(mech)]      # gears, drawn as the videos draw them
+    d["cylinders"] = cylinder_drawing(mech)                             # actuators, drawn as the videos draw them
     size = mech.size / mech.scale                   # [file units]
     for p in d["parameters"]:
         p["unit"] = rates.get(p["name"], p["unit"])

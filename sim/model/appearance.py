@@ -15,6 +15,8 @@ COLORS = ["crank", "coupler", "rocker", "slider", "ground"]
 
 def draw_link(spec, body, mech, points, frames, link, members, radius, material):
     origin = mech.link_origins[link]
+    if _draw_cylinder_part(body, mech, points, link, radius):
+        return
     if link in mech.slides:
         s = 0.04 * mech.size
         body.add_geom(name=link, type=mujoco.mjtGeom.mjGEOM_BOX, size=[1.6 * s, s, 0.5 * radius],
@@ -32,6 +34,31 @@ def draw_link(spec, body, mech, points, frames, link, members, radius, material)
     body.add_geom(name=f"pin_{link}_{origin}", type=mujoco.mjtGeom.mjGEOM_CYLINDER,
                   size=[1.4 * radius, 0.7 * radius, 0], pos=[0, 0, z + radius], material="pin",
                   contype=0, conaffinity=0, density=0)
+
+
+def _draw_cylinder_part(body, mech, points, link, radius) -> bool:
+    """A linear actuator's barrel (a wide capsule from its pin along the cylinder) or rod (a thin one from its
+    pin back into the barrel), as the videos draw them (sim.output.drawing); False for any other link. Both
+    bodies' x-axes point along the cylinder, base -> end."""
+    from analytic import kinds
+    from analytic.kinds.base import BARREL, ROD_INSIDE
+    for e in mech.geometry.elements:
+        for c in kinds.get(e["kind"]).cylinders(e):
+            if link not in (c.barrel, c.rod):
+                continue
+            (bx, by), (ex, ey) = points[c.base], points[c.end]
+            l0 = math.hypot(ex - bx, ey - by)
+            wide = max(1.5 * radius, 0.5 * c.bore)
+            x0, x1, r = ((0.0, BARREL * c.retracted, wide) if link == c.barrel
+                         else (-(l0 - ROD_INSIDE * c.retracted), 0.0, 0.45 * wide))
+            if x1 - x0 > 1e-6 * mech.size:
+                body.add_geom(name=f"{link}_{'barrel' if link == c.barrel else 'rod'}", type=mujoco.mjtGeom.mjGEOM_CAPSULE,
+                              size=[r, 0, 0], fromto=[x0, 0, -radius, x1, 0, -radius],
+                              material="ground" if link == c.barrel else "slider", contype=0, conaffinity=0, density=0)
+            body.add_geom(name=f"pin_{link}", type=mujoco.mjtGeom.mjGEOM_CYLINDER, size=[1.4 * radius, 0.7 * radius, 0],
+                          pos=[0, 0, radius], material="pin", contype=0, conaffinity=0, density=0)
+            return True
+    return False
 
 
 def draw_ground(spec, mech, points, radius, cycle=None):

@@ -14,6 +14,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from analytic.kinds.base import BARREL, ROD_INSIDE
+
 COLORS = ("#1f77b4", "#2ca02c", "#9467bd", "#ff7f0e", "#17becf", "#8c564b", "#e377c2", "#bcbd22")
 """The app's link colours, in the app's order (sim/front/static/app.js COLORS): no red, the output point's
 path's colour."""
@@ -41,6 +43,8 @@ class Scene:
     input_is_angle: bool
     wheels: tuple = ()
     """Gears drawn on links (:class:`analytic.kinds.base.Wheel`), from the kinds."""
+    cylinders: tuple = ()
+    """Linear actuators drawn as a barrel and a rod (:class:`analytic.kinds.base.Cylinder`), from the kinds."""
     force_scale: float = 0.0
     """[m per N] The length of a joint-force arrow per newton (0: no arrows), see :func:`force_arrows`."""
     force_ref: float = 0.0
@@ -81,6 +85,21 @@ def wheels_of(mech) -> tuple:
     return tuple(w for k, e in hooks for w in k.wheels(e, pose))
 
 
+def cylinders_of(mech) -> tuple:
+    """The linear actuators drawn as a barrel and a rod (:class:`analytic.kinds.base.Cylinder`), as ``mech``'s
+    kinds give them (the videos here, the app's page from :func:`sim.front.app.describe`)."""
+    from analytic import kinds
+    return tuple(c for e in mech.geometry.elements for c in kinds.get(e["kind"]).cylinders(e))
+
+
+def cylinder_drawing(mech) -> list[dict]:
+    """:func:`cylinders_of` as the app's page draws them: each cylinder's fields and its drawn barrel's length and
+    its rod's inner end from the barrel's pin [m] (BARREL, ROD_INSIDE of the retracted length)."""
+    import dataclasses
+    return [{**dataclasses.asdict(c), "barrel_length": BARREL * c.retracted, "rod_inside": ROD_INSIDE * c.retracted}
+            for c in cylinders_of(mech)]
+
+
 def scene(built, xy: np.ndarray, display, path: np.ndarray | None = None) -> Scene:
     """The scene of a run whose points move through ``xy`` (frames, points, 2), the view holding them
     and the output point's whole recorded ``path`` (steps, 2) [m] (its tips may fall between frames)."""
@@ -97,10 +116,12 @@ def scene(built, xy: np.ndarray, display, path: np.ndarray | None = None) -> Sce
     lo, hi = (finite.min(axis=0), finite.max(axis=0)) if len(finite) else (np.array([-1.0, -1]), np.array([1.0, 1]))
     pad = PAD * max(float(np.max(hi - lo)), 1e-9)
     first = mech.inputs[0]
-    return Scene(tuple((d["name"], tuple(d["points"]), d["block"]) for d in link_drawing(mech)), tuple(mech.points),
-                 tuple(mech.ground_points), mech.output_point,
+    cylinders = cylinders_of(mech)
+    drawn = {ln for c in cylinders for ln in (c.barrel, c.rod)}    # the cylinders draw their own two links
+    return Scene(tuple((d["name"], tuple(d["points"]), d["block"]) for d in link_drawing(mech) if d["name"] not in drawn),
+                 tuple(mech.points), tuple(mech.ground_points), mech.output_point,
                  (lo[0] - pad, lo[1] - pad, hi[0] + pad, hi[1] + pad), mech.size, display, first.q,
-                 first.angular, wheels)
+                 first.angular, wheels, cylinders=cylinders)
 
 
 ARROW_REACH = 0.4
@@ -108,6 +129,10 @@ ARROW_REACH = 0.4
 peak that lasts an instant leaves short arrows elsewhere (the Jansen leg's forces are a twentieth of their
 peak away from 190-200 deg); the legend gives the scale."""
 FORCE_COLOR = "#c51b8a"
+CYLINDER = "#5a6470"
+"""A cylinder's barrel."""
+ROD = "#b8c2cc"
+"""A cylinder's rod."""
 
 
 def force_arrows(sc: Scene, peak: float, label: str | None = None) -> Scene:
@@ -196,6 +221,9 @@ class Painter:
                    joint="curve")                          # at least 2 pixels wide in the smallest frames
         P = self.px(xy)
         at = {p: P[i] for p, i in self.index.items() if np.all(np.isfinite(P[i]))}
+        for c in sc.cylinders:                                 # under the links they push
+            if c.base in at and c.end in at:
+                self._cylinder(d, c, at[c.base], at[c.end])
         for k, (name, pts, block) in enumerate(sc.links):
             self._link(d, [at[p] for p in pts if p in at], COLORS[k % len(COLORS)], block, angles.get(name, 0.0))
         for g in sc.ground:
@@ -256,6 +284,22 @@ class Painter:
             r = w / 2
             for p in pts:                                     # round caps
                 d.ellipse([p[0] - r, p[1] - r, p[0] + r, p[1] + r], fill=color)
+
+    def _cylinder(self, d, c, base, end) -> None:
+        """A barrel from its pin ``base`` along the cylinder (BARREL of the retracted length) and a rod from the
+        pin ``end`` back into it (to ROD_INSIDE of the retracted length from the base), pixel positions."""
+        u = self.u
+        dx, dy = end[0] - base[0], end[1] - base[1]
+        length = math.hypot(dx, dy)
+        if length <= 0:
+            return
+        ex, ey = dx / length, dy / length
+        lo = c.retracted * self.s
+        wide = max(9 * u, c.bore * self.s) if c.bore > 0 else max(9 * u, 0.035 * self.sc.size * self.s)
+        inside = min(ROD_INSIDE * lo, length)
+        d.line([(base[0] + ex * inside, base[1] + ey * inside), tuple(end)], fill=ROD, width=max(1, round(0.45 * wide)))
+        barrel = min(BARREL * lo, length)                    # over the rod's end inside it
+        d.line([tuple(base), (base[0] + ex * barrel, base[1] + ey * barrel)], fill=CYLINDER, width=round(wide))
 
     def _wheel(self, d, w, xy, color) -> None:
         """A gear: its toothed outline about its centre, turned with its link (the direction centre -> ref);

@@ -8,7 +8,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from analytic import ParameterError
+from analytic import ParameterError, kinds
 from analytic.mechanism import Mechanism
 from sim.service.analysis import check_range, check_revolutions, check_samples, check_turns_fully
 from sim.service.simulation import _visited
@@ -114,6 +114,7 @@ def forces_run(mech: Mechanism, samples: int = 361, revolutions: float = 1.0, in
     from sim.service import loads as L
     t, cycles = L.run_times(mech, samples, revolutions, at)
     q, qd, qdd = mech.drive(t)
+    mech.check_motion(q, t)
     mech.check_assembles(q)
     check_forces_singular(mech, q)
     sol = mech.solve(q, qd, qdd, outputs=L.K.full_wanted(mech))
@@ -207,6 +208,12 @@ def forces_record(run: ForceRun, display=None) -> dict:
                         "time": "s", "force": "N", "torque": "N m", "mass": "kg", "I": "kg m^2",
                         "inputs": {inp.q: display.unit(inp_q(inp)) for inp in mech.inputs},
                         "drives": {inp.q: inp.spec.drive_unit for inp in mech.inputs}}}
+    for e in mech.geometry.elements:               # what an input's kind reports of its drive (a pressure)
+        kind = kinds.get(e["kind"])
+        if kind.section == "inputs":
+            for section, entries in kind.drive_report(e, f.drives[kind.input_key(e)]).items():
+                record.setdefault(section, {}).update(entries)
+                record["units"].setdefault(section, dict(kind.report_units.get(section, {})))
     if run.balance is not None:
         record["balance"] = balance_record(run, display)
     from sim.service import loads as L
@@ -383,6 +390,17 @@ def forces_table(run: ForceRun, display=None) -> str:
         unit, conv = (MU, M) if inp.angular else (FU, F)
         lines.append(f"  drive of {inp.q}: peak {inp.spec.drive_quantity} {conv(d['value']):.5g} "
                      f"{unit} at {at(d['at'])}")
+    for e in mech.geometry.elements:               # what a kind reports of its drive: an actuator's pressure
+        kind = kinds.get(e["kind"])
+        if kind.section != "inputs":
+            continue
+        for entries in kind.drive_report(e, f.drives[kind.input_key(e)]).values():
+            for name, rec in entries.items():
+                p = np.asarray(rec.get("pressure", []), dtype=float)
+                if p.size and np.isfinite(p).any():
+                    i = int(np.nanargmax(p))
+                    lines.append(f"  pressure of {name}: peak {p[i] / 1e5:.5g} bar on its {rec['area'][i]} area "
+                                 f"at {at(i)}")
     s = peaks["shaking"]
     lines.append(f"  shaking force: peak {F(s['F']):.5g} {FU} at {at(s['at'])} (RMS {F(s['F_rms']):.5g} {FU}); "
                  f"shaking moment about the origin: peak {M(s['M']):.5g} {MU} at {at(s['at_M'])}")

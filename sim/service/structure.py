@@ -57,8 +57,17 @@ def structure_report(mech, display=None) -> str:
         if figures.turns_fully(mech, ranges):
             lines.append(f"  {first.q} assembles over a full turn")
         elif ranges:
+            element = next(e for e in mech.geometry.elements if e.get("input") == 0
+                           and kinds.get(e["kind"]).section == "inputs")
+            stops = kinds.get(element["kind"]).stops(element)
+            ends = list(dict.fromkeys(a for r in ranges for a in r))
+            near = 1e-4 * (stops[1] - stops[0]) if stops else 0.0      # the scan's ends, found to ~1e-6 of them
+            stopped = [a for a in ends if stops and min(abs(a - stops[0]), abs(a - stops[1])) <= near]
+            dead = [a for a in ends if a not in stopped]
+            words = ([f"dead points at {', '.join(at(a) for a in dead)}"] if dead else []) + (
+                [f"stroke ends at {', '.join(at(a) for a in stopped)}"] if stopped else [])
             lines.append(f"  {first.q} assembles in {figures.describe_ranges(first, ranges, display)} (ends rounded "
-                         f"inward); dead points at " + ", ".join(dict.fromkeys(at(a) for r in ranges for a in r)))
+                         f"inward); " + "; ".join(words))
         else:
             lines.append(f"  {first.q} assembles nowhere: change the lengths")
         for x, label, _ in figures.singular_poses(mech):

@@ -1602,7 +1602,9 @@
     if (out) pathLine(v, out.x, out.y, i, "#d62728", 2.4);
     const colorOf = Object.fromEntries(d.links.map((link, k) => [link.name, COLORS[k % COLORS.length]]));
     for (const w of d.wheels || []) drawWheel(w, at, v, colorOf[w.link] || "#888888");
-    d.links.forEach((link, k) => drawLink(link, k, at, data, i, v));
+    const ownDrawn = new Set((d.cylinders || []).flatMap((c) => [c.barrel, c.rod]));   // a cylinder draws its own
+    for (const c of d.cylinders || []) drawCylinder(c, at, v, d.size);
+    d.links.filter((link) => !ownDrawn.has(link.name)).forEach((link, k) => drawLink(link, k, at, data, i, v));
     for (const g of d.ground) { const p = at(g); if (p) drawGround(p); }
     for (const name of d.points) drawJoint(name, at(name), name === d.output_point, d.ground.includes(name));
     drawLoads(v, i);
@@ -1627,6 +1629,25 @@
       ctx.fillText(label, x + 27, y);
       x += 27 + ctx.measureText(label).width + 14;
     }
+    ctx.restore();
+  }
+
+  // A linear actuator (describe's cylinders, as the videos draw them: sim/output/drawing.py Painter._cylinder):
+  // a barrel from its pin along the cylinder, a thinner rod from the other pin back into it.
+  function drawCylinder(c, at, v, size) {
+    const b = at(c.base); const e = at(c.end);
+    if (!b || !e) return;
+    const len = Math.hypot(e[0] - b[0], e[1] - b[1]);
+    if (!(len > 0)) return;
+    const ux = (e[0] - b[0]) / len; const uy = (e[1] - b[1]) / len;
+    const wide = Math.max(9, c.bore > 0 ? c.bore * v.s : 0.035 * size * v.s);
+    const inside = Math.min(c.rod_inside * v.s, len); const barrel = Math.min(c.barrel_length * v.s, len);
+    ctx.save();
+    ctx.lineCap = "butt";
+    ctx.strokeStyle = "#b8c2cc"; ctx.lineWidth = Math.max(1, 0.45 * wide);
+    ctx.beginPath(); ctx.moveTo(b[0] + ux * inside, b[1] + uy * inside); ctx.lineTo(e[0], e[1]); ctx.stroke();
+    ctx.strokeStyle = "#5a6470"; ctx.lineWidth = wide;
+    ctx.beginPath(); ctx.moveTo(b[0], b[1]); ctx.lineTo(b[0] + ux * barrel, b[1] + uy * barrel); ctx.stroke();
     ctx.restore();
   }
 
