@@ -9,6 +9,7 @@ from analytic import ParameterError
 from sim.front.cli.options import add_common, add_sim_options, add_video_options
 from sim.service import analysis as Q
 from sim.service.values import parse_value
+from sim.service.dynamics import in_units  # noqa: F401 (where the command line found it before)
 
 RPM = 2 * math.pi / 60
 
@@ -189,25 +190,6 @@ def cmd_dynamics(args) -> int:
 
 QUANTITIES = {"t": Q.TIME, "phi": Q.ANGLE, "omega": Q.ANGULAR_VELOCITY, "torque": Q.TORQUE}
 """The quantity (:mod:`analytic.quantities`) of each CSV column."""
-
-
-def in_units(record: dict, display) -> dict:
-    """A :func:`sim.run.motor.record` (SI) with its angles and speeds in ``display`` units (``--angles``,
-    ``--speeds``), the motor's torques in its force x length unit (``--units`` on a file with ``force_units``;
-    N m otherwise), times stay SI; its ``units`` table saying which."""
-    if display.is_si:
-        return record
-    names = {"phi": Q.ANGLE, "omega": Q.ANGULAR_VELOCITY, "mean_speed": Q.ANGULAR_VELOCITY, "torque": Q.TORQUE,
-             "peak_torque": Q.TORQUE}
-    out = {k: (display.convert(names[k], v) if k in names else v) for k, v in record.items()}
-    if isinstance(record.get("simulated"), dict):
-        out["simulated"] = {k: (display.convert(names[k], v) if k in names else v)
-                            for k, v in record["simulated"].items()}
-    if isinstance(record.get("units"), dict):
-        out["units"] = {**record["units"], **{k: display.unit(q) for k, q in names.items()}}
-    else:
-        out["units"] = {k: display.unit(q) for k, q in names.items()}
-    return out
 
 
 def _named(text: str, mech, option: str) -> tuple[str, str]:
