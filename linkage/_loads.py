@@ -51,17 +51,19 @@ def _force(mech, force) -> tuple[tuple[float, float], object]:
 
 
 def _torques(mech, torque) -> list:
-    """``torque={LINK: T}`` [N m, + counter-clockwise]: one constant couple per link (named ``torque``, or
-    ``torque1, torque2, ...`` when there are several, as the command line names them)."""
+    """``torque={LINK: T}`` [N m, + counter-clockwise] (or ``[(LINK, T), ...]``, a link twice): one constant
+    couple each (named ``torque``, or ``torque1, torque2, ...`` when there are several, as the command line
+    names them)."""
     from sim.service.loads import torque_load
-    if not isinstance(torque, dict):
+    items = list(torque.items()) if isinstance(torque, dict) else torque
+    if not isinstance(items, (list, tuple)) or not all(isinstance(x, (list, tuple)) and len(x) == 2 for x in items):
         raise ParameterError(f"torque={torque!r}: give {{LINK: T}} in N m, e.g. torque={{'4': -2.5}}")
     out = []
-    for k, (link, value) in enumerate(torque.items(), 1):
+    for k, (link, value) in enumerate(items, 1):
         if link not in mech.topology.links:
             raise ParameterError(f"torque={{{link!r}: ...}}: no moving link named {link!r}; links: "
                                  f"{', '.join(mech.topology.links)}")
-        out.append(torque_load(f"torque{k}" if len(torque) > 1 else "torque", link, _number("torque", value)))
+        out.append(torque_load(f"torque{k}" if len(items) > 1 else "torque", link, _number("torque", value)))
     return out
 
 

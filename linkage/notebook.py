@@ -154,7 +154,7 @@ def _run_solution(mech):
 
 
 def _file_range(mech):
-    from linkage.api import input_range_of
+    from linkage._inputs import input_range_of
     return input_range_of(mech, None)
 
 
@@ -182,43 +182,20 @@ def _scalars(record: dict) -> list[tuple]:
 
 def result_html(result) -> str:
     """A result's view: the motion (animated where it has a run: an analysis, a simulation, a comparison) and
-    a table of its figures (its ``to_dict()``'s top-level values; the forces' peaks)."""
-    from linkage import results as R
+    a table of its figures (its ``to_dict()``'s top-level values and what the result adds, ``_view()``)."""
     name = type(result).__name__
     mech = getattr(result, "mechanism", None)
-    if isinstance(result, R.Export):
-        rows = [("mechanism", mech.name), ("MJCF", f"{len(result.mjcf)} characters"),
-                ("file", f"{len(result.toml)} characters"), ("loads left out", "; ".join(result.loads_left_out))]
-        return table_html(rows, ("export", ""))
-    record = result.to_dict()
-    rows = _scalars(record)
-    if isinstance(result, R.Forces):
-        peaks = record["peaks"]
-        rows += [(f"peak |F| at {j}", e["F"]) for j, e in peaks["joints"].items()]
-        rows += [(f"peak drive {q}", e["value"]) for q, e in peaks["drives"].items()]
-        rows += [("peak shaking force", peaks["shaking"]["F"]), ("peak shaking moment", peaks["shaking"]["M"])]
-    if isinstance(result, R.Comparison):
-        rows.insert(0, ("verdict", "PASSED" if result.passed else "FAILED"))
-        rows += [(f"{k} error (max / tol)", f"{e['max']:.3g} / {e['tol']:.3g} {e['unit']}")
-                 for k, e in list(result.errors.items())[:8]]
-    if isinstance(result, R.Analysis):
-        rows += [(k, v) for k, v in _figure_rows(record.get("figures", {}))]
+    solution, extra = result._view()
+    rows = extra if solution is False else _scalars(result.to_dict()) + extra
     table = table_html(rows, (name.lower(), ""))
-    if mech is None:
+    if mech is None or solution is False:
         return f"<div><b>{html.escape(name)}</b>{table}</div>"
-    if isinstance(result, R.Analysis):
-        solution = result.analysis.solution
-    elif isinstance(result, (R.Simulation, R.Comparison)):
-        solution = result.trajectory.outputs
-    elif isinstance(result, R.Forces):
-        solution = result.run.solution
-    else:
-        solution = _run_solution(mech)
-    svg = drawing_svg(mech, solution, f"{mech.name} ({name.lower()})")
+    svg = drawing_svg(mech, solution if solution is not None else _run_solution(mech), f"{mech.name} ({name.lower()})")
     return _side_by_side(svg, table, f"{name} of the {mech.name}")
 
 
-def _figure_rows(figures: dict) -> list[tuple]:
+def figure_rows(figures: dict) -> list[tuple]:
+    """The figures of merit of an analysis's record as (name, value) rows (the short ones)."""
     out = []
     for k, v in figures.items():
         if isinstance(v, (int, float)) or (isinstance(v, list) and len(v) <= 4):

@@ -30,6 +30,11 @@ class _Result:
         from linkage.notebook import result_html
         return result_html(self)
 
+    def _view(self) -> tuple:
+        """What the notebook view draws and adds to its table: (the solution to animate, None for one cycle
+        of the mechanism, or False for no drawing; extra (name, value) rows)."""
+        return None, []
+
 
 @dataclass(frozen=True, repr=False)
 class Analysis(_Result):
@@ -76,6 +81,11 @@ class Analysis(_Result):
 
     def __repr__(self) -> str:
         return f"<Analysis of the {self.mechanism.name}: {len(self.t)} samples, columns {', '.join(self.columns)}>"
+
+
+    def _view(self) -> tuple:
+        from linkage.notebook import figure_rows
+        return self.analysis.solution, figure_rows(self.to_dict().get("figures", {}))
 
 
 @dataclass(frozen=True, repr=False)
@@ -132,6 +142,10 @@ class Simulation(_Result):
         return f"<Simulation of the {self.mechanism.name}: {tr.steps} steps of {tr.timestep:.3g} s>"
 
 
+    def _view(self) -> tuple:
+        return self.trajectory.outputs, []
+
+
 @dataclass(frozen=True, repr=False)
 class Comparison(_Result):
     """The simulation cross-validated against the closed forms (:func:`linkage.compare`, ``linkage compare
@@ -174,6 +188,13 @@ class Comparison(_Result):
 
     def __repr__(self) -> str:
         return f"<Comparison of the {self.mechanism.name}: {'PASSED' if self.passed else 'FAILED'}>"
+
+
+    def _view(self) -> tuple:
+        rows = [("verdict", "PASSED" if self.passed else "FAILED")]
+        rows += [(f"{k} error (max / tol)", f"{e['max']:.3g} / {e['tol']:.3g} {e['unit']}")
+                 for k, e in list(self.errors.items())[:8]]
+        return self.trajectory.outputs, rows
 
 
 @dataclass(frozen=True, repr=False)
@@ -247,6 +268,14 @@ class Forces(_Result):
         return f"<Forces in the {self.mechanism.name}: {len(self.t)} samples, joints {', '.join(self.joints)}>"
 
 
+    def _view(self) -> tuple:
+        p = self.peaks
+        rows = [(f"peak |F| at {j} [N]", e["F"]) for j, e in p["joints"].items()]
+        rows += [(f"peak drive {q}", e["value"]) for q, e in p["drives"].items()]
+        rows += [("peak shaking force [N]", p["shaking"]["F"]), ("peak shaking moment [N m]", p["shaking"]["M"])]
+        return self.run.solution, rows
+
+
 @dataclass(frozen=True, repr=False)
 class Dynamics(_Result):
     """A motor drives the linkage (:func:`linkage.dynamics`, ``linkage dynamics --json``).
@@ -300,6 +329,12 @@ class Export(_Result):
 
     def __repr__(self) -> str:
         return f"<Export of the {self.mechanism.name}: MJCF {len(self.mjcf)} chars, file {len(self.toml)} chars>"
+
+
+    def _view(self) -> tuple:
+        rows = [("mechanism", self.mechanism.name), ("MJCF", f"{len(self.mjcf)} characters"),
+                ("file", f"{len(self.toml)} characters"), ("loads left out", "; ".join(self.loads_left_out))]
+        return False, rows
 
 
 @dataclass(frozen=True, repr=False)
@@ -364,6 +399,10 @@ class Synthesis(_Result):
         return f"<Synthesis {self.problem}: {'an optimum' if self.optimum else 'no design'}>"
 
 
+    def _view(self) -> tuple:
+        return False, _scalars_of(self.optimum or {})
+
+
 @dataclass(frozen=True, repr=False)
 class Sweep(_Result):
     """A parameter study (:func:`linkage.sweep`): ``s.rows`` (one per combination, its ``params``,
@@ -395,3 +434,11 @@ class Sweep(_Result):
 
     def __repr__(self) -> str:
         return f"<Sweep of the {self.mechanism.name}: {len(self.rows)} combinations>"
+
+    def _view(self) -> tuple:
+        return False, [("combinations", len(self.rows)), ("valid", sum(bool(r.valid) for r in self.rows)),
+                       ("varied", ", ".join(self.vary))]
+
+
+def _scalars_of(d: dict) -> list[tuple]:
+    return [(k, v) for k, v in d.items() if isinstance(v, (bool, int, float, str))]
