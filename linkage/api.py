@@ -39,14 +39,15 @@ def _loads(mech, gravity, force, cutting_force, torque, inertia):
 
 # ------------------------------------------------------------------------------------------ the door
 def list_mechanisms() -> list:
-    """The built-in mechanisms and the shipped library, as ``linkage list`` prints them: (name, description).
+    """The built-in mechanisms and the shipped library, as ``linkage list`` prints them: each a dict of its
+    ``name``, ``description``, number of ``inputs`` and whether it is a ``builtin``.
 
     Example:
-        >>> [name for name, _ in lk.list_mechanisms()][:3]
+        >>> [m["name"] for m in lk.list_mechanisms()][:3]
         ['fourbar', 'sixbar', 'fivebar']
     """
     from sim.service.catalog import list_mechanisms as names
-    return [tuple(row) for row in names()]
+    return names()
 
 
 def load(mechanism, /, *, text: str | None = None, **values):
@@ -95,7 +96,7 @@ def analyze(mech, /, *, samples: int = 361, revolutions: float = 1.0, input_rang
         ``a.to_dict()`` is ``linkage analyze --json``.
 
     Example:
-        >>> a = lk.analyze(lk.load("fourbar"), samples=361)
+        >>> a = lk.analyze(lk.load("fourbar", l1=0.12), samples=361)
         >>> round(float(a["xE"].max()), 5)
         0.15972
     """
@@ -148,8 +149,8 @@ def compare(mech, /, *, revolutions: float = 1.0, input_range=None, timestep: fl
 
     Example:
         >>> c = lk.compare(lk.load("fourbar"))
-        >>> c.passed, sorted(c.errors)[:2]
-        (True, ['cos3', 'sin3'])
+        >>> c.passed, c.errors["xE"]["max"] < c.errors["xE"]["tol"]
+        (True, True)
     """
     from sim.service.simulation import compare as run
     mech = _mechanism(mech)
@@ -364,8 +365,8 @@ def synthesize(problem: str, /, *, E1=(30, 31), E2=(10, 35), A=(0, 0), D=(36, 0)
 
     Example:
         >>> s = lk.synthesize("two-position")
-        >>> s.optimum["grashof"]
-        'crank-rocker'
+        >>> s.to_dict()["unit"], s.optimum["total"] > 0
+        ('mm', True)
     """
     from sim.service import design
     if problem != "two-position":
