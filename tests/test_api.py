@@ -136,6 +136,18 @@ def test_analyze_and_compare_to_dict_are_the_commands_json():
     assert c.passed is True and cli["passed"] is True
 
 
+def test_simulate_to_dict_is_the_commands_json():
+    mech = lk.load("sixbar")
+    s = lk.simulate(mech, revolutions=0.25, gravity=(0, -9.81))
+    mine, cli = s.to_dict(), _cli_json("simulate", "sixbar", "--revolutions", 0.25, "--gravity", "0,-9.81")
+    for record in (mine, cli):
+        record.pop("cpu_seconds")                            # the one timed field
+    assert _same(mine, cli) == []
+    assert s["xC"].shape == s.t.shape
+    # a quarter turn at the sixbar's 2 pi rad/s is 0.25 s, run to the first whole step past it
+    assert 0.25 - 1e-12 <= s.t[-1] < 0.25 + s.timestep
+
+
 def test_the_analysis_columns_are_the_closed_forms_hand_geometry():
     """a["xE"] at the start against the four-bar drawn by hand: B on the crank circle, C where the circles
     about B (l2) and D (l3) meet (the file's branch), E on BC's frame."""
