@@ -148,6 +148,15 @@ def test_simulate_to_dict_is_the_commands_json():
     assert 0.25 - 1e-12 <= s.t[-1] < 0.25 + s.timestep
 
 
+def test_tolerance_and_synthesis_to_dict_are_the_commands_json():
+    t = lk.tolerance(lk.load("fourbar"), tol={"l1": "±0.001", "l3": "±0.5%"}, samples=40, seed=3)
+    cli = _cli_json("tolerance", "fourbar", "--tol", "l1=±0.001", "--tol", "l3=±0.5%", "--samples", 40, "--seed", 3)
+    assert _same(t.to_dict(), cli) == []
+    s = lk.synthesize("two-position", E1=(30, 31), E2=(10, 35), crank_rotation="35deg")
+    assert _same(s.to_dict(), _cli_json("synthesize", "two-position", "--E1", "30,31", "--crank-rotation",
+                                        "35deg")) == []
+
+
 def test_the_analysis_columns_are_the_closed_forms_hand_geometry():
     """a["xE"] at the start against the four-bar drawn by hand: B on the crank circle, C where the circles
     about B (l2) and D (l3) meet (the file's branch), E on BC's frame."""
