@@ -203,7 +203,9 @@ def forces(mech, /, *, samples: int = 361, revolutions: float = 1.0, input_range
 
 
 def _motor(value, what: str):
-    from sim.service.dynamics import linear_motor, table_motor
+    from sim.service.dynamics import is_linear_motor, linear_motor, table_motor
+    if is_linear_motor(value) or hasattr(value, "omega") and hasattr(value, "stall"):
+        return value                                   # a motor already made (the service's)
     if isinstance(value, dict) and set(value) == {"omega", "tau"}:
         return table_motor(list(value["omega"]), list(value["tau"]), source=what)
     if isinstance(value, (tuple, list)) and len(value) == 2:
@@ -221,7 +223,8 @@ def dynamics(mech, /, *, motor, flywheel=None, target_fluctuation: float | None 
 
     Args:
         motor: (T0, W0) a linear motor (stall torque [N m], no-load speed [rad/s]) or ``{"omega": [...],
-            "tau": [...]}`` a torque-speed table; a two-input five-bar takes ``{input: motor}`` for each.
+            "tau": [...]}`` a torque-speed table (or a motor :mod:`sim.service.dynamics` made); a two-input
+            five-bar takes ``{input: motor}`` for each.
         flywheel: on the input link [kg m^2] (``{input: J}`` for two motors).
         target_fluctuation: size the flywheel for this coefficient Cs, in (0, 1), instead.
         start_speed: the input's speed at t = 0 [rad/s].
