@@ -15,6 +15,12 @@ and ``to_dict()`` (the object the matching command prints with ``--json``); bad 
 The packages behind the door stay where they are: :mod:`analytic` (closed forms, synthesis), :mod:`sim`
 (the MuJoCo model, the service layer, the command line and the app) and :mod:`mjcf`. Importing ``linkage``
 loads none of them: each name is imported on first use.
+
+Why a small package in front of :mod:`sim.service` rather than the service moved behind this name: the
+service's ~60 functions are the front ends' working vocabulary (records, tables, checks, the app's drag and
+synthesis jobs) and keep their positional, dict-returning form for them; the door adds only what a script
+needs (ten functions with keyword-only options, typed frozen results, notebook views) and nothing below it
+changes, so the layers stay format -> topology -> solver -> applications -> service -> door -> front ends.
 """
 
 from __future__ import annotations

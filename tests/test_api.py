@@ -157,6 +157,13 @@ def test_tolerance_and_synthesis_to_dict_are_the_commands_json():
                                         "35deg")) == []
 
 
+def test_dynamics_to_dict_is_the_commands_json():
+    d = lk.dynamics(lk.load("fourbar"), motor=(2.0, 15.0), revolutions=3, gravity=(0, -9.81))
+    cli = _cli_json("dynamics", "fourbar", "--motor", "2,15", "--revolutions", 3, "--gravity", "0,-9.81")
+    assert _same(d.to_dict(), cli) == []
+    assert d.passed and cli["passed"] is True
+
+
 def test_the_analysis_columns_are_the_closed_forms_hand_geometry():
     """a["xE"] at the start against the four-bar drawn by hand: B on the crank circle, C where the circles
     about B (l2) and D (l3) meet (the file's branch), E on BC's frame."""
