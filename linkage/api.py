@@ -352,19 +352,53 @@ def _angle(name: str, v) -> float:
     return parse_value(name, v) if isinstance(v, str) else float(v)
 
 
+def _rows(name: str, value, columns: tuple, degrees: bool, angle_columns: tuple):
+    """``pairs=``/``poses=``: a CSV file's path (read and checked as the command reads it) or rows of
+    numbers (angles in ``angles`` units): an array, angles in rad."""
+    import numpy as np
+    from sim.service import design
+    if isinstance(value, (str, os.PathLike)):
+        read = design.read_pairs if name == "pairs" else design.read_poses
+        return read(os.fspath(value), degrees)
+    try:
+        data = np.array(value, dtype=float)
+    except (TypeError, ValueError):
+        data = np.empty((0, 0))
+    if data.ndim != 2 or data.shape[1] != len(columns) or len(data) < design.MIN_ROWS[
+            "function" if name == "pairs" else "motion"] or not np.isfinite(data).all():
+        raise ParameterError(f"{name}=: give a CSV file's path or 3 or more rows of {', '.join(columns)} (finite "
+                             f"numbers)")
+    if degrees:
+        for k in angle_columns:
+            data[:, k] = np.radians(data[:, k])
+    return data
+
+
 def synthesize(problem: str, /, *, E1=(30, 31), E2=(10, 35), A=(0, 0), D=(36, 0), crank_rotation="35deg",
-               rocker_rotation="50deg", theta_range=("-90deg", "90deg"), unit: str = "mm",
-               min_transmission=None, max_size=None, pivot_region=None, grashof: str = "any") -> Synthesis:
-    """Seed 001's two-position synthesis (``linkage synthesize two-position``): the crank-rocker of least
-    total length whose coupler point moves from ``E1`` to ``E2`` while the crank about ``A`` turns by
-    ``crank_rotation`` and the rocker about ``D`` by ``rocker_rotation`` (points in ``unit``; angles in rad
-    or text such as ``"35deg"``), the coupler rotations searched over ``theta_range``; optional limits on
-    the transmission angle [deg], the size, the pivots' region and the Grashof type. (Path, motion and
-    function synthesis are the command's ``linkage synthesize path|motion|function`` for now.)
+               rocker_rotation="50deg", theta_range=("-90deg", "90deg"), pairs=None, poses=None,
+               ground: float = 1.0, angles: str = "deg", count: int = 3, circle_points=None,
+               evaluations: int | None = None, unit: str | None = None, min_transmission=None, max_size=None,
+               pivot_region=None, grashof: str = "any") -> Synthesis:
+    """Exact synthesis of a four-bar (``linkage synthesize PROBLEM``):
+
+    - ``"two-position"`` (seed 001): the crank-rocker of least total length whose coupler point moves from
+      ``E1`` to ``E2`` while the crank about ``A`` turns by ``crank_rotation`` and the rocker about ``D`` by
+      ``rocker_rotation``, the coupler rotations searched over ``theta_range`` (points in ``unit``, default
+      mm; angles in rad or text such as ``"35deg"``);
+    - ``"function"`` (Freudenstein): through ``pairs`` of (input, output) angles from the line A->D (a CSV
+      file's path with columns input,output, or rows), the ground link ``ground`` long;
+    - ``"motion"`` (Burmester): a coupler body through ``poses`` (x, y, theta: a CSV or rows), up to ``count``
+      designs (``circle_points``: X1, Y1, X2, Y2 at pose 1, for 3 poses; ``evaluations``: candidates ranked).
+
+    Angles of ``pairs`` and ``poses`` in ``angles`` (``"deg"`` or ``"rad"``); lengths in ``unit`` (default m
+    for these two). Limits every design meets: ``min_transmission`` [deg] (None: the command's default, 30
+    for function and motion, none for two-position; 0 for none), ``max_size``, ``pivot_region`` (a list of
+    ``"NAME=x0:x1,y0:y1"``), ``grashof``. Every function and motion design is simulated (``compare``). Path
+    synthesis is the command's ``linkage synthesize path`` for now.
 
     Returns:
-        :class:`linkage.Synthesis`: ``s.optimum``, ``s.rows``, ``s.excluded``; ``to_dict()`` is ``linkage
-        synthesize two-position --json``.
+        :class:`linkage.Synthesis`: ``s.optimum`` (two-position) or ``s.designs``, ``s.best``,
+        ``s.rejected``; ``to_dict()`` is the command's ``--json``.
 
     Example:
         >>> s = lk.synthesize("two-position")
@@ -372,11 +406,37 @@ def synthesize(problem: str, /, *, E1=(30, 31), E2=(10, 35), A=(0, 0), D=(36, 0)
         ('mm', True)
     """
     from sim.service import design
-    if problem != "two-position":
-        raise ParameterError(f"synthesize({problem!r}): the door solves two-position; path, motion and function "
-                             f"synthesis are `linkage synthesize {problem}` for now")
-    if unit not in ("mm", "cm", "m"):
-        raise ParameterError(f"unit={unit!r}: give mm, cm or m")
+    if problem not in ("two-position", "function", "motion"):
+        raise ParameterError(f"synthesize({problem!r}): the door solves two-position, function and motion; path "
+                             f"synthesis is `linkage synthesize path` for now")
+    unit = unit or ("mm" if problem == "two-position" else "m")
+    if unit not in design.UNITS:
+        raise ParameterError(f"unit={unit!r}: give one of {', '.join(sorted(design.UNITS))}")
+    if angles not in ("deg", "rad"):
+        raise ParameterError(f"angles={angles!r}: give deg or rad")
+    if problem != "two-position" and min_transmission is None:
+        min_transmission = 30.0
+    limits = None
+    if min_transmission is not None or max_size is not None or pivot_region or grashof != "any":
+        limits = design.limits(min_transmission, max_size, tuple(pivot_region or ()), grashof, "min_transmission")
+    if problem == "function":
+        if pairs is None:
+            raise ParameterError("synthesize('function'): give pairs= (a CSV of input,output or rows)")
+        found, rejected = design.synthesize_function(_rows("pairs", pairs, ("input", "output"), angles == "deg",
+                                                           (0, 1)), float(ground), unit, limits)
+        return Synthesis(problem, {"designs": found, "rejected": rejected})
+    if problem == "motion":
+        if poses is None:
+            raise ParameterError("synthesize('motion'): give poses= (a CSV of x,y,theta or rows)")
+        if isinstance(count, bool) or not isinstance(count, int) or count < 1:
+            raise ParameterError(f"count={count!r} must be an integer >= 1")
+        rows = _rows("poses", poses, ("x", "y", "theta"), angles == "deg", (2,))
+        if circle_points is not None and (len(rows) != 3 or len(circle_points) != 4):
+            raise ParameterError("circle_points=(X1, Y1, X2, Y2) applies to 3 poses")
+        found, rejected = design.synthesize_motion(rows, unit, count, None if circle_points is None else
+                                                   [float(v) for v in circle_points], limits,
+                                                   design.MOTION_POOL if evaluations is None else evaluations)
+        return Synthesis(problem, {"designs": found, "rejected": rejected})
     task = design.two_position_task(E1=_point("E1", E1), E2=_point("E2", E2), A=_point("A", A), D=_point("D", D),
                                     phi12=_angle("crank_rotation", crank_rotation),
                                     psi12=_angle("rocker_rotation", rocker_rotation))
@@ -385,9 +445,6 @@ def synthesize(problem: str, /, *, E1=(30, 31), E2=(10, 35), A=(0, 0), D=(36, 0)
     if len(theta_range) != 2:
         raise ParameterError(f"theta_range={theta_range!r} is not (lo, hi), e.g. ('-90deg', '90deg')")
     lo, hi = (_angle("theta_range", v) for v in theta_range)
-    limits = None
-    if min_transmission is not None or max_size is not None or pivot_region or grashof != "any":
-        limits = design.limits(min_transmission, max_size, pivot_region, grashof, "min_transmission")
     res = design.two_position(task, lo, hi, unit, limits)
     record = {"rows": res["rows"], "optimum": res["optimum"], "excluded": res["excluded"], "unit": unit}
     if limits is not None:

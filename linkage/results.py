@@ -366,9 +366,11 @@ class Tolerance(_Result):
 
 @dataclass(frozen=True, repr=False)
 class Synthesis(_Result):
-    """A synthesis (:func:`linkage.synthesize`, ``linkage synthesize ... --json``): ``s.optimum`` (the
-    best design's record, or None), ``s.rows`` (the designs at the paper's coupler rotations),
-    ``s.excluded``.
+    """A synthesis (:func:`linkage.synthesize`, ``linkage synthesize ... --json``). Two-position:
+    ``s.optimum`` (the best design's record, or None), ``s.rows`` (the designs at the paper's coupler
+    rotations), ``s.excluded``. Function and motion: ``s.designs`` (best first, each with its parameters,
+    measures, ``text`` (its ``linkage/1`` file) and MuJoCo's verdict), ``s.best`` (the first that meets the
+    limits and passes ``compare``, or None), ``s.rejected``.
 
     Example:
         >>> s = lk.synthesize("two-position", E1=(30, 31), E2=(5, 47), A=(0, 0), D=(60, 0),
@@ -392,15 +394,30 @@ class Synthesis(_Result):
     def excluded(self) -> list:
         return self.record.get("excluded", [])
 
+    @property
+    def designs(self) -> list:
+        return self.record.get("designs", [])
+
+    @property
+    def rejected(self) -> list:
+        return self.record.get("rejected", [])
+
+    @property
+    def best(self):
+        return next((d for d in self.designs if d["compare_passed"] and d["simulated"]["passed"]), None)
+
     def _record(self, display):
-        return self.record
+        if "designs" not in self.record:
+            return self.record
+        return {"designs": [{k: v for k, v in d.items() if k != "text"} for d in self.designs],
+                "rejected": self.rejected}
 
     def __repr__(self) -> str:
-        return f"<Synthesis {self.problem}: {'an optimum' if self.optimum else 'no design'}>"
-
+        found = self.optimum if "designs" not in self.record else self.best
+        return f"<Synthesis {self.problem}: {'a design' if found else 'no design'}>"
 
     def _view(self) -> tuple:
-        return False, _scalars_of(self.optimum or {})
+        return False, _scalars_of(self.optimum or self.best or {})
 
 
 @dataclass(frozen=True, repr=False)

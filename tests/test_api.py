@@ -164,6 +164,20 @@ def test_dynamics_to_dict_is_the_commands_json():
     assert d.passed and cli["passed"] is True
 
 
+def test_function_synthesis_through_the_door_recovers_the_four_bar_its_pairs_came_from():
+    """Seven (crank, rocker) angle pairs read off the shipped four-bar (closed forms): Freudenstein's answer
+    with the same ground is that four-bar's l1, l2, l3, and MuJoCo passes it."""
+    mech = lk.load("fourbar")
+    a = lk.analyze(mech, samples=7, input_range="20deg:140deg")
+    s = lk.synthesize("function", pairs=np.column_stack([a["phi1"], a["phi3"]]), angles="rad",
+                      ground=mech.values["l4"])
+    assert s.best is not None
+    for k in ("l1", "l2", "l3"):            # exact through 3+ consistent pairs: rounding of the least squares
+        assert s.best["parameters"][k] == pytest.approx(mech.values[k], rel=1e-9), k
+    assert [d["compare_passed"] for d in s.to_dict()["designs"]] == [True]
+    assert all("text" not in d for d in s.to_dict()["designs"])          # as --json prints them
+
+
 def test_the_analysis_columns_are_the_closed_forms_hand_geometry():
     """a["xE"] at the start against the four-bar drawn by hand: B on the crank circle, C where the circles
     about B (l2) and D (l3) meet (the file's branch), E on BC's frame."""
