@@ -1,4 +1,4 @@
-"""The architecture as the README draws it, read from the source: data flows down (format -> topology ->
+"""The architecture as docs/reference.md draws it, read from the source: data flows down (format -> topology ->
 solver -> applications -> service -> front ends) with no import circle, the front ends go through the
 service layer, and the command line's parser is built without the heavy libraries."""
 
