@@ -99,6 +99,12 @@ def test_importing_the_door_loads_nothing_heavy_and_the_command_still_starts():
     assert r.returncode == 0 and r.stdout.startswith("fourbar"), r.stderr
 
 
+def test_the_readmes_first_python_block_opens_the_door():
+    import re
+    first = re.search(r"```python\n(.*?)```", (ROOT / "README.md").read_text(), re.S).group(1)
+    assert first.splitlines()[0] == "import linkage as lk"          # tests/test_readme.py runs it as written
+
+
 # ------------------------------------------------------------------------------------------ results
 def test_forces_to_dict_is_the_commands_json_number_for_number():
     mech = lk.load("fourbar", l1=0.12)
