@@ -21,9 +21,19 @@ def _plain(record: dict) -> dict:
 class _Result:
     """What every result shares: ``to_dict()`` and a notebook view (``_repr_html_``)."""
 
-    def to_dict(self, *, display=None) -> dict:
-        """The object the command prints with ``--json``: SI, or in ``display``'s units (an
-        :class:`analytic.quantities.Display`, as ``--units``/``--angles``/``--speeds`` choose)."""
+    _file_forces = False
+    """Whether ``units=`` also puts forces in the file's ``force_units`` (as ``forces`` and ``dynamics`` do)."""
+
+    def to_dict(self, *, units: str | None = None, angles: str | None = None, speeds: str | None = None,
+                display=None) -> dict:
+        """The object the command prints with ``--json``: SI, or as ``--units``/``--angles``/``--speeds``
+        ask (``units="mm"``, ``angles="deg"``, ``speeds="rpm"``; or a ready
+        :class:`analytic.quantities.Display`)."""
+        if display is None and (units or angles or speeds):
+            from types import SimpleNamespace
+            from sim.output.units import machine_units
+            asked = SimpleNamespace(units=units, angles=angles, speeds=speeds)
+            display = machine_units(asked, getattr(self, "mechanism", None) if self._file_forces else None)
         return _plain(self._record(display))
 
     def _repr_html_(self) -> str:
@@ -211,6 +221,7 @@ class Forces(_Result):
         0.8178
     """
 
+    _file_forces = True
     mechanism: Any
     run: Any = field(repr=False)
     simulated_run: Any = field(default=None, repr=False)
@@ -289,6 +300,7 @@ class Dynamics(_Result):
         True
     """
 
+    _file_forces = True
     mechanism: Any
     run: Any = field(repr=False)
 

@@ -115,6 +115,18 @@ def test_forces_to_dict_is_the_commands_json_number_for_number():
     assert f.peaks["drives"]["phi1"]["value"] == pytest.approx(float(np.abs(f.drives["phi1"]).max()), rel=1e-15)
 
 
+def test_to_dict_in_other_units_is_the_commands_json_with_the_same_unit_options():
+    mech = lk.load("whitworth")                                        # a mm file
+    f = lk.forces(mech, samples=19)
+    cli = _cli_json("forces", "whitworth", "--samples", 19, "--units", "mm", "--angles", "deg")
+    assert _same(f.to_dict(units="mm", angles="deg"), cli) == []
+    a = lk.analyze(mech, samples=19)
+    cli = _cli_json("analyze", "whitworth", "--samples", 19, "--units", "mm", "--speeds", "rpm")
+    assert _same(a.to_dict(units="mm", speeds="rpm"), cli) == []
+    si = a.to_dict()["ranges"]["xR"]
+    assert a.to_dict(units="mm")["ranges"]["xR"] == pytest.approx([1000 * v for v in si], rel=1e-12)  # m -> mm
+
+
 def test_forces_with_named_loads_match_the_command_with_the_same_loads():
     """A force at a named point, a couple on a link and links' inertias: the keywords and the options."""
     inertia = {"2": {"m": 0.5, "cx": 0.1, "cy": 0.0, "I": 0.004}}
