@@ -46,7 +46,7 @@ class _Result:
         return None, []
 
 
-@dataclass(frozen=True, repr=False)
+@dataclass(frozen=True, repr=False, eq=False)
 class Analysis(_Result):
     """Closed-form kinematics over a run (:func:`linkage.analyze`, ``linkage analyze --json``).
 
@@ -98,7 +98,7 @@ class Analysis(_Result):
         return self.analysis.solution, figure_rows(self.to_dict().get("figures", {}))
 
 
-@dataclass(frozen=True, repr=False)
+@dataclass(frozen=True, repr=False, eq=False)
 class Simulation(_Result):
     """The MuJoCo model simulated (:func:`linkage.simulate`, ``linkage simulate --json``).
 
@@ -156,7 +156,7 @@ class Simulation(_Result):
         return self.trajectory.outputs, []
 
 
-@dataclass(frozen=True, repr=False)
+@dataclass(frozen=True, repr=False, eq=False)
 class Comparison(_Result):
     """The simulation cross-validated against the closed forms (:func:`linkage.compare`, ``linkage compare
     --json``).
@@ -207,7 +207,7 @@ class Comparison(_Result):
         return self.trajectory.outputs, rows
 
 
-@dataclass(frozen=True, repr=False)
+@dataclass(frozen=True, repr=False, eq=False)
 class Forces(_Result):
     """Joint forces, drives and shaking along the motion (:func:`linkage.forces`, ``linkage forces --json``).
 
@@ -287,7 +287,7 @@ class Forces(_Result):
         return self.run.solution, rows
 
 
-@dataclass(frozen=True, repr=False)
+@dataclass(frozen=True, repr=False, eq=False)
 class Dynamics(_Result):
     """A motor drives the linkage (:func:`linkage.dynamics`, ``linkage dynamics --json``).
 
@@ -318,7 +318,7 @@ class Dynamics(_Result):
         return f"<Dynamics of the {self.mechanism.name}: {'PASS' if self.passed else 'FAIL'}>"
 
 
-@dataclass(frozen=True, repr=False)
+@dataclass(frozen=True, repr=False, eq=False)
 class Export(_Result):
     """The generated MuJoCo model and the mechanism file (:func:`linkage.export`): ``e.mjcf`` (MJCF text),
     ``e.toml`` (the ``linkage/1`` file with the current values), ``e.loads_left_out`` (loads MJCF cannot
@@ -349,7 +349,7 @@ class Export(_Result):
         return False, rows
 
 
-@dataclass(frozen=True, repr=False)
+@dataclass(frozen=True, repr=False, eq=False)
 class Tolerance(_Result):
     """The spread of results under the parameters' tolerances (:func:`linkage.tolerance`, ``linkage
     tolerance --json``): ``t.result`` (Monte Carlo, first-order and Sobol answers); ``t.outputs``: each
@@ -376,7 +376,7 @@ class Tolerance(_Result):
         return f"<Tolerance of the {self.mechanism.name}>"
 
 
-@dataclass(frozen=True, repr=False)
+@dataclass(frozen=True, repr=False, eq=False)
 class Synthesis(_Result):
     """A synthesis (:func:`linkage.synthesize`, ``linkage synthesize ... --json``). Two-position:
     ``s.optimum`` (the best design's record, or None), ``s.rows`` (the designs at the paper's coupler
@@ -432,7 +432,7 @@ class Synthesis(_Result):
         return False, _scalars_of(self.optimum or self.best or {})
 
 
-@dataclass(frozen=True, repr=False)
+@dataclass(frozen=True, repr=False, eq=False)
 class Sweep(_Result):
     """A parameter study (:func:`linkage.sweep`): ``s.rows`` (one per combination, its ``params``,
     ``values`` and ``valid``), ``s["area"]``: a column of ``linkage sweep --csv`` (SI). ``to_dict()``:
