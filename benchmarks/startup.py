@@ -12,6 +12,8 @@ a temporary PYTHONPYCACHEPREFIX (the warm-up run writes it) even where PYTHONDON
 the development machines; ``--no-bytecode`` keeps the environment's setting (with PYTHONDONTWRITEBYTECODE
 every run compiles every module it imports from source: about 0.1-0.2 s more per command).
 
+``import linkage`` (issue 39's door) is measured beside ``python -c pass``: it loads no numpy.
+
 Targets (issue 30): ``list`` and ``check`` at most 0.3 s, ``compare fourbar`` at most 1.5 s, a numerically
 solved group's compare (``stephenson_ii``) at most 2.5 s.
 """
@@ -59,6 +61,12 @@ def measure(args, env) -> int:
     cpu_of([sys.executable, "-c", "pass"], env, args.tree)           # warm the file cache
     bare = min(cpu_of([sys.executable, "-c", "pass"], env, args.tree) for _ in range(args.repeats))
     print(f"  {'python -c pass':<24s} {bare:6.3f} s CPU")
+    for label, code in (("import linkage", "import linkage"),
+                        ("lk.load('fourbar')", "import linkage as lk; lk.load('fourbar')")):
+        argv = [sys.executable, "-c", code]                  # the Python door (issue 39): lazy names
+        cpu_of(argv, env, args.tree)
+        best = min(cpu_of(argv, env, args.tree) for _ in range(args.repeats))
+        print(f"  {label:<24s} {best:6.3f} s CPU")
     for command, target in COMMANDS:
         argv = [sys.executable, "-m", "sim", *command.split()]
         cpu_of(argv, env, args.tree)

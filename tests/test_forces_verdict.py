@@ -3,7 +3,7 @@ its bounds (issue 32: a loosened tolerance slipped through; no test put a value 
 
 MuJoCo's side of a real run is replaced by the analytic forces with ONE quantity moved by 1 % less, then 1 %
 more, than its bound: the verdict must read PASS, then FAIL. The bounds are written here from the documented
-rule (sim/run/forces.py, README): every joint force within FORCE_TOL = 1e-4 of the run's peak joint force, a
+rule (sim/run/forces.py, docs/reference.md): every joint force within FORCE_TOL = 1e-4 of the run's peak joint force, a
 guide's couple, a gear pair's moment and the shaking moment within 1e-4 of the peak force times the size L,
 a drive within 1e-4 of max(its own peak, peak force x L) (a slider's drive: of max(its peak, the peak force)),
 the Newton-Euler drive against the power balance within 1e-8 of that drive scale, and the peak never taken
@@ -30,7 +30,7 @@ from sim.run.simulate import simulate
 import cli_runner  # the command in this process (tests/cli_runner.py)
 
 KINDS = Path(__file__).parent / "kinds"
-TOL = 1e-4           # the documented joint-force bound (README, sim/run/forces.py), written here, not imported
+TOL = 1e-4           # the documented joint-force bound (docs/reference.md, sim/run/forces.py), written here, not imported
 IDENTITY = 1e-8      # the documented Newton-Euler vs power-balance bound
 FLOOR = 1e-3         # the documented floor: of sum(m) L Omega_ref^2
 EPS = 0.01           # how far inside / outside each bound the doctored value sits (relative)

@@ -66,7 +66,7 @@ def __getattr__(name: str):
         raise AttributeError(f"module 'sim.service' has no attribute {name!r}") from None
 
 
-__all__ = ["annotations", "list_mechanisms", "parameter_value", "load", "parameter_table", "describe",
+__all__ = ["list_mechanisms", "parameter_value", "load", "parameter_table", "describe",
            "link_drawing", "MAX_SAMPLES", "MAX_REVOLUTIONS", "Analysis", "check_samples", "check_revolutions",
            "check_range", "analyze", "figures", "check_turns_fully", "analysis_record", "units_table",
            "parameters_record", "analysis_columns", "units_of", "check_singular", "CHANGE_SWING",

@@ -12,7 +12,7 @@ from __future__ import annotations
 from analytic.applications import motor as _motor
 
 __all__ = ["sizing_tolerance", "linear_motor", "table_motor", "is_linear_motor", "cycle_of", "dynamics",
-           "motor_timestep", "simulated", "dynamics_two", "record", "record_two"]
+           "motor_timestep", "simulated", "dynamics_two", "record", "record_two", "in_units"]
 
 
 def sizing_tolerance() -> float:
@@ -95,3 +95,23 @@ def record_two(d) -> dict:
     """The JSON record of a :func:`dynamics_two` run (SI)."""
     from sim.run import motor as run
     return run.record_two(d)
+
+
+def in_units(record: dict, display) -> dict:
+    """A :func:`sim.run.motor.record` (SI) with its angles and speeds in ``display`` units (``--angles``,
+    ``--speeds``), the motor's torques in its force x length unit (``--units`` on a file with ``force_units``;
+    N m otherwise), times stay SI; its ``units`` table saying which."""
+    from analytic import quantities as _Q
+    if display is None or display.is_si:
+        return record
+    names = {"phi": _Q.ANGLE, "omega": _Q.ANGULAR_VELOCITY, "mean_speed": _Q.ANGULAR_VELOCITY, "torque": _Q.TORQUE,
+             "peak_torque": _Q.TORQUE}
+    out = {k: (display.convert(names[k], v) if k in names else v) for k, v in record.items()}
+    if isinstance(record.get("simulated"), dict):
+        out["simulated"] = {k: (display.convert(names[k], v) if k in names else v)
+                            for k, v in record["simulated"].items()}
+    if isinstance(record.get("units"), dict):
+        out["units"] = {**record["units"], **{k: display.unit(q) for k, q in names.items()}}
+    else:
+        out["units"] = {k: display.unit(q) for k, q in names.items()}
+    return out

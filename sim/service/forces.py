@@ -453,13 +453,14 @@ def simulated_forces_run(run: ForceRun, settings=None, loads=None):
     return simforces.simulate_run(run, settings, loads, Cycle.of(run.mech, float(t[-1] / run.mech.duration(1.0))))
 
 
-def simulated_forces(run: ForceRun, settings=None, loads=None, display=None) -> dict:
+def simulated_forces(run: ForceRun, settings=None, loads=None, display=None, simulated=None) -> dict:
     """The ``simulated`` object of ``linkage forces --simulate --json``: MuJoCo's answer in the fields of
     :func:`forces_record` (at the run's samples, the inputs as simulated, the model's masses), the time step
     and steps, the agreement with the analytic forces (``agreement``: each joint's largest difference [N] and
-    its share of the peak joint force, the drives' three answers, the shaking force) and ``passed``."""
+    its share of the peak joint force, the drives' three answers, the shaking force) and ``passed``.
+    ``simulated``: MuJoCo's run (:func:`simulated_forces_run`) when already made (the record in other units)."""
     from sim.model import body_inertias
-    s = simulated_forces_run(run, settings, loads)
+    s = simulated if simulated is not None else simulated_forces_run(run, settings, loads)
     mech, tr = run.mech, s.trajectory
     q, qd, qdd = s.inputs
     sol = {k: np.asarray(v)[s.steps] for k, v in tr.outputs.items() if k[:1] in ("x", "y", "c", "s")}

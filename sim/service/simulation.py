@@ -352,6 +352,21 @@ def comparison_record(built, c, display=None) -> dict:
     return c.as_dict(built, display)
 
 
+def simulation_record(built, tr, revolutions: float, display=None) -> dict:
+    """The JSON of ``linkage simulate --json``: the run's settings and cost, the largest loop violation and
+    every column of ``--csv`` (SI unless ``display``) with its unit."""
+    from analytic.quantities import SI
+    from sim.output.units import convert_columns
+    from sim.service.analysis import units_of
+    display = display or SI
+    mech = built.mech
+    cols = trajectory_columns(tr)
+    return {"mechanism": tr.name, "revolutions": revolutions, "timestep": tr.timestep, "integrator": tr.integrator,
+            "steps": int(tr.steps), "cpu_seconds": tr.cpu_seconds,
+            "max_loop_violation": display.convert("length", float(np.max(tr.loop_violation))),
+            "columns": convert_columns(mech, cols, display), "units": units_of(mech, cols, display)}
+
+
 def trajectory_columns(tr) -> dict:
     """CSV columns of a trajectory: t, inputs, every output, loop violation, drive forces, commanded
     inputs (``cmd_phi1``) and every joint's coordinate and rate (``q_NAME``, ``v_NAME``)."""

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 
 
-from sim import service
 from sim.output.jsonout import dumps
 from sim.output.units import add_unit_options
 from sim.front.cli.options import (warn_size, add_common, check_outputs, mechanism_from, parse_range, write_columns)
@@ -30,12 +29,15 @@ def run(args) -> int:
     if getattr(args, "at", None) is not None:                  # one pose (SPEC "Loads": --at)
         from sim.front.cli.loads_opts import analyze_at
         return analyze_at(args, mech)
-    a = service.analyze(mech, args.samples, args.revolutions, parse_range(mech, args.input_range))
+    import linkage as lk
+    result = lk.analyze(mech, samples=args.samples, revolutions=args.revolutions,
+                        input_range=parse_range(mech, args.input_range))
+    a = result.analysis
     from sim.output.units import machine_units, shown_units
     if args.csv:
-        write_columns(args.csv, mech, service.analysis_columns(mech, a), machine_units(args))
+        write_columns(args.csv, mech, result.columns, machine_units(args))
     if args.json:
-        record = service.analysis_record(mech, a, args.samples, args.revolutions, machine_units(args))
+        record = result.to_dict(display=machine_units(args))
         if args.csv:
             record["csv"] = args.csv
         print(dumps(record))

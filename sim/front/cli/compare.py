@@ -5,10 +5,9 @@ from __future__ import annotations
 import sys
 
 
-from sim import service
 from sim.output.jsonout import dumps
 from sim.output.units import add_unit_options
-from sim.front.cli.options import (add_common, add_sim_options, loads_from,
+from sim.front.cli.options import (add_common, add_sim_options, load_keywords,
                                    mechanism_from, parse_range, say_start, settings_from)
 
 
@@ -26,20 +25,17 @@ def register(sub) -> None:
 
 def run(args) -> int:
     from sim.service.simulation import comparison_table
+    import linkage as lk
     mech = mechanism_from(args)
-    built, c = service.compare(mech, args.revolutions, settings_from(args), loads_from(args, mech),
-                               parse_range(mech, args.input_range))
+    settings = settings_from(args)
+    result = lk.compare(mech, revolutions=args.revolutions, input_range=parse_range(mech, args.input_range),
+                        timestep=settings.timestep, integrator=settings.integrator,
+                        interference=args.interference, **load_keywords(args, mech))
+    built, c, clash = result.built, result.comparison, result.interference
     from sim.output.units import machine_units, shown_units
     say_start(mech, built.mech)
-    clash = None
-    if args.interference:                          # the parts over the same run (SPEC "Parts ... interference")
-        from sim.service import parts as parts_service
-        clash = parts_service.interference(parts_service.prepare(mech, parse_range(mech, args.input_range)))
     if args.json:
-        record = service.comparison_record(built, c, machine_units(args))
-        if clash is not None:
-            record["interference"] = clash
-        print(dumps(record))
+        print(dumps(result.to_dict(display=machine_units(args))))
     else:
         print(comparison_table(c, mech.size, shown_units(args, built.mech), built.mech.output_point))
         if clash is not None:
@@ -50,7 +46,7 @@ def run(args) -> int:
         if args.timestep > chosen * (1 + 1e-3):              # not a value that only prints the same
             print(f"linkage: the time step {args.timestep:.4g} s given by --timestep is above the {chosen:.4g} s this "
                   f"design needs; drop --timestep", file=sys.stderr)
-    return 0 if c.passed and not (clash and clash["interference"]) else 1
+    return 0 if result.passed else 1
 
 
 def interference_line(report: dict) -> str:

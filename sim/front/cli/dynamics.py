@@ -9,6 +9,7 @@ from analytic import ParameterError
 from sim.front.cli.options import add_common, add_sim_options, add_video_options
 from sim.service import analysis as Q
 from sim.service.values import parse_value
+from sim.service.dynamics import in_units  # noqa: F401 (where the command line found it before)
 
 RPM = 2 * math.pi / 60
 
@@ -110,8 +111,7 @@ def motor_run(args, mech, check=True):
     """The one-input motor run the command line asks for (:func:`sim.service.dynamics.dynamics`): the motor,
     flywheel or target fluctuation and start speed of ``args`` (:func:`add_motor_options`) and the loads of the
     simulation options."""
-    from sim.service import dynamics as dynamics_service
-    from sim.front.cli.options import loads_from, settings_from
+    from sim.front.cli.options import load_keywords, settings_from
     target = (parse_value("--target-fluctuation", args.target_fluctuation, angle=False)
               if args.target_fluctuation is not None else None)
     if len(args.motor) > 1 or len(args.flywheel) > 1:
@@ -124,8 +124,11 @@ def motor_run(args, mech, check=True):
         if not flywheel >= 0:
             raise ParameterError(f"--flywheel {flywheel:g} must be >= 0 [kg m^2] (the flywheel's moment of inertia)")
     start = parse_speed("--start-speed", args.start_speed)
-    return dynamics_service.dynamics(mech, loads_from(args, mech), mot, flywheel, target, start, args.revolutions,
-                           settings_from(args))
+    import linkage as lk
+    settings = settings_from(args)
+    return lk.dynamics(mech, motor=mot, flywheel=flywheel, target_fluctuation=target, start_speed=start,
+                       revolutions=args.revolutions, timestep=settings.timestep, integrator=settings.integrator,
+                       **load_keywords(args, mech)).run
 
 
 def check_motor_args(args) -> None:
@@ -191,25 +194,6 @@ QUANTITIES = {"t": Q.TIME, "phi": Q.ANGLE, "omega": Q.ANGULAR_VELOCITY, "torque"
 """The quantity (:mod:`analytic.quantities`) of each CSV column."""
 
 
-def in_units(record: dict, display) -> dict:
-    """A :func:`sim.run.motor.record` (SI) with its angles and speeds in ``display`` units (``--angles``,
-    ``--speeds``), the motor's torques in its force x length unit (``--units`` on a file with ``force_units``;
-    N m otherwise), times stay SI; its ``units`` table saying which."""
-    if display.is_si:
-        return record
-    names = {"phi": Q.ANGLE, "omega": Q.ANGULAR_VELOCITY, "mean_speed": Q.ANGULAR_VELOCITY, "torque": Q.TORQUE,
-             "peak_torque": Q.TORQUE}
-    out = {k: (display.convert(names[k], v) if k in names else v) for k, v in record.items()}
-    if isinstance(record.get("simulated"), dict):
-        out["simulated"] = {k: (display.convert(names[k], v) if k in names else v)
-                            for k, v in record["simulated"].items()}
-    if isinstance(record.get("units"), dict):
-        out["units"] = {**record["units"], **{k: display.unit(q) for k, q in names.items()}}
-    else:
-        out["units"] = {k: display.unit(q) for k, q in names.items()}
-    return out
-
-
 def _named(text: str, mech, option: str) -> tuple[str, str]:
     """``NAME=VALUE`` or ``VALUE`` (the first input): (input name, value text); NAME must be an input."""
     names = [i.q for i in mech.inputs]
@@ -224,7 +208,7 @@ def _named(text: str, mech, option: str) -> tuple[str, str]:
 
 def _two_motors(args, mech, target, display) -> int:
     from sim.service import dynamics as dynamics_service
-    from sim.front.cli.options import loads_from, settings_from
+    from sim.front.cli.options import load_keywords, settings_from
     from sim.output.jsonout import dumps
     names = [i.q for i in mech.inputs]
     if args.motor_table or target is not None or args.plot or args.csv or args.render:
@@ -248,9 +232,10 @@ def _two_motors(args, mech, target, display) -> int:
         name, value = _named(text, mech, "--flywheel")
         fly[name] = parse_flywheel(value)
     start = parse_speed("--start-speed", args.start_speed)
-    d = dynamics_service.dynamics_two(mech, loads_from(args, mech), tuple(motors[n] for n in names),
-                                      tuple(fly[n] for n in names), (start, start), args.revolutions,
-                                      settings_from(args))
+    import linkage as lk
+    settings = settings_from(args)
+    d = lk.dynamics(mech, motor=motors, flywheel=fly, start_speed=start, revolutions=args.revolutions,
+                    timestep=settings.timestep, integrator=settings.integrator, **load_keywords(args, mech)).run
     if args.json:
         print(dumps(in_units(dynamics_service.record_two(d), display)))
     else:

@@ -186,43 +186,46 @@ def settings_from(args):
     return settings(args.timestep, args.integrator)
 
 
-def loads_from(args, mech):
-    """The Loads of the command line: gravity, external or cutting force, links' inertias."""
-    from sim.service.loads import inertia
-    from sim.service.simulation import run_loads
-    from sim.front.cli.loads_opts import command_loads
+def load_keywords(args, mech) -> dict:
+    """The command line's loads as the keywords :mod:`linkage`'s functions take (``gravity``, ``force``,
+    ``cutting_force``, ``torque``, ``inertia``), their text read and checked here so that a mistake is named
+    by its option (``--force``, ``--torque``, ...)."""
+    from sim.front.cli.loads_opts import command_loads, split_force, _pair
     gravity = pair("--gravity", args.gravity)
-    force_text, extra = command_loads(args, mech)           # --force FX,FY@POINT[:LINK], --torque T@LINK
-    force = pair("--force", force_text) or (0.0, 0.0)
+    force_text, _ = command_loads(args, mech)         # --force FX,FY@POINT[:LINK], --torque T@LINK checked
+    force = pair("--force", force_text)
+    if force is None and getattr(args, "force", None):                  # a force at a named point
+        value, point, link = split_force(args.force)
+        force = (*_pair("--force", value), point) + ((link,) if link else ())
     cutting = args.cutting_force
-    slow = False
     if cutting is not None:
         cutting = parse_value("--cutting-force", cutting, angle=False)
         if cutting < 0:
             raise ParameterError(f"--cutting-force {cutting:g} must be >= 0 [N] (it always resists the motion)")
         if args.force:
             raise ParameterError("give either --force or --cutting-force, not both")
-        force, slow = (cutting_direction(mech) * cutting, 0.0), True
-    inertias = None
+    torque = []
+    for item in getattr(args, "torque", None) or []:
+        value, ln = item.split("@", 1)
+        torque.append((ln.strip(), parse_value("--torque", value.strip(), angle=False)))
+    inertia = None
     if args.inertia:
         if os.path.abspath(args.inertia) in _outputs(args):
             raise ParameterError(f"--inertia {args.inertia} is also an output of this command; it would be "
                                  f"overwritten: choose another output name")
         from sim.readers import read_json
-        raw = read_json("--inertia", args.inertia)
-        if not isinstance(raw, dict):
+        inertia = read_json("--inertia", args.inertia)
+        if not isinstance(inertia, dict):
             raise ParameterError(f"--inertia {args.inertia}: expected an object of links")
-        inertias = {}
-        for link, data in raw.items():
-            if not isinstance(data, dict):
-                raise ParameterError(f"--inertia {link}: give an object with m, cx, cy and I")
-            try:                               # file units, like the file's [inertia]: m kg, cx cy, I kg unit^2
-                inertias[link] = inertia(data, mech.scale)
-            except TypeError:
-                raise ParameterError(f"--inertia {link}: give m, cx, cy and I (got {sorted(data)})") from None
-            except ParameterError as exc:
-                raise ParameterError(f"--inertia {link}: {exc}") from None
-    return run_loads(gravity=gravity, force=force, slow_stroke_only=slow, inertias=inertias, extra=extra)
+    return {"gravity": gravity, "force": force, "cutting_force": cutting, "torque": torque or None,
+            "inertia": inertia}
+
+
+def loads_from(args, mech):
+    """The Loads of the command line: gravity, external or cutting force, couples, links' inertias (what
+    :func:`linkage._loads.run_loads` makes of :func:`load_keywords`)."""
+    from linkage._loads import run_loads
+    return run_loads(mech, **load_keywords(args, mech))
 
 
 def cutting_direction(mech) -> float:

@@ -4,9 +4,8 @@ from __future__ import annotations
 
 
 
-from sim import service
 from sim.output.units import add_unit_options
-from sim.front.cli.options import (add_common, add_sim_options, check_outputs, loads_from,
+from sim.front.cli.options import (add_common, add_sim_options, check_outputs, load_keywords,
                                    mechanism_from, parse_range, settings_from, write_columns)
 
 
@@ -15,6 +14,8 @@ def register(sub) -> None:
     add_common(p)
     add_sim_options(p)
     p.add_argument("--csv", metavar="PATH", help="write every step as CSV (units in PATH.units.json)")
+    p.add_argument("--json", action="store_true",
+                   help="print one JSON object: the run's settings, its loop violation and every column")
     add_unit_options(p)
     p.set_defaults(func=run)
 
@@ -22,11 +23,21 @@ def register(sub) -> None:
 def run(args) -> int:
     mech = mechanism_from(args)
     check_outputs(args, {"csv": (".csv",)})
-    _, tr = service.simulate(mech, args.revolutions, settings_from(args), loads_from(args, mech),
-                             parse_range(mech, args.input_range))
+    import linkage as lk
+    settings = settings_from(args)
+    result = lk.simulate(mech, revolutions=args.revolutions, input_range=parse_range(mech, args.input_range),
+                         timestep=settings.timestep, integrator=settings.integrator, **load_keywords(args, mech))
+    tr = result.trajectory
     from sim.output.units import machine_units, shown_units
     if args.csv:
-        write_columns(args.csv, mech, service.trajectory_columns(tr), machine_units(args))
+        write_columns(args.csv, mech, result.columns, machine_units(args))
+    if args.json:
+        from sim.output.jsonout import dumps
+        record = result.to_dict(display=machine_units(args))
+        if args.csv:
+            record["csv"] = args.csv
+        print(dumps(record))
+        return 0
     u = shown_units(args, mech)
     print(f"{tr.name}: {tr.steps} steps of {tr.timestep:.3g} s ({tr.integrator}), {tr.cpu_seconds * 1e3:.1f} ms CPU; "
           f"max loop violation {u.convert('length', tr.loop_violation.max()):.3e} {u.unit('length')}")

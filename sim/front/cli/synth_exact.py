@@ -6,7 +6,7 @@ from __future__ import annotations
 from analytic import ParameterError
 from sim.front.lazy import lazy
 from sim.output.io import check_writable, write_text
-from sim.front.cli.synth_options import add_limits, add_units, limits_of, measure_words
+from sim.front.cli.synth_options import add_limits, add_units, measure_words
 from sim.output.jsonout import dumps
 
 design_service = lazy("sim.service.design")  # scipy's optimisers: loaded by the command, not by its options
@@ -64,17 +64,26 @@ def cmd_motion(args) -> int:
         except ValueError:
             raise ParameterError(f"--circle-points {args.circle_points!r} is not X1,Y1,X2,Y2 (crank and "
                                  f"rocker circle points at pose 1, in --unit)") from None
-    found, rejected = design_service.synthesize_motion(poses, args.unit, args.count, circle, limits_of(args),
-                                                       args.evaluations)
-    return _designs_out(args, "motion", found, rejected)
+    import linkage as lk
+    s = lk.synthesize("motion", poses=poses, angles="rad", unit=args.unit, count=args.count, circle_points=circle,
+                      evaluations=args.evaluations, **limit_keywords(args))
+    return _designs_out(args, "motion", s.designs, s.rejected)
 
 
 def cmd_function(args) -> int:
     if args.out:
         check_writable(args.out, (".toml",))
     pairs = design_service.read_pairs(args.pairs, args.angles == "deg")
-    found, rejected = design_service.synthesize_function(pairs, args.ground, args.unit, limits_of(args))
-    return _designs_out(args, "function", found, rejected)
+    import linkage as lk
+    s = lk.synthesize("function", pairs=pairs, angles="rad", ground=args.ground, unit=args.unit,
+                      **limit_keywords(args))
+    return _designs_out(args, "function", s.designs, s.rejected)
+
+
+def limit_keywords(args) -> dict:
+    """The limits' options as :func:`linkage.synthesize`'s keywords (``min_transmission`` 0: no limit)."""
+    return {"min_transmission": 0.0 if args.min_transmission is None else args.min_transmission,
+            "max_size": args.max_size, "pivot_region": args.pivot_region, "grashof": args.grashof}
 
 
 def register(problems) -> None:

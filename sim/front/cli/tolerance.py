@@ -53,23 +53,27 @@ def _drop_option(p, option: str) -> None:
 
 def cmd_tolerance(args) -> int:
     from sim.service import tolerance as ts
-    from sim.front.cli.options import check_outputs, loads_from, mechanism_from, parse_range
+    from sim.front.cli.options import check_outputs, load_keywords, mechanism_from, parse_range
     from sim.output.jsonout import dumps
     from sim.output.units import machine_units, shown_units
     check_outputs(args, {"plot": (".png", ".svg", ".pdf")})
     if not args.tol:
         raise ParameterError("give at least one --tol NAME=±V (e.g. --tol l1=±0.1; +-0.1 also works)")
+    import linkage as lk
     mech = mechanism_from(args)
-    loads = loads_from(args, mech)
+    keywords = load_keywords(args, mech)
+    keywords.pop("torque")                             # the command takes no --torque
     from sim.output.progress import Progress
     bar = Progress(args.samples, "tolerance")
-    result = ts.tolerance(mech, args.tol, args.samples, args.seed, args.outputs, args.sobol, args.scheduler, loads,
-                          parse_range(mech, args.input_range), args.workers, bar.update)
+    t = lk.tolerance(mech, tol=args.tol, samples=args.samples, seed=args.seed, outputs=args.outputs,
+                     sobol=args.sobol, scheduler=args.scheduler, workers=args.workers,
+                     input_range=parse_range(mech, args.input_range), progress=bar.update, **keywords)
+    result = t.result
     if args.plot:
         from sim.output.tolerance_plot import sheet
         sheet(result, mech, args.plot, shown_units(args, mech))
     if args.json:
-        record = ts.tolerance_record(result, mech, machine_units(args))
+        record = t.to_dict(display=machine_units(args))
         if args.plot:
             record["plot"] = args.plot
         print(dumps(record))
