@@ -6,7 +6,7 @@ from __future__ import annotations
 from analytic import ParameterError
 from sim.front.lazy import lazy
 from sim.output.io import check_writable, write_text
-from sim.front.cli.synth_options import add_limits, add_units, limits_of, measure_words
+from sim.front.cli.synth_options import add_limits, add_units, limits_of, measure_words, out_names
 from sim.output.jsonout import dumps
 
 design_service = lazy("sim.service.design")  # scipy's optimisers: loaded by the command, not by its options
@@ -18,9 +18,10 @@ def _designs_out(args, kind: str, found: list[dict], rejected: list[dict]) -> in
     import sys
     ok = [d for d in found if d["compare_passed"] and d["simulated"]["passed"]]
     best = ok[0] if ok else None
-    if best is not None and args.out:
-        write_text(args.out, best["text"])
-        best["file"] = args.out
+    for d, name in zip(ok, out_names(args.out, len(ok))):   # every returned design: FILE, FILE_2, FILE_3 ...
+        if name:
+            write_text(name, d["text"])
+            d["file"] = name
     if args.json:
         print(dumps({"designs": [{k: v for k, v in d.items() if k != "text"} for d in found],
                      "rejected": rejected}))
@@ -35,13 +36,14 @@ def _designs_out(args, kind: str, found: list[dict], rejected: list[dict]) -> in
             print("   " + ", ".join(f"{k}={v:.6g}" for k, v in d["parameters"].items()))
             for note in d["notes"]:
                 print("   note: " + note)
-        if best is not None and args.out:
-            print(f"wrote {args.out} (its input_range is the working range: every command runs it so)")
+            if d.get("file"):
+                print(f"   wrote {d['file']} (its input_range is the working range: every command runs it so)")
     if best is None:
         why = rejected[0]["why"] if rejected else (found[0]["simulated"]["problem"] if found else "no candidate")
         for note in (rejected[0].get("notes", []) if rejected and not found else []):
             print("note: " + note, file=sys.stderr if args.json else sys.stdout)
-        print(f"linkage: no {kind} design meets the constraints; the best candidate: {why}",
+        lead = "the best candidate: " if found or (rejected and rejected[0].get("parameters")) else ""
+        print(f"linkage: no {kind} design meets the constraints; {lead}{why}",
               file=sys.stderr if args.json else sys.stdout)
         return 1
     return 0
@@ -53,6 +55,11 @@ def cmd_motion(args) -> int:
     if args.count < 1:
         raise ParameterError(f"--count {args.count} must be >= 1")
     poses = design_service.read_poses(args.poses, args.angles == "deg")
+    limits = limits_of(args)
+    from analytic.synthesis.constraints import unreachable
+    why = unreachable(poses[:, :2], limits, args.unit, "poses") if limits is not None else ""
+    if why:                                 # limits no design can meet: say so, search nothing, write nothing
+        return _designs_out(args, "motion", [], [{"parameters": {}, "why": why}])
     circle = None
     if args.circle_points:
         if len(poses) != 3:
@@ -64,7 +71,7 @@ def cmd_motion(args) -> int:
         except ValueError:
             raise ParameterError(f"--circle-points {args.circle_points!r} is not X1,Y1,X2,Y2 (crank and "
                                  f"rocker circle points at pose 1, in --unit)") from None
-    found, rejected = design_service.synthesize_motion(poses, args.unit, args.count, circle, limits_of(args),
+    found, rejected = design_service.synthesize_motion(poses, args.unit, args.count, circle, limits,
                                                        args.evaluations)
     return _designs_out(args, "motion", found, rejected)
 
@@ -90,7 +97,8 @@ def register(problems) -> None:
                         f"deterministic)")
     p.add_argument("--circle-points", metavar="X1,Y1,X2,Y2",
                    help="3 poses: the moving pivots at pose 1 (the free parameters; default: a grid searched)")
-    p.add_argument("--out", metavar="FILE.toml", help="write the best design as a linkage/1 file")
+    p.add_argument("--out", metavar="FILE.toml", help="write every returned design as a linkage/1 file: the best "
+                                                      "to FILE.toml, the next ones to FILE_2.toml, FILE_3.toml ...")
     p.add_argument("--json", action="store_true", help="print one JSON object (SPEC: designs)")
     p.set_defaults(func=cmd_motion)
     p = problems.add_parser("function", help="four-bar function generator through (input, output) pairs (Freudenstein)")

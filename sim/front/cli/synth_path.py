@@ -62,6 +62,15 @@ def cmd_path(args) -> int:
         check_writable(args.plot, (".png", ".svg", ".pdf"))
     options = options_of(args)
     target = design_service.read_target(args.target, args.timing, args.closed, not args.any_order)
+    from analytic.synthesis.constraints import unreachable
+    why = unreachable(target.xy, options.limits, args.unit)
+    if why:                                 # limits no design can meet: say so, search nothing, write nothing
+        import sys
+        if args.json:
+            print(dumps({"designs": [], "rejected": [{"type": args.type, "why": why}],
+                         "run": {"evaluations": 0, "seconds": 0.0, "seed": args.seed}}))
+        print(f"linkage: no path design can meet the constraints: {why}", file=sys.stderr if args.json else sys.stdout)
+        return 1
     if args.objectives:
         from sim.front.cli import synth_pareto
         return synth_pareto.cmd(args, options, target)
