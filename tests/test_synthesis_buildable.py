@@ -64,3 +64,122 @@ def test_motion_writes_every_returned_design_each_through_the_poses(tmp_path):
         err = np.hypot(sol["xE"] * 1000 - [0, 40, 80], sol["yE"] * 1000 - [0, 15, 20])
         assert err.max() < 1e-6                    # [mm] exact through 3 poses: rounding of the solves
         assert mech.values["l1"] == pytest.approx(d["parameters"]["l1"], rel=1e-9)   # rounding (mm file)
+
+
+# ----------------------------------------------------------------------------- function: structural error
+def hand_output(p, q):
+    """The rocker's link angle [rad] of a four-bar (A at the origin, D = (dx, 0)) at crank link angles q, by
+    the law of cosines on triangle B-C-D (the test's own closed form, not the synthesis module's)."""
+    a, b, c, d, br = p["l1"], p["l2"], p["l3"], p["dx"], p["branch"]
+    Bx, By = a * np.cos(q), a * np.sin(q)
+    e = np.hypot(d - Bx, -By)                                       # |BD|
+    ang_DB = np.arctan2(By, Bx - d)                                 # direction D -> B
+    gamma = np.arccos((c * c + e * e - b * b) / (2 * c * e))        # angle at D between DB and DC
+    return ang_DB - br * gamma
+
+
+def log_pairs(n):
+    """y = log10 x, 1 <= x <= 2 over 60 deg of crank from 45 deg and 90 deg of rocker from 135 deg (the
+    classic task); n = 3: Chebyshev spacing."""
+    if n == 3:
+        x = 1.5 - 0.5 * np.cos((2 * np.arange(1, 4) - 1) * np.pi / 6)
+    else:
+        x = np.linspace(1.0, 2.0, n)
+    return 45 + 60 * (x - 1), 135 + 90 * np.log10(x) / np.log10(2)
+
+
+def wrap(x):
+    return (np.asarray(x) + np.pi) % (2 * np.pi) - np.pi
+
+
+def hand_structural(d, want):
+    """max |output - want(input)| [deg] over the design's working range, 20001 crank angles, by hand."""
+    p = d["parameters"]
+    q = np.linspace(*d["input_range"], 20001)                       # the crank's link angles
+    user_in = q - p["start_angles"][0] - p["input_offset"]
+    out = hand_output(p, q) - p["output_offset"] - p["start_angles"][1]
+    return np.degrees(np.abs(wrap(out - want(user_in)))).max()
+
+
+def test_function_structural_error_over_the_range_not_only_at_the_pairs(tmp_path):
+    # three Chebyshev pairs of log10: exact at the pairs (1e-13 rad), yet off between them; the reported
+    # structural error is the output against the parabola through the pairs at every crank angle
+    phi, psi = log_pairs(3)
+    csv = write(tmp_path / "f.csv", "input,output", np.column_stack([phi, psi]))
+    r = run("synthesize", "function", csv, "--min-transmission", "20", "--json")
+    assert r.returncode == 0, r.stderr
+    d = json.loads(r.stdout)["designs"][0]
+    assert d["error"]["max"] < 1e-9                                 # [rad] the pairs: rounding
+    coef = np.polyfit(np.radians(phi), np.radians(psi), 2)          # the parabola through the 3 pairs
+    want = hand_structural(d, lambda x: np.polyval(coef, x))
+    se = d["structural_error"]
+    assert se["max_deg"] == pytest.approx(want, abs=1e-4)           # [deg] 1441 samples vs 20001: sampling
+    assert se["max_deg"] > 0.1                                      # far above the pairs' 1e-13 rad
+
+
+def test_function_structural_error_against_a_densely_given_function(tmp_path):
+    # 41 pairs of log10 x: least squares; the spline through them is log10 to ~1e-7 deg, so the reported
+    # error over the range is the error against log10 itself
+    phi, psi = log_pairs(41)
+    csv = write(tmp_path / "f.csv", "input,output", np.column_stack([phi, psi]))
+    r = run("synthesize", "function", csv, "--min-transmission", "0", "--json")
+    assert r.returncode == 0, r.stderr
+    d = json.loads(r.stdout)["designs"][0]
+    want = hand_structural(d, lambda x: np.radians(135 + 90 * np.log10(1 + (np.degrees(x) - 45) / 60) / np.log10(2)))
+    assert d["structural_error"]["max_deg"] == pytest.approx(want, abs=1e-4)   # [deg] sampling + spline
+    assert d["structural_error"]["max_deg"] >= np.degrees(d["error"]["max"]) - 1e-9   # the range holds the pairs
+
+
+def test_function_search_of_start_angles_meets_what_the_given_ones_cannot(tmp_path):
+    # the log10 pairs from 45 deg / 135 deg break a 30 deg transmission angle; their start angles are free
+    phi, psi = log_pairs(3)
+    csv = write(tmp_path / "f.csv", "input,output", np.column_stack([phi, psi]))
+    r = run("synthesize", "function", csv)
+    assert r.returncode == 1 and "below --min-transmission 30" in r.stdout
+    out = tmp_path / "fn.toml"
+    r = run("synthesize", "function", csv, "--start-angles", "search", "--evaluations", "400", "--count", "2",
+            "--min-link", "0.5", "--max-ratio", "8", "--out", str(out), "--json")
+    assert r.returncode == 0, r.stderr
+    designs = json.loads(r.stdout)["designs"]
+    assert len(designs) == 2 and [d["file"] for d in designs] == [str(out), str(tmp_path / "fn_2.toml")]
+    coef = np.polyfit(np.radians(phi), np.radians(psi), 2)
+    for d in designs:
+        p = d["parameters"]
+        links = [p["l1"], p["l2"], p["l3"], p["dx"]]
+        assert min(links) >= 0.5 * (1 - 1e-9) and max(links) <= 8 * min(links) * (1 + 1e-9)   # rounding
+        assert d["error"]["max"] < 1e-9                             # [rad] still exact at the pairs
+        q = np.linspace(*d["input_range"], 20001)
+        bd = np.hypot(p["dx"] - p["l1"] * np.cos(q), p["l1"] * np.sin(q))
+        mu = np.degrees(np.arccos((p["l2"] ** 2 + p["l3"] ** 2 - bd ** 2) / (2 * p["l2"] * p["l3"])))
+        assert np.minimum(mu, 180 - mu).min() >= 30 - 0.02          # [deg] 1441 samples vs 20001
+        assert d["structural_error"]["max_deg"] == pytest.approx(hand_structural(d, lambda x: np.polyval(coef, x)),
+                                                                 abs=1e-4)     # [deg] sampling
+        assert d["evaluations"] <= 400 and d["polish_evaluations"] >= 1
+
+
+def test_function_search_counts_every_evaluation_the_polish_included(monkeypatch):
+    from analytic.synthesis import function as F
+    calls = []
+    real = F._candidate
+
+    def counted(*a, **k):
+        calls.append(1)
+        return real(*a, **k)
+    monkeypatch.setattr(F, "_candidate", counted)
+    phi, psi = log_pairs(3)
+    kept, _, stats = F.search(np.radians(phi), np.radians(psi), 1.0, sc.Limits(), evaluations=150, count=2)
+    assert kept and len(calls) == stats["evaluations"] <= 150
+    assert stats["polish_evaluations"] == len(calls) - stats["grid"] > 0
+
+
+def test_function_min_link_and_max_ratio_refuse_the_given_design(tmp_path):
+    m = analytic.load("fourbar", l1=0.3, l2=1.1, l3=0.8, l4=1.0)
+    phi = np.radians([30.0, 75.0, 140.0])
+    psi = np.asarray(m.solve(phi, outputs=["phi3"])["phi3"])
+    csv = write(tmp_path / "f.csv", "input,output", np.degrees(np.column_stack([phi, psi])))
+    r = run("synthesize", "function", csv, "--min-link", "0.35")    # the crank is 0.3
+    assert r.returncode == 1 and "shortest link 0.3" in r.stdout and "--min-link 0.35" in r.stdout
+    r = run("synthesize", "function", csv, "--max-ratio", "3.5")    # 1.1 / 0.3 = 3.67
+    assert r.returncode == 1 and "longest/shortest link 3.667" in r.stdout
+    r = run("synthesize", "function", csv, "--max-ratio", "3.7", "--min-link", "0.29")
+    assert r.returncode == 0, r.stdout

@@ -27,7 +27,7 @@ from analytic.synthesis.curves import DEFAULT_TYPE, FAMILIES, TYPES
 from sim.run.parallel import mapper
 
 __all__ = ["read_table", "check_repeats", "read_target", "PathOptions", "synthesize_path", "check_path_design",
-           "curve", "synthesize_motion", "synthesize_function", "two_position", "parse_vary", "sweep",
+           "curve", "synthesize_motion", "synthesize_function", "structural_error", "two_position", "parse_vary", "sweep",
            "sweep_columns", "MAX_COMBOS", "STATS", "DEFAULT_TYPE", "TYPES", "UNITS", "GRASHOF", "limits",
            "two_position_task", "two_position_design", "two_position_feasible", "two_position_mechanism"]
 
@@ -556,56 +556,146 @@ def synthesize_motion(poses: np.ndarray, unit: str = "m", count: int = 3, circle
     return found, rejected
 
 
-def synthesize_function(pairs: np.ndarray, ground: float = 1.0, unit: str = "m",
-                        limits=None) -> tuple[list[dict], list[dict]]:
-    """Freudenstein function generation (3 pairs exact, more by least squares): the one design the pairs
-    and the ground length determine, under ``limits``; its file holds its working range (the crank's
-    travel from the first pair to the last), where it is measured by the general solver and passed through
-    ``linkage compare``. Returns (designs, rejected) as :func:`synthesize_motion`: the design, or none and
-    why. Where Freudenstein's solution has a negative crank (or rocker) length, the crank (rocker) points the
-    other way: its link angle is the given angle + 180 deg, said in ``notes``."""
+START_ANGLES = ("given", "search")
+"""``--start-angles``: the pairs' angles are from the line A -> D (given), or from any zero (search)."""
+FUNCTION_EVALUATIONS = 2000
+"""Function synthesis with free start angles: candidates evaluated at most by default (a 40 x 40 grid of
+start angles, 9 deg apart, then 400 for the polish)."""
+
+
+def structural_error(mech, link_off_in: float, link_off_out: float, phi, psi, lo: float, hi: float,
+                     sol=None, n: int | None = None) -> dict | None:
+    """The structural error of a function generator over its working range [lo, hi] [rad, crank link
+    angles]: ``mech`` solved there by the general solver (or its solution ``sol`` at ``n`` evenly spaced
+    values, either way round), its output angle (``phi3`` - ``link_off_out``) minus the target function
+    (:func:`analytic.synthesis.function.target_function` through the pairs ``phi``, ``psi`` in the user's
+    frame, at crank angle - ``link_off_in``). ``{"max", "rms" [rad], "max_deg", "rms_deg", "at_input" [rad,
+    the user's input angle of the max], "samples", "target"}``; None where the pairs are not in order."""
     from analytic.synthesis import constraints as sc
-    from analytic.synthesis import fourbar as synth_fourbar
+    from analytic.synthesis import function as synthesis_function
+    target = synthesis_function.target_function(phi, psi)
+    if target is None:
+        return None
+    n = n or sc.MEASURE_SAMPLES
+    q = np.linspace(lo, hi, n)
+    if sol is None:
+        sol = mech.solve(q)
+    e = np.abs(synthesis_function._wrap(np.asarray(sol["phi3"]) - link_off_out - target(q - link_off_in)))
+    k = int(np.argmax(e))
+    return {"max": float(e[k]), "rms": float(np.sqrt(np.mean(e ** 2))), "max_deg": math.degrees(float(e[k])),
+            "rms_deg": math.degrees(float(np.sqrt(np.mean(e ** 2)))), "at_input": float(q[k] - link_off_in),
+            "samples": int(n), "target": ("the parabola through the 3 pairs" if len(phi) == 3 else
+                                          f"the cubic spline through the {len(phi)} pairs")}
+
+
+def synthesize_function(pairs: np.ndarray, ground: float = 1.0, unit: str = "m", limits=None,
+                        start_angles: str = "given", evaluations: int = FUNCTION_EVALUATIONS,
+                        count: int = 1) -> tuple[list[dict], list[dict]]:
+    """Freudenstein function generation (3 pairs exact, more by least squares) under ``limits``: its file
+    holds its working range (the crank's travel from the first pair to the last), where it is measured by
+    the general solver, its structural error taken (:func:`structural_error`: the output against the pairs'
+    interpolant at every crank angle of the range, not only at the pairs) and passed through ``linkage
+    compare``. ``start_angles`` "given": the pairs' angles are from the line A -> D and fix the one design
+    (``evaluations`` and ``count`` unused); "search": they are from any zero and the start angles are
+    searched (:func:`analytic.synthesis.function.search`, at most ``evaluations`` candidates, the polish's
+    included), up to ``count`` distinct designs returned, best first. Returns (designs, rejected) as
+    :func:`synthesize_motion`. Where Freudenstein's solution has a negative crank (or rocker) length, the
+    crank (rocker) points the other way: its link angle is the given angle + 180 deg, said in ``notes``."""
+    from analytic.synthesis import constraints as sc
     from analytic.synthesis import function as synthesis_function
     limits = (limits or sc.Limits()).check()
     limits.check_names(("A", "D"), "a function generator (A: the crank's pivot, D: the rocker's)")
     if not (math.isfinite(ground) and ground > 0):
         raise ParameterError(f"--ground {ground!r} must be a length > 0")
-    f = synthesis_function.synthesize(pairs[:, 0], pairs[:, 1], ground)
-    inputs = pairs[:, 0] + f.input_offset
-    lo, hi = working_range(f.linkage, inputs)
-    notes = []
-    if f.input_offset:
-        notes.append("input offset 180 deg: Freudenstein's crank length came out negative, so the crank AB points "
-                     "opposite to the given input angle: the file's phi1 = input + 180 deg")
-    if f.output_offset:
-        notes.append("output offset 180 deg: the rocker length came out negative, so the rocker DC points opposite "
-                     "to the given output angle: output = phi3 - 180 deg")
-    notes.append(f"the crank turns {'counter-clockwise' if f.linkage.omega1 > 0 else 'clockwise'} from pair 1 to "
-                 f"pair {len(pairs)}; branch {f.linkage.branch:+d} (C {'left' if f.linkage.branch > 0 else 'right'} "
-                 f"of B->D)")
-    params = {**f.linkage.parameters(), "K1": f.K[0], "K2": f.K[1], "K3": f.K[2],
-              "input_offset": f.input_offset, "output_offset": f.output_offset}
-    why, m = f.defect, None
-    if not why:
-        try:
-            m = sc.measure(synth_fourbar.mechanism(f.linkage, unit), lo, hi, lengths=_fourbar_lengths(f.linkage))
-            why = sc.broken(m, limits, unit)
-        except ParameterError as e:
-            why = str(e)
-    if why:
-        return [], [{"parameters": params, "why": why, "notes": notes}]
-    text = synth_fourbar.text(f.linkage, unit, "function_fourbar",
-                              f"Freudenstein function generator through {len(pairs)} (input, output) pairs; "
-                              f"input offset {math.degrees(f.input_offset):g} deg, output offset "
-                              f"{math.degrees(f.output_offset):g} deg; the crank rocks over input_range, its "
-                              f"travel from the first pair to the last", (lo, hi))
-    mech = synth_fourbar.mechanism(f.linkage, unit)
-    sol = mech.solve(inputs)                                   # the general solver at the given inputs
-    err = synthesis_function._wrap(sol["phi3"] - f.output_offset - pairs[:, 1])
-    passed, mode, sim = check_fourbar(mech, lo, hi)
-    return [_exact_record(f.linkage, text, unit, m, error_record(err), "rad", params, passed, mode, 1, notes,
-                          simulated=sim)], []
+    if start_angles not in START_ANGLES:
+        raise ParameterError(f"--start-angles {start_angles}: use one of {', '.join(START_ANGLES)}")
+    if count < 1:
+        raise ParameterError(f"--count {count} must be >= 1")
+    if start_angles == "given":
+        f = synthesis_function.synthesize(pairs[:, 0], pairs[:, 1], ground)
+        return _function_designs([(f, 0.0, 0.0)], pairs, ground, unit, limits, 1,
+                                 {"evaluations": 1, "grid": 0, "polish_evaluations": 0})
+    if evaluations < 1:
+        raise ParameterError(f"--evaluations {evaluations} must be >= 1")
+    for r in limits.regions:       # the search moves no pivot: A = (0, 0), D = (ground, 0)
+        p = (0.0, 0.0) if r.name == "A" else (ground, 0.0)
+        if not r.contains(*p):
+            return [], [{"parameters": {}, "why": f"ground pivot {r.name} at ({p[0]:.4g}, {p[1]:.4g}) lies outside "
+                                                  f"--pivot-region {r.text()} (a function generator's pivots are "
+                                                  f"A = (0, 0), D = (--ground, 0))", "notes": []}]
+    kept, turned, stats = synthesis_function.search(pairs[:, 0], pairs[:, 1], ground, limits, evaluations, count)
+    found, rejected = _function_designs([(c.function, c.phi0, c.psi0) for c in kept], pairs, ground, unit, limits,
+                                        count, stats)
+    if not found and not rejected:
+        if turned:
+            c = turned[0]
+            rejected = [{"parameters": c.function.linkage.parameters(), "why": f"the best of the {stats['grid']} "
+                         f"start angles tried: {c.why}", "notes": []}]
+        else:
+            rejected = [{"parameters": {}, "why": f"none of the {stats['grid']} start angles tried gives a "
+                         f"four-bar through the pairs", "notes": []}]
+    return found, rejected
+
+
+def _function_designs(functions, pairs, ground, unit, limits, count, stats) -> tuple[list[dict], list[dict]]:
+    """The checked records of function generators ``functions`` [(Function, phi0, psi0)], best first: up to
+    ``count`` distinct ones meeting ``limits`` by the general solver and passing ``linkage compare``."""
+    from analytic.synthesis import constraints as sc
+    from analytic.synthesis import fourbar as synth_fourbar
+    from analytic.synthesis import function as synthesis_function
+    found, rejected, chosen = [], [], []
+    for f, phi0, psi0 in functions:
+        if len(found) >= count:
+            break
+        if not _distinct(f.linkage, chosen, ground):
+            continue
+        phi, psi = pairs[:, 0] + phi0, pairs[:, 1] + psi0          # the pairs from the line A -> D
+        inputs = phi + f.input_offset
+        lo, hi = working_range(f.linkage, inputs)
+        notes = []
+        if phi0 or psi0:
+            notes.append(f"start angles searched: input 0 at {math.degrees(phi0):.3f} deg and output 0 at "
+                         f"{math.degrees(psi0):.3f} deg from the line A->D (the file's angles are the pairs' + these)")
+        if f.input_offset:
+            notes.append("input offset 180 deg: Freudenstein's crank length came out negative, so the crank AB "
+                         "points opposite to the given input angle: the file's phi1 = input + 180 deg")
+        if f.output_offset:
+            notes.append("output offset 180 deg: the rocker length came out negative, so the rocker DC points "
+                         "opposite to the given output angle: output = phi3 - 180 deg")
+        notes.append(f"the crank turns {'counter-clockwise' if f.linkage.omega1 > 0 else 'clockwise'} from pair 1 "
+                     f"to pair {len(pairs)}; branch {f.linkage.branch:+d} (C "
+                     f"{'left' if f.linkage.branch > 0 else 'right'} of B->D)")
+        params = {**f.linkage.parameters(), "K1": f.K[0], "K2": f.K[1], "K3": f.K[2],
+                  "input_offset": f.input_offset, "output_offset": f.output_offset,
+                  "start_angles": [float(phi0), float(psi0)]}
+        why, m, structural = f.defect, None, None
+        mech = synth_fourbar.mechanism(f.linkage, unit)
+        if not why:
+            try:
+                sol = mech.solve(np.linspace(lo, hi, sc.MEASURE_SAMPLES))     # the general solver over the range
+                m = sc.measure(mech, lo, hi, lengths=_fourbar_lengths(f.linkage), sol=sol)
+                why = sc.broken(m, limits, unit)
+                structural = structural_error(mech, phi0 + f.input_offset, psi0 + f.output_offset, pairs[:, 0],
+                                              pairs[:, 1], lo, hi, sol=sol)
+            except ParameterError as e:
+                why = str(e)
+        if why:
+            if len(rejected) < count:
+                rejected.append({"parameters": params, "why": why, "notes": notes})
+            continue
+        text = synth_fourbar.text(f.linkage, unit, "function_fourbar",
+                                  f"Freudenstein function generator through {len(pairs)} (input, output) pairs; "
+                                  f"input 0 at {math.degrees(phi0 + f.input_offset):g} deg, output 0 at "
+                                  f"{math.degrees(psi0 + f.output_offset):g} deg from A->D; the crank rocks over "
+                                  f"input_range, its travel from the first pair to the last", (lo, hi))
+        sol = mech.solve(inputs)                                   # the general solver at the given inputs
+        err = synthesis_function._wrap(sol["phi3"] - f.output_offset - psi)
+        passed, mode, sim = check_fourbar(mech, lo, hi)
+        found.append(_exact_record(f.linkage, text, unit, m, error_record(err), "rad", params, passed, mode,
+                                   stats["evaluations"], notes, structural_error=structural,
+                                   polish_evaluations=stats["polish_evaluations"], simulated=sim))
+        chosen.append(f.linkage)
+    return found, rejected
 
 
 # --------------------------------------------------------------------------------- two-position

@@ -3,6 +3,8 @@
 
 from __future__ import annotations
 
+import math
+
 from analytic import ParameterError
 from sim.front.lazy import lazy
 from sim.output.io import check_writable, write_text
@@ -33,7 +35,12 @@ def _designs_out(args, kind: str, found: list[dict], rejected: list[dict]) -> in
                   f"({d['compare_mode']}), forces in MuJoCo "
                   f"{'passed' if d['simulated']['forces_passed'] else 'FAILED'}; "
                   f"{'ok' if d in ok else d['simulated']['problem']}")
-            print("   " + ", ".join(f"{k}={v:.6g}" for k, v in d["parameters"].items()))
+            se = d.get("structural_error")
+            if se:
+                print(f"   structural error over the working range: max {se['max_deg']:.4g} deg at input "
+                      f"{math.degrees(se['at_input']):.2f} deg, rms {se['rms_deg']:.4g} deg (the output against "
+                      f"{se['target']}, the general solver at {se['samples']} crank angles)")
+            print("   " + ", ".join(f"{k}={v:.6g}" for k, v in d["parameters"].items() if isinstance(v, (int, float))))
             for note in d["notes"]:
                 print("   note: " + note)
             if d.get("file"):
@@ -79,8 +86,11 @@ def cmd_motion(args) -> int:
 def cmd_function(args) -> int:
     if args.out:
         check_writable(args.out, (".toml",))
+    from dataclasses import replace
     pairs = design_service.read_pairs(args.pairs, args.angles == "deg")
-    found, rejected = design_service.synthesize_function(pairs, args.ground, args.unit, limits_of(args))
+    limits = replace(limits_of(args), min_link=args.min_link, max_ratio=args.max_ratio).check()
+    found, rejected = design_service.synthesize_function(pairs, args.ground, args.unit, limits, args.start_angles,
+                                                         args.evaluations, args.count)
     return _designs_out(args, "function", found, rejected)
 
 
@@ -108,6 +118,23 @@ def register(problems) -> None:
     add_limits(p, "A (the crank's, at the origin), D (the rocker's, at (ground, 0))")
     p.add_argument("--angles", choices=("deg", "rad"), default="deg", help="unit of the angles (default deg)")
     p.add_argument("--ground", type=float, default=1.0, help="ground link |AD| in --unit (default 1)")
-    p.add_argument("--out", metavar="FILE.toml", help="write the design as a linkage/1 file")
+    p.add_argument("--min-link", metavar="L", type=float, default=None,
+                   help="shortest link allowed, ground included (--unit; e.g. no link shorter than its own pin "
+                        "hole; default none)")
+    p.add_argument("--max-ratio", metavar="R", type=float, default=20.0,
+                   help="longest/shortest link at most, ground included (default 20)")
+    p.add_argument("--start-angles", choices=design_service.START_ANGLES, default="given",
+                   help="given (default): the pairs' angles are from the line A->D and fix the design; search: "
+                        "they are from any zero (only the function's increments matter) and the start angles of "
+                        "input and output are searched for the least structural error over the working range")
+    p.add_argument("--evaluations", type=int, default=design_service.FUNCTION_EVALUATIONS, metavar="N",
+                   help="with --start-angles search: candidates evaluated at most, each one Freudenstein solve and "
+                        "its structural error over the range (a grid of start angles, then the polish's share, "
+                        f"reported as polish_evaluations; default {design_service.FUNCTION_EVALUATIONS}; "
+                        "deterministic)")
+    p.add_argument("--count", type=int, default=1,
+                   help="with --start-angles search: distinct designs to return, best first (default 1)")
+    p.add_argument("--out", metavar="FILE.toml", help="write every returned design as a linkage/1 file: the best "
+                                                      "to FILE.toml, the next ones to FILE_2.toml, FILE_3.toml ...")
     p.add_argument("--json", action="store_true", help="print one JSON object (SPEC: designs)")
     p.set_defaults(func=cmd_function)
