@@ -183,3 +183,50 @@ def test_function_min_link_and_max_ratio_refuse_the_given_design(tmp_path):
     assert r.returncode == 1 and "longest/shortest link 3.667" in r.stdout
     r = run("synthesize", "function", csv, "--max-ratio", "3.7", "--min-link", "0.29")
     assert r.returncode == 0, r.stdout
+
+
+# --------------------------------------------------------------------------- path: --evaluations a bound
+def count_designs(monkeypatch):
+    """Count every design evaluated on the targets at the call sites that evaluate them (outermost calls
+    only: a pose inside the search objective is that evaluation), not through the search's own counters."""
+    from analytic.synthesis import path as sp
+    tally = {"n": 0, "depth": 0}
+
+    def wrap(fn, rows):
+        def counted(*a, **k):
+            tally["depth"] += 1
+            try:
+                out = fn(*a, **k)
+            finally:
+                tally["depth"] -= 1
+            if tally["depth"] == 0:
+                tally["n"] += rows(*a, **k)
+            return out
+        return counted
+    monkeypatch.setattr(sp, "_shape_objective", wrap(sp._shape_objective, lambda u, *a, **k: len(u)))
+    monkeypatch.setattr(sp, "_pose", wrap(sp._pose, lambda xn, *a, **k: len(xn)))
+    monkeypatch.setattr(sp, "_pose_timed", wrap(sp._pose_timed, lambda u, *a, **k: len(u)))
+    monkeypatch.setattr(sp, "align", wrap(sp.align, lambda x, *a, **k: len(x)))
+    monkeypatch.setattr(sp, "errors", wrap(sp.errors, lambda *a, **k: 1))
+    monkeypatch.setattr(sp, "_finish", wrap(sp._finish, lambda *a, **k: 1))
+    monkeypatch.setattr(sp._Fit, "residuals", wrap(sp._Fit.residuals, lambda self, p: 1))
+    # a Jacobian by forward differences: the design columns (and the offset), the base, and (free timing)
+    # every target's own angle moved at once
+    monkeypatch.setattr(sp._Fit, "jacobian", wrap(sp._Fit.jacobian, lambda self, p: self.nx + 2))
+    return tally
+
+
+@pytest.mark.parametrize("timed", [False, True])
+def test_path_evaluations_bound_every_design_evaluated(monkeypatch, timed):
+    # the issue: 2000 asked gave 247,361 (differential evolution's populations counted as one each, the
+    # polishes unbounded); now every design evaluated counts and the run stops at N
+    from analytic.synthesis import path as sp
+    tally = count_designs(monkeypatch)
+    th = np.linspace(0.0, 2 * np.pi, 8, endpoint=False)
+    xy = np.column_stack([10 * np.cos(th) + 3 * np.cos(2 * th), 6 * np.sin(th)])
+    t = sp.Target(xy, th.copy() if timed else None, not timed, True)
+    n = 700
+    ds = sp.synthesize(t, sp.Constraints(), seed=3, restarts=16, evaluations=n)
+    assert tally["n"] == ds[0].stats["run_evaluations"] <= n
+    assert 0 < ds[0].stats["polish_evaluations"] < ds[0].stats["run_evaluations"]
+    assert ds[0].stats["restarts"] < 16                        # cut to what 60 % of 700 holds

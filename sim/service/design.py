@@ -135,7 +135,8 @@ class PathOptions:
     ``popsize`` per restart, ``budget`` [s] (None: none; a hard wall-clock limit on the whole run, the
     checks included: the search stops early and the best so far is returned), ``evaluations`` (None: the
     default counts; N: the global search's evaluations, N / restarts per restart, its atlas and
-    differential evolution; the polishes add theirs, all counted in each design's ``evaluations``),
+    differential evolution, polishes: every design evaluated on the targets, at most N in all, each design's
+    ``evaluations``; the hops' and final polishes' share also as ``polish_evaluations``),
     ``designs`` returned, ``min_transmission`` [deg], ``max_ratio``, ``region`` [target sizes], ``max_size``
     [length] (None: none), ``boxes`` (:class:`analytic.synthesis.constraints.Region` per named ground pivot),
     ``grashof``, ``workers``, ``scheduler``. Without ``budget`` the answer depends on the seed only."""
@@ -197,12 +198,9 @@ class PathOptions:
 
     @property
     def generations_value(self) -> int | None:
-        """The differential-evolution generations per restart: ``generations``, or from ``evaluations``."""
-        if self.evaluations is None:
-            return self.generations
-        per = self.evaluations // max(self.restart_count, self.designs)
-        atlas = max(self.popsize * 4, sp.ATLAS)
-        return max(1, (per - atlas) // self.popsize - 1)
+        """The differential-evolution generations per restart: ``generations`` (with ``evaluations``: the
+        restarts' caps set them, :func:`analytic.synthesis.path.synthesize`)."""
+        return self.generations
 
     @property
     def constraints(self) -> sp.Constraints:
@@ -330,7 +328,7 @@ def synthesize_path(target: sp.Target, options: PathOptions = PathOptions(), uni
         designs = sp.synthesize(target, options.constraints, seed=options.seed, restarts=restarts,
                                 generations=options.generations_value, popsize=options.popsize, budget=budget,
                                 mapper=m, progress=step, types=options.types,
-                                designs=options.designs)[:options.designs]
+                                designs=options.designs, evaluations=options.evaluations)[:options.designs]
         designs = [d for i, d in enumerate(designs)          # one design found twice is returned once
                    if not any(sp.same_design(d, e, target.size) for e in designs[:i])]
         texts = [design_text(d, unit, target, options.seed) for d in designs]
@@ -354,7 +352,8 @@ def synthesize_path(target: sp.Target, options: PathOptions = PathOptions(), uni
         found.append({"file": None, "type": d.family.name, "error": error_record(d.err), "error_unit": unit,
                       "parameters": params, "compare_passed": c["compare_passed"], "compare_mode": c["compare_mode"],
                       "failed": d.failed or c["problem"], "solver_deviation": c["solver_deviation"], **meas,
-                      "evaluations": int(d.stats.get("run_evaluations", 0)), "simulated": c["simulated"],
+                      "evaluations": int(d.stats.get("run_evaluations", 0)),
+                      "polish_evaluations": int(d.stats.get("polish_evaluations", 0)), "simulated": c["simulated"],
                       "stats": d.stats, "text": text,
                       "design": d})
     elapsed = time.time() - start

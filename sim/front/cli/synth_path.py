@@ -87,9 +87,12 @@ def cmd_path(args) -> int:
     if args.plot and ok:
         plot(args.plot, target, ok, args.unit)
     stats = found[0]["stats"]
-    run = {"evaluations": found[0]["evaluations"], "seconds": stats["seconds"],
+    run = {"evaluations": found[0]["evaluations"], "polish_evaluations": found[0]["polish_evaluations"],
+           "evaluations_bound": args.evaluations, "seconds": stats["seconds"],
            "stopped_by_budget": bool(stats.get("stopped_by_budget")), "budget": args.budget, "seed": args.seed,
-           "restarts": max(options.restart_count, options.designs), "generations": options.generations_value}
+           "restarts": int(stats.get("restarts", max(options.restart_count, options.designs))),
+           "generations": options.generations_value if args.evaluations is None else
+           int(stats.get("de_generations", 0))}
     if args.json:
         print(dumps({"designs": [{k: v for k, v in f.items() if k not in ("text", "design")} for f in ok],
                      "rejected": rejected, "run": run}))
@@ -134,9 +137,14 @@ def register(problems) -> None:
     p.add_argument("--seed", type=int, default=0, help="random seed (same seed, same answer, any --workers)")
     budget = p.add_mutually_exclusive_group()
     budget.add_argument("--evaluations", type=int, default=None, metavar="N",
-                        help="the global search's evaluations (spread over the restarts; reproducible: the same "
-                             "seed gives the same answer on any machine and --workers). Default: fixed counts, "
-                             "reproducible too")
+                        help="designs evaluated on the targets at most, the whole run: the atlas, differential "
+                             "evolution's populations, every pose and every polish's residuals, Jacobian difference "
+                             "designs and finishes (JSON run.evaluations <= N; the hops' and final polishes' own "
+                             "count: polish_evaluations). The random shapes screened against the limits before any "
+                             "is posed (20,000 a restart) are not evaluated on the targets and not counted; the "
+                             "compare and force checks of the returned designs neither. Restarts are cut to fit. "
+                             "Reproducible: the same seed gives the same answer on any machine and --workers. "
+                             "Default: fixed counts (no bound), reproducible too")
     budget.add_argument("--budget", type=float, default=None, metavar="SECONDS",
                         help="a hard wall-clock limit on the whole run, checks included: the search stops and "
                              "returns its best so far, polished within it (the answer then depends on the machine)")
