@@ -230,3 +230,28 @@ def test_path_evaluations_bound_every_design_evaluated(monkeypatch, timed):
     assert tally["n"] == ds[0].stats["run_evaluations"] <= n
     assert 0 < ds[0].stats["polish_evaluations"] < ds[0].stats["run_evaluations"]
     assert ds[0].stats["restarts"] < 16                        # cut to what 60 % of 700 holds
+
+
+# ------------------------------------------------------------------------------- path: compact preferred
+def test_of_designs_equally_close_the_compact_one_is_ranked_first():
+    # the issue: targets drawn by a compact crank-rocker came back as a drag link twenty times its size
+    from analytic.synthesis import path as sp
+    t = sp.Target(np.array([[0.0, 0.0], [0.3, 0.0], [0.3, 0.2], [0.0, 0.2]]), None, True, True)
+    small = np.array([0.0, 0.0, 0.0, 0.3, 0.1, 0.3, 0.25, 0.15, 0.1])    # ax ay theta0 d a b c ex ey
+    big = small * np.r_[1, 1, 1, 20, 20, 20, 20, 20, 20]                   # every length 20 times
+
+    def design(x, rms):
+        return sp.Design(x, (1,), 0.0, np.full(4, rms), np.zeros(4), 0.0, 0, "", {}, sp.FOURBAR)
+    tie = 0.5 * sp.COMPACT_TIE * t.size                # closer than the tie: equally good
+    ranked = sp.compact_first([design(big, 1e-6), design(small, 1e-6 + tie)], t)
+    assert ranked[0].x[4] == pytest.approx(0.1)        # the compact one first
+    worse = 2 * sp.COMPACT_TIE * t.size                # farther than the tie: the error decides
+    ranked = sp.compact_first([design(big, 1e-6), design(small, 1e-6 + worse)], t)
+    assert ranked[0].x[4] == pytest.approx(2.0)
+
+
+def test_a_returned_type_other_than_crank_rocker_is_said():
+    from sim.service.design import type_notes
+    assert "drag link" in type_notes("double-crank", "any")[0] and "--grashof crank-rocker" in type_notes(
+        "double-crank", "any")[0]
+    assert type_notes("crank-rocker", "any") == [] and type_notes("double-crank", "double-crank") == []

@@ -1366,7 +1366,7 @@ def synthesize(target: Target, cons: Constraints = Constraints(), seed: int = 0,
     if not out:
         raise ParameterError(f"--budget {budget:g} s ran out before the first restart could start; give more")
     out.sort(key=lambda t: rank_key(*t))
-    found = [d for _, d in out]
+    found = compact_first([d for _, d in out], target)
     polish_spent = 0
     if hops and jumps:
         hop_cap = None if not share else max(0, min(share["hopping"], evaluations - spent - share["refine"]))
@@ -1387,6 +1387,7 @@ def synthesize(target: Target, cons: Constraints = Constraints(), seed: int = 0,
         spent += len(found) - len(refined)
         found = distinct_first([d for _, d in sorted(enumerate(found), key=lambda t: rank_key(*t))], designs,
                                target.size)
+    found = distinct_first(compact_first(found, target), designs, target.size)
     cut = cut or (deadline is not None and time.time() > deadline)
     run = {"run_evaluations": int(spent), "polish_evaluations": int(polish_spent), "restarts": restarts,
            "search_seconds": time.time() - start, "stopped_by_budget": bool(cut)}
@@ -1397,6 +1398,32 @@ def synthesize(target: Target, cons: Constraints = Constraints(), seed: int = 0,
 DISTINCT = 1e-3
 """Two designs of one family and branch whose parameters all differ by less than this share of the target
 size are one design found twice (one basin reached from two starts)."""
+
+
+COMPACT_TIE = 1e-4
+"""Designs whose RMS target distance is within this share of the target size of the best one's are equally
+good (1e-4: 0.03 mm on a 300 mm path, below what pins and links can be made to): the smallest of them (its
+mechanism's extent over a turn) is ranked first. A search ranked on the error alone returned a drag link 20
+times the size of the crank-rocker that drew the targets (issue 41)."""
+
+
+def compact_first(found: list[Design], target: Target) -> list[Design]:
+    """``found`` (best first, :func:`rank_key`) with the feasible designs tied with the best (COMPACT_TIE)
+    moved to the front, smallest first; the others keep their order."""
+    ok = [d for d in found if d.violation == 0 and not d.failed and np.all(np.isfinite(d.err))]
+    if len(ok) < 2:
+        return found
+    rms = {id(d): float(np.sqrt(np.mean(np.asarray(d.err) ** 2))) for d in ok}
+    best = min(rms.values())
+    ties = [d for d in ok if rms[id(d)] <= best + COMPACT_TIE * target.size]
+    if len(ties) < 2:
+        return found
+    def side(d):                   # the larger side of the mechanism's box over a turn
+        b = d.family.extent(np.asarray(d.x)[None], d.branch, 512)[0]
+        return float(max(b[2] - b[0], b[3] - b[1]))
+    size = {id(d): side(d) for d in ties}
+    head = sorted(ties, key=lambda d: size[id(d)])
+    return head + [d for d in found if not any(d is h for h in head)]
 
 
 def same_design(a: Design, b: Design, scale: float) -> bool:

@@ -295,6 +295,23 @@ def curve(record: dict, n: int = 1441) -> np.ndarray:
     return E[0]
 
 
+GRASHOF_WORDS = {"double-crank": "a drag link: the ground the shortest link, both cranks turning fully",
+                 "double-rocker": "the coupler the shortest link: neither crank nor rocker turns fully",
+                 "rocker-crank": "the rocker the shortest link: the output turns fully, the input rocks",
+                 "triple-rocker": "non-Grashof: no link turns fully",
+                 "change-point": "s + l = p + q: it can fold into a line"}
+
+
+def type_notes(grashof: str, wanted: str) -> list[str]:
+    """A note when a returned four-bar's type is not the crank-rocker a path's full crank turn suggests and
+    ``--grashof`` did not ask for it (``any``): say which type it is and how to ask for a crank-rocker."""
+    if not grashof or grashof == "crank-rocker" or wanted != "any":
+        return []
+    return [f"a {grashof} four-bar ({GRASHOF_WORDS.get(grashof, grashof)}), not a crank-rocker: --grashof any "
+            f"(the default) takes the type that fits best; give --grashof crank-rocker for one whose crank alone "
+            f"turns fully"]
+
+
 def synthesize_path(target: sp.Target, options: PathOptions = PathOptions(), unit: str = "m",
                     progress=None) -> list[dict]:
     """Path synthesis (SPEC, "Synthesis"): the best ``options.designs`` designs, best first, each checked
@@ -349,7 +366,9 @@ def synthesize_path(target: sp.Target, options: PathOptions = PathOptions(), uni
         lo, hi = sorted((job[4], job[4] + job[5] * 2 * math.pi))
         meas = c["measure"] or {"transmission_deg": [c["mu_min_deg"], float("nan")], "size": float("nan"),
                                 "box": [float("nan")] * 4, "input_range": [lo, hi], "grashof": ""}
+        notes = type_notes(meas.get("grashof", ""), options.grashof)
         found.append({"file": None, "type": d.family.name, "error": error_record(d.err), "error_unit": unit,
+                      "notes": notes,
                       "parameters": params, "compare_passed": c["compare_passed"], "compare_mode": c["compare_mode"],
                       "failed": d.failed or c["problem"], "solver_deviation": c["solver_deviation"], **meas,
                       "evaluations": int(d.stats.get("run_evaluations", 0)),

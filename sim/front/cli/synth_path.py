@@ -102,6 +102,8 @@ def cmd_path(args) -> int:
             print(f"{n}. {f['type']}: sum of squares {e['sum_sq']:.6g} {args.unit}^2, max {e['max']:.4g}, rms "
                   f"{e['rms']:.4g} {args.unit}; {measure_words(f, args.unit)}; compare and forces in MuJoCo passed "
                   f"({f['compare_mode']})" + (f"; wrote {f['file']}" if f["file"] else ""))
+            for note in f.get("notes", []):
+                print("   note: " + note)
         for f in rejected:
             print(f"   turned down: {f['type']}, sum of squares {f['error']['sum_sq']:.6g} {args.unit}^2: {f['why']}")
         print(f"{run['evaluations']} evaluations in {run['seconds']:.1f} s (seed {args.seed}"
