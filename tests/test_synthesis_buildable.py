@@ -255,3 +255,45 @@ def test_a_returned_type_other_than_crank_rocker_is_said():
     assert "drag link" in type_notes("double-crank", "any")[0] and "--grashof crank-rocker" in type_notes(
         "double-crank", "any")[0]
     assert type_notes("crank-rocker", "any") == [] and type_notes("double-crank", "double-crank") == []
+
+
+# ------------------------------------------------------------------------------------ --budget, dask
+def test_the_budget_clock_starts_with_the_process():
+    # a process that sleeps 0.5 s before it asks: its start lies at least that far back (the interpreter's
+    # start and imports count against --budget as the user's clock counts them)
+    code = ("import time; time.sleep(0.5)\n"
+            "from sim.front.cli.synth_path import process_started\n"
+            "print(time.time() - process_started())")
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert r.returncode == 0, r.stderr
+    age = float(r.stdout)
+    assert 0.5 <= age < 120                              # the sleep, and no older than the run's timeout
+
+
+@pytest.mark.slow
+def test_budget_ends_near_its_limit_on_a_loaded_machine(tmp_path):
+    # a generous bound (S + 3 s: CI machines are slower and busier than ours); the overrun figures are
+    # benchmarks/synthesis_budget.py's
+    import time
+    th = np.radians(np.arange(0.0, 360.0, 30.0))
+    m = analytic.load("fourbar")
+    s = m.solve(th)
+    csv = write(tmp_path / "t.csv", "x,y,phi", np.column_stack([s["xE"], s["yE"], np.degrees(th)]))
+    t0 = time.perf_counter()
+    r = run("synthesize", "path", csv, "--timing", "--budget", "8", "--json")
+    wall = time.perf_counter() - t0
+    assert r.returncode in (0, 1, 2), r.stderr
+    assert wall < 8 + 3, wall
+
+
+@pytest.mark.slow
+def test_a_local_dask_cluster_leaves_no_scratch_space(tmp_path):
+    import os
+    code = ("from sim.run.parallel import mapper\n"
+            "with mapper(2, 'local') as m:\n"
+            "    assert list(m(abs, [-1, 2])) == [1, 2]\n")
+    env = {**os.environ, "TMPDIR": str(tmp_path)}
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300, env=env,
+                       cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    assert not any("dask" in p.name for p in tmp_path.iterdir())

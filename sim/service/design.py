@@ -117,7 +117,18 @@ def error_record(e) -> dict:
 # ---------------------------------------------------------------------------------- path synthesis
 CHECK_RESERVE = (0.3, 0.5)
 """[s] Of a ``--budget``, the share kept for checking the returned designs (read back, solved, compared in
-MuJoCo): this plus this per design (a four-bar's checks take 0.1-0.2 s here), at most half the budget."""
+MuJoCo) and ending the process: this plus this per design on an idle machine (a four-bar's checks take
+0.1-0.2 s here; the interpreter's exit 0.1-0.2 s), times :func:`slowdown`."""
+
+
+def slowdown() -> float:
+    """How much slower than idle this machine runs now: its 1-minute load average per core, at least 1 (on
+    2 cores at load 8, a four-bar's checks took 1.8 s instead of 0.4 s, and the exit 0.7 s)."""
+    import os
+    try:
+        return max(1.0, os.getloadavg()[0] / (os.cpu_count() or 1))
+    except OSError:
+        return 1.0
 
 MAX_BUDGET = 7 * 24 * 3600.0
 """[s] The longest --budget: a week (inf or 1e308 is no budget at all)."""
@@ -313,7 +324,7 @@ def type_notes(grashof: str, wanted: str) -> list[str]:
 
 
 def synthesize_path(target: sp.Target, options: PathOptions = PathOptions(), unit: str = "m",
-                    progress=None) -> list[dict]:
+                    progress=None, started: float | None = None) -> list[dict]:
     """Path synthesis (SPEC, "Synthesis"): the best ``options.designs`` designs, best first, each checked
     (:func:`check_path_design`). A record: ``type`` (family), ``error`` {sum_sq, max, rms} and
     ``error_unit``, ``parameters`` (the family's, its branch(es), ``phi1_0`` [rad], ``omega1`` [rad/s],
@@ -333,28 +344,56 @@ def synthesize_path(target: sp.Target, options: PathOptions = PathOptions(), uni
     total = restarts + options.designs
     import time
     start = time.time()
-    budget = None
-    if options.budget is not None:       # the checks' share of a hard budget: the search stops before it
-        budget = max(options.budget - min(CHECK_RESERVE[0] + CHECK_RESERVE[1] * options.designs,
-                                          0.5 * options.budget), 1e-3)
+    budget = end = None
+    if options.budget is not None:       # the whole run ends by then, counted from ``started`` (the command's start)
+        end = (start if started is None else started) + options.budget
+        import scipy.optimize  # noqa: F401 (what the search and the checks load, loaded before their shares are set)
+        import sim.service.synth_checks  # noqa: F401
 
     def step(done, _n=None):
         if progress is not None:
             progress(done, total)
     with mapper(options.workers, options.scheduler) as m:
-        designs = sp.synthesize(target, options.constraints, seed=options.seed, restarts=restarts,
-                                generations=options.generations_value, popsize=options.popsize, budget=budget,
-                                mapper=m, progress=step, types=options.types,
-                                designs=options.designs, evaluations=options.evaluations)[:options.designs]
+        if end is not None:              # the checks' share of what is left: the search stops before it
+            left = end - time.time()
+            reserve = slowdown() * (CHECK_RESERVE[0] + CHECK_RESERVE[1] * options.designs)
+            budget = max(left - reserve, 1e-3)
+        try:
+            designs = sp.synthesize(target, options.constraints, seed=options.seed, restarts=restarts,
+                                    generations=options.generations_value, popsize=options.popsize, budget=budget,
+                                    mapper=m, progress=step, types=options.types,
+                                    designs=options.designs, evaluations=options.evaluations)[:options.designs]
+        except ParameterError as e:
+            if end is None or "ran out before the first restart" not in str(e):
+                raise
+            raise ParameterError(f"--budget {options.budget:g} s: the start took {options.budget - left:.1f} s "
+                                 f"and the checks and exit need about {reserve:.1f} s on this machine now (load "
+                                 f"{slowdown():.1f} per core), leaving {budget:.2f} s: no restart could run; give "
+                                 f"more") from None
         designs = [d for i, d in enumerate(designs)          # one design found twice is returned once
                    if not any(sp.same_design(d, e, target.size) for e in designs[:i])]
         texts = [design_text(d, unit, target, options.seed) for d in designs]
         jobs = [(d.family.name, d.x, d.branch, t, float(d.phis[0]), sense_of(d), target.size, options.limits)
                 for d, t in zip(designs, texts)]
         checks = []
-        for i, c in enumerate(m(check_path_design, [j for j, d in zip(jobs, designs) if not d.failed])):
-            checks.append(c)
-            step(restarts + i + 1)
+        todo = [j for j, d in zip(jobs, designs) if not d.failed]
+        if end is None:
+            for i, c in enumerate(m(check_path_design, todo)):
+                checks.append(c)
+                step(restarts + i + 1)
+        else:                            # one at a time: a check the time left cannot hold is not started
+            took = 0.0
+            for i, j in enumerate(todo):
+                t = time.time()
+                if i and t + took > end:
+                    checks.append({"compare_passed": False, "compare_mode": "not run: --budget ran out",
+                                   "solver_deviation": float("nan"), "mu_min_deg": float("nan"), "measure": None,
+                                   "simulated": None, "problem": f"not checked: --budget {options.budget:g} s "
+                                                                 f"ran out before its checks"})
+                    continue
+                checks.append(next(iter(m(check_path_design, [j]))))
+                took = max(took, time.time() - t)
+                step(restarts + i + 1)
     it = iter(checks)
     found = []
     for d, text, job in zip(designs, texts, jobs):

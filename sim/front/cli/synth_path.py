@@ -55,7 +55,23 @@ def options_of(args) -> design_service.PathOptions:
         evaluations=args.evaluations, max_size=lim.max_size, boxes=lim.regions, grashof=lim.grashof).check()
 
 
+def process_started() -> float:
+    """``time.time()`` at which this process started (Linux: from /proc, so the interpreter's start and the
+    imports count against a --budget as a user's clock counts them), else now."""
+    import os
+    import time
+    try:
+        with open("/proc/self/stat") as f:                     # field 22: starttime, clock ticks after boot
+            ticks = int(f.read().rsplit(")", 1)[1].split()[19])
+        with open("/proc/uptime") as f:
+            uptime = float(f.read().split()[0])
+        return time.time() - max(0.0, uptime - ticks / os.sysconf("SC_CLK_TCK"))
+    except (OSError, ValueError, IndexError):
+        return time.time()
+
+
 def cmd_path(args) -> int:
+    started = process_started()
     if args.out:
         check_writable(args.out, (".toml",))
     if args.plot:
@@ -75,7 +91,7 @@ def cmd_path(args) -> int:
         from sim.front.cli import synth_pareto
         return synth_pareto.cmd(args, options, target)
     bar = Progress(options.restart_count + options.designs, "synthesize path")
-    found = design_service.synthesize_path(target, options, args.unit, progress=bar.update)
+    found = design_service.synthesize_path(target, options, args.unit, progress=bar.update, started=started)
     ok = [f for f in found if not f["failed"] and f["compare_passed"] and f["simulated"]["passed"]]
     rejected = [{"type": f["type"], "parameters": f["parameters"], "error": f["error"],
                  "why": f["failed"] or (f["simulated"] or {}).get("problem") or "it fails linkage compare"}
@@ -148,8 +164,10 @@ def register(problems) -> None:
                              "Reproducible: the same seed gives the same answer on any machine and --workers. "
                              "Default: fixed counts (no bound), reproducible too")
     budget.add_argument("--budget", type=float, default=None, metavar="SECONDS",
-                        help="a hard wall-clock limit on the whole run, checks included: the search stops and "
-                             "returns its best so far, polished within it (the answer then depends on the machine)")
+                        help="a hard wall-clock limit on the whole command, from its start (imports, a local "
+                             "cluster's start and the checks included): the search stops and returns its best so "
+                             "far, polished within it, leaving time for the checks by the machine's load (the "
+                             "answer then depends on the machine)")
     add_limits(p, "A, D (four-bar); A (slider-crank); A, D, G (six-bars)")
     p.add_argument("--max-ratio", type=float, default=20.0, help="longest/shortest link at most")
     p.add_argument("--region", type=float, default=3.0,
