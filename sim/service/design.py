@@ -28,7 +28,7 @@ from sim.run.parallel import mapper
 
 __all__ = ["read_table", "check_repeats", "read_target", "PathOptions", "synthesize_path", "check_path_design",
            "curve", "synthesize_motion", "synthesize_function", "structural_error", "two_position", "parse_vary", "sweep",
-           "sweep_columns", "MAX_COMBOS", "STATS", "DEFAULT_TYPE", "TYPES", "UNITS", "GRASHOF", "limits",
+           "sweep_columns", "MAX_COMBOS", "STATS", "DEFAULT_TYPE", "TYPES", "UNITS", "GRASHOF", "limits", "unreachable",
            "two_position_task", "two_position_design", "two_position_feasible", "two_position_mechanism"]
 
 
@@ -972,6 +972,12 @@ def limits(min_transmission_deg=None, max_size: float | None = None, pivot_regio
     type wanted. ``name`` names the angle in an error message."""
     mu = 0.0 if min_transmission_deg is None else _sc.parse_angle_deg(name, min_transmission_deg)
     return _sc.Limits(mu, max_size, tuple(_sc.parse_region(t) for t in pivot_regions), grashof).check()
+
+
+def unreachable(points, limits, unit: str = "", what: str = "targets") -> str:
+    """Why no design can meet ``points`` (N, 2) [file units] within ``limits`` ('' when nothing rules it
+    out): :func:`analytic.synthesis.constraints.unreachable`."""
+    return _sc.unreachable(points, limits, unit, what) if limits is not None else ""
 
 
 def two_position_task(E1, E2, A, D, phi12: float, psi12: float):

@@ -63,8 +63,7 @@ def cmd_motion(args) -> int:
         raise ParameterError(f"--count {args.count} must be >= 1")
     poses = design_service.read_poses(args.poses, args.angles == "deg")
     limits = limits_of(args)
-    from analytic.synthesis.constraints import unreachable
-    why = unreachable(poses[:, :2], limits, args.unit, "poses") if limits is not None else ""
+    why = design_service.unreachable(poses[:, :2], limits, args.unit, "poses")
     if why:                                 # limits no design can meet: say so, search nothing, write nothing
         return _designs_out(args, "motion", [], [{"parameters": {}, "why": why}])
     circle = None

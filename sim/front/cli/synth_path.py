@@ -78,8 +78,7 @@ def cmd_path(args) -> int:
         check_writable(args.plot, (".png", ".svg", ".pdf"))
     options = options_of(args)
     target = design_service.read_target(args.target, args.timing, args.closed, not args.any_order)
-    from analytic.synthesis.constraints import unreachable
-    why = unreachable(target.xy, options.limits, args.unit)
+    why = design_service.unreachable(target.xy, options.limits, args.unit)
     if why:                                 # limits no design can meet: say so, search nothing, write nothing
         import sys
         if args.json:
