@@ -47,7 +47,8 @@ class Function:
     """A function generator. ``linkage``: the four-bar (A at the origin, D = (d, 0)); ``K``: (K1, K2, K3);
     ``input_offset``/``output_offset``: 0 or pi, the link angle minus the user's angle; ``errors``: per pair,
     the linkage's output angle minus psi_i [rad] (closed form on its branch); ``defect``: "" or why the
-    crank cannot meet the pairs in order on one branch."""
+    crank cannot meet the pairs in order on one branch; ``polish_evaluations``: the output-angle polish's
+    residual evaluations (more than three pairs)."""
 
     linkage: Linkage
     K: tuple[float, float, float]
@@ -56,6 +57,7 @@ class Function:
     errors: np.ndarray
     defect: str
     exact: bool
+    polish_evaluations: int = 0
 
 
 def freudenstein(phi: np.ndarray, psi: np.ndarray) -> np.ndarray:
@@ -172,22 +174,26 @@ def synthesize(phi, psi, ground: float = 1.0, tol: float = 1e-9, polish: bool = 
     if built is None:
         raise ParameterError(f"Freudenstein's K = ({K[0]:.6g}, {K[1]:.6g}, {K[2]:.6g}) give no four-bar "
                              f"(a crank or rocker of infinite length, or coupler length^2 <= 0)")
+    nfev = 0
     if not exact and polish:
         built = _polish(K, phi, psi, ground, built)
-        K = built[4]
+        K, nfev = built[4], built[5]
         built = built[:4]
     link, off_in, off_out, errors = built
     defect = _defect(phi, errors, tol if exact else np.inf)
     if not defect and not _passes(link, phi, errors):
         defect = "the loop cannot close somewhere between the first and the last pair (the crank cannot travel)"
-    return Function(link, tuple(float(k) for k in K), off_in, off_out, errors, defect, exact)
+    return Function(link, tuple(float(k) for k in K), off_in, off_out, errors, defect, exact, int(nfev))
 
 
 def _polish(K, phi, psi, d, built):
     """Least squares on the output-angle error itself, from Freudenstein's linear estimate."""
     from scipy.optimize import least_squares
 
+    count = [0]
+
     def residual(k):
+        count[0] += 1
         b = _build(k, phi, psi, d)
         if b is None:
             return np.full(phi.size, 10.0)
@@ -195,8 +201,8 @@ def _polish(K, phi, psi, d, built):
     res = least_squares(residual, np.asarray(K, dtype=float), xtol=1e-15, ftol=1e-15, gtol=1e-15)
     best = _build(res.x, phi, psi, d)
     if best is None or np.sum(np.nan_to_num(best[3], nan=10.0) ** 2) > np.sum(np.nan_to_num(built[3], nan=10.0) ** 2):
-        return (*built, np.asarray(K))
-    return (*best, res.x)
+        return (*built, np.asarray(K), count[0])
+    return (*best, res.x, count[0])
 
 
 def target_function(phi, psi):

@@ -670,8 +670,9 @@ def synthesize_function(pairs: np.ndarray, ground: float = 1.0, unit: str = "m",
         raise ParameterError(f"--count {count} must be >= 1")
     if start_angles == "given":
         f = synthesis_function.synthesize(pairs[:, 0], pairs[:, 1], ground)
-        return _function_designs([(f, 0.0, 0.0)], pairs, ground, unit, limits, 1,
-                                 {"evaluations": 1, "grid": 0, "polish_evaluations": 0})
+        return _function_designs([(f, 0.0, 0.0)], pairs, ground, unit, limits, 1,       # one solve and its polish
+                                 {"evaluations": 1 + f.polish_evaluations, "grid": 0,
+                                  "polish_evaluations": f.polish_evaluations})
     if evaluations < 1:
         raise ParameterError(f"--evaluations {evaluations} must be >= 1")
     for r in limits.regions:       # the search moves no pivot: A = (0, 0), D = (ground, 0)
