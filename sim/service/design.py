@@ -121,6 +121,10 @@ MuJoCo) and ending the process: this plus this per design on an idle machine (a 
 0.1-0.2 s here; the interpreter's exit 0.1-0.2 s), times :func:`slowdown`."""
 
 
+class BudgetSpent(ParameterError):
+    """A ``--budget`` too short for a first restart on this machine now: no design (the command exits 1)."""
+
+
 def slowdown() -> float:
     """How much slower than idle this machine runs now: its 1-minute load average per core, at least 1 (on
     2 cores at load 8, a four-bar's checks took 1.8 s instead of 0.4 s, and the exit 0.7 s)."""
@@ -347,6 +351,11 @@ def synthesize_path(target: sp.Target, options: PathOptions = PathOptions(), uni
     budget = end = None
     if options.budget is not None:       # the whole run ends by then, counted from ``started`` (the command's start)
         end = (start if started is None else started) + options.budget
+        reserve = slowdown() * (CHECK_RESERVE[0] + CHECK_RESERVE[1] * options.designs)
+        if end - time.time() <= reserve:     # said before the search's and the checks' imports take more
+            raise BudgetSpent(f"--budget {options.budget:g} s: the start took {time.time() - end + options.budget:.1f} "
+                              f"s and the checks and exit need about {reserve:.1f} s on this machine now (load "
+                              f"{slowdown():.1f} per core): no restart could run; give more")
         import scipy.optimize  # noqa: F401 (what the search and the checks load, loaded before their shares are set)
         import sim.service.synth_checks  # noqa: F401
 
@@ -356,7 +365,6 @@ def synthesize_path(target: sp.Target, options: PathOptions = PathOptions(), uni
     with mapper(options.workers, options.scheduler) as m:
         if end is not None:              # the checks' share of what is left: the search stops before it
             left = end - time.time()
-            reserve = slowdown() * (CHECK_RESERVE[0] + CHECK_RESERVE[1] * options.designs)
             budget = max(left - reserve, 1e-3)
         try:
             designs = sp.synthesize(target, options.constraints, seed=options.seed, restarts=restarts,
@@ -366,7 +374,7 @@ def synthesize_path(target: sp.Target, options: PathOptions = PathOptions(), uni
         except ParameterError as e:
             if end is None or "ran out before the first restart" not in str(e):
                 raise
-            raise ParameterError(f"--budget {options.budget:g} s: the start took {options.budget - left:.1f} s "
+            raise BudgetSpent(f"--budget {options.budget:g} s: the start took {options.budget - left:.1f} s "
                                  f"and the checks and exit need about {reserve:.1f} s on this machine now (load "
                                  f"{slowdown():.1f} per core), leaving {budget:.2f} s: no restart could run; give "
                                  f"more") from None

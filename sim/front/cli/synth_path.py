@@ -90,7 +90,17 @@ def cmd_path(args) -> int:
         from sim.front.cli import synth_pareto
         return synth_pareto.cmd(args, options, target)
     bar = Progress(options.restart_count + options.designs, "synthesize path")
-    found = design_service.synthesize_path(target, options, args.unit, progress=bar.update, started=started)
+    try:
+        found = design_service.synthesize_path(target, options, args.unit, progress=bar.update, started=started)
+    except design_service.BudgetSpent as e:        # no time for a search: no design, said in one line
+        import sys
+        import time
+        if args.json:
+            print(dumps({"designs": [], "rejected": [{"type": args.type, "why": str(e)}],
+                         "run": {"evaluations": 0, "seconds": time.time() - started, "stopped_by_budget": True, "budget": args.budget,
+                                 "seed": args.seed}}))
+        print(f"linkage: no path design within the budget: {e}", file=sys.stderr if args.json else sys.stdout)
+        return 1
     ok = [f for f in found if not f["failed"] and f["compare_passed"] and f["simulated"]["passed"]]
     rejected = [{"type": f["type"], "parameters": f["parameters"], "error": f["error"],
                  "why": f["failed"] or (f["simulated"] or {}).get("problem") or "it fails linkage compare"}
