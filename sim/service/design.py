@@ -628,6 +628,10 @@ FUNCTION_EVALUATIONS = 2000
 start angles, 9 deg apart, then 400 for the polish)."""
 
 
+FUNCTION_MOST = 200_000
+"""The most --evaluations a function search takes (about 1 ms each here: past this a run takes minutes)."""
+
+
 def structural_error(mech, link_off_in: float, link_off_out: float, phi, psi, lo: float, hi: float,
                      sol=None, n: int | None = None) -> dict | None:
     """The structural error of a function generator over its working range [lo, hi] [rad, crank link
@@ -681,8 +685,8 @@ def synthesize_function(pairs: np.ndarray, ground: float = 1.0, unit: str = "m",
         return _function_designs([(f, 0.0, 0.0)], pairs, ground, unit, limits, 1,       # one solve and its polish
                                  {"evaluations": 1 + f.polish_evaluations, "grid": 0,
                                   "polish_evaluations": f.polish_evaluations})
-    if evaluations < 1:
-        raise ParameterError(f"--evaluations {evaluations} must be >= 1")
+    if not 1 <= evaluations <= FUNCTION_MOST:
+        raise ParameterError(f"--evaluations {evaluations} must be an integer in 1..{FUNCTION_MOST:,}")
     for r in limits.regions:       # the search moves no pivot: A = (0, 0), D = (ground, 0)
         p = (0.0, 0.0) if r.name == "A" else (ground, 0.0)
         if not r.contains(*p):

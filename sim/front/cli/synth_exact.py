@@ -88,8 +88,12 @@ def cmd_function(args) -> int:
     from dataclasses import replace
     pairs = design_service.read_pairs(args.pairs, args.angles == "deg")
     limits = replace(limits_of(args), min_link=args.min_link, max_ratio=args.max_ratio).check()
+    if args.start_angles == "given" and (args.evaluations is not None or args.count != 1):
+        raise ParameterError("--evaluations and --count apply to --start-angles search (given start angles fix "
+                             "the one design); add --start-angles search or drop them")
+    evaluations = design_service.FUNCTION_EVALUATIONS if args.evaluations is None else args.evaluations
     found, rejected = design_service.synthesize_function(pairs, args.ground, args.unit, limits, args.start_angles,
-                                                         args.evaluations, args.count)
+                                                         evaluations, args.count)
     return _designs_out(args, "function", found, rejected)
 
 
@@ -126,7 +130,7 @@ def register(problems) -> None:
                    help="given (default): the pairs' angles are from the line A->D and fix the design; search: "
                         "they are from any zero (only the function's increments matter) and the start angles of "
                         "input and output are searched for the least structural error over the working range")
-    p.add_argument("--evaluations", type=int, default=design_service.FUNCTION_EVALUATIONS, metavar="N",
+    p.add_argument("--evaluations", type=int, default=None, metavar="N",
                    help="with --start-angles search: candidates evaluated at most, each one Freudenstein solve and "
                         "its structural error over the range (a grid of start angles, then the polish's share, "
                         f"reported as polish_evaluations; default {design_service.FUNCTION_EVALUATIONS}; "
