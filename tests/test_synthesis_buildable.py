@@ -297,3 +297,24 @@ def test_a_local_dask_cluster_leaves_no_scratch_space(tmp_path):
                        cwd=tmp_path)
     assert r.returncode == 0, r.stderr
     assert not any("dask" in p.name for p in tmp_path.iterdir())
+
+
+def test_pareto_evaluations_bound_every_design_evaluated(monkeypatch):
+    # --objectives with --evaluations N: the atlas's posed shapes (20 a member, uncounted before) and the
+    # anchors' polishes count, and the generations are what they leave
+    from sim.service import pareto as P
+    tally = count_designs(monkeypatch)
+    real = P.evaluate
+
+    def counted(X, *a, **k):
+        tally["n"] += len(np.atleast_2d(X))
+        return real(X, *a, **k)
+    monkeypatch.setattr(P, "evaluate", counted)
+    th = np.linspace(0.0, 2 * np.pi, 8, endpoint=False)
+    from analytic.synthesis import path as sp
+    t = sp.Target(np.column_stack([10 * np.cos(th) + 3 * np.cos(2 * th), 6 * np.sin(th)]), None, True, True)
+    # a least transmission angle of 0: more random shapes pass the screen than the population takes
+    opts = P.ParetoOptions(("error", "size"), popsize=12, evaluations=1500,
+                           constraints=sp.Constraints(mu_min=0.0)).check()
+    _, _, n, gens = P.search(t, opts, "m")
+    assert tally["n"] == n <= 1500 and gens >= 1
