@@ -376,9 +376,10 @@ def _rows(name: str, value, columns: tuple, degrees: bool, angle_columns: tuple)
 
 def synthesize(problem: str, /, *, E1=(30, 31), E2=(10, 35), A=(0, 0), D=(36, 0), crank_rotation="35deg",
                rocker_rotation="50deg", theta_range=("-90deg", "90deg"), pairs=None, poses=None,
-               ground: float = 1.0, angles: str = "deg", count: int = 3, circle_points=None,
+               ground: float = 1.0, angles: str = "deg", count: int | None = None, circle_points=None,
                evaluations: int | None = None, unit: str | None = None, min_transmission=None, max_size=None,
-               pivot_region=None, grashof: str = "any") -> Synthesis:
+               pivot_region=None, grashof: str = "any", start_angles: str = "given", min_link=None,
+               max_ratio=None) -> Synthesis:
     """Exact synthesis of a four-bar (``linkage synthesize PROBLEM``):
 
     - ``"two-position"`` (seed 001): the crank-rocker of least total length whose coupler point moves from
@@ -386,7 +387,10 @@ def synthesize(problem: str, /, *, E1=(30, 31), E2=(10, 35), A=(0, 0), D=(36, 0)
       ``rocker_rotation``, the coupler rotations searched over ``theta_range`` (points in ``unit``, default
       mm; angles in rad or text such as ``"35deg"``);
     - ``"function"`` (Freudenstein): through ``pairs`` of (input, output) angles from the line A->D (a CSV
-      file's path with columns input,output, or rows), the ground link ``ground`` long;
+      file's path with columns input,output, or rows), the ground link ``ground`` long; with
+      ``start_angles="search"`` the angles are increments and the start angles are searched (at most
+      ``evaluations`` candidates, ``count`` designs, default 1), under ``min_link`` and ``max_ratio`` (the
+      longest over the shortest link) too; every design reports its ``structural_error`` over the range;
     - ``"motion"`` (Burmester): a coupler body through ``poses`` (x, y, theta: a CSV or rows), up to ``count``
       designs (``circle_points``: X1, Y1, X2, Y2 at pose 1, for 3 poses; ``evaluations``: candidates ranked).
 
@@ -419,17 +423,23 @@ def synthesize(problem: str, /, *, E1=(30, 31), E2=(10, 35), A=(0, 0), D=(36, 0)
     limits = None
     if min_transmission is not None or max_size is not None or pivot_region or grashof != "any":
         limits = design.limits(min_transmission, max_size, tuple(pivot_region or ()), grashof, "min_transmission")
+    if count is not None and (isinstance(count, bool) or not isinstance(count, int) or count < 1):
+        raise ParameterError(f"count={count!r} must be an integer >= 1")
     if problem == "function":
         if pairs is None:
             raise ParameterError("synthesize('function'): give pairs= (a CSV of input,output or rows)")
-        found, rejected = design.synthesize_function(_rows("pairs", pairs, ("input", "output"), angles == "deg",
-                                                           (0, 1)), float(ground), unit, limits)
+        if min_link is not None or max_ratio is not None:
+            from dataclasses import replace
+            limits = replace(limits or design.limits(None), min_link=min_link, max_ratio=max_ratio).check()
+        found, rejected = design.synthesize_function(
+            _rows("pairs", pairs, ("input", "output"), angles == "deg", (0, 1)), float(ground), unit, limits,
+            start_angles, design.FUNCTION_EVALUATIONS if evaluations is None else evaluations,
+            1 if count is None else count)
         return Synthesis(problem, {"designs": found, "rejected": rejected})
     if problem == "motion":
         if poses is None:
             raise ParameterError("synthesize('motion'): give poses= (a CSV of x,y,theta or rows)")
-        if isinstance(count, bool) or not isinstance(count, int) or count < 1:
-            raise ParameterError(f"count={count!r} must be an integer >= 1")
+        count = 3 if count is None else count
         rows = _rows("poses", poses, ("x", "y", "theta"), angles == "deg", (2,))
         if circle_points is not None and (len(rows) != 3 or len(circle_points) != 4):
             raise ParameterError("circle_points=(X1, Y1, X2, Y2) applies to 3 poses")

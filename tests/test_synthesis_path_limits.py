@@ -116,13 +116,13 @@ def test_deadline_stops_a_polish_and_keeps_the_start():
     t = lib_target(12)
     start = LIB * np.r_[1, 1, 1, 1.05, 1, 1, 1, 1, 1]
     d = sp.polish(start, (1,), t, sp.Constraints(), deadline=time.time() - 1.0)   # already past
-    # nothing evaluated beyond the start's own finish: the start comes back
-    assert np.array_equal(d.x, start) and d.stats["evaluations"] == 1
+    # nothing evaluated beyond the start's angles and its own finish (two evaluations on the targets,
+    # both counted since issue 41): the start comes back
+    assert np.array_equal(d.x, start) and d.stats["evaluations"] == 2
 
 
-def test_evaluations_set_the_generations_and_exclude_a_budget():
-    o = design_service.PathOptions(evaluations=16 * (200 + 40 * 31))
-    assert o.generations_value == 30                 # 16 restarts, atlas 200 and 40 per generation, the first
+def test_evaluations_exclude_a_budget():
+    # (--evaluations no longer sets the generations up front: the restarts' caps do, issue 41)
     with pytest.raises(Exception, match="--evaluations and --budget"):
         design_service.PathOptions(evaluations=1000, budget=5.0).check()
     r = run("synthesize", "path", "x.csv", "--evaluations", "100", "--budget", "3")
@@ -174,7 +174,7 @@ def test_evaluations_give_the_same_answer_on_one_and_two_workers(tmp_path):
     # determinism, not accuracy: the same seeded jobs give bit-identical designs and counts in any process
     assert [d["parameters"] for d in da["designs"]] == [d["parameters"] for d in db["designs"]]
     assert da["run"]["evaluations"] == db["run"]["evaluations"] and not da["run"]["stopped_by_budget"]
-    assert da["run"]["generations"] == (1500 - 200) // 40 - 1     # 3000 over 2 restarts, atlas 200, 40 a generation
+    assert da["run"]["evaluations"] <= 3000                        # the bound holds (issue 41)
 
 
 @pytest.mark.slow

@@ -18,7 +18,10 @@ design that passes :func:`broken` here passes as written.
   ``triple-rocker`` (non-Grashof), ``change-point`` (s + l = p + q); "" for other linkages.
 
 Limits (:class:`Limits`): a least transmission angle, a largest size, a box for each named ground pivot,
-and the Grashof type wanted (``any``, ``crank-rocker`` or ``double-crank``).
+the Grashof type wanted (``any``, ``crank-rocker`` or ``double-crank``) and, for a four-bar measured with its
+link lengths, the shortest link allowed (``min_link``: no link shorter than its own pin hole) and the
+longest/shortest ratio (``max_ratio``). :func:`unreachable` says when targets alone break the size limit
+(the traced point is one of the points boxed, so targets spanning more than ``max_size`` cannot all be met).
 """
 
 from __future__ import annotations
@@ -31,7 +34,7 @@ import numpy as np
 from analytic._common import ParameterError
 
 __all__ = ["GRASHOF", "Region", "Limits", "Measure", "parse_angle_deg", "parse_region", "grashof_type",
-           "measure", "broken", "record"]
+           "measure", "broken", "record", "unreachable"]
 
 GRASHOF = ("any", "crank-rocker", "double-crank")
 """``--grashof`` values."""
@@ -65,18 +68,25 @@ class Region:
 @dataclass(frozen=True)
 class Limits:
     """What every returned design must meet: ``min_transmission`` [deg], ``max_size`` [file units] (None:
-    none), ``regions`` (one :class:`Region` per named ground pivot), ``grashof`` (one of GRASHOF)."""
+    none), ``regions`` (one :class:`Region` per named ground pivot), ``grashof`` (one of GRASHOF),
+    ``min_link`` [file units] and ``max_ratio`` (None: none; a four-bar's links, :attr:`Measure.links`)."""
 
     min_transmission: float = 30.0
     max_size: float | None = None
     regions: tuple[Region, ...] = ()
     grashof: str = "any"
+    min_link: float | None = None
+    max_ratio: float | None = None
 
     def check(self) -> "Limits":
         if not (0 <= self.min_transmission < 90):
             raise ParameterError(f"--min-transmission {self.min_transmission:g} must be in [0, 90) deg")
         if self.max_size is not None and not (math.isfinite(self.max_size) and self.max_size > 0):
             raise ParameterError(f"--max-size {self.max_size!r} must be a length > 0 (file units)")
+        if self.min_link is not None and not (math.isfinite(self.min_link) and self.min_link > 0):
+            raise ParameterError(f"--min-link {self.min_link!r} must be a length > 0 (file units)")
+        if self.max_ratio is not None and not (math.isfinite(self.max_ratio) and self.max_ratio > 1):
+            raise ParameterError(f"--max-ratio {self.max_ratio!r} must be a number > 1 (longest/shortest link)")
         if self.grashof not in GRASHOF:
             raise ParameterError(f"--grashof {self.grashof}: use one of {', '.join(GRASHOF)}")
         names = [r.name for r in self.regions]
@@ -152,6 +162,7 @@ class Measure:
     input_range: tuple[float, float]
     pivots: dict = field(default_factory=dict)
     grashof: str = ""
+    links: tuple[float, ...] = ()
 
 
 def _transmissions(mech, sol) -> list[np.ndarray]:
@@ -187,7 +198,8 @@ def measure(mech, lo: float, hi: float, n: int = MEASURE_SAMPLES,
     pivots = {p: (float(np.asarray(sol["x" + p])[0] * k), float(np.asarray(sol["y" + p])[0] * k))
               for p in mech.ground_points}
     return Measure(tr, max(box[2] - box[0], box[3] - box[1]), box, (float(lo), float(hi)), pivots,
-                   grashof_type(*lengths) if lengths is not None else "")
+                   grashof_type(*lengths) if lengths is not None else "",
+                   tuple(float(v) for v in lengths) if lengths is not None else ())
 
 
 def broken(m: Measure, limits: Limits, unit: str = "") -> str:
@@ -205,6 +217,26 @@ def broken(m: Measure, limits: Limits, unit: str = "") -> str:
             return f"ground pivot {r.name} at ({p[0]:.4g}, {p[1]:.4g}) lies outside --pivot-region {r.text()}"
     if limits.grashof != "any" and m.grashof and m.grashof != limits.grashof:
         return f"a {m.grashof} four-bar, not the --grashof {limits.grashof} asked for"
+    if m.links and limits.min_link is not None and min(m.links) < limits.min_link * (1 - SLACK_REL):
+        return (f"shortest link {min(m.links):.4g} {unit} (crank, coupler, rocker, ground "
+                f"{', '.join(f'{v:.4g}' for v in m.links)}) is below --min-link {limits.min_link:g} {unit}"
+                ).replace("  ", " ")
+    if m.links and limits.max_ratio is not None and max(m.links) > limits.max_ratio * min(m.links) * (1 + SLACK_REL):
+        return (f"longest/shortest link {max(m.links) / min(m.links):.4g} (crank, coupler, rocker, ground "
+                f"{', '.join(f'{v:.4g}' for v in m.links)}) exceeds --max-ratio {limits.max_ratio:g}")
+    return ""
+
+
+def unreachable(points, limits: Limits, unit: str = "", what: str = "targets") -> str:
+    """Words saying why no design can meet ``points`` (N, 2) [file units] within ``limits`` ('' when the
+    limits do not rule it out): the traced point is boxed with the mechanism, so targets whose bounding box
+    has a side over ``max_size`` cannot all be reached by a design of that size."""
+    p = np.asarray(points, dtype=float)
+    span = float(np.ptp(p, axis=0).max()) if len(p) else 0.0
+    if limits.max_size is not None and span > limits.max_size * (1 + SLACK_REL):
+        return (f"the {what} span {span:.4g} {unit} but --max-size {limits.max_size:g} {unit} bounds the whole "
+                f"mechanism, its traced point included: no design that size reaches them; raise --max-size to "
+                f"at least {span:.4g} {unit}").replace("  ", " ")
     return ""
 
 

@@ -112,6 +112,12 @@ MULTISTART_POOL = 10
 """Random feasible shapes drawn per start kept; the best posed of them are the starts."""
 SHORT_POLISH = 40
 """Residual evaluations of the multi-start stage's brief polish."""
+START_COST = 100
+"""With ``--evaluations``: the designs a full polish of the multi-start and slider-crank limit stages may
+evaluate (without it, as many as it takes: POLISH_STAGES' 100 residuals, their Jacobians, SLSQP)."""
+STAGE_SHARES = {"restarts": 0.6, "multistart": 0.12, "slider_limit": 0.08, "hopping": 0.12, "refine": 0.08}
+"""With ``--evaluations N``: each stage's share of N, in the order they run; a stage gets its share or what
+the earlier ones left, whichever is less, and ends within it (so N bounds the whole run)."""
 MULTISTART_KEEP = 8
 """One start in this many, the best after the brief polish, is polished in full."""
 MULTISTART_CHUNK = 16
@@ -589,14 +595,20 @@ def _restart(job: tuple) -> Design:
     population, differential evolution searches the normalised shapes, the best distinct members of the
     final population are polished by least squares on the search's targets (:func:`search_target`) and
     the best kept. ``job`` = (family name, target,
-    cons, seed, branch, generations, popsize, deadline, n_polish).
+    cons, seed, branch, generations, popsize, deadline, n_polish[, cap]).
+
+    ``cap`` (``--evaluations``): the designs the restart may evaluate on the targets in all (at least
+    :func:`least_restart`): an atlas of at most a fifth of it, differential evolution's generations from the
+    rest of 60 % of it (each generation ``popsize`` designs), the polishes sharing what is left (each pick
+    posed once and polished within its share), so the restart's count never exceeds it.
 
     The search runs on the family's shape parameters (crank = 1, A at the origin), each shape posed onto
     the targets by a similarity: free timing by nearest-point alignment, timing (plus a crank offset) by
     the exact least squares."""
     from scipy.optimize import differential_evolution
 
-    name, target, cons, seed, branch, generations, popsize, deadline, n_polish = job
+    name, target, cons, seed, branch, generations, popsize, deadline, n_polish, *rest = job
+    cap = rest[0] if rest else None
     family = FAMILIES[name]
     if deadline is not None and time.time() > deadline:
         return skipped(family, branch, int(seed))
@@ -616,7 +628,7 @@ def _restart(job: tuple) -> Design:
         U = rng.random((PRESCREEN, dim))
         pre = shape_violation(family.shape(U[:, :family.shape_dim]), cons, branch, family)
         # the computed atlas: random shapes, the least constraint-breaking posed and ranked by error
-        U = U[np.argsort(pre, kind="stable")][:max(popsize * 4, ATLAS)]
+        U = U[np.argsort(pre, kind="stable")][:atlas_size(popsize, cap)]
         f = obj(U, 96)
         init = U[np.argsort(f, kind="stable")[:popsize]]
     else:                          # no atlas (for measuring what it brings): a random population
@@ -624,6 +636,9 @@ def _restart(job: tuple) -> Design:
 
     def stop(*_a, **_k):
         return deadline is not None and time.time() > deadline
+    atlas = atlas_size(popsize, cap) if PRESCREEN else 0
+    if cap is not None:            # the generations 60 % of the cap leaves after the atlas (the first: the init)
+        generations = max(0, (int(0.6 * cap) - atlas) // popsize - 1)
     res = differential_evolution(
         lambda u: obj(u.T, 128), [(0.0, 1.0)] * dim, init=init,
         maxiter=generations, tol=0, atol=0, seed=int(rng.integers(2 ** 31)), polish=False,
@@ -637,14 +652,40 @@ def _restart(job: tuple) -> Design:
             break
         if all(np.abs(res.population[j] - res.population[p]).max() > 1e-3 for p in picks):
             picks.append(j)
-    cands = [polish(to_x(res.population[j]), branch, search, cons, family, deadline=deadline)
-             for j in (picks or order[:1])]
+    de_evaluations = int(res.nfev) * popsize      # vectorised: scipy counts calls, each one the population
+    picks = picks or list(order[:1])
+    caps = [None] * len(picks)
+    if cap is not None:            # each pick: posed once, then polished within an even share of the rest
+        room = cap - atlas - de_evaluations
+        picks = picks[:max(1, room // 3)]
+        caps = [(room - len(picks)) // len(picks)] * len(picks)
+    cands = [polish(to_x(res.population[j]), branch, search, cons, family, deadline=deadline, cap=c)
+             for j, c in zip(picks, caps)]
     d = min(cands, key=lambda c: (c.violation > 0, c.violation if c.violation > 0 else c.sum_sq))
-    atlas = max(popsize * 4, ATLAS) if PRESCREEN else 0
     return Design(d.x, d.branch, d.phi_offset, d.err, d.phis, d.violation, int(seed), d.failed,
-                  {"de_generations": int(res.nit), "de_evaluations": int(res.nfev),
-                   "evaluations": atlas + int(res.nfev) + sum(c.stats["evaluations"] for c in cands),
+                  {"de_generations": int(res.nit), "de_evaluations": de_evaluations,
+                   "evaluations": atlas + de_evaluations + len(cands) + sum(c.stats["evaluations"] for c in cands),
                    "stopped_by_budget": bool(stop())}, family)
+
+
+def atlas_size(popsize: int, cap: int | None = None) -> int:
+    """Shapes of a restart's atlas posed on the targets: max(4 popsize, ATLAS), or with a ``cap`` at most a
+    fifth of it (at least the population)."""
+    full = max(popsize * 4, ATLAS)
+    return full if cap is None else min(full, max(popsize, cap // 5))
+
+
+def least_restart(popsize: int) -> int:
+    """The least cap a restart can keep to: an atlas and the first generation of ``popsize`` each within
+    60 % of it, and one pick posed and its start finished (3 designs)."""
+    return math.ceil((2 * popsize) / 0.6) + 3
+
+
+def spent_only(family: Family, spent: int) -> Design:
+    """No design, only the evaluations a stage spent before it found none to return (counted by
+    :func:`synthesize`, then dropped like a skipped restart)."""
+    return Design(np.full(family.size, np.nan), _branch(family.branches[0]), 0.0, np.array([np.inf]),
+                  np.array([0.0]), np.inf, 0, "nothing found", {"evaluations": int(spent), "skipped": True}, family)
 
 
 def skipped(family: Family, branch, seed: int) -> Design:
@@ -694,9 +735,14 @@ class _Fit:
     """Designs evaluated on the targets so far (a residual: 1; a Jacobian: its finite-difference designs)."""
     deadline: float | None = None
     """Wall-clock time [s, time.time()] after which an evaluation raises :class:`_Deadline`."""
+    cap: int | None = None
+    """Designs the whole polish may evaluate (``--evaluations``): an evaluation that would leave fewer than
+    one for the polish's closing finish raises :class:`_Deadline` instead, the best so far kept."""
 
     def tick(self, k: int) -> None:
         if self.deadline is not None and time.time() > self.deadline:
+            raise _Deadline
+        if self.cap is not None and self.count[0] + k > self.cap - 1:
             raise _Deadline
         self.count[0] += k
 
@@ -895,7 +941,7 @@ def _constrained(fit: _Fit, p0, cons: Constraints):
 
 
 def polish(x0, branch, target: Target, cons: Constraints, family: Family = FOURBAR,
-           evaluations: int | None = None, deadline: float | None = None) -> Design:
+           evaluations: int | None = None, deadline: float | None = None, cap: int | None = None) -> Design:
     """Least squares on the design and its crank angles in two stages: the constraints as penalty rows
     (:func:`_penalised`), then, where that ends feasible, as exact constraints (:func:`_constrained`).
     Timing: the angles are the targets' plus one offset. Free timing: each target's own crank angle
@@ -904,13 +950,20 @@ def polish(x0, branch, target: Target, cons: Constraints, family: Family = FOURB
     stage's result replaces the start only if it ranks better (:func:`rank_key`). ``evaluations``: a brief
     polish, one penalised run of at most this many residual evaluations and no second stage. ``deadline``
     (``--budget``): past it an evaluation stops the stage in progress, the best so far kept and no stage
-    started. The design's ``stats["evaluations"]``: the designs it evaluated on the targets."""
+    started. ``cap``: the designs it may evaluate in all, its start's and end's finishes and every Jacobian's
+    difference designs included (at least 2: then the start alone; ``--evaluations``). The design's
+    ``stats["evaluations"]``: the designs it evaluated on the targets."""
     branch = _branch(branch)
     timing = target.phi is not None
     nx = family.size
     x0 = np.asarray(x0, dtype=float)
     _, ph0 = errors(x0[:nx], branch, target, x0[nx] if timing else 0.0, family)
-    fit = _Fit(family, branch, target, -1.0 if _wrap(np.diff(ph0)).sum() < 0 else 1.0, deadline=deadline)
+    fit = _Fit(family, branch, target, -1.0 if _wrap(np.diff(ph0)).sum() < 0 else 1.0, deadline=deadline,
+               cap=None if cap is None else max(int(cap), 2))
+    fit.count[0] = 1                # the start's angles above: one design evaluated on the targets
+
+    def room(k):
+        return fit.cap is None or fit.count[0] + k <= fit.cap
     if timing:
         p0 = np.concatenate([x0[:nx], [x0[nx]]])
     else:                           # the nearest points' angles, unwrapped along the targets
@@ -930,6 +983,8 @@ def polish(x0, branch, target: Target, cons: Constraints, family: Family = FOURB
         if end[5] > 0 and best[5] == 0:        # back along the step to the last feasible point (bisection)
             lo, hi = 0.0, 1.0
             for _ in range(30):
+                if not room(2):             # a cap: the next point and the closing finish must fit
+                    break
                 mid = 0.5 * (lo + hi)
                 if finish(best[0] + mid * (p - best[0]))[5] == 0:
                     lo = mid
@@ -941,9 +996,9 @@ def polish(x0, branch, target: Target, cons: Constraints, family: Family = FOURB
     def late():
         return deadline is not None and time.time() > deadline
     best = finish(p0)
-    if not late():
+    if not late() and room(2):
         best = step(best, _penalised(fit, p0, cons, evaluations))
-    if evaluations is None and best[5] == 0 and not late():
+    if evaluations is None and best[5] == 0 and not late() and room(2):
         best = step(best, _constrained(fit, best[0], cons))
     _, x, off, e, ph, v, words = best
     return Design(np.asarray(x, float).copy(), branch, float(off), e, ph, float(v), 0, words,
@@ -980,11 +1035,16 @@ def _hop(job: tuple) -> Design:
     seed, branch, x (with the crank offset last, timing), sigma)."""
     name, target, cons, seed, branch, x, sigma, *rest = job
     deadline = rest[0] if rest else None
+    cap = rest[1] if len(rest) > 1 else None
     family = FAMILIES[name]
     x1 = perturb(x, sigma, np.random.default_rng(seed), family)
+    posed = 0
     if target.phi is None:
         x1 = align(x1[None], target, branch, 160, ALIGN_STEPS, family)[0]
-    return polish(x1, branch, target, cons, family, deadline=deadline)
+        posed = 1
+    d = polish(x1, branch, target, cons, family, deadline=deadline, cap=None if cap is None else cap - posed)
+    return Design(d.x, d.branch, d.phi_offset, d.err, d.phis, d.violation, d.seed, d.failed,
+                  {**d.stats, "evaluations": d.stats["evaluations"] + posed}, d.family)
 
 
 def _start(d: Design, target: Target) -> np.ndarray:
@@ -992,34 +1052,39 @@ def _start(d: Design, target: Target) -> np.ndarray:
     return d.x if target.phi is None else np.concatenate([d.x, [d.phi_offset]])
 
 
-def hop_jobs(d: Design, target: Target, cons: Constraints, seeds, deadline: float | None = None) -> list[tuple]:
-    """The jobs of one hopping round from design ``d``: one per seed, the sizes HOP_SIGMAS in turn."""
+def hop_jobs(d: Design, target: Target, cons: Constraints, seeds, deadline: float | None = None,
+             cap: int | None = None) -> list[tuple]:
+    """The jobs of one hopping round from design ``d``: one per seed, the sizes HOP_SIGMAS in turn, each
+    evaluating at most ``cap`` designs (None: no cap)."""
     return [(d.family.name, target, cons, int(sd), d.branch, _start(d, target), HOP_SIGMAS[i % len(HOP_SIGMAS)],
-             deadline) for i, sd in enumerate(seeds)]
+             deadline, cap) for i, sd in enumerate(seeds)]
 
 
 def refine(job: tuple) -> Design:
     """The final polish of one design on all the targets, with one BLAS thread: ``job`` = (design, target,
-    cons); the design keeps its seed and stats."""
+    cons[, deadline[, cap]]); the design keeps its seed and stats."""
     import scipy.optimize  # noqa: F401 (its OpenBLAS must be loaded before its threads are set)
     from analytic.synthesis.threads import one_blas_thread
     d, target, cons, *rest = job
     with one_blas_thread():
-        c = polish(_start(d, target), d.branch, target, cons, d.family, deadline=rest[0] if rest else None)
+        c = polish(_start(d, target), d.branch, target, cons, d.family, deadline=rest[0] if rest else None,
+                   cap=rest[1] if len(rest) > 1 else None)
     stats = {**d.stats, "evaluations": d.stats.get("evaluations", 0) + c.stats["evaluations"]}
     return Design(c.x, c.branch, c.phi_offset, c.err, c.phis, c.violation, d.seed, c.failed, stats, d.family)
 
 
 def multistart_chunk(job: tuple) -> list[Design]:
     """One seeded job of the multi-start stage (:func:`multistart`), with one BLAS thread: ``job`` =
-    (family name, target, cons, seed, branch, count, deadline). Random shapes that meet the shape constraints are
+    (family name, target, cons, seed, branch, count, deadline[, short]; ``short``: each brief polish's cap).
+    Random shapes that meet the shape constraints are
     drawn until there are ``count`` x MULTISTART_POOL (or 64 draws of that many are spent), posed on the
     targets and ranked like the search's objective; the best ``count`` are posed finely and polished
     briefly (SHORT_POLISH evaluations), none after the deadline. Returns those designs (the seed each
     one's job's)."""
     import scipy.optimize  # noqa: F401 (its OpenBLAS must be loaded before its threads are set)
     from analytic.synthesis.threads import one_blas_thread
-    name, target, cons, seed, branch, count, deadline = job
+    name, target, cons, seed, branch, count, deadline, *rest = job
+    short = rest[0] if rest else SHORT_POLISH
     family = FAMILIES[name]
     free = target.phi is None
     dim = family.shape_dim + (0 if free else 1)
@@ -1044,9 +1109,9 @@ def multistart_chunk(job: tuple) -> list[Design]:
         for x in X:
             if deadline is not None and time.time() > deadline:
                 break
-            found.append(polish(x, branch, target, cons, family, SHORT_POLISH, deadline))
+            found.append(polish(x, branch, target, cons, family, short, deadline, cap=short if rest else None))
     return [Design(d.x, d.branch, d.phi_offset, d.err, d.phis, d.violation, int(seed), d.failed,
-                   {"multistart": True, "evaluations": d.stats["evaluations"] + (pool if i == 0 else 0)}, family)
+                   {"multistart": True, "evaluations": d.stats["evaluations"] + 1 + (pool if i == 0 else 0)}, family)
             for i, d in enumerate(found)]
 
 
@@ -1057,32 +1122,45 @@ def multistart_count(name: str, restarts: int, per_restart: int = MULTISTART) ->
 
 
 def multistart(target: Target, cons: Constraints, seed: int, restarts: int, types=("fourbar",), mapper=map,
-               deadline: float | None = None, per_restart: int = MULTISTART) -> list[Design]:
+               deadline: float | None = None, per_restart: int = MULTISTART, cap: int | None = None) -> list[Design]:
     """The multi-start stage: many random shapes posed on the targets and polished briefly
     (:func:`multistart_chunk`, the families' branches in turn, MULTISTART_CHUNK starts a job, seeds spawned
     from ``seed``), then the best one in MULTISTART_KEEP polished in full (:func:`refine`). Returns those
     designs, best first. The deadline (``--budget``) stops it between polishes; no full polish starts
-    after it.
+    after it. ``cap`` (``--evaluations``): the designs it may evaluate in all: each start costs at most
+    MULTISTART_POOL + 1 + SHORT_POLISH and each full polish START_COST, the starts cut to fit.
 
     It complements the restarts: differential evolution settles in the basin its (approximate, posed)
     objective favours, and on some targets a deeper basin that objective cannot tell apart is reached from
     random starts only (mkh1: none of 64 restarts; about 1 random start in 27 polished in full, and a
     quarter of the best eighth after the brief polish)."""
     cs = combos(types)
+    if cap is not None:            # as many starts as fit: each start and its share of the full polishes
+        per_start = MULTISTART_POOL + 1 + SHORT_POLISH + START_COST / MULTISTART_KEEP
+        fit = int((cap - START_COST) // per_start)
+        total = sum(multistart_count(c[0], restarts, per_restart) // len(cs) for c in cs)
+        if fit < MULTISTART_KEEP or total == 0:
+            return []
+        per_restart = min(per_restart, max(1, fit * per_restart // max(total, 1)))
     per = {c: multistart_count(c[0], restarts, per_restart) // len(cs) for c in cs}
+    if cap is not None and sum(per.values()) * (MULTISTART_POOL + 1 + SHORT_POLISH) > cap:
+        return []
     js = [(name, br, min(MULTISTART_CHUNK, n - k)) for (name, br), n in per.items() for k in range(0, n, MULTISTART_CHUNK)]
     if not js or (deadline is not None and time.time() > deadline):
         return []
     seeds = np.random.SeedSequence([seed, 2]).generate_state(len(js))
-    short = [d for ds in mapper(multistart_chunk, [(name, target, cons, int(sd), br, k, deadline)
+    extra = () if cap is None else (SHORT_POLISH,)
+    short = [d for ds in mapper(multistart_chunk, [(name, target, cons, int(sd), br, k, deadline, *extra)
                                                    for (name, br, k), sd in zip(js, seeds)]) for d in ds]
     spent = sum(d.stats["evaluations"] for d in short)
     short = [d for _, d in sorted(enumerate(short), key=lambda t: rank_key(*t))]
     keep = short[:max(1, len(short) // MULTISTART_KEEP)]
     if not (deadline is not None and time.time() > deadline):
-        full = list(mapper(refine, [(d, target, cons, deadline) for d in keep]))
-        spent += sum(d.stats["evaluations"] - k.stats["evaluations"] for d, k in zip(full, keep))
-        keep = [d for _, d in sorted(enumerate(full), key=lambda t: rank_key(*t))]
+        full_cap = None if cap is None else (cap - spent) // len(keep)
+        if full_cap is None or full_cap >= 3:
+            full = list(mapper(refine, [(d, target, cons, deadline, full_cap) for d in keep]))
+            spent += sum(d.stats["evaluations"] - k.stats["evaluations"] for d, k in zip(full, keep))
+            keep = [d for _, d in sorted(enumerate(full), key=lambda t: rank_key(*t))]
     return _carry(keep, spent)
 
 
@@ -1101,17 +1179,21 @@ def limit_polish(job: tuple) -> Design:
     from analytic.synthesis.threads import one_blas_thread
     target, cons, sc, length, side, *rest = job
     deadline = rest[0] if rest else None
+    cap = rest[1] if len(rest) > 1 else None
     x, br = fourbar_from_slider_crank(sc.x[None], sc.branch, length * abs(sc.x[3]), side)
     branch = (int(br[0]),)
     with one_blas_thread():
         if target.phi is None:
-            return polish(align(x, target, branch, 160, ALIGN_STEPS)[0], branch, target, cons, deadline=deadline)
+            d = polish(align(x, target, branch, 160, ALIGN_STEPS)[0], branch, target, cons, deadline=deadline,
+                       cap=None if cap is None else cap - 1)
+            return Design(d.x, d.branch, d.phi_offset, d.err, d.phis, d.violation, d.seed, d.failed,
+                          {**d.stats, "evaluations": d.stats["evaluations"] + 1}, d.family)      # the pose
         return polish(np.concatenate([x[0], [sc.phi_offset]]), branch, target, cons,   # the same crank angles
-                      deadline=deadline)
+                      deadline=deadline, cap=cap)
 
 
 def slider_limit(target: Target, cons: Constraints, seed: int, restarts: int, mapper=map,
-                 deadline: float | None = None) -> list[Design]:
+                 deadline: float | None = None, cap: int | None = None) -> list[Design]:
     """The four-bar's slider-crank limit stage: a multi-start search of slider-crank designs
     (:func:`multistart`, LIMIT_MULTISTART starts per restart), the best LIMIT_KEEP distinct ones turned
     into four-bars with long rockers (LIMIT_LENGTHS, on either side of the slider line) and polished as
@@ -1120,11 +1202,13 @@ def slider_limit(target: Target, cons: Constraints, seed: int, restarts: int, ma
     A four-bar with a long ground and rocker draws nearly its slider-crank's curve. On some targets the best
     four-bar is of that kind, at the edge of the search's box of shapes (Ullah and Kota's: ground 7.3 and
     rocker 6.3 cranks, the box's edge at 8), where neither the evolution nor random shapes reach it, while
-    the slider-crank's own search, on four shape parameters, does."""
+    the slider-crank's own search, on four shape parameters, does. ``cap`` (``--evaluations``): the designs
+    it may evaluate in all, 60 % for its multi-start, the rest shared by the four-bars' polishes."""
     if deadline is not None and time.time() > deadline:
         return []
     sub = int(np.random.SeedSequence([seed, 3]).generate_state(1)[0])
-    scs = multistart(target, cons, sub, restarts, ("slider_crank",), mapper, deadline, LIMIT_MULTISTART)
+    scs = multistart(target, cons, sub, restarts, ("slider_crank",), mapper, deadline, LIMIT_MULTISTART,
+                     None if cap is None else int(0.6 * cap))
     spent = sum(d.stats["evaluations"] for d in scs)
     scs = [d for d in scs if d.violation == 0]
     picks: list[Design] = []
@@ -1132,8 +1216,11 @@ def slider_limit(target: Target, cons: Constraints, seed: int, restarts: int, ma
         if len(picks) < LIMIT_KEEP and all(abs(d.sum_sq - p.sum_sq) > 1e-6 * p.sum_sq for p in picks):
             picks.append(d)
     if not picks or (deadline is not None and time.time() > deadline):
-        return []
-    found = list(mapper(limit_polish, [(target, cons, d, length, side, deadline) for d in picks
+        return [spent_only(FOURBAR, spent)] if spent else []
+    each = None if cap is None else (cap - spent) // (len(picks) * len(LIMIT_LENGTHS) * 2)
+    if each is not None and each < 3:
+        return [spent_only(FOURBAR, spent)]
+    found = list(mapper(limit_polish, [(target, cons, d, length, side, deadline, each) for d in picks
                                        for length in LIMIT_LENGTHS for side in (1, -1)]))
     spent += sum(d.stats["evaluations"] for d in found)
     return _carry([Design(d.x, d.branch, d.phi_offset, d.err, d.phis, d.violation, seed, d.failed,
@@ -1142,17 +1229,23 @@ def slider_limit(target: Target, cons: Constraints, seed: int, restarts: int, ma
 
 
 def hopping(best: Design, target: Target, cons: Constraints, seed: int, rounds: int, jumps: int, mapper=map,
-            deadline: float | None = None) -> Design:
+            deadline: float | None = None, cap: int | None = None) -> Design:
     """Basin hopping on the best design: ``rounds`` rounds of ``jumps`` seeded hops (:func:`hop`) from the
     best so far, run through ``mapper`` (the same answer for any worker count); a hop replaces the best
-    when it ranks better (:func:`rank_key`). The deadline is a safety net: no round starts after it."""
+    when it ranks better (:func:`rank_key`). The deadline is a safety net: no round starts after it.
+    ``cap`` (``--evaluations``): the designs all the hops may evaluate, an even share each (a hop needs 4:
+    fewer rounds where the share would be smaller)."""
+    each = None
+    if cap is not None:
+        rounds = min(rounds, cap // (4 * jumps)) if jumps else 0
+        each = cap // (rounds * jumps) if rounds else None
     seeds = np.random.SeedSequence([seed, 1]).generate_state(rounds * jumps).reshape(rounds, jumps) if rounds else ()
     better, done, cut, spent = 0, 0, False, 0
     for r in range(rounds):
         if deadline is not None and time.time() > deadline:
             cut = True
             break
-        found = list(mapper(hop, hop_jobs(best, target, cons, seeds[r], deadline)))
+        found = list(mapper(hop, hop_jobs(best, target, cons, seeds[r], deadline, each)))
         spent += sum(c.stats["evaluations"] for c in found)
         done += 1
         i, c = min(enumerate(found), key=lambda t: rank_key(*t))
@@ -1189,13 +1282,15 @@ def generations_of(name: str, generations: int | None = None) -> int:
 
 
 def jobs(target: Target, cons: Constraints, seed: int, restarts: int, generations: int | None = None,
-         popsize: int = 40, deadline: float | None = None, n_polish: int = 6, types=("fourbar",)) -> list[tuple]:
+         popsize: int = 40, deadline: float | None = None, n_polish: int = 6, types=("fourbar",),
+         cap: int | None = None) -> list[tuple]:
     """The restarts' jobs: the families' branches in turn, seeds spawned from ``seed`` (the same for any
-    worker count); ``generations`` None: each family's default (:func:`generations_of`)."""
+    worker count); ``generations`` None: each family's default (:func:`generations_of`); ``cap``: each
+    restart's designs at most (``--evaluations``; None: none)."""
     seeds = np.random.SeedSequence(seed).generate_state(restarts)
     cs = combos(types)
     return [(cs[i % len(cs)][0], target, cons, int(sd), cs[i % len(cs)][1],
-             generations_of(cs[i % len(cs)][0], generations), popsize, deadline, n_polish)
+             generations_of(cs[i % len(cs)][0], generations), popsize, deadline, n_polish, cap)
             for i, sd in enumerate(seeds)]
 
 
@@ -1207,7 +1302,8 @@ def rank_key(i: int, d: Design):
 def synthesize(target: Target, cons: Constraints = Constraints(), seed: int = 0, restarts: int = 4,
                generations: int | None = None, popsize: int = 40, budget: float | None = None, mapper=map,
                progress=None, n_polish: int = 6, types=("fourbar",), hops: int = HOP_ROUNDS,
-               jumps: int = HOP_JUMPS, designs: int = 1, multistarts: bool = True) -> list[Design]:
+               jumps: int = HOP_JUMPS, designs: int = 1, multistarts: bool = True,
+               evaluations: int | None = None) -> list[Design]:
     """Run ``restarts`` seeded restarts through ``mapper`` (``map`` or an executor's) and (``multistarts``)
     the multi-start stage (:func:`multistart`; where the four-bar is searched, the slider-crank limit stage
     too, :func:`slider_limit`), then ``hops`` rounds of basin hopping on the best
@@ -1216,7 +1312,16 @@ def synthesize(target: Target, cons: Constraints = Constraints(), seed: int = 0,
 
     The restarts and hops polish on the search's targets (:func:`search_target`); where those are a
     subset, the best ``designs`` are polished again on all the targets (:func:`refine`) and the others
-    only evaluated on them (:func:`evaluate`)."""
+    only evaluated on them (:func:`evaluate`).
+
+    ``evaluations`` (``--evaluations N``): every design evaluated on the targets counts (the atlas,
+    differential evolution's populations, each pose and each polish's residuals, Jacobian difference
+    designs and finishes), and the run evaluates N at most: each stage gets its STAGE_SHARES share of N or
+    what the earlier ones left, the restarts cut to as many as get :func:`least_restart` each, and every
+    polish runs within a cap (``generations`` is then set by the cap). The random shapes screened against
+    the limits before any is posed (PRESCREEN a restart) are not evaluated on the targets and not counted.
+    Each design's ``stats``: ``run_evaluations`` (the whole run's) and ``polish_evaluations`` (the hops' and
+    the final polishes')."""
     m = len(target.xy)
     if m < 4:
         raise ParameterError(f"{m} target points; path synthesis needs at least 4")
@@ -1226,36 +1331,66 @@ def synthesize(target: Target, cons: Constraints = Constraints(), seed: int = 0,
     start = time.time()
     deadline = None if budget is None else start + float(budget)
     out = []
-    js = jobs(target, cons, seed, restarts, generations, popsize, deadline, n_polish, types)
+    share = {}
+    if evaluations is not None:
+        evaluations = int(evaluations)
+        share = {k: int(v * evaluations) for k, v in STAGE_SHARES.items()}
+        restarts = min(restarts, share["restarts"] // least_restart(popsize))
+        if restarts < 1:
+            raise ParameterError(f"--evaluations {evaluations} is too few for one restart of a population of "
+                                 f"{popsize} (at least {math.ceil(least_restart(popsize) / STAGE_SHARES['restarts'])}"
+                                 f"); give more, or a smaller --popsize")
+    cap_r = share["restarts"] // restarts if share else None
+    js = jobs(target, cons, seed, restarts, generations, popsize, deadline, n_polish, types, cap_r)
     for i, d in enumerate(mapper(restart, js)):
         out.append((i, d))
         if progress is not None:
             progress(i + 1, restarts)
     search = search_target(target)
+
+    def left(stage):                   # a stage's cap: its share, or what the earlier stages left
+        if not share:
+            return None
+        used = sum(d.stats.get("evaluations", 0) for _, d in out)
+        return max(0, min(share[stage], evaluations - used - sum(share[k] for k in list(STAGE_SHARES)
+                                                                  [list(STAGE_SHARES).index(stage) + 1:])))
     if multistarts:
-        out += list(enumerate(multistart(search, cons, seed, restarts, types, mapper, deadline), len(out)))
+        out += list(enumerate(multistart(search, cons, seed, restarts, types, mapper, deadline,
+                                         cap=left("multistart")), len(out)))
         if any("fourbar" in TYPES[t] for t in types):
-            out += list(enumerate(slider_limit(search, cons, seed, restarts, mapper, deadline), len(out)))
+            out += list(enumerate(slider_limit(search, cons, seed, restarts, mapper, deadline,
+                                               cap=left("slider_limit")), len(out)))
     spent = sum(d.stats.get("evaluations", 0) for _, d in out)
     cut = any(d.stats.get("stopped_by_budget") for _, d in out)
     out = [(i, d) for i, d in out if not d.stats.get("skipped")]
     if not out:
         raise ParameterError(f"--budget {budget:g} s ran out before the first restart could start; give more")
     out.sort(key=lambda t: rank_key(*t))
-    found = [d for _, d in out]
+    found = compact_first([d for _, d in out], target)
+    polish_spent = 0
     if hops and jumps:
-        found[0] = hopping(found[0], search, cons, seed, hops, jumps, mapper, deadline)
+        hop_cap = None if not share else max(0, min(share["hopping"], evaluations - spent - share["refine"]))
+        found[0] = hopping(found[0], search, cons, seed, hops, jumps, mapper, deadline, hop_cap)
         spent += found[0].stats["hop_evaluations"]
+        polish_spent += found[0].stats["hop_evaluations"]
     found = distinct_first(found, designs, target.size)
     if search is not target:           # the restarts and hops saw a subset: the first designs polished on all
-        refined = list(mapper(refine, [(d, target, cons, deadline) for d in found[:designs]]))
+        k = min(designs, len(found))
+        ref_cap = None if not share else (evaluations - spent - (len(found) - k)) // max(k, 1)
+        if ref_cap is not None and ref_cap < 2:
+            raise ParameterError(f"--evaluations {evaluations} leaves nothing for the final polish on all "
+                                 f"{len(target.xy)} targets; give more")
+        refined = list(mapper(refine, [(d, target, cons, deadline, ref_cap) for d in found[:designs]]))
         spent += sum(r.stats["evaluations"] - d.stats.get("evaluations", 0) for r, d in zip(refined, found))
+        polish_spent += sum(r.stats["evaluations"] - d.stats.get("evaluations", 0) for r, d in zip(refined, found))
         found = refined + [evaluate(d, target, cons) for d in found[designs:]]
         spent += len(found) - len(refined)
         found = distinct_first([d for _, d in sorted(enumerate(found), key=lambda t: rank_key(*t))], designs,
                                target.size)
+    found = distinct_first(compact_first(found, target), designs, target.size)
     cut = cut or (deadline is not None and time.time() > deadline)
-    run = {"run_evaluations": int(spent), "search_seconds": time.time() - start, "stopped_by_budget": bool(cut)}
+    run = {"run_evaluations": int(spent), "polish_evaluations": int(polish_spent), "restarts": restarts,
+           "search_seconds": time.time() - start, "stopped_by_budget": bool(cut)}
     return [Design(d.x, d.branch, d.phi_offset, d.err, d.phis, d.violation, d.seed, d.failed, {**d.stats, **run},
                    d.family) for d in found]
 
@@ -1263,6 +1398,32 @@ def synthesize(target: Target, cons: Constraints = Constraints(), seed: int = 0,
 DISTINCT = 1e-3
 """Two designs of one family and branch whose parameters all differ by less than this share of the target
 size are one design found twice (one basin reached from two starts)."""
+
+
+COMPACT_TIE = 1e-4
+"""Designs whose RMS target distance is within this share of the target size of the best one's are equally
+good (1e-4: 0.03 mm on a 300 mm path, below what pins and links can be made to): the smallest of them (its
+mechanism's extent over a turn) is ranked first. A search ranked on the error alone returned a drag link 20
+times the size of the crank-rocker that drew the targets (issue 41)."""
+
+
+def compact_first(found: list[Design], target: Target) -> list[Design]:
+    """``found`` (best first, :func:`rank_key`) with the feasible designs tied with the best (COMPACT_TIE)
+    moved to the front, smallest first; the others keep their order."""
+    ok = [d for d in found if d.violation == 0 and not d.failed and np.all(np.isfinite(d.err))]
+    if len(ok) < 2:
+        return found
+    rms = {id(d): float(np.sqrt(np.mean(np.asarray(d.err) ** 2))) for d in ok}
+    best = min(rms.values())
+    ties = [d for d in ok if rms[id(d)] <= best + COMPACT_TIE * target.size]
+    if len(ties) < 2:
+        return found
+    def side(d):                   # the larger side of the mechanism's box over a turn
+        b = d.family.extent(np.asarray(d.x)[None], d.branch, 512)[0]
+        return float(max(b[2] - b[0], b[3] - b[1]))
+    size = {id(d): side(d) for d in ties}
+    head = sorted(ties, key=lambda d: size[id(d)])
+    return head + [d for d in found if not any(d is h for h in head)]
 
 
 def same_design(a: Design, b: Design, scale: float) -> bool:

@@ -29,18 +29,26 @@ def mapper(workers: int = 1, scheduler: str | None = None):
         raise ParameterError(f"--workers {workers} must be >= 1")
     if scheduler:
         try:
+            import dask
             from dask.distributed import Client, LocalCluster
         except ImportError:
             raise ParameterError("--scheduler needs dask[distributed]; pip install 'dask[distributed]'") from None
-        cluster = None
+        cluster = scratch = None
+        settings = contextlib.ExitStack()
         try:
-            if scheduler == "local":
+            if scheduler == "local":     # its scheduler's and workers' scratch space in a folder of its own,
+                import tempfile          # removed after (else dask-scratch-space is left in the temp folder)
+                scratch = tempfile.TemporaryDirectory(prefix="linkage-dask-")
+                settings.enter_context(dask.config.set({"temporary-directory": scratch.name}))
                 cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                                       dashboard_address=None)
+                                       dashboard_address=None, local_directory=scratch.name)
                 client = Client(cluster)
             else:
                 client = Client(scheduler, timeout=10)
         except OSError as exc:
+            settings.close()
+            if scratch is not None:
+                scratch.cleanup()
             raise ParameterError(f"--scheduler {scheduler}: cannot connect ({exc})") from None
         try:
             yield lambda fn, items: iter(client.gather(client.map(fn, list(items), pure=False)))
@@ -48,6 +56,9 @@ def mapper(workers: int = 1, scheduler: str | None = None):
             client.close()
             if cluster is not None:
                 cluster.close()
+            settings.close()
+            if scratch is not None:
+                scratch.cleanup()
         return
     if workers == 1:
         yield map

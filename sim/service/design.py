@@ -27,8 +27,8 @@ from analytic.synthesis.curves import DEFAULT_TYPE, FAMILIES, TYPES
 from sim.run.parallel import mapper
 
 __all__ = ["read_table", "check_repeats", "read_target", "PathOptions", "synthesize_path", "check_path_design",
-           "curve", "synthesize_motion", "synthesize_function", "two_position", "parse_vary", "sweep",
-           "sweep_columns", "MAX_COMBOS", "STATS", "DEFAULT_TYPE", "TYPES", "UNITS", "GRASHOF", "limits",
+           "curve", "synthesize_motion", "synthesize_function", "structural_error", "two_position", "parse_vary", "sweep",
+           "sweep_columns", "MAX_COMBOS", "STATS", "DEFAULT_TYPE", "TYPES", "UNITS", "GRASHOF", "limits", "unreachable",
            "two_position_task", "two_position_design", "two_position_feasible", "two_position_mechanism"]
 
 
@@ -117,7 +117,22 @@ def error_record(e) -> dict:
 # ---------------------------------------------------------------------------------- path synthesis
 CHECK_RESERVE = (0.3, 0.5)
 """[s] Of a ``--budget``, the share kept for checking the returned designs (read back, solved, compared in
-MuJoCo): this plus this per design (a four-bar's checks take 0.1-0.2 s here), at most half the budget."""
+MuJoCo) and ending the process: this plus this per design on an idle machine (a four-bar's checks take
+0.1-0.2 s here; the interpreter's exit 0.1-0.2 s), times :func:`slowdown`."""
+
+
+class BudgetSpent(ParameterError):
+    """A ``--budget`` too short for a first restart on this machine now: no design (the command exits 1)."""
+
+
+def slowdown() -> float:
+    """How much slower than idle this machine runs now: its 1-minute load average per core, at least 1 (on
+    2 cores at load 8, a four-bar's checks took 1.8 s instead of 0.4 s, and the exit 0.7 s)."""
+    import os
+    try:
+        return max(1.0, os.getloadavg()[0] / (os.cpu_count() or 1))
+    except OSError:
+        return 1.0
 
 MAX_BUDGET = 7 * 24 * 3600.0
 """[s] The longest --budget: a week (inf or 1e308 is no budget at all)."""
@@ -135,7 +150,8 @@ class PathOptions:
     ``popsize`` per restart, ``budget`` [s] (None: none; a hard wall-clock limit on the whole run, the
     checks included: the search stops early and the best so far is returned), ``evaluations`` (None: the
     default counts; N: the global search's evaluations, N / restarts per restart, its atlas and
-    differential evolution; the polishes add theirs, all counted in each design's ``evaluations``),
+    differential evolution, polishes: every design evaluated on the targets, at most N in all, each design's
+    ``evaluations``; the hops' and final polishes' share also as ``polish_evaluations``),
     ``designs`` returned, ``min_transmission`` [deg], ``max_ratio``, ``region`` [target sizes], ``max_size``
     [length] (None: none), ``boxes`` (:class:`analytic.synthesis.constraints.Region` per named ground pivot),
     ``grashof``, ``workers``, ``scheduler``. Without ``budget`` the answer depends on the seed only."""
@@ -197,12 +213,9 @@ class PathOptions:
 
     @property
     def generations_value(self) -> int | None:
-        """The differential-evolution generations per restart: ``generations``, or from ``evaluations``."""
-        if self.evaluations is None:
-            return self.generations
-        per = self.evaluations // max(self.restart_count, self.designs)
-        atlas = max(self.popsize * 4, sp.ATLAS)
-        return max(1, (per - atlas) // self.popsize - 1)
+        """The differential-evolution generations per restart: ``generations`` (with ``evaluations``: the
+        restarts' caps set them, :func:`analytic.synthesis.path.synthesize`)."""
+        return self.generations
 
     @property
     def constraints(self) -> sp.Constraints:
@@ -297,8 +310,25 @@ def curve(record: dict, n: int = 1441) -> np.ndarray:
     return E[0]
 
 
+GRASHOF_WORDS = {"double-crank": "a drag link: the ground the shortest link, both cranks turning fully",
+                 "double-rocker": "the coupler the shortest link: neither crank nor rocker turns fully",
+                 "rocker-crank": "the rocker the shortest link: the output turns fully, the input rocks",
+                 "triple-rocker": "non-Grashof: no link turns fully",
+                 "change-point": "s + l = p + q: it can fold into a line"}
+
+
+def type_notes(grashof: str, wanted: str) -> list[str]:
+    """A note when a returned four-bar's type is not the crank-rocker a path's full crank turn suggests and
+    ``--grashof`` did not ask for it (``any``): say which type it is and how to ask for a crank-rocker."""
+    if not grashof or grashof == "crank-rocker" or wanted != "any":
+        return []
+    return [f"a {grashof} four-bar ({GRASHOF_WORDS.get(grashof, grashof)}), not a crank-rocker: --grashof any "
+            f"(the default) takes the type that fits best; give --grashof crank-rocker for one whose crank alone "
+            f"turns fully"]
+
+
 def synthesize_path(target: sp.Target, options: PathOptions = PathOptions(), unit: str = "m",
-                    progress=None) -> list[dict]:
+                    progress=None, started: float | None = None) -> list[dict]:
     """Path synthesis (SPEC, "Synthesis"): the best ``options.designs`` designs, best first, each checked
     (:func:`check_path_design`). A record: ``type`` (family), ``error`` {sum_sq, max, rms} and
     ``error_unit``, ``parameters`` (the family's, its branch(es), ``phi1_0`` [rad], ``omega1`` [rad/s],
@@ -318,28 +348,60 @@ def synthesize_path(target: sp.Target, options: PathOptions = PathOptions(), uni
     total = restarts + options.designs
     import time
     start = time.time()
-    budget = None
-    if options.budget is not None:       # the checks' share of a hard budget: the search stops before it
-        budget = max(options.budget - min(CHECK_RESERVE[0] + CHECK_RESERVE[1] * options.designs,
-                                          0.5 * options.budget), 1e-3)
+    budget = end = None
+    if options.budget is not None:       # the whole run ends by then, counted from ``started`` (the command's start)
+        end = (start if started is None else started) + options.budget
+        reserve = slowdown() * (CHECK_RESERVE[0] + CHECK_RESERVE[1] * options.designs)
+        if end - time.time() <= reserve:     # said before the search's and the checks' imports take more
+            raise BudgetSpent(f"--budget {options.budget:g} s: the start took {time.time() - end + options.budget:.1f} "
+                              f"s and the checks and exit need about {reserve:.1f} s on this machine now (load "
+                              f"{slowdown():.1f} per core): no restart could run; give more")
+        import scipy.optimize  # noqa: F401 (what the search and the checks load, loaded before their shares are set)
+        import sim.service.synth_checks  # noqa: F401
 
     def step(done, _n=None):
         if progress is not None:
             progress(done, total)
     with mapper(options.workers, options.scheduler) as m:
-        designs = sp.synthesize(target, options.constraints, seed=options.seed, restarts=restarts,
-                                generations=options.generations_value, popsize=options.popsize, budget=budget,
-                                mapper=m, progress=step, types=options.types,
-                                designs=options.designs)[:options.designs]
+        if end is not None:              # the checks' share of what is left: the search stops before it
+            left = end - time.time()
+            budget = max(left - reserve, 1e-3)
+        try:
+            designs = sp.synthesize(target, options.constraints, seed=options.seed, restarts=restarts,
+                                    generations=options.generations_value, popsize=options.popsize, budget=budget,
+                                    mapper=m, progress=step, types=options.types,
+                                    designs=options.designs, evaluations=options.evaluations)[:options.designs]
+        except ParameterError as e:
+            if end is None or "ran out before the first restart" not in str(e):
+                raise
+            raise BudgetSpent(f"--budget {options.budget:g} s: the start took {options.budget - left:.1f} s "
+                                 f"and the checks and exit need about {reserve:.1f} s on this machine now (load "
+                                 f"{slowdown():.1f} per core), leaving {budget:.2f} s: no restart could run; give "
+                                 f"more") from None
         designs = [d for i, d in enumerate(designs)          # one design found twice is returned once
                    if not any(sp.same_design(d, e, target.size) for e in designs[:i])]
         texts = [design_text(d, unit, target, options.seed) for d in designs]
         jobs = [(d.family.name, d.x, d.branch, t, float(d.phis[0]), sense_of(d), target.size, options.limits)
                 for d, t in zip(designs, texts)]
         checks = []
-        for i, c in enumerate(m(check_path_design, [j for j, d in zip(jobs, designs) if not d.failed])):
-            checks.append(c)
-            step(restarts + i + 1)
+        todo = [j for j, d in zip(jobs, designs) if not d.failed]
+        if end is None:
+            for i, c in enumerate(m(check_path_design, todo)):
+                checks.append(c)
+                step(restarts + i + 1)
+        else:                            # one at a time: a check the time left cannot hold is not started
+            took = 0.0
+            for i, j in enumerate(todo):
+                t = time.time()
+                if i and t + took > end:
+                    checks.append({"compare_passed": False, "compare_mode": "not run: --budget ran out",
+                                   "solver_deviation": float("nan"), "mu_min_deg": float("nan"), "measure": None,
+                                   "simulated": None, "problem": f"not checked: --budget {options.budget:g} s "
+                                                                 f"ran out before its checks"})
+                    continue
+                checks.append(next(iter(m(check_path_design, [j]))))
+                took = max(took, time.time() - t)
+                step(restarts + i + 1)
     it = iter(checks)
     found = []
     for d, text, job in zip(designs, texts, jobs):
@@ -351,10 +413,13 @@ def synthesize_path(target: sp.Target, options: PathOptions = PathOptions(), uni
         lo, hi = sorted((job[4], job[4] + job[5] * 2 * math.pi))
         meas = c["measure"] or {"transmission_deg": [c["mu_min_deg"], float("nan")], "size": float("nan"),
                                 "box": [float("nan")] * 4, "input_range": [lo, hi], "grashof": ""}
+        notes = type_notes(meas.get("grashof", ""), options.grashof)
         found.append({"file": None, "type": d.family.name, "error": error_record(d.err), "error_unit": unit,
+                      "notes": notes,
                       "parameters": params, "compare_passed": c["compare_passed"], "compare_mode": c["compare_mode"],
                       "failed": d.failed or c["problem"], "solver_deviation": c["solver_deviation"], **meas,
-                      "evaluations": int(d.stats.get("run_evaluations", 0)), "simulated": c["simulated"],
+                      "evaluations": int(d.stats.get("run_evaluations", 0)),
+                      "polish_evaluations": int(d.stats.get("polish_evaluations", 0)), "simulated": c["simulated"],
                       "stats": d.stats, "text": text,
                       "design": d})
     elapsed = time.time() - start
@@ -556,56 +621,151 @@ def synthesize_motion(poses: np.ndarray, unit: str = "m", count: int = 3, circle
     return found, rejected
 
 
-def synthesize_function(pairs: np.ndarray, ground: float = 1.0, unit: str = "m",
-                        limits=None) -> tuple[list[dict], list[dict]]:
-    """Freudenstein function generation (3 pairs exact, more by least squares): the one design the pairs
-    and the ground length determine, under ``limits``; its file holds its working range (the crank's
-    travel from the first pair to the last), where it is measured by the general solver and passed through
-    ``linkage compare``. Returns (designs, rejected) as :func:`synthesize_motion`: the design, or none and
-    why. Where Freudenstein's solution has a negative crank (or rocker) length, the crank (rocker) points the
-    other way: its link angle is the given angle + 180 deg, said in ``notes``."""
+START_ANGLES = ("given", "search")
+"""``--start-angles``: the pairs' angles are from the line A -> D (given), or from any zero (search)."""
+FUNCTION_EVALUATIONS = 2000
+"""Function synthesis with free start angles: candidates evaluated at most by default (a 40 x 40 grid of
+start angles, 9 deg apart, then 400 for the polish)."""
+
+
+FUNCTION_MOST = 200_000
+"""The most --evaluations a function search takes (about 1 ms each here: past this a run takes minutes)."""
+
+
+def structural_error(mech, link_off_in: float, link_off_out: float, phi, psi, lo: float, hi: float,
+                     sol=None, n: int | None = None) -> dict | None:
+    """The structural error of a function generator over its working range [lo, hi] [rad, crank link
+    angles]: ``mech`` solved there by the general solver (or its solution ``sol`` at ``n`` evenly spaced
+    values, either way round), its output angle (``phi3`` - ``link_off_out``) minus the target function
+    (:func:`analytic.synthesis.function.target_function` through the pairs ``phi``, ``psi`` in the user's
+    frame, at crank angle - ``link_off_in``). ``{"max", "rms" [rad], "max_deg", "rms_deg", "at_input" [rad,
+    the user's input angle of the max], "samples", "target"}``; None where the pairs are not in order."""
     from analytic.synthesis import constraints as sc
-    from analytic.synthesis import fourbar as synth_fourbar
+    from analytic.synthesis import function as synthesis_function
+    target = synthesis_function.target_function(phi, psi)
+    if target is None:
+        return None
+    n = n or sc.MEASURE_SAMPLES
+    q = np.linspace(lo, hi, n)
+    if sol is None:
+        sol = mech.solve(q)
+    e = np.abs(synthesis_function._wrap(np.asarray(sol["phi3"]) - link_off_out - target(q - link_off_in)))
+    k = int(np.argmax(e))
+    return {"max": float(e[k]), "rms": float(np.sqrt(np.mean(e ** 2))), "max_deg": math.degrees(float(e[k])),
+            "rms_deg": math.degrees(float(np.sqrt(np.mean(e ** 2)))), "at_input": float(q[k] - link_off_in),
+            "samples": int(n), "target": ("the parabola through the 3 pairs" if len(phi) == 3 else
+                                          f"the cubic spline through the {len(phi)} pairs")}
+
+
+def synthesize_function(pairs: np.ndarray, ground: float = 1.0, unit: str = "m", limits=None,
+                        start_angles: str = "given", evaluations: int = FUNCTION_EVALUATIONS,
+                        count: int = 1) -> tuple[list[dict], list[dict]]:
+    """Freudenstein function generation (3 pairs exact, more by least squares) under ``limits``: its file
+    holds its working range (the crank's travel from the first pair to the last), where it is measured by
+    the general solver, its structural error taken (:func:`structural_error`: the output against the pairs'
+    interpolant at every crank angle of the range, not only at the pairs) and passed through ``linkage
+    compare``. ``start_angles`` "given": the pairs' angles are from the line A -> D and fix the one design
+    (``evaluations`` and ``count`` unused); "search": they are from any zero and the start angles are
+    searched (:func:`analytic.synthesis.function.search`, at most ``evaluations`` candidates, the polish's
+    included), up to ``count`` distinct designs returned, best first. Returns (designs, rejected) as
+    :func:`synthesize_motion`. Where Freudenstein's solution has a negative crank (or rocker) length, the
+    crank (rocker) points the other way: its link angle is the given angle + 180 deg, said in ``notes``."""
+    from analytic.synthesis import constraints as sc
     from analytic.synthesis import function as synthesis_function
     limits = (limits or sc.Limits()).check()
     limits.check_names(("A", "D"), "a function generator (A: the crank's pivot, D: the rocker's)")
     if not (math.isfinite(ground) and ground > 0):
         raise ParameterError(f"--ground {ground!r} must be a length > 0")
-    f = synthesis_function.synthesize(pairs[:, 0], pairs[:, 1], ground)
-    inputs = pairs[:, 0] + f.input_offset
-    lo, hi = working_range(f.linkage, inputs)
-    notes = []
-    if f.input_offset:
-        notes.append("input offset 180 deg: Freudenstein's crank length came out negative, so the crank AB points "
-                     "opposite to the given input angle: the file's phi1 = input + 180 deg")
-    if f.output_offset:
-        notes.append("output offset 180 deg: the rocker length came out negative, so the rocker DC points opposite "
-                     "to the given output angle: output = phi3 - 180 deg")
-    notes.append(f"the crank turns {'counter-clockwise' if f.linkage.omega1 > 0 else 'clockwise'} from pair 1 to "
-                 f"pair {len(pairs)}; branch {f.linkage.branch:+d} (C {'left' if f.linkage.branch > 0 else 'right'} "
-                 f"of B->D)")
-    params = {**f.linkage.parameters(), "K1": f.K[0], "K2": f.K[1], "K3": f.K[2],
-              "input_offset": f.input_offset, "output_offset": f.output_offset}
-    why, m = f.defect, None
-    if not why:
-        try:
-            m = sc.measure(synth_fourbar.mechanism(f.linkage, unit), lo, hi, lengths=_fourbar_lengths(f.linkage))
-            why = sc.broken(m, limits, unit)
-        except ParameterError as e:
-            why = str(e)
-    if why:
-        return [], [{"parameters": params, "why": why, "notes": notes}]
-    text = synth_fourbar.text(f.linkage, unit, "function_fourbar",
-                              f"Freudenstein function generator through {len(pairs)} (input, output) pairs; "
-                              f"input offset {math.degrees(f.input_offset):g} deg, output offset "
-                              f"{math.degrees(f.output_offset):g} deg; the crank rocks over input_range, its "
-                              f"travel from the first pair to the last", (lo, hi))
-    mech = synth_fourbar.mechanism(f.linkage, unit)
-    sol = mech.solve(inputs)                                   # the general solver at the given inputs
-    err = synthesis_function._wrap(sol["phi3"] - f.output_offset - pairs[:, 1])
-    passed, mode, sim = check_fourbar(mech, lo, hi)
-    return [_exact_record(f.linkage, text, unit, m, error_record(err), "rad", params, passed, mode, 1, notes,
-                          simulated=sim)], []
+    if start_angles not in START_ANGLES:
+        raise ParameterError(f"--start-angles {start_angles}: use one of {', '.join(START_ANGLES)}")
+    if count < 1:
+        raise ParameterError(f"--count {count} must be >= 1")
+    if start_angles == "given":
+        f = synthesis_function.synthesize(pairs[:, 0], pairs[:, 1], ground)
+        return _function_designs([(f, 0.0, 0.0)], pairs, ground, unit, limits, 1,       # one solve and its polish
+                                 {"evaluations": 1 + f.polish_evaluations, "grid": 0,
+                                  "polish_evaluations": f.polish_evaluations})
+    if not 1 <= evaluations <= FUNCTION_MOST:
+        raise ParameterError(f"--evaluations {evaluations} must be an integer in 1..{FUNCTION_MOST:,}")
+    for r in limits.regions:       # the search moves no pivot: A = (0, 0), D = (ground, 0)
+        p = (0.0, 0.0) if r.name == "A" else (ground, 0.0)
+        if not r.contains(*p):
+            return [], [{"parameters": {}, "why": f"ground pivot {r.name} at ({p[0]:.4g}, {p[1]:.4g}) lies outside "
+                                                  f"--pivot-region {r.text()} (a function generator's pivots are "
+                                                  f"A = (0, 0), D = (--ground, 0))", "notes": []}]
+    kept, turned, stats = synthesis_function.search(pairs[:, 0], pairs[:, 1], ground, limits, evaluations, count)
+    found, rejected = _function_designs([(c.function, c.phi0, c.psi0) for c in kept], pairs, ground, unit, limits,
+                                        count, stats)
+    if not found and not rejected:
+        if turned:
+            c = turned[0]
+            rejected = [{"parameters": c.function.linkage.parameters(), "why": f"the best of the {stats['grid']} "
+                         f"start angles tried: {c.why}", "notes": []}]
+        else:
+            rejected = [{"parameters": {}, "why": f"none of the {stats['grid']} start angles tried gives a "
+                         f"four-bar through the pairs", "notes": []}]
+    return found, rejected
+
+
+def _function_designs(functions, pairs, ground, unit, limits, count, stats) -> tuple[list[dict], list[dict]]:
+    """The checked records of function generators ``functions`` [(Function, phi0, psi0)], best first: up to
+    ``count`` distinct ones meeting ``limits`` by the general solver and passing ``linkage compare``."""
+    from analytic.synthesis import constraints as sc
+    from analytic.synthesis import fourbar as synth_fourbar
+    from analytic.synthesis import function as synthesis_function
+    found, rejected, chosen = [], [], []
+    for f, phi0, psi0 in functions:
+        if len(found) >= count:
+            break
+        if not _distinct(f.linkage, chosen, ground):
+            continue
+        phi, psi = pairs[:, 0] + phi0, pairs[:, 1] + psi0          # the pairs from the line A -> D
+        inputs = phi + f.input_offset
+        lo, hi = working_range(f.linkage, inputs)
+        notes = []
+        if phi0 or psi0:
+            notes.append(f"start angles searched: input 0 at {math.degrees(phi0):.3f} deg and output 0 at "
+                         f"{math.degrees(psi0):.3f} deg from the line A->D (the file's angles are the pairs' + these)")
+        if f.input_offset:
+            notes.append("input offset 180 deg: Freudenstein's crank length came out negative, so the crank AB "
+                         "points opposite to the given input angle: the file's phi1 = input + 180 deg")
+        if f.output_offset:
+            notes.append("output offset 180 deg: the rocker length came out negative, so the rocker DC points "
+                         "opposite to the given output angle: output = phi3 - 180 deg")
+        notes.append(f"the crank turns {'counter-clockwise' if f.linkage.omega1 > 0 else 'clockwise'} from pair 1 "
+                     f"to pair {len(pairs)}; branch {f.linkage.branch:+d} (C "
+                     f"{'left' if f.linkage.branch > 0 else 'right'} of B->D)")
+        params = {**f.linkage.parameters(), "K1": f.K[0], "K2": f.K[1], "K3": f.K[2],
+                  "input_offset": f.input_offset, "output_offset": f.output_offset,
+                  "start_angles": [float(phi0), float(psi0)]}
+        why, m, structural = f.defect, None, None
+        mech = synth_fourbar.mechanism(f.linkage, unit)
+        if not why:
+            try:
+                sol = mech.solve(np.linspace(lo, hi, sc.MEASURE_SAMPLES))     # the general solver over the range
+                m = sc.measure(mech, lo, hi, lengths=_fourbar_lengths(f.linkage), sol=sol)
+                why = sc.broken(m, limits, unit)
+                structural = structural_error(mech, phi0 + f.input_offset, psi0 + f.output_offset, pairs[:, 0],
+                                              pairs[:, 1], lo, hi, sol=sol)
+            except ParameterError as e:
+                why = str(e)
+        if why:
+            if len(rejected) < count:
+                rejected.append({"parameters": params, "why": why, "notes": notes})
+            continue
+        text = synth_fourbar.text(f.linkage, unit, "function_fourbar",
+                                  f"Freudenstein function generator through {len(pairs)} (input, output) pairs; "
+                                  f"input 0 at {math.degrees(phi0 + f.input_offset):g} deg, output 0 at "
+                                  f"{math.degrees(psi0 + f.output_offset):g} deg from A->D; the crank rocks over "
+                                  f"input_range, its travel from the first pair to the last", (lo, hi))
+        sol = mech.solve(inputs)                                   # the general solver at the given inputs
+        err = synthesis_function._wrap(sol["phi3"] - f.output_offset - psi)
+        passed, mode, sim = check_fourbar(mech, lo, hi)
+        found.append(_exact_record(f.linkage, text, unit, m, error_record(err), "rad", params, passed, mode,
+                                   stats["evaluations"], notes, structural_error=structural,
+                                   polish_evaluations=stats["polish_evaluations"], simulated=sim))
+        chosen.append(f.linkage)
+    return found, rejected
 
 
 # --------------------------------------------------------------------------------- two-position
@@ -825,6 +985,12 @@ def limits(min_transmission_deg=None, max_size: float | None = None, pivot_regio
     type wanted. ``name`` names the angle in an error message."""
     mu = 0.0 if min_transmission_deg is None else _sc.parse_angle_deg(name, min_transmission_deg)
     return _sc.Limits(mu, max_size, tuple(_sc.parse_region(t) for t in pivot_regions), grashof).check()
+
+
+def unreachable(points, limits, unit: str = "", what: str = "targets") -> str:
+    """Why no design can meet ``points`` (N, 2) [file units] within ``limits`` ('' when nothing rules it
+    out): :func:`analytic.synthesis.constraints.unreachable`."""
+    return _sc.unreachable(points, limits, unit, what) if limits is not None else ""
 
 
 def two_position_task(E1, E2, A, D, phi12: float, psi12: float):

@@ -61,7 +61,8 @@ families that say so (:attr:`analytic.synthesis.curves.Family.pareto_front`)."""
 @dataclass(frozen=True)
 class ParetoOptions:
     """``objectives``; ``family`` (a path family with one crank, one of FRONT_TYPES); ``seed``;
-    NSGA-II ``popsize`` and ``generations`` (the evaluations: their product, plus the starting atlas);
+    NSGA-II ``popsize`` and ``generations`` (the evaluations: their product, plus the starting atlas), or
+    ``evaluations`` (a bound on every design evaluated, the generations following from it);
     ``samples`` per turn for the search's forces; ``front`` designs returned at most (spread along the
     error); the loads: ``force`` (Fx, Fy) [N] on the traced point (``cutting``: only on its slow stroke),
     ``gravity`` (gx, gy) [m/s^2]; ``constraints`` (:class:`analytic.synthesis.path.Constraints`);
@@ -80,6 +81,7 @@ class ParetoOptions:
     gravity: tuple[float, float] | None = None
     constraints: sp.Constraints = sp.Constraints()
     max_error: float | None = None
+    evaluations: int | None = None
 
     def check(self) -> "ParetoOptions":
         parse_objectives(",".join(self.objectives))
@@ -93,6 +95,8 @@ class ParetoOptions:
             raise ParameterError(f"--popsize {self.popsize}: NSGA-II needs at least 4")
         if self.max_error is not None and not (math.isfinite(self.max_error) and self.max_error > 0):
             raise ParameterError(f"--max-error {self.max_error!r} must be a length > 0 (file units)")
+        if self.evaluations is not None and self.evaluations < 1:
+            raise ParameterError(f"--evaluations {self.evaluations} must be >= 1")
         if not 12 <= self.samples <= 3601:
             raise ParameterError(f"--samples {self.samples} must be in 12..3601")
         return self
@@ -162,9 +166,11 @@ def evaluate(X, target: sp.Target, opts: ParetoOptions, unit: str) -> tuple[np.n
 
 
 # ------------------------------------------------------------------------------------------- search
-def atlas(target: sp.Target, opts: ParetoOptions, rng: np.random.Generator, count: int) -> np.ndarray:
+def atlas(target: sp.Target, opts: ParetoOptions, rng: np.random.Generator, count: int,
+          posed: list | None = None) -> np.ndarray:
     """NSGA-II's first population: random shapes meeting the shape limits, posed on the targets (as the
-    single-objective restarts' atlas), the least error first, both branches in turn; rows of variables."""
+    single-objective restarts' atlas), the least error first, both branches in turn; rows of variables.
+    ``posed``: a one-item list the count of shapes posed on the targets is added to."""
     family = FAMILIES[opts.family]
     timing = target.phi is not None
     dim = family.shape_dim + (1 if timing else 0)
@@ -175,6 +181,8 @@ def atlas(target: sp.Target, opts: ParetoOptions, rng: np.random.Generator, coun
         U = U[sp.shape_violation(family.shape(U[:, :family.shape_dim]), opts.constraints, b, family) == 0]
         if not len(U):
             continue
+        if posed is not None:
+            posed[0] += len(U)
         if timing:
             x, e, o = sp._pose_timed(U, target, b, family)
         else:
@@ -193,6 +201,10 @@ POLISHED = 2
 front's low-error end, where random shapes rarely land (an exact design through the targets, if any)."""
 
 
+ANCHOR_CAP = 100
+"""With ``--evaluations``: the designs each anchoring polish may evaluate (residuals, Jacobians, finishes)."""
+
+
 def anchor(start: np.ndarray, target: sp.Target, opts: ParetoOptions) -> tuple[np.ndarray, int]:
     """The starting population with its best POLISHED rows per branch polished (:func:`sp.polish`, the
     limits kept) and appended in place of the population's last rows; and the evaluations they took."""
@@ -203,7 +215,8 @@ def anchor(start: np.ndarray, target: sp.Target, opts: ParetoOptions) -> tuple[n
     for sel in (0.75, 0.25):
         rows = start[np.isclose(start[:, -1], sel)][:POLISHED]
         for r in rows:
-            d = sp.polish(r[:nx], (1 if sel > 0.5 else -1,), target, opts.constraints, family)
+            d = sp.polish(r[:nx], (1 if sel > 0.5 else -1,), target, opts.constraints, family,
+                          cap=None if opts.evaluations is None else ANCHOR_CAP)
             spent += d.stats["evaluations"]
             if d.violation == 0:
                 out.append(np.concatenate([d.x, [d.phi_offset] if timing else [], [sel]]))
@@ -229,17 +242,27 @@ def bounds(target: sp.Target, opts: ParetoOptions, start: np.ndarray) -> tuple[n
 
 
 def search(target: sp.Target, opts: ParetoOptions, unit: str, progress=None):
-    """NSGA-II (pymoo) from :func:`atlas`: returns (X, F) of the final non-dominated feasible set and the
-    count of designs evaluated."""
+    """NSGA-II (pymoo) from :func:`atlas`: returns (X, F) of the final non-dominated feasible set, the
+    count of designs evaluated on the targets (the atlas's posed shapes, the anchors' polishes, every member
+    of every generation) and the generations run. ``opts.evaluations`` N: the anchors' polishes capped
+    (ANCHOR_CAP each) and the generations those leave of N, so the count is at most N."""
     from pymoo.algorithms.moo.nsga2 import NSGA2
     from pymoo.core.problem import Problem
     from pymoo.optimize import minimize
 
     rng = np.random.default_rng(np.random.SeedSequence([opts.seed, 29]))
-    start = atlas(target, opts, rng, opts.popsize)
+    posed = [0]
+    start = atlas(target, opts, rng, opts.popsize, posed)
     start, spent = anchor(start, target, opts)
     lo, hi = bounds(target, opts, start)
-    counter = {"n": spent + len(start), "gen": 0}
+    counter = {"n": spent + posed[0], "gen": 0}
+    generations = opts.generations
+    if opts.evaluations is not None:       # each generation evaluates popsize designs (the first: the start)
+        generations = (opts.evaluations - counter["n"]) // opts.popsize
+        if generations < 1:
+            raise ParameterError(f"--evaluations {opts.evaluations}: the starting atlas and its anchors took "
+                                 f"{counter['n']}, leaving less than one generation of {opts.popsize}; give at "
+                                 f"least {counter['n'] + opts.popsize}")
 
     class Synthesis(Problem):
         def __init__(self):
@@ -250,16 +273,16 @@ def search(target: sp.Target, opts: ParetoOptions, unit: str, progress=None):
             counter["n"] += len(X)
             counter["gen"] += 1
             if progress is not None:
-                progress(min(counter["gen"], opts.generations), opts.generations)
+                progress(min(counter["gen"], generations), generations)
 
-    res = minimize(Synthesis(), NSGA2(pop_size=opts.popsize, sampling=start), ("n_gen", opts.generations),
+    res = minimize(Synthesis(), NSGA2(pop_size=opts.popsize, sampling=start), ("n_gen", generations),
                    seed=int(rng.integers(2 ** 31)), verbose=False)
     pop = res.pop
     X, F, G = pop.get("X"), pop.get("F"), pop.get("G")
     ok = (G[:, 0] <= 0) & np.all(F < BAD, axis=1)
     X, F = X[ok], F[ok]
     nd = non_dominated(F) if len(F) else np.array([], dtype=int)
-    return X[nd], F[nd], counter["n"]
+    return X[nd], F[nd], counter["n"], counter["gen"]
 
 
 def spread(F: np.ndarray, k: int) -> list[int]:
@@ -343,7 +366,7 @@ def pareto(target: sp.Target, opts: ParetoOptions, unit: str = "m", limits: sc.L
     opts.check()
     limits = limits or sc.Limits(math.degrees(opts.constraints.mu_min), opts.constraints.max_size, (),
                                  opts.constraints.grashof)
-    X, F, n = search(target, opts, unit, progress)
+    X, F, n, gens = search(target, opts, unit, progress)
     if not len(X):
         raise ParameterError("the search found no design meeting the limits: relax them or raise --generations")
     idx = distinct(X, spread(F, 4 * opts.front), target.size)
@@ -358,7 +381,8 @@ def pareto(target: sp.Target, opts: ParetoOptions, unit: str = "m", limits: sc.L
             continue
         checked.append(c)
     if not checked:
-        return {"front": [], "rejected": rejected, "evaluations": n, "objectives": list(opts.objectives)}
+        return {"front": [], "rejected": rejected, "evaluations": n, "generations": gens,
+                "objectives": list(opts.objectives)}
     keys = [OBJECTIVES[o] for o in opts.objectives]
     Fc = np.array([[c[k] for k in keys] for c in checked])
     nd = sorted(non_dominated(Fc), key=lambda j: (Fc[j, 0], j))
@@ -374,4 +398,5 @@ def pareto(target: sp.Target, opts: ParetoOptions, unit: str = "m", limits: sc.L
                                                                                  if k != "size"},
                         "error_detail": c["error_record"], "simulated": c["simulated"], "file": None,
                         "text": c["text"], "design": d})
-    return {"front": records, "rejected": rejected, "evaluations": n, "objectives": list(opts.objectives)}
+    return {"front": records, "rejected": rejected, "evaluations": n, "generations": gens,
+            "objectives": list(opts.objectives)}

@@ -3,10 +3,12 @@
 
 from __future__ import annotations
 
+import math
+
 from analytic import ParameterError
 from sim.front.lazy import lazy
 from sim.output.io import check_writable, write_text
-from sim.front.cli.synth_options import add_limits, add_units, measure_words
+from sim.front.cli.synth_options import add_limits, add_units, limits_of, measure_words, out_names
 from sim.output.jsonout import dumps
 
 design_service = lazy("sim.service.design")  # scipy's optimisers: loaded by the command, not by its options
@@ -18,9 +20,10 @@ def _designs_out(args, kind: str, found: list[dict], rejected: list[dict]) -> in
     import sys
     ok = [d for d in found if d["compare_passed"] and d["simulated"]["passed"]]
     best = ok[0] if ok else None
-    if best is not None and args.out:
-        write_text(args.out, best["text"])
-        best["file"] = args.out
+    for d, name in zip(ok, out_names(args.out, len(ok))):   # every returned design: FILE, FILE_2, FILE_3 ...
+        if name:
+            write_text(name, d["text"])
+            d["file"] = name
     if args.json:
         print(dumps({"designs": [{k: v for k, v in d.items() if k != "text"} for d in found],
                      "rejected": rejected}))
@@ -32,16 +35,22 @@ def _designs_out(args, kind: str, found: list[dict], rejected: list[dict]) -> in
                   f"({d['compare_mode']}), forces in MuJoCo "
                   f"{'passed' if d['simulated']['forces_passed'] else 'FAILED'}; "
                   f"{'ok' if d in ok else d['simulated']['problem']}")
-            print("   " + ", ".join(f"{k}={v:.6g}" for k, v in d["parameters"].items()))
+            se = d.get("structural_error")
+            if se:
+                print(f"   structural error over the working range: max {se['max_deg']:.4g} deg at input "
+                      f"{math.degrees(se['at_input']):.2f} deg, rms {se['rms_deg']:.4g} deg (the output against "
+                      f"{se['target']}, the general solver at {se['samples']} crank angles)")
+            print("   " + ", ".join(f"{k}={v:.6g}" for k, v in d["parameters"].items() if isinstance(v, (int, float))))
             for note in d["notes"]:
                 print("   note: " + note)
-        if best is not None and args.out:
-            print(f"wrote {args.out} (its input_range is the working range: every command runs it so)")
+            if d.get("file"):
+                print(f"   wrote {d['file']} (its input_range is the working range: every command runs it so)")
     if best is None:
         why = rejected[0]["why"] if rejected else (found[0]["simulated"]["problem"] if found else "no candidate")
         for note in (rejected[0].get("notes", []) if rejected and not found else []):
             print("note: " + note, file=sys.stderr if args.json else sys.stdout)
-        print(f"linkage: no {kind} design meets the constraints; the best candidate: {why}",
+        lead = "the best candidate: " if found or (rejected and rejected[0].get("parameters")) else ""
+        print(f"linkage: no {kind} design meets the constraints; {lead}{why}",
               file=sys.stderr if args.json else sys.stdout)
         return 1
     return 0
@@ -53,6 +62,10 @@ def cmd_motion(args) -> int:
     if args.count < 1:
         raise ParameterError(f"--count {args.count} must be >= 1")
     poses = design_service.read_poses(args.poses, args.angles == "deg")
+    limits = limits_of(args)
+    why = design_service.unreachable(poses[:, :2], limits, args.unit, "poses")
+    if why:                                 # limits no design can meet: say so, search nothing, write nothing
+        return _designs_out(args, "motion", [], [{"parameters": {}, "why": why}])
     circle = None
     if args.circle_points:
         if len(poses) != 3:
@@ -74,9 +87,13 @@ def cmd_function(args) -> int:
     if args.out:
         check_writable(args.out, (".toml",))
     pairs = design_service.read_pairs(args.pairs, args.angles == "deg")
+    if args.start_angles == "given" and (args.evaluations is not None or args.count != 1):
+        raise ParameterError("--evaluations and --count apply to --start-angles search (given start angles fix "
+                             "the one design); add --start-angles search or drop them")
     import linkage as lk
     s = lk.synthesize("function", pairs=pairs, angles="rad", ground=args.ground, unit=args.unit,
-                      **limit_keywords(args))
+                      start_angles=args.start_angles, evaluations=args.evaluations, count=args.count,
+                      min_link=args.min_link, max_ratio=args.max_ratio, **limit_keywords(args))
     return _designs_out(args, "function", s.designs, s.rejected)
 
 
@@ -99,7 +116,8 @@ def register(problems) -> None:
                         f"deterministic)")
     p.add_argument("--circle-points", metavar="X1,Y1,X2,Y2",
                    help="3 poses: the moving pivots at pose 1 (the free parameters; default: a grid searched)")
-    p.add_argument("--out", metavar="FILE.toml", help="write the best design as a linkage/1 file")
+    p.add_argument("--out", metavar="FILE.toml", help="write every returned design as a linkage/1 file: the best "
+                                                      "to FILE.toml, the next ones to FILE_2.toml, FILE_3.toml ...")
     p.add_argument("--json", action="store_true", help="print one JSON object (SPEC: designs)")
     p.set_defaults(func=cmd_motion)
     p = problems.add_parser("function", help="four-bar function generator through (input, output) pairs (Freudenstein)")
@@ -109,6 +127,23 @@ def register(problems) -> None:
     add_limits(p, "A (the crank's, at the origin), D (the rocker's, at (ground, 0))")
     p.add_argument("--angles", choices=("deg", "rad"), default="deg", help="unit of the angles (default deg)")
     p.add_argument("--ground", type=float, default=1.0, help="ground link |AD| in --unit (default 1)")
-    p.add_argument("--out", metavar="FILE.toml", help="write the design as a linkage/1 file")
+    p.add_argument("--min-link", metavar="L", type=float, default=None,
+                   help="shortest link allowed, ground included (--unit; e.g. no link shorter than its own pin "
+                        "hole; default none)")
+    p.add_argument("--max-ratio", metavar="R", type=float, default=20.0,
+                   help="longest/shortest link at most, ground included (default 20)")
+    p.add_argument("--start-angles", choices=design_service.START_ANGLES, default="given",
+                   help="given (default): the pairs' angles are from the line A->D and fix the design; search: "
+                        "they are from any zero (only the function's increments matter) and the start angles of "
+                        "input and output are searched for the least structural error over the working range")
+    p.add_argument("--evaluations", type=int, default=None, metavar="N",
+                   help="with --start-angles search: candidates evaluated at most, each one Freudenstein solve and "
+                        "its structural error over the range (a grid of start angles, then the polish's share, "
+                        f"reported as polish_evaluations; default {design_service.FUNCTION_EVALUATIONS}; "
+                        "deterministic)")
+    p.add_argument("--count", type=int, default=1,
+                   help="with --start-angles search: distinct designs to return, best first (default 1)")
+    p.add_argument("--out", metavar="FILE.toml", help="write every returned design as a linkage/1 file: the best "
+                                                      "to FILE.toml, the next ones to FILE_2.toml, FILE_3.toml ...")
     p.add_argument("--json", action="store_true", help="print one JSON object (SPEC: designs)")
     p.set_defaults(func=cmd_function)

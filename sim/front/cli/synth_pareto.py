@@ -53,12 +53,10 @@ def options_of(args, path_options) -> P.ParetoOptions:
     if args.type not in P.FRONT_TYPES:
         raise ParameterError(f"--objectives with --type {args.type}: use {' or '.join(P.FRONT_TYPES)}")
     generations = args.generations or 30
-    if args.evaluations is not None:
-        generations = max(1, args.evaluations // args.popsize - 1)
     return P.ParetoOptions(P.parse_objectives(args.objectives), args.type, args.seed, args.popsize, generations,
                            front=args.front, force=_pair("--force", args.force) or (0.0, 0.0), cutting=args.cutting,
                            gravity=_pair("--gravity", args.gravity), constraints=path_options.constraints,
-                           max_error=args.max_error).check()
+                           max_error=args.max_error, evaluations=args.evaluations).check()
 
 
 def write_csv(path: str, front: list[dict], unit: str) -> None:
@@ -148,7 +146,8 @@ def cmd(args, path_options, target) -> int:
         write_csv(args.csv, front, args.unit)
     if args.plot and front:
         plot(args.plot, target, front, res["objectives"], args.unit)
-    run = {"evaluations": res["evaluations"], "seconds": seconds, "seed": args.seed, "generations": opts.generations,
+    run = {"evaluations": res["evaluations"], "seconds": seconds, "seed": args.seed,
+           "generations": res.get("generations", opts.generations), "evaluations_bound": args.evaluations,
            "popsize": opts.popsize, "loads": {"force": list(opts.force), "cutting": opts.cutting,
                                               "gravity": list(opts.gravity) if opts.gravity else None}}
     if args.json:

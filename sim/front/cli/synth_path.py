@@ -55,18 +55,52 @@ def options_of(args) -> design_service.PathOptions:
         evaluations=args.evaluations, max_size=lim.max_size, boxes=lim.regions, grashof=lim.grashof).check()
 
 
+def process_started() -> float:
+    """``time.time()`` at which this process started (Linux: from /proc, so the interpreter's start and the
+    imports count against a --budget as a user's clock counts them), else now."""
+    import os
+    import time
+    try:
+        with open("/proc/self/stat") as f:                     # field 22: starttime, clock ticks after boot
+            ticks = int(f.read().rsplit(")", 1)[1].split()[19])
+        with open("/proc/uptime") as f:
+            uptime = float(f.read().split()[0])
+        return time.time() - max(0.0, uptime - ticks / os.sysconf("SC_CLK_TCK"))
+    except (OSError, ValueError, IndexError):
+        return time.time()
+
+
 def cmd_path(args) -> int:
+    started = process_started()
     if args.out:
         check_writable(args.out, (".toml",))
     if args.plot:
         check_writable(args.plot, (".png", ".svg", ".pdf"))
     options = options_of(args)
     target = design_service.read_target(args.target, args.timing, args.closed, not args.any_order)
+    why = design_service.unreachable(target.xy, options.limits, args.unit)
+    if why:                                 # limits no design can meet: say so, search nothing, write nothing
+        import sys
+        if args.json:
+            print(dumps({"designs": [], "rejected": [{"type": args.type, "why": why}],
+                         "run": {"evaluations": 0, "seconds": 0.0, "seed": args.seed}}))
+        print(f"linkage: no path design can meet the constraints: {why}", file=sys.stderr if args.json else sys.stdout)
+        return 1
     if args.objectives:
         from sim.front.cli import synth_pareto
         return synth_pareto.cmd(args, options, target)
     bar = Progress(options.restart_count + options.designs, "synthesize path")
-    found = design_service.synthesize_path(target, options, args.unit, progress=bar.update)
+    try:
+        found = design_service.synthesize_path(target, options, args.unit, progress=bar.update, started=started)
+    except design_service.BudgetSpent as e:        # no time for a search: no design, said in one line
+        import sys
+        import time
+        if args.json:
+            print(dumps({"designs": [], "rejected": [{"type": args.type, "why": str(e)}],
+                         "run": {"evaluations": 0, "seconds": time.time() - started, "stopped_by_budget": True, "budget": args.budget,
+                                 "seed": args.seed}}))
+        print(f"linkage: no path design within the budget: {e}", file=sys.stderr if args.json else sys.stdout)
+        return 1
     ok = [f for f in found if not f["failed"] and f["compare_passed"] and f["simulated"]["passed"]]
     rejected = [{"type": f["type"], "parameters": f["parameters"], "error": f["error"],
                  "why": f["failed"] or (f["simulated"] or {}).get("problem") or "it fails linkage compare"}
@@ -78,9 +112,12 @@ def cmd_path(args) -> int:
     if args.plot and ok:
         plot(args.plot, target, ok, args.unit)
     stats = found[0]["stats"]
-    run = {"evaluations": found[0]["evaluations"], "seconds": stats["seconds"],
+    run = {"evaluations": found[0]["evaluations"], "polish_evaluations": found[0]["polish_evaluations"],
+           "evaluations_bound": args.evaluations, "seconds": stats["seconds"],
            "stopped_by_budget": bool(stats.get("stopped_by_budget")), "budget": args.budget, "seed": args.seed,
-           "restarts": max(options.restart_count, options.designs), "generations": options.generations_value}
+           "restarts": int(stats.get("restarts", max(options.restart_count, options.designs))),
+           "generations": options.generations_value if args.evaluations is None else
+           int(stats.get("de_generations", 0))}
     if args.json:
         print(dumps({"designs": [{k: v for k, v in f.items() if k not in ("text", "design")} for f in ok],
                      "rejected": rejected, "run": run}))
@@ -90,6 +127,8 @@ def cmd_path(args) -> int:
             print(f"{n}. {f['type']}: sum of squares {e['sum_sq']:.6g} {args.unit}^2, max {e['max']:.4g}, rms "
                   f"{e['rms']:.4g} {args.unit}; {measure_words(f, args.unit)}; compare and forces in MuJoCo passed "
                   f"({f['compare_mode']})" + (f"; wrote {f['file']}" if f["file"] else ""))
+            for note in f.get("notes", []):
+                print("   note: " + note)
         for f in rejected:
             print(f"   turned down: {f['type']}, sum of squares {f['error']['sum_sq']:.6g} {args.unit}^2: {f['why']}")
         print(f"{run['evaluations']} evaluations in {run['seconds']:.1f} s (seed {args.seed}"
@@ -125,12 +164,19 @@ def register(problems) -> None:
     p.add_argument("--seed", type=int, default=0, help="random seed (same seed, same answer, any --workers)")
     budget = p.add_mutually_exclusive_group()
     budget.add_argument("--evaluations", type=int, default=None, metavar="N",
-                        help="the global search's evaluations (spread over the restarts; reproducible: the same "
-                             "seed gives the same answer on any machine and --workers). Default: fixed counts, "
-                             "reproducible too")
+                        help="designs evaluated on the targets at most, the whole run: the atlas, differential "
+                             "evolution's populations, every pose and every polish's residuals, Jacobian difference "
+                             "designs and finishes (JSON run.evaluations <= N; the hops' and final polishes' own "
+                             "count: polish_evaluations). The random shapes screened against the limits before any "
+                             "is posed (20,000 a restart) are not evaluated on the targets and not counted; the "
+                             "compare and force checks of the returned designs neither. Restarts are cut to fit. "
+                             "Reproducible: the same seed gives the same answer on any machine and --workers. "
+                             "Default: fixed counts (no bound), reproducible too")
     budget.add_argument("--budget", type=float, default=None, metavar="SECONDS",
-                        help="a hard wall-clock limit on the whole run, checks included: the search stops and "
-                             "returns its best so far, polished within it (the answer then depends on the machine)")
+                        help="a hard wall-clock limit on the whole command, from its start (imports, a local "
+                             "cluster's start and the checks included): the search stops and returns its best so "
+                             "far, polished within it, leaving time for the checks by the machine's load (the "
+                             "answer then depends on the machine)")
     add_limits(p, "A, D (four-bar); A (slider-crank); A, D, G (six-bars)")
     p.add_argument("--max-ratio", type=float, default=20.0, help="longest/shortest link at most")
     p.add_argument("--region", type=float, default=3.0,
