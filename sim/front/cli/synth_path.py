@@ -144,7 +144,7 @@ def register(problems) -> None:
     p.add_argument("--designs", type=int, default=1, help="designs to return, best first")
     p.add_argument("--workers", type=int, default=1, help="processes for the restarts and the compares")
     p.add_argument("--scheduler", metavar="ADDRESS", help="Dask scheduler address (or 'local': a local cluster "
-                                                          "of --workers processes)")
+                                                          "of --workers processes); needs pip install 'linkage[dask]'")
     p.add_argument("--out", metavar="FILE.toml", help="write the best design (next ones FILE_2.toml ...)")
     p.add_argument("--plot", metavar="PATH", help="targets over each candidate's coupler curve (png/svg/pdf)")
     p.add_argument("--json", action="store_true", help="print one JSON object (SPEC: designs)")
