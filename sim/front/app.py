@@ -578,7 +578,7 @@ def export(kind: str, body: dict) -> tuple[bytes, str, str]:
     run_options(body, mech)                         # a bad field is refused whichever file is asked for
     stem = re.sub(r"[^A-Za-z0-9_.-]", "_", mech.name)[:64] or "mechanism"
     if kind == "toml":
-        return service.mechanism_text(mech).encode(), "application/toml", f"{stem}.toml"
+        return service.mechanism_text(mech, body.get("text")).encode(), "application/toml", f"{stem}.toml"
     if kind == "mjcf":
         return service.export_mjcf(mech).encode(), "application/xml", f"{stem}.xml"
     if kind in PARTS_EXPORTS:                       # the parts (issue 28), written to a temporary folder

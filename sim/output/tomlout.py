@@ -33,16 +33,13 @@ def _field(v) -> str:
     return _value(v)
 
 
-def dump(mech) -> str:
-    """The mechanism's file with its current parameter values: the original text with only the changed
-    values rewritten (comments, layout and values as written kept, ``"144deg"`` stays unless changed)
-    where the file is TOML and that reproduces this exact design; else the generated file."""
-    edited = edit_parameters(mech)
+def dump(mech, text: str | None = None) -> str:
+    """The mechanism's file with its current parameter values: ``text`` (the file as uploaded; default the
+    source file on disk) with only the changed values rewritten (comments, layout and values as written
+    kept, ``"144deg"`` stays unless changed) where it is TOML and that reproduces this exact design; else
+    the generated file."""
+    edited = edit_parameters(mech, text)
     return edited if edited is not None else generate(mech)
-
-
-_VALUE = r'"(?:[^"\\\n]|\\.)*"|\'[^\'\n]*\'|[^\s#,\]\}]+'
-"""A TOML value on one line: a basic string, a literal string, or a bare number/boolean."""
 
 
 def _source_text(mech) -> str | None:
@@ -56,19 +53,19 @@ def _source_text(mech) -> str | None:
         return None
 
 
-def _written(mech, name: str, old: str) -> str:
-    """The new value of parameter ``name`` as TOML, in the style of the ``old`` text: a value written in
+def _written(mech, name: str, old):
+    """The new value of parameter ``name``, in the style of the ``old`` value as written: a value written in
     degrees (an angle, a speed, or a number used in other parameters' expressions) stays in degrees, a
-    branch an integer; the text reads back as exactly the same float."""
+    branch an integer; the value reads back as exactly the same float."""
     v = mech.values[name]
     kind = mech.definition.parameter_kind[name]
     if kind == "branch":
-        return str(int(v))
-    if old.strip("\"'").rstrip().endswith("deg"):
+        return int(v)
+    if isinstance(old, str) and old.strip().endswith("deg"):
         deg = degrees_text(v)
         if deg is not None:
-            return f'"{deg}deg"'
-    return _value(float(v))
+            return f"{deg}deg"
+    return float(v)
 
 
 def degrees_text(v: float) -> str | None:
@@ -96,35 +93,29 @@ def degrees_text(v: float) -> str | None:
     return best
 
 
-def edit_parameters(mech) -> str | None:
-    """The source file's text with the values of the parameters set on ``mech`` (``mech.overrides``)
-    rewritten in its ``[parameters]`` table, everything else byte for byte; None when the file is not
-    TOML text on disk, a value is not on a line of its own, or the result would not read back as this
-    design (values within 1e-12, the rest of the definition equal)."""
-    import re
+def edit_parameters(mech, text: str | None = None) -> str | None:
+    """``text`` (default: the source file's text) with the values of the parameters set on ``mech``
+    (``mech.overrides``) rewritten in its ``[parameters]`` table by tomlkit, every comment and the layout
+    kept; None when there is no TOML text, a changed parameter is not in that table, or the result would
+    not read back as this design (values within 1e-12, the rest of the definition equal)."""
+    import tomlkit
     from analytic.format import linkfile
-    text = _source_text(mech)
-    if text is None:
+    text = _source_text(mech) if text is None else text
+    if text is None or text.lstrip().startswith("{"):
         return None
     d = mech.definition
     original = linkfile.parameter_values(d, {})
     changed = [p for p in d.parameter_order if p in mech.overrides and mech.values[p] != original[p]]
-    lines = text.splitlines(keepends=True)
-    section = None
-    for i, line in enumerate(lines):
-        head = re.match(r"\s*\[\s*([A-Za-z_.]+)\s*\]\s*(#.*)?$", line)
-        if head:
-            section = head.group(1)
-            continue
-        if section != "parameters":
-            continue
-        m = re.match(r"(\s*([A-Za-z][A-Za-z0-9_]*)\s*=\s*)(" + _VALUE + r")(.*)$", line, re.S)
-        if m and m.group(2) in changed:
-            lines[i] = m.group(1) + _written(mech, m.group(2), m.group(3)) + m.group(4)
-            changed.remove(m.group(2))
-    if changed:
+    try:
+        doc = tomlkit.parse(text)
+    except tomlkit.exceptions.TOMLKitError:
         return None
-    out = "".join(lines)
+    table = doc.get("parameters")
+    if changed and (not isinstance(table, dict) or any(p not in table for p in changed)):
+        return None
+    for p in changed:
+        table[p] = _written(mech, p, table[p].unwrap() if hasattr(table[p], "unwrap") else table[p])
+    out = doc.as_string()
     try:
         back = linkfile.parse(out, d.source)
         values = linkfile.parameter_values(back, {})

@@ -27,7 +27,8 @@ def loads_left_out(mech: Mechanism) -> list[str]:
     return out + (["[friction] (Coulomb): its torque follows the joint forces it changes"] if ls.friction else [])
 
 
-def mechanism_text(mech: Mechanism) -> str:
-    """The mechanism's file (TOML) with its current parameter values written in."""
+def mechanism_text(mech: Mechanism, text: str | None = None) -> str:
+    """The mechanism's file (TOML) with its current parameter values written in: ``text`` (the file as the
+    app uploaded it; default the source file) edited with its comments and layout kept where it is TOML."""
     from sim.output.tomlout import dump
-    return dump(mech)
+    return dump(mech, text)
