@@ -2,35 +2,21 @@
 
 from __future__ import annotations
 
-import json
 import math
 
 from analytic import kinds
 from analytic.kinds.base import Guide
 
 
-def _value(v) -> str:
-    if isinstance(v, bool):
-        return "true" if v else "false"
-    if isinstance(v, int):
-        return str(v)
-    if isinstance(v, float):
-        return repr(v) if math.isfinite(v) else '"nan"'
-    if isinstance(v, (list, tuple)):
-        return "[" + ", ".join(_value(x) for x in v) + "]"
-    return json.dumps(str(v))
-
-
-def _field(v) -> str:
+def _field(v):
     """A field's value as written (a guide, a table of links or of positions, or a plain value)."""
     if isinstance(v, Guide):
         if v.points:
-            return _value(list(v.points))
-        through = v.through if isinstance(v.through, str) else list(v.through)
-        return f"{{ through = {_value(through)}, angle = {_value(v.angle)} }}"
+            return [list(p) for p in v.points]
+        return {"through": v.through if isinstance(v.through, str) else list(v.through), "angle": v.angle}
     if isinstance(v, dict):
-        return "{ " + ", ".join(f"{k} = {_value(list(x))}" for k, x in v.items()) + " }"
-    return _value(v)
+        return {k: list(x) for k, x in v.items()}
+    return list(v) if isinstance(v, tuple) else v
 
 
 def dump(mech, text: str | None = None) -> str:
@@ -128,64 +114,50 @@ def edit_parameters(mech, text: str | None = None) -> str | None:
 
 
 def generate(mech) -> str:
-    """The mechanism's definition generated as TOML; parameters hold their current values (file units;
-    angles in radians, or in degrees where the file wrote them so and the value reads back exactly) so the
-    file reproduces this exact design."""
+    """The mechanism's definition generated as TOML (:func:`analytic.format.writing.dumps`); parameters hold
+    their current values (file units; angles in radians, or in degrees where the file wrote them so and the
+    value reads back exactly) so the file reproduces this exact design."""
+    from analytic.format import writing
     d = mech.definition
-    lines = ['format = "linkage/1"', f"name = {_value(d.name)}", f"units = {_value(d.units)}"]
+    data = {"format": "linkage/1", "name": d.name, "units": d.units}
     if d.description:
-        lines.append(f"description = {_value(d.description)}")
-    lines.append(f"output = {_value(d.output)}")
+        data["description"] = d.description
+    data["output"] = d.output
     if getattr(d, "input_range", ""):
-        lines.append(f"input_range = {_value(d.input_range)}")
+        data["input_range"] = d.input_range
     if d.parameters:
-        lines += ["", "[parameters]"]
+        data["parameters"] = {}
         for p in d.parameter_order:
             v = mech.values[p]
             raw = d.parameters[p]
             deg = degrees_text(v) if isinstance(raw, str) and raw.strip().endswith("deg") else None
-            shown = f'"{deg}deg"' if deg is not None else _value(int(v) if d.parameter_kind[p] == 'branch' else v)
-            lines.append(f"{p} = {shown}")
-    lines += ["", "[ground]"]
-    for g, (x, y) in d.ground.items():
-        lines.append(f"{g} = [{_value(x)}, {_value(y)}]")
+            data["parameters"][p] = f"{deg}deg" if deg is not None else int(v) if d.parameter_kind[p] == "branch" \
+                else float(v)
+    data["ground"] = {g: [x, y] for g, (x, y) in d.ground.items()}
     for section, elements in (("inputs", d.inputs), ("groups", d.groups)):
-        for e in elements:
-            lines += ["", f"[[{section}]]", f"kind = {_value(e.kind)}"]
-            for fname in kinds.get(e.kind).fields:
-                lines.append(f"{fname} = {_field(e.fields[fname])}")
+        if elements:
+            data[section] = [{"kind": e.kind, **{f: _field(e.fields[f]) for f in kinds.get(e.kind).fields}}
+                             for e in elements]
     if d.inertia:
-        lines += ["", "[inertia]"]
-        for link, entry in d.inertia.items():
-            inner = ", ".join(f"{k} = {_value(float(x))}" for k, x in entry.items())
-            lines.append(f"{json.dumps(link)} = {{ {inner} }}")
-    lines += _mass_section(d.mass)
-    lines += _parts_section(getattr(d, "parts", None))
-    return "\n".join(lines) + "\n"
+        data["inertia"] = {link: {k: float(x) for k, x in entry.items()} for link, entry in d.inertia.items()}
+    if d.mass:
+        data["mass"] = _mass_table(d.mass)
+    parts = getattr(d, "parts", None)
+    if parts:
+        data["parts"] = {**{k: v for k, v in parts.items() if k != "layers"},
+                         **({"layers": {k: int(v) for k, v in parts["layers"].items()}} if parts.get("layers") else {})}
+    return writing.dumps(data)
 
 
-def _parts_section(parts) -> list[str]:
-    """The ``[parts]`` section (analytic.parts) as TOML lines, as written."""
-    if not parts:
-        return []
-    lines = ["", "[parts]"] + [f"{k} = {_value(v)}" for k, v in parts.items() if k != "layers"]
-    if parts.get("layers"):
-        lines.append("layers = { " + ", ".join(f"{json.dumps(k)} = {int(v)}" for k, v in parts["layers"].items())
-                     + " }")
-    return lines
-
-
-def _mass_section(mass: dict) -> list[str]:
-    """The ``[mass]`` section (analytic.mass) as TOML lines: its fields, the links' and the counterweights'."""
-    if not mass:
-        return []
-    lines = ["", "[mass]"] + [f"{k} = {_value(v)}" for k, v in mass.items() if k not in ("links", "counterweights")]
-    for link, table in mass.get("links", {}).items():
-        lines += ["", f"[mass.links.{json.dumps(link)}]"] + [f"{k} = {_value(v)}" for k, v in table.items()]
+def _mass_table(mass: dict) -> dict:
+    """The ``[mass]`` table (analytic.mass) as written: its fields, the links' tables and the counterweights."""
+    out = {k: v for k, v in mass.items() if k not in ("links", "counterweights")}
+    if mass.get("links"):
+        out["links"] = {link: dict(table) for link, table in mass["links"].items()}
     if mass.get("counterweights"):
-        lines += ["", "[mass.counterweights]"]
+        out["counterweights"] = {}
         for link, entry in mass["counterweights"].items():
-            items = [f"{{ m = {_value(float(w['m']))}, at = {_value([float(x) for x in w['at']])} }}"
+            items = [{"m": float(w["m"]), "at": [float(x) for x in w["at"]]}
                      for w in (entry if isinstance(entry, list) else [entry])]
-            lines.append(f"{json.dumps(link)} = " + (items[0] if len(items) == 1 else "[" + ", ".join(items) + "]"))
-    return lines
+            out["counterweights"][link] = items[0] if len(items) == 1 else items
+    return out
