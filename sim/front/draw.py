@@ -72,7 +72,7 @@ def mobility(points, links) -> int:
 
 def drawing_text(drawing: dict, name: str = "drawn") -> str:
     """The ``linkage/1`` text of a drawing (see the module docstring)."""
-    from analytic.format import writing
+    from sim import service
     points, links, driven = parse(drawing)
     at = {p: [lk for lk, pts in links if p in pts] for p in points}
     data = {"format": "linkage/1", "name": name, "units": UNITS, "description": "drawn in linkage app"}
@@ -94,7 +94,7 @@ def drawing_text(drawing: dict, name: str = "drawn") -> str:
                         f"{len(pivots)}); mark a link pinned to the ground")
         tip = next(p for p in pts if p != pivots[0])
         data["inputs"] = [{"kind": "crank", "pivot": pivots[0], "point": tip, "link": driven, "omega": "360deg"}]
-    return writing.dumps(data)
+    return service.table_text(data)
 
 
 def _num(v: float) -> float:

@@ -32,3 +32,10 @@ def mechanism_text(mech: Mechanism, text: str | None = None) -> str:
     app uploaded it; default the source file) edited with its comments and layout kept where it is TOML."""
     from sim.output.tomlout import dump
     return dump(mech, text)
+
+
+def table_text(data: dict) -> str:
+    """A ``linkage/1`` table (a drawing's, an import's) as the file's TOML text (one writer for the format's
+    files: :func:`analytic.format.writing.dumps`)."""
+    from analytic.format import writing
+    return writing.dumps(data)

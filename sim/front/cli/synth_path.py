@@ -4,17 +4,19 @@ module parses the options, writes the files and the plot, prints the table or JS
 
 from __future__ import annotations
 
+import lazy_loader
+
 from pathlib import Path
 
 
 from sim.service.design import DEFAULT_TYPE, TYPES
-from sim.front.lazy import lazy
 from sim.front.cli.synth_options import add_limits, add_units, limits_of, measure_words, out_names
 from sim.output.io import atomic_path, check_writable, write_text
 from sim.output.jsonout import dumps
 from sim.output.progress import Progress
 
-design_service = lazy("sim.service.design")  # scipy's optimisers: loaded by the command, not by its options
+# loaded by the command, not by its options (suppress_warning: the parent, sim.service, is light and loaded)
+design_service = lazy_loader.load("sim.service.design", suppress_warning=True)  # scipy's optimisers
 
 
 def plot(path: str, target, found: list[dict], unit: str) -> None:
