@@ -6,7 +6,8 @@ through tomlkit too, :mod:`sim.output.tomlout` and :mod:`sim.service.editing`).
 (``[parameters]``, ``[ground]``, ...), then each array of tables (``[[links]]``, ``[[inputs]]``, ...), each
 after a blank line. Inside a table a value that is itself a table is written inline (``{ through = "A",
 angle = 0.5 }``), except where every value of that table is a table (``[mass.links."crank"]``): then each is
-a table of its own. Floats are written as Python's shortest text that reads back as the same number."""
+a table of its own. Floats are written as Python's shortest text that reads back as the same number; a
+value may carry a comment (:func:`commented`)."""
 
 from __future__ import annotations
 
@@ -35,6 +36,13 @@ def dumps(data: dict) -> str:
     return doc.as_string()
 
 
+def commented(value, comment: str):
+    """``value`` written with ``# comment`` after it on its line."""
+    item = _value(value)
+    item.comment(comment)
+    return item
+
+
 def _is_table(v) -> bool:
     return isinstance(v, dict)
 
@@ -54,7 +62,9 @@ def _table(data: dict):
 
 
 def _value(v):
-    """A value as tomlkit writes it: tables inline, lists of them too."""
+    """A value as tomlkit writes it: tables inline, lists of them too (an item already made, as it is)."""
+    if isinstance(v, tomlkit.items.Item):
+        return v
     if isinstance(v, dict):
         inline = tomlkit.inline_table()
         for key, x in v.items():
