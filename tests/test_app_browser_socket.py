@@ -1,4 +1,4 @@
-"""Drag steps over the page's WebSocket (sim/front/websocket.py) in a real browser (Playwright driving Debian's
+"""Drag steps over the page's WebSocket (GET /api/socket, tornado's WebSocket) in a real browser (Playwright driving Debian's
 /usr/bin/chromium): the steps go over the socket once a drag opens it, and a page without WebSocket (the
 fallback, fetch) ends the same drag at the same values and the same drawn pose."""
 

@@ -51,3 +51,30 @@ def test_a_parameter_changed_is_seen():
     """The closures are cached per text, never per values."""
     assert expr.evaluate("2*l1", {"l1": 1.0}) == pytest.approx(2.0, abs=0)    # exact: one doubling
     assert expr.evaluate("2*l1", {"l1": 3.0}) == pytest.approx(6.0, abs=0)
+
+
+@pytest.mark.parametrize("text", EXPRESSIONS)
+def test_arrays_are_pythons_at_every_sample(text):
+    """The array path of the one evaluator (what the batch solver uses) against Python's own arithmetic at each
+    sample: numpy's elementwise operations round as Python's floats do, its transcendental functions may
+    differ in the last bits."""
+    import numpy as np
+    rng = random.Random("array " + text)
+    rows = [{f"l{i}": rng.uniform(0.5, 3.0) for i in range(1, 6)} | {"l6": rng.uniform(3.5, 5),
+                                                                     "b": rng.uniform(-2, 2)} for _ in range(16)]
+    arrays = {k: np.array([r[k] for r in rows]) for k in rows[0]}
+    got = np.broadcast_to(expr.evaluate_array(text, arrays), (16,))     # a constant's value is one number
+    want = [python_value(text, r) for r in rows]
+    np.testing.assert_allclose(got, want, rtol=1e-13, atol=0)   # a few ulps: numpy's libm against Python's
+
+
+def test_arrays_give_nan_where_a_value_is_undefined_and_name_an_unknown():
+    import numpy as np
+    x = np.array([1.0, 0.0, -4.0])
+    got = expr.evaluate_array("sqrt(l1) + 1/l1 + l1 ** 65 * 0", {"l1": x})
+    assert np.isnan(got).all()            # the exponent over 64 is NaN everywhere; sqrt(-4), 1/0 where they are
+    assert expr.evaluate_array("sqrt(l1)", {"l1": x})[0] == pytest.approx(1.0, abs=0)     # exact: sqrt(1)
+    with pytest.raises(ValueError, match="'q', which is not a parameter"):
+        expr.evaluate_array("l1 + q", {"l1": x})
+    with pytest.raises(ValueError, match="q: not an input"):
+        expr.evaluate_array("l1 + q", {"l1": x}, unknown=lambda name: f"{name}: not an input")

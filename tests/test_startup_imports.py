@@ -77,3 +77,27 @@ def test_the_errors_are_one_class_whichever_module_names_them():
     assert analytic.ParameterError is errors.ParameterError is _common.ParameterError
     assert issubclass(analytic.FileError, analytic.ParameterError)
     assert issubclass(analytic.AssemblyError, analytic.ParameterError)
+
+
+def test_the_lazy_faces_list_every_module_and_give_every_name():
+    """The packages' lazy faces (lazy_loader.attach): each lists every module of its folder (a module left out
+    could not be reached as an attribute), and every name each gives resolves, in a fresh process whose
+    first ``import`` loaded none of them."""
+    import pkgutil
+    import analytic
+    import analytic.format
+    import sim.service
+    for package, listed in ((analytic, analytic.SUBMODULES), (sim.service, sim.service.SUBMODULES),
+                            (analytic.format, analytic.format.__all__)):
+        found = {m.name for m in pkgutil.iter_modules(package.__path__)}
+        assert set(listed) == found, (package.__name__, sorted(set(listed) ^ found))
+    code = ("import analytic, analytic.format, sim.service\n"
+            "light = {'numpy', 'analytic.registry', 'sim.service.analysis'} & set(sys.modules)\n"
+            "for pkg, names in ((analytic, analytic.__all__), (analytic.format, analytic.format.__all__), "
+            "(sim.service, sim.service.__all__)):\n"
+            "    for n in names:\n        assert getattr(pkg, n) is not None, n\n"
+            "print(sorted(light))")
+    r = subprocess.run([sys.executable, "-c", "import sys\n" + code], capture_output=True, text=True, cwd=ROOT,
+                       timeout=120)
+    assert r.returncode == 0, r.stderr
+    assert r.stdout.strip() == "[]", r.stdout          # nothing heavy before the first use

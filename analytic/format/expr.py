@@ -97,26 +97,61 @@ _ALLOWED = (ast.Expression, ast.BinOp, ast.UnaryOp, ast.Constant, ast.Name, ast.
             ast.Add, ast.Sub, ast.Mult, ast.Div, ast.Pow, ast.USub, ast.UAdd)
 
 
+class _Unknown(Exception):
+    """A name the values do not hold (its message is the caller's: a parameter's, a load's input)."""
+
+    def __init__(self, name: str):
+        super().__init__(name)
+        self.name = name
+
+
 def evaluate(text: str, values: dict[str, float]) -> float:
     """Evaluate an expression with parameter ``values``; raises ValueError with a readable message."""
-    result = _compiled(text)(values)
+    try:
+        result = _compiled(text, False)(values)
+    except _Unknown as exc:
+        raise ValueError(f"{_short(text)} uses {exc.name!r}, which is not a parameter") from None
     if isinstance(result, complex) or not math.isfinite(result):
         raise ValueError(f"{_short(text)} evaluates to {result!r}, not a finite number")
     return float(result)
 
 
+def evaluate_array(text: str, values: dict, unknown=None):
+    """The same expression (the same parse, the same evaluator as :func:`evaluate`) on arrays of values
+    (numpy): where it is undefined at a sample (a division by zero, a root of a negative, an exponent over
+    64) that sample is NaN, never an error; the caller decides what a NaN means. ``unknown(name)``: the
+    message for a name ``values`` lacks (default: not a parameter)."""
+    import numpy as np
+    try:
+        with np.errstate(all="ignore"):
+            return np.asarray(_compiled(text, True)(values), dtype=float)
+    except _Unknown as exc:
+        raise ValueError(unknown(exc.name) if unknown else
+                         f"{_short(text)} uses {exc.name!r}, which is not a parameter") from None
+
+
+def _array_functions() -> dict:
+    """:data:`FUNCTIONS` on arrays (outside a function's domain: NaN)."""
+    import numpy as np
+    return {"sqrt": np.sqrt, "sin": np.sin, "cos": np.cos, "tan": np.tan, "asin": np.arcsin, "acos": np.arccos,
+            "atan": np.arctan, "atan2": np.arctan2, "hypot": np.hypot, "abs": np.abs,
+            "min": lambda *a: functools.reduce(np.minimum, a), "max": lambda *a: functools.reduce(np.maximum, a),
+            "radians": np.radians, "degrees": np.degrees}
+
+
 @functools.lru_cache(maxsize=4096)
-def _compiled(text: str):
-    """The checked tree of ``text`` (:func:`_parse`) turned once into nested closures ``values -> value``: the
-    same operations in the same order, with the same errors, as walking the tree at every evaluation, without
-    the per-node dispatch (a file's expressions are evaluated again at every step of a drag). Nothing is
-    executed that the tree walk would not have done."""
-    return _closure(_parse(text), text)
+def _compiled(text: str, array: bool):
+    """The checked tree of ``text`` (:func:`_parse`) turned once into nested closures ``values -> value``, on
+    numbers (``array`` False: an undefined value raises its readable ValueError) or on numpy arrays (NaN
+    instead). A file's expressions are evaluated again at every step of a drag: the closures skip the
+    per-node dispatch of a tree walk. Nothing is executed that the tree walk would not have done."""
+    return _closure(_parse(text), text, _array_functions() if array else None)
 
 
-def _closure(node, text: str):
+def _closure(node, text: str, arrays: dict | None):
+    """One node's closure; ``arrays``: the numpy functions (the array evaluator), or None (numbers)."""
     if isinstance(node, ast.Expression):
-        return _closure(node.body, text)
+        return _closure(node.body, text, arrays)
     if isinstance(node, ast.Constant):
         c = float(node.value)
         return lambda values: c
@@ -128,22 +163,31 @@ def _closure(node, text: str):
 
         def lookup(values):
             if name not in values:
-                raise ValueError(f"{_short(text)} uses {name!r}, which is not a parameter")
+                raise _Unknown(name)
             return values[name]
         return lookup
     if isinstance(node, ast.UnaryOp):
-        operand = _closure(node.operand, text)
+        operand = _closure(node.operand, text, arrays)
         if isinstance(node.op, ast.USub):
             return lambda values: -operand(values)
         return operand
     if isinstance(node, ast.BinOp):
-        left, right, op = _closure(node.left, text), _closure(node.right, text), type(node.op)
+        left, right, op = _closure(node.left, text, arrays), _closure(node.right, text, arrays), type(node.op)
         if op is ast.Add:
             return lambda values: left(values) + right(values)
         if op is ast.Sub:
             return lambda values: left(values) - right(values)
         if op is ast.Mult:
             return lambda values: left(values) * right(values)
+        if arrays is not None:
+            import numpy as np
+            if op is ast.Div:
+                return lambda values: np.divide(left(values), right(values))
+
+            def power(values):
+                a, b = left(values), right(values)
+                return np.where(np.abs(b) > 64, np.nan, np.power(np.asarray(a, dtype=float), b))
+            return power
 
         def divide_or_power(values):
             a, b = left(values), right(values)
@@ -155,10 +199,15 @@ def _closure(node, text: str):
                 raise ValueError(f"{_short(text)} divides by zero or overflows") from None
         return divide_or_power
     if isinstance(node, ast.Call) and node.func.id == _DEG_MARK:
-        arg = _closure(node.args[0], text)
+        arg = _closure(node.args[0], text, arrays)
+        if arrays is not None:
+            return lambda values: arrays["radians"](arg(values))
         return lambda values: math.radians(arg(values))
     if isinstance(node, ast.Call):
-        args_of, fname = [_closure(a, text) for a in node.args], node.func.id
+        args_of, fname = [_closure(a, text, arrays) for a in node.args], node.func.id
+        if arrays is not None:
+            fn = arrays[fname]
+            return lambda values: fn(*[a(values) for a in args_of])
 
         def call(values):
             args = [a(values) for a in args_of]

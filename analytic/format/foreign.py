@@ -17,7 +17,6 @@ claims it), so a new input kind is one module.
 
 from __future__ import annotations
 
-import json
 import math
 import re
 import stat
@@ -162,34 +161,9 @@ def definition(path: str | Path, inputs=None, units: str = DEFAULT_UNITS):
 
 
 # --------------------------------------------------------------------------------------------- writing
-def _value(v) -> str:
-    if isinstance(v, bool):
-        return "true" if v else "false"
-    if isinstance(v, int):
-        return str(v)
-    if isinstance(v, float):
-        return repr(v)
-    if isinstance(v, (list, tuple)):
-        return "[" + ", ".join(_value(x) for x in v) + "]"
-    if isinstance(v, dict):
-        return "{ " + ", ".join(f"{_key(k)} = {_value(x)}" for k, x in v.items()) + " }"
-    return json.dumps(str(v))
-
-
-def _key(k: str) -> str:
-    return k if re.match(r"^[A-Za-z0-9_-]+$", k) else json.dumps(k)
-
-
 def dumps(data: dict) -> str:
-    """A links-and-joints table as ``linkage/1`` TOML text."""
-    lines = []
-    for k in ("format", "name", "units", "description", "output"):
-        if k in data:
-            lines.append(f"{k} = {_value(data[k])}")
-    for k in ("parameters", "ground", "pose"):
-        if data.get(k):
-            lines += ["", f"[{k}]"] + [f"{_key(n)} = {_value(v)}" for n, v in data[k].items()]
-    for k in ("links", "joints", "inputs", "groups"):
-        for item in data.get(k, []):
-            lines += ["", f"[[{k}]]"] + [f"{_key(n)} = {_value(v)}" for n, v in item.items()]
-    return "\n".join(lines) + "\n"
+    """A links-and-joints table as ``linkage/1`` TOML text (:func:`analytic.format.writing.dumps`)."""
+    from analytic.format import writing
+    top = {k: data[k] for k in ("format", "name", "units", "description", "output") if k in data}
+    rest = {k: data[k] for k in ("parameters", "ground", "pose", "links", "joints", "inputs", "groups") if data.get(k)}
+    return writing.dumps({**top, **rest})

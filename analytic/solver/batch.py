@@ -34,11 +34,6 @@ from analytic.mechanism import Mechanism, Motion, block
 
 __all__ = ["Designs", "BatchSolution", "resolve", "drive", "solve", "motions", "motion_table"]
 
-_NP = {"sqrt": np.sqrt, "sin": np.sin, "cos": np.cos, "tan": np.tan, "asin": np.arcsin, "acos": np.arccos,
-       "atan": np.arctan, "atan2": np.arctan2, "hypot": np.hypot, "abs": np.abs, "min": np.minimum,
-       "max": np.maximum, "radians": np.radians, "degrees": np.degrees}
-"""expr.FUNCTIONS on arrays (outside a function's domain: NaN, which marks the design invalid)."""
-
 JIT_SAMPLES_PER_CALL = 1 << 20
 """Samples per compiled call over designs (whole designs): bounds its output array while every thread has
 many chunks to take."""
@@ -92,37 +87,9 @@ class BatchSolution:
 
 # ------------------------------------------------------------------------------------------ resolve
 def _evaluate(text: str, values: dict) -> np.ndarray:
-    """An expression of :mod:`analytic.format.expr` on arrays (same grammar, numpy functions)."""
-    import ast
-    tree = expr._parse(text)
-
-    def walk(node):
-        if isinstance(node, ast.Expression):
-            return walk(node.body)
-        if isinstance(node, ast.Constant):
-            return float(node.value)
-        if isinstance(node, ast.Name):
-            return expr.CONSTANTS[node.id] if node.id in expr.CONSTANTS else values[node.id]
-        if isinstance(node, ast.UnaryOp):
-            v = walk(node.operand)
-            return -v if isinstance(node.op, ast.USub) else v
-        if isinstance(node, ast.BinOp):
-            a, b = walk(node.left), walk(node.right)
-            op = type(node.op)
-            if op is ast.Add:
-                return a + b
-            if op is ast.Sub:
-                return a - b
-            if op is ast.Mult:
-                return a * b
-            if op is ast.Div:
-                return np.divide(a, b)
-            return np.where(np.abs(b) > 64, np.nan, np.power(np.asarray(a, dtype=float), b))
-        args = [walk(a) for a in node.args]
-        return _NP[node.func.id](*args)
-
-    with np.errstate(all="ignore"):
-        return np.asarray(walk(tree), dtype=float)
+    """An expression of :mod:`analytic.format.expr` on arrays (its one evaluator; outside a function's domain:
+    NaN, which marks the design invalid)."""
+    return expr.evaluate_array(text, values)
 
 
 def _values(d: linkfile.Definition, overrides: dict[str, np.ndarray], k: int) -> dict[str, np.ndarray]:

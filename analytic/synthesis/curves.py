@@ -246,33 +246,17 @@ def _polar(u2, reach=REACH):
     return np.column_stack([r * np.cos(a), r * np.sin(a)])
 
 
-def _g(v) -> str:
-    return repr(float(v))
-
-
-_HEADER = '''format = "linkage/1"
-name = "{name}"
-units = "{units}"
-description = "{description}"
-output = "{output}"
-'''
-
-_CRANK = '''
-[[inputs]]
-kind = "crank"
-pivot = "A"
-point = "B"
-length = "{length}"
-link = "1"
-phi0 = "phi1_0"
-omega = "omega1"
-alpha = "alpha1"
-'''
-
-
-def _motion(phi1_0, omega1) -> str:
-    return (f"phi1_0 = {_g(phi1_0)}  # input angle at the first target [rad]\n"
-            f"omega1 = {_g(omega1)}  # [rad/s]\nalpha1 = 0.0\n")
+def _file(name, units, description, output, parameters: dict, phi1_0, omega1, ground: dict, crank_length: str,
+          groups: list[dict]) -> str:
+    """A design's ``linkage/1`` text (:func:`analytic.format.writing.dumps`): its parameters (the crank's
+    motion last), ground pivots, the crank at A and its groups."""
+    from analytic.format.writing import commented, dumps
+    motion = {"phi1_0": commented(float(phi1_0), "input angle at the first target [rad]"),
+              "omega1": commented(float(omega1), "[rad/s]"), "alpha1": 0.0}
+    crank = {"kind": "crank", "pivot": "A", "point": "B", "length": crank_length, "link": "1", "phi0": "phi1_0",
+             "omega": "omega1", "alpha": "alpha1"}
+    return dumps({"format": "linkage/1", "name": name, "units": units, "description": description, "output": output,
+                  "parameters": {**parameters, **motion}, "ground": ground, "inputs": [crank], "groups": groups})
 
 
 def _check_finite(names, x) -> None:
@@ -430,39 +414,17 @@ class SliderCrank(Family):
 
     def text(self, x, branch, units, name, description, phi1_0=0.0, omega1=2 * math.pi):
         _check_finite(self.names, x)
+        from analytic.format.writing import commented
         ax, ay, th, a, b, e, ex, ey = (float(v) for v in x)
-        return (_HEADER.format(name=name, units=units, description=description, output="E")
-                + f'''
-[parameters]
-ax = {_g(ax)}
-ay = {_g(ay)}
-theta0 = {_g(th)}  # direction of the slider line [rad]
-r = {_g(a)}  # crank AB
-l = {_g(b)}  # rod BC
-e = {_g(e)}  # the slider line passes e to the left of A (along theta0)
-ex = {_g(ex)}  # E in the rod frame (origin B, x-axis B->C)
-ey = {_g(ey)}
-branch = {int(branch[0])}
-''' + _motion(phi1_0, omega1) + '''
-[ground]
-A = ["ax", "ay"]
-''' + _CRANK.format(length="r") + '''
-[[groups]]
-kind = "RRP"
-point = "C"
-from = "B"
-length = "l"
-guide = { through = "A", angle = "theta0" }
-offset = "e"
-links = ["2", "slider"]
-branch = "branch"
-
-[[groups]]
-kind = "point"
-point = "E"
-on = ["B", "C"]
-at = ["ex", "ey"]
-''')
+        parameters = {"ax": ax, "ay": ay, "theta0": commented(th, "direction of the slider line [rad]"),
+                      "r": commented(a, "crank AB"), "l": commented(b, "rod BC"),
+                      "e": commented(e, "the slider line passes e to the left of A (along theta0)"),
+                      "ex": commented(ex, "E in the rod frame (origin B, x-axis B->C)"), "ey": ey,
+                      "branch": int(branch[0])}
+        groups = [{"kind": "RRP", "point": "C", "from": "B", "length": "l", "guide": {"through": "A", "angle": "theta0"},
+                   "offset": "e", "links": ["2", "slider"], "branch": "branch"},
+                  {"kind": "point", "point": "E", "on": ["B", "C"], "at": ["ex", "ey"]}]
+        return _file(name, units, description, "E", parameters, phi1_0, omega1, {"A": ["ax", "ay"]}, "r", groups)
 
 
 def fourbar_from_slider_crank(xs, branch, length, side) -> tuple[np.ndarray, np.ndarray]:
@@ -623,63 +585,23 @@ class SixBar(Family):
 
     def text(self, x, branch, units, name, description, phi1_0=0.0, omega1=2 * math.pi):
         _check_finite(self.names, x)
+        from analytic.format.writing import commented
         ax, ay, th, d, a, b, c, eu, ev, l5, l6, gx, gy, qx, qy = (float(v) for v in x)
-        on = '["D", "C"]' if self.chain == "watt" else '["B", "C"]'
+        on = ["D", "C"] if self.chain == "watt" else ["B", "C"]
         where = "the rocker D-C (frame D->C)" if self.chain == "watt" else "the coupler B-C (frame B->C)"
-        return (_HEADER.format(name=name, units=units, description=description, output="Q")
-                + f'''
-[parameters]
-ax = {_g(ax)}
-ay = {_g(ay)}
-dx = {_g(ax + d * math.cos(th))}
-dy = {_g(ay + d * math.sin(th))}
-gx = {_g(gx)}
-gy = {_g(gy)}
-l1 = {_g(a)}  # crank AB
-l2 = {_g(b)}  # coupler BC
-l3 = {_g(c)}  # rocker DC
-eu = {_g(eu)}  # E on {where}
-ev = {_g(ev)}
-l5 = {_g(l5)}  # link EF
-l6 = {_g(l6)}  # rocker GF
-qx = {_g(qx)}  # Q, the traced point, on link EF (frame E->F)
-qy = {_g(qy)}
-branch1 = {int(branch[0])}
-branch2 = {int(branch[1])}
-''' + _motion(phi1_0, omega1) + '''
-[ground]
-A = ["ax", "ay"]
-D = ["dx", "dy"]
-G = ["gx", "gy"]
-''' + _CRANK.format(length="l1") + f'''
-[[groups]]
-kind = "RRR"
-point = "C"
-from = ["B", "D"]
-lengths = ["l2", "l3"]
-links = ["2", "3"]
-branch = "branch1"
-
-[[groups]]
-kind = "point"
-point = "E"
-on = {on}
-at = ["eu", "ev"]
-
-[[groups]]
-kind = "RRR"
-point = "F"
-from = ["E", "G"]
-lengths = ["l5", "l6"]
-links = ["5", "6"]
-branch = "branch2"
-
-[[groups]]
-kind = "point"
-point = "Q"
-on = ["E", "F"]
-at = ["qx", "qy"]
-''')
+        parameters = {"ax": ax, "ay": ay, "dx": ax + d * math.cos(th), "dy": ay + d * math.sin(th), "gx": gx, "gy": gy,
+                      "l1": commented(a, "crank AB"), "l2": commented(b, "coupler BC"), "l3": commented(c, "rocker DC"),
+                      "eu": commented(eu, f"E on {where}"), "ev": ev, "l5": commented(l5, "link EF"),
+                      "l6": commented(l6, "rocker GF"), "qx": commented(qx, "Q, the traced point, on link EF (frame E->F)"),
+                      "qy": qy, "branch1": int(branch[0]), "branch2": int(branch[1])}
+        groups = [{"kind": "RRR", "point": "C", "from": ["B", "D"], "lengths": ["l2", "l3"], "links": ["2", "3"],
+                   "branch": "branch1"},
+                  {"kind": "point", "point": "E", "on": on, "at": ["eu", "ev"]},
+                  {"kind": "RRR", "point": "F", "from": ["E", "G"], "lengths": ["l5", "l6"], "links": ["5", "6"],
+                   "branch": "branch2"},
+                  {"kind": "point", "point": "Q", "on": ["E", "F"], "at": ["qx", "qy"]}]
+        return _file(name, units, description, "Q", parameters, phi1_0, omega1,
+                     {"A": ["ax", "ay"], "D": ["dx", "dy"], "G": ["gx", "gy"]}, "l1", groups)
 
 
 FAMILIES = {"fourbar": FourBar(), "slider_crank": SliderCrank(),

@@ -59,60 +59,24 @@ def text(link: Linkage, units: str, name: str, description: str, input_range: tu
     for k, v in link.parameters().items():
         if not math.isfinite(v):
             raise ParameterError(f"the synthesised {k} is not finite")
-    p = link.parameters()
-
-    def g(v):
-        return repr(float(v))
-    rng = "" if input_range is None else f'input_range = "{g(input_range[0])}:{g(input_range[1])}"  # [rad]\n'
-    return f'''format = "linkage/1"
-name = "{name}"
-units = "{units}"
-description = "{description}"
-output = "E"
-{rng}
-[parameters]
-ax = {g(p["ax"])}
-ay = {g(p["ay"])}
-dx = {g(p["dx"])}
-dy = {g(p["dy"])}
-l1 = {g(p["l1"])}          # crank AB
-l2 = {g(p["l2"])}          # coupler BC
-l3 = {g(p["l3"])}          # rocker DC
-ex = {g(p["ex"])}          # E in the coupler frame (origin B, x-axis B->C)
-ey = {g(p["ey"])}
-branch = {int(p["branch"])}
-phi1_0 = {g(p["phi1_0"])}  # input angle at the first target [rad]
-omega1 = {g(p["omega1"])}  # [rad/s]
-alpha1 = 0.0
-
-[ground]
-A = ["ax", "ay"]
-D = ["dx", "dy"]
-
-[[inputs]]
-kind = "crank"
-pivot = "A"
-point = "B"
-length = "l1"
-link = "1"
-phi0 = "phi1_0"
-omega = "omega1"
-alpha = "alpha1"
-
-[[groups]]
-kind = "RRR"
-point = "C"
-from = ["B", "D"]
-lengths = ["l2", "l3"]
-links = ["2", "3"]
-branch = "branch"
-
-[[groups]]
-kind = "point"
-point = "E"
-on = ["B", "C"]
-at = ["ex", "ey"]
-'''
+    from analytic.format.writing import commented, dumps
+    p = {k: float(v) for k, v in link.parameters().items()}
+    head = {"format": "linkage/1", "name": name, "units": units, "description": description, "output": "E"}
+    if input_range is not None:
+        head["input_range"] = commented(f"{float(input_range[0])!r}:{float(input_range[1])!r}", "[rad]")
+    parameters = {"ax": p["ax"], "ay": p["ay"], "dx": p["dx"], "dy": p["dy"], "l1": commented(p["l1"], "crank AB"),
+                  "l2": commented(p["l2"], "coupler BC"), "l3": commented(p["l3"], "rocker DC"),
+                  "ex": commented(p["ex"], "E in the coupler frame (origin B, x-axis B->C)"), "ey": p["ey"],
+                  "branch": int(p["branch"]),
+                  "phi1_0": commented(p["phi1_0"], "input angle at the first target [rad]"),
+                  "omega1": commented(p["omega1"], "[rad/s]"), "alpha1": 0.0}
+    crank = {"kind": "crank", "pivot": "A", "point": "B", "length": "l1", "link": "1", "phi0": "phi1_0",
+             "omega": "omega1", "alpha": "alpha1"}
+    groups = [{"kind": "RRR", "point": "C", "from": ["B", "D"], "lengths": ["l2", "l3"], "links": ["2", "3"],
+               "branch": "branch"},
+              {"kind": "point", "point": "E", "on": ["B", "C"], "at": ["ex", "ey"]}]
+    return dumps({**head, "parameters": parameters, "ground": {"A": ["ax", "ay"], "D": ["dx", "dy"]},
+                  "inputs": [crank], "groups": groups})
 
 
 def mechanism(link: Linkage, units: str = "m", name: str = "synthesised_fourbar", description: str = ""):

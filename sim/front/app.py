@@ -1,6 +1,6 @@
 """``linkage app``: seed 000's interactive workflow as a local web page.
 
-A small JSON API over :mod:`sim.service` (standard library only: ``http.server``) and one static page
+A small JSON API over :mod:`sim.service` (served by tornado, the drag steps over its WebSocket) and one static page
 (``sim/front/static``). The page sends a mechanism (a name from ``linkage list`` or an uploaded file's text)
 with parameter values; the server answers curves, point paths and figures of merit, runs the MuJoCo
 cross-validation, renders the video and produces the exports as downloads.
@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import concurrent.futures
 import dataclasses
+import functools
 import html
 import json
 import math
@@ -25,7 +26,6 @@ import tempfile
 import threading
 import webbrowser
 from http import HTTPStatus
-from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
 from pathlib import Path
 
 import numpy as np
@@ -579,7 +579,7 @@ def export(kind: str, body: dict) -> tuple[bytes, str, str]:
     run_options(body, mech)                         # a bad field is refused whichever file is asked for
     stem = re.sub(r"[^A-Za-z0-9_.-]", "_", mech.name)[:64] or "mechanism"
     if kind == "toml":
-        return service.mechanism_text(mech).encode(), "application/toml", f"{stem}.toml"
+        return service.mechanism_text(mech, body.get("text")).encode(), "application/toml", f"{stem}.toml"
     if kind == "mjcf":
         return service.export_mjcf(mech).encode(), "application/xml", f"{stem}.xml"
     if kind in PARTS_EXPORTS:                       # the parts (issue 28), written to a temporary folder
@@ -648,229 +648,6 @@ def mechanisms(initial: dict) -> dict:
     return {"names": [m["name"] for m in listing], "mechanisms": listing, "initial": initial,
             "synthesis": {"types": list(synthesis_types()), "max_budget": MAX_SYNTH_BUDGET,
                           "max_targets": MAX_TARGETS}}
-
-
-# ------------------------------------------------------------------------------------------- HTTP
-def _limit_arenas(n: int = 2) -> None:
-    """At most ``n`` glibc malloc arenas (M_ARENA_MAX = -8): with one per worker thread the heap fragments
-    and the resident size grows over repeated rounds; a no-op where mallopt does not exist."""
-    try:
-        import ctypes
-        ctypes.CDLL(None).mallopt(-8, n)
-    except (OSError, AttributeError):
-        pass
-
-
-def _trim() -> None:
-    """Give freed heap back to the system after a request (glibc keeps large freed arenas otherwise and
-    the resident size creeps up over repeated rounds); a no-op where malloc_trim does not exist."""
-    try:
-        import ctypes
-        ctypes.CDLL(None).malloc_trim(0)
-    except (OSError, AttributeError):
-        pass
-
-
-class AppServer(ThreadingHTTPServer):
-    """The HTTP server with what its handlers need: the addresses it answers to and the first mechanism."""
-
-    daemon_threads = True
-    request_queue_size = 128            # listen backlog: a burst of simultaneous requests waits, never reset
-
-    def __init__(self, port: int, initial: dict):
-        super().__init__(("127.0.0.1", port), Handler)
-        # a fixed pool instead of a thread per connection: threads (and their malloc arenas, MuJoCo and
-        # GL contexts) are reused, so memory stays flat over repeated rounds; further requests queue
-        _limit_arenas()
-        self.pool = concurrent.futures.ThreadPoolExecutor(max_workers=WORKERS, thread_name_prefix="linkage-app")
-        self.port = self.server_address[1]
-        self.hosts = {f"127.0.0.1:{self.port}", f"localhost:{self.port}"}
-        self.origins = {f"http://{h}" for h in self.hosts}
-        self.initial = initial
-        self.page = page(initial)
-        self.synthesis = None                   # the page's synthesis job (sim.front.synth_job.Job), if any
-        self.mechanisms = Mechanisms()          # the last ones loaded: a drag's next step starts from them
-        self.synthesis_lock = threading.Lock()
-
-    @property
-    def url(self) -> str:
-        return f"http://127.0.0.1:{self.port}/"
-
-    def handle_error(self, request, client_address) -> None:
-        """A client that went away mid-answer is not worth a traceback on the user's terminal."""
-
-    def process_request(self, request, client_address) -> None:
-        self.pool.submit(self._serve_one, request, client_address)
-
-    def _serve_one(self, request, client_address) -> None:
-        self.process_request_thread(request, client_address)
-        _trim()
-
-    def server_close(self) -> None:
-        if self.synthesis is not None and self.synthesis.running:
-            self.synthesis.cancel()
-        super().server_close()
-        self.pool.shutdown(wait=False, cancel_futures=True)
-
-
-class Handler(BaseHTTPRequestHandler):
-    """Routes: GET / and the static files, GET /api/mechanisms; POST /api/solve, /api/drag, /api/draw,
-    /api/simulate, /api/render, /api/forces, /api/dynamics, /api/open, /api/targets, /api/synthesize (and
-    its /status and /cancel), /api/export/{csv,json,toml,mjcf}, /api/exit."""
-
-    server: AppServer
-    server_version = "linkage-app"
-    sys_version = ""
-    protocol_version = "HTTP/1.1"                 # keep-alive: a slider drag reuses one connection
-    disable_nagle_algorithm = True                # else headers and body wait ~40 ms on a delayed ACK
-    timeout = 10                                  # [s] a slow or stalled client frees its thread after this
-    stopping = False
-
-    def do_GET(self) -> None:
-        if self.path.split("?", 1)[0] == "/api/socket":
-            self._socket()
-        else:
-            self._answer(self._get)
-
-    def _socket(self) -> None:
-        """GET /api/socket: a WebSocket (:mod:`sim.front.websocket`) for drag steps, from this page only; each
-        text message ``{"id", "path": "/api/drag" or "/api/solve", "body"}`` is answered
-        ``{"id", "status", "answer"}`` (or ``"error"``), as the POST of that path would."""
-        from sim.front import websocket as ws
-        try:
-            self._check_origin()
-            problem = ws.upgrade_problem(self.headers, self.server.origins)
-            if problem:
-                raise RequestError(403 if "origin" in problem else 400, problem)
-        except RequestError as exc:
-            self._send(exc.status, _json_bytes({"error": _first_line(str(exc))}), "application/json", close=True)
-            return
-        self.send_response(101)
-        self.send_header("Upgrade", "websocket")
-        self.send_header("Connection", "Upgrade")
-        self.send_header("Sec-WebSocket-Accept", ws.accept_key(self.headers["Sec-WebSocket-Key"]))
-        self.end_headers()
-        self.close_connection = True
-        ws.serve(self.rfile, self.wfile, lambda text: socket_answer(text, self.server.mechanisms), MAX_BODY)
-
-    def do_POST(self) -> None:
-        self._answer(self._post)
-
-    def __getattr__(self, name: str):
-        """Every other method (PUT, DELETE, OPTIONS, ...): 405, never the framework's 501."""
-        if name.startswith("do_"):
-            return lambda: self._answer(self._not_allowed)
-        raise AttributeError(name)
-
-    def log_message(self, format, *args) -> None:
-        """Quiet: the terminal shows the URL and nothing per request."""
-
-    def send_error(self, code, message=None, explain=None) -> None:
-        """The framework's own refusals (malformed request line, headers too large) as one-line JSON 4xx."""
-        code = code if 400 <= code < 500 else 400
-        self._send(code, _json_bytes({"error": message or HTTPStatus(code).phrase}), "application/json",
-                   close=True)
-
-    # -------------------------------------------------------------- routing
-    def _answer(self, route) -> None:
-        try:
-            self._check_origin()
-            status, data, ctype, extra = route()
-        except RequestError as exc:
-            status, data, ctype, extra = exc.status, _json_bytes({"error": _first_line(str(exc))}), \
-                "application/json", {}
-        except MemoryError:
-            status, data, ctype, extra = 400, _json_bytes({"error": "out of memory: lower the samples or "
-                                                                    "revolutions"}), "application/json", {}
-        except Exception as exc:              # ParameterError, and any failure to compute: the page's message
-            status, data, ctype, extra = 400, _json_bytes({"error": _first_line(str(exc)) or type(exc).__name__}), \
-                "application/json", {}
-        self._send(status, data, ctype, extra, close=status >= 400 or self.stopping)
-        if self.stopping:                       # after the answer is out: shutdown() waits for serve_forever
-            threading.Thread(target=self.server.shutdown, daemon=True).start()
-
-    def _get(self):
-        path = self.path.split("?", 1)[0]
-        if path == "/api/mechanisms":
-            return 200, _json_bytes(mechanisms(self.server.initial)), "application/json", {}
-        if path == "/":
-            return 200, self.server.page, "text/html; charset=utf-8", {}
-        if path in FILES:
-            name, ctype = FILES[path]
-            return 200, (STATIC / name).read_bytes(), ctype, {}
-        if path.startswith("/api/"):
-            raise RequestError(405 if path in POSTS else 404, f"{path}: unknown path or use POST")
-        raise RequestError(404, f"{path}: not found")
-
-    def _post(self):
-        path = self.path.split("?", 1)[0]
-        if path not in POSTS:
-            raise RequestError(405 if path in FILES or path == "/api/mechanisms" else 404,
-                               f"{path}: no such action (POST to /api/solve, /api/drag, /api/draw, /api/simulate, "
-                               f"/api/render, /api/forces, /api/dynamics, /api/open, /api/targets, /api/synthesize, "
-                               f"/api/synthesize/status, /api/synthesize/cancel, /api/export/KIND or /api/exit)")
-        body = self._body()
-        if path == "/api/exit":
-            self.stopping = True
-            return 200, _json_bytes({"stopped": True}), "application/json", {}
-        if path == "/api/solve":
-            return 200, _json_bytes(solve(body, self.server.mechanisms)), "application/json", {}
-        if path == "/api/drag":
-            return 200, _json_bytes(drag(body, self.server.mechanisms)), "application/json", {}
-        if path == "/api/simulate":
-            return 200, _json_bytes(simulate(body)), "application/json", {}
-        if path == "/api/render":
-            return 200, render_video(body), "video/mp4", {}
-        if path == "/api/synthesize":
-            return 200, _json_bytes(synthesize(body, self.server)), "application/json", {}
-        if path == "/api/synthesize/status":
-            return 200, _json_bytes(synthesis_status(self.server)), "application/json", {}
-        if path == "/api/synthesize/cancel":
-            return 200, _json_bytes(cancel_synthesis(self.server)), "application/json", {}
-        if path in ACTIONS:
-            return 200, _json_bytes(ACTIONS[path](body)), "application/json", {}
-        data, ctype, filename = export(path.rsplit("/", 1)[1], body)
-        return 200, data, ctype, {"Content-Disposition": f'attachment; filename="{filename}"'}
-
-    def _not_allowed(self):
-        raise RequestError(405, f"method {self.command} is not allowed: use GET or POST")
-
-    # -------------------------------------------------------------- checks
-    def _check_origin(self) -> None:
-        """DNS rebinding and cross-site requests: the Host must be this loopback address and port, and an
-        Origin, when sent, this page's."""
-        host = (self.headers.get("Host") or "").strip().lower()
-        if host not in self.server.hosts:
-            raise RequestError(403, f"Host {host or '(none)'!r} refused: open {self.server.url}")
-        origin = self.headers.get("Origin")
-        if origin is not None and origin.strip().lower() not in self.server.origins:
-            raise RequestError(403, f"cross-origin request from {_short(origin)} refused")
-
-    def _body(self) -> dict:
-        ctype = (self.headers.get("Content-Type") or "").split(";", 1)[0].strip().lower()
-        if ctype != "application/json":
-            raise RequestError(415, "send the request body as JSON (Content-Type: application/json)")
-        if self.headers.get("Transfer-Encoding"):
-            raise RequestError(411, "send the body with a Content-Length, not chunked")
-        length = self.headers.get("Content-Length", "")
-        if not length.isdigit():
-            raise RequestError(411, "a Content-Length is required")
-        if int(length) > MAX_BODY:
-            raise RequestError(413, f"the body is {int(length):,} bytes; at most {MAX_BODY:,} are accepted")
-        return parse_json(self.rfile.read(int(length)))
-
-    def _send(self, status: int, data: bytes, ctype: str, extra: dict | None = None, close: bool = False) -> None:
-        self.send_response(status)
-        self.send_header("Content-Type", ctype)
-        self.send_header("Content-Length", str(len(data)))
-        for k, v in {**SECURITY_HEADERS, **(extra or {})}.items():
-            self.send_header(k, v)
-        if close:                               # an unread body must not be taken for the next request
-            self.send_header("Connection", "close")
-            self.close_connection = True
-        self.end_headers()
-        if self.command != "HEAD":
-            self.wfile.write(data)
 
 
 def drag(body: dict, cache: Mechanisms | None = None) -> dict:
@@ -1009,16 +786,25 @@ def draw(body: dict) -> dict:
     return drawing.check(body.get("drawing"))
 
 
+def render(body: dict) -> tuple[bytes, str, None]:
+    """The rendered video as the page shows it (not a download)."""
+    return render_video(body), "video/mp4", None
+
+
 ACTIONS = {"/api/draw": draw, "/api/drag": drag, "/api/forces": forces, "/api/dynamics": dynamics, "/api/open": open_file,
            "/api/targets": targets, "/api/loads/draw": loads_panel.draw, "/api/loads/edit": loads_panel.edit}
 """The panels' JSON actions (forces, dynamics, opening a file), by path."""
-POSTS = {"/api/solve", "/api/simulate", "/api/render", "/api/exit", "/api/synthesize", "/api/synthesize/status",
-         "/api/synthesize/cancel", *ACTIONS,
-         *(f"/api/export/{k}" for k in ("csv", "json", "toml", "mjcf", *PARTS_EXPORTS))}
+ROUTES = {"/api/solve": solve, "/api/simulate": simulate, "/api/render": render, "/api/synthesize": synthesize,
+          "/api/synthesize/status": synthesis_status, "/api/synthesize/cancel": cancel_synthesis, **ACTIONS,
+          **{f"/api/export/{k}": functools.partial(export, k) for k in ("csv", "json", "toml", "mjcf", *PARTS_EXPORTS)},
+          "/api/exit": None}
+"""Every POST route and its action, called with what its signature names (:func:`call`): a JSON answer, or
+(bytes, content type, file name) for a download. /api/exit (None) answers and stops the server."""
+POSTS = set(ROUTES)
 
 
 SOCKET_ACTIONS = {"/api/drag": drag, "/api/solve": solve}
-"""What the page's WebSocket answers (:meth:`Handler._socket`): the requests a drag repeats."""
+"""What the page's WebSocket answers (GET /api/socket, :func:`application`): the requests a drag repeats."""
 
 
 def socket_answer(text: str, cache: Mechanisms | None = None) -> bytes:
@@ -1054,6 +840,334 @@ def _json_bytes(obj) -> bytes:
 def _first_line(text: str) -> str:
     line = (text.strip().splitlines() or [""])[0]
     return line if len(line) <= MAX_ERROR_CHARS else line[:MAX_ERROR_CHARS - 3] + "..."
+
+
+# ------------------------------------------------------------------------------------------- HTTP
+MAX_HEADERS = 65_536
+"""[bytes] The request line and headers of one request: more is refused (431); a URL over MAX_URL (414)."""
+MAX_URL = 8_192
+TIMEOUT = 10.0
+"""[s] A connection idle this long between requests, or a body stalled this long, is closed."""
+
+
+def _limit_arenas(n: int = 2) -> None:
+    """At most ``n`` glibc malloc arenas (M_ARENA_MAX = -8): with one per worker thread the heap fragments
+    and the resident size grows over repeated rounds; a no-op where mallopt does not exist."""
+    try:
+        import ctypes
+        ctypes.CDLL(None).mallopt(-8, n)
+    except (OSError, AttributeError):
+        pass
+
+
+def _trim() -> None:
+    """Give freed heap back to the system after a request (glibc keeps large freed arenas otherwise and
+    the resident size creeps up over repeated rounds); a no-op where malloc_trim does not exist."""
+    try:
+        import ctypes
+        ctypes.CDLL(None).malloc_trim(0)
+    except (OSError, AttributeError):
+        pass
+
+
+class AppServer:
+    """The app's server (tornado): bound to 127.0.0.1 when made (``port`` 0 picks a free one), serving in the
+    thread that calls :meth:`serve_forever` until :meth:`shutdown` or POST /api/exit. The event loop reads and
+    writes the connections; each action runs on a fixed pool of WORKERS threads (threads, their malloc arenas,
+    MuJoCo and GL contexts reused, so memory stays flat over repeated rounds; further requests queue), so a
+    long one (a render, a motor run) never holds up the others."""
+
+    def __init__(self, port: int, initial: dict):
+        from tornado import netutil
+        self.sockets = netutil.bind_sockets(port, "127.0.0.1")    # listen backlog 128: a burst waits
+        self.server_address = self.sockets[0].getsockname()[:2]
+        self.port = self.server_address[1]
+        self.hosts = {f"127.0.0.1:{self.port}", f"localhost:{self.port}"}
+        self.origins = {f"http://{h}" for h in self.hosts}
+        self.initial = initial
+        self.page = page(initial)
+        self.synthesis = None                   # the page's synthesis job (sim.front.synth_job.Job), if any
+        self.mechanisms = Mechanisms()          # the last ones loaded: a drag's next step starts from them
+        self.synthesis_lock = threading.Lock()
+        _limit_arenas()
+        self.pool = concurrent.futures.ThreadPoolExecutor(max_workers=WORKERS, thread_name_prefix="linkage-app")
+        self._loop = None
+        self._stopped = threading.Event()
+
+    @property
+    def url(self) -> str:
+        return f"http://127.0.0.1:{self.port}/"
+
+    def serve_forever(self) -> None:
+        """Serve in this thread (its own event loop) until :meth:`shutdown`, POST /api/exit or Ctrl-C."""
+        import asyncio
+        from tornado.httpserver import HTTPServer
+        from tornado.ioloop import IOLoop
+        loop = asyncio.new_event_loop()
+        asyncio.set_event_loop(loop)
+        # the body's own bound is MAX_BODY, refused (413) from its Content-Length before it is read; tornado's
+        # bound is far above so that its bare 400 never follows that answer on the same connection
+        http = HTTPServer(application(self), max_header_size=4 * MAX_HEADERS, max_body_size=1 << 50,
+                          idle_connection_timeout=TIMEOUT, body_timeout=TIMEOUT)
+        http.add_sockets(self.sockets)
+        self._loop = IOLoop.current()
+        try:
+            loop.run_forever()
+        finally:
+            http.stop()
+            try:
+                loop.run_until_complete(http.close_all_connections())
+                pending = asyncio.all_tasks(loop)
+                for task in pending:
+                    task.cancel()
+                loop.run_until_complete(asyncio.gather(*pending, return_exceptions=True))
+            finally:
+                loop.close()
+                asyncio.set_event_loop(None)
+                self._stopped.set()
+
+    def stop_soon(self) -> None:
+        """End :meth:`serve_forever` (from the serving thread)."""
+        self._loop.stop()
+
+    def shutdown(self) -> None:
+        """End :meth:`serve_forever` from another thread and wait until it has returned."""
+        if self._loop is not None and not self._stopped.is_set():
+            self._loop.add_callback(self._loop.stop)
+            self._stopped.wait()
+
+    def server_close(self) -> None:
+        if self.synthesis is not None and self.synthesis.running:
+            self.synthesis.cancel()
+        for s in self.sockets:
+            s.close()
+        self.pool.shutdown(wait=False, cancel_futures=True)
+
+
+def call(action, body: dict, server: AppServer):
+    """``action`` called with what its signature names: ``body`` (the request's JSON object), ``cache`` (the
+    server's recently loaded mechanisms), ``server``; the one way the HTTP and the WebSocket routes call one."""
+    import inspect
+    given = {"body": body, "cache": server.mechanisms, "server": server}
+    return action(**{name: given[name] for name in inspect.signature(action).parameters})
+
+
+def answered(action, raw: bytes, server: AppServer) -> tuple[int, bytes, str, dict]:
+    """(status, bytes, content type, extra headers) of one POST's ``raw`` body given to ``action`` (on a worker
+    thread: parsing, the work and the encoding all off the event loop): its JSON, a download (an action that
+    answers (bytes, content type, file name or None)), or the one-line refusal."""
+    try:
+        out = call(action, parse_json(raw), server)
+        if isinstance(out, tuple):
+            data, ctype, filename = out
+            return 200, data, ctype, ({"Content-Disposition": f'attachment; filename="{filename}"'} if filename else {})
+        return 200, _json_bytes(out), "application/json", {}
+    except Exception as exc:                      # ParameterError, and any failure to compute: the page's message
+        status, message = failure(exc)
+        return status, _json_bytes({"error": message}), "application/json", {}
+    finally:
+        _trim()
+
+
+def failure(exc: BaseException) -> tuple[int, str]:
+    """(status, one line) of a request that raised: a refusal's own status (a RequestError's, tornado's), else
+    400 with the reason (a ParameterError, any failure to compute)."""
+    status = getattr(exc, "status", None) or getattr(exc, "status_code", None)
+    if isinstance(status, int) and 400 <= status < 500:
+        return status, _first_line(exc.log_message if status == 405 and hasattr(exc, "log_message") and
+                                   exc.log_message else str(exc)) or HTTPStatus(status).phrase
+    if isinstance(exc, MemoryError):
+        return 400, "out of memory: lower the samples or revolutions"
+    return 400, _first_line(str(exc)) or type(exc).__name__
+
+
+def request_problem(request, server: AppServer, socket: bool = False) -> tuple[int, str] | None:
+    """(status, one line) refusing a request before it reaches its action, or None: a URL over MAX_URL, headers
+    over MAX_HEADERS, a Host other than this loopback address and port (DNS rebinding), an Origin other than
+    this page's (cross-site requests; the WebSocket must send one: a browser always does, and no same-origin
+    policy guards a socket, this does)."""
+    if len(request.uri) > MAX_URL:
+        return 414, f"the URL is {len(request.uri):,} characters; at most {MAX_URL:,} are accepted"
+    if len(request.uri) + sum(len(k) + len(v) + 4 for k, v in request.headers.get_all()) > MAX_HEADERS:
+        return 431, f"the request's headers are over {MAX_HEADERS:,} bytes"
+    host = (request.headers.get("Host") or "").strip().lower()
+    if host not in server.hosts:
+        return 403, f"Host {host or '(none)'!r} refused: open {server.url}"
+    origin = request.headers.get("Origin")
+    if socket and origin is None:
+        return 403, "WebSocket without an Origin refused: only the page's own origin may connect"
+    if origin is not None and origin.strip().lower() not in server.origins:
+        return 403, f"cross-origin request from {_short(origin)} refused"
+    return None
+
+
+def application(server: AppServer):
+    """The tornado application of ``server``: the page and its files, GET /api/mechanisms, a POST route for
+    every action of ROUTES, the WebSocket; any other path 404, any other method 405. Every handler refuses a
+    request by :func:`request_problem` first, and answers a refusal or a failure as a 4xx with one JSON line
+    ``{"error": ...}``, closing the connection after it; nothing is logged."""
+    from tornado import web, websocket
+    from tornado.ioloop import IOLoop
+
+    class Checked:
+        """What every handler shares (mixed into tornado's): the checks, the security headers, the refusals."""
+
+        socket = False
+
+        def initialize(self, server: AppServer, action=None) -> None:
+            self.server, self.action = server, action
+            self.chunks, self.size = [], 0
+
+        def set_default_headers(self) -> None:
+            self.clear_header("Server")
+            for k, v in SECURITY_HEADERS.items():
+                self.set_header(k, v)
+
+        def compute_etag(self):
+            return None
+
+        def problem(self) -> tuple[int, str] | None:
+            return request_problem(self.request, self.server, self.socket)
+
+        def prepare(self) -> None:
+            problem = self.problem()
+            if problem:
+                self.refuse(*problem)
+
+        def refuse(self, status: int, message: str):
+            return self.answer(status, _json_bytes({"error": _first_line(message)}), "application/json")
+
+        def answer(self, status: int, data: bytes, ctype: str, extra: dict | None = None):
+            """Send the answer; after a 4xx the connection is closed (an unread body must not be taken for
+            the next request)."""
+            self.set_status(status)
+            self.set_header("Content-Type", ctype)
+            for k, v in (extra or {}).items():
+                self.set_header(k, v)
+            if status >= 400:
+                self.set_header("Connection", "close")
+            done = self.finish(data)
+            if status >= 400:
+                done.add_done_callback(lambda _: self.request.connection.close())
+            return done
+
+        def write_error(self, status_code: int, **kwargs) -> None:
+            """tornado's own refusals (an unknown method: 405) and anything a handler raised."""
+            exc = kwargs.get("exc_info", (None, None, None))[1]
+            if status_code == 405:
+                self.refuse(405, f"method {self.request.method} is not allowed: use GET or POST")
+            else:
+                self.refuse(*(failure(exc) if exc is not None else (400, HTTPStatus(status_code).phrase)))
+
+        def log_exception(self, typ, value, tb) -> None:
+            """Quiet: a refusal or a failure is the page's one line, never a traceback on the terminal."""
+
+    @web.stream_request_body
+    class Base(Checked, web.RequestHandler):
+        """A body is taken as it arrives, so that one declared too large is refused (413) from its
+        Content-Length before any of it is read."""
+
+        def problem(self) -> tuple[int, str] | None:
+            length = self.request.headers.get("Content-Length", "")
+            if length.isdigit() and int(length) > MAX_BODY:
+                return 413, f"the body is {int(length):,} bytes; at most {MAX_BODY:,} are accepted"
+            return super().problem()
+
+        def data_received(self, chunk: bytes) -> None:
+            self.size += len(chunk)
+            if self.size > MAX_BODY:                   # a chunked body to a path that takes none
+                self.request.connection.close()
+            else:
+                self.chunks.append(chunk)
+
+    class NotFound(Base):
+        def get(self):
+            path = self.request.path
+            if path.startswith("/api/"):
+                return self.refuse(404, f"{path}: unknown path or use POST")
+            self.refuse(404, f"{path}: not found")
+
+        def post(self):
+            self.refuse(404, f"{self.request.path}: no such action (POST to {', '.join(ROUTES)})")
+
+    class Files(Base):
+        """GET / (the page, its parameter rows written in) and the fixed list of static files (FILES)."""
+
+        def get(self):
+            path = self.request.path
+            if path == "/":
+                return self.answer(200, self.server.page, "text/html; charset=utf-8")
+            name, ctype = FILES[path]
+            self.answer(200, (STATIC / name).read_bytes(), ctype)
+
+    class Listing(Base):
+        async def get(self):
+            data = await IOLoop.current().run_in_executor(self.server.pool, _listing, self.server)
+            self.answer(200, data, "application/json")
+
+    class Action(Base):
+        """POST of one action: its body a bounded JSON object, its answer the action's (JSON or a download)."""
+
+        def problem(self) -> tuple[int, str] | None:
+            problem = super().problem()
+            if problem or self.request.method != "POST":
+                return problem
+            ctype = (self.request.headers.get("Content-Type") or "").split(";", 1)[0].strip().lower()
+            if ctype != "application/json":
+                return 415, "send the request body as JSON (Content-Type: application/json)"
+            if self.request.headers.get("Transfer-Encoding"):
+                return 411, "send the body with a Content-Length, not chunked"
+            if not self.request.headers.get("Content-Length", "").isdigit():
+                return 411, "a Content-Length is required"
+            return None
+
+        async def get(self):
+            self.refuse(405, f"{self.request.path}: use POST")
+
+        async def post(self):
+            raw = b"".join(self.chunks)
+            if self.action is None:                           # /api/exit: answered, then the server stops
+                try:
+                    parse_json(raw)
+                except RequestError as exc:
+                    return self.refuse(exc.status, str(exc))
+                await self.answer(200, _json_bytes({"stopped": True}), "application/json")
+                IOLoop.current().add_callback(self.server.stop_soon)
+                return
+            self.answer(*await IOLoop.current().run_in_executor(self.server.pool, answered, self.action, raw,
+                                                                self.server))
+
+    class Socket(Checked, websocket.WebSocketHandler):
+        """GET /api/socket: a WebSocket for drag steps, from this page only; each text message ``{"id", "path":
+        "/api/drag" or "/api/solve", "body"}`` is answered ``{"id", "status", "answer"}`` (or ``"error"``), as
+        the POST of that path would; one message at a time, in order (tornado waits for each answer)."""
+
+        socket = True
+
+        def check_origin(self, origin: str) -> bool:
+            return True                         # request_problem (prepare) let in the page's own origin only
+
+        async def on_message(self, message) -> None:
+            if isinstance(message, bytes):
+                self.close(1003, "text frames only")
+                return
+            try:
+                answer = await IOLoop.current().run_in_executor(self.server.pool, socket_answer, message,
+                                                                self.server.mechanisms)
+                await self.write_message(answer)
+            except (websocket.WebSocketClosedError, RuntimeError):      # the page went away, the server stops
+                self.close()
+
+    args = {"server": server}
+    routes = [(r"/api/socket", Socket, args), (r"/api/mechanisms", Listing, args),
+              *((re.escape(p), Files, args) for p in ("/", *FILES)),
+              *((re.escape(p), Action, {**args, "action": a}) for p, a in ROUTES.items())]
+    return web.Application(routes, default_handler_class=NotFound, default_handler_args=args,
+                           websocket_max_message_size=MAX_BODY, log_function=lambda handler: None)
+
+
+def _listing(server: AppServer) -> bytes:
+    return _json_bytes(mechanisms(server.initial))
 
 
 # -------------------------------------------------------------------------------------- command

@@ -72,23 +72,20 @@ def mobility(points, links) -> int:
 
 def drawing_text(drawing: dict, name: str = "drawn") -> str:
     """The ``linkage/1`` text of a drawing (see the module docstring)."""
+    from sim import service
     points, links, driven = parse(drawing)
     at = {p: [lk for lk, pts in links if p in pts] for p in points}
-    lines = ['format = "linkage/1"', f'name = "{name}"', f'units = "{UNITS}"',
-             'description = "drawn in linkage app"']
+    data = {"format": "linkage/1", "name": name, "units": UNITS, "description": "drawn in linkage app"}
     moving = [p for p, (_, _, g) in points.items() if not g and at[p]]
     if moving:
-        lines.append(f'output = "{moving[-1]}"')
-    lines += ["", "[pose]"]
-    for p, (x, y, _) in points.items():
-        lines.append(f"{p} = [{_num(x * SCALE)}, {_num(y * SCALE)}]")
-    for lk, pts in links:
-        lines += ["", "[[links]]", f'name = "{lk}"', "points = [" + ", ".join(f'"{p}"' for p in pts) + "]"]
+        data["output"] = moving[-1]
+    data["pose"] = {p: [_num(x * SCALE), _num(y * SCALE)] for p, (x, y, _) in points.items()}
+    data["links"] = [{"name": lk, "points": list(pts)} for lk, pts in links]
+    data["joints"] = []
     for p, (_, _, ground) in points.items():
         pair = (["ground"] if ground else []) + at[p]
         if len(pair) >= 2:
-            lines += ["", "[[joints]]", 'kind = "R"', f'point = "{p}"', "links = [" + ", ".join(f'"{x}"' for x in pair)
-                      + "]"]
+            data["joints"].append({"kind": "R", "point": p, "links": pair})
     if driven is not None:
         pts = dict(links)[driven]
         pivots = [p for p in pts if points[p][2]]
@@ -96,14 +93,13 @@ def drawing_text(drawing: dict, name: str = "drawn") -> str:
             raise _fail(f"input {driven}: the driven link must have exactly one ground pivot (it has "
                         f"{len(pivots)}); mark a link pinned to the ground")
         tip = next(p for p in pts if p != pivots[0])
-        lines += ["", "[[inputs]]", 'kind = "crank"', f'pivot = "{pivots[0]}"', f'point = "{tip}"',
-                  f'link = "{driven}"', 'omega = "360deg"']
-    return "\n".join(lines) + "\n"
+        data["inputs"] = [{"kind": "crank", "pivot": pivots[0], "point": tip, "link": driven, "omega": "360deg"}]
+    return service.table_text(data)
 
 
-def _num(v: float) -> str:
+def _num(v: float) -> float:
     r = round(v, 4)
-    return repr(0.0 if r == 0 else r)
+    return 0.0 if r == 0 else r
 
 
 def check(drawing: dict) -> dict:

@@ -2,47 +2,30 @@
 
 from __future__ import annotations
 
-import json
 import math
 
 from analytic import kinds
 from analytic.kinds.base import Guide
 
 
-def _value(v) -> str:
-    if isinstance(v, bool):
-        return "true" if v else "false"
-    if isinstance(v, int):
-        return str(v)
-    if isinstance(v, float):
-        return repr(v) if math.isfinite(v) else '"nan"'
-    if isinstance(v, (list, tuple)):
-        return "[" + ", ".join(_value(x) for x in v) + "]"
-    return json.dumps(str(v))
-
-
-def _field(v) -> str:
+def _field(v):
     """A field's value as written (a guide, a table of links or of positions, or a plain value)."""
     if isinstance(v, Guide):
         if v.points:
-            return _value(list(v.points))
-        through = v.through if isinstance(v.through, str) else list(v.through)
-        return f"{{ through = {_value(through)}, angle = {_value(v.angle)} }}"
+            return [list(p) for p in v.points]
+        return {"through": v.through if isinstance(v.through, str) else list(v.through), "angle": v.angle}
     if isinstance(v, dict):
-        return "{ " + ", ".join(f"{k} = {_value(list(x))}" for k, x in v.items()) + " }"
-    return _value(v)
+        return {k: list(x) for k, x in v.items()}
+    return list(v) if isinstance(v, tuple) else v
 
 
-def dump(mech) -> str:
-    """The mechanism's file with its current parameter values: the original text with only the changed
-    values rewritten (comments, layout and values as written kept, ``"144deg"`` stays unless changed)
-    where the file is TOML and that reproduces this exact design; else the generated file."""
-    edited = edit_parameters(mech)
+def dump(mech, text: str | None = None) -> str:
+    """The mechanism's file with its current parameter values: ``text`` (the file as uploaded; default the
+    source file on disk) with only the changed values rewritten (comments, layout and values as written
+    kept, ``"144deg"`` stays unless changed) where it is TOML and that reproduces this exact design; else
+    the generated file."""
+    edited = edit_parameters(mech, text)
     return edited if edited is not None else generate(mech)
-
-
-_VALUE = r'"(?:[^"\\\n]|\\.)*"|\'[^\'\n]*\'|[^\s#,\]\}]+'
-"""A TOML value on one line: a basic string, a literal string, or a bare number/boolean."""
 
 
 def _source_text(mech) -> str | None:
@@ -56,19 +39,19 @@ def _source_text(mech) -> str | None:
         return None
 
 
-def _written(mech, name: str, old: str) -> str:
-    """The new value of parameter ``name`` as TOML, in the style of the ``old`` text: a value written in
+def _written(mech, name: str, old):
+    """The new value of parameter ``name``, in the style of the ``old`` value as written: a value written in
     degrees (an angle, a speed, or a number used in other parameters' expressions) stays in degrees, a
-    branch an integer; the text reads back as exactly the same float."""
+    branch an integer; the value reads back as exactly the same float."""
     v = mech.values[name]
     kind = mech.definition.parameter_kind[name]
     if kind == "branch":
-        return str(int(v))
-    if old.strip("\"'").rstrip().endswith("deg"):
+        return int(v)
+    if isinstance(old, str) and old.strip().endswith("deg"):
         deg = degrees_text(v)
         if deg is not None:
-            return f'"{deg}deg"'
-    return _value(float(v))
+            return f"{deg}deg"
+    return float(v)
 
 
 def degrees_text(v: float) -> str | None:
@@ -96,35 +79,29 @@ def degrees_text(v: float) -> str | None:
     return best
 
 
-def edit_parameters(mech) -> str | None:
-    """The source file's text with the values of the parameters set on ``mech`` (``mech.overrides``)
-    rewritten in its ``[parameters]`` table, everything else byte for byte; None when the file is not
-    TOML text on disk, a value is not on a line of its own, or the result would not read back as this
-    design (values within 1e-12, the rest of the definition equal)."""
-    import re
+def edit_parameters(mech, text: str | None = None) -> str | None:
+    """``text`` (default: the source file's text) with the values of the parameters set on ``mech``
+    (``mech.overrides``) rewritten in its ``[parameters]`` table by tomlkit, every comment and the layout
+    kept; None when there is no TOML text, a changed parameter is not in that table, or the result would
+    not read back as this design (values within 1e-12, the rest of the definition equal)."""
+    import tomlkit
     from analytic.format import linkfile
-    text = _source_text(mech)
-    if text is None:
+    text = _source_text(mech) if text is None else text
+    if text is None or text.lstrip().startswith("{"):
         return None
     d = mech.definition
     original = linkfile.parameter_values(d, {})
     changed = [p for p in d.parameter_order if p in mech.overrides and mech.values[p] != original[p]]
-    lines = text.splitlines(keepends=True)
-    section = None
-    for i, line in enumerate(lines):
-        head = re.match(r"\s*\[\s*([A-Za-z_.]+)\s*\]\s*(#.*)?$", line)
-        if head:
-            section = head.group(1)
-            continue
-        if section != "parameters":
-            continue
-        m = re.match(r"(\s*([A-Za-z][A-Za-z0-9_]*)\s*=\s*)(" + _VALUE + r")(.*)$", line, re.S)
-        if m and m.group(2) in changed:
-            lines[i] = m.group(1) + _written(mech, m.group(2), m.group(3)) + m.group(4)
-            changed.remove(m.group(2))
-    if changed:
+    try:
+        doc = tomlkit.parse(text)
+    except tomlkit.exceptions.TOMLKitError:
         return None
-    out = "".join(lines)
+    table = doc.get("parameters")
+    if changed and (not isinstance(table, dict) or any(p not in table for p in changed)):
+        return None
+    for p in changed:
+        table[p] = _written(mech, p, table[p].unwrap() if hasattr(table[p], "unwrap") else table[p])
+    out = doc.as_string()
     try:
         back = linkfile.parse(out, d.source)
         values = linkfile.parameter_values(back, {})
@@ -137,86 +114,68 @@ def edit_parameters(mech) -> str | None:
 
 
 def generate(mech) -> str:
-    """The mechanism's definition generated as TOML; parameters hold their current values (file units;
-    angles in radians, or in degrees where the file wrote them so and the value reads back exactly) so the
-    file reproduces this exact design."""
+    """The mechanism's definition generated as TOML (:func:`analytic.format.writing.dumps`); parameters hold
+    their current values (file units; angles in radians, or in degrees where the file wrote them so and the
+    value reads back exactly) so the file reproduces this exact design."""
+    from analytic.format import writing
     d = mech.definition
-    lines = ['format = "linkage/1"', f"name = {_value(d.name)}", f"units = {_value(d.units)}"]
+    data = {"format": "linkage/1", "name": d.name, "units": d.units}
     if d.description:
-        lines.append(f"description = {_value(d.description)}")
-    lines.append(f"output = {_value(d.output)}")
+        data["description"] = d.description
+    data["output"] = d.output
     if getattr(d, "input_range", ""):
-        lines.append(f"input_range = {_value(d.input_range)}")
+        data["input_range"] = d.input_range
     if d.loads or d.friction:
-        lines.append(f"force_units = {_value(d.force_units)}")
+        data["force_units"] = d.force_units
     if d.parameters:
-        lines += ["", "[parameters]"]
+        data["parameters"] = {}
         for p in d.parameter_order:
             v = mech.values[p]
             raw = d.parameters[p]
             deg = degrees_text(v) if isinstance(raw, str) and raw.strip().endswith("deg") else None
-            shown = f'"{deg}deg"' if deg is not None else _value(int(v) if d.parameter_kind[p] == 'branch' else v)
-            lines.append(f"{p} = {shown}")
-    lines += ["", "[ground]"]
-    for g, (x, y) in d.ground.items():
-        lines.append(f"{g} = [{_value(x)}, {_value(y)}]")
+            data["parameters"][p] = f"{deg}deg" if deg is not None else int(v) if d.parameter_kind[p] == "branch" \
+                else float(v)
+    data["ground"] = {g: [x, y] for g, (x, y) in d.ground.items()}
     for section, elements in (("inputs", d.inputs), ("groups", d.groups)):
-        for e in elements:
-            lines += ["", f"[[{section}]]", f"kind = {_value(e.kind)}"]
-            for fname in kinds.get(e.kind).fields:
-                lines.append(f"{fname} = {_field(e.fields[fname])}")
+        if elements:
+            data[section] = [{"kind": e.kind, **{f: _field(e.fields[f]) for f in kinds.get(e.kind).fields}}
+                             for e in elements]
     if d.inertia:
-        lines += ["", "[inertia]"]
-        for link, entry in d.inertia.items():
-            inner = ", ".join(f"{k} = {_value(float(x))}" for k, x in entry.items())
-            lines.append(f"{json.dumps(link)} = {{ {inner} }}")
-    lines += _mass_section(d.mass)
-    lines += _parts_section(getattr(d, "parts", None))
-    lines += _loads_section(mech)
-    return "\n".join(lines) + "\n"
+        data["inertia"] = {link: {k: float(x) for k, x in entry.items()} for link, entry in d.inertia.items()}
+    if d.mass:
+        data["mass"] = _mass_table(d.mass)
+    parts = getattr(d, "parts", None)
+    if parts:
+        data["parts"] = {**{k: v for k, v in parts.items() if k != "layers"},
+                         **({"layers": {k: int(v) for k, v in parts["layers"].items()}} if parts.get("layers") else {})}
+    data.update(_loads_tables(mech))
+    return writing.dumps(data)
 
 
-def _loads_section(mech) -> list[str]:
+def _loads_tables(mech) -> dict:
     """The ``[[loads]]`` tables (each record as its kind writes it: analytic.loads.tables) and ``[friction]``
     as written."""
     d = mech.definition
-    if not (d.loads or d.friction):
-        return []
-    from analytic import loads as AL
-    lines = []
-    for table in AL.tables(AL.parsed(mech), AL.scales(d, mech.parameters)):
-        lines += ["", "[[loads]]"] + [f"{k} = {_value(v)}" for k, v in table.items()]
+    out = {}
+    if d.loads:
+        from analytic import loads as AL
+        tables = list(AL.tables(AL.parsed(mech), AL.scales(d, mech.parameters)))
+        if tables:
+            out["loads"] = tables
     if d.friction:
-        def inline(v):
-            if isinstance(v, dict):
-                return "{ " + ", ".join(f"{json.dumps(str(k))} = {inline(x)}" for k, x in v.items()) + " }"
-            return _value(v)
-        lines += ["", "[friction]"] + [f"{k} = {inline(v)}" for k, v in d.friction.items()]
-    return lines
+        out["friction"] = dict(d.friction)
+    return out
 
 
-def _parts_section(parts) -> list[str]:
-    """The ``[parts]`` section (analytic.parts) as TOML lines, as written."""
-    if not parts:
-        return []
-    lines = ["", "[parts]"] + [f"{k} = {_value(v)}" for k, v in parts.items() if k != "layers"]
-    if parts.get("layers"):
-        lines.append("layers = { " + ", ".join(f"{json.dumps(k)} = {int(v)}" for k, v in parts["layers"].items())
-                     + " }")
-    return lines
-
-
-def _mass_section(mass: dict) -> list[str]:
-    """The ``[mass]`` section (analytic.mass) as TOML lines: its fields, the links' and the counterweights'."""
-    if not mass:
-        return []
-    lines = ["", "[mass]"] + [f"{k} = {_value(v)}" for k, v in mass.items() if k not in ("links", "counterweights")]
-    for link, table in mass.get("links", {}).items():
-        lines += ["", f"[mass.links.{json.dumps(link)}]"] + [f"{k} = {_value(v)}" for k, v in table.items()]
+def _mass_table(mass: dict) -> dict:
+    """The ``[mass]`` table (analytic.mass) as written: its fields, the links' tables and the counterweights."""
+    out = {k: v for k, v in mass.items() if k not in ("links", "counterweights")}
+    if mass.get("links"):
+        out["links"] = {link: dict(table) for link, table in mass["links"].items()}
     if mass.get("counterweights"):
-        lines += ["", "[mass.counterweights]"]
+        out["counterweights"] = {}
         for link, entry in mass["counterweights"].items():
-            items = [f"{{ m = {_value(float(w['m']))}, at = {_value([float(x) for x in w['at']])} }}"
+            items = [{"m": float(w["m"]), "at": [float(x) for x in w["at"]]}
                      for w in (entry if isinstance(entry, list) else [entry])]
-            lines.append(f"{json.dumps(link)} = " + (items[0] if len(items) == 1 else "[" + ", ".join(items) + "]"))
-    return lines
+            out["counterweights"][link] = items[0] if len(items) == 1 else items
+    return out

@@ -14,6 +14,9 @@ from concurrent.futures import ProcessPoolExecutor
 
 from analytic import ParameterError
 
+# the one line every --scheduler path gives where Dask is missing (pyproject.toml: the ``dask`` extra)
+INSTALL_DASK = "pip install 'linkage[dask]'"
+
 
 @contextlib.contextmanager
 def mapper(workers: int = 1, scheduler: str | None = None):
@@ -32,7 +35,7 @@ def mapper(workers: int = 1, scheduler: str | None = None):
             import dask
             from dask.distributed import Client, LocalCluster
         except ImportError:
-            raise ParameterError("--scheduler needs dask[distributed]; pip install 'dask[distributed]'") from None
+            raise ParameterError(f"--scheduler {scheduler} needs Dask, an optional extra: {INSTALL_DASK}") from None
         cluster = scratch = None
         settings = contextlib.ExitStack()
         try:

@@ -30,6 +30,8 @@ them, so analysis stays fast.
 
 from __future__ import annotations
 
+import lazy_loader
+
 from sim.service.catalog import list_mechanisms
 
 _LAZY = {
@@ -41,7 +43,7 @@ _LAZY = {
                    "clear_of_change_point", "start_note", "change_points", "passes_smoothly", "prepare",
                    "check_folded_change_points", "check_fold", "simulate", "compare", "comparison_record",
                    "trajectory_columns"),
-    "export": ("export_mjcf", "mechanism_text"),
+    "export": ("export_mjcf", "mechanism_text", "table_text"),
     "forces": ("ForceRun", "check_forces_singular", "mass_sources", "forces_run", "force_peaks", "forces_record",
                "loads_table", "balance_record", "forces_columns", "forces_table", "balanced_mechanism",
                "simulated_forces_run", "simulated_forces"),
@@ -50,21 +52,13 @@ _LAZY = {
 (they load numpy): ``from sim import service`` costs nothing until a function is used."""
 
 
-def __getattr__(name: str):
-    """PEP 562: ``service.analyze`` imports :mod:`.analysis` on first use; a submodule by its name."""
-    import importlib
-    for module, names in _LAZY.items():
-        if name in names:
-            return getattr(importlib.import_module(f"sim.service.{module}"), name)
-    if name.startswith("__"):
-        raise AttributeError(name)
-    try:
-        return importlib.import_module(f"sim.service.{name}")
-    except ModuleNotFoundError as exc:
-        if exc.name != f"sim.service.{name}":
-            raise
-        raise AttributeError(f"module 'sim.service' has no attribute {name!r}") from None
+SUBMODULES = ("analysis", "catalog", "design", "dynamics", "editing", "export", "forces", "importing", "inputs",
+              "load_editing", "loads", "mechanisms", "opening", "pareto", "parts", "path_targets", "simulation",
+              "structure", "sweep_forces", "synth_checks", "tolerance", "values", "viewing")
+"""Every use-case module, imported on its first access (``service.design``)."""
 
+# PEP 562 by lazy_loader: ``service.analyze`` imports :mod:`.analysis` on first use; a submodule by its name
+__getattr__, __dir__, _ = lazy_loader.attach(__name__, submodules=SUBMODULES, submod_attrs=_LAZY)
 
 __all__ = ["list_mechanisms", "parameter_value", "load", "parameter_table", "describe",
            "link_drawing", "MAX_SAMPLES", "MAX_REVOLUTIONS", "Analysis", "check_samples", "check_revolutions",
@@ -72,7 +66,7 @@ __all__ = ["list_mechanisms", "parameter_value", "load", "parameter_table", "des
            "parameters_record", "analysis_columns", "units_of", "check_singular", "CHANGE_SWING",
            "check_change_swing", "CHANGE_START", "CHANGE_SHIFT", "clear_of_change_point", "start_note",
            "change_points", "passes_smoothly", "prepare", "check_folded_change_points", "check_fold", "simulate",
-           "compare", "comparison_record", "trajectory_columns", "export_mjcf", "mechanism_text", "ForceRun",
+           "compare", "comparison_record", "trajectory_columns", "export_mjcf", "mechanism_text", "table_text", "ForceRun",
            "check_forces_singular", "mass_sources", "forces_run", "force_peaks", "forces_record", "loads_table",
            "balance_record", "forces_columns", "forces_table", "balanced_mechanism", "simulated_forces_run",
            "simulated_forces"]

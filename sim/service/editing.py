@@ -438,36 +438,23 @@ def plain(why: str, mech: Mechanism) -> str:
 # ------------------------------------------------------------------------------ the file's text
 def rewrite_pose(text: str, old: dict, new: dict) -> str:
     """``text`` with the ``[pose]``/``[ground]`` entries that differ between ``old`` and ``new`` written
-    anew (each on its own line, the rest of the file as it was); JSON is written whole."""
+    anew by tomlkit (the numbers in place: every comment and the layout kept, a point written over several
+    lines too); JSON is written whole."""
     if text.lstrip().startswith("{"):
         return json.dumps(new, indent=2) + "\n"
-    lines = text.splitlines(keepends=True)
+    import tomlkit
+    doc = tomlkit.parse(text)
     for section in ("ground", "pose"):
         for name, xy in (new.get(section) or {}).items():
             if (old.get(section) or {}).get(name) == xy:
                 continue
-            lines = _replace_entry(lines, section, name, xy)
-    return "".join(lines)
-
-
-def _toml_value(v) -> str:
-    return repr(float(v)) if isinstance(v, (int, float)) and not isinstance(v, bool) else json.dumps(v)
-
-
-def _replace_entry(lines: list[str], section: str, name: str, xy) -> list[str]:
-    header = re.compile(r"^\s*\[\s*" + re.escape(section) + r"\s*\]\s*(#.*)?$")
-    entry = re.compile(r"^(\s*)(" + re.escape(name) + r'|"' + re.escape(name) + r'")\s*=\s*\[[^\]]*\](.*)$', re.S)
-    inside = False
-    for k, line in enumerate(lines):
-        if re.match(r"^\s*\[", line):
-            inside = bool(header.match(line))
-            continue
-        m = entry.match(line) if inside else None
-        if m:
-            value = "[" + ", ".join(_toml_value(round(float(v), 9)) for v in xy) + "]"
-            lines[k] = f"{m.group(1)}{m.group(2)} = {value}{m.group(3)}"
-            return lines
-    raise ParameterError(f"cannot find {section}.{name} written as [x, y] on one line: edit the file by hand")
+            entry = (doc.get(section) or {}).get(name)
+            if not (isinstance(entry, list) and len(entry) == 2):
+                raise ParameterError(f"cannot find {section}.{name} written as [x, y]: edit the file by hand")
+            for axis, v in enumerate(xy):
+                if entry[axis] != v:
+                    entry[axis] = round(float(v), 9)
+    return doc.as_string()
 
 
 def assur_groups(mech: Mechanism) -> list[dict]:

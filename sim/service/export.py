@@ -27,7 +27,15 @@ def loads_left_out(mech: Mechanism) -> list[str]:
     return out + (["[friction] (Coulomb): its torque follows the joint forces it changes"] if ls.friction else [])
 
 
-def mechanism_text(mech: Mechanism) -> str:
-    """The mechanism's file (TOML) with its current parameter values written in."""
+def mechanism_text(mech: Mechanism, text: str | None = None) -> str:
+    """The mechanism's file (TOML) with its current parameter values written in: ``text`` (the file as the
+    app uploaded it; default the source file) edited with its comments and layout kept where it is TOML."""
     from sim.output.tomlout import dump
-    return dump(mech)
+    return dump(mech, text)
+
+
+def table_text(data: dict) -> str:
+    """A ``linkage/1`` table (a drawing's, an import's) as the file's TOML text (one writer for the format's
+    files: :func:`analytic.format.writing.dumps`)."""
+    from analytic.format import writing
+    return writing.dumps(data)

@@ -23,7 +23,7 @@ def register(sub) -> None:
     p.add_argument("--yes", action="store_true", help=f"allow grids over {MAX_COMBOS:,} combinations")
     p.add_argument("--workers", type=int, default=1, help="processes for the grid's chunks (default 1)")
     p.add_argument("--scheduler", metavar="ADDRESS", help="Dask scheduler address (or 'local': a local cluster "
-                                                          "of --workers processes)")
+                                                          "of --workers processes); needs pip install 'linkage[dask]'")
     p.add_argument("--forces", action="store_true",
                    help="also each design's peak joint (bearing) force, peak drive torque (a slider: force) and "
                         "energy per cycle, with the file's [[loads]]/[friction] and the loads below (implied by them)")

@@ -4,14 +4,15 @@
 from __future__ import annotations
 
 import math
+import lazy_loader
 
 from analytic import ParameterError
-from sim.front.lazy import lazy
 from sim.output.io import check_writable, write_text
 from sim.front.cli.synth_options import add_limits, add_units, limits_of, measure_words, out_names
 from sim.output.jsonout import dumps
 
-design_service = lazy("sim.service.design")  # scipy's optimisers: loaded by the command, not by its options
+# loaded by the command, not by its options (suppress_warning: the parent, sim.service, is light and loaded)
+design_service = lazy_loader.load("sim.service.design", suppress_warning=True)  # scipy's optimisers
 
 
 def _designs_out(args, kind: str, found: list[dict], rejected: list[dict]) -> int:

@@ -4,6 +4,8 @@ with each design's coupler curve, and the designs' files."""
 
 from __future__ import annotations
 
+import lazy_loader
+
 import math
 import sys
 from pathlib import Path
@@ -12,13 +14,13 @@ import numpy as np
 
 from analytic import ParameterError
 from sim.service.values import parse_value
-from sim.front.lazy import lazy
 from sim.output.io import atomic_path, check_writable, write_text
 from sim.output.jsonout import dumps
 from sim.output.progress import Progress
 
-design_service = lazy("sim.service.design")  # scipy and pymoo: loaded by the command, not by its options
-P = lazy("sim.service.pareto")
+# loaded by the command, not by its options (suppress_warning: the parent, sim.service, is light and loaded)
+design_service = lazy_loader.load("sim.service.design", suppress_warning=True)  # scipy and pymoo
+P = lazy_loader.load("sim.service.pareto", suppress_warning=True)
 
 UNITS_OF = {"error": "{u}", "peak_torque": "N m", "peak_bearing": "N", "rms_shaking": "N", "size": "{u}"}
 

@@ -4,17 +4,19 @@ module parses the options, writes the files and the plot, prints the table or JS
 
 from __future__ import annotations
 
+import lazy_loader
+
 from pathlib import Path
 
 
 from sim.service.design import DEFAULT_TYPE, TYPES
-from sim.front.lazy import lazy
 from sim.front.cli.synth_options import add_limits, add_units, limits_of, measure_words, out_names
 from sim.output.io import atomic_path, check_writable, write_text
 from sim.output.jsonout import dumps
 from sim.output.progress import Progress
 
-design_service = lazy("sim.service.design")  # scipy's optimisers: loaded by the command, not by its options
+# loaded by the command, not by its options (suppress_warning: the parent, sim.service, is light and loaded)
+design_service = lazy_loader.load("sim.service.design", suppress_warning=True)  # scipy's optimisers
 
 
 def plot(path: str, target, found: list[dict], unit: str) -> None:
@@ -190,7 +192,7 @@ def register(problems) -> None:
     p.add_argument("--designs", type=int, default=1, help="designs to return, best first")
     p.add_argument("--workers", type=int, default=1, help="processes for the restarts and the compares")
     p.add_argument("--scheduler", metavar="ADDRESS", help="Dask scheduler address (or 'local': a local cluster "
-                                                          "of --workers processes)")
+                                                          "of --workers processes); needs pip install 'linkage[dask]'")
     p.add_argument("--out", metavar="FILE.toml", help="write the best design (next ones FILE_2.toml ...)")
     p.add_argument("--plot", metavar="PATH", help="targets over each candidate's coupler curve (png/svg/pdf)")
     p.add_argument("--json", action="store_true", help="print one JSON object (SPEC: designs)")

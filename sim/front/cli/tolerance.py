@@ -25,7 +25,8 @@ def register(sub) -> None:
                    help="variance-based Sobol indices S1 and ST (Saltelli design of N' (D+2) more designs, N' the "
                         "power of 2 >= N)")
     p.add_argument("--scheduler", metavar="ADDRESS",
-                   help="evaluate the designs on a Dask scheduler (tcp://host:8786; 'local' starts one here)")
+                   help="evaluate the designs on a Dask scheduler (tcp://host:8786; 'local' starts one here); needs "
+                        "pip install 'linkage[dask]'")
     p.add_argument("--workers", type=int, default=1, metavar="W",
                    help="worker processes on this machine, or of a --scheduler local cluster (default 1)")
     p.add_argument("--json", action="store_true", help="print one JSON object (SI unless --units/--angles)")

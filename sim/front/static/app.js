@@ -76,7 +76,7 @@
     return res;
   }
 
-  // Drag steps over a WebSocket (GET /api/socket, sim/front/websocket.py): a frame each way instead of an HTTP
+  // Drag steps over a WebSocket (GET /api/socket, tornado's WebSocket in sim/front/app.py): a frame each way instead of an HTTP
   // request and answer, ~1 ms of round trip where fetch takes 4-7 ms. Opened when a drag starts (the server
   // closes it after 10 s idle); any request made while it is not open, or that it drops, goes by fetch.
   const sock = { ws: null, next: 1, waiting: new Map() };
