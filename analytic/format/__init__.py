@@ -6,4 +6,4 @@ import lazy_loader
 
 # a submodule on first access (``analytic.format.linkfile`` after a bare ``import analytic``)
 __getattr__, __dir__, __all__ = lazy_loader.attach(__name__, submodules=(
-    "expr", "foreign", "joints", "linkfile", "parts_table", "pmks", "pyslvs", "sym", "writing"))
+    "expr", "foreign", "joints", "lawfield", "linkfile", "parts_table", "pmks", "pyslvs", "sym", "writing"))

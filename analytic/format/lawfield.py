@@ -32,6 +32,8 @@ class Written:
 
     segments: tuple = ()
     table: tuple | None = None
+    path: str | None = None
+    """A table's file, resolved (absolute: a file generated elsewhere still finds it)."""
 
 
 def _short(v, limit: int = 40) -> str:
@@ -82,7 +84,7 @@ def check(item: dict, kind, motion_fields, label: str, source: str, scale: float
     if motion_fields[0] in item:
         raise fail(motion_fields[0], f"the table's first q is the start value; drop {motion_fields[0]} "
                                      f"(or shift the table)")
-    return Written(table=_table(item["table"], kind, source, scale, fail))
+    return Written(table=_table(item["table"], kind, source, scale, fail), path=str(_resolve(item["table"], source)))
 
 
 def _segments(value, kind, fail) -> tuple:
@@ -122,13 +124,20 @@ def _segments(value, kind, fail) -> tuple:
     return tuple(out)
 
 
-def _table(value, kind, source, scale, fail):
-    if not (isinstance(value, str) and value.strip()):
-        raise fail("table", f"{_short(value)} must be the path of a CSV file (columns t,q or t,q_deg)")
+def _resolve(value: str, source: str) -> Path:
+    """A table's path: as written when absolute, else in the mechanism file's folder (the working folder for
+    a text without a file)."""
     path = Path(value)
     if not path.is_absolute():
         base = Path(source).parent if Path(source).is_file() else Path.cwd()
-        path = base / path
+        path = (base / path).resolve()
+    return path
+
+
+def _table(value, kind, source, scale, fail):
+    if not (isinstance(value, str) and value.strip()):
+        raise fail("table", f"{_short(value)} must be the path of a CSV file (columns t,q or t,q_deg)")
+    path = _resolve(value, source)
     try:
         with open(path, "rb") as fh:
             raw = fh.read(MAX_TABLE_BYTES + 1)

@@ -113,6 +113,21 @@ def edit_parameters(mech, text: str | None = None) -> str | None:
     return out if same and rest and set(values) == set(mech.values) else None
 
 
+def _element(e) -> dict:
+    """An element's table as written: its kind's fields, and an input's motion law (``segments`` or ``table``)
+    in place of the fields it replaces (the rates; a table's start too)."""
+    kind = kinds.get(e.kind)
+    law = getattr(e, "law", None)
+    drop = () if law is None else kind.motion_fields[1:] if law.segments else kind.motion_fields
+    out = {"kind": e.kind, **{f: _field(e.fields[f]) for f in kind.fields if f not in drop}}
+    if law is not None and law.segments:
+        out["segments"] = [{"shape": shape, "duration": duration, **({} if shape == "dwell" else {"rise": rise})}
+                           for shape, duration, rise in law.segments]
+    elif law is not None:
+        out["table"] = law.path
+    return out
+
+
 def generate(mech) -> str:
     """The mechanism's definition generated as TOML (:func:`analytic.format.writing.dumps`); parameters hold
     their current values (file units; angles in radians, or in degrees where the file wrote them so and the
@@ -138,8 +153,7 @@ def generate(mech) -> str:
     data["ground"] = {g: [x, y] for g, (x, y) in d.ground.items()}
     for section, elements in (("inputs", d.inputs), ("groups", d.groups)):
         if elements:
-            data[section] = [{"kind": e.kind, **{f: _field(e.fields[f]) for f in kinds.get(e.kind).fields}}
-                             for e in elements]
+            data[section] = [_element(e) for e in elements]
     if d.inertia:
         data["inertia"] = {link: {k: float(x) for k, x in entry.items()} for link, entry in d.inertia.items()}
     if d.mass:
