@@ -9,9 +9,9 @@ position and moment, and the joints with friction. Positions are SI (m), as the 
 and moments are in the file's ``force_units`` (moments in force unit x the file's length unit), as written.
 
 ``edit`` takes the file's text and one action (``add``, ``replace`` or ``remove``), and gives the new text:
-the file as it was with its ``[[loads]]`` tables written again at its end, checked by reading it back as
-``linkage check`` does (a load the solver would refuse is refused here, with the solver's one line, and
-nothing is written).
+the file edited in place by tomlkit (every comment and the layout kept; only the load added, replaced or
+removed changes), checked by reading it back as ``linkage check`` does (a load the solver would refuse is
+refused here, with the solver's one line, and nothing is written).
 """
 
 from __future__ import annotations
@@ -32,8 +32,6 @@ ACTIONS = ("add", "replace", "remove")
 MAX_DEPTH = 4
 """Nesting of a load's values: a spring's ``between`` is [[link, [u, v]], ...] (three levels)."""
 
-_HEADER = re.compile(r"^\s*\[\[?\s*[A-Za-z0-9_.\"' -]+\s*\]\]?\s*(#.*)?$")
-_LOADS_HEADER = re.compile(r"^\s*\[\[\s*loads\s*\]\]\s*(#.*)?$")
 
 
 class LoadsRequestError(ParameterError):
@@ -141,30 +139,6 @@ def _key(k, where: str) -> str:
     return k if re.fullmatch(r"[A-Za-z0-9_-]+", k) else json.dumps(k)
 
 
-def loads_text(loads: list) -> str:
-    """``[[loads]]`` tables for ``loads`` (dicts, in order)."""
-    blocks = []
-    for i, ld in enumerate(loads, 1):
-        lines = ["[[loads]]"] + [f"{_key(k, f'loads[{i}]')} = {toml_value(v, f'loads[{i}].{k}')}"
-                                  for k, v in ld.items()]
-        blocks.append("\n".join(lines) + "\n")
-    return "\n".join(blocks)
-
-
-def without_loads(text: str) -> str:
-    """The file's text with its ``[[loads]]`` tables (each up to the next table header) taken out."""
-    out, inside = [], False
-    for line in text.splitlines(keepends=True):
-        if _LOADS_HEADER.match(line):
-            inside = True
-            continue
-        if inside and _HEADER.match(line):
-            inside = False
-        if not inside:
-            out.append(line)
-    return "".join(out).rstrip() + "\n"
-
-
 def check_load(load, action: str) -> dict:
     if not isinstance(load, dict) or not load:
         raise LoadsRequestError(f"load must be an object such as {{\"name\": \"F1\", \"kind\": \"force\", \"link\": "
@@ -221,8 +195,46 @@ def edited(text: str, action: str, name, load) -> tuple[str, list]:
         else:
             data.pop("loads", None)
         return json.dumps(data, indent=2) + "\n", loads
-    body = without_loads(text)
-    return (body + ("\n" + loads_text(loads) if loads else "")), loads
+    return _edit_toml(text, action, names.index(name) if action != "add" else None, load), loads
+
+
+def _edit_toml(text: str, action: str, k: int | None, load: dict | None) -> str:
+    """The TOML ``text`` with its ``[[loads]]`` edited in place (tomlkit): the new table appended (add), the
+    k-th replaced (replace) or taken out (remove); every comment and line the action does not touch kept."""
+    import tomlkit
+    doc = tomlkit.parse(text)
+    if action == "add":
+        if "loads" not in doc:
+            doc.add(tomlkit.nl())
+            doc.append("loads", tomlkit.aot())
+        doc["loads"].append(_table(load))
+    elif action == "replace":
+        doc["loads"][k] = _table(load)
+    else:
+        del doc["loads"][k]
+        if len(doc["loads"]) == 0:
+            del doc["loads"]
+    return tomlkit.dumps(doc)
+
+
+def _table(load: dict):
+    import tomlkit
+    t = tomlkit.table()
+    for key, v in load.items():
+        t.add(key, _inline(v))
+    return t
+
+
+def _inline(v):
+    """A value as tomlkit writes it inline (a spring's ``between`` is a list of lists; a table inline)."""
+    import tomlkit
+    if isinstance(v, dict):
+        t = tomlkit.inline_table()
+        t.update({k: _inline(x) for k, x in v.items()})
+        return t
+    if isinstance(v, list):
+        return [_inline(x) for x in v]
+    return v
 
 
 def edit(body: dict) -> dict:
@@ -248,5 +260,5 @@ def edit(body: dict) -> dict:
     return {"mechanism": mech.name, "text": new, "loads": loads}
 
 
-__all__ = ["draw", "edit", "geometry", "form_html", "edited", "loads_text", "without_loads", "toml_value", "LoadsRequestError",
+__all__ = ["draw", "edit", "geometry", "form_html", "edited", "toml_value", "LoadsRequestError",
            "DRAW_FIELDS", "EDIT_FIELDS"]
