@@ -143,6 +143,7 @@ class CamFollower:
         if p.ndim != 2 or p.shape[1] != 2 or len(p) < 8 or not np.isfinite(p).all():
             raise ParameterError(f"profile: shape {p.shape} must be (n, 2) finite points [m], n >= 8")
         object.__setattr__(self, "profile", p)
+        check_star(p)
         if self.follower not in FOLLOWERS:
             raise ParameterError(f"follower={self.follower!r}: use one of {', '.join(FOLLOWERS)}")
         if self.contact not in CONTACTS:

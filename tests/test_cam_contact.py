@@ -1,0 +1,236 @@
+"""A cam and its follower in MuJoCo with real contact (sim/model/cam_contact.py) against closed forms written
+here: an eccentric disc cam (radius R, eccentricity e) lifts a flat-faced follower by s = e (1 - cos theta)
+and a roller's centre by s = y_c + sqrt((R + r)^2 - x_c^2); Newton's law on the follower gives the contact
+force along the guide, m s'' omega^2 + k (s - s_min) + F0, whose zero is where the follower leaves the cam.
+"""
+
+import math
+
+import numpy as np
+import pytest
+
+from analytic import ParameterError
+from analytic.laws import Profile, Segment
+from sim.model import cam_contact as cc
+
+R, E, RR, M, K, F0 = 0.03, 0.01, 0.01, 0.1, 1000.0, 10.0
+N_PTS = 720
+SAGITTA = (R + E) * (2 * math.pi / N_PTS) ** 2 / 8
+"""[m] The polyline's chord error against the circle it samples (rho dtheta^2 / 8)."""
+
+
+def disc(n=N_PTS):
+    th = np.linspace(0, 2 * math.pi, n, endpoint=False)
+    return np.c_[R * np.cos(th), -E + R * np.sin(th)]          # the disc's centre at (0, -e) in the cam's frame
+
+
+def centre(theta):
+    """The disc's centre in the world at cam angle theta (pivot at the origin)."""
+    return E * np.sin(theta), -E * np.cos(theta)
+
+
+def law(contact, theta):
+    """(s, ds/dtheta, d2s/dtheta2) of the follower on the guide x = 0 (direction +y), from the closed forms;
+    the roller's derivatives by central differences of its closed form (step 1e-4 rad: error ~1e-9 of s)."""
+    if contact == "flat":
+        return R - E * np.cos(theta), E * np.sin(theta), E * np.cos(theta)
+
+    def s(t):
+        cx, cy = centre(t)
+        return cy + np.sqrt((R + RR) ** 2 - cx ** 2)
+    d = 1e-4
+    return s(theta), (s(theta + d) - s(theta - d)) / (2 * d), (s(theta + d) - 2 * s(theta) + s(theta - d)) / d ** 2
+
+
+def axial_force(contact, theta, omega):
+    """The force the cam must press the follower with along the guide [N] (Newton: m a + spring + preload)."""
+    s, _, s2 = law(contact, theta)
+    s_min = law(contact, np.array([0.0]))[0][0]
+    return M * s2 * omega ** 2 + K * (s - s_min) + F0
+
+
+def jump_speed(contact):
+    """The cam speed [rad/s] at which the smallest axial force first reaches zero: min over theta where
+    s'' < 0 of sqrt((k (s - s_min) + F0) / (-m s''))."""
+    th = np.linspace(0, 2 * math.pi, 200001)
+    s, _, s2 = law(contact, th)
+    neg = s2 < 0
+    return float(np.min(np.sqrt((K * (s[neg] - s[0]) + F0) / (-M * s2[neg]))))
+
+
+def first_zero(contact, omega):
+    """The first cam angle where the axial force falls to zero at ``omega`` (bisection on a fine grid)."""
+    th = np.linspace(0, 2 * math.pi, 200001)
+    f = axial_force(contact, th, omega)
+    k = int(np.flatnonzero(f <= 0)[0])
+    lo, hi = th[k - 1], th[k]
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if axial_force(contact, np.array([mid]), omega)[0] > 0 else (lo, mid)
+    return 0.5 * (lo + hi)
+
+
+def cam(contact, omega, profile=None):
+    return cc.CamFollower(disc() if profile is None else profile, (0.0, 0.0), omega, contact=contact, roller=RR,
+                          face_width=0.06, mass=M, stiffness=K, preload=F0)
+
+
+# ---------------------------------------------------------------------------------------- geometry
+def test_flat_disc_jump_speed_by_hand():
+    # N(theta) = F0 + k e (1 - cos) + m e w^2 cos: smallest at theta = pi, zero at w^2 = (F0 + 2 k e) / (m e)
+    assert jump_speed("flat") == pytest.approx(math.sqrt((F0 + 2 * K * E) / (M * E)), rel=1e-6)  # grid of 2pi/2e5
+
+
+@pytest.mark.parametrize("contact", ["flat", "roller", "knife"])
+def test_follower_position_of_the_polyline_matches_the_closed_form(contact):
+    th = np.linspace(0, 2 * math.pi, 97)
+    got = cc.follower_position(cam(contact, 10.0), th)
+    if contact == "knife":
+        cx, cy = centre(th)
+        want = cy + np.sqrt(R ** 2 - cx ** 2)                          # the knife edge on the disc
+        tol = SAGITTA + cc.KNIFE_RADIUS * (R + E) * (1 / math.cos(math.asin(E / R)) - 1) + 1e-12
+        # the knife's sphere rests r_k (1/cos(pa) - 1) above the edge, pa <= asin(e / R) on this disc
+    else:
+        want = law(contact, th)[0]
+        tol = 1.01 * SAGITTA                                          # the polyline's chord error
+    assert np.max(np.abs(got - want)) <= tol
+
+
+def test_convex_pieces_are_convex_and_tile_the_plate():
+    prof = drdr_profile()
+    pieces = cc.convex_pieces(prof)
+    n = len(prof)
+    area = 0.0
+    for i, j in pieces:
+        poly = np.vstack([[0.0, 0.0]] + [prof[m % n] for m in range(i, j + 1)])
+        a, b = poly, np.roll(poly, -1, axis=0)
+        area += 0.5 * float(np.sum(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]))
+        e1 = np.roll(poly, -1, axis=0) - poly
+        e0 = np.roll(e1, 1, axis=0)
+        turn = e0[:, 0] * e1[:, 1] - e0[:, 1] * e1[:, 0]
+        assert np.all(turn >= -1e-12 * np.hypot(*e0.T) * np.hypot(*e1.T))   # rounding of collinear points
+    a, b = prof, np.roll(prof, -1, axis=0)
+    whole = 0.5 * float(np.sum(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]))
+    assert area == pytest.approx(whole, rel=1e-12)                   # rounding: the fans sum to the outline
+
+
+def test_outline_not_around_the_pivot_is_refused():
+    with pytest.raises(ParameterError, match="profile"):
+        cc.build(cc.CamFollower(disc() + [0.05, 0.0], (0.0, 0.0), 10.0, roller=RR, stiffness=K))
+
+
+def test_spring_missing_is_refused():
+    with pytest.raises(ParameterError, match="stiffness and preload"):
+        cc.CamFollower(disc(), (0.0, 0.0), 10.0, roller=RR)
+
+
+# ------------------------------------------------------------------------------------------ MuJoCo
+def tracking_tolerance(built, contact, omega):
+    """50 static penetrations under the largest force the law needs, plus the chord error: the facets' kinks
+    make the stiff contact chatter (its force up to ~5x the law's, measured) and ring about its static depth."""
+    th = np.linspace(0, 2 * math.pi, 3601)
+    n_max = float(np.max(axial_force(contact, th, omega)))
+    return 50 * float(cc.penetration(n_max, built.m_eff, built.timestep)) + SAGITTA
+
+
+@pytest.mark.parametrize("contact", ["flat", "roller"])
+def test_follower_tracks_the_law_at_half_the_jump_speed(contact):
+    w = 0.5 * jump_speed(contact)
+    built = cc.build(cam(contact, w))
+    run = cc.run(built, 1.0)
+    err = run.q - law(contact, run.theta)[0]
+    assert np.max(np.abs(err)) <= tracking_tolerance(built, contact, w)
+    assert not run.separated
+    assert run.speed_variation < 1e-5                                # the cam's armature: 1e-6 of the energy
+
+
+@pytest.mark.parametrize("contact", ["flat", "roller"])
+def test_no_separation_at_0_8_the_jump_speed(contact):
+    run = cc.run(cc.build(cam(contact, 0.8 * jump_speed(contact))), 1.0)
+    assert not run.separated
+    assert run.to_dict() == {"separated": False, "first_at": None}
+
+
+FIRST_TOL = 0.15
+"""[rad] Separation's first angle: near zero force the chattering contact lets micro-flights start early
+(measured 0.12 rad before the analytic zero on the flat face); the step is 0.003 rad."""
+
+
+@pytest.mark.parametrize("contact", ["flat", "roller"])
+def test_separation_at_1_3_the_jump_speed_where_the_force_vanishes(contact):
+    w = 1.3 * jump_speed(contact)
+    run = cc.run(cc.build(cam(contact, w)), 1.0)
+    assert run.separated
+    assert abs(run.first_at - first_zero(contact, w)) <= FIRST_TOL
+    assert run.to_dict()["separated"] is True
+    assert np.max(run.q - law(contact, run.theta)[0]) > 10 * run.gap_threshold   # a real flight, not a graze
+
+
+# ---------------------------------------------------------------- dwell-rise-dwell-return from laws.py
+H_RISE, BASE = 0.015, 0.03
+
+
+def drdr_law():
+    turn = 2 * math.pi
+    return Profile((Segment("dwell", turn / 4), Segment("cycloidal", turn / 3, H_RISE),
+                    Segment("dwell", turn / 12), Segment("poly345", turn / 3, -H_RISE)))
+
+
+def drdr_pitch(theta):
+    """The roller centre's lift s(phi) over the cam's own angle phi (the law with time read as angle), and
+    the pitch curve in the cam's frame: the follower on the +y axis, the cam turning counter-clockwise, so
+    the point under the follower at cam angle theta is at angle pi/2 - theta in the cam's frame."""
+    s, ds, dds, _ = drdr_law().at(theta)
+    rp = BASE + RR + s
+    a = math.pi / 2 - theta
+    return s, ds, dds, np.c_[rp * np.cos(a), rp * np.sin(a)]
+
+
+def drdr_profile(n=1440):
+    """The roller cam's outline: the inner envelope of the roller circles along the pitch curve, as the pitch
+    curve offset inward along its normal (exact where the pitch curve's radius exceeds the roller's)."""
+    th = np.linspace(0, 2 * math.pi, n, endpoint=False)
+    _, _, _, pitch = drdr_pitch(th)
+    d = np.gradient(pitch, axis=0)
+    d = np.roll(pitch, -1, axis=0) - np.roll(pitch, 1, axis=0)       # periodic central difference
+    t = d / np.hypot(*d.T)[:, None]
+    # the pitch curve runs clockwise in the cam's frame (a = pi/2 - theta decreases): its inward normal is (-t_y, t_x)... reversed
+    inward = np.c_[t[:, 1], -t[:, 0]]
+    inward *= np.sign(np.sum(inward * -pitch, axis=1))[:, None]
+    prof = pitch + RR * inward
+    return prof[::-1].copy()                                          # counter-clockwise
+
+
+def drdr_jump_speed():
+    th = np.linspace(0, 2 * math.pi, 200001)
+    s, _, s2, _ = drdr_pitch(th)
+    neg = s2 < -1e-12
+    return float(np.min(np.sqrt((K * s[neg] + F0) / (-M * s2[neg]))))
+
+
+def test_dwell_rise_dwell_return_roller_tracks_its_law():
+    w = 0.5 * drdr_jump_speed()
+    c = cc.CamFollower(drdr_profile(), (0.0, 0.0), w, contact="roller", roller=RR, mass=M, stiffness=K, preload=F0)
+    built = cc.build(c)
+    run = cc.run(built, 1.0)
+    s = drdr_pitch(run.theta)[0] + BASE + RR
+    th = np.linspace(0, 2 * math.pi, 3601)
+    s_, _, s2, _ = drdr_pitch(th)
+    n_max = float(np.max(M * s2 * w ** 2 + K * s_ + F0))
+    # 50 static penetrations (see tracking_tolerance) plus the envelope's chord error at 1440 points
+    tol = 50 * float(cc.penetration(n_max, built.m_eff, built.timestep)) + (BASE + RR + H_RISE) * (2 * math.pi / 1440) ** 2 / 8
+    assert np.max(np.abs(run.q - s)) <= tol
+    assert not run.separated
+
+
+@pytest.mark.slow
+def test_dwell_rise_dwell_return_separates_above_its_jump_speed():
+    w = 1.3 * drdr_jump_speed()
+    c = cc.CamFollower(drdr_profile(), (0.0, 0.0), w, contact="roller", roller=RR, mass=M, stiffness=K, preload=F0)
+    run = cc.run(cc.build(c), 1.0)
+    assert run.separated
+    th = np.linspace(0, 2 * math.pi, 200001)
+    s, _, s2, _ = drdr_pitch(th)
+    f = M * s2 * w ** 2 + K * s + F0
+    first = th[np.flatnonzero(f <= 0)[0]]
+    assert abs(run.first_at - first) <= FIRST_TOL
