@@ -17,10 +17,10 @@ R = 30 mm, e = 10 mm, roller r = 10 mm, the roller pressed 0.1 mm into the plate
 revolution at 0.5x the jump speed)::
 
     geometry                          surface error [m]   compile [s]   CPU per step [us]
-    convex pieces (this module)       3e-7 (the chord)    0.01          ~25
-    one mesh SDF, octree depth 5      9e-5                0.14          ~350
-    one mesh SDF, octree depth 7      7e-5                1.8           ~480
-    one mesh SDF, octree depth 9      7e-5                38            ~750
+    convex pieces (this module)       3e-7 at touch (the chord), 3.4e-6 pressed   0.09 (with the kinematics)   7
+    one mesh SDF, octree depth 5      9e-5                0.15          ~400
+    one mesh SDF, octree depth 7      7e-5                1.9           ~560
+    one mesh SDF, octree depth 9      7e-5                38            ~750 (a first trial)
 
 The plate is cut into **convex pieces** (:func:`convex_pieces`): each a fan from the pivot over a run of
 profile vertices that turn left, spanning less than 120 deg, extruded into a prism mesh (MuJoCo collides a
@@ -28,8 +28,8 @@ mesh by its convex hull, which here is the piece itself). A convex arc is one pi
 piece per polyline segment. The collision surface is then the polyline itself: its error against the smooth
 profile is the chord's sagitta (rho * dtheta^2 / 8, 3e-7 m above), and convex-convex collision (GJK/EPA) is
 MuJoCo's fastest general path. MuJoCo's SDF (a mesh with ``needsdf``: an octree distance field, collided by
-gradient descent) takes the whole non-convex plate as one geom but is 200x less accurate (the octree's
-interpolation near the surface; deeper octrees do not help: the descent's tolerance dominates) and 15-30x
+gradient descent) takes the whole non-convex plate as one geom but is 20-300x less accurate (the octree's
+interpolation near the surface; deeper octrees do not help: the descent's tolerance dominates) and 50-80x
 slower per step; MuJoCo's SDF plugins (``mujoco.sdf.*``: bolt, nut, gear, bowl, torus) are fixed shapes, and
 the ``sdflib`` mesh plugin is not in the wheel. A cam outline that is not star-shaped about its pivot (a ray
 from the pivot crossing it twice) is refused: every practical disc cam is.
@@ -41,17 +41,18 @@ a knife is a sphere of radius :data:`KNIFE_RADIUS` x the cam's size whose lowest
 30 deg); a flat face is a thin box whose face, through the trace point, is perpendicular to the guide.
 Contacts are frictionless (condim 1, the analytic law's assumption): the force is along the normal.
 
-Contact compliance: ``solref = (tau, 1)`` with tau = :data:`CONTACT_STEPS` time steps (MuJoCo's stiffest
-safe value, 2 h) and ``solimp = (0.99, 0.99, ...)`` (a constant impedance d). MuJoCo's soft contact then
+Contact compliance: ``solref = (tau, 1)`` with tau = :data:`CONTACT_STEPS` time steps (2 h is MuJoCo's
+stiffest safe value; at 2 and 4 steps the contact chatters hardest over the facets) and ``solimp = (0.99, 0.99, ...)`` (a constant impedance d). MuJoCo's soft contact then
 holds a static force N with a penetration (MuJoCo's constraint model: d k r = (1 - d) a0, k = 1 / (d tau)^2)
 
     delta = (1 - d) / d * (d tau)^2 * N / m_eff            (:func:`penetration`)
 
-with m_eff the follower's mass (or J / L^2 for an arm; the cam's inertia is made huge, see below). The time
-step is one :data:`STEPS_PER_TURN`-th of a cam revolution, so delta scales as (2 pi / 500)^2 N / (m omega^2):
-at half the jump speed of the tests' cams it is ~1e-7 of the stroke. The follower's error against the law
-is that penetration plus the chord's sagitta plus the integration error of the contact's fast mode
-(:func:`tracking_tolerance` states it).
+with m_eff the follower's mass (or J / L^2 for an arm; the cam's inertia is made huge, see below): an upper
+bound (measured at rest: a third of it). The time step is one :data:`STEPS_PER_TURN`-th of a cam revolution,
+so delta scales as (8 * 2 pi / 2000)^2 N / (m omega^2): ~2e-7 m at half the jump speed of the tests' cams
+(1e-5 of the stroke). Measured, the follower's error against the law is 5-25x that: the polyline's facets
+(and the kinks of a flat face's motion over them) make the stiff contact chatter (force noise up to ~5x the
+law's force, rms ~half of it) and ring; the tests allow 50 static penetrations plus the chord's sagitta.
 
 The cam turns at constant speed: its hinge has an armature :data:`CAM_INERTIA_RATIO` times the follower's
 largest energy over omega^2, so the energy the follower exchanges with it changes its speed by < 1e-6
@@ -61,9 +62,10 @@ pieces); the gap from the contact distance of the roller (or face) inflated by a
 ``gap`` (MuJoCo's inactive contacts: reported, not acting; active only at distance < 0).
 
 Separation: the follower has left the cam where the gap exceeds :data:`SEPARATION_GAP` x the cam's size
-(1e-4: 100x the penetration and sagitta above, far below anything visible); its first angle
-(:attr:`CamRun.first_at`) is the cam's angle where the contact force last fell to zero before that gap was
-first reached: where the separation starts.
+(1e-3: 40 um on a 40 mm cam, 10x the chatter's largest gap measured below the jump speed); its first angle
+(:attr:`CamRun.first_at`) is the cam's angle just after the last step still touching (gap <= 0) before that
+gap was first reached: where the flight starts. Near zero force the chattering contact starts micro-flights
+early: measured 0.12 rad before the analytic angle on a flat face, 0.05 with a roller.
 """
 
 from __future__ import annotations
@@ -77,10 +79,11 @@ import numpy as np
 from analytic import ParameterError
 
 STEPS_PER_TURN = 2000
-"""Time steps per cam revolution: h = 2 pi / (omega * STEPS_PER_TURN)."""
+"""Time steps per cam revolution: h = 2 pi / (omega * STEPS_PER_TURN) (1000 doubled the tracking error)."""
 
 CONTACT_STEPS = 8.0
-"""The contact's time constant tau in time steps: MuJoCo clamps solref's tau below 2 h (refsafe)."""
+"""The contact's time constant tau in time steps (MuJoCo clamps it at 2 h): 2 and 4 chattered more, 16 and
+32 tracked 4-25x worse (eccentric disc sweeps, 1000-4000 steps a turn)."""
 
 IMPEDANCE = 0.99
 """solimp's d (dmin = dmax): the share of the contact's reference acceleration the solver enforces."""
@@ -635,3 +638,25 @@ def separation(theta, force, gap, threshold) -> tuple[bool, float | None]:
     touching = np.flatnonzero(gap[:k] <= 0)
     start = int(touching[-1]) + 1 if len(touching) else 0
     return True, float(theta[start])
+
+
+# ----------------------------------------------------------------------------------------- render
+def render_frame(built: Built, run: CamRun, k: int, size: tuple[int, int] = (640, 480)) -> np.ndarray:
+    """MuJoCo's offscreen picture (RGB, shape (height, width, 3)) of step ``k`` of ``run``, seen from above
+    the cam's plane, framing the cam and the follower (MUJOCO_GL chosen by sim.output.gl)."""
+    from sim.output.gl import ensure_gl_backend
+    ensure_gl_backend()
+    m = built.model
+    d = mujoco.MjData(m)
+    d.qpos[:] = [run.theta[k], run.q[k] - built.psi_ref]
+    mujoco.mj_forward(m, d)
+    cam = mujoco.MjvCamera()
+    cam.type = mujoco.mjtCamera.mjCAMERA_FREE
+    size_ = built.cam.size
+    cam.lookat[:] = [built.cam.pivot[0], built.cam.pivot[1] + 0.5 * size_, 0]
+    cam.distance = 6.0 * size_
+    cam.azimuth, cam.elevation = 90.0, -90.0
+    m.vis.global_.offwidth, m.vis.global_.offheight = max(size[0], 640), max(size[1], 480)
+    with mujoco.Renderer(m, height=size[1], width=size[0]) as r:
+        r.update_scene(d, camera=cam)
+        return r.render().copy()
