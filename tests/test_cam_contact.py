@@ -234,3 +234,79 @@ def test_dwell_rise_dwell_return_separates_above_its_jump_speed():
     f = M * s2 * w ** 2 + K * s + F0
     first = th[np.flatnonzero(f <= 0)[0]]
     assert abs(run.first_at - first) <= FIRST_TOL
+
+
+# ------------------------------------------------------------------------------ oscillating follower
+ARM_PIVOT, ARM = (0.06, 0.04), 0.06
+J_ARM, K_ARM, T0_ARM = M * ARM ** 2, K * ARM ** 2, F0 * ARM      # the translating case's figures at the roller
+
+
+def arm_angle(theta):
+    """The arm's angle with the roller on the disc: the roller's centre where the arm's circle about the pivot
+    meets the circle of radius R + r about the disc's centre (two-circle intersection, the upper point)."""
+    cx, cy = centre(theta)
+    ox, oy = ARM_PIVOT
+    dx, dy = cx - ox, cy - oy
+    d = np.hypot(dx, dy)
+    a = (ARM ** 2 - (R + RR) ** 2 + d ** 2) / (2 * d)
+    h = np.sqrt(ARM ** 2 - a ** 2)
+    px, py = ox + a * dx / d, oy + a * dy / d
+    c1 = (px - h * dy / d, py + h * dx / d)
+    c2 = (px + h * dy / d, py - h * dx / d)
+    up = c1[1] > c2[1]
+    x, y = np.where(up, c1[0], c2[0]), np.where(up, c1[1], c2[1])
+    return np.mod(np.arctan2(y - oy, x - ox), 2 * math.pi)           # in [0, 2 pi): this arm stays near pi
+
+
+def arm_lift(theta):
+    """The lift beta = psi_low - psi (the cam turns this arm clockwise) and its derivatives over theta
+    (central differences of the closed form, step 1e-4 rad)."""
+    low = np.max(arm_angle(np.linspace(0, 2 * math.pi, 20001)))
+    d = 1e-4
+    b = low - arm_angle(theta)
+    bp, bm = low - arm_angle(theta + d), low - arm_angle(theta - d)
+    return b, (bp - bm) / (2 * d), (bp - 2 * b + bm) / d ** 2
+
+
+def wrapped(a):
+    """An angle difference in (-pi, pi]."""
+    return np.angle(np.exp(1j * np.asarray(a)))
+
+
+def arm_jump_speed():
+    th = np.linspace(0, 2 * math.pi, 20001)
+    b, _, b2 = arm_lift(th)
+    neg = b2 < 0
+    return float(np.min(np.sqrt((K_ARM * b[neg] + T0_ARM) / (-J_ARM * b2[neg]))))
+
+
+def arm_cam(omega):
+    return cc.CamFollower(disc(), (0.0, 0.0), omega, follower="oscillating", contact="roller", roller=RR,
+                          arm_pivot=ARM_PIVOT, arm=ARM, inertia=J_ARM, stiffness=K_ARM, preload=T0_ARM)
+
+
+def test_arm_position_of_the_polyline_matches_the_closed_form():
+    th = np.linspace(0, 2 * math.pi, 61)
+    c = arm_cam(10.0)
+    assert c.sign == -1.0                                             # lifted clockwise: the roller is left of the pivot
+    got = cc.follower_position(c, th)
+    assert np.max(np.abs(wrapped(got - arm_angle(th)))) * ARM <= 1.01 * SAGITTA + 1e-12   # the chord error, at the roller
+
+
+def test_arm_tracks_the_law_at_half_its_jump_speed_and_leaves_at_1_3():
+    w = 0.5 * arm_jump_speed()
+    built = cc.build(arm_cam(w))
+    run = cc.run(built, 1.0)
+    th = np.linspace(0, 2 * math.pi, 3601)
+    b, _, b2 = arm_lift(th)
+    n_max = float(np.max((J_ARM * b2 * w ** 2 + K_ARM * b + T0_ARM) / ARM))   # the force at the roller [N]
+    tol = (50 * float(cc.penetration(n_max, built.m_eff, built.timestep)) + SAGITTA) / ARM   # see tracking_tolerance
+    assert np.max(np.abs(wrapped(run.q - arm_angle(run.theta)))) <= tol
+    assert not run.separated
+    w = 1.3 * arm_jump_speed()
+    run = cc.run(cc.build(arm_cam(w)), 1.0)
+    assert run.separated
+    th = np.linspace(0, 2 * math.pi, 200001)
+    b, _, b2 = arm_lift(th)
+    first = th[np.flatnonzero(J_ARM * b2 * w ** 2 + K_ARM * b + T0_ARM <= 0)[0]]
+    assert abs(run.first_at - first) <= FIRST_TOL
