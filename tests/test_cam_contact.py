@@ -96,8 +96,16 @@ def test_follower_position_of_the_polyline_matches_the_closed_form(contact):
     assert np.max(np.abs(got - want)) <= tol
 
 
-def test_convex_pieces_are_convex_and_tile_the_plate():
-    prof = drdr_profile()
+def lobed(n=720):
+    """A three-lobed plate r = R (1 + 0.2 cos 3 phi): star-shaped about the pivot, concave between the lobes."""
+    phi = np.linspace(0, 2 * math.pi, n, endpoint=False)
+    r = R * (1 + 0.2 * np.cos(3 * phi))
+    return np.c_[r * np.cos(phi), r * np.sin(phi)]
+
+
+@pytest.mark.parametrize("make", [lobed, disc])
+def test_convex_pieces_are_convex_and_tile_the_plate(make):
+    prof = make()
     pieces = cc.convex_pieces(prof)
     n = len(prof)
     area = 0.0
@@ -112,6 +120,7 @@ def test_convex_pieces_are_convex_and_tile_the_plate():
     a, b = prof, np.roll(prof, -1, axis=0)
     whole = 0.5 * float(np.sum(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]))
     assert area == pytest.approx(whole, rel=1e-12)                   # rounding: the fans sum to the outline
+    assert pieces[-1][1] - pieces[0][0] == n                          # once round, no vertex twice
 
 
 def test_outline_not_around_the_pivot_is_refused():
