@@ -319,3 +319,50 @@ def test_arm_tracks_the_law_at_half_its_jump_speed_and_leaves_at_1_3():
     b, _, b2 = arm_lift(th)
     first = th[np.flatnonzero(J_ARM * b2 * w ** 2 + K_ARM * b + T0_ARM <= 0)[0]]
     assert abs(run.first_at - first) <= FIRST_TOL
+
+
+# ------------------------------------------------------------------- the kind's hook: add to a model
+def test_add_places_the_plate_and_roller_in_a_mechanisms_bodies():
+    """A mechanism's model as sim/model/build.py makes it (bodies at their assembled pose, every geom
+    contype 0, contact disabled): the cam link's body with its origin off the pivot and turned by the cam's
+    angle, the follower block on a slide. After :func:`add` the roller rests on the plate where the closed
+    form puts it, raised by 0.1 mm the gap reads 0.1 mm, and only the plate and roller can touch."""
+    import types
+
+    import mujoco
+    A, phi, O = (0.01, 0.02), 0.3, (0.03, -0.01)                    # pivot, cam angle, cam body's origin
+    dcx, dcy = A[0] + E * math.sin(phi), A[1] - E * math.cos(phi)   # the disc's centre, R(phi) (0, -e) + A
+    fy = dcy + math.sqrt((R + RR) ** 2 - (A[0] - dcx) ** 2)         # the roller on the vertical through A
+    spec = mujoco.MjSpec()
+    spec.option.disableflags |= int(mujoco.mjtDisableBit.mjDSBL_CONTACT)
+    spec.worldbody.add_geom(name="paper", type=mujoco.mjtGeom.mjGEOM_PLANE, size=[1, 1, 0.01], contype=0,
+                            conaffinity=0)
+    cam_b = spec.worldbody.add_body(name="1", pos=[O[0], O[1], 0], quat=[math.cos(phi / 2), 0, 0, math.sin(phi / 2)])
+    cam_b.add_joint(name="A", type=mujoco.mjtJoint.mjJNT_HINGE, axis=[0, 0, 1],
+                    pos=[(A[0] - O[0]) * math.cos(phi) + (A[1] - O[1]) * math.sin(phi),
+                         -(A[0] - O[0]) * math.sin(phi) + (A[1] - O[1]) * math.cos(phi), 0])
+    cam_b.add_geom(name="bar", type=mujoco.mjtGeom.mjGEOM_SPHERE, size=[0.005, 0, 0], contype=0, conaffinity=0, mass=1)
+    fol = spec.worldbody.add_body(name="follower", pos=[A[0], 0.0, 0])
+    fol.add_joint(name="follower", type=mujoco.mjtJoint.mjJNT_SLIDE, axis=[0, 1, 0])
+    fol.add_geom(name="block", type=mujoco.mjtGeom.mjGEOM_BOX, size=[0.005] * 3, contype=0, conaffinity=0, mass=0.1)
+    ctx = types.SimpleNamespace(spec=spec, timestep=1e-4, frames={"1": (O[0], O[1], phi), "follower": (A[0], 0.0, 0.0)},
+                                points={"F": (A[0], fy)})
+    setup = types.SimpleNamespace(pivot=A, u=(0.0, 1.0), motion="translating")
+    geo = types.SimpleNamespace(profile=disc(), setup=setup)
+    e = {"name": "c1", "cam": "1", "links": ["follower"], "point": "F", "contact": "roller", "roller": RR}
+    cc.add(e, ctx, geo)
+    m = spec.compile()
+    d = mujoco.MjData(m)
+    mujoco.mj_forward(m, d)
+    dists = [d.contact[j].dist for j in range(d.ncon)]
+    assert dists and abs(min(dists)) <= 2 * SAGITTA                  # resting: the polyline's chord error
+    d.qpos[1] = 1e-4
+    mujoco.mj_forward(m, d)
+    force, gap = cc.readings(m, d.sensordata[None], "c1", 1.0)
+    assert gap[0] == pytest.approx(1e-4, abs=2 * SAGITTA)            # the chord error again
+    assert force[0] == 0.0                                           # exact: no contact force across a gap
+    pairs = {(m.geom(int(d.contact[j].geom[0])).name, m.geom(int(d.contact[j].geom[1])).name) for j in range(d.ncon)}
+    assert pairs and all(a.startswith("cam0_piece") or a == "c1_contact" for p in pairs for a in p)
+    can = [(i, j) for i in range(m.ngeom) for j in range(i + 1, m.ngeom)
+           if (m.geom_contype[i] & m.geom_conaffinity[j]) or (m.geom_contype[j] & m.geom_conaffinity[i])]
+    assert can and all({m.geom(i).name, m.geom(j).name} & {"c1_contact"} for i, j in can)   # only with the roller

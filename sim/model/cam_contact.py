@@ -10,7 +10,9 @@ cam's angle), a ``follower`` body on a slide (its position: the trace point's co
 a hinge (its position plus :attr:`Built.psi_ref`: the arm's angle), the contact geometry, contacts on
 between cam and follower only. :func:`run` steps it (``mujoco.rollout``, sensors only) and returns
 :class:`CamRun`: the cam's angle, the follower's position, the contact force along the normal, the gap, and
-the separation: where the follower first leaves the cam.
+the separation: where the follower first leaves the cam. Inside a mechanism's model (the cam kind's
+``mjcf`` hook), :func:`add` puts the same plate and contact on the cam link's and follower link's bodies
+and :func:`readings` and :func:`separation` read the run.
 
 The cam's collision geometry, measured (``python benchmarks/cam_contact.py``: a 720-point eccentric disc,
 R = 30 mm, e = 10 mm, roller r = 10 mm, the roller pressed 0.1 mm into the plate at 73 cam angles; one
