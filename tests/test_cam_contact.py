@@ -232,7 +232,6 @@ def test_dwell_rise_dwell_return_roller_tracks_its_law():
     assert not run.separated
 
 
-@pytest.mark.slow
 def test_dwell_rise_dwell_return_separates_above_its_jump_speed():
     w = 1.3 * drdr_jump_speed()
     c = cc.CamFollower(drdr_profile(), (0.0, 0.0), w, contact="roller", roller=RR, mass=M, stiffness=K, preload=F0)

@@ -662,3 +662,99 @@ def render_frame(built: Built, run: CamRun, k: int, size: tuple[int, int] = (640
     with mujoco.Renderer(m, height=size[1], width=size[0]) as r:
         r.update_scene(d, camera=cam)
         return r.render().copy()
+
+
+# ------------------------------------------------------------------- inside a mechanism's model
+def add(e: dict, ctx, geo) -> None:
+    """The cam kind's ``mjcf`` hook (:class:`sim.model.build.Context` ``ctx``): the cam plate's convex
+    pieces on the cam link's body and the follower's roller, knife or face on the follower link's body, at
+    their assembled pose, contacts on between them only (a contype/conaffinity bit of their own: every other
+    geom of the model has both 0), with this module's solref/solimp at the model's time step; and two
+    sensors, ``<name>_contact_force`` (found, net force) and ``<name>_contact_dist`` (found, smallest
+    distance, within the contact geom's ``gap``), read by :func:`readings` after a run.
+
+    ``e``: the cam element (``name``, ``cam``, ``links`` [follower link first], ``point``, ``contact``,
+    ``roller``, ``face_width``); ``geo``: its :class:`analytic.cams.CamGeometry` (``profile``: the outline
+    in the cam's frame, origin at the pivot, x along the cam link's angle; ``setup``: pivot, u, motion).
+    The return spring and preload are the file's loads, the cam's speed its drive."""
+    G = mujoco.mjtGeom
+    spec = ctx.spec
+    name = e["name"]
+    prof = np.asarray(geo.profile, dtype=float)
+    check_star(prof)
+    size = float(np.max(np.hypot(prof[:, 0], prof[:, 1])))
+    h = ctx.timestep
+    solref = [CONTACT_STEPS * h, 1.0]
+    solimp = [IMPEDANCE, IMPEDANCE, 1e-3 * size, 0.5, 2.0]
+    cutoff = 4 * SEPARATION_GAP * size
+    taken = {g.name for g in spec.geoms}
+    k = 0
+    while f"cam{k}_piece0" in taken:                                   # one bit per cam of the model
+        k += 1
+    bit = 1 << (1 + k % 30)
+    # the plate in the cam link's body frame: p + R(-phi)(A - O), phi the body's angle (= the cam's theta)
+    ox, oy, phi = ctx.frames[e["cam"]]
+    ax, ay = geo.setup.pivot
+    c, s = math.cos(phi), math.sin(phi)
+    shift = np.array([(ax - ox) * c + (ay - oy) * s, -(ax - ox) * s + (ay - oy) * c])
+    body = spec.body(e["cam"])
+    t = 0.5 * THICKNESS * size
+    n = len(prof)
+    for j, (i0, i1) in enumerate(convex_pieces(prof)):
+        ring = [prof[m % n] + shift for m in range(i0, i1 + 1)]
+        vert = []
+        for z in (-t, t):
+            vert += [float(shift[0]), float(shift[1]), z]
+            for x, y in ring:
+                vert += [float(x), float(y), z]
+        spec.add_mesh(name=f"cam{k}_piece{j}", uservert=vert)
+        body.add_geom(name=f"cam{k}_piece{j}", type=G.mjGEOM_MESH, meshname=f"cam{k}_piece{j}", contype=0,
+                      conaffinity=bit, condim=1, solref=solref, solimp=solimp, density=0,
+                      rgba=[0.85, 0.55, 0.2, 1])
+    # the follower's contact at the trace point, in the follower link's frame
+    link = e["links"][0]
+    fx, fy, fphi = ctx.frames[link]
+    px, py = ctx.points[e["point"]]
+    cf, sf = math.cos(fphi), math.sin(fphi)
+
+    def loc(x, y):
+        return [(x - fx) * cf + (y - fy) * sf, -(x - fx) * sf + (y - fy) * cf, 0.0]
+    fb = spec.body(link)
+    common = dict(contype=bit, conaffinity=0, condim=1, solref=solref, solimp=solimp, gap=cutoff, density=0,
+                  rgba=[0.3, 0.45, 0.8, 1])
+    if e["contact"] == "flat":
+        ux, uy = geo.setup.u
+        ht = 0.02 * size
+        width = e.get("face_width") or 2 * size
+        fb.add_geom(name=f"{name}_contact", type=G.mjGEOM_BOX, size=[0.5 * width, ht, 1.5 * t],
+                    pos=loc(px + ht * ux, py + ht * uy), quat=_quat(math.atan2(uy, ux) - math.pi / 2 - fphi),
+                    **common)
+    else:
+        r = e["roller"] if e["contact"] == "roller" else KNIFE_RADIUS * size
+        if e["contact"] == "knife":                                    # the sphere's lowest point on F
+            ux, uy = geo.setup.u if geo.setup.motion == "translating" else _arm_out(geo.setup, px, py)
+            px, py = px + r * ux, py + r * uy
+        fb.add_geom(name=f"{name}_contact", type=G.mjGEOM_SPHERE, size=[r, 0, 0], pos=loc(px, py), **common)
+    spec.option.disableflags &= ~int(mujoco.mjtDisableBit.mjDSBL_CONTACT)
+    B = mujoco.mjtObj.mjOBJ_BODY
+    spec.add_sensor(name=f"{name}_contact_force", type=mujoco.mjtSensor.mjSENS_CONTACT, objtype=B,
+                    objname=e["cam"], reftype=B, refname=link, intprm=[1 | 2, 3, 1])
+    spec.add_sensor(name=f"{name}_contact_dist", type=mujoco.mjtSensor.mjSENS_CONTACT, objtype=B,
+                    objname=e["cam"], reftype=B, refname=link, intprm=[1 | 8, 1, 1])
+
+
+def _arm_out(setup, px, py):
+    """An arm's knife: the unit direction from the cam's pivot to the trace point (away from the cam)."""
+    dx, dy = px - setup.pivot[0], py - setup.pivot[1]
+    d = math.hypot(dx, dy)
+    return dx / d, dy / d
+
+
+def readings(model, sensordata: np.ndarray, name: str, gap_cutoff: float) -> tuple[np.ndarray, np.ndarray]:
+    """The contact force [N] and gap [m] of cam ``name`` from recorded sensor rows (steps, nsensordata) of a
+    model built with :func:`add`: force 0 and gap ``gap_cutoff`` where no contact was found."""
+    fa = int(model.sensor_adr[model.sensor(f"{name}_contact_force").id])
+    da = int(model.sensor_adr[model.sensor(f"{name}_contact_dist").id])
+    force = np.where(sensordata[:, fa] > 0, np.linalg.norm(sensordata[:, fa + 1:fa + 4], axis=1), 0.0)
+    gap = np.where(sensordata[:, da] > 0, sensordata[:, da + 1], gap_cutoff)
+    return force, gap
