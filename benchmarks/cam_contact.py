@@ -1,7 +1,10 @@
 """CPU time of a cam's MuJoCo contact run (sim/model/cam_contact.py) against the four-bar's ``compare``, and
 the cam plate's collision geometry options (convex pieces vs one mesh SDF): surface error and step cost.
 
-    PYTHONPATH=. MUJOCO_GL=egl python benchmarks/cam_contact.py [--sdf]
+    PYTHONPATH=. MUJOCO_GL=egl python benchmarks/cam_contact.py [--sdf] [--render renders/cam_contact_jump.png]
+
+``--render PATH``: the same cam at 1.3x the roller's jump speed, drawn at the step where the roller is
+furthest off the cam (MuJoCo's offscreen renderer, from above).
 
 The cam: an eccentric disc (R = 30 mm, e = 10 mm, 720 points), a roller follower (r = 10 mm, 0.1 kg,
 1000 N/m, 10 N preload) at half its jump speed; one revolution.
@@ -121,6 +124,22 @@ def pieces_error():
     return float(np.max(np.abs(errs))), len(b.pieces)
 
 
+def render(path):
+    import imageio.v3 as iio
+
+    from sim.model import cam_contact as cc
+    wj = 154.92                                          # the roller's jump speed [rad/s] (tests/test_cam_contact.py)
+    cam = cc.CamFollower(disc(), (0.0, 0.0), 1.3 * wj, contact="roller", roller=RR, mass=M, stiffness=K, preload=F0)
+    built = cc.build(cam)
+    run = cc.run(built, 1.0)
+    cx, cy = E * np.sin(run.theta), -E * np.cos(run.theta)
+    off = run.q - (cy + np.sqrt((R + RR) ** 2 - cx ** 2))
+    k = int(np.argmax(off))
+    iio.imwrite(path, cc.render_frame(built, run, k))
+    print(f"{path}: cam angle {run.theta[k]:.3f} rad, the roller {off[k] * 1e3:.1f} mm off the cam; separation "
+          f"from {run.first_at:.3f} rad")
+
+
 def main():
     t_build, t_run, built = cam_times()
     steps = built.steps_per_turn
@@ -132,6 +151,8 @@ def main():
           f"four-bar compare = {(t_build + t_run) / t_fb:.2f}")
     err, npieces = pieces_error()
     print(f"convex pieces: surface error {err:.1e} m ({npieces} pieces)")
+    if "--render" in sys.argv:
+        render(sys.argv[sys.argv.index("--render") + 1])
     if "--sdf" in sys.argv:
         for depth in (5, 7):
             e, tc, ts = sdf_option(depth)
