@@ -255,7 +255,7 @@ def test_the_json_contract(tmp_path):
     assert set(d["shaking"]) == {"Fx", "Fy", "M"}
     by_name = {ld["name"]: ld for ld in d["loads"]}                     # SPEC "Loads": a list, each named
     assert by_name["gravity"]["g"] == [0.0, -9.81]
-    assert by_name["force"]["point"] == "C" and by_name["force"]["link"] == m.topology.carriers["C"]
+    assert by_name["force"]["point"] == "C" and by_name["force"]["link"] == "ram"   # C is the ram block's pin (issue 41)
     assert d["units"]["force"] == "N" and d["units"]["length"] == "m" and d["units"]["drives"]["phi1"] == "N m"
     # the numbers are the analytic ones (SI)
     t = np.array(d["t"])
@@ -279,6 +279,23 @@ def test_csv_with_its_units_and_the_file_unit(tmp_path):
     assert not units["si"]
     rows = np.array([[float(x) for x in line.split(",")] for line in head[1:]])
     assert math.isclose(rows[-1, cols.index("phiOA")], 360.0, rel_tol=1e-12)
+
+
+def test_a_plain_force_at_a_blocks_pin_acts_on_the_block(tmp_path):
+    # issue 41: the slider-crank's output C is shared by the rod 2 and the piston; a press force there acts on
+    # the piston, so the wrist pin carries it. By hand (no gravity, a frictionless horizontal guide: its force
+    # is vertical): the piston's x equation F_x(2 on piston) - 500 = m_piston a_x, a_x by finite differences
+    r = run(tmp_path, "forces", "slider_crank", "--force", "-500,0", "--json", "--samples", "361")
+    assert r.returncode == 0, r.stderr
+    d = json.loads(r.stdout)
+    assert [ld["link"] for ld in d["loads"] if ld["name"] == "force"] == ["piston"]
+    pin = next(j for j in d["joints"] if j["point"] == "C" and j["links"] == ["2", "piston"])
+    t, x = np.asarray(d["t"]), np.asarray(d["links"]["piston"]["xG"])
+    h = t[1] - t[0]
+    ax = (x[2:] - 2 * x[1:-1] + x[:-2]) / h ** 2          # central differences at the inner samples
+    want = d["links"]["piston"]["m"] * ax + 500.0
+    # 1e-3 of the 500 N force: the finite differences' O(h^2) error on a_x (h = 1 deg of crank turn)
+    np.testing.assert_allclose(np.asarray(pin["Fx"])[1:-1], want, atol=0.5)
 
 
 def test_balance_on_forces_and_export(tmp_path):

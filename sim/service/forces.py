@@ -130,7 +130,7 @@ def forces_run(mech: Mechanism, samples: int = 361, revolutions: float = 1.0, in
         raise ParameterError(_singular_text(mech, float(q[k, 0]), "a group"))
     point = mech.output_point
     loads = {"gravity": list(gravity) if gravity is not None else None,
-             "force": ({"Fx": fx, "Fy": fy, "point": point, "link": mech.topology.carriers[point],
+             "force": ({"Fx": fx, "Fy": fy, "point": point, "link": mech.topology.loaded_link(point),
                         "cutting": bool(slow_stroke_only),
                         **({"window": list(window)} if window is not None else {})} if (fx or fy) else None)}
     cols = {}

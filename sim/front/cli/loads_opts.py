@@ -44,7 +44,7 @@ def command_loads(args, mech) -> tuple[str | None, tuple]:
         topo = mech.topology
         if point not in topo.points:
             raise ParameterError(f"--force ...@{point}: no point named {point!r}; points: {', '.join(topo.points)}")
-        link = link or topo.carriers[point]
+        link = link or topo.loaded_link(point)
         if link == GROUND or link not in topo.links:
             raise ParameterError(f"--force ...@{point}:{link}: no moving link named {link!r}; links: "
                                  f"{', '.join(topo.links)}")
