@@ -270,6 +270,40 @@ def test_at_one_pose_equals_the_runs_sample(tmp_path):
     assert r.returncode == 2 and "--at" in r.stderr
 
 
+def test_at_under_an_acceleration_by_the_quadratic():
+    # issue 41: phi1 = w t + a t^2 / 2 (w = 2 pi, a = 3 rad/s^2) passes 200deg at the quadratic's positive root;
+    # its speed there is w + a t (by hand, not by the code's motion law)
+    w, a, phi = 2 * math.pi, 3.0, math.radians(200)
+    r = linkage("analyze", "fourbar", "--set", "alpha1=3", "--at", "200deg", "--json")
+    assert r.returncode == 0, r.stderr
+    d = json.loads(r.stdout)
+    t = (-w + math.sqrt(w * w + 2 * a * phi)) / a
+    assert d["t"] == pytest.approx(t, rel=1e-12)                     # bisection to the last bits of t
+    assert d["outputs"]["phi1"] == pytest.approx(phi, rel=1e-12)
+    assert d["outputs"]["omega1"] == pytest.approx(w + a * t, rel=1e-12)
+    # a second turn's value: the first pass of 200deg + k 360deg within the cycle (here k = 0) is the same pose
+    assert json.loads(linkage("analyze", "fourbar", "--set", "alpha1=3", "--at", "-160deg", "--json").stdout)["t"] \
+        == pytest.approx(t, rel=1e-12)
+
+
+def test_at_on_a_rocking_crank_by_the_cosine_law():
+    # issue 41: a crank that cannot turn fully (l1 = 0.4: non-Grashof) rocks over --input-range -90:90deg as
+    # q = -amp cos(w t) (amp = 90deg, w = 2 pi); --at 10deg is where it first passes 10deg, on its way up
+    amp, w, phi = math.pi / 2, 2 * math.pi, math.radians(10)
+    t = math.acos(-phi / amp) / w
+    r = linkage("analyze", "fourbar", "--set", "l1=0.4", "--input-range=-90deg:90deg", "--at", "10deg", "--json")
+    assert r.returncode == 0, r.stderr
+    d = json.loads(r.stdout)
+    assert d["t"] == pytest.approx(t, rel=1e-12)                     # acos: a few ulps
+    assert d["outputs"]["omega1"] == pytest.approx(amp * w * math.sin(w * t), rel=1e-12)
+    f = json.loads(linkage("forces", "fourbar", "--set", "l1=0.4", "--input-range=-90deg:90deg", "--at", "10deg",
+                           "--json").stdout)
+    assert f["t"][0] == pytest.approx(t, rel=1e-12) and f["inputs"]["phi1"][0] == pytest.approx(phi, rel=1e-12)
+    # a value the rocking crank never reaches: one line naming the range
+    r = linkage("forces", "fourbar", "--set", "l1=0.4", "--input-range=-90deg:90deg", "--at", "100deg")
+    assert r.returncode == 2 and "-90..90 deg" in r.stderr and len(r.stderr.strip().splitlines()) == 1
+
+
 def test_analyze_at_one_angle_by_the_four_bar_geometry():
     # SPEC four-bar defaults: l1 0.10, l2 0.30, l3 0.25, l4 0.30; C is where the circles about B (l2) and D (l3)
     # meet, left of B -> D (branch +1): the triangle B-C-D by the law of cosines

@@ -109,7 +109,7 @@ def forces_run(mech: Mechanism, samples: int = 361, revolutions: float = 1.0, in
     if input_range is not None:
         lo, hi = check_range(mech, *input_range)
         mech = mech.rocking(lo, hi)
-    else:
+    elif at is None:                               # one pose needs only to assemble (check_assembles)
         check_turns_fully(mech)
     from sim.service import loads as L
     t, cycles = L.run_times(mech, samples, revolutions, at)

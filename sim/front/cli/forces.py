@@ -47,9 +47,8 @@ def cmd_forces(args) -> int:
     from sim.front.cli.loads_opts import at_value
     loads = loads_from(args, mech)
     at = at_value(args, mech)
-    if at is not None and (args.simulate or args.balance is not None or args.input_range):
-        raise ParameterError("--at evaluates one pose: it does not combine with --simulate, --balance or "
-                             "--input-range")
+    if at is not None and (args.simulate or args.balance is not None):
+        raise ParameterError("--at evaluates one pose: it does not combine with --simulate or --balance")
     run = service.forces_run(mech, args.samples, args.revolutions, parse_range(mech, args.input_range),
                              loads.gravity, loads.force, loads.slow_stroke_only, loads.inertias,
                              balance_links(args.balance), loads.extra, at)
