@@ -29,6 +29,9 @@ def run(args) -> int:
     check_outputs(args, {"csv": (".csv",)})
     if getattr(args, "at", None) is not None:                  # one pose (SPEC "Loads": --at)
         from sim.front.cli.loads_opts import analyze_at
+        if args.input_range:                   # a rocking drive: the pose where it first passes --at
+            from sim.service.analysis import check_range
+            mech = mech.rocking(*check_range(mech, *parse_range(mech, args.input_range)))
         return analyze_at(args, mech)
     a = service.analyze(mech, args.samples, args.revolutions, parse_range(mech, args.input_range))
     from sim.output.units import machine_units, shown_units

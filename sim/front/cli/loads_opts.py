@@ -94,10 +94,6 @@ def analyze_at(args, mech) -> int:
     from sim.output.units import column_unit, convert_columns, machine_units, shown_units
     if args.csv:
         raise ParameterError("--at evaluates one pose: it does not combine with --csv")
-    if args.input_range:                           # a rocking drive: the pose where it first passes --at
-        from sim.front.cli.options import parse_range
-        from sim.service.forces import check_range
-        mech = mech.rocking(*check_range(mech, *parse_range(mech, args.input_range)))
     at = at_value(args, mech)
     t = np.array([L.at_time(mech, at)])
     q, qd, qdd = mech.drive(t)
