@@ -60,6 +60,12 @@ def write(tmp_path, text, name="m.toml"):
     return p
 
 
+def _cli(*args):
+    """The command in this process (tests/cli_runner.py): what a test of the numbers needs, without 2 s of start."""
+    import cli_runner
+    return cli_runner.run(*args)
+
+
 def linkage(*args):
     return subprocess.run([sys.executable, "-m", "sim", *map(str, args)], capture_output=True, text=True, timeout=300)
 
@@ -274,7 +280,7 @@ def test_at_under_an_acceleration_by_the_quadratic():
     # issue 41: phi1 = w t + a t^2 / 2 (w = 2 pi, a = 3 rad/s^2) passes 200deg at the quadratic's positive root;
     # its speed there is w + a t (by hand, not by the code's motion law)
     w, a, phi = 2 * math.pi, 3.0, math.radians(200)
-    r = linkage("analyze", "fourbar", "--set", "alpha1=3", "--at", "200deg", "--json")
+    r = _cli("analyze", "fourbar", "--set", "alpha1=3", "--at", "200deg", "--json")
     assert r.returncode == 0, r.stderr
     d = json.loads(r.stdout)
     t = (-w + math.sqrt(w * w + 2 * a * phi)) / a
@@ -282,7 +288,7 @@ def test_at_under_an_acceleration_by_the_quadratic():
     assert d["outputs"]["phi1"] == pytest.approx(phi, rel=1e-12)
     assert d["outputs"]["omega1"] == pytest.approx(w + a * t, rel=1e-12)
     # a second turn's value: the first pass of 200deg + k 360deg within the cycle (here k = 0) is the same pose
-    assert json.loads(linkage("analyze", "fourbar", "--set", "alpha1=3", "--at", "-160deg", "--json").stdout)["t"] \
+    assert json.loads(_cli("analyze", "fourbar", "--set", "alpha1=3", "--at", "-160deg", "--json").stdout)["t"] \
         == pytest.approx(t, rel=1e-12)
 
 
@@ -291,16 +297,16 @@ def test_at_on_a_rocking_crank_by_the_cosine_law():
     # q = -amp cos(w t) (amp = 90deg, w = 2 pi); --at 10deg is where it first passes 10deg, on its way up
     amp, w, phi = math.pi / 2, 2 * math.pi, math.radians(10)
     t = math.acos(-phi / amp) / w
-    r = linkage("analyze", "fourbar", "--set", "l1=0.4", "--input-range=-90deg:90deg", "--at", "10deg", "--json")
+    r = _cli("analyze", "fourbar", "--set", "l1=0.4", "--input-range=-90deg:90deg", "--at", "10deg", "--json")
     assert r.returncode == 0, r.stderr
     d = json.loads(r.stdout)
     assert d["t"] == pytest.approx(t, rel=1e-12)                     # acos: a few ulps
     assert d["outputs"]["omega1"] == pytest.approx(amp * w * math.sin(w * t), rel=1e-12)
-    f = json.loads(linkage("forces", "fourbar", "--set", "l1=0.4", "--input-range=-90deg:90deg", "--at", "10deg",
+    f = json.loads(_cli("forces", "fourbar", "--set", "l1=0.4", "--input-range=-90deg:90deg", "--at", "10deg",
                            "--json").stdout)
     assert f["t"][0] == pytest.approx(t, rel=1e-12) and f["inputs"]["phi1"][0] == pytest.approx(phi, rel=1e-12)
     # a value the rocking crank never reaches: one line naming the range
-    r = linkage("forces", "fourbar", "--set", "l1=0.4", "--input-range=-90deg:90deg", "--at", "100deg")
+    r = _cli("forces", "fourbar", "--set", "l1=0.4", "--input-range=-90deg:90deg", "--at", "100deg")
     assert r.returncode == 2 and "-90..90 deg" in r.stderr and len(r.stderr.strip().splitlines()) == 1
 
 
@@ -392,3 +398,59 @@ def test_the_loads_table_has_specs_fields_for_every_kind(tmp_path):
         kinds.add(e["kind"])
     assert kinds == {"gravity", "force", "spring", "damper", "torsion_spring", "torque"}
     assert d["friction"]["dissipated_per_cycle"] > 0
+
+
+FRICTION_FOURBAR = """format = "linkage/1"
+name = "rubbing"
+output = "C"
+[ground]
+A = [0, 0]
+D = [0.3, 0]
+[[inputs]]
+kind = "crank"
+pivot = "A"
+point = "B"
+length = 0.1
+link = "1"
+omega = "360deg"
+[[groups]]
+kind = "RRR"
+point = "C"
+from = ["B", "D"]
+lengths = [0.3, 0.25]
+links = ["2", "3"]
+branch = 1
+[friction]
+mu = 0.3
+pin_radius = 0.02
+"""
+
+
+@pytest.mark.parametrize("model", ["linear", "circle"])
+def test_pin_friction_by_the_friction_circle(tmp_path, model):
+    # issue 41: a journal of radius r whose resultant F leans at the friction angle atan(mu) from the line of
+    # centres has the friction moment |Mf| = r sin(atan mu) |F| (Khurmi, Theory of Machines, ch. 10; Beer &
+    # Johnston, Statics, sec. 8.7; Hibbeler, Statics, sec. 8.7): 0.0057470 N m per N at mu 0.3, r 0.02 m;
+    # the default (linear) model takes sin(atan mu) as mu: 0.006 N m per N
+    text = FRICTION_FOURBAR + ("" if model == "linear" else 'model = "circle"\n')
+    path = write(tmp_path, text)
+    r = _cli("forces", path, "--samples", 73, "--gravity", "0,-9.81", "--json")
+    assert r.returncode == 0, r.stderr
+    d = json.loads(r.stdout)
+    lever = 0.02 * (math.sin(math.atan(0.3)) if model == "circle" else 0.3)
+    for j in d["joints"]:
+        F = np.hypot(j["Fx"], j["Fy"])
+        Mf = np.abs(j["Mf"])
+        turning = Mf > 0                                       # a joint at a reversal carries none
+        assert turning.sum() > 60, j["point"]
+        # 1e-9: the fixed point stops when no joint force changes by more than 1e-12 of the peak; |Mf| is
+        # the lever arm times the last iterate's |F|
+        np.testing.assert_allclose(Mf[turning], lever * F[turning], rtol=1e-9, atol=1e-9 * F.max())
+    assert d["friction"]["model"] == model
+
+
+def test_an_unknown_friction_model_is_one_line(tmp_path):
+    path = write(tmp_path, FRICTION_FOURBAR + 'model = "viscous"\n')
+    r = _cli("forces", path)
+    assert r.returncode == 2 and "friction.model" in r.stderr and '"circle"' in r.stderr
+    assert len(r.stderr.strip().splitlines()) == 1
