@@ -275,3 +275,15 @@ def test_a_json_file_keeps_its_format(server):
 def test_bad_draw_requests_are_one_line(server, body, needle):
     status, data = post(server, "/api/loads/draw", body)
     assert status == 400 and needle in data["error"] and "\n" not in data["error"], data
+
+
+def test_a_moment_is_drawn_in_force_units_times_the_files_length_unit():
+    # issue 41: a -2 kN mm torque was drawn as "-2e-6 kN mm" (N m -> kN mm multiplied by the metre per mm
+    # instead of divided); written -2 kN mm, drawn -2 kN mm
+    from sim.front import loads_panel
+    text = (HERE / "loads" / "spring__mm_kn.toml").read_text() + (
+        "\n[[loads]]\nname = \"brake\"\nkind = \"torque\"\nlink = \"3\"\nmagnitude = -2\n")
+    d = loads_panel.draw({"text": text, "samples": 5})
+    b = next(ld for ld in d["loads"] if ld["name"] == "brake")
+    assert b["shape"] == "moment" and b["unit"] == "kN mm"
+    assert np.allclose(b["value"], -2.0, rtol=1e-12)                 # as written (rounding of the unit factors)
