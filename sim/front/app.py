@@ -330,7 +330,8 @@ def synthesize(body: dict, server: "AppServer") -> dict:
     (:func:`sim.service.design.synthesize_path`, in metres), run as a job the page can cancel
     (:class:`sim.front.synth_job.Job`: its own process group, killed at the budget plus 1 s); each distinct
     candidate with its error [m^2, m], its least transmission angle, its checks, its ``linkage/1`` text and its
-    coupler curve [m] to draw; ``seconds``: the wall time from the request to the answer."""
+    coupler curve [m] to draw; ``seconds``: the wall time of the search (what the budget bounds, from its
+    start to the answer); ``startup``: the job's process start before it, not counted in the budget."""
     from sim.front import synth_job
     check_fields(body, "synthesize")
     pts = body.get("targets")
@@ -356,7 +357,7 @@ def synthesize(body: dict, server: "AppServer") -> dict:
         raise RequestError(409, f"synthesis cancelled after {out['seconds']:.1f} s")
     if out["state"] != "done":
         raise RequestError(400, out["error"] or "the synthesis failed")
-    return {**out["answer"], "seconds": out["seconds"], "budget": budget}
+    return {**out["answer"], "seconds": out["seconds"], "startup": out["startup"], "budget": budget}
 
 
 def synthesis_status(server: "AppServer") -> dict:

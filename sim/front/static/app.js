@@ -1317,7 +1317,9 @@
     const what = s.stage === "search" ? `${STAGES.search}: restart ${s.done} of ${s.total}`
       : s.stage === "polish" ? STAGES.polish
       : s.stage === "check" ? `${STAGES.check}: ${s.done} of ${s.total}` : "starting the search";
-    $("#synth-status").textContent = `${what} · ${s.elapsed.toFixed(1)} s of the ${fmt(s.budget, 3)} s budget`;
+    $("#synth-status").textContent = s.stage === "starting"
+      ? `starting the search (${(s.startup || 0).toFixed(1)} s; the budget of ${fmt(s.budget, 3)} s starts with the search)`
+      : `${what} · ${s.elapsed.toFixed(1)} s of the ${fmt(s.budget, 3)} s budget`;
   }
 
   async function synthesize() {
@@ -1357,8 +1359,8 @@
       drawFrame();
       const n = data.designs.length;
       const dropped = (data.asked || n) - n;
-      st.textContent = `${n} distinct candidate${n === 1 ? "" : "s"} in ${fmt(data.seconds, 3)} s `
-        + `(budget ${fmt(data.budget, 3)} s)` + (dropped ? `; ${dropped} repeat${dropped > 1 ? "s" : ""} of a better one dropped` : "");
+      st.textContent = `${n} distinct candidate${n === 1 ? "" : "s"} in ${fmt(data.seconds, 3)} s of the `
+        + `${fmt(data.budget, 3)} s budget (and ${fmt(data.startup || 0, 2)} s to start)` + (dropped ? `; ${dropped} repeat${dropped > 1 ? "s" : ""} of a better one dropped` : "");
       bar.value = 1;
     } catch (err) {
       st.textContent = err.message || String(err);
