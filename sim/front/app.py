@@ -443,10 +443,8 @@ def shown_forces(out: dict, mech: Mechanism) -> dict:
     as ``linkage forces`` prints them): forces in the file's ``force_units``, moments in that unit x the file's
     length unit (N m for a file in N), a drive in its input's (torque or force); the inputs stay SI (the page
     shows them as its curves do). ``units`` says which: ``force``, ``moment`` and ``drives``."""
-    from analytic import quantities as Q
-    from sim.output.units import force_units
-    display = Q.Display(mech.units, "rad", "", force_units(mech))
-    kF, kM = display.convert(Q.FORCE, 1.0), display.convert(Q.TORQUE, 1.0)
+    from sim.service.forces import force_factors
+    kF, kM, force, moment = force_factors(mech)
     drive_k = {inp.q: kM if inp.angular else kF for inp in mech.inputs}
 
     def times(v, k):
@@ -488,7 +486,6 @@ def shown_forces(out: dict, mech: Mechanism) -> dict:
                 a["shaking"][key] = times(a["shaking"][key], k)
         if "peak" in a:
             a["peak"] = times(a["peak"], kF)
-    force, moment = display.unit(Q.FORCE), display.unit(Q.TORQUE)
     out["units"] = {**out["units"], "force": force, "torque": moment, "moment": moment,
                     "drives": {inp.q: moment if inp.angular else force for inp in mech.inputs}}
     return out

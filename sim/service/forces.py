@@ -171,6 +171,17 @@ def force_peaks(run: ForceRun, forces=None) -> dict:
     return out
 
 
+def force_factors(mech: Mechanism) -> tuple[float, float, str, str]:
+    """What people read forces in (SPEC "Units of results", as ``linkage forces`` prints them): the factors from
+    N and N m to the file's ``force_units`` and to that unit x the file's length unit (N m for a file in N),
+    and the two units' names."""
+    from analytic import quantities as Q
+    from sim.output.units import force_units
+    display = Q.Display(mech.units, "rad", "", force_units(mech))
+    return (display.convert(Q.FORCE, 1.0), display.convert(Q.TORQUE, 1.0), display.unit(Q.FORCE),
+            display.unit(Q.TORQUE))
+
+
 def forces_record(run: ForceRun, display=None) -> dict:
     """The JSON of ``linkage forces --json`` (SPEC "Forces"): SI, world frame, arrays over the samples,
     unless ``display`` converts lengths and angles (forces stay N, torques N m)."""
