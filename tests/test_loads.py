@@ -454,3 +454,21 @@ def test_an_unknown_friction_model_is_one_line(tmp_path):
     r = _cli("forces", path)
     assert r.returncode == 2 and "friction.model" in r.stderr and '"circle"' in r.stderr
     assert len(r.stderr.strip().splitlines()) == 1
+
+
+def test_at_along_a_motion_law_by_its_segments(tmp_path):
+    # issue 41: --at along a law (SPEC "Motion laws"): a dwell of 0.2 s, then 180deg at constant speed in 0.5 s,
+    # then 180deg in 0.3 s; q0 + 90deg is passed at 0.2 + 0.25 s, q0 + 270deg at 0.7 + 0.15 s (by hand)
+    import re
+    library = Path(analytic.__file__).parent / "library" / "servo_press.toml"
+    text = re.sub(r"segments = \[.*?\n\]\n", 'segments = [\n  { shape = "dwell", duration = 0.2 },\n'
+                  '  { shape = "constant", duration = 0.5, rise = "180deg" },\n'
+                  '  { shape = "constant", duration = 0.3, rise = "180deg" },\n]\n', library.read_text(), flags=re.S)
+    path = write(tmp_path, text)
+    q0 = analytic.load(str(path)).inputs[0].motion.q0             # the file's start angle
+    for extra, t in ((90, 0.45), (270, 0.85)):
+        at = f"{math.degrees(q0) + extra!r}deg"
+        r = _cli("analyze", path, "--at", at, "--json")
+        assert r.returncode == 0, r.stderr
+        # 1e-12 s: bisection to adjacent floats of t; the value's degrees read back within an ulp or two
+        assert json.loads(r.stdout)["t"] == pytest.approx(t, abs=1e-12), (extra, r.stdout[:200])
