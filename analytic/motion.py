@@ -62,6 +62,61 @@ class Motion:
             return -amp * w ** 3 * np.sin(w * t)
         return np.zeros_like(t)
 
+    def time_at(self, value: float, turn: float, until: float) -> float | None:
+        """The first time t in [0, ``until``] at which q(t) passes ``value`` (or ``value`` + k ``turn`` for a
+        crank, ``turn`` = 2 pi; 0 for a slide); None when it does not. Exact for a constant speed and for a
+        rocking drive (q = mid - amp cos(w t), on its way up from ``lo``, within a part in 1e12 of its ends);
+        else the first crossing on 4096 steps of the cycle, bisected to the last bit."""
+        targets = [value]
+        if self.rock is not None:
+            lo, hi = self.rock
+            w, amp, mid = abs(self.rate), 0.5 * (hi - lo), 0.5 * (lo + hi)
+            if turn:
+                targets = [value + k * turn for k in range(math.floor((lo - value) / turn) - 1,
+                                                            math.ceil((hi - value) / turn) + 2)]
+            slack = 1e-12 * max(abs(lo), abs(hi), amp)
+            inside = [v for v in targets if lo - slack <= v <= hi + slack]
+            if not inside or w == 0.0:
+                return None
+            t = min(math.acos(min(1.0, max(-1.0, (mid - v) / amp))) / w for v in inside)
+            return t if t <= until else None
+        if self.constant and self.rate != 0.0 and not turn:
+            t = (value - self.q0) / self.rate
+            return t if 0.0 <= t <= until else None
+        grid = np.linspace(0.0, until, 4097)
+        q = self.at(grid)[0]
+        if turn:
+            targets = [value + k * turn for k in range(math.floor((float(q.min()) - value) / turn),
+                                                        math.ceil((float(q.max()) - value) / turn) + 1)]
+        best = None
+        for v in targets:
+            d = q - v
+            hit = np.flatnonzero((d[:-1] == 0.0) | (np.sign(d[:-1]) * np.sign(d[1:]) < 0) | (d[1:] == 0.0))
+            if not len(hit):
+                continue
+            i = int(hit[0])
+            if d[i] == 0.0:
+                t = float(grid[i])
+            elif d[i + 1] == 0.0:
+                t = float(grid[i + 1])
+            else:
+                a, b, da = float(grid[i]), float(grid[i + 1]), float(d[i])
+                for _ in range(200):                     # bisection down to adjacent floats
+                    mid_t = 0.5 * (a + b)
+                    if mid_t in (a, b):
+                        break
+                    dm = float(self.at(mid_t)[0]) - v
+                    if dm == 0.0:
+                        a = b = mid_t
+                        break
+                    if (dm < 0) == (da < 0):
+                        a, da = mid_t, dm
+                    else:
+                        b = mid_t
+                t = a if abs(float(self.at(a)[0]) - v) <= abs(float(self.at(b)[0]) - v) else b
+            best = t if best is None else min(best, t)
+        return best
+
     def duration(self, cycles: float, turn: float) -> float:
         """Time [s] for ``cycles`` turns of size ``turn`` (2 pi for a crank): the smallest t > 0 with
         |q(t) - q0| = cycles * turn; for a rocking drive, ``cycles`` periods 2 pi / |rate|; for a law,

@@ -128,6 +128,13 @@ class Topology:
             return GROUND
         return next((ln for ln, link in self.links.items() if p in link.points and q in link.points), None)
 
+    def loaded_link(self, point: str) -> str:
+        """The link a force given at ``point`` acts on (``--force``, plain or ``@POINT``): a block pinned there
+        where one is (a slider-crank's piston, a shaper's ram: the part a press or a cutting force pushes,
+        issue 41), else the point's carrier."""
+        block = next((ln for ln, link in self.links.items() if link.block and point in link.points), None)
+        return block if block is not None else self.carriers[point]
+
     @property
     def origins(self) -> dict[str, str]:
         return {ln: link.origin for ln, link in self.links.items()}

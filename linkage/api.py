@@ -190,8 +190,8 @@ def forces(mech, /, *, samples: int = 361, revolutions: float = 1.0, input_range
     from sim.service.forces import forces_run, simulated_forces_run
     mech = _mechanism(mech)
     at = _at(mech, at)
-    if at is not None and (simulate or balance is not None or input_range is not None):
-        raise ParameterError("at= evaluates one pose: it does not combine with simulate=, balance= or input_range=")
+    if at is not None and (simulate or balance is not None):
+        raise ParameterError("at= evaluates one pose: it does not combine with simulate= or balance=")
     links = None if balance is None or balance is False else () if balance is True else tuple(balance)
     loads = _loads(mech, gravity, force, cutting_force, torque, inertia)
     run = forces_run(mech, samples, revolutions, input_range_of(mech, input_range), loads.gravity, loads.force,

@@ -100,7 +100,7 @@ def solve(mech, sol, inertias, gravity=(0.0, 0.0), force=(0.0, 0.0), force_on=1.
         b[:, r + 1] = m * aG[ln][1] - m * g[1]
         b[:, r + 2] = I * sol["alpha" + ln]
     out_p = mech.output_point
-    host = topo.carriers[out_p]
+    host = topo.loaded_link(out_p)                # the block where the point is its pin (SPEC: --force, issue 41)
     if host != GROUND:
         r = row_of[host]
         gx, gy = G[host]

@@ -275,3 +275,33 @@ def test_a_json_file_keeps_its_format(server):
 def test_bad_draw_requests_are_one_line(server, body, needle):
     status, data = post(server, "/api/loads/draw", body)
     assert status == 400 and needle in data["error"] and "\n" not in data["error"], data
+
+
+def test_a_moment_is_drawn_in_force_units_times_the_files_length_unit():
+    # issue 41: a -2 kN mm torque was drawn as "-2e-6 kN mm" (N m -> kN mm multiplied by the metre per mm
+    # instead of divided); written -2 kN mm, drawn -2 kN mm
+    from sim.front import loads_panel
+    text = (HERE / "loads" / "spring__mm_kn.toml").read_text() + (
+        "\n[[loads]]\nname = \"brake\"\nkind = \"torque\"\nlink = \"3\"\nmagnitude = -2\n")
+    d = loads_panel.draw({"text": text, "samples": 5})
+    b = next(ld for ld in d["loads"] if ld["name"] == "brake")
+    assert b["shape"] == "moment" and b["unit"] == "kN mm"
+    assert np.allclose(b["value"], -2.0, rtol=1e-12)                 # as written (rounding of the unit factors)
+
+
+def test_the_forces_tab_reads_in_the_files_force_units():
+    # issue 41: the Forces tab showed N and N m for a kN file; now kN and kN mm, as `linkage forces` prints.
+    # By hand from the SI answer: 1 kN = 1000 N; 1 kN mm = 1000 N x 0.001 m = 1 N m
+    from sim import service
+    from sim.front import app
+    path = HERE / "loads" / "spring__mm_kn.toml"
+    out = app.forces({"text": path.read_text(), "samples": 13})
+    assert out["units"]["force"] == "kN" and out["units"]["moment"] == "kN mm"
+    assert out["units"]["drives"] == {"phi1": "kN mm"}
+    rec = service.forces_record(service.forces_run(service.load(str(path), {}), 13))      # SI
+    for j, si in zip(out["joints"], rec["joints"]):
+        assert np.allclose(j["F"], np.hypot(si["Fx"], si["Fy"]) / 1000.0, rtol=1e-12, atol=0)   # rounding
+    assert np.allclose(out["drives"]["phi1"], rec["drives"]["phi1"], rtol=1e-12, atol=0)
+    assert np.allclose(out["shaking"]["M"], rec["shaking"]["M"], rtol=1e-12, atol=1e-15)
+    peak = max(float(np.max(np.hypot(si["Fx"], si["Fy"]))) for si in rec["joints"])
+    assert max(e["F"] for e in out["peaks"]["joints"].values()) == pytest.approx(peak / 1000.0, rel=1e-12)

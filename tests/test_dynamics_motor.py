@@ -250,3 +250,22 @@ def test_two_input_energy_conserved_coasting():
     # 1e-9: the issue's bound for the conservative system (DOP853 at rtol 1e-11)
     assert np.max(np.abs(E / E[0] - 1)) < 1e-9
     assert np.ptp(r.omega[:, 1]) > 1.0      # the inputs exchange energy: not a trivial constant motion
+
+
+def test_flywheel_sizing_starts_from_the_start_speed():
+    # issue 41: a 0.5 N m motor cannot turn the spring four-bar over from rest (the spring needs 1.56 N m) but
+    # runs it from --start-speed 15 rad/s; the sizing's steady cycles started from rest, so it refused.
+    # MuJoCo (a second integrator, the sized flywheel on the model) checks the Cs it reaches.
+    import json
+    from pathlib import Path
+    import cli_runner
+    path = Path(__file__).parent / "loads" / "spring.toml"
+    common = ("dynamics", path, "--motor", "0.5,20", "--target-fluctuation", "0.05", "--revolutions", "5", "--json")
+    r = cli_runner.run(*common, "--start-speed", "15")
+    assert r.returncode == 0, r.stderr
+    d = json.loads(r.stdout)
+    assert d["flywheel"] > 0 and d["sizing"]["passed"]
+    # 2e-2: the sizing's own tolerance (SIZING_TOL); MuJoCo's Cs with the sized flywheel is measured against it
+    assert d["simulated"]["fluctuation"] == pytest.approx(0.05, rel=2e-2)
+    r = cli_runner.run(*common)                                        # from rest it still stalls: one line
+    assert r.returncode == 2 and "stalls" in r.stderr and len(r.stderr.strip().splitlines()) == 1

@@ -257,7 +257,7 @@ def test_the_json_contract(tmp_path):
     assert set(d["shaking"]) == {"Fx", "Fy", "M"}
     by_name = {ld["name"]: ld for ld in d["loads"]}                     # SPEC "Loads": a list, each named
     assert by_name["gravity"]["g"] == [0.0, -9.81]
-    assert by_name["force"]["point"] == "C" and by_name["force"]["link"] == m.topology.carriers["C"]
+    assert by_name["force"]["point"] == "C" and by_name["force"]["link"] == "ram"   # C is the ram block's pin (issue 41)
     assert d["units"]["force"] == "N" and d["units"]["length"] == "m" and d["units"]["drives"]["phi1"] == "N m"
     # the numbers are the analytic ones (SI)
     t = np.array(d["t"])
@@ -283,6 +283,23 @@ def test_csv_with_its_units_and_the_file_unit(tmp_path):
     assert math.isclose(rows[-1, cols.index("phiOA")], 360.0, rel_tol=1e-12)
 
 
+def test_a_plain_force_at_a_blocks_pin_acts_on_the_block(tmp_path):
+    # issue 41: the slider-crank's output C is shared by the rod 2 and the piston; a press force there acts on
+    # the piston, so the wrist pin carries it. By hand (no gravity, a frictionless horizontal guide: its force
+    # is vertical): the piston's x equation F_x(2 on piston) - 500 = m_piston a_x, a_x by finite differences
+    r = run(tmp_path, "forces", "slider_crank", "--force", "-500,0", "--json", "--samples", "361")
+    assert r.returncode == 0, r.stderr
+    d = json.loads(r.stdout)
+    assert [ld["link"] for ld in d["loads"] if ld["name"] == "force"] == ["piston"]
+    pin = next(j for j in d["joints"] if j["point"] == "C" and j["links"] == ["2", "piston"])
+    t, x = np.asarray(d["t"]), np.asarray(d["links"]["piston"]["xG"])
+    h = t[1] - t[0]
+    ax = (x[2:] - 2 * x[1:-1] + x[:-2]) / h ** 2          # central differences at the inner samples
+    want = d["links"]["piston"]["m"] * ax + 500.0
+    # 1e-3 of the 500 N force: the finite differences' O(h^2) error on a_x (h = 1 deg of crank turn)
+    np.testing.assert_allclose(np.asarray(pin["Fx"])[1:-1], want, atol=0.5)
+
+
 def test_balance_on_forces_and_export(tmp_path):
     r = run(tmp_path, "forces", "fourbar", "--balance", "--json", "--samples", "91")
     assert r.returncode == 0, r.stderr
@@ -296,6 +313,92 @@ def test_balance_on_forces_and_export(tmp_path):
     d = json.loads(r.stdout)
     peak = max(np.max(np.hypot(j["Fx"], j["Fy"])) for j in d["joints"])
     assert np.max(np.hypot(d["shaking"]["Fx"], d["shaking"]["Fy"])) <= 1e-12 * peak
+
+
+_COMMENTED = """# my crank-rocker, with a spring
+format = "linkage/1"
+name = "cw"
+units = "mm"
+output = "E"
+
+[parameters]
+l1 = 100.0   # crank
+l2 = 300.0
+l3 = 250.0
+l4 = 300.0
+
+[ground]
+A = [0, 0]
+D = ["l4", 0]
+
+[[inputs]]
+kind = "crank"
+pivot = "A"
+point = "B"
+length = "l1"
+link = "1"
+phi0 = 0
+omega = "360deg"
+
+[[groups]]
+kind = "RRR"   # the coupler and rocker
+point = "C"
+from = ["B", "D"]
+lengths = ["l2", "l3"]
+links = ["2", "3"]
+branch = 1
+
+[[groups]]
+kind = "point"
+point = "E"
+on = ["B", "C"]
+at = [150, 100]
+
+[mass]   # the bars as drawn
+width = 12.0
+density = 2700.0
+thickness = 5.0
+
+# a return spring on the rocker
+[[loads]]
+name = "ret"
+kind = "spring"
+between = [["ground", [0, 200]], ["3", [100, 0]]]
+stiffness = 0.5
+free_length = 200.0
+"""
+
+
+def test_export_balance_toml_keeps_the_users_text(tmp_path):
+    # issue 41 item 6: --balance --toml regenerated the file, dropping every comment (and once the loads);
+    # now it is the user's text, --set values written in, with only the counterweights added
+    (tmp_path / "cw.toml").write_text(_COMMENTED)
+    r = run(tmp_path, "export", "cw.toml", "--set", "l1=90", "--balance", "--toml", "out.toml")
+    assert r.returncode == 0, r.stderr
+    out = (tmp_path / "out.toml").read_text()
+    # the file as written, byte for byte but the value --set changed, then the new table
+    assert out.startswith(_COMMENTED.replace("l1 = 100.0   # crank", "l1 = 90.0   # crank")), out
+    assert "\n[mass.counterweights]\n" in out[len(_COMMENTED) - 1:], out
+    back = analytic.load(str(tmp_path / "out.toml"))
+    assert [ld["name"] for ld in back.definition.loads] == ["ret"] and back.definition.mass["width"] == 12.0
+    # the counterweights are the balance's: the same as forces --balance reports for the same design
+    r = run(tmp_path, "forces", "cw.toml", "--set", "l1=90", "--balance", "--json", "--samples", "91")
+    assert r.returncode == 0, r.stderr
+    want = {w["link"]: w for w in json.loads(r.stdout)["balance"]["counterweights"]}
+    got = back.definition.mass["counterweights"]
+    assert set(got) == set(want)
+    for link, w in want.items():
+        # the file holds the fitted value (repr, exact); 1e-9: the JSON's SI metres back to the file's mm
+        assert math.isclose(got[link]["m"], w["m"], rel_tol=1e-9), (link, got[link], w)
+    # a file with its own counterweights (one too light, with a comment): the table is edited in place
+    (tmp_path / "cw2.toml").write_text(_COMMENTED + '\n[mass.counterweights]\n# the crank weight, too light\n'
+                                       '"1" = { m = 0.01, at = [-90.0, 8.0] }\n')
+    r = run(tmp_path, "export", "cw2.toml", "--balance", "1", "--toml", "out2.toml")
+    assert r.returncode == 0, r.stderr
+    out = (tmp_path / "out2.toml").read_text()
+    assert out.startswith(_COMMENTED) and "# the crank weight, too light" in out, out
+    both = analytic.load(str(tmp_path / "out2.toml")).definition.mass["counterweights"]["1"]
+    assert len(both) == 2 and math.isclose(both[0]["m"], 0.01, rel_tol=1e-15), both   # 1e-15: read back as written
 
 
 def test_the_table_names_every_joint_its_peak_and_angle(tmp_path):

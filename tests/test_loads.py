@@ -60,6 +60,12 @@ def write(tmp_path, text, name="m.toml"):
     return p
 
 
+def _cli(*args):
+    """The command in this process (tests/cli_runner.py): what a test of the numbers needs, without 2 s of start."""
+    import cli_runner
+    return cli_runner.run(*args)
+
+
 def linkage(*args):
     return subprocess.run([sys.executable, "-m", "sim", *map(str, args)], capture_output=True, text=True, timeout=300)
 
@@ -270,6 +276,40 @@ def test_at_one_pose_equals_the_runs_sample(tmp_path):
     assert r.returncode == 2 and "--at" in r.stderr
 
 
+def test_at_under_an_acceleration_by_the_quadratic():
+    # issue 41: phi1 = w t + a t^2 / 2 (w = 2 pi, a = 3 rad/s^2) passes 200deg at the quadratic's positive root;
+    # its speed there is w + a t (by hand, not by the code's motion law)
+    w, a, phi = 2 * math.pi, 3.0, math.radians(200)
+    r = _cli("analyze", "fourbar", "--set", "alpha1=3", "--at", "200deg", "--json")
+    assert r.returncode == 0, r.stderr
+    d = json.loads(r.stdout)
+    t = (-w + math.sqrt(w * w + 2 * a * phi)) / a
+    assert d["t"] == pytest.approx(t, rel=1e-12)                     # bisection to the last bits of t
+    assert d["outputs"]["phi1"] == pytest.approx(phi, rel=1e-12)
+    assert d["outputs"]["omega1"] == pytest.approx(w + a * t, rel=1e-12)
+    # a second turn's value: the first pass of 200deg + k 360deg within the cycle (here k = 0) is the same pose
+    assert json.loads(_cli("analyze", "fourbar", "--set", "alpha1=3", "--at", "-160deg", "--json").stdout)["t"] \
+        == pytest.approx(t, rel=1e-12)
+
+
+def test_at_on_a_rocking_crank_by_the_cosine_law():
+    # issue 41: a crank that cannot turn fully (l1 = 0.4: non-Grashof) rocks over --input-range -90:90deg as
+    # q = -amp cos(w t) (amp = 90deg, w = 2 pi); --at 10deg is where it first passes 10deg, on its way up
+    amp, w, phi = math.pi / 2, 2 * math.pi, math.radians(10)
+    t = math.acos(-phi / amp) / w
+    r = _cli("analyze", "fourbar", "--set", "l1=0.4", "--input-range=-90deg:90deg", "--at", "10deg", "--json")
+    assert r.returncode == 0, r.stderr
+    d = json.loads(r.stdout)
+    assert d["t"] == pytest.approx(t, rel=1e-12)                     # acos: a few ulps
+    assert d["outputs"]["omega1"] == pytest.approx(amp * w * math.sin(w * t), rel=1e-12)
+    f = json.loads(_cli("forces", "fourbar", "--set", "l1=0.4", "--input-range=-90deg:90deg", "--at", "10deg",
+                           "--json").stdout)
+    assert f["t"][0] == pytest.approx(t, rel=1e-12) and f["inputs"]["phi1"][0] == pytest.approx(phi, rel=1e-12)
+    # a value the rocking crank never reaches: one line naming the range
+    r = _cli("forces", "fourbar", "--set", "l1=0.4", "--input-range=-90deg:90deg", "--at", "100deg")
+    assert r.returncode == 2 and "-90..90 deg" in r.stderr and len(r.stderr.strip().splitlines()) == 1
+
+
 def test_analyze_at_one_angle_by_the_four_bar_geometry():
     # SPEC four-bar defaults: l1 0.10, l2 0.30, l3 0.25, l4 0.30; C is where the circles about B (l2) and D (l3)
     # meet, left of B -> D (branch +1): the triangle B-C-D by the law of cosines
@@ -358,3 +398,77 @@ def test_the_loads_table_has_specs_fields_for_every_kind(tmp_path):
         kinds.add(e["kind"])
     assert kinds == {"gravity", "force", "spring", "damper", "torsion_spring", "torque"}
     assert d["friction"]["dissipated_per_cycle"] > 0
+
+
+FRICTION_FOURBAR = """format = "linkage/1"
+name = "rubbing"
+output = "C"
+[ground]
+A = [0, 0]
+D = [0.3, 0]
+[[inputs]]
+kind = "crank"
+pivot = "A"
+point = "B"
+length = 0.1
+link = "1"
+omega = "360deg"
+[[groups]]
+kind = "RRR"
+point = "C"
+from = ["B", "D"]
+lengths = [0.3, 0.25]
+links = ["2", "3"]
+branch = 1
+[friction]
+mu = 0.3
+pin_radius = 0.02
+"""
+
+
+@pytest.mark.parametrize("model", ["linear", "circle"])
+def test_pin_friction_by_the_friction_circle(tmp_path, model):
+    # issue 41: a journal of radius r whose resultant F leans at the friction angle atan(mu) from the line of
+    # centres has the friction moment |Mf| = r sin(atan mu) |F| (Khurmi, Theory of Machines, ch. 10; Beer &
+    # Johnston, Statics, sec. 8.7; Hibbeler, Statics, sec. 8.7): 0.0057470 N m per N at mu 0.3, r 0.02 m;
+    # the default (linear) model takes sin(atan mu) as mu: 0.006 N m per N
+    text = FRICTION_FOURBAR + ("" if model == "linear" else 'model = "circle"\n')
+    path = write(tmp_path, text)
+    r = _cli("forces", path, "--samples", 73, "--gravity", "0,-9.81", "--json")
+    assert r.returncode == 0, r.stderr
+    d = json.loads(r.stdout)
+    lever = 0.02 * (math.sin(math.atan(0.3)) if model == "circle" else 0.3)
+    for j in d["joints"]:
+        F = np.hypot(j["Fx"], j["Fy"])
+        Mf = np.abs(j["Mf"])
+        turning = Mf > 0                                       # a joint at a reversal carries none
+        assert turning.sum() > 60, j["point"]
+        # 1e-9: the fixed point stops when no joint force changes by more than 1e-12 of the peak; |Mf| is
+        # the lever arm times the last iterate's |F|
+        np.testing.assert_allclose(Mf[turning], lever * F[turning], rtol=1e-9, atol=1e-9 * F.max())
+    assert d["friction"]["model"] == model
+
+
+def test_an_unknown_friction_model_is_one_line(tmp_path):
+    path = write(tmp_path, FRICTION_FOURBAR + 'model = "viscous"\n')
+    r = _cli("forces", path)
+    assert r.returncode == 2 and "friction.model" in r.stderr and '"circle"' in r.stderr
+    assert len(r.stderr.strip().splitlines()) == 1
+
+
+def test_at_along_a_motion_law_by_its_segments(tmp_path):
+    # issue 41: --at along a law (SPEC "Motion laws"): a dwell of 0.2 s, then 180deg at constant speed in 0.5 s,
+    # then 180deg in 0.3 s; q0 + 90deg is passed at 0.2 + 0.25 s, q0 + 270deg at 0.7 + 0.15 s (by hand)
+    import re
+    library = Path(analytic.__file__).parent / "library" / "servo_press.toml"
+    text = re.sub(r"segments = \[.*?\n\]\n", 'segments = [\n  { shape = "dwell", duration = 0.2 },\n'
+                  '  { shape = "constant", duration = 0.5, rise = "180deg" },\n'
+                  '  { shape = "constant", duration = 0.3, rise = "180deg" },\n]\n', library.read_text(), flags=re.S)
+    path = write(tmp_path, text)
+    q0 = analytic.load(str(path)).inputs[0].motion.q0             # the file's start angle
+    for extra, t in ((90, 0.45), (270, 0.85)):
+        at = f"{math.degrees(q0) + extra!r}deg"
+        r = _cli("analyze", path, "--at", at, "--json")
+        assert r.returncode == 0, r.stderr
+        # 1e-12 s: bisection to adjacent floats of t; the value's degrees read back within an ulp or two
+        assert json.loads(r.stdout)["t"] == pytest.approx(t, abs=1e-12), (extra, r.stdout[:200])

@@ -81,4 +81,4 @@ def test_friction_is_refused_in_dynamics_in_one_line(tmp_path):
     p = tmp_path / "f.toml"
     p.write_text(FOURBAR.read_text() + "\n[friction]\nmu = 0.1\npin_radius = 0.005\n")
     r = linkage("dynamics", p, "--motor", "5,300rpm")
-    assert r.returncode == 2 and "[friction]" in r.stderr and len(r.stderr.strip().splitlines()) == 1, r.stderr
+    assert r.returncode == 2 and "[friction]" in r.stderr and "planned" in r.stderr and len(r.stderr.strip().splitlines()) == 1, r.stderr

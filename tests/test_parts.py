@@ -457,3 +457,17 @@ def test_slot_follows_the_block_pin_over_the_cycle():
     reach = [min(math.dist(p, e[0]) for p, e in zip(a, ends)), min(math.dist(p, e[1]) for p, e in zip(a, ends))]
     assert max(reach) < 1e-9 * size                          # the slot is no longer than the pin's travel
     assert slot.r == pytest.approx(model.settings(pm.mech).hole / 2, rel=1e-12)
+
+
+@pytest.mark.parametrize("option, value, module", [("--dxf", "x.dxf", "ezdxf"), ("--stl", "stl", "trimesh"),
+                                                   ("--step", "x.step", "build123d")])
+def test_a_missing_extra_is_one_line_naming_the_install(tmp_path, monkeypatch, option, value, module):
+    # issue 41: without the parts extra the export raised ModuleNotFoundError (a traceback) after making the
+    # --stl folder; now one line with the command to run, exit 2, nothing written (the --toml neither)
+    import cli_runner
+    monkeypatch.setitem(__import__("sys").modules, module, None)      # as if not installed
+    r = cli_runner.run("export", "fourbar", option, value, "--toml", "f.toml", cwd=tmp_path)
+    assert r.returncode == 2
+    lines = r.stderr.strip().splitlines()
+    assert len(lines) == 1 and "pip install 'linkage[parts]'" in lines[0] and module in lines[0], lines
+    assert list(tmp_path.iterdir()) == []

@@ -363,3 +363,25 @@ def test_a_dask_scheduler_gives_the_same_answer():
         assert a.first_order_std == pytest.approx(b.first_order_std, rel=1e-12)
         for p in ("l1", "l3"):
             assert a.sobol[p]["S1"] == pytest.approx(b.sobol[p]["S1"], rel=1e-9, abs=1e-12)
+
+
+def test_force_outputs_carry_the_files_loads_and_friction(tmp_path):
+    # issue 41: tolerance refused peak_torque / peak_joint_force for a file with [[loads]] or [friction]; now its
+    # nominal design's peaks are those `linkage forces` reports with the same spring and friction
+    from pathlib import Path
+    import cli_runner
+    text = (Path(__file__).parent / "loads" / "spring.toml").read_text() + "[friction]\nmu = 0.2\npin_radius = 0.01\n"
+    (tmp_path / "f.toml").write_text(text)
+    r = cli_runner.run("tolerance", "f.toml", "--tol", "omega1=±1%", "--samples", "20", "--json", cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    out = json.loads(r.stdout)["outputs"]
+    r = cli_runner.run("forces", "f.toml", "--json", cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    d = json.loads(r.stdout)
+    torque = max(float(np.max(np.abs(v))) for v in d["drives"].values())
+    joint = max(float(np.max(np.hypot(j["Fx"], j["Fy"]))) for j in d["joints"])
+    bare = json.loads(cli_runner.run("forces", "fourbar", "--json").stdout)          # no spring, no friction
+    assert torque > 2 * max(float(np.max(np.abs(v))) for v in bare["drives"].values())   # the loads matter
+    # 1e-9: the same 361 samples of the same motion, the friction's fixed point stopped at 1e-12 of the peak
+    assert out["peak_torque"]["nominal"] == pytest.approx(torque, rel=1e-9)
+    assert out["peak_joint_force"]["nominal"] == pytest.approx(joint, rel=1e-9)

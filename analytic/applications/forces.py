@@ -3,7 +3,7 @@ sample at once (numpy).
 
 The inputs' motion law fixes every link's acceleration, so every joint force follows from statics once each
 link carries its d'Alembert load: the inertia force -m a_G at its centre of mass G and the couple -I alpha,
-besides gravity m g and the external force on the output point (on the point's carrier link, where the MuJoCo
+besides gravity m g and the external force on the output point (on its loaded link, Topology.loaded_link, where the MuJoCo
 model's load acts). The elements are taken in **reverse solve order**: an element's links then carry every
 force that later elements put on them (already solved), and its unknowns are the forces in the joints it
 adds (an Assur group is statically determinate: 3 equations per link, 2 unknowns per lower pair), plus the
@@ -492,7 +492,7 @@ def solve(mech, q, qd, qdd, inertias: dict, gravity=(0.0, 0.0), force=(0.0, 0.0)
            "shaking": np.empty((3, n))}
     force_on = np.broadcast_to(np.asarray(force_on, dtype=float), (n,))
     point = point or mech.output_point
-    carrier = mech.topology.carriers[point]
+    carrier = mech.topology.loaded_link(point)
     gx, gy = (float(x) for x in gravity)
     fx, fy = (float(x) for x in force)
     loaded = (fx != 0.0 or fy != 0.0) and carrier != GROUND

@@ -507,15 +507,17 @@ def run(red: Reduced, motor, revolutions: float, start_speed: float = 0.0, rtol:
                motor=motor, dense=dense)
 
 
-def steady_cycle(red: Reduced, motor, guess: float | None = None, rtol: float = RTOL) -> Run:
+def steady_cycle(red: Reduced, motor, guess: float | None = None, rtol: float = RTOL,
+                 start_speed: float = 0.0) -> Run:
     """The periodic motion: one revolution from the start speed w0 that it returns to (a secant search
-    on w(2 pi) - w0, started from a run of a few turns from rest)."""
+    on w(2 pi) - w0, started from a run of a few turns from ``start_speed``: rest, or the run's own start
+    speed, which carries a motor too weak to turn the loads over slowly through them)."""
     from scipy.optimize import brentq
 
     def gap(w0):
         return run(red, motor, 1.0, w0, rtol, samples_per_rev=16).speed_at(np.array([2 * math.pi]))[0] - w0
     if guess is None:
-        warm = run(red, motor, 3.0, 0.0, rtol, samples_per_rev=16)
+        warm = run(red, motor, 3.0, start_speed, rtol, samples_per_rev=16)
         guess = warm.speed_at(np.array([6 * math.pi]))[0]
     w_a = guess
     g_a = gap(w_a)
@@ -536,21 +538,33 @@ def steady_cycle(red: Reduced, motor, guess: float | None = None, rtol: float = 
     return run(red, motor, 1.0, w0, rtol)
 
 
-def size_flywheel(make_reduced, motor, target: float, rtol: float = 1e-10) -> tuple[float, Run]:
+def size_flywheel(make_reduced, motor, target: float, rtol: float = 1e-10,
+                  start_speed: float = 0.0) -> tuple[float, Run]:
     """The flywheel J [kg m^2] whose steady cycle has Cs = ``target``; ``make_reduced(J)`` gives the
     reduced terms with flywheel J. Returns (J, the steady cycle). J = 0 when the bare linkage already runs
-    within the target."""
+    within the target. The steady cycles are reached from ``start_speed`` [rad/s] (``--start-speed``, as the
+    run itself starts); a flywheel too light to carry the linkage through its loads from there (the motor
+    stalls) counts as one whose Cs is above the target."""
     from scipy.optimize import brentq
     if not (isinstance(target, (int, float)) and math.isfinite(target) and 0 < target < 1):
         raise ParameterError(f"--target-fluctuation {target!r} must be a number in (0, 1) (e.g. 0.02)")
-    bare = steady_cycle(make_reduced(0.0), motor, rtol=rtol)
-    if bare.fluctuation <= target:
+    def steady(J):
+        try:
+            return steady_cycle(make_reduced(J), motor, rtol=rtol, start_speed=start_speed)
+        except ParameterError:
+            if not start_speed:                    # from rest a stall is the linkage's, whatever the flywheel
+                raise
+            return None
+    bare = steady(0.0)
+    if bare is not None and bare.fluctuation <= target:
         return 0.0, bare
     J_scale = float(make_reduced(0.0).J(np.linspace(0, 2 * math.pi, 64)).max())
     cache = {}
 
     def cs(log_j):
-        r = steady_cycle(make_reduced(math.exp(log_j)), motor, rtol=rtol)
+        r = steady(math.exp(log_j))
+        if r is None:                              # stalls: more flywheel needed
+            return 1.0
         cache[log_j] = r
         return r.fluctuation - target
     lo, hi = math.log(J_scale * 1e-3), math.log(J_scale)
@@ -561,7 +575,8 @@ def size_flywheel(make_reduced, motor, target: float, rtol: float = 1e-10) -> tu
     if cs(lo) < 0:
         lo = -60.0
     root = brentq(cs, lo, hi, xtol=1e-10, rtol=1e-10)
-    return math.exp(root), cache.get(root) or steady_cycle(make_reduced(math.exp(root)), motor, rtol=rtol)
+    return math.exp(root), cache.get(root) or steady_cycle(make_reduced(math.exp(root)), motor, rtol=rtol,
+                                                           start_speed=start_speed)
 
 
 # ------------------------------------------------------------------------------- two inputs, two motors

@@ -180,7 +180,17 @@ def _wanted(mech, outputs) -> list[str]:
         want |= {c + x for d in _dyads(mech) for x in d[1:] for c in ("x", "y")}
     if set(_FORCES) & set(outputs):
         want |= set(F.wanted(mech))
+        if _has_loads(mech):
+            from analytic.loads import kinetostatics as K
+            want |= set(K.full_wanted(mech))
     return sorted(want)
+
+
+def _has_loads(mech) -> bool:
+    """Whether the file has ``[[loads]]`` or ``[friction]`` (the forces then go through the loads'
+    kinetostatics, :func:`analytic.loads.kinetostatics.solve`, as ``linkage forces`` does)."""
+    d = mech.definition
+    return bool(getattr(d, "loads", ()) or getattr(d, "friction", None))
 
 
 def _dyads(mech) -> list[tuple[str, str, str, str]]:
@@ -258,13 +268,22 @@ def evaluate_chunk(job):
             out["speed_fluctuation"] = (speed_max - speed_min) / closed_mean(speed, axis=1)
     if set(_FORCES) & set(outputs):
         torque, joint = np.full(k, np.nan), np.full(k, np.nan)
-        names = F.wanted(base)
+        loaded = _has_loads(base)
+        if loaded:                                           # the file's loads and friction, as forces applies them
+            from analytic import loads as AL
+            from analytic.loads import kinetostatics as K
+        names = K.full_wanted(base) if loaded else F.wanted(base)
         for i in np.flatnonzero(ok):
             try:
                 mech = base.with_values(**{name: float(v[i]) for name, v in chunk.items()})
                 model = mass.model(mech, cycle.inertias)
-                f = F.solve(mech, cycle.q, qd[i], qdd[i], model, cycle.gravity, cycle.force, cycle.force_on,
-                            sol={name: sol[name][i] for name in names})
+                design = {name: sol[name][i] for name in names}
+                if loaded:
+                    f = K.solve(mech, cycle.q, qd[i], qdd[i], cycle.t, model, AL.resolve(mech), cycle.gravity,
+                                cycle.force, cycle.force_on, sol=design).forces
+                else:
+                    f = F.solve(mech, cycle.q, qd[i], qdd[i], model, cycle.gravity, cycle.force, cycle.force_on,
+                                sol=design)
             except ParameterError as exc:                    # this design's own checks, or its statics
                 reasons[i] = str(exc)
                 continue

@@ -62,9 +62,10 @@ class Terms:
 def check(mech, loadset) -> None:
     """Refuse what the reduced equation cannot carry (one line naming the load)."""
     if loadset.friction:
-        raise LoadError("[friction]: dynamics cannot carry Coulomb friction yet (its torque depends on the "
-                        "reactions, hence on the accelerations it produces); run `linkage forces` for the friction "
-                        "losses along a prescribed motion, or remove [friction]")
+        raise LoadError("[friction]: dynamics cannot carry Coulomb friction yet: a pin's torque mu r |F| follows "
+                        "its reaction F = A(u) phi'' + B(u) phi'^2 + C(u), so the reduced equation becomes implicit "
+                        "in phi'' (planned: solve it per step from the tabulated A, B, C, issue 41); meanwhile "
+                        "`linkage forces` gives the friction losses along the prescribed motion, or remove [friction]")
     rates = {"t"} | {n for inp in mech.inputs for n in (inp.qd,)} | {f"omega{k + 1}" for k in range(len(mech.inputs))} \
         | {f"ds{k + 1}" for k in range(len(mech.inputs))}
     for ld in loadset.loads:

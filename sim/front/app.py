@@ -331,7 +331,8 @@ def synthesize(body: dict, server: "AppServer") -> dict:
     (:func:`sim.service.design.synthesize_path`, in metres), run as a job the page can cancel
     (:class:`sim.front.synth_job.Job`: its own process group, killed at the budget plus 1 s); each distinct
     candidate with its error [m^2, m], its least transmission angle, its checks, its ``linkage/1`` text and its
-    coupler curve [m] to draw; ``seconds``: the wall time from the request to the answer."""
+    coupler curve [m] to draw; ``seconds``: the wall time of the search (what the budget bounds, from its
+    start to the answer); ``startup``: the job's process start before it, not counted in the budget."""
     from sim.front import synth_job
     check_fields(body, "synthesize")
     pts = body.get("targets")
@@ -357,7 +358,7 @@ def synthesize(body: dict, server: "AppServer") -> dict:
         raise RequestError(409, f"synthesis cancelled after {out['seconds']:.1f} s")
     if out["state"] != "done":
         raise RequestError(400, out["error"] or "the synthesis failed")
-    return {**out["answer"], "seconds": out["seconds"], "budget": budget}
+    return {**out["answer"], "seconds": out["seconds"], "startup": out["startup"], "budget": budget}
 
 
 def synthesis_status(server: "AppServer") -> dict:
@@ -438,6 +439,59 @@ def force_series(rec: dict, digits: int | None) -> dict:
             "shaking": {"F": series(np.hypot(sh["Fx"], sh["Fy"]), n, digits), "M": series(sh["M"], n, digits)}}
 
 
+def shown_forces(out: dict, mech: Mechanism) -> dict:
+    """The forces panel's answer (SI from :func:`forces`) in the units people read (SPEC "Units of results",
+    as ``linkage forces`` prints them): forces in the file's ``force_units``, moments in that unit x the file's
+    length unit (N m for a file in N), a drive in its input's (torque or force); the inputs stay SI (the page
+    shows them as its curves do). ``units`` says which: ``force``, ``moment`` and ``drives``."""
+    from sim.service.forces import force_factors
+    kF, kM, force, moment = force_factors(mech)
+    drive_k = {inp.q: kM if inp.angular else kF for inp in mech.inputs}
+
+    def times(v, k):
+        return None if v is None else (v * k if isinstance(v, (int, float)) else [None if x is None else x * k
+                                                                                   for x in v])
+
+    def series_in(s: dict) -> None:
+        for j in s["joints"]:
+            j["F"] = times(j["F"], kF)
+            if "M" in j:
+                j["M"] = times(j["M"], kM)
+        s["drives"] = {q: times(v, drive_k[q]) for q, v in s["drives"].items()}
+        s["shaking"] = {"F": times(s["shaking"]["F"], kF), "M": times(s["shaking"]["M"], kM)}
+    series_in(out)
+    pk = out["peaks"]
+    for e in pk["joints"].values():
+        e["F"], e["M"] = times(e["F"], kF), times(e.get("M"), kM)
+        if e["M"] is None:
+            e.pop("M")
+    for q, e in pk["drives"].items():
+        e["value"] = times(e["value"], drive_k[q])
+    for key, k in (("F", kF), ("F_rms", kF), ("M", kM)):
+        if key in pk["shaking"]:
+            pk["shaking"][key] = times(pk["shaking"][key], k)
+    sim = out.get("simulated")
+    if sim:
+        series_in(sim)
+        a = sim["agreement"]
+        for e in a["joints"].values():
+            e["max"] = times(e["max"], kF)
+            if "M_max" in e:
+                e["M_max"] = times(e["M_max"], kM)
+        for q, e in a["drives"].items():
+            for key in ("peak", "mujoco_max", "power_balance_max"):
+                if key in e:
+                    e[key] = times(e[key], drive_k[q])
+        for key, k in (("F_max", kF), ("M_max", kM)):
+            if key in a["shaking"]:
+                a["shaking"][key] = times(a["shaking"][key], k)
+        if "peak" in a:
+            a["peak"] = times(a["peak"], kF)
+    out["units"] = {**out["units"], "force": force, "torque": moment, "moment": moment,
+                    "drives": {inp.q: moment if inp.angular else force for inp in mech.inputs}}
+    return out
+
+
 def forces(body: dict) -> dict:
     """The forces panel: every joint's force, the drives and the shaking force along the analysed run under
     the request's loads (:func:`service.forces_run`); with ``simulate`` MuJoCo's forces and their agreement
@@ -458,7 +512,7 @@ def forces(body: dict) -> dict:
         sim = service.simulated_forces(run, loads=loads)
         out["simulated"] = {**force_series(sim, None), "agreement": clean(sim["agreement"]),
                             "passed": bool(sim["passed"]), "timestep": sim["timestep"], "steps": sim["steps"]}
-    return out
+    return shown_forces(out, mech)
 
 
 def motor_of(body: dict):

@@ -23,6 +23,9 @@ import numpy as np
 
 GRACE = 1.0
 """[s] How long past its budget a job may run before it is killed (the issue's bound: budget plus 1 s)."""
+STARTUP_LIMIT = 120.0
+"""[s] The longest the job's process may take to start (interpreter, numpy, scipy, MuJoCo) before its search
+begins; the budget counts from there (issue 41: the start-up came out of the user's budget)."""
 WORKERS = max(1, min(4, (os.cpu_count() or 1) // 2))
 """Processes the app's search uses: half the cores (the page and the server keep the rest), at most 4; the
 answer does not depend on it (each restart carries its own seed)."""
@@ -69,8 +72,12 @@ def run(request: dict, emit) -> dict:
     from sim.output.jsonout import clean
     xy = np.asarray(request["targets"], dtype=float)
     target = path_targets.target(xy, request["closed"])
-    # the process start came out of the budget; the candidates' MuJoCo checks follow the search
-    budget = max(0.1, SEARCH_SHARE * (float(request["deadline"]) - time.time()))
+    import mujoco  # noqa: F401  (the libraries the search and its checks load on first use: part of the
+    import scipy.optimize  # noqa: F401  start-up, 1.8 s for scipy.optimize on a busy machine, not of the budget)
+    # the budget counts from here, the process started and its libraries loaded (a request may instead carry
+    # an absolute deadline); the candidates' MuJoCo checks follow the search
+    deadline = float(request["deadline"]) if "deadline" in request else time.time() + float(request["budget"])
+    budget = max(0.1, SEARCH_SHARE * (deadline - time.time()))
     options = design_service.PathOptions(types=(request["type"],), budget=budget, designs=DESIGNS,
                                          workers=int(request.get("workers", 1)))
     restarts = max(options.restart_count, options.designs)
@@ -108,8 +115,15 @@ def main() -> int:
     try:
         emit({"result": run(request, emit)})
     except Exception as exc:                   # ParameterError and any failure: one line for the page
-        emit({"error": (str(exc).strip().splitlines() or [type(exc).__name__])[0]})
+        emit({"error": page_words((str(exc).strip().splitlines() or [type(exc).__name__])[0])})
     return 0
+
+
+def page_words(line: str) -> str:
+    """A message of the synthesis service in the words of the page's Synthesis tab (its ``budget`` box, not
+    the command line's ``--budget``)."""
+    import re
+    return re.sub(r"--budget (\S+) s\b", r"the budget of \1 s", line).replace("--budget", "the budget")
 
 
 # ----------------------------------------------------------------------------------- the server
@@ -117,8 +131,13 @@ class Job:
     """One synthesis running in its own process group. ``wait()`` gives its answer (or raises JobError);
     ``status()`` what it is doing now; ``cancel()`` kills it and its workers at once."""
 
-    def __init__(self, request: dict, budget: float):
-        self.started = time.monotonic()
+    COMMAND = ("-m", "sim.front.synth_job")
+    """The job's process: this module run by the same interpreter (a test may start another)."""
+
+    def __init__(self, request: dict, budget: float, command: tuple | None = None):
+        self.requested = time.monotonic()
+        self.started: float | None = None    # when the search began (its first stage): the budget counts from it
+        self._searching = threading.Event()
         self.budget = float(budget)
         self.state = "running"          # running, done, failed, cancelled, over budget
         self.stage = {"stage": "starting", "done": 0, "total": 0}
@@ -127,17 +146,23 @@ class Job:
         self._lock = threading.Lock()
         self._done = threading.Event()
         env = {**os.environ, "PYTHONUNBUFFERED": "1"}
-        self.proc = subprocess.Popen([sys.executable, "-m", "sim.front.synth_job"], stdin=subprocess.PIPE,
+        self.proc = subprocess.Popen([sys.executable, *(command or self.COMMAND)], stdin=subprocess.PIPE,
                                      stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True,
                                      start_new_session=True, env=env)
-        self.proc.stdin.write(json.dumps({**request, "deadline": time.time() + self.budget}) + "\n")
+        self.proc.stdin.write(json.dumps({**request, "budget": self.budget}) + "\n")
         self.proc.stdin.close()
         threading.Thread(target=self._read, daemon=True, name="linkage-synthesis-reader").start()
         threading.Thread(target=self._watch, daemon=True, name="linkage-synthesis-deadline").start()
 
     @property
     def elapsed(self) -> float:
-        return time.monotonic() - self.started
+        """[s] Of the budget: since the search began (0 while the process starts)."""
+        return 0.0 if self.started is None else time.monotonic() - self.started
+
+    @property
+    def startup(self) -> float:
+        """[s] The process's start, not counted in the budget (so far, while it starts)."""
+        return (self.started if self.started is not None else time.monotonic()) - self.requested
 
     def _finish(self, state: str, answer: dict | None = None, error: str | None = None) -> None:
         with self._lock:
@@ -145,6 +170,7 @@ class Job:
                 return
             self.state, self.answer, self.error = state, answer, error
             self.seconds = self.elapsed
+            self.startup_seconds = self.startup
             self._done.set()
 
     def _read(self) -> None:
@@ -161,12 +187,23 @@ class Job:
                     self._finish("failed", error=msg["error"])
             else:
                 with self._lock:
+                    if self.started is None:         # the search's first stage: the budget starts
+                        self.started = time.monotonic()
                     self.stage = msg
+                self._searching.set()
         self.proc.wait()
         self._finish("failed", error="the synthesis process ended without an answer")
 
     def _watch(self) -> None:
-        if not self._done.wait(self.budget + GRACE):
+        if not self._searching.wait(STARTUP_LIMIT) and not self._done.is_set():
+            self._kill()
+            self._finish("failed", error=f"the synthesis did not start within {STARTUP_LIMIT:g} s (the machine is "
+                                         f"busy?); try again")
+            return
+        if self._done.is_set():
+            return
+        left = self.budget + GRACE - (time.monotonic() - self.started)
+        if not self._done.wait(max(0.0, left)):
             self._kill()
             self._finish("over budget", error=f"the search ran past its {self.budget:g} s budget and was stopped "
                                               f"at {self.budget + GRACE:g} s: no design was finished; raise the "
@@ -185,11 +222,13 @@ class Job:
 
     def wait(self) -> dict:
         self._done.wait()
-        return {"state": self.state, "answer": self.answer, "error": self.error, "seconds": self.seconds}
+        return {"state": self.state, "answer": self.answer, "error": self.error, "seconds": self.seconds,
+                "startup": self.startup_seconds}
 
     def status(self) -> dict:
         with self._lock:
-            return {"state": self.state, "elapsed": self.elapsed, "budget": self.budget, **self.stage}
+            return {"state": self.state, "elapsed": self.elapsed, "startup": self.startup, "budget": self.budget,
+                    **self.stage}
 
     @property
     def running(self) -> bool:

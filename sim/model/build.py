@@ -235,6 +235,14 @@ def build_model(mech, settings, loads, h, sol, points, q_start, revolutions, nat
         site = bodies[link].add_site(name=p, pos=[lx, ly, 0], size=[radius * (0.8 if marker else 0.3)] * 3,
                                      rgba=[0.89, 0.10, 0.11, 1] if marker else [1, 1, 1, 0])
         site.group = 0 if marker else 4
+    out = mech.output_point
+    loaded = mech.topology.loaded_link(out)            # a force at a block's pin acts on the block (issue 41)
+    load_site = None
+    if loaded != carriers[out]:
+        load_site = f"{out}_load"
+        lx, ly = local(frames[loaded], *points[out])
+        bodies[loaded].add_site(name=load_site, pos=[lx, ly, 0], size=[radius * 0.3] * 3, rgba=[1, 1, 1, 0],
+                                group=4)
     loops = []
     for j in cuts:
         other = j.b if carriers[j.point] == j.a else j.a
@@ -262,7 +270,7 @@ def build_model(mech, settings, loads, h, sol, points, q_start, revolutions, nat
     carried = ML.add_native(context, bodies, loadset, sol) if (native or export) and loadset else ()
     add_inertias(spec, mech, points, frames, loads)
     drives = add_drives(spec, mech, order, q_start, h)
-    add_load(spec, mech, loads)
+    add_load(spec, mech, loads, load_site)
     if export and loadset:                             # after the drives and the load: their indices stay
         carried = carried + ML.add_static(context, bodies, loadset, carried)
     add_sensors(spec, mech, drives, loops)

@@ -57,8 +57,9 @@ def add_drives(spec, mech, order, q_start, h) -> list[Drive]:
     return drives
 
 
-def add_load(spec, mech, loads):
-    act = spec.add_actuator(name="load", target=mech.output_point, trntype=mujoco.mjtTrn.mjTRN_SITE,
+def add_load(spec, mech, loads, site: str | None = None):
+    """The output point's force (``loads.force``) as a site actuator at ``site`` (default: the point's own)."""
+    act = spec.add_actuator(name="load", target=site or mech.output_point, trntype=mujoco.mjtTrn.mjTRN_SITE,
                             refsite="origin")
     fx, fy = loads.force
     act.gear = [fx, fy, 0.0, 0.0, 0.0, 0.0]

@@ -150,7 +150,7 @@ def layout(built) -> Layout:
     for c in topo.couplings:
         couplings.append(model.equality(f"couple_gear_{c.link}").id)
     sites = tuple(model.site(j.point).id for j in topo.joints)
-    load_site = model.site(mech.output_point).id
+    load_site = int(model.actuator_trnid[model.actuator("load").id, 0])   # on the loaded link
     carrier = int(model.site_bodyid[load_site])
     chain = np.zeros(model.nbody)
     b = carrier

@@ -361,7 +361,7 @@ def dynamics(mech, loads, motor, flywheel: float | None = 0.0, target: float | N
     make, _ = reduced_for(mech, loads, cycle=cycle)
     J = flywheel or 0.0
     if target is not None:
-        J, steady = amotor.size_flywheel(make, motor, target)
+        J, steady = amotor.size_flywheel(make, motor, target, start_speed=start_speed)
     red = make(J)
     r = amotor.run(red, motor, revolutions, start_speed)
     if target is not None:

@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import json
+from dataclasses import replace
+
 
 
 from analytic.mechanism import Mechanism
@@ -39,3 +42,47 @@ def table_text(data: dict) -> str:
     files: :func:`analytic.format.writing.dumps`)."""
     from analytic.format import writing
     return writing.dumps(data)
+
+
+def balanced_text(mech: Mechanism, balanced: Mechanism) -> str:
+    """The file of ``balanced`` (``mech`` with :func:`sim.service.forces.balanced_mechanism`'s counterweights)
+    for ``linkage export --balance --toml``: the user's own text (``mech``'s parameter values written in as
+    :func:`mechanism_text` does) with only the new counterweights added, so its comments, layout and every
+    table it does not change (``[[loads]]``, ``[friction]``, ``[parts]``) stay as written: a new
+    ``[mass.counterweights]`` table appended at its end, or the file's own one edited; the generated file
+    where there is no TOML text to edit or the edit would not read back as ``balanced``."""
+    from sim.output.tomlout import edit_parameters, generate
+    text = edit_parameters(mech)
+    if text is None:
+        return generate(balanced)
+    old = (mech.definition.mass or {}).get("counterweights", {})
+    new = (balanced.definition.mass or {}).get("counterweights", {})
+    try:
+        out = _with_counterweights(text, {k: v for k, v in new.items() if old.get(k) != v}, bool(old))
+        from analytic.format import linkfile
+        back = linkfile.parse(out, mech.definition.source)
+        same = (replace(back, parameters=balanced.definition.parameters) == balanced.definition
+                and linkfile.parameter_values(back, {}) == balanced.values)
+    except Exception:                              # anything unexpected: the generated file instead
+        return generate(balanced)
+    return out if same else generate(balanced)
+
+
+def _inline(w: dict) -> str:
+    return f"{{ m = {float(w['m'])!r}, at = [{', '.join(repr(float(x)) for x in w['at'])}] }}"
+
+
+def _with_counterweights(text: str, weights: dict, edit: bool) -> str:
+    """``text`` (TOML) with the ``[mass.counterweights]`` entries ``weights`` (link -> {m, at} or a list of
+    them, file units): appended as a new table after the last line, or (``edit``: the file has the table)
+    set in it by tomlkit, which keeps the comments and layout around them."""
+    if not edit:
+        entries = [f"{json.dumps(link)} = " + ("[" + ", ".join(_inline(w) for w in e) + "]" if isinstance(e, list)
+                                               else _inline(e)) for link, e in weights.items()]
+        return text.rstrip("\n") + "\n\n[mass.counterweights]\n" + "\n".join(entries) + "\n"
+    import tomlkit
+    doc = tomlkit.parse(text)
+    table = doc["mass"]["counterweights"]
+    for link, entry in weights.items():
+        table[link] = tomlkit.parse(f"x = {'[' + ', '.join(_inline(w) for w in entry) + ']' if isinstance(entry, list) else _inline(entry)}")["x"]
+    return tomlkit.dumps(doc)

@@ -109,7 +109,7 @@ def forces_run(mech: Mechanism, samples: int = 361, revolutions: float = 1.0, in
     if input_range is not None:
         lo, hi = check_range(mech, *input_range)
         mech = mech.rocking(lo, hi)
-    else:
+    elif at is None:                               # one pose needs only to assemble (check_assembles)
         check_turns_fully(mech)
     from sim.service import loads as L
     t, cycles = L.run_times(mech, samples, revolutions, at)
@@ -131,7 +131,7 @@ def forces_run(mech: Mechanism, samples: int = 361, revolutions: float = 1.0, in
         raise ParameterError(_singular_text(mech, float(q[k, 0]), "a group"))
     point = mech.output_point
     loads = {"gravity": list(gravity) if gravity is not None else None,
-             "force": ({"Fx": fx, "Fy": fy, "point": point, "link": mech.topology.carriers[point],
+             "force": ({"Fx": fx, "Fy": fy, "point": point, "link": mech.topology.loaded_link(point),
                         "cutting": bool(slow_stroke_only),
                         **({"window": list(window)} if window is not None else {})} if (fx or fy) else None)}
     cols = {}
@@ -170,6 +170,17 @@ def force_peaks(run: ForceRun, forces=None) -> dict:
     out["shaking"] = {"F": float(sf.max()), "at": int(np.argmax(sf)), "M": float(sm.max()), "at_M": int(np.argmax(sm)),
                       "F_rms": float(closed_rms(sf))}
     return out
+
+
+def force_factors(mech: Mechanism) -> tuple[float, float, str, str]:
+    """What people read forces in (SPEC "Units of results", as ``linkage forces`` prints them): the factors from
+    N and N m to the file's ``force_units`` and to that unit x the file's length unit (N m for a file in N),
+    and the two units' names."""
+    from analytic import quantities as Q
+    from sim.output.units import force_units
+    display = Q.Display(mech.units, "rad", "", force_units(mech))
+    return (display.convert(Q.FORCE, 1.0), display.convert(Q.TORQUE, 1.0), display.unit(Q.FORCE),
+            display.unit(Q.TORQUE))
 
 
 def forces_record(run: ForceRun, display=None) -> dict:

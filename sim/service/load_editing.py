@@ -43,7 +43,7 @@ def load_geometry(mech, t, q, qd, loadset) -> dict:
     variables = state.variables(AL.scales(mech.definition, mech.parameters))
     fu = loadset.force_units if loadset else mech.definition.force_units
     per_force = 1.0 / AL.FORCE_UNITS[fu]                 # N -> the file's force unit
-    per_moment = per_force * mech.scale                 # N m -> force unit x length unit
+    per_moment = per_force / mech.scale                 # N m -> force unit x length unit (1 N m = 1000 N mm)
     moment_unit = f"{fu} {mech.units}"
 
     def s(a):

@@ -19,17 +19,27 @@ __all__ = ["K", "run_times", "at_time", "loadset", "energy_of", "table", "add_to
 
 
 def at_time(mech, value: float) -> float:
-    """The time [s] at which the first input passes ``value`` [rad or m] (its first pass at or after t = 0 for
-    a crank): a constant-speed input's."""
+    """The time [s] at which the first input passes ``value`` [rad or m]: its first pass at or after t = 0 (for
+    a crank, ``value`` plus any whole turns) -- at a constant speed, under an acceleration, rocking over an
+    input range, or along a motion law (analytic.motion.Motion.time_at) within its first cycle."""
     first = mech.inputs[0]
     m = first.motion
-    if not m.constant or m.rate == 0.0:
-        raise ParameterError(f"--at needs the first input {first.q} to move at a constant, non-zero speed "
-                             f"(not rocking, no acceleration, no motion law); give its speed with --set")
-    t = (value - m.q0) / m.rate
-    if first.angular:
-        t = math.fmod(t, 2 * math.pi / abs(m.rate))
-        t = t + 2 * math.pi / abs(m.rate) if t < 0 else t
+    if m.constant and m.rate != 0.0:                   # a constant speed: any pass, by hand
+        t = (value - m.q0) / m.rate
+        if first.angular:
+            t = math.fmod(t, 2 * math.pi / abs(m.rate))
+            t = t + 2 * math.pi / abs(m.rate) if t < 0 else t
+        return float(t)
+    if m.rate == 0.0 and m.accel == 0.0 and m.law is None:
+        raise ParameterError(f"--at needs the first input {first.q} to move; give its speed with --set")
+    until = mech.duration(1.0)
+    t = m.time_at(value, first.turn if first.angular else 0.0, until)
+    if t is None:
+        q = m.at(np.linspace(0.0, until, 721))[0]
+        unit, k = ("deg", 180 / math.pi) if first.angular else (mech.definition.units, 1.0 / mech.scale)
+        raise ParameterError(f"--at {value * k:g}{unit}: the input {first.q} does not pass it over its cycle "
+                             f"(it runs {float(q.min()) * k:.6g}..{float(q.max()) * k:.6g} {unit}); give a value "
+                             "in that range")
     return float(t)
 
 

@@ -10,6 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from analytic import ParameterError
 from analytic.parts import layers as lay
 from analytic.parts import model
 
@@ -211,9 +212,32 @@ def pin_clash(pm: PartsModel, scene, data, out, point: str, link: str, distmax: 
 
 
 # ------------------------------------------------------------------------------------------ exports
+EXTRAS = {"dxf": "ezdxf", "step": "build123d", "stl": "trimesh"}
+"""The outputs that need a library of the ``[parts]`` extra (pyproject.toml), and which."""
+
+INSTALL_PARTS = "pip install 'linkage[parts]'"
+
+
+def check_extras(**asked) -> None:
+    """Refuse in one line, before anything is written, the asked outputs (``dxf=PATH``, ...) whose library of
+    the ``[parts]`` extra is not installed."""
+    import importlib
+    missing = []
+    for option, module in EXTRAS.items():
+        if asked.get(option):
+            try:
+                importlib.import_module(module)
+            except ImportError:
+                missing.append((option, module))
+    if missing:
+        raise ParameterError(f"{', '.join('--' + o for o, _ in missing)} need{'s' if len(missing) == 1 else ''} "
+                             f"{', '.join(m for _, m in missing)} (the parts extra): {INSTALL_PARTS}")
+
+
 def export(pm: PartsModel, dxf=None, svg=None, pdf=None, step=None, stl=None, bom=None) -> list[str]:
     """Write the asked files (paths checked by the caller); returns what was written."""
     from sim.output import parts_files
+    check_extras(dxf=dxf, step=step, stl=stl)
     written = []
     if dxf:
         parts_files.write_dxf(pm, dxf)

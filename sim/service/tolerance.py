@@ -43,21 +43,11 @@ def _forces_ok(mech) -> bool:
     return True
 
 
-def _unapplied_loads(mech) -> str:
-    """The file's load tables this command does not apply to its forces yet ("" if none): ``[[loads]]`` and
-    ``[friction]`` (SPEC "Loads"; the tolerance forces take gravity, the output point's force, the cutting
-    force and the masses)."""
-    d = mech.definition
-    return " and ".join(n for n, v in (("[[loads]]", getattr(d, "loads", ())), ("[friction]", getattr(d, "friction", None)))
-                        if v)
-
-
 def outputs_of(mech, text: str | None) -> tuple[str, ...]:
     """``--outputs a,b,...`` (None: the defaults the mechanism has), checked against what it has."""
     has = T.available(mech, _forces_ok(mech))
     if text is None:
         outs = tuple(o for o in T.DEFAULT_OUTPUTS if o in has)
-        _check_loads(mech, outs)
         return outs
     names = [x.strip() for x in text.split(",") if x.strip()]
     if not names:
@@ -72,18 +62,7 @@ def outputs_of(mech, text: str | None) -> tuple[str, ...]:
             raise ParameterError(f"--outputs {n}: the {mech.name} has no {n}: {why}; drop it")
     if len(set(names)) != len(names):
         raise ParameterError(f"--outputs {text}: an output is named twice")
-    _check_loads(mech, names)
     return tuple(names)
-
-
-def _check_loads(mech, outputs) -> None:
-    """Refuse force outputs that would leave out the file's own load tables (never a silently wrong peak)."""
-    missing = _unapplied_loads(mech)
-    forces = [o for o in outputs if o in ("peak_torque", "peak_joint_force")]
-    if missing and forces:
-        rest = ",".join(o for o in outputs if o not in forces) or "path_deviation"
-        raise ParameterError(f"the {mech.name}'s {missing} are not applied by tolerance's forces yet, so "
-                             f"{' and '.join(forces)} would leave them out: give --outputs {rest}")
 
 
 def tolerances_of(mech, items: list[str]) -> tuple[T.Tolerance, ...]:

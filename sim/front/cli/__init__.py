@@ -127,6 +127,11 @@ def _main(argv: list[str] | None) -> int:
         print("linkage: interrupted", file=sys.stderr)
         return 130
     except ImportError as exc:               # Ctrl-C while a compiled module (mujoco) initialises reaches us
+        extra = getattr(exc, "name", None) in ("ezdxf", "trimesh", "build123d")
+        if extra:                            # a library of the parts extra, needed past the early check
+            print(f"linkage: error: this needs {exc.name} (the parts extra): pip install 'linkage[parts]'",
+                  file=sys.stderr)
+            return 2
         if not interrupted(exc):             # as "ImportError: initialization failed" caused by it
             raise
         print("linkage: interrupted", file=sys.stderr)

@@ -28,6 +28,9 @@ def run(args) -> int:
     check_outputs(args, {"csv": (".csv",)})
     if getattr(args, "at", None) is not None:                  # one pose (SPEC "Loads": --at)
         from sim.front.cli.loads_opts import analyze_at
+        if args.input_range:                   # a rocking drive: the pose where it first passes --at
+            from sim.service.analysis import check_range
+            mech = mech.rocking(*check_range(mech, *parse_range(mech, args.input_range)))
         return analyze_at(args, mech)
     import linkage as lk
     result = lk.analyze(mech, samples=args.samples, revolutions=args.revolutions,

@@ -34,9 +34,12 @@ def run(args) -> int:
     check_outputs(args, {"mjcf": (".xml",), "toml": (".toml",)})
     parts.check_paths(args)
     mech = mechanism_from(args)
+    text = None
     if args.balance is not None:                   # counterweights written into the model (issue 17)
         from sim.front.cli.forces import balance_links
-        mech, _ = service.balanced_mechanism(mech, balance_links(args.balance))
+        from sim.service.export import balanced_text
+        user, (mech, _) = mech, service.balanced_mechanism(mech, balance_links(args.balance))
+        text = balanced_text(user, mech) if args.toml else None   # the user's text with them added (issue 41)
     if args.mjcf:
         write_text(args.mjcf, service.export_mjcf(mech, settings_from(args), getattr(args, "revolutions", 1.0)))
         print(f"wrote {args.mjcf}")
@@ -46,7 +49,7 @@ def run(args) -> int:
             print(f"note: {args.mjcf} leaves out the loads MJCF cannot hold (simulate/compare apply them each "
                   f"step): {'; '.join(left)}", file=sys.stderr)
     if args.toml:
-        write_text(args.toml, service.mechanism_text(mech))
+        write_text(args.toml, text if text is not None else service.mechanism_text(mech))
         print(f"wrote {args.toml}")
     if parts.wanted(args):                         # link solids, drawings, bill of materials (issue 28)
         parts.export(args, mech)

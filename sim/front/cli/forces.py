@@ -48,13 +48,12 @@ def cmd_forces(args) -> int:
     from sim.front.cli.loads_opts import at_value
     keywords = load_keywords(args, mech)
     at = at_value(args, mech)
-    if at is not None and (args.simulate or args.balance is not None or args.input_range):
-        raise ParameterError("--at evaluates one pose: it does not combine with --simulate, --balance or "
-                             "--input-range")
+    if at is not None and (args.simulate or args.balance is not None):
+        raise ParameterError("--at evaluates one pose: it does not combine with --simulate or --balance")
     links = balance_links(args.balance)
     settings = settings_from(args) if args.simulate else None
     f = lk.forces(mech, samples=args.samples, revolutions=args.revolutions,
-                  input_range=parse_range(mech, args.input_range) if at is None else None,
+                  input_range=parse_range(mech, args.input_range),
                   balance=links, at=at, simulate=args.simulate,
                   timestep=settings.timestep if settings else None,
                   integrator=settings.integrator if settings else None, **keywords)

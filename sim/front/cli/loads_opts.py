@@ -44,7 +44,7 @@ def command_loads(args, mech) -> tuple[str | None, tuple]:
         topo = mech.topology
         if point not in topo.points:
             raise ParameterError(f"--force ...@{point}: no point named {point!r}; points: {', '.join(topo.points)}")
-        link = link or topo.carriers[point]
+        link = link or topo.loaded_link(point)
         if link == GROUND or link not in topo.links:
             raise ParameterError(f"--force ...@{point}:{link}: no moving link named {link!r}; links: "
                                  f"{', '.join(topo.links)}")
@@ -92,8 +92,8 @@ def analyze_at(args, mech) -> int:
     from sim.service import loads as L
     from sim.output.jsonout import dumps
     from sim.output.units import column_unit, convert_columns, machine_units, shown_units
-    if args.input_range or args.csv:
-        raise ParameterError("--at evaluates one pose: it does not combine with --input-range or --csv")
+    if args.csv:
+        raise ParameterError("--at evaluates one pose: it does not combine with --csv")
     at = at_value(args, mech)
     t = np.array([L.at_time(mech, at)])
     q, qd, qdd = mech.drive(t)

@@ -77,7 +77,10 @@ def cmd_interference(args, mech) -> int:
 
 
 def check_paths(args) -> None:
-    """Every parts output writable with the right type, before anything is written."""
+    """Every parts output writable with the right type and its library installed, before anything is
+    written."""
+    from sim.service.parts import check_extras
+    check_extras(dxf=getattr(args, "dxf", None), step=getattr(args, "step", None), stl=getattr(args, "stl", None))
     for name, sfx in OUTPUTS.items():
         v = getattr(args, name, None)
         if v:

@@ -913,20 +913,21 @@
     state.forceCharts = [];
     const axis = inputAxis(state.solve);
     const sim = !!data.simulated;
+    const fu = data.units.force || "N"; const mu = data.units.moment || "N m";   // the file's force_units
     const marker = (color) => ({ stroke: color, width: 0, paths: () => null,
       points: { show: true, size: 5, width: 1.2, stroke: color, fill: "#fff" } });
-    // joints: one line each (legend: the table below), MuJoCo's markers beside them after Simulate
+    // joints: one line each, named in the legend (and the table below), MuJoCo's markers beside them
     const jointSeries = [{ label: axis.label }];
     data.joints.forEach((j, k) => {
       jointSeries.push({ label: j.name, stroke: forceColor(k), width: 1.6, spanGaps: true });
       if (sim) jointSeries.push({ label: `${j.name} MuJoCo`, ...marker(forceColor(k)) });
     });
     state.forceCharts.push({ kind: "joints", height: 230, ...newChart(box, {
-      title: "joint forces |F| [N]", legend: { show: false },
-      axes: [axisOptions(axis.label), axisOptions("|F| [N]", 64)], series: jointSeries,
+      title: `joint forces |F| [${fu}]`, legend: { show: true, live: false },
+      axes: [axisOptions(axis.label), axisOptions(`|F| [${fu}]`, 64)], series: jointSeries,
     }, jointSeries.map(() => []), 230) });
     const drives = Object.keys(data.drives);
-    const driveUnit = (q) => (data.units.drives || {})[q] || "N m";
+    const driveUnit = (q) => (data.units.drives || {})[q] || mu;
     const driveSeries = [{ label: axis.label }];
     drives.forEach((q, k) => {
       driveSeries.push({ label: `${q} drive [${driveUnit(q)}]`, stroke: COLORS[(k + 3) % COLORS.length], width: 1.8, spanGaps: true });
@@ -934,18 +935,18 @@
     });
     const units = [...new Set(drives.map(driveUnit))].join(", ");
     state.forceCharts.push({ kind: "drives", height: 190, ...newChart(box, {
-      title: `drive ${units === "N" ? "force" : "torque"} [${units}]`, legend: { show: true, live: false },
+      title: `drive ${units === fu ? "force" : "torque"} [${units}]`, legend: { show: true, live: false },
       axes: [axisOptions(axis.label), axisOptions(`[${units}]`, 64)], series: driveSeries,
     }, driveSeries.map(() => []), 190) });
     const shakeSeries = [{ label: axis.label },
-      { label: "|Fs| [N]", stroke: "#c51b8a", width: 1.8, scale: "F", spanGaps: true },
-      { label: "Ms [N m]", stroke: "#8c564b", width: 1.2, dash: [5, 4], scale: "M", spanGaps: true }];
+      { label: `|Fs| [${fu}]`, stroke: "#c51b8a", width: 1.8, scale: "F", spanGaps: true },
+      { label: `Ms [${mu}]`, stroke: "#8c564b", width: 1.2, dash: [5, 4], scale: "M", spanGaps: true }];
     if (sim) shakeSeries.push({ label: "MuJoCo |Fs|", scale: "F", ...marker(SIM_COLOR) });
     state.forceCharts.push({ kind: "shaking", height: 190, ...newChart(box, {
       title: "shaking force |Fs| and moment Ms (about the origin)", legend: { show: true, live: false },
       scales: { x: { time: false }, F: {}, M: {} },
-      axes: [axisOptions(axis.label), { ...axisOptions("|Fs| [N]", 64), scale: "F" },
-        { ...axisOptions("Ms [N m]", 64), scale: "M", side: 1, grid: { show: false } }],
+      axes: [axisOptions(axis.label), { ...axisOptions(`|Fs| [${fu}]`, 64), scale: "F" },
+        { ...axisOptions(`Ms [${mu}]`, 64), scale: "M", side: 1, grid: { show: false } }],
       series: shakeSeries,
     }, shakeSeries.map(() => []), 190) });
   }
@@ -953,7 +954,7 @@
   function drawForces() {
     const data = state.forces;
     if (!data || !state.solve) return;
-    const key = `${state.built}|${data.joints.map((j) => j.name).join(",")}|${!!data.simulated}|${state.display.deg}`;
+    const key = `${state.built}|${data.joints.map((j) => j.name).join(",")}|${!!data.simulated}|${state.display.deg}|${data.units.force}|${data.units.moment}`;
     if (key !== state.forceKey) { buildForceCharts(data); state.forceKey = key; }
     const sim = data.simulated;
     const every = sim ? Math.max(1, Math.round(sim.inputs[sim.input].length / 72)) : 1;
@@ -991,7 +992,8 @@
   function forcePeaks(data) {
     const table = $("#force-peaks");
     const sim = data.simulated;
-    const head = ["", "joint", "kind", "links", "peak |F| [N]", `at ${data.input}`];
+    const fu = data.units.force || "N";
+    const head = ["", "joint", "kind", "links", `peak |F| [${fu}]`, `at ${data.input}`];
     if (sim) head.push("MuJoCo − analytic", "of the peak");     // a drive's difference is in its own unit
     table.replaceChildren();
     const thead = document.createElement("thead");
@@ -1015,7 +1017,7 @@
         angleText(pk[data.input])];
       if (sim) {
         const a = sim.agreement.joints[j.name] || {};
-        cells.push(`${fmt(a.max, 2)} N`, fmt(a.share, 2));
+        cells.push(`${fmt(a.max, 2)} ${fu}`, fmt(a.share, 2));
       }
       const tr = row(cells, forceColor(k));
       if (sim && (sim.agreement.joints[j.name] || {}).share > sim.agreement.tol) tr.className = "fail";
@@ -1028,7 +1030,7 @@
     }
     const sh = data.peaks.shaking;
     const cells = ["shaking", "", "", `${fmt(sh.F, 4)} (RMS ${fmt(sh.F_rms, 4)})`, angleText(sh[data.input])];
-    if (sim) cells.push(`${fmt(sim.agreement.shaking.F_max, 2)} N`, fmt(sim.agreement.shaking.F_share, 2));
+    if (sim) cells.push(`${fmt(sim.agreement.shaking.F_max, 2)} ${fu}`, fmt(sim.agreement.shaking.F_share, 2));
     row(cells, null);
     table.appendChild(body);
   }
@@ -1315,7 +1317,9 @@
     const what = s.stage === "search" ? `${STAGES.search}: restart ${s.done} of ${s.total}`
       : s.stage === "polish" ? STAGES.polish
       : s.stage === "check" ? `${STAGES.check}: ${s.done} of ${s.total}` : "starting the search";
-    $("#synth-status").textContent = `${what} · ${s.elapsed.toFixed(1)} s of the ${fmt(s.budget, 3)} s budget`;
+    $("#synth-status").textContent = s.stage === "starting"
+      ? `starting the search (${(s.startup || 0).toFixed(1)} s; the budget of ${fmt(s.budget, 3)} s starts with the search)`
+      : `${what} · ${s.elapsed.toFixed(1)} s of the ${fmt(s.budget, 3)} s budget`;
   }
 
   async function synthesize() {
@@ -1355,8 +1359,8 @@
       drawFrame();
       const n = data.designs.length;
       const dropped = (data.asked || n) - n;
-      st.textContent = `${n} distinct candidate${n === 1 ? "" : "s"} in ${fmt(data.seconds, 3)} s `
-        + `(budget ${fmt(data.budget, 3)} s)` + (dropped ? `; ${dropped} repeat${dropped > 1 ? "s" : ""} of a better one dropped` : "");
+      st.textContent = `${n} distinct candidate${n === 1 ? "" : "s"} in ${fmt(data.seconds, 3)} s of the `
+        + `${fmt(data.budget, 3)} s budget (and ${fmt(data.startup || 0, 2)} s to start)` + (dropped ? `; ${dropped} repeat${dropped > 1 ? "s" : ""} of a better one dropped` : "");
       bar.value = 1;
     } catch (err) {
       st.textContent = err.message || String(err);
