@@ -24,9 +24,10 @@ def check_writable(path: str | os.PathLike, suffixes: tuple[str, ...] | None = N
     if p.is_dir():
         raise ParameterError(f"{p} is a folder; give a file name")
     try:                                          # the only sure test: make a file there, then remove it
-        fd, probe = tempfile.mkstemp(prefix=f".{p.name}.", dir=parent)
-        os.close(fd)
-        os.remove(probe)
+        with deferred_signals():                  # a Ctrl-C between the two would leave the probe behind
+            fd, probe = tempfile.mkstemp(prefix=f".{p.name}.", dir=parent)
+            os.close(fd)
+            os.remove(probe)
     except OSError as exc:
         raise ParameterError(f"{p}: cannot write in folder {parent} ({exc.strerror or exc}); choose another path") from None
     return p
@@ -40,17 +41,20 @@ def atomic_path(path: str | os.PathLike):
     replaced only by a complete one.
     """
     p = Path(path)
-    fd, tmp = tempfile.mkstemp(prefix=f".{p.stem}.", suffix=p.suffix, dir=p.parent if str(p.parent) else ".")
-    os.close(fd)
+    tmp = None
     try:
+        with deferred_signals():                  # made and known to the clean-up below as one step
+            fd, tmp = tempfile.mkstemp(prefix=f".{p.stem}.", suffix=p.suffix, dir=p.parent if str(p.parent) else ".")
+            os.close(fd)
         yield tmp
         umask = os.umask(0)
         os.umask(umask)
         os.chmod(tmp, 0o666 & ~umask)            # mkstemp makes 0600; give the usual permissions
         os.replace(tmp, p)
     except BaseException:
-        with contextlib.suppress(FileNotFoundError):
-            os.remove(tmp)
+        if tmp is not None:
+            with contextlib.suppress(FileNotFoundError):
+                os.remove(tmp)
         raise
 
 
