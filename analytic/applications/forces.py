@@ -130,7 +130,7 @@ def plan(mech) -> Plan:
     for c in topo.couplings:
         e = elements[pos_of_written[c.element]]
         couplings.append(c)
-        ratios.append(float(e[ratio_field(mech, c)]))
+        ratios.append(float(e[ratio_field(mech, c)]) if c.kind == "gear" else 0.0)
         c_owner.append(max(link_pos[c.link], link_pos[c.mesh], link_pos[c.carrier], pos_of_written[c.element]))
     steps = []
     for k, e in enumerate(elements):

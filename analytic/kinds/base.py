@@ -128,7 +128,10 @@ class Coupling:
     mesh: str
     carrier: str
     ratio: object
-    """The ratio's resolved field name in the element (it may be a parameter)."""
+    """The ratio's resolved field name in the element (it may be a parameter); None for a cam."""
+    kind: str = "gear"
+    """``gear`` (the relation above) or ``cam`` (a cam's contact with its follower: the kind places the
+    follower and solves the contact's force itself)."""
 
 
 @dataclass(frozen=True)
@@ -288,6 +291,14 @@ class Kind:
 
     def resolve_extra(self, e: dict, topology) -> None:
         """Add to the resolved element ``e`` what the solver needs from the topology (a link's origin)."""
+
+    def resolve_at(self, e: dict, ground: dict) -> None:
+        """Add to the resolved element ``e`` what depends on where the ground points are ({name: (x, y)} [m]):
+        a cam's geometry."""
+
+    def rise_measure(self, f: dict) -> str:
+        """What the rises of a ``camlaw`` field measure given the element's fields: ``length`` or ``angle``."""
+        return "length"
 
     def rails(self, e: dict) -> tuple[tuple[str, dict, float], ...]:
         """Blocks sliding on ground lines, for drawing their rails: (block, resolved guide, offset) each."""

@@ -264,7 +264,8 @@ def _segment_distance(p, a, b) -> float:
 
 def meshing(mech) -> tuple[tuple[str, str], ...]:
     """Pairs of moving links whose gears mesh (their pitch discs touch by design)."""
-    return tuple((c.link, c.mesh) for c in mech.topology.couplings if GROUND not in (c.link, c.mesh))
+    return tuple((c.link, c.mesh) for c in mech.topology.couplings
+                 if c.kind == "gear" and GROUND not in (c.link, c.mesh))
 
 
 def build(mech, sweep: Sweep | None = None) -> dict[str, Part]:

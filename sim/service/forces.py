@@ -197,6 +197,7 @@ def forces_record(run: ForceRun, display=None) -> dict:
         if j.input is not None:
             entry["input"] = mech.inputs[j.input].q
         joints.append(entry)
+    joints += cam_joints(run, display)
     drives = {inp.q: f.drives[inp.link] for inp in mech.inputs}
     record = {"mechanism": mech.name, "samples": len(run.t), "t": run.t,
               "inputs": {inp.q: display.convert(inp_q(inp), run.inputs[inp.q]) for inp in mech.inputs},
@@ -207,6 +208,9 @@ def forces_record(run: ForceRun, display=None) -> dict:
                         "time": "s", "force": "N", "torque": "N m", "mass": "kg", "I": "kg m^2",
                         "inputs": {inp.q: display.unit(inp_q(inp)) for inp in mech.inputs},
                         "drives": {inp.q: inp.spec.drive_unit for inp in mech.inputs}}}
+    cams = cams_record(run)
+    if cams:
+        record["cams"] = cams
     if run.balance is not None:
         record["balance"] = balance_record(run, display)
     from sim.service import loads as L
@@ -214,6 +218,69 @@ def forces_record(run: ForceRun, display=None) -> dict:
     if display.unit(Q.FORCE) != "N":
         _force_units(record, mech, display)
     return record
+
+
+def cam_joints(run: ForceRun, display=None) -> list:
+    """The ``joints`` entries of kind ``cam`` (SPEC "Cams and followers"): per cam contact, its point (the
+    follower's trace point; ``x``, ``y``: the contact point itself), the cam's and the follower's links, the
+    contact force ``N`` [N] along the common normal (> 0 pressing) and its components on the follower."""
+    from analytic import cams
+    from analytic import quantities as Q
+    display = display or Q.SI
+    mech, f = run.mech, run.forces
+    out = []
+    elements = cams.elements(mech)
+    for k, c in enumerate(mech.topology.couplings):
+        if c.kind != "cam":
+            continue
+        e = next(x for x in elements.values() if x["links"][0] == c.link)
+        g = cams.at(e["setup"], np.arctan2(run.solution["sin" + c.mesh], run.solution["cos" + c.mesh]))
+        N = f.couplings[k]
+        ax, ay = e["setup"].pivot
+        out.append({"name": e["name"], "point": e["point"], "kind": "cam", "links": [c.mesh, c.link], "N": N,
+                    "Fx": N * g["normal"][0], "Fy": N * g["normal"][1],
+                    "x": display.convert(Q.LENGTH, ax + g["contact"][0]),
+                    "y": display.convert(Q.LENGTH, ay + g["contact"][1])})
+    return out
+
+
+def cams_record(run: ForceRun) -> dict:
+    """Per cam: the least contact force over the run [N] and the jump speed [rad/s] (:func:`jump_speed`)."""
+    out = {}
+    for j in cam_joints(run):
+        out[j["name"]] = {"contact_min": float(np.min(j["N"])), "jump_speed": jump_speed(run, j["name"])}
+    return out
+
+
+def jump_speed(run: ForceRun, name: str) -> float:
+    """The cam speed [rad/s] at which cam ``name``'s contact force first falls to zero, for the file's law
+    scaled in time: at a steady cam speed w every acceleration is w^2 times its value at unit speed, so
+    N(w) = N_s + w^2 N_1 at each cam angle, N_s the force at rest (the loads that depend on the pose only:
+    springs, gravity, the file's forces) and N_1 = (N(w0) - N_s) / w0^2 from the run at the cam's speed w0.
+    The jump speed is the least sqrt(-N_s / N_1) over the samples where N_1 < 0 (inf where the inertia never
+    unloads the contact; 0 where the contact is already lost at rest). Velocity-dependent loads (dampers,
+    friction) are not of this form and are left out of N_s."""
+    from analytic import cams
+    from sim.service import loads as L
+    mech = run.mech
+    e = cams.elements(mech)[name]
+    k = next(i for i, c in enumerate(mech.topology.couplings) if c.kind == "cam" and c.link == e["links"][0])
+    w = np.abs(run.solution["omega" + e["cam"]])
+    w0 = float(np.max(w))
+    zero = np.zeros_like(run.qd)
+    loadset = run.loadset if run.loadset is not None else L.loadset(mech, ())
+    gravity = run.loads["gravity"] or (0.0, 0.0)
+    force = run.loads["force"]
+    fx, fy = (force["Fx"], force["Fy"]) if force else (0.0, 0.0)
+    rest = L.K.solve(mech, run.q, zero, zero, run.t, run.inertias, loadset, tuple(gravity), (fx, fy), 1.0).forces
+    Ns, N = rest.couplings[k], run.forces.couplings[k]
+    if np.any(Ns <= 0):
+        return 0.0
+    if not (w0 > 0 and np.allclose(w, w0, rtol=1e-9, atol=0.0) and np.allclose(run.qdd, 0.0)):
+        return float("nan")                    # the law in time is not a steady cam speed: no single scaling
+    N1 = (N - Ns) / (w0 * w0)
+    falls = N1 < 0
+    return float(np.sqrt(np.min(-Ns[falls] / N1[falls]))) if falls.any() else float("inf")
 
 
 def _force_units(record: dict, mech: Mechanism, display) -> None:
