@@ -280,7 +280,7 @@ def problems(geo: CamGeometry, unit: tuple[float, str] = (1.0, "m")) -> str | No
 
 
 # ------------------------------------------------------------------------------ analysis from a profile
-def polygon_lift(setup: Setup, outline, n: int = ANALYSIS_GRID) -> laws.Table:
+def polygon_lift(setup: Setup, outline, n: int = ANALYSIS_GRID) -> "Lift":
     """The lift a given outline (m, cam frame, closed polyline) imposes on a translating follower (see the
     module docstring), splined periodically over n cam angles. Raises ValueError (one line) where the
     follower's line misses the outline or the follower is an arm."""
@@ -317,7 +317,20 @@ def polygon_lift(setup: Setup, outline, n: int = ANALYSIS_GRID) -> laws.Table:
         raise ValueError(f"the follower's line misses the profile at cam angle {math.degrees(theta[i]):.4g}deg; "
                          f"check the guide's offset and the profile's units")
     d[-1] = d[0]
-    return laws.table_law(theta, d - setup.d0, None)
+    return Lift(laws.table_law(theta, d - setup.d0, None), float(d[0] - setup.d0))
+
+
+@dataclass(frozen=True)
+class Lift:
+    """A lift found from a profile: a periodic spline (:class:`analytic.laws.Table`, which counts from its
+    first row) and that row's lift [m]."""
+
+    table: laws.Table
+    start: float
+
+    def at(self, theta):
+        h, h1, h2, h3 = self.table.at(theta)
+        return h + self.start, h1, h2, h3
 
 
 def read_outline(text: str, scale: float) -> np.ndarray:
@@ -346,7 +359,7 @@ def read_outline(text: str, scale: float) -> np.ndarray:
     return q if area > 0 else q[::-1].copy()
 
 
-__all__ = ["Setup", "Follow", "CamGeometry", "follow", "at", "build", "problems", "polygon_lift", "read_outline",
+__all__ = ["Setup", "Follow", "Lift", "CamGeometry", "follow", "at", "build", "problems", "polygon_lift", "read_outline",
            "elements", "geometry", "MOTIONS", "CONTACTS", "DENSE"]
 
 

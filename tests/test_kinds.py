@@ -16,6 +16,7 @@ For each example (both assembly branches where it has a ``branch`` parameter):
 
 from __future__ import annotations
 
+import importlib.util
 import json
 import tomllib
 from pathlib import Path
@@ -115,6 +116,8 @@ def test_compiled_path_equals_numpy(path, branch, monkeypatch):
 def test_its_mujoco_model_closes_and_passes_compare(path, branch):
     from sim import service
     from sim.model import build
+    if _kind_of(path) == "cam" and importlib.util.find_spec("sim.model.cam_contact") is None:
+        pytest.skip("a cam's MuJoCo contact is sim/model/cam_contact.py (built apart; not in this tree yet)")
     m = _load(path, branch)
     built = build(m)
     import mujoco

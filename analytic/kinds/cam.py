@@ -248,5 +248,21 @@ class Cam(Kind):
         # the reaction on the cam: -N n at K, i.e. at F with the moment (K - F) x (-N n)
         ctx._push(cam, F, -N * nx, -N * ny, -((kx - fx) * N * ny - (ky - fy) * N * nx))
 
+    # -------------------------------------------------------------------------------- simulation
+    def mjcf(self, e, ctx):
+        """The cam's contact in MuJoCo is :mod:`sim.model.cam_contact` (the profile's collision geometry and
+        the roller or face, contacts on between them only), given the element and its geometry
+        (:func:`analytic.cams.build` of ``e["setup"]``: the outline in the cam's frame, the follower's kind,
+        guide or arm, and the law). Where that module is not installed the model cannot hold the follower
+        (its law is not a joint relation MuJoCo can write) and the build is refused in one line."""
+        from analytic._common import ParameterError
+        try:
+            from sim.model import cam_contact
+        except ImportError:
+            raise ParameterError(f"{e['label']}: the MuJoCo model of a cam needs its contact (sim/model/cam_contact.py), "
+                                 f"which this installation lacks; the analytic commands (analyze, check, forces, "
+                                 f"export) work without it") from None
+        cam_contact.add(e, ctx, C.build(e["setup"]))
+
 
 KIND = Cam()

@@ -1,0 +1,355 @@
+"""Disc cams and followers (SPEC "Cams and followers"; analytic/cams.py, analytic/kinds/cam.py).
+
+Every figure is checked against a construction the code under test does not use: the profile against the
+envelope of densely sampled roller circles or of the flat face's tangent lines (the follower placed from
+:mod:`analytic.laws` directly), the pressure angle and the radius of curvature against finite differences of
+the profile polyline, an eccentric circle with a flat-faced follower (exact harmonic motion, derived by hand
+below), the contact force against the follower's Newton equation by hand, and the jump speed against a scan
+of the contact force over cam speeds.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import analytic
+from analytic import cams, laws
+from cli_runner import run
+
+HERE = Path(__file__).resolve().parent
+KINDS = HERE / "kinds"
+LIBRARY = HERE.parent / "analytic" / "library"
+
+
+def _law(*segs):
+    return laws.Profile(tuple(laws.Segment(s, math.radians(d), r) for s, d, r in segs))
+
+
+DRDR = _law(("dwell", 90, 0.0), ("cycloidal", 120, 0.020), ("dwell", 30, 0.0), ("poly345", 120, -0.020))
+
+
+def _translating(contact, law=DRDR, e=0.005, rb=0.030, rr=0.010, gamma=math.pi / 2, face=None):
+    """A cam at A = (0.01, -0.02) with a guide of direction gamma at offset e (to its left)."""
+    A = (0.01, -0.02)
+    n = (-math.sin(gamma), math.cos(gamma))
+    return cams.Setup(pivot=A, motion="translating", contact=contact, roller=rr if contact == "roller" else 0.0,
+                      face_width=face, base_radius=rb, law=law, direction=gamma, offset=e,
+                      origin=(A[0] + e * n[0], A[1] + e * n[1]))
+
+
+def _centres(setup, theta):
+    """The trace point in the cam's frame (from A), from the law alone: world A + e n + (d0 + h) u, d0 by hand,
+    turned back by the cam's angle."""
+    h = setup.law.at(theta)[0]
+    c, s = math.cos(setup.direction), math.sin(setup.direction)
+    d0 = math.sqrt((setup.base_radius + setup.roller) ** 2 - setup.offset ** 2)
+    x, y = -setup.offset * s + (d0 + h) * c, setup.offset * c + (d0 + h) * s
+    ct, st = np.cos(theta), np.sin(theta)
+    return np.column_stack([ct * x + st * y, -st * x + ct * y])
+
+
+def _polar_radius(poly, phi):
+    """Where rays from the origin at angles phi leave a closed polygon (the farthest crossing)."""
+    a, b = poly, np.roll(poly, -1, axis=0)
+    vx, vy = np.cos(phi)[:, None], np.sin(phi)[:, None]
+    # a + t (b - a) = r v: solve for (r, t) per ray and edge
+    ex, ey = (b - a)[None, :, 0], (b - a)[None, :, 1]
+    det = ex * vy - ey * vx
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = (a[None, :, 0] * vy - a[None, :, 1] * vx) / -det
+        r = (a[None, :, 0] * ey - a[None, :, 1] * ex) / -det
+    ok = (t >= 0) & (t <= 1) & (r > 0)
+    return np.max(np.where(ok, r, -np.inf), axis=1)
+
+
+# ------------------------------------------------------------------------------------------ profiles
+def test_roller_profile_is_the_envelope_of_the_roller_circles():
+    st = _translating("roller")
+    geo = cams.build(st)
+    centres = _centres(st, np.linspace(0, 2 * np.pi, 20000, endpoint=False))
+    phi = np.linspace(-np.pi, np.pi, 361)[:-1]
+    v = np.column_stack([np.cos(phi), np.sin(phi)])
+    # the cam along each ray ends where the ray first enters a roller circle (the roller sweeps the rest)
+    cv = v @ centres.T
+    disc = cv ** 2 - np.sum(centres ** 2, axis=1)[None, :] + st.roller ** 2
+    enter = np.where(disc >= 0, cv - np.sqrt(np.maximum(disc, 0)), np.inf)
+    envelope = np.min(np.where(enter > 0, enter, np.inf), axis=1)
+    got = _polar_radius(geo.profile, phi)
+    # 20000 circles scallop by (2 pi 0.06 / 20000)^2 / (8 r_r) ~ 5e-9 m; the 3600-point polygon's chords sag
+    # by at most (2 pi 0.06 / 3600)^2 / (8 rho_min) ~ 5e-8 m
+    assert np.max(np.abs(got - envelope)) <= 1e-7
+
+
+def test_profile_is_counter_clockwise_closed_and_dense():
+    geo = cams.build(_translating("roller"))
+    p = geo.profile
+    area = 0.5 * np.sum(p[:, 0] * np.roll(p[:, 1], -1) - np.roll(p[:, 0], -1) * p[:, 1])
+    assert area > 0 and len(p) == cams.DENSE
+    gaps = np.hypot(*(np.roll(p, -1, axis=0) - p).T)
+    assert gaps.max() <= 2 * np.pi * 0.06 / cams.DENSE * 1.5     # no jump: each step at most 1.5 x the mean arc
+
+
+def test_flat_face_profile_is_the_envelope_of_the_face_lines():
+    st = _translating("flat", e=-0.004, gamma=math.radians(75))
+    geo = cams.build(st)
+    theta = np.linspace(0, 2 * np.pi, 4000, endpoint=False)
+    d = st.base_radius + st.law.at(theta)[0]
+    u = np.column_stack([np.cos(st.direction - theta), np.sin(st.direction - theta)])   # R(-theta) u
+    reach = geo.profile @ u.T                                  # (profile points, lines)
+    # the face touches the outline at every angle (the support function is d) ...
+    # (3600 vertices: a vertex sits at most (2 pi 0.05 / 3600)^2 / (8 rho) ~ 1e-8 m inside a tangent line)
+    assert np.max(np.abs(reach.max(axis=0) - d)) <= 5e-8
+    # ... and no point of the outline crosses any face line (rounding of the dot products)
+    assert np.max(reach - d[None, :]) <= 1e-12
+
+
+def test_knife_profile_is_the_trace_points_path():
+    st = _translating("knife", rr=0.0)
+    geo = cams.build(st)
+    ref = _centres(st, geo.theta)
+    assert np.max(np.abs(geo.contact_cam - ref)) <= 1e-15 + 1e-12 * 0.05   # the same point, rounding
+
+
+# --------------------------------------------------------------------- pressure angle and curvature
+def _fd_tangent_and_rho(points):
+    """Unit tangents and signed radii of curvature of a closed polyline by central differences (the circle
+    through each point and its neighbours); positive where it turns the way it runs (clockwise here:
+    the cam's frame sees the follower go round clockwise)."""
+    a, b, c = np.roll(points, 1, axis=0), points, np.roll(points, -1, axis=0)
+    t = c - a
+    t /= np.hypot(t[:, 0], t[:, 1])[:, None]
+    ab, bc, ca = np.hypot(*(b - a).T), np.hypot(*(c - b).T), np.hypot(*(a - c).T)
+    cross = (b - a)[:, 0] * (c - b)[:, 1] - (b - a)[:, 1] * (c - b)[:, 0]
+    return t, -ab * bc * ca / (2 * cross)
+
+
+@pytest.mark.parametrize("contact", ["roller", "knife"])
+def test_pressure_angle_and_curvature_match_finite_differences(contact):
+    st = _translating(contact, rr=0.010 if contact == "roller" else 0.0)
+    geo = cams.build(st, 36000)
+    t, rho = _fd_tangent_and_rho(geo.contact_cam)
+    # the normal is square to the outline's tangent (the profile made from it must agree with it)
+    ndot = np.abs(np.sum(t * geo.normal_cam, axis=1))
+    assert ndot.max() <= 1e-6                              # central differences: (0.01 deg)^2 x curvature terms
+    finite = np.abs(geo.rho) < 1.0
+    # three-point circles at 0.01 deg: relative error ~ (h / rho)^2 ~ 1e-8; and where the law's acceleration
+    # jumps (cycloid / 3-4-5 joins) the circle straddles two curvatures: those samples are left out
+    jumps = np.zeros_like(finite)
+    for k in np.cumsum([0, 90, 120, 30, 120]):
+        jumps |= np.abs(((np.degrees(geo.theta) - k + 180) % 360) - 180) < 0.02
+    ok = finite & ~jumps
+    assert np.max(np.abs(rho[ok] - geo.rho[ok]) / np.abs(geo.rho[ok])) <= 1e-5
+    # the pressure angle against the world normal from the finite-difference tangent: the outline turned by
+    # the cam's angle, its outward normal (left of a clockwise run) against the guide's direction
+    c, s = np.cos(geo.theta), np.sin(geo.theta)
+    tx, ty = c * t[:, 0] - s * t[:, 1], s * t[:, 0] + c * t[:, 1]
+    nx, ny = -ty, tx
+    ux, uy = math.cos(st.direction), math.sin(st.direction)
+    pa = np.arctan2(ux * ny - uy * nx, ux * nx + uy * ny)
+    assert np.max(np.abs(pa - geo.pressure_angle)) <= 1e-6    # the tangent's O(h^2) error, in rad
+
+
+def test_pressure_angle_by_the_textbook_formula():
+    """Translating roller follower with offset: tan(phi) = (s' - e) / (s + sqrt(Rp^2 - e^2)) (Norton, Design
+    of Machinery, 5th ed., eq. 8.29, offset e measured the other way round: here e is to the guide's left,
+    so the formula reads (s' + e)). Sign: positive where the normal leans to the guide's left."""
+    st = _translating("roller", e=0.007)
+    geo = cams.build(st)
+    h, h1, _, _ = st.law.at(geo.theta)
+    Rp = st.base_radius + st.roller
+    expect = np.arctan((h1 + st.offset) / (h + math.sqrt(Rp ** 2 - st.offset ** 2)))
+    assert np.max(np.abs(geo.pressure_angle - expect)) <= 1e-13     # rounding of two atan2s
+
+
+# ------------------------------------------------------------- exact case: an eccentric circle, flat face
+def test_eccentric_circle_with_a_flat_face_is_exact_harmonic_motion():
+    """By hand: a circle of radius R whose centre sits eps from the pivot at angle c0 in the cam's frame. A
+    flat face square to the guide u rests on it at d(theta) = max over the circle of p . R(-theta) u
+    = eps cos(gamma - theta - c0) + R: harmonic motion of stroke 2 eps; the face touches at the circle's
+    point in the face's normal direction, d + d'' = R everywhere (the outline's radius is R), and the contact
+    runs along the face by -d' - e = -eps sin(gamma - theta - c0) - e: a travel of 2 eps. (The setup of the
+    textbook problem: a radial flat-faced follower with simple harmonic motion out and back in one turn,
+    stroke 50 mm, least radius 25 mm: the contour is a circle of radius 50 mm about a centre 25 mm off the
+    pivot, and the face must be at least 50 mm long.)"""
+    eps, R, gamma = 0.025, 0.050, math.pi / 2
+    law = _law(("harmonic", 180, 2 * eps), ("harmonic", 180, -2 * eps))
+    st = _translating("flat", law=law, e=0.0, rb=R - eps, gamma=gamma)
+    geo = cams.build(st)
+    # the law starts at its lowest (theta = 0): gamma - 0 - c0 = pi, so the centre is at c0 = gamma - pi
+    c0 = gamma - math.pi
+    centre = eps * np.array([math.cos(c0), math.sin(c0)])
+    radius = np.hypot(*(geo.profile - centre).T)
+    assert np.max(np.abs(radius - R)) <= 1e-15 + 1e-13 * R            # a circle, to rounding
+    assert np.max(np.abs(geo.rho - R)) <= 1e-13 * R
+    assert np.max(np.abs(geo.pressure_angle)) == 0.0                   # the normal is the guide's direction
+    assert geo.face_travel == pytest.approx(2 * eps, rel=1e-6)         # sin sampled at 0.1 deg: 1 - cos(0.05deg)
+    assert geo.rho_min == pytest.approx(R, rel=1e-13)
+
+
+def test_a_given_eccentric_circle_moves_a_flat_follower_harmonically():
+    eps, R = 0.02, 0.045
+    phi = np.linspace(0, 2 * np.pi, 7200, endpoint=False)
+    c0 = math.radians(30)
+    outline = np.column_stack([eps * math.cos(c0) + R * np.cos(phi), eps * math.sin(c0) + R * np.sin(phi)])
+    st = _translating("flat", e=0.003, rb=R - eps)
+    lift = cams.polygon_lift(st, outline)
+    theta = np.linspace(0, 2 * np.pi, 997)
+    h, h1, h2, _ = lift.at(theta)
+    d = eps * np.cos(st.direction - theta - c0) + R
+    # the polygon's support falls short of the circle's by at most R (1 - cos(pi / 7200)) ~ 4e-9 m; the periodic
+    # spline of 1440 samples adds (2 pi / 1440)^4 / 384 x eps ~ 2e-11 m, its slope ~ 1e-8 m/rad
+    assert np.max(np.abs(st.base_radius + h - d)) <= 1e-8
+    assert np.max(np.abs(h1 - eps * np.sin(st.direction - theta - c0))) <= 1e-6
+    assert np.max(np.abs(h2 + eps * np.cos(st.direction - theta - c0))) <= 1e-4 * eps * 10
+
+
+def test_a_designed_profile_read_back_gives_its_law():
+    for contact in ("roller", "knife", "flat"):
+        st = _translating(contact, rr=0.010 if contact == "roller" else 0.0)
+        geo = cams.build(st, 7200)
+        lift = cams.polygon_lift(st, geo.profile)
+        theta = np.linspace(0, 2 * np.pi, 721)
+        err = np.abs(lift.at(theta)[0] - st.law.at(theta)[0])
+        # 7200 vertices: the follower rides on the chords, (2 pi 0.06 / 7200)^2 / (8 rho) ~ 1e-8 m below the
+        # outline; the spline through 1440 lifts of a law whose acceleration jumps (cycloid / 3-4-5 ends) adds
+        # ~ jump x (2 pi / 1440)^2 / 8 ~ 1e-7 m
+        assert err.max() <= 3e-7, contact
+
+
+# --------------------------------------------------------------------------------- oscillating
+def test_oscillating_roller_profile_is_the_envelope_of_its_roller_circles():
+    law = _law(("cycloidal", 100, math.radians(12)), ("dwell", 50, 0.0), ("poly345", 110, -math.radians(12)),
+               ("dwell", 100, 0.0))
+    A, B, arm, rr, rb = (0.0, 0.0), (0.06, 0.045), 0.055, 0.008, 0.025
+    st = cams.Setup(pivot=A, motion="oscillating", contact="roller", roller=rr, face_width=None, base_radius=rb,
+                    law=law, arm_pivot=B, arm=arm)
+    geo = cams.build(st)
+    # by hand: psi0 where |B + arm w - A| = rb + rr, on the side where a counter-clockwise turn lifts
+    D = math.hypot(*B)
+    g = math.acos((arm ** 2 + D ** 2 - (rb + rr) ** 2) / (2 * arm * D))
+    psi0 = [p for p in (math.atan2(-B[1], -B[0]) + g, math.atan2(-B[1], -B[0]) - g)
+            if math.cos(p) * (B[1] + arm * math.sin(p)) - math.sin(p) * (B[0] + arm * math.cos(p)) > 0][0]
+    theta = np.linspace(0, 2 * np.pi, 20000, endpoint=False)
+    psi = psi0 + law.at(theta)[0]
+    x, y = B[0] + arm * np.cos(psi), B[1] + arm * np.sin(psi)
+    ct, s_ = np.cos(theta), np.sin(theta)
+    centres = np.column_stack([ct * x + s_ * y, -s_ * x + ct * y])
+    phi = np.linspace(-np.pi, np.pi, 361)[:-1]
+    v = np.column_stack([np.cos(phi), np.sin(phi)])
+    cv = v @ centres.T
+    disc = cv ** 2 - np.sum(centres ** 2, axis=1)[None, :] + rr ** 2
+    enter = np.where(disc >= 0, cv - np.sqrt(np.maximum(disc, 0)), np.inf)
+    envelope = np.min(np.where(enter > 0, enter, np.inf), axis=1)
+    # as for the translating roller: scallops ~ 5e-9 m, the polygon's sag ~ 5e-8 m
+    assert np.max(np.abs(_polar_radius(geo.profile, phi) - envelope)) <= 1e-7
+
+
+# ----------------------------------------------------------------------------------- checks refused
+def test_an_undercut_is_refused_saying_where():
+    st = _translating("roller", rr=0.030, rb=0.012, e=0.0,
+                      law=_law(("dwell", 60, 0.0), ("cycloidal", 60, 0.030), ("cycloidal", 60, -0.030),
+                               ("dwell", 180, 0.0)))
+    geo = cams.build(st)
+    msg = cams.problems(geo)
+    assert msg and "undercuts at cam angle" in msg
+    deg = float(msg.split("cam angle ")[1].split("deg")[0])
+    i = int(np.argmin(np.where(geo.rho_pitch > 0, geo.rho_pitch, np.inf)))
+    assert abs(deg - math.degrees(geo.theta[i])) <= 0.1                # the sample where it is worst
+
+
+def test_a_flat_face_cusp_and_a_narrow_face_are_refused():
+    cusp = _translating("flat", rb=0.005, e=0.0)
+    assert "cusp" in cams.problems(cams.build(cusp))
+    wide = cams.build(_translating("flat", e=0.0))
+    assert cams.problems(wide) is None
+    narrow = _translating("flat", e=0.0, face=0.9 * wide.face_travel)
+    assert "face_width" in cams.problems(cams.build(narrow))
+
+
+# --------------------------------------------------------------------------------- the mechanism
+def test_follower_columns_and_jsons(tmp_path):
+    r = run("analyze", LIBRARY / "cam_roller.toml", "--json")
+    assert r.returncode == 0, r.stderr
+    cam = json.loads(r.stdout)["cams"]["c1"]
+    assert set(cam) == {"pressure_angle_max", "rho_min", "profile"}
+    m = analytic.load(str(LIBRARY / "cam_roller.toml"))
+    geo = cams.geometry(m, "c1")
+    assert cam["rho_min"] == pytest.approx(geo.rho_min, rel=1e-15)
+    assert np.allclose(cam["profile"], geo.profile, rtol=0, atol=1e-15)
+    r = run("forces", LIBRARY / "cam_roller.toml", "--json")
+    assert r.returncode == 0, r.stderr
+    f = json.loads(r.stdout)
+    joint = next(j for j in f["joints"] if j["kind"] == "cam")
+    assert joint["name"] == "c1" and len(joint["N"]) == f["samples"]
+    assert set(f["cams"]["c1"]) == {"contact_min", "jump_speed"}
+    assert f["cams"]["c1"]["contact_min"] == pytest.approx(min(joint["N"]), rel=1e-15)
+
+
+def test_contact_force_by_the_followers_newton_equation():
+    """Translating follower of mass m on a vertical guide with the return spring k from R above: along the
+    guide N cos(pa) = k (L0 - |R - F|) + m a (the spring pushes down while compressed; no gravity)."""
+    m = analytic.load(str(LIBRARY / "cam_roller.toml"))
+    from sim.service import forces as SF
+    fr = SF.forces_run(m, samples=181)
+    k, L0, mass = 2000.0, 0.10, 0.2
+    sol = fr.solution
+    length = 0.12 - sol["yF"]
+    N = SF.cam_joints(fr)[0]["N"]
+    pa = m.solve(fr.q, fr.qd, fr.qdd)["pa_c1"]
+    expect = (k * (L0 - length) + mass * sol["ayF"]) / np.cos(pa)
+    assert np.max(np.abs(N - expect)) <= 1e-10 * np.max(np.abs(expect))   # rounding
+
+
+def test_jump_speed_matches_a_scan_of_the_contact_force():
+    from sim.service import forces as SF
+    base = analytic.load(str(LIBRARY / "cam_roller.toml"))
+    fr = SF.forces_run(base, samples=721)
+    w_jump = SF.cams_record(fr)["c1"]["jump_speed"]
+
+    def least(w):
+        run_ = SF.forces_run(base.with_values(omega1=w), samples=721)
+        return float(np.min(SF.cam_joints(run_)[0]["N"]))
+
+    ws = np.linspace(0.5, 1.5, 11) * w_jump
+    mins = np.array([least(w) for w in ws])
+    k = int(np.argmax(mins <= 0))
+    assert mins[k - 1] > 0 >= mins[k]                        # the scan's sign change brackets it ...
+    lo, hi = ws[k - 1], ws[k]
+    for _ in range(40):                                      # ... and bisection on the scan finds it
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if least(mid) > 0 else (lo, mid)
+    assert w_jump == pytest.approx(0.5 * (lo + hi), rel=1e-9)   # bisection to 2^-40 of the bracket
+
+
+@pytest.mark.parametrize("edit, says", [
+    (('{ shape = "dwell", duration = "30deg" }', '{ shape = "dwell", duration = "40deg" }'), "sum to 370deg"),
+    (('{ shape = "dwell", duration = "30deg" }', '{ shape = "dwell", duration = "30deg", rise = 0.01 }'),
+     "a dwell does not move"),
+    (("roller = 0.010", "roller = -0.010"), "roller"),
+    (("base_radius = 0.030", "base_radius = 0"), "base_radius"),
+    (('follower = "translating"', 'follower = "sliding"'), "not a follower kind"),
+])
+def test_bad_input_is_one_line_exit_2_nothing_written(tmp_path, edit, says):
+    text = (LIBRARY / "cam_roller.toml").read_text()
+    assert edit[0] in text
+    bad = tmp_path / "bad.toml"
+    bad.write_text(text.replace(edit[0], edit[1]))
+    out = tmp_path / "out.csv"
+    r = run("analyze", bad, "--csv", out)
+    assert r.returncode == 2 and says in r.stderr, r.stderr
+    assert len(r.stderr.strip().splitlines()) == 1 and "Traceback" not in r.stderr
+    assert not out.exists()
+
+
+def test_check_prints_the_cams_figures():
+    r = run("check", LIBRARY / "cam_roller.toml")
+    assert r.returncode == 0
+    m = analytic.load(str(LIBRARY / "cam_roller.toml"))
+    geo = cams.geometry(m, "c1")
+    line = next(ln for ln in r.stdout.splitlines() if "largest pressure angle" in ln)
+    assert f"{math.degrees(geo.pressure_angle_max):.4g}deg" in line and f"{geo.rho_min:.6g} m" in line
