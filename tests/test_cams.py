@@ -172,13 +172,15 @@ def test_eccentric_circle_with_a_flat_face_is_exact_harmonic_motion():
     flat face square to the guide u rests on it at d(theta) = max over the circle of p . R(-theta) u
     = eps cos(gamma - theta - c0) + R: harmonic motion of stroke 2 eps; the face touches at the circle's
     point in the face's normal direction, d + d'' = R everywhere (the outline's radius is R), and the contact
-    runs along the face by -d' - e = -eps sin(gamma - theta - c0) - e: a travel of 2 eps. (The setup of the
+    sits along the face -d' - e = -eps sin(gamma - theta - c0) - e from the foot (the face's line is square
+    to the guide whatever the offset e, so the circle is the same): a travel of 2 eps. (The setup of the
     textbook problem: a radial flat-faced follower with simple harmonic motion out and back in one turn,
     stroke 50 mm, least radius 25 mm: the contour is a circle of radius 50 mm about a centre 25 mm off the
     pivot, and the face must be at least 50 mm long.)"""
     eps, R, gamma = 0.025, 0.050, math.pi / 2
     law = _law(("harmonic", 180, 2 * eps), ("harmonic", 180, -2 * eps))
-    st = _translating("flat", law=law, e=0.0, rb=R - eps, gamma=gamma)
+    e = 0.004                                   # an offset face: the same circle, the contact off the foot
+    st = _translating("flat", law=law, e=e, rb=R - eps, gamma=gamma)
     geo = cams.build(st)
     # the law starts at its lowest (theta = 0): gamma - 0 - c0 = pi, so the centre is at c0 = gamma - pi
     c0 = gamma - math.pi
@@ -187,6 +189,8 @@ def test_eccentric_circle_with_a_flat_face_is_exact_harmonic_motion():
     assert np.max(np.abs(radius - R)) <= 1e-15 + 1e-13 * R            # a circle, to rounding
     assert np.max(np.abs(geo.rho - R)) <= 1e-13 * R
     assert np.max(np.abs(geo.pressure_angle)) == 0.0                   # the normal is the guide's direction
+    along = -eps * np.sin(gamma - geo.theta - c0) - e
+    assert np.max(np.abs(geo.face_offset - along)) <= 1e-15 + 1e-13 * eps
     assert geo.face_travel == pytest.approx(2 * eps, rel=1e-6)         # sin sampled at 0.1 deg: 1 - cos(0.05deg)
     assert geo.rho_min == pytest.approx(R, rel=1e-13)
 
