@@ -421,6 +421,11 @@ class Kind:
         closed form overrides it."""
         ctx.generic(e)
 
+    def contact(self, e: dict, ctx) -> tuple:
+        """For a kind with a cam coupling: its contact point K and unit common normal n (out of the cam)
+        over the context's samples, ((kx, ky), (nx, ny)) [m, world]."""
+        raise NotImplementedError
+
     # -------------------------------------------------------------------------------- simulation
     def mjcf(self, e: dict, model) -> None:
         """Add constraints the MuJoCo model needs besides its joints and loop closures (``model`` is the

@@ -216,23 +216,26 @@ class Cam(Kind):
         return {"pa_" + e["name"]: g["pressure_angle"], "rho_" + e["name"]: g["rho"]}
 
     # ------------------------------------------------------------------------------------ forces
+    def contact(self, e, ctx):
+        setup = e["setup"]
+        cc, cs = ctx.direction(e["cam"])
+        g = C.at(setup, np.arctan2(cs, cc))
+        Ax, Ay = setup.pivot
+        return (Ax + g["contact"][0], Ay + g["contact"][1]), g["normal"]
+
     def forces(self, e, ctx):
         """Closed form. The contact pushes the follower with N along the common normal n (out of the cam) at
         the contact point K. Translating: the loads W on the block along the guide u balance N n: N = -W.u /
         (n.u); the guide takes the rest across it and the couple about F. Oscillating: moments about the arm
         pivot B: N = -M_B / ((K - B) x n); the pin at B takes the rest. The reaction -N n acts on the cam at
-        K (pushed at F with its moment)."""
+        K (:meth:`analytic.applications.forces.Context.contact`)."""
         setup = e["setup"]
-        link, F, cam = e["links"][0], e["point"], e["cam"]
-        cc, cs = ctx.direction(cam)
-        g = C.at(setup, np.arctan2(cs, cc))
-        nx, ny = g["normal"]
-        Ax, Ay = setup.pivot
-        kx, ky = Ax + g["contact"][0], Ay + g["contact"][1]
-        fx, fy = ctx.xy(F)
+        link, F = e["links"][0], e["point"]
+        (kx, ky), (nx, ny) = self.contact(e, ctx)
         W = ctx.resultant(link)
         if setup.motion == "translating":
             c, s = setup.u
+            fx, fy = ctx.xy(F)
             N = -(W[0] * c + W[1] * s) / (nx * c + ny * s)
             Gx, Gy = -W[0] - N * nx, -W[1] - N * ny
             couple = -(ctx.moment(link, F) + (kx - fx) * N * ny - (ky - fy) * N * nx)
@@ -242,11 +245,7 @@ class Cam(Kind):
             bx, by = ctx.xy(B)
             N = -ctx.moment(link, B) / ((kx - bx) * ny - (ky - by) * nx)
             ctx.pin(B, link, -W[0] - N * nx, -W[1] - N * ny)
-        k = ctx.step.couplings[0]
-        ctx.out["couplings"][k, ctx.sl] = N
-        ctx.done.add(("coupling", k))
-        # the reaction on the cam: -N n at K, i.e. at F with the moment (K - F) x (-N n)
-        ctx._push(cam, F, -N * nx, -N * ny, -((kx - fx) * N * ny - (ky - fy) * N * nx))
+        ctx.contact(ctx.step.couplings[0], e, N)
 
     # -------------------------------------------------------------------------------- simulation
     def mjcf(self, e, ctx):
