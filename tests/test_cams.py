@@ -357,3 +357,39 @@ def test_check_prints_the_cams_figures():
     geo = cams.geometry(m, "c1")
     line = next(ln for ln in r.stdout.splitlines() if "largest pressure angle" in ln)
     assert f"{math.degrees(geo.pressure_angle_max):.4g}deg" in line and f"{geo.rho_min:.6g} m" in line
+
+
+# ---------------------------------------------------------------------------------------------- parts
+def _polygon_distance(points, poly):
+    """The distance from each point to the closed polygon's edges."""
+    a, b = poly, np.roll(poly, -1, axis=0)
+    ab = b - a
+    t = np.clip(np.einsum("pkj,kj->pk", points[:, None, :] - a[None], ab) / np.sum(ab * ab, axis=1), 0, 1)
+    near = a[None] + t[..., None] * ab[None]
+    return np.min(np.hypot(*(points[:, None, :] - near).transpose(2, 0, 1)), axis=1)
+
+
+def test_the_cam_plate_is_exported_within_1e_4_of_the_size(tmp_path):
+    import ezdxf
+    r = run("export", "cam_roller", "--dxf", tmp_path / "c.dxf", "--stl", tmp_path / "stl", "--bom",
+            tmp_path / "bom.csv")
+    assert r.returncode == 0, r.stderr
+    m = analytic.load("cam_roller")
+    dense = cams.geometry(m, "c1").profile              # the cam's frame; at the pose the cam angle is 0
+    doc = ezdxf.readfile(tmp_path / "c.dxf")
+    plate = [e for e in doc.modelspace() if e.dxftype() == "LWPOLYLINE" and e.dxf.layer == "1"]
+    assert len(plate) == 1
+    outline = np.array([(x, y) for x, y, *_ in plate[0].get_points()])
+    tol = 1e-4 * m.size                                 # SPEC: the outline within 1e-4 of the size
+    assert np.max(_polygon_distance(dense, outline)) <= tol
+    assert np.max(_polygon_distance(outline, dense)) <= tol
+    holes = [e for e in doc.modelspace() if e.dxftype() == "CIRCLE" and e.dxf.layer == "1"]
+    assert any(math.hypot(h.dxf.center[0], h.dxf.center[1]) <= 1e-12 for h in holes)   # the shaft's, at A
+    stl = (tmp_path / "stl" / "1.stl").read_bytes()
+    tri = np.frombuffer(stl[84:], dtype=np.dtype([("n", "<f4", 3), ("v", "<f4", (3, 3)), ("a", "<u2")]))
+    xy = tri["v"][:, :, :2].reshape(-1, 2).astype(float)
+    # the solid in its link's frame: the plate's extent matches the profile's (float32 vertices: 1e-7 relative)
+    assert np.allclose([xy[:, 0].min(), xy[:, 0].max(), xy[:, 1].min(), xy[:, 1].max()],
+                       [dense[:, 0].min(), dense[:, 0].max(), dense[:, 1].min(), dense[:, 1].max()], atol=tol)
+    bom = (tmp_path / "bom.csv").read_text().splitlines()
+    assert any(line.startswith("1,") and ",cam," in line for line in bom)
