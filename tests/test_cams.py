@@ -393,3 +393,18 @@ def test_the_cam_plate_is_exported_within_1e_4_of_the_size(tmp_path):
                        [dense[:, 0].min(), dense[:, 0].max(), dense[:, 1].min(), dense[:, 1].max()], atol=tol)
     bom = (tmp_path / "bom.csv").read_text().splitlines()
     assert any(line.startswith("1,") and ",cam," in line for line in bom)
+
+
+def test_the_cam_rows_of_the_sheet_plot_the_law_over_the_cam_angle():
+    from analytic.quantities import Display
+    from sim.output import plot
+    m = analytic.load("cam_flat")                       # a file in mm: the lift is drawn in mm
+    fig = plot.cam_figure(m, Display("mm"))
+    lift = fig.axes[0].lines[0]
+    theta = np.radians(lift.get_xdata())
+    law = cams.elements(m)["tappet"]["segments"]
+    assert np.allclose(lift.get_ydata(), law.at(theta)[0] * 1e3, rtol=0, atol=1e-12)    # m -> mm, rounding
+    jerk = fig.axes[3].lines[0]
+    assert np.allclose(jerk.get_ydata(), law.at(theta)[3] * 1e3, rtol=0, atol=1e-9)
+    pa = fig.axes[4].lines[0]
+    assert np.max(np.abs(pa.get_ydata())) == 0.0         # a flat face square to its guide
