@@ -84,7 +84,7 @@ class Cam(Kind):
             if f["profile"] != "":
                 return "field 'profile': a given profile drives only a translating follower; give segments for the arm"
         if f["contact"] != "roller" and f["roller"] != 0.0:
-            return f"field 'roller': only a roller contact has a radius; drop it (or set contact = \"roller\")"
+            return "field 'roller': only a roller contact has a radius; drop it (or set contact = \"roller\")"
         if f["contact"] != "flat" and f["face_width"] != 0.0:
             return "field 'face_width': only a flat face has a width; drop it (or set contact = \"flat\")"
         return None
