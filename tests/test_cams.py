@@ -256,14 +256,16 @@ def test_oscillating_roller_profile_is_the_envelope_of_its_roller_circles():
 # ----------------------------------------------------------------------------------- checks refused
 def test_an_undercut_is_refused_saying_where():
     st = _translating("roller", rr=0.030, rb=0.012, e=0.0,
-                      law=_law(("dwell", 60, 0.0), ("cycloidal", 60, 0.030), ("cycloidal", 60, -0.030),
-                               ("dwell", 180, 0.0)))
+                      law=_law(("dwell", 60, 0.0), ("cycloidal", 50, 0.030), ("poly345", 90, -0.030),
+                               ("dwell", 160, 0.0)))       # not symmetric: one worst angle
     geo = cams.build(st)
     msg = cams.problems(geo)
     assert msg and "undercuts at cam angle" in msg
     deg = float(msg.split("cam angle ")[1].split("deg")[0])
-    i = int(np.argmin(np.where(geo.rho_pitch > 0, geo.rho_pitch, np.inf)))
-    assert abs(deg - math.degrees(geo.theta[i])) <= 0.1                # the sample where it is worst
+    theta = np.arange(36000) * (2 * np.pi / 36000)
+    _, rho = _fd_tangent_and_rho(_centres(st, theta))     # the law's roller centres, by finite differences
+    worst = np.degrees(theta[np.argmin(np.where(rho > 0, rho, np.inf))])
+    assert abs(deg - worst) <= 0.1                          # the check samples every 0.1 deg
 
 
 def test_a_flat_face_cusp_and_a_narrow_face_are_refused():
@@ -408,3 +410,51 @@ def test_the_cam_rows_of_the_sheet_plot_the_law_over_the_cam_angle():
     assert np.allclose(jerk.get_ydata(), law.at(theta)[3] * 1e3, rtol=0, atol=1e-9)
     pa = fig.axes[4].lines[0]
     assert np.max(np.abs(pa.get_ydata())) == 0.0         # a flat face square to its guide
+
+
+def test_a_given_profile_file_drives_the_follower_as_its_law_would(tmp_path):
+    m = analytic.load("cam_roller")
+    outline = cams.geometry(m, "c1", 7200).profile
+    (tmp_path / "cam.csv").write_text("x,y\n" + "\n".join(f"{float(x)!r},{float(y)!r}" for x, y in outline) + "\n")
+    text = (LIBRARY / "cam_roller.toml").read_text()
+    start, end = text.index("segments = ["), text.index("]\n\n[inertia]") + 2
+    (tmp_path / "given.toml").write_text(text[:start] + 'profile = "cam.csv"\n' + text[end:])
+    given = analytic.load(str(tmp_path / "given.toml"))
+    q = np.linspace(0, 2 * np.pi, 361)[:, None]
+    a, b = m.solve(q, 2 * np.pi, 0.0), given.solve(q, 2 * np.pi, 0.0)
+    # the outline's 7200 chords and the 1440-point spline (see test_a_designed_profile_read_back_gives_its_law)
+    assert np.max(np.abs(a["sfollower"] - b["sfollower"])) <= 3e-7
+    assert np.max(np.abs(a["dsfollower"] - b["dsfollower"])) <= 1e-4 * np.max(np.abs(a["dsfollower"]))
+
+
+def test_check_refuses_an_undercut_saying_where(tmp_path):
+    text = (LIBRARY / "cam_roller.toml").read_text()
+    for a, b in (('{ shape = "dwell", duration = "90deg" }', '{ shape = "dwell", duration = "170deg" }'),
+                 ('duration = "120deg", rise = 0.020', 'duration = "40deg", rise = 0.020'),
+                 ("base_radius = 0.030", "base_radius = 0.020"), ("roller = 0.010", "roller = 0.015")):
+        assert a in text
+        text = text.replace(a, b)
+    bad = tmp_path / "bad.toml"
+    bad.write_text(text)                     # a rise of 20 mm in 40deg: the pitch curve turns on a 12 mm radius
+    r = run("check", bad)
+    assert r.returncode == 2 and "undercuts at cam angle" in r.stderr and "bad.toml" in r.stderr, r.stderr
+    assert len(r.stderr.strip().splitlines()) == 1
+    said = float(r.stderr.split("cam angle ")[1].split("deg")[0])
+    # where the pitch curve (the roller centres placed from the law alone) turns tightest, by finite differences
+    law = _law(("dwell", 170, 0.0), ("cycloidal", 40, 0.020), ("dwell", 30, 0.0), ("poly345", 120, -0.020))
+    st = _translating("roller", law=law, rb=0.020, rr=0.015)
+    theta = np.arange(36000) * (2 * np.pi / 36000)
+    _, rho = _fd_tangent_and_rho(_centres(st, theta))
+    worst = np.degrees(theta[np.argmin(np.where(rho > 0, rho, np.inf))])
+    assert abs(said - worst) <= 0.1                          # the check samples every 0.1 deg
+
+
+def test_check_refuses_a_face_too_narrow(tmp_path):
+    text = (LIBRARY / "cam_flat.toml").read_text()
+    assert "face_width = 40" in text
+    bad = tmp_path / "bad.toml"
+    bad.write_text(text.replace("face_width = 40", "face_width = 20"))
+    r = run("check", bad)
+    # the contact's travel is 22.46 mm (the eccentric-circle test checks the travel by hand)
+    assert r.returncode == 2 and "field 'face_width': 0.02 m is narrower" in r.stderr, r.stderr
+    assert len(r.stderr.strip().splitlines()) == 1

@@ -258,7 +258,7 @@ class Cam(Kind):
         try:
             from sim.model import cam_contact
         except ImportError:
-            raise ParameterError(f"{e['label']}: the MuJoCo model of a cam needs its contact (sim/model/cam_contact.py), "
+            raise ParameterError(f"{ctx.mech.definition.source}: {e['label']}: the MuJoCo model of a cam needs its contact (sim/model/cam_contact.py), "
                                  f"which this installation lacks; the analytic commands (analyze, check, forces, "
                                  f"export) work without it") from None
         cam_contact.add(e, ctx, C.build(e["setup"]))
