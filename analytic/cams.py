@@ -289,29 +289,8 @@ def polygon_lift(setup: Setup, outline, n: int = ANALYSIS_GRID) -> "Lift":
                          "segments instead")
     q = np.asarray(outline, dtype=float)
     theta = np.arange(n + 1) * (2 * math.pi / n)
-    c, s = np.cos(theta)[:, None], np.sin(theta)[:, None]
-    uc0, us0 = setup.u
-    ucx, ucy = c * uc0 + s * us0, -s * uc0 + c * us0          # R(-theta) u
-    ncx, ncy = -ucy, ucx
-    e = setup.offset
-    if setup.contact == "flat":
-        d = np.max(q[None, :, 0] * ucx + q[None, :, 1] * ucy, axis=1)
-    elif setup.contact == "roller":
-        rr = setup.roller
-        along = q[None, :, 0] * ucx + q[None, :, 1] * ucy
-        across = q[None, :, 0] * ncx + q[None, :, 1] * ncy - e
-        room = rr * rr - across * across
-        d = np.max(np.where(room >= 0, along + np.sqrt(np.maximum(room, 0.0)), -np.inf), axis=1)
-    else:
-        a, b = q, np.roll(q, -1, axis=0)
-        ya = a[None, :, 0] * ncx + a[None, :, 1] * ncy - e
-        yb = b[None, :, 0] * ncx + b[None, :, 1] * ncy - e
-        xa = a[None, :, 0] * ucx + a[None, :, 1] * ucy
-        xb = b[None, :, 0] * ucx + b[None, :, 1] * ucy
-        crosses = (ya <= 0) != (yb <= 0)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            x = xa + (xb - xa) * ya / (ya - yb)
-        d = np.max(np.where(crosses, x, -np.inf), axis=1)
+    rows = max(1, CHUNK // max(len(q), 1))          # cam angles per block: a block's arrays stay ~CHUNK long
+    d = np.concatenate([_rest(setup, q, theta[k:k + rows]) for k in range(0, n + 1, rows)])
     if not np.all(np.isfinite(d)):
         i = int(np.flatnonzero(~np.isfinite(d))[0])
         raise ValueError(f"the follower's line misses the profile at cam angle {math.degrees(theta[i]):.4g}deg; "
@@ -331,6 +310,54 @@ class Lift:
     def at(self, theta):
         h, h1, h2, h3 = self.table.at(theta)
         return h + self.start, h1, h2, h3
+
+
+CHUNK = 1 << 20
+"""Cam angles times outline points per block of :func:`polygon_lift` (8 MB per array)."""
+
+
+def _rest(setup: Setup, q, theta):
+    """Where a translating follower rests on the outline q (cam frame) at cam angles theta: d along the
+    guide from A's foot (see :func:`polygon_lift`)."""
+    c, s = np.cos(theta)[:, None], np.sin(theta)[:, None]
+    uc0, us0 = setup.u
+    ucx, ucy = c * uc0 + s * us0, -s * uc0 + c * us0          # R(-theta) u
+    ncx, ncy = -ucy, ucx
+    e = setup.offset
+    if setup.contact == "flat":
+        d = np.max(q[None, :, 0] * ucx + q[None, :, 1] * ucy, axis=1)
+    elif setup.contact == "roller":
+        rr = setup.roller
+        along = q[None, :, 0] * ucx + q[None, :, 1] * ucy
+        across = q[None, :, 0] * ncx + q[None, :, 1] * ncy - e
+        room = rr * rr - across * across
+        d = np.max(np.where(room >= 0, along + np.sqrt(np.maximum(room, 0.0)), -np.inf), axis=1)
+        # on an edge's straight run: the centre on the edge's line moved out by r_r (outward: to the right of
+        # a counter-clockwise edge), its foot within the edge
+        a, b = q, np.roll(q, -1, axis=0)
+        L = np.hypot(*(b - a).T)
+        tx, ty = (b - a)[:, 0] / L, (b - a)[:, 1] / L
+        mx, my = ty, -tx
+        um = ucx * mx[None, :] + ucy * my[None, :]
+        nm = ncx * mx[None, :] + ncy * my[None, :]
+        am = a[:, 0] * mx + a[:, 1] * my
+        with np.errstate(divide="ignore", invalid="ignore"):
+            de = (rr + am[None, :] - e * nm) / um
+        px, py = e * ncx + de * ucx - a[None, :, 0], e * ncy + de * ucy - a[None, :, 1]
+        foot = px * tx[None, :] + py * ty[None, :]
+        ok = (um > 0) & (foot >= 0) & (foot <= L[None, :])
+        d = np.maximum(d, np.max(np.where(ok, de, -np.inf), axis=1))
+    else:
+        a, b = q, np.roll(q, -1, axis=0)
+        ya = a[None, :, 0] * ncx + a[None, :, 1] * ncy - e
+        yb = b[None, :, 0] * ncx + b[None, :, 1] * ncy - e
+        xa = a[None, :, 0] * ucx + a[None, :, 1] * ucy
+        xb = b[None, :, 0] * ucx + b[None, :, 1] * ucy
+        crosses = (ya <= 0) != (yb <= 0)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            x = xa + (xb - xa) * ya / (ya - yb)
+        d = np.max(np.where(crosses, x, -np.inf), axis=1)
+    return d
 
 
 def read_outline(text: str, scale: float) -> np.ndarray:

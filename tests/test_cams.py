@@ -458,3 +458,31 @@ def test_check_refuses_a_face_too_narrow(tmp_path):
     # the contact's travel is 22.46 mm (the eccentric-circle test checks the travel by hand)
     assert r.returncode == 2 and "field 'face_width': 0.02 m is narrower" in r.stderr, r.stderr
     assert len(r.stderr.strip().splitlines()) == 1
+
+
+def test_a_tangent_cam_lifts_a_radial_roller_by_the_textbook_flank_formula():
+    """A tangent cam (a base circle r1, a nose circle r3 at d from the centre, straight flanks tangent to both:
+    the convex hull of the two circles) lifts a radial roller follower of radius r2 on a flank by
+    x = (r1 + r2) (1 - cos a) / cos a, a the cam's turn from where the flank begins (S. S. Rattan, Theory of
+    Machines, ch. "Cams", tangent cam with reciprocating roller follower: contact on the straight flanks).
+    Here, by hand: the flank's normal is at beta = acos((r1 - r3) / d) from the nose's direction (+x), the
+    follower runs along +y turned back by theta in the cam's frame, so a = theta - (90deg - beta), and the
+    roller stays on the flank while tan(a) (r1 + r2) <= d sin(beta) (the nose's tangent point)."""
+    from scipy.spatial import ConvexHull
+    r1, r3, d, r2 = 0.030, 0.010, 0.030, 0.008
+    t = np.linspace(0, 2 * np.pi, 4000, endpoint=False)
+    pts = np.vstack([np.column_stack([r1 * np.cos(t), r1 * np.sin(t)]),
+                     np.column_stack([d + r3 * np.cos(t), r3 * np.sin(t)])])
+    outline = pts[ConvexHull(pts).vertices]                    # counter-clockwise
+    st = cams.Setup(pivot=(0.0, 0.0), motion="translating", contact="roller", roller=r2, face_width=None,
+                    base_radius=r1, law=None, direction=math.pi / 2, offset=0.0, origin=(0.0, 0.0))
+    lift = cams.polygon_lift(st, outline)
+    beta = math.acos((r1 - r3) / d)
+    a_end = math.atan(d * math.sin(beta) / (r1 + r2))
+    a = np.linspace(0.02, a_end - 0.02, 200)
+    theta = a + math.pi / 2 - beta
+    x = (r1 + r2) * (1 - np.cos(a)) / np.cos(a)
+    # the hull's circle arcs are chords of (2 pi r / 4000): sag r (pi / 4000)^2 / 2 ~ 1e-11 m; the flank is
+    # exact; the lift's periodic spline over 1440 angles: the flank's x'''' (r1 + r2) ~ 0.2 m/rad^4 times
+    # (2 pi / 1440)^4 / 384 ~ 2e-13 m, with the nose and base joins (a jump in x'') ~ 1e-7 m nearby
+    assert np.max(np.abs(lift.at(theta)[0] - x)) <= 2e-7
