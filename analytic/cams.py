@@ -35,7 +35,8 @@ follower rests where it first touches the outline coming down its guide: a flat 
 distance max_k q_k . u_c, a roller's centre at max_k [q_k . u_c + sqrt(r_r^2 - (q_k . n_c - e)^2)] over the
 vertices within r_r of its line, a knife at the outermost crossing of its line with the polygon's edges;
 the lift on a grid of cam angles is then splined periodically (:func:`analytic.laws.table_law`) and its
-derivatives are the spline's. An oscillating follower with a given profile is not supported (refused).
+derivatives are the spline's. An arm's roller or knife rests likewise at the highest arm angle where it first
+touches the outline coming down (:func:`_rest_arm`); a flat-faced arm is not supported (refused).
 """
 
 from __future__ import annotations
@@ -284,19 +285,21 @@ def polygon_lift(setup: Setup, outline, n: int = ANALYSIS_GRID) -> "Lift":
     """The lift a given outline (m, cam frame, closed polyline) imposes on a translating follower (see the
     module docstring), splined periodically over n cam angles. Raises ValueError (one line) where the
     follower's line misses the outline or the follower is an arm."""
-    if setup.motion != "translating":
-        raise ValueError("a given profile drives only a translating follower; give the oscillating arm's "
-                         "segments instead")
+    if setup.motion == "oscillating" and setup.contact == "flat":
+        raise ValueError("a flat-faced arm is not supported; give a roller or a knife")
     q = np.asarray(outline, dtype=float)
     theta = np.arange(n + 1) * (2 * math.pi / n)
     rows = max(1, CHUNK // max(len(q), 1))          # cam angles per block: a block's arrays stay ~CHUNK long
-    d = np.concatenate([_rest(setup, q, theta[k:k + rows]) for k in range(0, n + 1, rows)])
+    rest = _rest if setup.motion == "translating" else _rest_arm
+    d = np.concatenate([rest(setup, q, theta[k:k + rows]) for k in range(0, n + 1, rows)])
     if not np.all(np.isfinite(d)):
         i = int(np.flatnonzero(~np.isfinite(d))[0])
-        raise ValueError(f"the follower's line misses the profile at cam angle {math.degrees(theta[i]):.4g}deg; "
-                         f"check the guide's offset and the profile's units")
+        what = "line" if setup.motion == "translating" else "arm's circle"
+        raise ValueError(f"the follower's {what} misses the profile at cam angle {math.degrees(theta[i]):.4g}deg; "
+                         f"check the guide or the arm and the profile's units")
     d[-1] = d[0]
-    return Lift(laws.table_law(theta, d - setup.d0, None), float(d[0] - setup.d0))
+    base = setup.d0 if setup.motion == "translating" else 0.0
+    return Lift(laws.table_law(theta, d - base, None), float(d[0] - base))
 
 
 @dataclass(frozen=True)
@@ -345,7 +348,7 @@ def _rest(setup: Setup, q, theta):
             de = (rr + am[None, :] - e * nm) / um
         px, py = e * ncx + de * ucx - a[None, :, 0], e * ncy + de * ucy - a[None, :, 1]
         foot = px * tx[None, :] + py * ty[None, :]
-        ok = (um > 0) & (foot >= 0) & (foot <= L[None, :])
+        ok = (um > 0) & (foot >= -1e-9 * L[None, :]) & (foot <= L[None, :] * (1 + 1e-9))
         d = np.maximum(d, np.max(np.where(ok, de, -np.inf), axis=1))
     else:
         a, b = q, np.roll(q, -1, axis=0)
@@ -358,6 +361,44 @@ def _rest(setup: Setup, q, theta):
             x = xa + (xb - xa) * ya / (ya - yb)
         d = np.max(np.where(crosses, x, -np.inf), axis=1)
     return d
+
+
+def _rest_arm(setup: Setup, q, theta):
+    """Where an arm's roller (or knife, r_r = 0) rests on the outline q (cam frame) at cam angles theta: its
+    angle from psi0 (rad). World, from A: the outline at R(theta) q, the arm's centre at b = B - A, the
+    roller's centre C = b + arm w(psi). A vertex W is within r_r of C where cos(psi - delta) <= k / |D| (D = b
+    - W = |D| (cos delta, sin delta), k = (r_r^2 - |D|^2 - arm^2) / (2 arm)); an edge's outer side (normal m
+    at angle mu, through a) where cos(psi - mu) <= (r_r - (b - a) . m) / arm, the foot within the edge. The
+    arm lowered (psi decreasing) first meets each such arc at its upper end, delta - acos(.) (mu - acos(.));
+    it rests at the highest of those within half a turn of psi0."""
+    c, s = np.cos(theta)[:, None], np.sin(theta)[:, None]
+    bx, by = setup.arm_pivot[0] - setup.pivot[0], setup.arm_pivot[1] - setup.pivot[1]
+    a, rr, psi0 = setup.arm, (setup.roller if setup.contact == "roller" else 0.0), setup.psi0
+
+    def upper(angle, ratio):
+        with np.errstate(invalid="ignore"):
+            u = angle - np.arccos(ratio) - psi0
+        u = u - 2 * np.pi * np.round(u / (2 * np.pi))
+        return np.where((np.abs(ratio) <= 1) & (np.abs(u) < 0.5 * np.pi), u, -np.inf)
+
+    wx, wy = c * q[None, :, 0] - s * q[None, :, 1], s * q[None, :, 0] + c * q[None, :, 1]
+    Dx, Dy = bx - wx, by - wy
+    D = np.hypot(Dx, Dy)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        best = np.max(upper(np.arctan2(Dy, Dx), (rr * rr - D * D - a * a) / (2 * a * D)), axis=1)
+    e0, e1 = q, np.roll(q, -1, axis=0)
+    L = np.hypot(*(e1 - e0).T)
+    tx, ty = (e1 - e0)[:, 0] / L, (e1 - e0)[:, 1] / L
+    mx, my = c * ty[None, :] + s * tx[None, :], s * ty[None, :] - c * tx[None, :]   # R(theta) (ty, -tx)
+    Tx, Ty = c * tx[None, :] - s * ty[None, :], s * tx[None, :] + c * ty[None, :]
+    ax_, ay_ = wx, wy                                           # the edges' first ends, turned
+    ratio = (rr - ((bx - ax_) * mx + (by - ay_) * my)) / a
+    u = upper(np.arctan2(my, mx), ratio)
+    psi = psi0 + np.where(np.isfinite(u), u, 0.0)
+    foot = (bx + a * np.cos(psi) - ax_) * Tx + (by + a * np.sin(psi) - ay_) * Ty
+    slack = 1e-9 * L[None, :]                                   # a tip on a vertex: on both edges' ends
+    u = np.where(np.isfinite(u) & (foot >= -slack) & (foot <= L[None, :] + slack), u, -np.inf)
+    return np.maximum(best, np.max(u, axis=1))
 
 
 def read_outline(text: str, scale: float) -> np.ndarray:

@@ -486,3 +486,19 @@ def test_a_tangent_cam_lifts_a_radial_roller_by_the_textbook_flank_formula():
     # exact; the lift's periodic spline over 1440 angles: the flank's x'''' (r1 + r2) ~ 0.2 m/rad^4 times
     # (2 pi / 1440)^4 / 384 ~ 2e-13 m, with the nose and base joins (a jump in x'') ~ 1e-7 m nearby
     assert np.max(np.abs(lift.at(theta)[0] - x)) <= 2e-7
+
+
+@pytest.mark.parametrize("contact", ["roller", "knife"])
+def test_an_arms_designed_profile_read_back_gives_its_law(contact):
+    law = _law(("cycloidal", 100, math.radians(12)), ("dwell", 50, 0.0), ("poly345", 110, -math.radians(12)),
+               ("dwell", 100, 0.0))
+    st = cams.Setup(pivot=(0.01, -0.02), motion="oscillating", contact=contact,
+                    roller=0.008 if contact == "roller" else 0.0, face_width=None, base_radius=0.025, law=law,
+                    arm_pivot=(0.07, 0.025), arm=0.055)
+    geo = cams.build(st, 7200)
+    lift = cams.polygon_lift(st, geo.profile)
+    theta = np.linspace(0, 2 * np.pi, 721)
+    err = np.abs(lift.at(theta)[0] - law.at(theta)[0])
+    # as for the translating follower: ~1e-8 m on the chords and ~1e-7 m from the spline at the law's
+    # acceleration jumps, over the arm's 0.055 m: ~3e-6 rad
+    assert err.max() <= 5e-6, contact

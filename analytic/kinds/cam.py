@@ -7,7 +7,7 @@ Fields: ``point`` F (the trace point: roller centre, knife edge or the flat face
 ground point ``arm_pivot``, of length ``arm``), ``contact`` (``knife``, ``roller`` of radius ``roller``,
 ``flat`` with an optional ``face_width``), ``base_radius``, ``links`` [the follower], and the follower's law:
 ``segments`` over the cam angle (design: the tool makes the profile) or ``profile`` (a CSV of the outline in
-the cam's frame, file units: the tool finds the motion; translating followers only).
+the cam's frame, file units: the tool finds the motion, :func:`analytic.cams.polygon_lift`).
 
 The cam angle theta is the cam link's angle (its frame's x-axis from +x); the follower's lift is an
 explicit function of it (:func:`analytic.cams.follow`), so positions, velocities (theta' = the cam link's
@@ -81,8 +81,6 @@ class Cam(Kind):
                 return "field 'guide': an oscillating follower has no guide; drop it"
             if f["contact"] == "flat":
                 return "field 'contact': a flat-faced oscillating follower is not supported; use \"roller\" or \"knife\""
-            if f["profile"] != "":
-                return "field 'profile': a given profile drives only a translating follower; give segments for the arm"
         if f["contact"] != "roller" and f["roller"] != 0.0:
             return "field 'roller': only a roller contact has a radius; drop it (or set contact = \"roller\")"
         if f["contact"] != "flat" and f["face_width"] != 0.0:
