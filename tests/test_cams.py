@@ -311,25 +311,36 @@ def test_contact_force_by_the_followers_newton_equation():
     assert np.max(np.abs(N - expect)) <= 1e-10 * np.max(np.abs(expect))   # rounding
 
 
-def test_jump_speed_matches_a_scan_of_the_contact_force():
+@pytest.mark.parametrize("alpha", [0.0, 20.0])
+def test_jump_speed_matches_a_scan_of_the_contact_force(tmp_path, alpha):
+    """The file's law run k times faster (omega k w0, alpha k^2 a0: the same cam angles at every sample) until
+    the least contact force reaches 0, by a scan and bisection of the force solve itself; the jump speed is
+    that k times the cam's mean speed in the file's run (a steady cam, alpha = 0: its speed)."""
     from sim.service import forces as SF
-    base = analytic.load(str(LIBRARY / "cam_roller.toml"))
+    text = (LIBRARY / "cam_roller.toml").read_text()
+    assert "alpha = 0.0" in text
+    path = tmp_path / "cam.toml"
+    path.write_text(text.replace("alpha = 0.0", 'alpha = "alpha1"').replace("[parameters]",
+                                                                           f"[parameters]\nalpha1 = {alpha!r}"))
+    base = analytic.load(str(path))
     fr = SF.forces_run(base, samples=721)
     w_jump = SF.cams_record(fr)["c1"]["jump_speed"]
+    mean = float(np.mean(np.abs(fr.solution["omega1"])))
+    w0 = 2 * np.pi
 
-    def least(w):
-        run_ = SF.forces_run(base.with_values(omega1=w), samples=721)
+    def least(k):
+        run_ = SF.forces_run(base.with_values(omega1=k * w0, alpha1=k * k * alpha), samples=721)
         return float(np.min(SF.cam_joints(run_)[0]["N"]))
 
-    ws = np.linspace(0.5, 1.5, 11) * w_jump
-    mins = np.array([least(w) for w in ws])
-    k = int(np.argmax(mins <= 0))
-    assert mins[k - 1] > 0 >= mins[k]                        # the scan's sign change brackets it ...
-    lo, hi = ws[k - 1], ws[k]
+    ks = np.linspace(0.5, 1.5, 11) * w_jump / mean
+    mins = np.array([least(k) for k in ks])
+    i = int(np.argmax(mins <= 0))
+    assert mins[i - 1] > 0 >= mins[i]                        # the scan's sign change brackets it ...
+    lo, hi = ks[i - 1], ks[i]
     for _ in range(40):                                      # ... and bisection on the scan finds it
         mid = 0.5 * (lo + hi)
         lo, hi = (mid, hi) if least(mid) > 0 else (lo, mid)
-    assert w_jump == pytest.approx(0.5 * (lo + hi), rel=1e-9)   # bisection to 2^-40 of the bracket
+    assert w_jump / mean == pytest.approx(0.5 * (lo + hi), rel=1e-9)   # bisection to 2^-40 of the bracket
 
 
 @pytest.mark.parametrize("edit, says", [

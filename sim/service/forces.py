@@ -254,19 +254,19 @@ def cams_record(run: ForceRun) -> dict:
 
 def jump_speed(run: ForceRun, name: str) -> float:
     """The cam speed [rad/s] at which cam ``name``'s contact force first falls to zero, for the file's law
-    scaled in time: at a steady cam speed w every acceleration is w^2 times its value at unit speed, so
-    N(w) = N_s + w^2 N_1 at each cam angle, N_s the force at rest (the loads that depend on the pose only:
-    springs, gravity, the file's forces) and N_1 = (N(w0) - N_s) / w0^2 from the run at the cam's speed w0.
-    The jump speed is the least sqrt(-N_s / N_1) over the samples where N_1 < 0 (inf where the inertia never
-    unloads the contact; 0 where the contact is already lost at rest). Velocity-dependent loads (dampers,
-    friction) are not of this form and are left out of N_s."""
+    scaled in time: run k times faster, every velocity scales by k and every acceleration by k^2 (the follower's
+    h'' omega^2 + h' alpha too), so at each cam angle N(k) = N_s + k^2 N_1, N_s the force at rest (the loads
+    that depend on the pose only: springs, gravity, the file's forces) and N_1 = N(1) - N_s from the file's
+    run. The contact is first lost at k* = the least sqrt(-N_s / N_1) over the samples where N_1 < 0; the
+    jump speed is k* times the cam's mean speed over the run (a steady cam: its speed). inf where inertia never
+    unloads the contact, 0 where it is lost at rest. Velocity-dependent loads (dampers, friction) are not of
+    this form and are left out of N_s."""
     from analytic import cams
     from sim.service import loads as L
     mech = run.mech
     e = cams.elements(mech)[name]
     k = next(i for i, c in enumerate(mech.topology.couplings) if c.kind == "cam" and c.link == e["links"][0])
-    w = np.abs(run.solution["omega" + e["cam"]])
-    w0 = float(np.max(w))
+    speed = float(np.mean(np.abs(run.solution["omega" + e["cam"]])))
     zero = np.zeros_like(run.qd)
     loadset = run.loadset if run.loadset is not None else L.loadset(mech, ())
     gravity = run.loads["gravity"] or (0.0, 0.0)
@@ -276,11 +276,9 @@ def jump_speed(run: ForceRun, name: str) -> float:
     Ns, N = rest.couplings[k], run.forces.couplings[k]
     if np.any(Ns <= 0):
         return 0.0
-    if not (w0 > 0 and np.allclose(w, w0, rtol=1e-9, atol=0.0) and np.allclose(run.qdd, 0.0)):
-        return float("nan")                    # the law in time is not a steady cam speed: no single scaling
-    N1 = (N - Ns) / (w0 * w0)
+    N1 = N - Ns
     falls = N1 < 0
-    return float(np.sqrt(np.min(-Ns[falls] / N1[falls]))) if falls.any() else float("inf")
+    return float(np.sqrt(np.min(-Ns[falls] / N1[falls])) * speed) if falls.any() else float("inf")
 
 
 def _force_units(record: dict, mech: Mechanism, display) -> None:
@@ -450,6 +448,16 @@ def forces_table(run: ForceRun, display=None) -> str:
         unit, conv = (MU, M) if inp.angular else (FU, F)
         lines.append(f"  drive of {inp.q}: peak {inp.spec.drive_quantity} {conv(d['value']):.5g} "
                      f"{unit} at {at(d['at'])}")
+    cams = cams_record(run)
+    for j in cam_joints(run):
+        N = j["N"]
+        lo, hi = int(np.argmin(N)), int(np.argmax(N))
+        w = cams[j["name"]]["jump_speed"]
+        jump = ("the contact is lost at rest" if w == 0 else "never (inertia does not unload the contact)"
+                if w == float("inf") else f"{w:.5g} rad/s ({w * 30 / np.pi:.5g} rpm, the cam's mean speed)")
+        lines.append(f"  cam {j['name']} ({j['links'][0]}-{j['links'][1]}): contact force {F(N[lo]):.5g} {FU} at "
+                     f"{at(lo)} .. {F(N[hi]):.5g} {FU} at {at(hi)}{' (the follower leaves the cam)' if N[lo] < 0 else ''};"
+                     f" jump speed {jump}")
     s = peaks["shaking"]
     lines.append(f"  shaking force: peak {F(s['F']):.5g} {FU} at {at(s['at'])} (RMS {F(s['F_rms']):.5g} {FU}); "
                  f"shaking moment about the origin: peak {M(s['M']):.5g} {MU} at {at(s['at_M'])}")
