@@ -514,3 +514,20 @@ def test_an_arms_designed_profile_read_back_gives_its_law(contact):
     # adds ~1e-7 m at the law's acceleration jumps (as for the translating follower); over the arm's 0.055 m
     # that is ~3e-6 rad
     assert err.max() <= 5e-6, contact
+
+
+def test_a_batch_of_cam_designs_solves_as_each_design_alone(tmp_path):
+    from analytic.solver import batch
+    text = (LIBRARY / "cam_roller.toml").read_text()
+    text = text.replace('omega1 = "360deg"', 'omega1 = "360deg"\nrb = 0.030').replace("base_radius = 0.030",
+                                                                                     'base_radius = "rb"')
+    (tmp_path / "c.toml").write_text(text)
+    base = analytic.load(str(tmp_path / "c.toml"))
+    rbs = np.array([0.026, 0.030, 0.034])
+    designs = batch.resolve(base, {"rb": rbs})
+    q = np.broadcast_to(np.linspace(0, 2 * np.pi, 91), (3, 91))
+    got = batch.solve(designs, q[..., None], 2 * np.pi, 0.0)
+    for i, rb in enumerate(rbs):
+        ref = base.with_values(rb=float(rb)).solve(q[i][:, None], 2 * np.pi, 0.0)
+        for name in ("sfollower", "ddsfollower", "pa_c1", "rho_c1"):
+            assert np.max(np.abs(got[name][i] - ref[name])) <= 1e-15 + 1e-12 * np.max(np.abs(ref[name])), name

@@ -234,6 +234,9 @@ class Kind:
     """For inputs: the prefixes of its coordinate's, rate's and acceleration's names (``phi omega alpha``:
     ``phi1`` for link 1); the solver's output columns of the same names are the input's own."""
     jit: JitSpec | None = None
+    per_design: bool = False
+    """Whether its resolved element holds more than numbers (a cam's geometry, built from the ground's and
+    its own values): batches of designs then resolve and solve it design by design."""
     continuous: bool = False
     """Whether its solve continues from sample to sample (a numerically solved group): the solver then takes
     a solve's samples as a path from the inputs' start values and fills in samples where the inputs jump

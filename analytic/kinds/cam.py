@@ -36,6 +36,7 @@ class Cam(Kind):
                "follower through a knife, roller or flat face; the law as segments over the cam angle, or a "
                "profile")
     group_class = "cam pair (higher pair)"
+    per_design = True
     fields = {"point": Field("new"), "name": Field("word", "{point}"), "cam": Field("linkref"), "pivot": Field("point"),
               "follower": Field("word", "translating"), "guide": Field("guide", None),
               "arm_pivot": Field("word", ""), "arm": Field("length", 0.0), "contact": Field("word", "roller"),
