@@ -289,9 +289,12 @@ def polygon_lift(setup: Setup, outline, n: int = ANALYSIS_GRID) -> "Lift":
         raise ValueError("a flat-faced arm is not supported; give a roller or a knife")
     q = np.asarray(outline, dtype=float)
     theta = np.arange(n + 1) * (2 * math.pi / n)
-    rows = max(1, CHUNK // max(len(q), 1))          # cam angles per block: a block's arrays stay ~CHUNK long
-    rest = _rest if setup.motion == "translating" else _rest_arm
-    d = np.concatenate([rest(setup, q, theta[k:k + rows]) for k in range(0, n + 1, rows)])
+    if setup.motion == "translating" and setup.contact != "flat":
+        d = np.concatenate([_rest_near(setup, q, theta[k:k + BAND]) for k in range(0, n + 1, BAND)])
+    else:
+        rows = max(1, CHUNK // max(len(q), 1))      # cam angles per block: a block's arrays stay ~CHUNK long
+        rest = _rest if setup.motion == "translating" else _rest_arm
+        d = np.concatenate([rest(setup, q, theta[k:k + rows]) for k in range(0, n + 1, rows)])
     if not np.all(np.isfinite(d)):
         i = int(np.flatnonzero(~np.isfinite(d))[0])
         what = "line" if setup.motion == "translating" else "arm's circle"
@@ -319,9 +322,37 @@ CHUNK = 1 << 20
 """Cam angles times outline points per block of :func:`polygon_lift` (8 MB per array)."""
 
 
-def _rest(setup: Setup, q, theta):
+BAND = 16
+"""Cam angles per block of a translating roller's or knife's search (:func:`_rest_near`)."""
+
+
+def _rest_near(setup: Setup, q, theta):
+    """:func:`_rest` for a roller or a knife on a block of cam angles, over the outline's corners and edges
+    that can touch it: the follower's line turned to the block's middle angle tm, a point p of the outline
+    is at most |p| |theta - tm| further across it at any angle of the block, and it can touch only within
+    r_r of the line; corners and edges farther than that from the line at tm are left out (exactly)."""
+    tm = 0.5 * (theta[0] + theta[-1])
+    half = 0.5 * (theta[-1] - theta[0]) * (1.0 + 1e-9)
+    uc0, us0 = setup.u
+    c, s = math.cos(tm), math.sin(tm)
+    nx, ny = -(-s * uc0 + c * us0), c * uc0 + s * us0          # n_c = J R(-tm) u
+    rr = setup.roller if setup.contact == "roller" else 0.0
+    across = q[:, 0] * nx + q[:, 1] * ny - setup.offset
+    reach = rr + np.hypot(q[:, 0], q[:, 1]) * half + 1e-12 * (1.0 + np.abs(q).max())
+    nxt = np.roll(np.arange(len(q)), -1)
+    lo, hi = np.minimum(across, across[nxt]), np.maximum(across, across[nxt])
+    edge_reach = np.maximum(reach, reach[nxt])
+    edges = np.flatnonzero((lo <= edge_reach) & (hi >= -edge_reach))
+    corners = np.flatnonzero(np.abs(across) <= reach)
+    if not len(edges) and not len(corners):
+        return np.full(len(theta), -np.inf)
+    return _rest(setup, q[corners], theta, (q[edges], q[nxt[edges]]))
+
+
+def _rest(setup: Setup, q, theta, edges=None):
     """Where a translating follower rests on the outline q (cam frame) at cam angles theta: d along the
-    guide from A's foot (see :func:`polygon_lift`)."""
+    guide from A's foot (see :func:`polygon_lift`); ``edges``: (first ends, second ends) of the edges to
+    try (default: the closed polygon q's), q then only the corners to try."""
     c, s = np.cos(theta)[:, None], np.sin(theta)[:, None]
     uc0, us0 = setup.u
     ucx, ucy = c * uc0 + s * us0, -s * uc0 + c * us0          # R(-theta) u
@@ -334,10 +365,10 @@ def _rest(setup: Setup, q, theta):
         along = q[None, :, 0] * ucx + q[None, :, 1] * ucy
         across = q[None, :, 0] * ncx + q[None, :, 1] * ncy - e
         room = rr * rr - across * across
-        d = np.max(np.where(room >= 0, along + np.sqrt(np.maximum(room, 0.0)), -np.inf), axis=1)
+        d = np.max(np.where(room >= 0, along + np.sqrt(np.maximum(room, 0.0)), -np.inf), axis=1, initial=-np.inf)
         # on an edge's straight run: the centre on the edge's line moved out by r_r (outward: to the right of
         # a counter-clockwise edge), its foot within the edge
-        a, b = q, np.roll(q, -1, axis=0)
+        a, b = edges if edges is not None else (q, np.roll(q, -1, axis=0))
         L = np.hypot(*(b - a).T)
         tx, ty = (b - a)[:, 0] / L, (b - a)[:, 1] / L
         mx, my = ty, -tx
@@ -349,9 +380,9 @@ def _rest(setup: Setup, q, theta):
         px, py = e * ncx + de * ucx - a[None, :, 0], e * ncy + de * ucy - a[None, :, 1]
         foot = px * tx[None, :] + py * ty[None, :]
         ok = (um > 0) & (foot >= -1e-9 * L[None, :]) & (foot <= L[None, :] * (1 + 1e-9))
-        d = np.maximum(d, np.max(np.where(ok, de, -np.inf), axis=1))
+        d = np.maximum(d, np.max(np.where(ok, de, -np.inf), axis=1, initial=-np.inf))
     else:
-        a, b = q, np.roll(q, -1, axis=0)
+        a, b = edges if edges is not None else (q, np.roll(q, -1, axis=0))
         ya = a[None, :, 0] * ncx + a[None, :, 1] * ncy - e
         yb = b[None, :, 0] * ncx + b[None, :, 1] * ncy - e
         xa = a[None, :, 0] * ucx + a[None, :, 1] * ucy
@@ -359,7 +390,7 @@ def _rest(setup: Setup, q, theta):
         crosses = (ya <= 0) != (yb <= 0)
         with np.errstate(divide="ignore", invalid="ignore"):
             x = xa + (xb - xa) * ya / (ya - yb)
-        d = np.max(np.where(crosses, x, -np.inf), axis=1)
+        d = np.max(np.where(crosses, x, -np.inf), axis=1, initial=-np.inf)
     return d
 
 

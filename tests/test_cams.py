@@ -531,3 +531,15 @@ def test_a_batch_of_cam_designs_solves_as_each_design_alone(tmp_path):
         ref = base.with_values(rb=float(rb)).solve(q[i][:, None], 2 * np.pi, 0.0)
         for name in ("sfollower", "ddsfollower", "pa_c1", "rho_c1"):
             assert np.max(np.abs(got[name][i] - ref[name])) <= 1e-15 + 1e-12 * np.max(np.abs(ref[name])), name
+
+
+@pytest.mark.parametrize("contact", ["roller", "knife"])
+def test_the_search_near_the_followers_line_leaves_out_nothing_that_touches(contact):
+    """The pruned search (corners and edges near the follower's line per block of cam angles) against every
+    corner and edge at every angle: the same resting place, bit for bit (the pruning only drops candidates
+    that cannot touch)."""
+    st = _translating(contact, rr=0.010 if contact == "roller" else 0.0, gamma=1.2, e=0.006)
+    q = cams.build(st, 3600).profile
+    theta = np.arange(1441) * (2 * np.pi / 1440)
+    near = np.concatenate([cams._rest_near(st, q, theta[k:k + cams.BAND]) for k in range(0, 1441, cams.BAND)])
+    assert np.array_equal(near, cams._rest(st, q, theta))
