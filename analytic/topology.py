@@ -68,6 +68,8 @@ class Coupling:
     mesh: str
     carrier: str
     element: int
+    kind: str = "gear"
+    """``gear`` or ``cam`` (see :class:`analytic.kinds.base.Coupling`)."""
 
 
 @dataclass(frozen=True)
@@ -263,7 +265,7 @@ def build(ground, elements) -> Topology:
         for ln in (c.link, c.mesh, c.carrier):
             if ln != GROUND and ln not in links:
                 raise StructureError(elements[i].label, f"no link named {ln!r}; links: {', '.join(links)}")
-        coup.append(Coupling(c.link, c.mesh, c.carrier, i))
+        coup.append(Coupling(c.link, c.mesh, c.carrier, i, c.kind))
     points = tuple(ground) + tuple(p for i in order for p in elements[i].places)
     tree, loops = _spanning_tree(joints, links)
     return Topology(order, tuple(ground), points, links, carriers, tuple(joints), tuple(slides), tuple(coup),

@@ -33,6 +33,29 @@ def _ratio(mech, c, elements) -> float:
     return float(elements[mech.topology.order.index(c.element)][field])
 
 
+def _cam_contact(mech, c, sol):
+    """The contact point K and the unit common normal n (out of the cam) of a cam coupling, from the solved
+    motion alone: with r = F - A (F the trace point, A the cam's pivot) and r' = dF/dtheta = v_F / omega_cam
+    (the follower's velocity per cam rate; the cam turns about the fixed A), the pitch curve's normal in the
+    world is r + J r' (J the quarter turn: the cam-frame curve R(-theta) r has tangent R(-theta)(r' - J r));
+    a roller touches at K = F - r_r n, a knife at F; a flat face square to the guide u has n = u and touches
+    where its line envelops the cam: K = A + (r . u) u - (r' . u) J u."""
+    e = next(x for x in mech.geometry.elements if x["kind"] == "cam" and x["links"][0] == c.link)
+    F, (ax, ay) = e["point"], mech.geometry.ground[e["pivot"]]
+    rx, ry = sol["x" + F] - ax, sol["y" + F] - ay
+    w = sol["omega" + c.mesh]
+    r1x, r1y = sol["vx" + F] / w, sol["vy" + F] / w
+    if e["contact"] == "flat":
+        ux, uy = np.cos(e["guide"]["angle"]), np.sin(e["guide"]["angle"])
+        d, d1 = rx * ux + ry * uy, r1x * ux + r1y * uy
+        return (ax + d * ux + d1 * uy, ay + d * uy - d1 * ux), (ux + 0 * rx, uy + 0 * rx)
+    nx, ny = rx - r1y, ry + r1x
+    norm = np.hypot(nx, ny)
+    nx, ny = nx / norm, ny / norm
+    rr = e["roller"] if e["contact"] == "roller" else 0.0
+    return (ax + rx - rr * nx, ay + ry - rr * ny), (nx, ny)
+
+
 def solve(mech, sol, inertias, gravity=(0.0, 0.0), force=(0.0, 0.0), force_on=1.0):
     """Joint forces from the whole linkage's Newton-Euler equations.
 
@@ -127,6 +150,16 @@ def solve(mech, sol, inertias, gravity=(0.0, 0.0), force=(0.0, 0.0), force_on=1.
             if jt.a != GROUND:
                 add_force(row_of[jt.a], jt.a, jt.point, col[("drive", inp.link)], c, s, -1.0)
     for k, c in enumerate(topo.couplings):
+        if c.kind == "cam":                            # N n at the contact K on the follower, -N n on the cam
+            (kx, ky), (nx, ny) = _cam_contact(mech, c, sol)
+            for ln, sign in ((c.link, 1.0), (c.mesh, -1.0)):
+                if ln != GROUND:
+                    gx, gy = G[ln]
+                    r, cl = row_of[ln], col[("lambda", k)]
+                    A[:, r, cl] += sign * nx
+                    A[:, r + 1, cl] += sign * ny
+                    A[:, r + 2, cl] += sign * ((kx - gx) * ny - (ky - gy) * nx)
+            continue
         ratio = _ratio(mech, c, elements)
         for ln, f in ((c.link, 1.0), (c.mesh, -ratio), (c.carrier, ratio - 1.0)):
             if ln != GROUND:
@@ -178,6 +211,8 @@ def solve(mech, sol, inertias, gravity=(0.0, 0.0), force=(0.0, 0.0), force_on=1.
             px, py = P(jt.point)
             sx, sy, sm = sx - d * c, sy - d * s, sm - (px * d * s - py * d * c)
     for k, c in enumerate(topo.couplings):
+        if c.kind == "cam":                            # between two moving links: nothing on the ground
+            continue
         ratio = _ratio(mech, c, elements)
         for ln, fct in ((c.link, 1.0), (c.mesh, -ratio), (c.carrier, ratio - 1.0)):
             if ln == GROUND:
@@ -193,7 +228,7 @@ def compare(mech, q, qd, qdd, gravity=(0.0, 0.0), force=(0.0, 0.0)) -> dict:
     from analytic import mass
     from analytic.applications import forces as F
     inertias = mass.model(mech)
-    sol = mech.solve(q, qd, qdd, outputs=F.wanted(mech))
+    sol = mech.solve(q, qd, qdd, outputs=F.wanted(mech) + [c + p for p in mech.points for c in ("vx", "vy")])
     got = F.solve(mech, q, qd, qdd, inertias, gravity, force, sol=sol)
     ref = solve(mech, sol, inertias, gravity, force)
     peak = max(float(np.max(np.hypot(fx, fy))) for fx, fy, _ in ref["joints"].values())

@@ -18,6 +18,13 @@ two scalar constraint equations per element, in the element's own point (x, y):
               measured from its own points (a crank's: its input angle, counted in turns; a gear's: its
               own psi; the ground's 0; any other link's atan2 of its frame, in (-pi, pi], relative to the
               carrier when neither angle counts turns)
+* ``cam``     translating: R = A + e n + (d0 + h(theta)) u (u the guide's direction, n = u turned a quarter,
+              e = cross(u, O - A) the guide's offset, d0 = sqrt((r_b + r_r)^2 - e^2), or r_b for a flat face);
+              oscillating: R = B + arm (cos psi, sin psi), psi = psi0 + h(theta), psi0 the arm angle where
+              |R - A| = r_b + r_r on the side where a counter-clockwise turn of the arm moves R away from A
+              (law of cosines, here); theta the cam link's angle and h the file's lift law evaluated with
+              :mod:`analytic.laws` (its own tests check it against Norton's closed forms), composed with the
+              jet: h(theta) = h + h' theta1 t + (h' theta2 + h'' theta1^2 / 2) t^2
 * ``PRP``     cross(u1, C - O1) = offset1,  cross(u2, C - O2) = offset2   (C on both shifted guide lines)
 * ``RPP``     cross(u, C - O) = offset,  cross(v, P - C) = 0   (C on the shifted guide; the pin P on the slot
               through C, v = u turned by the slot's angle); ``PPR`` the same with its pin Q
@@ -186,6 +193,10 @@ def _frame(geometry, on, pts):
             return P, _unit(pts[e["pivot"]], pts[e["point"]])
         if k == "gear" and e["link"] == on:
             return pts[e["pivot"]], _unit(pts[e["pivot"]], pts[e["point"]])
+        if k == "cam" and on == e["links"][0]:
+            if e["follower"] == "translating":
+                return pts[e["point"]], _guide(e["guide"], pts)[1]
+            return pts[e["arm_pivot"]], _unit(pts[e["arm_pivot"]], pts[e["point"]])
         if k == "PRP" and on in e["links"]:            # a block: its pin, along its guide
             return pts[e["point"]], _guide(e["guide" + str(e["links"].index(on) + 1)], pts)[1]
         if k in ("RPP", "PPR") and on in e["links"]:   # the link on the guide: C, along it; the pin block: its pin, along the slot
@@ -219,6 +230,36 @@ def _gear_angle(geometry, e, pts, Q):
     if not (turns_a or turns_c):           # both in (-pi, pi]: their difference reduced to (-pi, pi]
         theta = Jet(theta.c0 - 2 * np.pi * np.round(theta.c0 / (2 * np.pi)), theta.c1, theta.c2)
     return phi_c + e["phase"] + e["ratio"] * theta
+
+
+def _cam_lift(e, theta: Jet) -> Jet:
+    """The file's lift law h(theta) composed with the cam angle's jet."""
+    h, h1, h2, _ = e["segments"].at(np.mod(theta.c0, 2 * np.pi))
+    return Jet(h, h1 * theta.c1, h1 * theta.c2 + 0.5 * h2 * theta.c1 * theta.c1)
+
+
+def _cam_rows(geometry, e, pts, Q, R):
+    A = pts[e["pivot"]]
+    (_, (ex, ey)) = _frame(geometry, e["cam"], pts)
+    theta = jatan2(ex, ey)
+    h = _cam_lift(e, theta)
+    prime = e["base_radius"] + (e["roller"] if e["contact"] == "roller" else 0.0)
+    if e["follower"] == "translating":
+        O, (ux, uy) = _guide(e["guide"], pts)
+        off = _cross(ux.c0, uy.c0, O[0].c0 - A[0].c0, O[1].c0 - A[1].c0)
+        d0 = e["base_radius"] if e["contact"] == "flat" else np.sqrt(prime ** 2 - off ** 2)
+        d = h + d0
+        return [R[0] - A[0] + off * uy - d * ux, R[1] - A[1] - off * ux - d * uy]
+    B = pts[e["arm_pivot"]]
+    bx, by = float(np.ravel(B[0].c0)[0]), float(np.ravel(B[1].c0)[0])
+    ax, ay = float(np.ravel(A[0].c0)[0]), float(np.ravel(A[1].c0)[0])
+    D, a = math.hypot(ax - bx, ay - by), e["arm"]
+    g = math.acos((a * a + D * D - prime * prime) / (2 * a * D))
+    base = math.atan2(ay - by, ax - bx)
+    psi0 = next(p for p in (base - g, base + g)
+                if _cross(math.cos(p), math.sin(p), bx + a * math.cos(p) - ax, by + a * math.sin(p) - ay) > 0)
+    psi = h + psi0
+    return [R[0] - B[0] - a * jcos(psi), R[1] - B[1] - a * jsin(psi)]
 
 
 def _group_theta0(e) -> dict:
@@ -397,6 +438,8 @@ def residual(geometry, X, Q):
         elif kind == "gear":
             P, psi = pts[e["pivot"]], _gear_angle(geometry, e, pts, Q)
             rows += [R[0] - P[0] - e["length"] * jcos(psi), R[1] - P[1] - e["length"] * jsin(psi)]
+        elif kind == "cam":
+            rows += _cam_rows(geometry, e, pts, Q, R)
         elif kind == "group":
             rows += _group_rows(e, pts)
         else:
@@ -621,6 +664,8 @@ def link_rates(geometry, points):
             out[e["links"][0]] = out[e["links"][1]] = rates(e["pivot"], pt)
         elif k == "gear":
             out[e["link"]] = rates(e["pivot"], pt)
+        elif k == "cam":                      # a block keeps its guide's angle; an arm turns B -> R
+            out[e["links"][0]] = (0.0, 0.0) if e["follower"] == "translating" else rates(e["arm_pivot"], pt)
         elif k == "PRP":                      # each block turns with its guide
             for link, g in zip(e["links"], ("guide1", "guide2")):
                 G = e[g]

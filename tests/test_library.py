@@ -194,6 +194,14 @@ def _smooth(m, t, reach):
             edges = np.asarray(getattr(law, "starts", [0.0, law.duration]))
             gap = np.abs((t[:, None] - edges[None, :] + 0.5 * law.duration) % law.duration - 0.5 * law.duration)
             keep &= gap.min(axis=1) > reach
+    cams = [e for e in m.geometry.elements if e["kind"] == "cam"]
+    if cams:                              # a cam's law has its segments over the cam's angle
+        _, sol = m.solve_at(t)
+        for e in cams:
+            theta, w = np.arctan2(sol["sin" + e["cam"]], sol["cos" + e["cam"]]), np.abs(sol["omega" + e["cam"]])
+            edges = np.asarray(e["segments"].starts)
+            gap = np.abs((theta[:, None] - edges[None, :] + np.pi) % (2 * np.pi) - np.pi)
+            keep &= gap.min(axis=1) > 1.5 * reach * w
     return t[keep]
 
 

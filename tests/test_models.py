@@ -9,6 +9,7 @@ import mujoco
 import numpy as np
 import pytest
 
+from agreement import skip_without_cam_contact
 import analytic
 from mjcf import keyframes
 from sim import model
@@ -36,6 +37,7 @@ def _unnamed(m):
 @pytest.fixture(scope="module", params=NAMES)
 def exported(request):
     mech = analytic.load(request.param)
+    skip_without_cam_contact(mech)
     xml = service.export_mjcf(mech)
     return mech, mujoco.MjModel.from_xml_string(xml)
 

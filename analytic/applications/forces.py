@@ -130,7 +130,7 @@ def plan(mech) -> Plan:
     for c in topo.couplings:
         e = elements[pos_of_written[c.element]]
         couplings.append(c)
-        ratios.append(float(e[ratio_field(mech, c)]))
+        ratios.append(float(e[ratio_field(mech, c)]) if c.kind == "gear" else 0.0)
         c_owner.append(max(link_pos[c.link], link_pos[c.mesh], link_pos[c.carrier], pos_of_written[c.element]))
     steps = []
     for k, e in enumerate(elements):
@@ -291,6 +291,19 @@ class Context:
         for link, f in ((c.link, 1.0), (c.mesh, -r), (c.carrier, r - 1.0)):
             self._couple(link, f * value)
 
+    def contact(self, k: int, e: dict, value) -> None:
+        """Cam contact ``k`` of element ``e``: its force N [N] along the common normal n (out of the cam, on
+        the follower: the coupling's link) at the contact point K (the kind's :meth:`Kind.contact`); the
+        reaction -N n at K goes on the cam's link (the coupling's mesh)."""
+        c = self.plan.couplings[k]
+        (kx, ky), (nx, ny) = kinds.get(e["kind"]).contact(e, self)
+        self.out["couplings"][k, self.sl] = value
+        self.done.add(("coupling", k))
+        ref = self.plan.origins[c.mesh] if c.mesh != GROUND else self.plan.origins[c.link]
+        px, py = self.xy(ref)
+        fx, fy = -value * nx, -value * ny
+        self._push(c.mesh, ref, fx, fy, (kx - px) * fy - (ky - py) * fx)
+
     def _revolute(self, p, link, other):
         cands = self.plan.at.get((p, link), ())
         if other is not None:
@@ -352,6 +365,17 @@ class Context:
                 A[:, rows[link] + 2, col] += f
 
         for col, (what, k) in enumerate(cols):
+            if what == "lambda" and plan_.couplings[k].kind == "cam":   # N along the normal at the contact
+                c = plan_.couplings[k]
+                (kx, ky), (nx, ny) = kinds.get(step.element["kind"]).contact(step.element, self)
+                for link, sign in ((c.link, 1.0), (c.mesh, -1.0)):
+                    if link in rows:
+                        r = rows[link]
+                        ox, oy = self.xy(plan_.origins[link])
+                        A[:, r, col] += sign * nx
+                        A[:, r + 1, col] += sign * ny
+                        A[:, r + 2, col] += sign * ((kx - ox) * ny - (ky - oy) * nx)
+                continue
             if what == "lambda":
                 c, r = plan_.couplings[k], plan_.ratios[k]
                 for link, f in ((c.link, 1.0), (c.mesh, -r), (c.carrier, r - 1.0)):
@@ -393,7 +417,10 @@ class Context:
             if j.input is not None:
                 self.drive(_input_element(plan_, j.input), x[:, cols.index(("drive", k))])
         for k in step.couplings:
-            self.coupling(k, x[:, cols.index(("lambda", k))])
+            if plan_.couplings[k].kind == "cam":
+                self.contact(k, step.element, x[:, cols.index(("lambda", k))])
+            else:
+                self.coupling(k, x[:, cols.index(("lambda", k))])
 
 
 def _input_element(plan_: Plan, i: int) -> dict:

@@ -527,6 +527,20 @@ def _link_name(value, what: str, source: str) -> str:
 
 
 def _field(value, ftype: str, what: str, source: str):
+    if ftype == "word":                                 # a choice or an optional name, checked by its kind
+        if not isinstance(value, str):
+            raise FileError(f"{source}: {what}: {_short(value)} must be a word in quotes")
+        return value
+    if ftype == "links1":
+        if not (isinstance(value, list) and len(value) == 1):
+            raise FileError(f"{source}: {what}: {_short(value)} must be a list of one link name")
+        return (_link_name(value[0], what, source),)
+    if ftype == "camlaw":
+        return _camlaw(value, what, source)
+    if ftype == "outline":
+        return _outline(value, what, source)
+    if ftype == "guide" and value is None:              # an optional guide left out
+        return None
     if ftype in ("point", "new"):
         return _name(value, what, source)
     if ftype in ("link", "linkref"):
@@ -596,6 +610,47 @@ def _field(value, ftype: str, what: str, source: str):
             return Guide(through=through, angle=_scalar(value.get("angle", 0.0), what, source))
         raise FileError(f"{source}: {what}: a guide is [\"P\", \"Q\"] or {{through = ..., angle = ...}}")
     return _scalar(value, what, source)
+
+
+def _camlaw(value, what: str, source: str):
+    """A cam's ``segments`` (SPEC "Cams and followers"): (shape, duration, rise) with values still symbolic,
+    durations angles of the cam (summing to a turn, checked when resolved); None where not given."""
+    if value is None:
+        return None
+
+    class _Rises:                                    # lawfield's segment checks; the rises' unit (a length for
+        angular = True                               # a translating follower, an angle for an arm) is checked
+                                                     # when the file is resolved
+    def fail(field, text):
+        return FileError(f"{source}: {what}: {text}")
+
+    return lawfield._segments(value, _Rises, fail)
+
+
+def _outline(value, what: str, source: str):
+    """A cam's ``profile``: the path of a CSV of its outline (x, y in the cam's frame, file units), read here:
+    a tuple of (x, y) in file units; "" where not given."""
+    if value == "":
+        return ""
+    if not (isinstance(value, str) and value.strip()):
+        raise FileError(f"{source}: {what}: {_short(value)} must be the path of a CSV file (columns x,y)")
+    from analytic.cams import read_outline
+    path = Path(value)
+    if not path.is_absolute():
+        base = Path(source).parent if Path(source).is_file() else Path.cwd()
+        path = base / path
+    try:
+        with open(path, "rb") as fh:
+            raw = fh.read(lawfield.MAX_TABLE_BYTES + 1)
+    except OSError as exc:
+        raise FileError(f"{source}: {what}: cannot read {value!r} ({exc.strerror or exc})") from None
+    if len(raw) > lawfield.MAX_TABLE_BYTES:
+        raise FileError(f"{source}: {what}: {value!r} is over {lawfield.MAX_TABLE_BYTES} bytes")
+    try:
+        q = read_outline(raw.decode("utf-8-sig"), 1.0)
+    except (ValueError, UnicodeDecodeError) as exc:
+        raise FileError(f"{source}: {what}: {value}: {exc}") from None
+    return tuple((float(x), float(y)) for x, y in q)
 
 
 def _slidetable(value, what: str, source: str) -> dict:
@@ -707,6 +762,13 @@ def _parameter_kinds(source: str, params: dict, ground: dict, elements: list[Ele
             elif ftype == "slidetable":
                 for _, _, angle in value.values():
                     use(angle, "angle", where)
+            elif ftype == "guide" and value is None:
+                pass
+            elif ftype == "camlaw" and value is not None:
+                rise = kinds.get(e.kind).rise_measure(e.fields)
+                for _, duration, r in value:
+                    use(duration, "angle", where)
+                    use(r, rise, where)
             elif ftype == "guide":
                 if value.through is not None and not isinstance(value.through, str):
                     for v in value.through:
@@ -849,12 +911,17 @@ def resolve(d: Definition, values: dict[str, float]) -> Geometry:
             out["input"] = n_inputs
             n_inputs += 1
         for fname, fld in kind.fields.items():
+            if fld.type == "camlaw":
+                out[fname] = _resolve_camlaw(e.fields[fname], kind.rise_measure(e.fields), num,
+                                             f"{e.label}: field {fname!r}", d.source)
+                continue
             out[fname] = resolve_field(e.fields[fname], fld.type, num, f"{e.label}: field {fname!r}", d.source)
         if e.law is not None:
             out["law"] = lawfield.resolve(e.law, kind, num, e.label, d.source)
             if e.law.table is not None:                # a table's first q is the input's start value
                 out[kind.motion_fields[0]] = e.law.table[1][0]
         kind.resolve_extra(out, d.topology)
+        kind.resolve_at(out, ground)
         problem = kind.check_resolved(out)
         if problem:
             raise ParameterError(f"{d.source}: {e.label}: {problem}")
@@ -862,7 +929,8 @@ def resolve(d: Definition, values: dict[str, float]) -> Geometry:
     return Geometry(ground, tuple(elements), dict(values))
 
 
-NAMES = ("point", "new", "news", "points", "link", "linkref", "pair", "links2", "carrier", "linktable")
+NAMES = ("point", "new", "news", "points", "link", "linkref", "pair", "links2", "carrier", "linktable", "word",
+         "links1")
 """Field types whose values are names (resolved as they are)."""
 
 
@@ -870,6 +938,11 @@ def resolve_field(v, ftype: str, num, where: str, source: str):
     """One field's value resolved with ``num(value, kind, where)`` (kind "length", "angle" or "number")."""
     if ftype in NAMES:
         return v
+    if ftype == "outline":                               # file units -> m
+        k = num(1.0, "length", where)
+        return tuple((x * k, y * k) for x, y in v) if v else ""
+    if ftype == "guide" and v is None:
+        return None
     if ftype == "guide":
         if v.points:
             return {"points": v.points}
@@ -897,6 +970,34 @@ def resolve_field(v, ftype: str, num, where: str, source: str):
     if ftype == "size" and x <= 0:
         raise ParameterError(f"{source}: {where}: length {x:g} m must be > 0")
     return x
+
+
+def _resolve_camlaw(v, rise: str, num, where: str, source: str):
+    """A cam's segments as an :class:`analytic.laws.Profile` over the cam angle (durations in rad summing to a
+    turn, rises in m or rad as ``rise`` says), or None where not given."""
+    if v is None:
+        return None
+    from analytic import laws
+    segs = []
+    for k, (shape, duration, r) in enumerate(v, 1):
+        at = f"{where}: segment {k}"
+        dur = num(duration, "angle", at + ": duration")
+        if not dur > 0:
+            raise ParameterError(f"{source}: {at}: duration {math.degrees(dur):.6g}deg must be > 0")
+        segs.append(laws.Segment(shape, dur, num(r, rise, at + ": rise")))
+    law = laws.Profile(tuple(segs))
+    total = law.duration
+    if abs(total - 2 * math.pi) > laws.CLOSE * 2 * math.pi:
+        raise ParameterError(f"{source}: {where}: the durations sum to {math.degrees(total):.6g}deg; a cam's "
+                             f"segments make one turn (360deg): {'add' if total < 2 * math.pi else 'take away'} "
+                             f"{abs(360 - math.degrees(total)):.6g}deg")
+    scale = max(max(abs(s.rise) for s in segs), 1e-300)
+    if abs(law.rise) > laws.CLOSE * scale * len(segs):
+        unit = "deg" if rise == "angle" else "m"
+        net = math.degrees(law.rise) if rise == "angle" else law.rise
+        raise ParameterError(f"{source}: {where}: the rises sum to {net:.6g} {unit}; the follower must end the turn "
+                             f"where it starts: make them sum to 0")
+    return law
 
 
 def is_size(d: Definition, name: str) -> bool:

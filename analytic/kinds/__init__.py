@@ -21,6 +21,7 @@ MODULES = (
     "prp",
     "ppr",
     "gear",
+    "cam",
     "group",
 )
 """The kinds' modules, in the order the docs list them: adding a kind is one line here."""

@@ -128,7 +128,10 @@ class Coupling:
     mesh: str
     carrier: str
     ratio: object
-    """The ratio's resolved field name in the element (it may be a parameter)."""
+    """The ratio's resolved field name in the element (it may be a parameter); None for a cam."""
+    kind: str = "gear"
+    """``gear`` (the relation above) or ``cam`` (a cam's contact with its follower: the kind places the
+    follower and solves the contact's force itself)."""
 
 
 @dataclass(frozen=True)
@@ -252,6 +255,9 @@ class Kind:
     """For inputs: the prefixes of its coordinate's, rate's and acceleration's names (``phi omega alpha``:
     ``phi1`` for link 1); the solver's output columns of the same names are the input's own."""
     jit: JitSpec | None = None
+    per_design: bool = False
+    """Whether its resolved element holds more than numbers (a cam's geometry, built from the ground's and
+    its own values): batches of designs then resolve and solve it design by design."""
     continuous: bool = False
     """Whether its solve continues from sample to sample (a numerically solved group): the solver then takes
     a solve's samples as a path from the inputs' start values and fills in samples where the inputs jump
@@ -309,6 +315,14 @@ class Kind:
 
     def resolve_extra(self, e: dict, topology) -> None:
         """Add to the resolved element ``e`` what the solver needs from the topology (a link's origin)."""
+
+    def resolve_at(self, e: dict, ground: dict) -> None:
+        """Add to the resolved element ``e`` what depends on where the ground points are ({name: (x, y)} [m]):
+        a cam's geometry."""
+
+    def rise_measure(self, f: dict) -> str:
+        """What the rises of a ``camlaw`` field measure given the element's fields: ``length`` or ``angle``."""
+        return "length"
 
     def rails(self, e: dict) -> tuple[tuple[str, dict, float], ...]:
         """Blocks sliding on ground lines, for drawing their rails: (block, resolved guide, offset) each."""
@@ -464,6 +478,11 @@ class Kind:
         over the samples, SI), as {section: {name: entry}} merged into the record (an actuator's pressure);
         {} for nothing."""
         return {}
+
+    def contact(self, e: dict, ctx) -> tuple:
+        """For a kind with a cam coupling: its contact point K and unit common normal n (out of the cam)
+        over the context's samples, ((kx, ky), (nx, ny)) [m, world]."""
+        raise NotImplementedError
 
     # -------------------------------------------------------------------------------- simulation
     def mjcf(self, e: dict, model) -> None:

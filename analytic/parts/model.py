@@ -1,14 +1,16 @@
 """Each link as a part: its outline in its own frame (file units), holes, slots, thickness and material; and
 the motion of every link's frame over the cycle.
 
-A part is one convex plate, the convex hull of its features (:func:`analytic.parts.shapes.hull`):
+A part is one plate, the convex hull of its features (:func:`analytic.parts.shapes.hull`), a cam plate aside:
 
 * a disc of ``end_radius`` around every point the link carries (a bar between two joints is the hull of
   two discs; three or more points make a plate over their hull);
 * a sliding block: a square of side ``width`` centred on its pin, along its guide;
 * a link that guides a block (a slotted lever, a yoke) carries the slot: the pin's path in the link's frame
   over the cycle, ``pin_diameter + clearance`` wide, and material of ``end_radius`` around its ends;
-* a gear: its pitch disc (of the kinds' :class:`~analytic.kinds.base.Wheel`).
+* a gear: its pitch disc (of the kinds' :class:`~analytic.kinds.base.Wheel`);
+* a cam's link: the cam plate, its profile (:func:`analytic.cams.geometry`) as a polygon of straight edges
+  (not convex in general), joined with the link's own bosses where they reach outside it.
 
 Holes of ``pin_diameter + clearance`` sit on every revolute joint of the link. Widths and thicknesses come
 from ``[mass]`` (per link, else file-wide), else the defaults of :func:`defaults`; ``end_radius`` is
@@ -248,6 +250,39 @@ def _wheels(mech) -> dict[str, tuple[str, float]]:
     return out
 
 
+PLATE_POINTS = 720
+"""Corners of a cam plate's outline: chords of 0.5 deg sag (2 pi R / 720)^2 / (8 rho), under 1e-5 of R for a
+radius of curvature down to R / 5 (the drawing, the DXF and the solids need nothing finer)."""
+
+
+def _cam_plates(mech) -> tuple[dict, dict]:
+    """({cam link: its outline (k, 2) in the cam's frame [file units], counter-clockwise}, {cam link: the
+    pivot the outline is about}) of the mechanism's cams (:func:`analytic.cams.geometry`)."""
+    from analytic import cams
+    plates, pivots = {}, {}
+    for e in cams.elements(mech).values():
+        plates[e["cam"]] = cams.geometry(mech, e, PLATE_POINTS).profile / mech.scale
+        pivots[e["cam"]] = e["pivot"]
+    return plates, pivots
+
+
+def _cam_outline(profile, pivot, hull, chord: float) -> tuple[Arc, ...]:
+    """A cam plate's outline in its link's frame: the profile about the pivot (the link's frame and the cam's
+    share their x-axis), as corners joined by straight lines; where the link's own hull of bosses reaches
+    outside it (a pin beyond the cam), the union of the two, the hull tessellated within 1e-4 of its radius."""
+    poly = np.asarray(profile) + np.asarray(pivot)
+    import shapely
+    cam = shapely.Polygon(poly)
+    own = shapely.Polygon(shapes.tessellate(hull, 1e-4 * max(a.r for a in hull) if hull else chord)) if hull else None
+    if own is not None and not cam.buffer(1e-9 * chord).contains(own):
+        union = cam.union(own)
+        if union.geom_type == "Polygon":
+            poly = np.asarray(union.exterior.coords)[:-1]
+            if shapely.Polygon(poly).exterior.is_ccw is False:
+                poly = poly[::-1]
+    return tuple(Arc(float(x), float(y), 0.0, 0.0, 0.0) for x, y in poly)
+
+
 def _inside(arcs, p, tol: float) -> bool:
     """Whether point p lies in the convex shape (within tol): below its support in every edge normal."""
     normals = [a.a0 for a in arcs] + [a.a1 for a in arcs]
@@ -264,7 +299,8 @@ def _segment_distance(p, a, b) -> float:
 
 def meshing(mech) -> tuple[tuple[str, str], ...]:
     """Pairs of moving links whose gears mesh (their pitch discs touch by design)."""
-    return tuple((c.link, c.mesh) for c in mech.topology.couplings if GROUND not in (c.link, c.mesh))
+    return tuple((c.link, c.mesh) for c in mech.topology.couplings
+                 if c.kind == "gear" and GROUND not in (c.link, c.mesh))
 
 
 def build(mech, sweep: Sweep | None = None) -> dict[str, Part]:
@@ -275,6 +311,7 @@ def build(mech, sweep: Sweep | None = None) -> dict[str, Part]:
     size = mech.size / mech.scale
     joints = _joints_of(mech)
     wheels = _wheels(mech)
+    plates, cam_pivots = _cam_plates(mech)
     hole_r = cfg.hole / 2.0
     local = {ln: {p: tuple(to_local(sweep.frames[ln][:1], sweep.points[p][:1])[0])
                   for p in mech.topology.links[ln].points} for ln in mech.links}
@@ -321,8 +358,10 @@ def build(mech, sweep: Sweep | None = None) -> dict[str, Part]:
             if p not in pinned and not (base and _inside(base, pts[p], 1e-9 * size)):
                 discs.append(Disc(*pts[p], end_r))
         outline = shapes.hull(discs, eps=1e-12 * size)
+        if ln in plates:                               # a cam plate: its profile, with the link's bosses
+            outline = _cam_outline(plates[ln], pts[cam_pivots[ln]], outline, cfg.end_radius or end_r)
         holes = tuple(Hole(p, pts[p][0], pts[p][1], hole_r) for p in mech.topology.links[ln].points if p in joints[ln])
-        kind = "block" if block else "gear" if gear_r else "bar" if len(pts) <= 2 and not slots[ln] else "plate"
+        kind = "block" if block else "cam" if ln in plates else "gear" if gear_r else "bar" if len(pts) <= 2 and not slots[ln] else "plate"
         parts[ln] = Part(ln, kind, outline, holes, tuple(slots[ln]), dict(pts), 2.0 * end_r if not block else m.width,
                          m.thickness, m.density, gear_r)
     return parts

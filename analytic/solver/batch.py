@@ -150,8 +150,8 @@ def _fields(d: linkfile.Definition, values: dict, k: int):
         for fname, fld in kind.fields.items():
             ftype = fld.type
             v = e.fields[fname]
-            if ftype in linkfile.NAMES:
-                out[fname] = v
+            if ftype in linkfile.NAMES or ftype in ("camlaw", "outline") or (ftype == "guide" and v is None):
+                out[fname] = v                       # names; a cam's law and outline (resolved design by design)
                 continue
             if ftype == "slidetable":
                 out[fname] = {b: (g, p, _num(d, a, "angle", values, k)) for b, (g, p, a) in v.items()}
@@ -250,7 +250,7 @@ def resolve(base: Mechanism, overrides: dict[str, object]) -> Designs:
             reasons[i] = "a parameter or field is not a finite number"
         except ParameterError as exc:
             reasons[i] = str(exc)
-    if any(kinds.get(e["kind"]).continuous for e in base.geometry.elements):
+    if any(kinds.get(e["kind"]).continuous or kinds.get(e["kind"]).per_design for e in base.geometry.elements):
         return _one_by_one(base, values, merged, ok, reasons)
     # group the designs by their branches (one root per call)
     with_branch = [i for i, e in enumerate(elements) if "branch" in e]

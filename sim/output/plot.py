@@ -118,7 +118,10 @@ def sheet_figure(c: Comparison, built, display=None):
     if driven:                                   # a law's dwells hold the input: time is the abscissa
         x, xlabel = c.trajectory.t, "time $t$ [s]"
     colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
-    fig, axes = plt.subplots(5 if driven else 4, 4, figsize=(17, 18.2 if driven else 14.5), constrained_layout=True)
+    from analytic import cams as cam_geometry
+    has_cams = bool(cam_geometry.elements(mech))
+    rows = 4 + bool(driven) + 2 * has_cams
+    fig, axes = plt.subplots(rows, 4, figsize=(17, 3.7 * rows), constrained_layout=True)
     slots = [axes[0, 0], axes[0, 1], axes[0, 2], axes[1, 0], axes[1, 1], axes[1, 2]]
     for ax, (title, lines, ylabel) in zip(slots, panels(mech, u)):
         _series(ax, x, c, lines, colors, mech)
@@ -136,6 +139,8 @@ def sheet_figure(c: Comparison, built, display=None):
     _torque_panels(axes[3], x, c, xlabel, colors, built, u)
     if driven:
         law_panels(axes[4], mech, driven, u, c.trajectory)
+    if has_cams:
+        cam_panels(axes[4 + bool(driven):], mech, u)
     fig.suptitle(f"{mech.name}: MuJoCo simulation (markers) over the analytic solution (lines)", fontsize=14)
     from sim.output.fit import fit_titles
     fit_titles(fig)
@@ -194,6 +199,93 @@ def law_panels(axes, mech, driven, u, trajectory=None) -> None:
                         ax.axvline(tj, color="tab:red", lw=1.2, alpha=0.6)
         for ax in axes:
             ax.legend(fontsize=7, loc="best")
+
+
+def cam_panels(axes, mech, u) -> None:
+    """Two rows per mechanism with cams (SPEC "Cams and followers"), of its first cam: the follower's s-v-a-j
+    diagram over the cam angle (the lift and its derivatives per radian of cam, segments' ends dotted), then
+    the pressure angle and the profile's radius of curvature over the cam angle, and the cam (its outline,
+    pitch curve and base circle in its frame). Lengths in display units ``u``, angles in deg."""
+    from analytic import cams
+    from analytic import quantities as Q
+    name, e = next(iter(cams.elements(mech).items()))
+    geo = cams.geometry(mech, e)
+    st = geo.setup
+    deg = np.degrees(geo.theta)
+    h = st.law.at(geo.theta)
+    if st.motion == "translating":
+        f, unit = u.factor(Q.LENGTH), u.unit(Q.LENGTH)
+    else:
+        f, unit = DEG, "deg"
+    titles = ("lift $s$", "velocity $ds/d\\theta$", "acceleration $d^2s/d\\theta^2$", "jerk $d^3s/d\\theta^3$")
+    units = (unit, f"{unit}/rad", f"{unit}/rad$^2$", f"{unit}/rad$^3$")
+    colors = ("tab:blue", "tab:orange", "tab:green", "tab:red")
+    edges = np.degrees(np.r_[st.law.starts]) if hasattr(st.law, "starts") else np.array([])
+    for n, ax in enumerate(axes[0]):
+        ax.plot(deg, h[n] * f, lw=1.4, color=colors[n], label=e['links'][0])
+        for b in edges:
+            ax.axvline(b, color="0.6", ls=":", lw=0.8)
+        ax.set(title=f"Cam {name}: {titles[n]}", xlabel="cam angle $\\theta$ [deg]", ylabel=f"[{units[n]}]",
+               xlim=(0, 360))
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=7, loc="best")
+    L, Lu = u.factor(Q.LENGTH), u.unit(Q.LENGTH)
+    ax = axes[1, 0]
+    ax.plot(deg, np.degrees(geo.pressure_angle), lw=1.4)
+    k = int(np.argmax(np.abs(geo.pressure_angle)))
+    ax.plot(deg[k], np.degrees(geo.pressure_angle[k]), "o", color="tab:red",
+            label=f"largest {np.degrees(geo.pressure_angle_max):.3g} deg at {deg[k]:.4g} deg")
+    ax.set(title=f"Cam {name}: pressure angle $pa\\_{name}$", xlabel="cam angle $\\theta$ [deg]", ylabel="[deg]",
+           xlim=(0, 360))
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7, loc="best")
+    ax = axes[1, 1]
+    shown = np.where(np.abs(geo.rho) < 20 * st.base_radius, geo.rho, np.nan)     # a flank's straight bits: off scale
+    ax.plot(deg, shown * L, lw=1.4, color="tab:purple")
+    k = int(np.argmin(geo.rho))
+    ax.plot(deg[k], geo.rho[k] * L, "o", color="tab:red",
+            label=f"smallest {geo.rho_min * L:.4g} {Lu} at {deg[k]:.4g} deg (< 0: concave)")
+    ax.axhline(0, color="0.4", lw=0.8)
+    ax.set(title=f"Cam {name}: radius of curvature $rho\\_{name}$", xlabel="cam angle $\\theta$ [deg]",
+           ylabel=f"[{Lu}]", xlim=(0, 360))
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7, loc="best")
+    ax = axes[1, 2]
+    prof, pitch = np.vstack([geo.profile, geo.profile[:1]]) * L, np.vstack([geo.pitch, geo.pitch[:1]]) * L
+    ax.fill(prof[:, 0], prof[:, 1], color="tab:blue", alpha=0.15)
+    ax.plot(prof[:, 0], prof[:, 1], lw=1.4, color="tab:blue", label="profile")
+    if st.contact != "flat":
+        ax.plot(pitch[:, 0], pitch[:, 1], lw=0.9, ls="--", color="tab:orange", label="pitch curve")
+    a = np.linspace(0, 2 * np.pi, 200)
+    ax.plot(st.base_radius * L * np.cos(a), st.base_radius * L * np.sin(a), lw=0.8, ls=":", color="0.4",
+            label="base circle")
+    ax.plot([0], [0], "+", color="k")
+    ax.set(title=f"Cam {name} in its frame", xlabel=f"[{Lu}]", ylabel=f"[{Lu}]")
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7, loc="best")
+    ax = axes[1, 3]
+    ax.axis("off")
+    lines = [f"cam {name}: {st.motion} {st.contact} follower ({e['links'][0]})",
+             f"base radius {st.base_radius * L:.4g} {Lu}" + (f", roller {st.roller * L:.4g} {Lu}" if st.roller else ""),
+             f"largest pressure angle {np.degrees(geo.pressure_angle_max):.4g} deg",
+             f"smallest radius of curvature {geo.rho_min * L:.4g} {Lu}"]
+    if st.contact == "flat":
+        lines.append(f"face travel {geo.face_travel * L:.4g} {Lu}")
+    ax.text(0.0, 1.0, "\n".join(lines), va="top", family="monospace", fontsize=9, transform=ax.transAxes)
+
+
+def cam_figure(mech, display=None):
+    """The cam rows of the sheet (:func:`cam_panels`) alone, as a matplotlib Figure: what needs no simulation."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from analytic.quantities import Display
+    u = display or Display(mech.units)
+    fig, axes = plt.subplots(2, 4, figsize=(17, 7.4), constrained_layout=True)
+    cam_panels(axes, mech, u)
+    fig.suptitle(f"{mech.name}: cam and follower", fontsize=14)
+    return fig
 
 
 def _mark_strokes(ax, x, load) -> None:

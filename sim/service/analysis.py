@@ -131,9 +131,32 @@ def analysis_record(mech: Mechanism, a: Analysis, samples: int, revolutions: flo
     outs = mech.outputs
     angular = mech.inputs[0].angular
     ranges = {k: display.convert(Q.quantity(mech, k), _span(a.solution[k])) for k in outs}
-    return {"mechanism": mech.name, "units": units_table(mech, display, outs, a.figures),
-            "parameters": Q.parameters_in(mech, display), "samples": samples, "revolutions": revolutions,
-            "figures": Q.convert_figures(a.figures, display, angular), "ranges": ranges}
+    record = {"mechanism": mech.name, "units": units_table(mech, display, outs, a.figures),
+              "parameters": Q.parameters_in(mech, display), "samples": samples, "revolutions": revolutions,
+              "figures": Q.convert_figures(a.figures, display, angular), "ranges": ranges}
+    cams = cams_record(mech, display)
+    if cams:
+        record["cams"] = cams
+    return record
+
+
+def cams_record(mech: Mechanism, display=None) -> dict:
+    """Per cam (SPEC "Cams and followers"): its largest pressure angle, smallest radius of curvature, a flat
+    face's required width (the contact's travel along it) and its outline (closed, counter-clockwise, in the
+    cam's frame), lengths in ``display`` units (default SI)."""
+    from analytic import cams
+    from analytic import quantities as Q
+    display = display or Q.SI
+    out = {}
+    for name, e in cams.elements(mech).items():
+        geo = cams.geometry(mech, e)
+        entry = {"pressure_angle_max": display.convert(Q.ANGLE, geo.pressure_angle_max),
+                 "rho_min": display.convert(Q.LENGTH, geo.rho_min)}
+        if geo.setup.contact == "flat":
+            entry["face_width"] = display.convert(Q.LENGTH, geo.face_travel)
+        entry["profile"] = display.convert(Q.LENGTH, geo.profile.tolist())
+        out[name] = entry
+    return out
 
 
 def units_table(mech: Mechanism, display, outputs=(), figures=None) -> dict:

@@ -209,6 +209,7 @@ def forces_record(run: ForceRun, display=None) -> dict:
         if j.input is not None:
             entry["input"] = mech.inputs[j.input].q
         joints.append(entry)
+    joints += cam_joints(run, display)
     drives = {inp.q: f.drives[inp.link] for inp in mech.inputs}
     record = {"mechanism": mech.name, "samples": len(run.t), "t": run.t,
               "inputs": {inp.q: display.convert(inp_q(inp), run.inputs[inp.q]) for inp in mech.inputs},
@@ -225,6 +226,9 @@ def forces_record(run: ForceRun, display=None) -> dict:
             for section, entries in kind.drive_report(e, f.drives[kind.input_key(e)]).items():
                 record.setdefault(section, {}).update(entries)
                 record["units"].setdefault(section, dict(kind.report_units.get(section, {})))
+    cams = cams_record(run)
+    if cams:
+        record["cams"] = cams
     if run.balance is not None:
         record["balance"] = balance_record(run, display)
     from sim.service import loads as L
@@ -232,6 +236,67 @@ def forces_record(run: ForceRun, display=None) -> dict:
     if display.unit(Q.FORCE) != "N":
         _force_units(record, mech, display)
     return record
+
+
+def cam_joints(run: ForceRun, display=None) -> list:
+    """The ``joints`` entries of kind ``cam`` (SPEC "Cams and followers"): per cam contact, its point (the
+    follower's trace point; ``x``, ``y``: the contact point itself), the cam's and the follower's links, the
+    contact force ``N`` [N] along the common normal (> 0 pressing) and its components on the follower."""
+    from analytic import cams
+    from analytic import quantities as Q
+    display = display or Q.SI
+    mech, f = run.mech, run.forces
+    out = []
+    elements = cams.elements(mech)
+    for k, c in enumerate(mech.topology.couplings):
+        if c.kind != "cam":
+            continue
+        e = next(x for x in elements.values() if x["links"][0] == c.link)
+        g = cams.at(e["setup"], np.arctan2(run.solution["sin" + c.mesh], run.solution["cos" + c.mesh]))
+        N = f.couplings[k]
+        ax, ay = e["setup"].pivot
+        out.append({"name": e["name"], "point": e["point"], "kind": "cam", "links": [c.mesh, c.link], "N": N,
+                    "Fx": N * g["normal"][0], "Fy": N * g["normal"][1],
+                    "x": display.convert(Q.LENGTH, ax + g["contact"][0]),
+                    "y": display.convert(Q.LENGTH, ay + g["contact"][1])})
+    return out
+
+
+def cams_record(run: ForceRun) -> dict:
+    """Per cam: the least contact force over the run [N] and the jump speed [rad/s] (:func:`jump_speed`)."""
+    out = {}
+    for j in cam_joints(run):
+        out[j["name"]] = {"contact_min": float(np.min(j["N"])), "jump_speed": jump_speed(run, j["name"])}
+    return out
+
+
+def jump_speed(run: ForceRun, name: str) -> float:
+    """The cam speed [rad/s] at which cam ``name``'s contact force first falls to zero, for the file's law
+    scaled in time: run k times faster, every velocity scales by k and every acceleration by k^2 (the follower's
+    h'' omega^2 + h' alpha too), so at each cam angle N(k) = N_s + k^2 N_1, N_s the force at rest (the loads
+    that depend on the pose only: springs, gravity, the file's forces) and N_1 = N(1) - N_s from the file's
+    run. The contact is first lost at k* = the least sqrt(-N_s / N_1) over the samples where N_1 < 0; the
+    jump speed is k* times the cam's mean speed over the run (a steady cam: its speed). inf where inertia never
+    unloads the contact, 0 where it is lost at rest. Velocity-dependent loads (dampers, friction) are not of
+    this form and are left out of N_s."""
+    from analytic import cams
+    from sim.service import loads as L
+    mech = run.mech
+    e = cams.elements(mech)[name]
+    k = next(i for i, c in enumerate(mech.topology.couplings) if c.kind == "cam" and c.link == e["links"][0])
+    speed = float(np.mean(np.abs(run.solution["omega" + e["cam"]])))
+    zero = np.zeros_like(run.qd)
+    loadset = run.loadset if run.loadset is not None else L.loadset(mech, ())
+    gravity = run.loads["gravity"] or (0.0, 0.0)
+    force = run.loads["force"]
+    fx, fy = (force["Fx"], force["Fy"]) if force else (0.0, 0.0)
+    rest = L.K.solve(mech, run.q, zero, zero, run.t, run.inertias, loadset, tuple(gravity), (fx, fy), 1.0).forces
+    Ns, N = rest.couplings[k], run.forces.couplings[k]
+    if np.any(Ns <= 0):
+        return 0.0
+    N1 = N - Ns
+    falls = N1 < 0
+    return float(np.sqrt(np.min(-Ns[falls] / N1[falls])) * speed) if falls.any() else float("inf")
 
 
 def _force_units(record: dict, mech: Mechanism, display) -> None:
@@ -412,6 +477,16 @@ def forces_table(run: ForceRun, display=None) -> str:
                     i = int(np.nanargmax(p))
                     lines.append(f"  pressure of {name}: peak {p[i] / 1e5:.5g} bar on its {rec['area'][i]} area "
                                  f"at {at(i)}")
+    cams = cams_record(run)
+    for j in cam_joints(run):
+        N = j["N"]
+        lo, hi = int(np.argmin(N)), int(np.argmax(N))
+        w = cams[j["name"]]["jump_speed"]
+        jump = ("the contact is lost at rest" if w == 0 else "never (inertia does not unload the contact)"
+                if w == float("inf") else f"{w:.5g} rad/s ({w * 30 / np.pi:.5g} rpm, the cam's mean speed)")
+        lines.append(f"  cam {j['name']} ({j['links'][0]}-{j['links'][1]}): contact force {F(N[lo]):.5g} {FU} at "
+                     f"{at(lo)} .. {F(N[hi]):.5g} {FU} at {at(hi)}{' (the follower leaves the cam)' if N[lo] < 0 else ''};"
+                     f" jump speed {jump}")
     s = peaks["shaking"]
     lines.append(f"  shaking force: peak {F(s['F']):.5g} {FU} at {at(s['at'])} (RMS {F(s['F_rms']):.5g} {FU}); "
                  f"shaking moment about the origin: peak {M(s['M']):.5g} {MU} at {at(s['at_M'])}")

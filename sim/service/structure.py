@@ -23,9 +23,12 @@ def structure_report(mech, display=None) -> str:
              f"  links: {n} ({', '.join(('ground',) + mech.links)})"]
     joints = mech.joints
     lines.append(f"  joints: {len(joints)} ({', '.join(f'{x.name} {x.kind[0].upper()} {x.a}-{x.b}' for x in joints)})")
-    if topo.couplings:
-        lines.append(f"  gear pairs: {len(topo.couplings)} ("
-                     + ", ".join(f"{c.link}-{c.mesh} on {c.carrier}" for c in topo.couplings) + ")")
+    gears = [c for c in topo.couplings if c.kind == "gear"]
+    cams = [c for c in topo.couplings if c.kind == "cam"]
+    if gears:
+        lines.append(f"  gear pairs: {len(gears)} (" + ", ".join(f"{c.link}-{c.mesh} on {c.carrier}" for c in gears) + ")")
+    if cams:
+        lines.append(f"  cam contacts: {len(cams)} (" + ", ".join(f"{c.mesh}-{c.link}" for c in cams) + ")")
     _, start = mech.solve_at([0.0])
     if start.valid.all():                          # what the kinds say about their elements (pitch radii)
         pose = {p: (float(start["x" + p][0]), float(start["y" + p][0])) for p in mech.points}
