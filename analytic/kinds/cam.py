@@ -257,9 +257,11 @@ class Cam(Kind):
         try:
             from sim.model import cam_contact
         except ImportError:
-            raise ParameterError(f"{ctx.mech.definition.source}: {e['label']}: the MuJoCo model of a cam needs its contact (sim/model/cam_contact.py), "
-                                 f"which this installation lacks; the analytic commands (analyze, check, forces, "
-                                 f"export) work without it") from None
+            cam_contact = None
+        if cam_contact is None or not getattr(cam_contact, "IN_MECHANISMS", False):
+            raise ParameterError(f"{ctx.mech.definition.source}: {e['label']}: a cam's contact is simulated on its own "
+                                 f"(sim.model.cam_contact) but not yet inside a mechanism's model (compare, simulate, "
+                                 f"plot); the analytic commands (analyze, check, forces, export) work") from None
         cam_contact.add(e, ctx, C.build(e["setup"]))
 
 

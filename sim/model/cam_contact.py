@@ -80,6 +80,11 @@ import numpy as np
 
 from analytic import ParameterError
 
+IN_MECHANISMS = False
+"""Whether a mechanism's model (``compare``, ``simulate``, ``plot`` of a file with a ``cam`` group) builds its
+cam through :func:`add`: not until its time step (2000 steps per cam turn) and its readings are wired into
+those commands; the cam kind refuses the model in one line meanwhile."""
+
 STEPS_PER_TURN = 2000
 """Time steps per cam revolution: h = 2 pi / (omega * STEPS_PER_TURN) (1000 doubled the tracking error)."""
 
