@@ -73,11 +73,19 @@ def read_table(path: str, columns: tuple[str, ...], angle_columns: tuple[str, ..
                 raise ParameterError(f"{path}: line {line}, column {c}: {text!r} is not a number") from None
             if not math.isfinite(v):
                 raise ParameterError(f"{path}: line {line}, column {c}: {text!r} is not a finite number")
+            if abs(v) > MAX_TARGET:                # 1e300 made every other point 'the same point'
+                raise ParameterError(f"{path}: line {line}, column {c}: {text[:40]!r} is out of range; give a "
+                                     f"magnitude <= {MAX_TARGET:g}")
             vals.append(math.radians(v) if (degrees and c in angle_columns) else v)
         out.append((line, vals))
     if len(out) < minimum:
         raise ParameterError(f"{path}: {len(out)} row(s); this method needs at least {minimum}")
     return np.array([v for _, v in out]), [line for line, _ in out]
+
+
+MAX_TARGET = 1e12
+"""The largest magnitude of a target's value (a coordinate in any unit, an angle in degrees), as every number
+of a mechanism file (analytic.format.linkfile.MAX_MAGNITUDE)."""
 
 
 def _numeric(row) -> bool:

@@ -32,7 +32,21 @@ def sets_of(items: list[str]) -> dict[str, str]:
 
 
 def mechanism_from(args):
-    return service.load(args.mechanism, sets_of(args.sets))
+    mech = service.load(args.mechanism, sets_of(args.sets))
+    guard_tables(args, mech)
+    return mech
+
+
+def guard_tables(args, mech) -> None:
+    """No output is a table file the mechanism's loads read (named inside the file, so known only once it
+    is read; before any work still): one line naming the option, the table and the fix."""
+    from analytic.loads.law import table_files
+    tables = {os.path.realpath(p): p for p in table_files(mech.definition)}
+    for name in OUTPUT_ARGS:
+        v = getattr(args, name, None)
+        if isinstance(v, str) and v and os.path.realpath(v) in tables:
+            raise ParameterError(f"--{name.replace('_', '-')} {v} is an input of this command and would be "
+                                 f"overwritten (a load table of {mech.definition.source}); choose another output name")
 
 
 def _outputs(args) -> set[str]:

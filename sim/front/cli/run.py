@@ -48,6 +48,7 @@ def run(args) -> int:
         mech = service.load(name, sets_of(args.sets))
         mechs.append((mech, service.prepare(mech, args.revolutions, parse_range(mech, args.input_range))))
     ext = "." + args.format
+    _guard_tables(mechs, out_dir, ext)
     size = parse_size(args.size)
     created = not out_dir.exists()
     try:
@@ -66,6 +67,18 @@ def run(args) -> int:
         if code != 0 and created:                  # a folder this run made, left empty: removed too
             with contextlib.suppress(OSError):
                 out_dir.rmdir()
+
+
+def _guard_tables(mechs, out_dir, ext) -> None:
+    """No file this run writes is a load table one of its mechanisms reads."""
+    from analytic.loads.law import table_files
+    tables = {os.path.realpath(p) for mech, _ in mechs for p in table_files(mech.definition)}
+    for mech, _ in mechs:
+        for x in (".csv", ".csv.units.json", ".png", ext):
+            out = out_dir / f"{mech.name}{x}"
+            if os.path.realpath(out) in tables:
+                raise ParameterError(f"--out-dir {out_dir}: {out} is a load table this run reads and would be "
+                                     f"overwritten; choose another folder")
 
 
 def _run_all(args, mechs, out_dir, ext, size) -> int:
