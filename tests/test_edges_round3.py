@@ -331,3 +331,51 @@ def test_check_refuses_the_parts_values_export_refuses(tmp_path, case, command):
     r = cli_runner.run(command[0], "pv.toml", *command[1:], cwd=tmp_path)
     _one_line(r, pattern)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["pv.toml"]
+
+
+def test_a_frame_of_20000_corners_is_refused_before_any_work(tmp_path):
+    """Fault: a 20,000-corner frame (880 kB, under the file limit) made ``check`` take 31 s and
+    ``check --interference`` 46 s; refused now at the file's reading, with the limit."""
+    import math
+    n = 20_000
+    corners = [[round(0.15 + 0.5 * math.cos(2 * math.pi * k / n), 6), round(-0.3 + 0.1 * math.sin(2 * math.pi * k / n), 6)]
+               for k in range(n)]
+    (tmp_path / "f.toml").write_text(_lib("fourbar") + f"\n[parts]\nframe = {corners}\n")
+    r = cli_runner.run("check", "f.toml", "--interference", cwd=tmp_path)
+    _one_line(r, r"f\.toml: parts\.frame: 20000 corners; a frame has at most 1000 \(simplify its outline\)")
+
+
+def _many_joints_pyslvs(n):
+    extra = "".join(f", J[R, P[{k % 97}.5, {k % 89}.25], L[L2]]" for k in range(n))
+    return EXPRESSION[:-1] + extra + "]\n"
+
+
+def _many_joints_pmks(n):
+    rows = ["ground,input,R,0,0,t,f,f,t", "input,coupler,R,12.5,21.65,t,f,f,f", "coupler,output,R,74.2,54.7,t,f,f,f",
+            "ground,output,R,80,0,t,f,f,f"]
+    return "\n".join(rows + [f"coupler,R,{k % 97}.5,{k % 89}.25,t,f,f,f" for k in range(n)]) + "\n"
+
+
+@pytest.mark.parametrize("name, make, extra", [("big.txt", _many_joints_pyslvs, ["--input", "0,1"]),
+                                                ("big_pmks.txt", _many_joints_pmks, [])])
+def test_a_foreign_file_of_30000_joints_is_refused_while_read(tmp_path, name, make, extra):
+    """Fault: a Pyslvs expression (or PMKS text) of 30,000 joints, 860 kB, was converted in full (past 120 s)
+    before the 500-entry limit of a mechanism refused the result."""
+    (tmp_path / name).write_text(make(30_000))
+    r = cli_runner.run("import", name, *extra, "--out", "b.toml", cwd=tmp_path)
+    _one_line(r, re.escape(name) + r": more than 500 joints; a mechanism holds at most that many")
+    assert not (tmp_path / "b.toml").exists()
+
+
+def test_a_foreign_file_of_500_joints_is_not_refused_for_its_count():
+    """The bound is the mechanism file's own (500 items): 4 joints plus 496 points on the coupler read."""
+    from analytic.format import pyslvs
+    assert len(pyslvs.parse_expression(_many_joints_pyslvs(496), "ok.txt")) == 500
+
+
+def test_synthesize_motion_count_1000_is_refused_before_any_work(tmp_path):
+    """Fault: ``synthesize motion --count 1000`` checked every design in MuJoCo: past 200 s (--count 100:
+    55 s)."""
+    (tmp_path / "poses.csv").write_text("x,y,theta\n0,0,0\n1,0.5,20\n2,0.8,45\n3,0.6,70\n")
+    r = cli_runner.run("synthesize", "motion", "poses.csv", "--count", "1000", cwd=tmp_path)
+    _one_line(r, r"--count 1000 must be in 1\.\.20: every design returned is checked by a MuJoCo run")

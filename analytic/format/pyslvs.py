@@ -31,6 +31,9 @@ from dataclasses import dataclass
 from analytic._common import FileError
 from analytic.kinds.base import GROUND
 
+MAX_JOINTS = 500
+"""The most joints a foreign file may hold, as a linkage/1 file's items (analytic.format.linkfile.MAX_ITEMS):
+converting 30,000 (a 860 kB expression) ran for minutes before that limit refused the result."""
 _NUMBER = re.compile(r"[-+]?(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][-+]?\d+)?")
 _NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
 _COLOUR = re.compile(r"\(\s*\d+\s*,\s*\d+\s*,\s*\d+\s*\)|[A-Za-z][A-Za-z-]*")
@@ -107,6 +110,8 @@ class _Parser:
         self.need("M[")
         joints = []
         while not self.take("]"):
+            if len(joints) == MAX_JOINTS:          # refused while reading: the conversion grows faster than this
+                raise FileError(f"{self.source}: more than {MAX_JOINTS} joints; a mechanism holds at most that many")
             joints.append(self.joint())
             if not self.take(","):
                 self.need("]")

@@ -469,6 +469,11 @@ def _region_centres(poses: np.ndarray, limits, per_side: int = 9) -> np.ndarray 
     return np.concatenate(pts)
 
 
+MAX_MOTION_COUNT = 20
+"""The most designs ``synthesize motion`` returns: each is read back and compared in MuJoCo (0.4-0.6 s a
+design here), so 20 keep a run near 15 s."""
+
+
 def synthesize_motion(poses: np.ndarray, unit: str = "m", count: int = 3, circle_points=None,
                       limits=None, evaluations: int = MOTION_POOL) -> tuple[list[dict], list[dict]]:
     """Burmester motion generation (3-5 poses exact, more by least squares) under ``limits``
@@ -483,8 +488,9 @@ def synthesize_motion(poses: np.ndarray, unit: str = "m", count: int = 3, circle
     from analytic.synthesis import motion as synthesis_motion
     limits = (limits or sc.Limits()).check()
     limits.check_names(("A", "D"), "a four-bar (A: the crank's pivot, D: the rocker's)")
-    if count < 1:
-        raise ParameterError(f"--count {count} must be >= 1")
+    if not 1 <= count <= MAX_MOTION_COUNT:
+        raise ParameterError(f"--count {count} must be in 1..{MAX_MOTION_COUNT}: every design returned is checked by "
+                             f"a MuJoCo run (about 0.5 s each; --count 100 took 55 s)")
     if evaluations < 1:
         raise ParameterError(f"--evaluations {evaluations} must be >= 1")
     if circle_points is not None:
