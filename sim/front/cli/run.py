@@ -71,8 +71,8 @@ def run(args) -> int:
 
 def _guard_tables(mechs, out_dir, ext) -> None:
     """No file this run writes is a load table one of its mechanisms reads."""
-    from analytic.loads.law import table_files
-    tables = {os.path.realpath(p) for mech, _ in mechs for p in table_files(mech.definition)}
+    from sim.service.loads import table_files
+    tables = {os.path.realpath(p) for mech, _ in mechs for p in table_files(mech)}
     for mech, _ in mechs:
         for x in (".csv", ".csv.units.json", ".png", ext):
             out = out_dir / f"{mech.name}{x}"
