@@ -379,3 +379,14 @@ def test_synthesize_motion_count_1000_is_refused_before_any_work(tmp_path):
     (tmp_path / "poses.csv").write_text("x,y,theta\n0,0,0\n1,0.5,20\n2,0.8,45\n3,0.6,70\n")
     r = cli_runner.run("synthesize", "motion", "poses.csv", "--count", "1000", cwd=tmp_path)
     _one_line(r, r"--count 1000 must be in 1\.\.20: every design returned is checked by a MuJoCo run")
+
+
+def test_a_motor_run_stalled_by_a_coarse_time_step_names_the_time_step(tmp_path):
+    """Fault: ``dynamics --motor 5,1e9 --timestep 0.01`` said 'in MuJoCo the motor stalls the fourbar at
+    phi=833.3deg', a stall that is the 10 ms step's (the reduced equation turns it, and at the step the run
+    chooses MuJoCo agrees): the fix, the time step, went unnamed."""
+    r = cli_runner.run("dynamics", "fourbar", "--motor", "5,1e9", "--timestep", "0.01", "--csv", "out.csv",
+                       cwd=tmp_path)
+    _one_line(r, r"in MuJoCo the motor stalls the fourbar .*where the reduced equation turns it: the time step "
+                 r"0\.01 s given by --timestep is above the \S+ s this motor run needs; drop --timestep")
+    assert list(tmp_path.iterdir()) == []
