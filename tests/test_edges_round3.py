@@ -223,6 +223,8 @@ PYSLVS = [
     ("an input 1.0e+300", {"input:\n- - 0\n": "input:\n- - 1.0e+300\n"},
      r"input \[1e\+300, 1\] is not a pair of joint numbers"),
     ("an input .nan", {"  - 1\nlinks": "  - .nan\nlinks"}, r"input \[0, nan\] is not a pair"),
+    ("a slide angle 1e300", {"J[R, color[Green], P[80.0": "J[P, A[1e300], color[Green], P[80.0"},
+     r"joint J3: A\[1e300\] is out of range; give the slide's angle in degrees"),
     ("a pose 1e300", {"P[0.0, 0.0]": "P[1e300, 0.0]"}, r"pose\.J0\[0\] = 1e\+300 is not a finite number of magnitude <= 1e\+12"),
 ]
 

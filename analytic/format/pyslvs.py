@@ -71,6 +71,7 @@ class _Parser:
         self.s = strip_comments(text)
         self.i = 0
         self.source = source
+        self.joint_count = 0
 
     def skip(self):
         while self.i < len(self.s) and self.s[self.i].isspace():
@@ -110,6 +111,7 @@ class _Parser:
         self.need("M[")
         joints = []
         while not self.take("]"):
+            self.joint_count = len(joints)
             if len(joints) == MAX_JOINTS:          # refused while reading: the conversion grows faster than this
                 raise FileError(f"{self.source}: more than {MAX_JOINTS} joints; a mechanism holds at most that many")
             joints.append(self.joint())
@@ -129,7 +131,11 @@ class _Parser:
         self.need(",")
         angle = None
         if self.take("A["):
+            at = self.i
             angle = self.number()
+            if not abs(angle) <= 360.0 * 1e6:          # 1e300 (or 1e999, read as inf) is no slide direction
+                raise FileError(f"{self.source}: joint J{self.joint_count}: A[{self.s[at:self.i].strip()[:40]}] is "
+                                f"out of range; give the slide's angle in degrees (e.g. A[30])")
             self.need("]")
             self.need(",")
         if self.take("color["):
