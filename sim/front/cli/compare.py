@@ -9,8 +9,7 @@ from sim import service
 from sim.output.jsonout import dumps
 from sim.output.units import add_unit_options
 from sim.front.cli.options import (add_common, add_sim_options, loads_from,
-                                   mechanism_from, parse_range, say_start, settings_from,
-                                   timestep_advice)
+                                   mechanism_from, parse_range, say_start, settings_from)
 
 
 def register(sub) -> None:
@@ -45,9 +44,12 @@ def run(args) -> int:
         print(comparison_table(c, mech.size, shown_units(args, built.mech), built.mech.output_point))
         if clash is not None:
             print(interference_line(clash))
-    advice = timestep_advice(args, built.mech, args.revolutions) if not c.passed else None
-    if advice:
-        print(f"linkage: {advice}", file=sys.stderr)
+    if not c.passed and getattr(args, "timestep", None) is not None:
+        from sim.service.simulation import chosen_timestep
+        chosen = chosen_timestep(built.mech, args.revolutions)
+        if args.timestep > chosen * (1 + 1e-3):              # not a value that only prints the same
+            print(f"linkage: the time step {args.timestep:.4g} s given by --timestep is above the {chosen:.4g} s this "
+                  f"design needs; drop --timestep", file=sys.stderr)
     return 0 if c.passed and not (clash and clash["interference"]) else 1
 
 
