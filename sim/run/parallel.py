@@ -28,9 +28,8 @@ def mapper(workers: int = 1, scheduler: str | None = None):
     """
     if workers < 1:
         raise ParameterError(f"--workers {workers} must be >= 1")
-    if scheduler:                                  # an address Dask's own parser would raise a ValueError on
-        check_scheduler(scheduler)
     if scheduler:
+        check_scheduler(scheduler)                 # an address Dask's own parser would raise a ValueError on
         try:
             from dask.distributed import Client, LocalCluster
         except ImportError:
