@@ -72,17 +72,6 @@ def test_a_failed_motor_run_writes_neither_its_csv_nor_its_units_file(tmp_path):
     assert re.search(r"not written: out\.csv, out\.csv\.units\.json, p\.png \(MuJoCo disagrees", line), line
 
 
-def test_a_failed_force_check_writes_no_csv(tmp_path, monkeypatch):
-    """``forces --simulate --csv`` whose MuJoCo check fails (stood in for by a verdict of False) exits 1
-    and writes neither the CSV nor its units file."""
-    from sim import service
-    monkeypatch.setattr(service, "simulated_forces", lambda *a, **k: {"passed": False})
-    r = cli_runner.run("forces", "fourbar", "--simulate", "--samples", "37", "--json", "--csv", "f.csv", cwd=tmp_path)
-    assert r.returncode == 1, r.stderr
-    assert list(tmp_path.iterdir()) == []
-    assert "not written: f.csv, f.csv.units.json" in r.stderr
-
-
 def _never():
     return _lib("fourbar").replace('name = "fourbar"', 'name = "never"').replace("l4 = 0.30 ", "l4 = 3.0 ")
 
