@@ -241,7 +241,19 @@ class Mechanism:
     def duration(self, revolutions: float) -> float:
         """Time [s] for ``revolutions`` turns of the first input (rocking cycles, for a rocking drive)."""
         first = self.inputs[0]
-        return first.motion.duration(revolutions, first.turn)
+        try:
+            return first.motion.duration(revolutions, first.turn)
+        except ParameterError:
+            if first.motion.rate != 0.0 or first.motion.accel != 0.0 or first.motion.rock is not None:
+                raise
+        speed = first.parameters[1]                 # a still input: named by what sets its speed
+        if speed is None:
+            field = kinds.get(first.kind).motion_fields[1]
+            raise ParameterError(f"{self.definition.source}: the input {first.q} of the {self.name} does not move (its "
+                                 f"{field} is 0): give its [[inputs]] entry a non-zero {field}")
+        example = f" (e.g. --set {speed}=360deg)" if first.angular else ""
+        raise ParameterError(f"the input {first.q} of the {self.name} does not move ({speed} = 0): give {speed} a "
+                             f"non-zero value{example}")
 
     def solve(self, q, qd=0.0, qdd=0.0, outputs=None) -> Solution:
         """Every point, link, prismatic pair and extra output (transmission angles) at the given inputs.

@@ -56,7 +56,7 @@ def _error(text, pattern):
 @pytest.mark.parametrize("edit,pattern", [
     (("[ground]", "[ground\n"), r"not valid TOML: .*line \d+"),
     (('format = "linkage/1"', 'format = "linkage/2"'), r"format: 'linkage/2' is not supported"),
-    (('kind = "RRR"', 'kind = "RRRR"'), r"groups\[1\]: unknown kind 'RRRR'; \[\[groups\]\] takes kind = 'RRR' or"),
+    (('kind = "RRR"', 'kind = "RRRR"'), r"groups\[1\] \(point C\): unknown kind 'RRRR'; \[\[groups\]\] takes kind = 'RRR' or"),
     (('branch = "branch"', 'branch = "branch"\nbranchh = 1'), r"groups\[1\] \(point C\): unknown field 'branchh'; a RRR takes"),
     (('from = ["B", "D"]', 'from = ["B", "Q"]'), r"groups\[1\] \(point C\): point 'Q' is never defined"),
     (('point = "E"', 'point = "C"'), r"point name 'C' is already used by groups\[1\] \(point C\)"),
@@ -114,4 +114,4 @@ def test_a_file_is_checked_from_the_command_line(tmp_path):
     bad.write_text(FOURBAR.replace('kind = "RRR"', 'kind = "RRX"'))
     r = cli_runner.run("analyze", str(bad))
     assert r.returncode == 2 and len(r.stderr.strip().splitlines()) == 1
-    assert f"{bad}: groups[1]: unknown kind 'RRX'" in r.stderr
+    assert f"{bad}: groups[1] (point C): unknown kind 'RRX'" in r.stderr

@@ -295,8 +295,9 @@ def test_bad_parts_input_is_one_line(tmp_path, capsys):
     err = capsys.readouterr().err.strip()
     assert err.count("\n") == 0 and "parts.pin_diameter" in err
     path.write_text(PLANTED.replace('layers = { "1" = 0, "2" = 1, "3" = 0 }', 'pin_diameter = 30'))
-    assert main(["check", str(path)]) == 0                    # the structure is fine: the parts say why not
-    assert "parts: none made" in capsys.readouterr().out
+    assert main(["check", str(path)]) == 2                    # the file's own [parts] refused, as export refuses it
+    err = capsys.readouterr().err.strip()
+    assert err.count("\n") == 0 and "pin_diameter" in err
     assert main(["export", str(path), "--bom", str(tmp_path / "b.csv")]) == 2
     assert "pin_diameter" in capsys.readouterr().err and not (tmp_path / "b.csv").exists()
 

@@ -401,13 +401,24 @@ def _check_mass(section, links: set, source: str) -> dict:
     return section
 
 
+def _placed(item: dict, where: str) -> str:
+    """``where`` with the point the element places, where it names one (as the element's label reads), for
+    a message about an element whose kind is not known yet."""
+    point, points = item.get("point"), item.get("points")
+    if isinstance(point, str) and expr.NAME.match(point):
+        return f"{where} (point {point})"
+    if isinstance(points, list) and points and all(isinstance(p, str) and expr.NAME.match(p) for p in points):
+        return f"{where} (points {', '.join(points[:8])}{', ...' if len(points) > 8 else ''})"
+    return where
+
+
 def _element(item, where: str, section: str, source: str) -> Element:
     if not isinstance(item, dict):
         raise _fail(source, where, "must be a table of fields")
     name = item.get("kind")
     allowed = kinds.of_section(section)
     if name not in allowed:
-        raise _fail(source, where, f"unknown kind {_short(name)}; [[{section}]] takes kind = "
+        raise _fail(source, _placed(item, where), f"unknown kind {_short(name)}; [[{section}]] takes kind = "
                                    f"{' or '.join(repr(k) for k in allowed)}")
     kind = kinds.get(name)
     spec = kind.fields

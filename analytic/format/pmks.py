@@ -116,6 +116,8 @@ def parse(text: str, source: str) -> tuple[list, int | None, list[bool]]:
             name = GROUND if _is_ground(w) else _BAD.sub("_", w)
             links.append(name)
         joints.append((kind, angle, (x, y), links))
+        if len(joints) > pyslvs.MAX_JOINTS:
+            raise FileError(f"{source}: more than {pyslvs.MAX_JOINTS} joints; a mechanism holds at most that many")
     if not joints:
         raise FileError(f"{source}: no PMKS joint found (lines such as 'ground,input,R,0,0')")
     return joints, driver, flags

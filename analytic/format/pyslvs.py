@@ -24,12 +24,16 @@ slider at ``Jbase`` along its guide.
 
 from __future__ import annotations
 
+import math
 import re
 from dataclasses import dataclass
 
 from analytic._common import FileError
 from analytic.kinds.base import GROUND
 
+MAX_JOINTS = 500
+"""The most joints a foreign file may hold, as a linkage/1 file's items (analytic.format.linkfile.MAX_ITEMS):
+converting 30,000 (a 860 kB expression) ran for minutes before that limit refused the result."""
 _NUMBER = re.compile(r"[-+]?(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][-+]?\d+)?")
 _NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
 _COLOUR = re.compile(r"\(\s*\d+\s*,\s*\d+\s*,\s*\d+\s*\)|[A-Za-z][A-Za-z-]*")
@@ -41,7 +45,20 @@ def strip_comments(text: str) -> str:
     """The text with its comments blanked out (line breaks kept, so positions stay where they were)."""
     def blank(m):
         return re.sub(r"[^\n]", " ", m.group(0))
-    return _LINE_COMMENT.sub(blank, _BLOCK_COMMENT.sub(blank, text))
+    return _LINE_COMMENT.sub(blank, _blank_block(text, blank))
+
+
+def _blank_block(text: str, blank) -> str:
+    """``_BLOCK_COMMENT.sub(blank, text)`` in linear time: the greedy pattern matches from the first ``#[`` to
+    the last ``#]`` after it and the rest of that line, once (after it no ``#]`` is left); the regex engine
+    itself retries every later ``#[`` when none follows, quadratic in their count (300,000 of them, 600 kB,
+    ran for minutes)."""
+    start = text.find("#[")
+    end = text.rfind("#]")
+    if start < 0 or end < start + 2:
+        return text
+    match = _BLOCK_COMMENT.match(text, start)      # anchored at the first "#[": one pass to its end
+    return text[:start] + blank(match) + text[match.end():]
 
 
 def is_expression(text: str) -> bool:
@@ -54,6 +71,7 @@ class _Parser:
         self.s = strip_comments(text)
         self.i = 0
         self.source = source
+        self.joint_count = 0
 
     def skip(self):
         while self.i < len(self.s) and self.s[self.i].isspace():
@@ -93,6 +111,9 @@ class _Parser:
         self.need("M[")
         joints = []
         while not self.take("]"):
+            self.joint_count = len(joints)
+            if len(joints) == MAX_JOINTS:          # refused while reading: the conversion grows faster than this
+                raise FileError(f"{self.source}: more than {MAX_JOINTS} joints; a mechanism holds at most that many")
             joints.append(self.joint())
             if not self.take(","):
                 self.need("]")
@@ -110,7 +131,11 @@ class _Parser:
         self.need(",")
         angle = None
         if self.take("A["):
+            at = self.i
             angle = self.number()
+            if not abs(angle) <= 360.0 * 1e6:          # 1e300 (or 1e999, read as inf) is no slide direction
+                raise FileError(f"{self.source}: joint J{self.joint_count}: A[{self.s[at:self.i].strip()[:40]}] is "
+                                f"out of range; give the slide's angle in degrees (e.g. A[30])")
             self.need("]")
             self.need(",")
         if self.take("color["):
@@ -232,13 +257,33 @@ class Pair:
         return FileError(f"{self.source}: {text}")
 
 
+def _joint_number(x) -> int | None:
+    """A joint number as an input pair holds it (0, 1.0 or '1'), else None (inf, 1e300, 1.5, a list)."""
+    if isinstance(x, bool):
+        return None
+    if isinstance(x, int):
+        return x
+    if isinstance(x, float) and math.isfinite(x) and x.is_integer() and abs(x) < 2 ** 31:
+        return int(x)
+    if isinstance(x, str) and x.strip().isdigit() and len(x) < 10:
+        return int(x)
+    return None
+
+
 def _input(pair, joints, on, pjoints, source: str) -> dict:
     """The ``[[inputs]]`` entry of a pair (base, driver): the first input kind that drives it says which."""
     from analytic import kinds
-    try:
-        base, driver = (int(x) for x in pair)
-    except (TypeError, ValueError):
-        raise FileError(f"{source}: input {pair!r} is not a pair of joint numbers (base, driver)") from None
+    numbers = [_joint_number(x) for x in pair] if isinstance(pair, (list, tuple)) and len(pair) == 2 else [None]
+    if None in numbers:
+        shown = f"{type(pair).__name__} of {len(pair)}" if isinstance(pair, (list, tuple, dict)) else \
+            type(pair).__name__                    # a nested value (a YAML alias bomb) is never expanded
+        if isinstance(pair, (list, tuple)) and len(pair) <= 3 and all(isinstance(x, (int, float, str)) for x in pair):
+            shown = repr(list(pair))
+        elif isinstance(pair, (int, float, str)) or pair is None:
+            shown = repr(pair)
+        raise FileError(f"{source}: input {shown[:80]} is not a pair of joint numbers (base, driver); give two "
+                        f"whole numbers, e.g. [0, 1]")
+    base, driver = numbers
     n = len(joints)
     for x in (base, driver):
         if not 0 <= x < n:

@@ -6,7 +6,10 @@ from __future__ import annotations
 
 import ast
 import csv
+import io
 import math
+import os
+import stat
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -32,6 +35,8 @@ def editor_fields(what: str = "force unit", turning: bool = False) -> tuple:
 STROKES = {"+x": (0, 1.0), "-x": (0, -1.0), "+y": (1, 1.0), "-y": (1, -1.0), "+": (2, 1.0), "-": (2, -1.0)}
 """stroke -> (axis: 0 x, 1 y, 2 the link's rotation; sign)."""
 MAX_ROWS = 100000
+MAX_TABLE_BYTES = 8 * 1024 * 1024
+"""The largest table file read [bytes]: MAX_ROWS rows of two numbers in full precision fit in 5 MB."""
 
 _NUMPY = {"sqrt": np.sqrt, "sin": np.sin, "cos": np.cos, "tan": np.tan, "asin": np.arcsin, "acos": np.arccos,
           "atan": np.arctan, "atan2": np.arctan2, "hypot": np.hypot, "abs": np.abs, "min": np.minimum,
@@ -186,7 +191,8 @@ def evaluate(text: str, values: dict):
 
     out = np.asarray(walk(tree), dtype=float)
     if not np.all(np.isfinite(out)):
-        raise ValueError(f"{text!r} is not finite at every sample (a division by zero or a root of a negative)")
+        raise ValueError(f"{text!r} is not finite at every sample (a division by zero or a root of a negative); "
+                         f"write it finite over the whole motion")
     return out
 
 
@@ -245,29 +251,66 @@ def _range(text, where, sc: Scales, crank: bool):
     return a, b
 
 
+def table_path(value: str, folder: str) -> Path:
+    """The file a load's ``table = "file.csv"`` names: relative to the mechanism file's folder."""
+    path = Path(value)
+    return path if path.is_absolute() else Path(folder) / path
+
+
+def table_files(definition) -> tuple[Path, ...]:
+    """The table files a definition's ``[[loads]]`` read (inputs of every command that loads it)."""
+    source = definition.source
+    folder = str(Path(source).parent) if source and not source.startswith("<") else "."
+    return tuple(table_path(item["table"], folder) for item in definition.loads or ()
+                 if isinstance(item, dict) and isinstance(item.get("table"), str))
+
+
+def _cut(text: str, limit: int = 60) -> str:
+    return text if len(text) <= limit else text[:limit - 3] + "..."
+
+
+def _table_text(path: Path, value: str, where: str, sc: Scales) -> str:
+    """The UTF-8 text of a table file: a regular file of at most MAX_TABLE_BYTES (a pipe or a device such as
+    /dev/zero would block or never end; refused before reading)."""
+    try:
+        st = os.stat(path)
+        if not stat.S_ISREG(st.st_mode):
+            raise sc.fail(where, f"{value} is not a regular file (a pipe or a device); give a CSV file")
+        if st.st_size > MAX_TABLE_BYTES:
+            raise sc.fail(where, f"{value} is over {MAX_TABLE_BYTES // (1024 * 1024)} MB; a table is at most that "
+                                 f"({MAX_ROWS} rows)")
+        with open(path, "rb") as fh:
+            raw = fh.read(MAX_TABLE_BYTES + 1)
+    except OSError as exc:
+        raise sc.fail(where, f"cannot read {value} ({exc.strerror or exc})") from None
+    try:
+        return raw.decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        raise sc.fail(where, f"{value} is not UTF-8 text (byte 0x{raw[exc.start]:02x} at offset {exc.start}); "
+                             f"save it as UTF-8") from None
+
+
 def _table(value, where, sc: Scales, crank: bool):
     """(x, y) of a table: inline rows [[input, value], ...] or a CSV file (relative to the mechanism file's
     folder) of such rows, a header row allowed; the input in degrees (a crank) or file units (a slider)."""
     rows = []
     if isinstance(value, str):
-        path = Path(value)
-        if not path.is_absolute():
-            path = Path(sc.folder) / path
+        reader = csv.reader(io.StringIO(_table_text(table_path(value, sc.folder), value, where, sc), newline=""))
         try:
-            with open(path, newline="") as fh:
-                for k, row in enumerate(csv.reader(fh), 1):
-                    if k > MAX_ROWS:
-                        raise sc.fail(where, f"{value}: more than {MAX_ROWS} rows")
-                    if not row or not "".join(row).strip():
-                        continue
-                    try:
-                        rows.append((float(row[0]), float(row[1])))
-                    except (ValueError, IndexError):
-                        if rows or k > 1:
-                            raise sc.fail(where, f"{value} row {k}: {','.join(row)!r} is not two numbers "
-                                                 f"(input, value)") from None
-        except OSError as exc:
-            raise sc.fail(where, f"cannot read {value} ({exc.strerror or exc})") from None
+            for k, row in enumerate(reader, 1):
+                if k > MAX_ROWS:
+                    raise sc.fail(where, f"{value}: more than {MAX_ROWS} rows")
+                if not row or not "".join(row).strip():
+                    continue
+                try:
+                    rows.append((float(row[0]), float(row[1])))
+                except (ValueError, IndexError):
+                    if rows or k > 1:
+                        raise sc.fail(where, f"{value} row {k}: {_cut(','.join(row))!r} is not two numbers "
+                                             f"(input, value)") from None
+        except csv.Error as exc:
+            raise sc.fail(where, f"{value} line {reader.line_num}: not a CSV row ({exc}); give numbers separated "
+                                 f"by commas") from None
     elif isinstance(value, list):
         for k, row in enumerate(value, 1):
             if not (isinstance(row, list) and len(row) == 2):

@@ -106,7 +106,10 @@ def _evaluate(mech, loadset, s, q0, u, closed: bool = False):
     if len(mech.inputs) == 1:         # the velocities at the input's unit rate s (s = +-1), no acceleration:
         coefficients = ({k: v / s for k, v in sol.items() if k.startswith(("vx", "vy", "omega"))},)   # exact
     for ld in loadset.loads:
-        apps = ld.applications(state, variables)
+        try:
+            apps = ld.applications(state, variables)
+        except ValueError as exc:                  # an expression not finite along the turn (1/sin(phi1))
+            raise LoadError(f"load {ld.name}: {exc}") from None
         Q = s * generalized(mech, q, state, apps, coefficients)[mech.inputs[0].link]       # on u, at unit speed
         if ld.speed_linear:
             C = C - Q

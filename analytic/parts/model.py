@@ -36,6 +36,10 @@ CHORD = 1e-5
 """The tessellation's chord error as a fraction of the mechanism's size: the polygons used for distances,
 meshes and drawings lie within this of the exact arcs (1e-5 x 300 mm = 3 um, far below any clearance)."""
 
+MAX_PART_FACTOR = 10.0
+"""A ``[parts]`` size (pin, clearance, end radius, layer gap) at most this many times the mechanism's size:
+past it the value is a unit slip, and arcs of 1e12 x the size tessellated at CHORD x the size never end."""
+
 _NICE = (1.0, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0, 6.0, 8.0, 10.0)
 
 
@@ -93,6 +97,12 @@ def settings(mech) -> Settings:
         d["pin_diameter"] = nice(narrowest * 0.4)
         d["clearance"] = nice(d["pin_diameter"] / 20.0)
     frame = section.get("frame")
+    size = mech.size / mech.scale
+    for key in ("pin_diameter", "clearance", "end_radius", "layer_gap"):
+        if key in section and not float(section[key]) <= MAX_PART_FACTOR * size:
+            raise ParameterError(f"{mech.definition.source}: parts.{key}: {float(section[key]):g} is more than "
+                                 f"{MAX_PART_FACTOR:g} times the mechanism's size ({size:.4g} {mech.units}); give it "
+                                 f"in the file's units ({mech.units})")
     return Settings(float(section.get("pin_diameter", d["pin_diameter"])),
                     float(section.get("clearance", d["clearance"])),
                     float(section["end_radius"]) if "end_radius" in section else None,

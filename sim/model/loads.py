@@ -67,8 +67,18 @@ def applications(built, t, q=None, qd=None, qdd=None, sol=None):
     state = AL.State(mech, sol, q, qd, t)
     variables = state.variables(AL.scales(mech.definition, mech.parameters))
     skip = set(getattr(built, "native", ()) or ())
-    apps = [a for ld in ls.loads if ld.name not in skip for a in ld.applications(state, variables)]
+    apps = [a for ld in ls.loads if ld.name not in skip for a in _applied(ld, state, variables)]
     return apps, state, inertias, {}
+
+
+def _applied(ld, state, variables):
+    """A load's applications; an expression not finite along the run (1/sin(phi1)) in one line naming the
+    load, as the analytic side (analytic.loads.kinetostatics) words it."""
+    from analytic.loads.common import LoadError
+    try:
+        return ld.applications(state, variables)
+    except ValueError as exc:
+        raise LoadError(f"load {ld.name}: {exc}") from None
 
 
 def wrenches(built, t, q=None, qd=None) -> Wrenches:

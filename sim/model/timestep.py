@@ -130,6 +130,14 @@ def rate_scale(mech, revolutions: float = 1.0, cycle=None) -> float:
     return peak_rates(cycle if cycle is not None else Cycle.of(mech, revolutions))
 
 
+def _slower(mech) -> str:
+    """The fix for a design too fast to step: its inputs' speeds by the parameters that set them."""
+    named = [(i.parameters[1], i.motion.rate, i.unit) for i in mech.inputs if i.parameters[1]]
+    if not named:
+        return "slow its drives (the inputs' omega),"
+    return "lower " + " or ".join(f"{name} (now {abs(rate):.3g} {unit}/s)" for name, rate, unit in named) + ","
+
+
 def choose_timestep(mech, revolutions: float = 1.0, cycle=None) -> float:
     """The time step for ``mech`` (STEP_ANGLE, MAX_TIMESTEP); refuses a design needing < MIN_TIMESTEP.
     ``cycle``: the run's :class:`analytic.cycle.Cycle` (made here when None)."""
@@ -143,8 +151,8 @@ def choose_timestep(mech, revolutions: float = 1.0, cycle=None) -> float:
     h *= CHANGE_FACTOR if passes_change_point(mech, cycle) else 1.0
     if h < MIN_TIMESTEP:
         raise ParameterError(f"the {mech.name} moves too fast to simulate accurately (a link turns at up to "
-                             f"{omega:.3g} rad/s, needing a step of {h:.2g} s < {MIN_TIMESTEP:g} s): slow its "
-                             f"drives or move it away from its singular pose")
+                             f"{omega:.3g} rad/s, needing a time step of {h:.2g} s < {MIN_TIMESTEP:g} s): "
+                             f"{_slower(mech)} or move it away from its singular pose")
     return h
 
 

@@ -206,8 +206,11 @@ def exploded(ax, pm, fs: float = 7.0) -> None:
     zs = sorted({z for span in pm.layout.z.values() for z in span})
     zmax = zs[-1] if zs else 1.0
 
+    used = sorted({layers[ln] for ln in pm.layout.z})   # a layer may be empty (a frame over the ground
+                                                        # pivots lifts every link off layer 0)
+
     def zlevel(z):                                    # a z [file units] in the exploded view's spacing
-        k = min(range(count), key=lambda i: abs(min(v[0] for ln, v in pm.layout.z.items() if layers[ln] == i) - z))
+        k = min(used, key=lambda i: abs(min(v[0] for ln, v in pm.layout.z.items() if layers[ln] == i) - z))
         base = min(v[0] for ln, v in pm.layout.z.items() if layers[ln] == k)
         return k * gap + (z - base)
 

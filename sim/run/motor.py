@@ -406,8 +406,17 @@ def simulated(d: Dynamics, loads, start_speed: float = 0.0, settings=M.Settings(
     runs: a front end can look at the reduced equation's run (its duration, its peak speed) before paying
     for the simulation."""
     r = d.run
-    built = build(d.mech, loads, r.reduced, d.motor, float(np.max(np.abs(r.omega))), settings, cycle)
-    s = simulate(built, r.reduced, d.motor, r.revolutions, start_speed)
+    w_max = float(np.max(np.abs(r.omega)))
+    built = build(d.mech, loads, r.reduced, d.motor, w_max, settings, cycle)
+    try:
+        s = simulate(built, r.reduced, d.motor, r.revolutions, start_speed)
+    except amotor.Stall as exc:                    # the reduced equation turned it: a stall of a coarse step
+        needed = timestep_for(d.mech, r.reduced, d.motor, w_max, cycle) if settings.timestep is not None else None
+        if needed is None or not settings.timestep > needed * (1 + 1e-3):
+            raise
+        raise ParameterError(f"{exc}, where the reduced equation turns it: the time step {settings.timestep:.4g} s "
+                             f"given by --timestep is above the {needed:.4g} s this motor run needs; drop "
+                             f"--timestep") from None
     sizing = d.sizing_passed
     if d.target is not None:
         sizing = bool(sizing and abs(s.fluctuation / d.target - 1) <= SIZING_TOL)

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import contextlib
 import multiprocessing
+import re
 from concurrent.futures import ProcessPoolExecutor
 
 from analytic import ParameterError
@@ -31,6 +32,7 @@ def mapper(workers: int = 1, scheduler: str | None = None):
     if workers < 1:
         raise ParameterError(f"--workers {workers} must be >= 1")
     if scheduler:
+        check_scheduler(scheduler)                 # an address Dask's own parser would raise a ValueError on
         try:
             import dask
             from dask.distributed import Client, LocalCluster
@@ -73,3 +75,17 @@ def mapper(workers: int = 1, scheduler: str | None = None):
     context = multiprocessing.get_context("forkserver" if "forkserver" in methods else "spawn")
     with ProcessPoolExecutor(max_workers=workers, mp_context=context) as pool:
         yield pool.map
+
+
+_ADDRESS = re.compile(r"(?:tcp://)?(\[[0-9A-Fa-f:.]+\]|[A-Za-z0-9_.-]+):([0-9]{1,5})")
+"""A scheduler address: ``tcp://HOST:PORT`` or ``HOST:PORT`` (an IPv6 host in brackets)."""
+
+
+def check_scheduler(text: str) -> str:
+    """``--scheduler``: ``local`` or a TCP address with a port in 1..65535, else one line saying the form
+    (Dask's own parser raises a ValueError on ``junk``, ``tcp://``, ``http://...``)."""
+    m = _ADDRESS.fullmatch(text)
+    if text != "local" and not (m and 1 <= int(m.group(2)) <= 65535):
+        raise ParameterError(f"--scheduler {text[:80]!r} is not a Dask scheduler address; give tcp://HOST:PORT "
+                             f"(e.g. tcp://127.0.0.1:8786, a running dask scheduler) or local (a cluster here)")
+    return text

@@ -112,8 +112,8 @@ def check_turns_fully(mech: Mechanism, cycle=None) -> None:
     from analytic.applications import figures
     ranges = figures.assembly_ranges(mech)
     if not ranges:
-        raise ParameterError(f"the {mech.name} cannot be assembled at any value of {mech.inputs[0].q}: change its "
-                             f"lengths")
+        raise ParameterError(f"{mech.definition.source}: the {mech.name} cannot be assembled at any value of "
+                             f"{mech.inputs[0].q}: change its lengths")
     if not figures.turns_fully(mech, ranges):
         first = mech.inputs[0]
         ends = ", ".join(sorted({f"{(math.degrees(a) + 180) % 360 - 180:.4f}deg" for r in ranges for a in r},

@@ -62,6 +62,9 @@ def read_table(path: str, columns: tuple[str, ...], angle_columns: tuple[str, ..
                 raise ParameterError(f"{path}: line {head_line}: missing column {c!r} (header: {','.join(names)}); "
                                      f"the header must name {','.join(columns)}")
         idx, body = [names.index(c) for c in columns], numbered[1:]
+    if len(body) > MAX_TARGET_ROWS:
+        raise ParameterError(f"{path}: {len(body):,} rows; a synthesis takes at most {MAX_TARGET_ROWS:,} (thin them "
+                             f"out: every target is matched at every evaluation)")
     out = []
     for line, r in body:
         vals = []
@@ -73,11 +76,21 @@ def read_table(path: str, columns: tuple[str, ...], angle_columns: tuple[str, ..
                 raise ParameterError(f"{path}: line {line}, column {c}: {text!r} is not a number") from None
             if not math.isfinite(v):
                 raise ParameterError(f"{path}: line {line}, column {c}: {text!r} is not a finite number")
+            if abs(v) > MAX_TARGET:                # 1e300 made every other point 'the same point'
+                raise ParameterError(f"{path}: line {line}, column {c}: {text[:40]!r} is out of range; give a "
+                                     f"magnitude <= {MAX_TARGET:g}")
             vals.append(math.radians(v) if (degrees and c in angle_columns) else v)
         out.append((line, vals))
     if len(out) < minimum:
         raise ParameterError(f"{path}: {len(out)} row(s); this method needs at least {minimum}")
     return np.array([v for _, v in out]), [line for line, _ in out]
+
+
+MAX_TARGET = 1e12
+MAX_TARGET_ROWS = 10_000
+"""The most rows of a target, pose or pair file: a path search matches every target at every evaluation."""
+"""The largest magnitude of a target's value (a coordinate in any unit, an angle in degrees), as every number
+of a mechanism file (analytic.format.linkfile.MAX_MAGNITUDE)."""
 
 
 def _numeric(row) -> bool:
@@ -90,12 +103,23 @@ def _numeric(row) -> bool:
 
 def check_repeats(path, data, lines, key, what) -> None:
     """Refuse two rows that give the same target (to 1e-9 of the data's spread)."""
-    k = key(data)
-    scale = max(float(np.ptp(k, axis=0).max()), 1e-12)
-    for i in range(len(k)):
-        for j in range(i):
-            if np.all(np.abs(k[i] - k[j]) <= 1e-9 * scale):
-                raise ParameterError(f"{path}: lines {lines[j]} and {lines[i]} give the same {what}; remove one")
+    k = np.asarray(key(data), dtype=float)
+    scale = max(float(np.ptp(k, axis=0).max()), 1e-12) if len(k) else 1.0
+    tol = 1e-9 * scale
+    order = np.argsort(k[:, 0], kind="stable")      # sorted on the first column: a pair within tol of each
+    ks = k[order]                                   # other lies within tol there, so few offsets are looked at
+    pairs = []                                      # (the double loop it replaces took 4 s on 1,000 targets)
+    for d in range(1, len(ks)):
+        near = ks[d:, 0] - ks[:-d, 0] <= tol
+        if not near.any():
+            break
+        same = near & np.all(np.abs(ks[d:] - ks[:-d]) <= tol, axis=1)
+        for a in np.flatnonzero(same):
+            i, j = int(order[a + d]), int(order[a])
+            pairs.append((max(i, j), min(i, j)))
+    if pairs:
+        i, j = min(pairs)                           # the first repeat in the file's order, as it reads
+        raise ParameterError(f"{path}: lines {lines[j]} and {lines[i]} give the same {what}; remove one")
 
 
 def read_target(path: str, timing: bool = False, closed: bool = False, ordered: bool = True) -> sp.Target:
@@ -526,6 +550,11 @@ def _region_centres(poses: np.ndarray, limits, per_side: int = 9) -> np.ndarray 
     return np.concatenate(pts)
 
 
+MAX_MOTION_COUNT = 20
+"""The most designs ``synthesize motion`` returns: each is read back and compared in MuJoCo (0.4-0.6 s a
+design here), so 20 keep a run near 15 s."""
+
+
 def synthesize_motion(poses: np.ndarray, unit: str = "m", count: int = 3, circle_points=None,
                       limits=None, evaluations: int = MOTION_POOL) -> tuple[list[dict], list[dict]]:
     """Burmester motion generation (3-5 poses exact, more by least squares) under ``limits``
@@ -540,8 +569,9 @@ def synthesize_motion(poses: np.ndarray, unit: str = "m", count: int = 3, circle
     from analytic.synthesis import motion as synthesis_motion
     limits = (limits or sc.Limits()).check()
     limits.check_names(("A", "D"), "a four-bar (A: the crank's pivot, D: the rocker's)")
-    if count < 1:
-        raise ParameterError(f"--count {count} must be >= 1")
+    if not 1 <= count <= MAX_MOTION_COUNT:
+        raise ParameterError(f"--count {count} must be in 1..{MAX_MOTION_COUNT}: every design returned is checked by "
+                             f"a MuJoCo run (about 0.5 s each; --count 100 took 55 s)")
     if evaluations < 1:
         raise ParameterError(f"--evaluations {evaluations} must be >= 1")
     if circle_points is not None:

@@ -14,8 +14,14 @@ from analytic import loads as AL
 from analytic.kinds.base import GROUND as _GROUND
 from analytic.loads import kinetostatics as K
 
-__all__ = ["K", "run_times", "at_time", "loadset", "energy_of", "table", "add_to_record", "summary", "GROUND",
+__all__ = ["K", "table_files", "run_times", "at_time", "loadset", "energy_of", "table", "add_to_record", "summary", "GROUND",
            "force_load", "torque_load", "inertia", "cutting_direction"]
+
+
+def table_files(mech) -> tuple:
+    """The table files ``mech``'s ``[[loads]]`` read (``table = "file.csv"``): inputs no output may replace."""
+    from analytic.loads.law import table_files as files
+    return files(mech.definition)
 
 
 def at_time(mech, value: float) -> float:

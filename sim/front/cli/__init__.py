@@ -115,7 +115,9 @@ def _main(argv: list[str] | None) -> int:
         argv = _join_negative_values(parser, argv)
         args = parser.parse_args(argv)
         guard_outputs(args)
-        return args.func(args)
+        code = args.func(args)
+        sys.stdout.flush()                   # here, not at exit: a reader gone (| head -n 0) is caught below
+        return code
     except ParameterError as exc:
         print(f"linkage: error: {one_line(str(exc))}", file=sys.stderr)
         return 2

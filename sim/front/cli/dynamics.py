@@ -165,6 +165,8 @@ def cmd_dynamics(args) -> int:
     if len(mech.inputs) != 1:
         raise ParameterError(f"the {mech.name} has {len(mech.inputs)} inputs; `linkage dynamics` drives one or two")
     d = motor_run(args, mech)
+    if not d.passed:                               # a failed verdict writes no file (exit 1)
+        return _failed(args, d, mech, display)
     if args.csv:
         cols = {"t": d.run.t, "phi": d.run.phi, "omega": d.run.omega, "torque": d.run.torque}
         write_csv(args.csv, {k: display.convert(QUANTITIES[k], v) for k, v in cols.items()})
@@ -188,6 +190,24 @@ def cmd_dynamics(args) -> int:
             if path:
                 print(f"wrote {path}")
     return 0 if d.passed else 1
+
+
+def _failed(args, d, mech, display) -> int:
+    """A motor run whose MuJoCo run disagrees with the reduced equation: its verdict, and none of its
+    files (one line on stderr naming them and the fix)."""
+    from sim.front.cli.options import say_not_written
+    from sim.output.jsonout import dumps
+    from sim.output.units import shown_units
+    from sim.service import dynamics as dynamics_service
+    if args.json:
+        print(dumps(in_units(dynamics_service.record(d), display)))
+    else:
+        print(summary(d, shown_units(args, mech)))
+    paths = [args.csv, args.csv and f"{args.csv}.units.json", args.plot, args.render]
+    fix = ("drop --timestep (the run chooses a step that holds the motor)" if args.timestep is not None else
+           "see the agreement above; `linkage plot MECH --motor ...` draws the two runs")
+    say_not_written(paths, "MuJoCo disagrees with the reduced equation: a failed run writes no files", fix)
+    return 1
 
 
 QUANTITIES = {"t": Q.TIME, "phi": Q.ANGLE, "omega": Q.ANGULAR_VELOCITY, "torque": Q.TORQUE}

@@ -32,7 +32,21 @@ def sets_of(items: list[str]) -> dict[str, str]:
 
 
 def mechanism_from(args):
-    return service.load(args.mechanism, sets_of(args.sets))
+    mech = service.load(args.mechanism, sets_of(args.sets))
+    guard_tables(args, mech)
+    return mech
+
+
+def guard_tables(args, mech) -> None:
+    """No output is a table file the mechanism's loads read (named inside the file, so known only once it
+    is read; before any work still): one line naming the option, the table and the fix."""
+    from sim.service.loads import table_files
+    tables = {os.path.realpath(p): p for p in table_files(mech)}
+    for name in OUTPUT_ARGS:
+        v = getattr(args, name, None)
+        if isinstance(v, str) and v and os.path.realpath(v) in tables:
+            raise ParameterError(f"--{name.replace('_', '-')} {v} is an input of this command and would be "
+                                 f"overwritten (a load table of {mech.definition.source}); choose another output name")
 
 
 def _outputs(args) -> set[str]:
@@ -160,6 +174,7 @@ def parse_range(mech, text: str | None) -> tuple[float, float] | None:
     """``LO:HI`` of the first input: a crank's in radians, or degrees with a deg suffix; a slider's in the
     file's length unit (like ``--set``, and as ``linkage check`` prints it), returned in metres. Without
     ``text``: the file's own ``input_range`` (a synthesised rocking design's working range), if any."""
+    given = text
     text = text or mech.definition.input_range
     if not text:
         return None
@@ -168,8 +183,12 @@ def parse_range(mech, text: str | None) -> tuple[float, float] | None:
     lo, hi = text.split(":", 1)
     angle = mech.inputs[0].angular
     scale = 1.0 if angle else mech.scale
-    return (parse_value("--input-range", lo, angle=None if angle else False) * scale,
-            parse_value("--input-range", hi, angle=None if angle else False) * scale)
+    out = (parse_value("--input-range", lo, angle=None if angle else False) * scale,
+           parse_value("--input-range", hi, angle=None if angle else False) * scale)
+    if not out[1] > out[0]:
+        where = f"--input-range {text}" if given else f"{mech.definition.source}: input_range = {text!r}"
+        raise ParameterError(f"{where}: the end must exceed the start; give LO:HI with LO < HI (e.g. -40deg:40deg)")
+    return out
 
 
 def pair(option: str, text: str | None) -> tuple[float, float] | None:
@@ -245,6 +264,28 @@ def write_columns(path, mech, columns, display=None) -> None:
                                                   "file_units": mech.units, "si": display.is_si,
                                                   "units": service.units_of(mech, columns, display)},
                                                  indent=2) + "\n")
+
+
+def timestep_advice(args, mech, revolutions: float) -> str | None:
+    """Where ``--timestep`` is coarser than the step the design needs: the words that say so and the fix."""
+    given = getattr(args, "timestep", None)
+    if given is None:
+        return None
+    from sim.service.simulation import chosen_timestep
+    chosen = chosen_timestep(mech, revolutions)
+    if given > chosen * (1 + 1e-3):                           # not a value that only prints the same
+        return (f"the time step {given:.4g} s given by --timestep is above the {chosen:.4g} s this design needs; "
+                f"drop --timestep")
+    return None
+
+
+def say_not_written(paths, why: str, fix: str | None = None) -> None:
+    """A run whose verdict failed (exit 1) writes none of its files: one line on stderr naming them, why, and
+    the fix. Nothing is said where no file was asked for."""
+    names = [str(p) for p in paths if p]
+    if names:
+        print(one_line(f"linkage: not written: {', '.join(names)} ({why}); {fix or 'see the verdict above'}"),
+              file=sys.stderr)
 
 
 def say_start(mech, run) -> None:

@@ -45,6 +45,8 @@ def layer_lines(mech, args=None) -> list[str]:
     try:
         return parts_service.layer_lines(parts_service.prepare(mech, _range(args, mech) if args else None))
     except ParameterError as exc:
+        if mech.definition.parts:                  # the file's own [parts] values: refused, as export refuses them
+            raise
         return [f"  parts: none made: {exc}"]
 
 

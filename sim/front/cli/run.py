@@ -48,6 +48,7 @@ def run(args) -> int:
         mech = service.load(name, sets_of(args.sets))
         mechs.append((mech, service.prepare(mech, args.revolutions, parse_range(mech, args.input_range))))
     ext = "." + args.format
+    _guard_tables(mechs, out_dir, ext)
     size = parse_size(args.size)
     created = not out_dir.exists()
     try:
@@ -58,13 +59,26 @@ def run(args) -> int:
         raise ParameterError(f"--out-dir {out_dir} is not writable; choose another folder")
     if not args.no_video:
         check_video_args(str(out_dir / f"{mechs[0][0].name}{ext}"), args.fps, args.size)
+    code = None
     try:
-        return _run_all(args, mechs, out_dir, ext, size)
-    except BaseException:
-        if created:                                # a folder this run made, left empty: removed too
+        code = _run_all(args, mechs, out_dir, ext, size)
+        return code
+    finally:
+        if code != 0 and created:                  # a folder this run made, left empty: removed too
             with contextlib.suppress(OSError):
                 out_dir.rmdir()
-        raise
+
+
+def _guard_tables(mechs, out_dir, ext) -> None:
+    """No file this run writes is a load table one of its mechanisms reads."""
+    from sim.service.loads import table_files
+    tables = {os.path.realpath(p) for mech, _ in mechs for p in table_files(mech)}
+    for mech, _ in mechs:
+        for x in (".csv", ".csv.units.json", ".png", ext):
+            out = out_dir / f"{mech.name}{x}"
+            if os.path.realpath(out) in tables:
+                raise ParameterError(f"--out-dir {out_dir}: {out} is a load table this run reads and would be "
+                                     f"overwritten; choose another folder")
 
 
 def _run_all(args, mechs, out_dir, ext, size) -> int:
@@ -87,6 +101,9 @@ def _run_all(args, mechs, out_dir, ext, size) -> int:
         print(comparison_table(c, mech.size, shown_units(args, mech), mech.output_point))
         print()
         compared.append((mech, built, c))
+    failed = [(mech, c) for mech, _, c in compared if not c.passed]
+    if failed:                                     # a failed verdict writes no file (exit 1)
+        return _say_failed(args, compared, failed, out_dir, ext, t_start)
     results = []
     with new_files_removed_on_failure() as made:   # then the files; cut short, none of the new ones stays
         for mech, built, c in compared:
@@ -99,10 +116,16 @@ def _run_all(args, mechs, out_dir, ext, size) -> int:
                 files.append(made(out_dir / f"{mech.name}{ext}"))
                 render(built, c.trajectory, str(files[-1]), args.fps, size, display=shown)
             results.append((mech, c, files))
+    _summary(args, results, t_start)
+    return 0 if all(c.passed for _, c, _ in results) else 1
+
+
+def _summary(args, results, t_start) -> None:
+    import time
+    from sim.service.simulation import errors_in
+    from sim.output.units import shown_units
     print(f"summary ({time.perf_counter() - t_start:.1f} s):")
     for mech, c, files in results:
-        from sim.service.simulation import errors_in
-        from sim.output.units import shown_units
         u = shown_units(args, mech)
         worst = max(c.errors, key=lambda k: c.errors[k]["max"] / c.errors[k]["tol"])
         e = errors_in({worst: c.errors[worst]}, u)[worst]
@@ -111,4 +134,16 @@ def _run_all(args, mechs, out_dir, ext, size) -> int:
               f"drive {c.drive_error:.1e}")
         for f in files:
             print(f"           {f}")
-    return 0 if all(c.passed for _, c, _ in results) else 1
+
+
+def _say_failed(args, compared, failed, out_dir, ext, t_start) -> int:
+    """A run with a failed comparison: its verdicts, and one line on stderr: no file written, which failed,
+    and the fix (a --timestep coarser than the design needs: drop it)."""
+    from sim.front.cli.options import say_not_written, timestep_advice
+    _summary(args, [(mech, c, []) for mech, _, c in compared], t_start)
+    names = [out_dir / f"{mech.name}{x}" for mech, _, _ in compared
+             for x in (".csv", ".png") + (() if args.no_video else (ext,))]
+    advice = next((a for a in (timestep_advice(args, mech, args.revolutions) for mech, _ in failed) if a), None)
+    say_not_written(names, f"{', '.join(m.name for m, _ in failed)} FAILED the comparison: a failed run writes no "
+                           f"files", advice)
+    return 1
