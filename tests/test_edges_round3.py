@@ -419,3 +419,16 @@ def test_a_target_file_of_more_than_10000_rows_is_refused(tmp_path):
     (tmp_path / "t.csv").write_text("x,y\n0,0\n" + "".join(f"{k},{k % 7}\n" for k in range(10_000)))
     r = cli_runner.run("synthesize", "path", "t.csv", cwd=tmp_path)
     _one_line(r, r"t\.csv: 10,001 rows; a synthesis takes at most 10,000")
+
+
+def test_a_failed_forces_simulation_writes_no_csv(tmp_path, monkeypatch):
+    # forces --simulate --csv whose MuJoCo check fails (its verdict forced to FAILED here: a real failure
+    # needs a broken model) writes neither the CSV nor its units file, and says so in one line
+    from linkage import results
+    monkeypatch.setattr(results.Forces, "passed", property(lambda self: False))
+    from tests.cli_runner import run as run_in_process
+    out = tmp_path / "f.csv"
+    r = run_in_process("forces", "fourbar", "--simulate", "--samples", "13", "--csv", out)
+    assert r.returncode == 1
+    assert not out.exists() and not (tmp_path / "f.csv.units.json").exists()
+    assert "not written" in r.stderr and "f.csv" in r.stderr and len(r.stderr.strip().splitlines()) == 1

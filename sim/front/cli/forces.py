@@ -59,7 +59,11 @@ def cmd_forces(args) -> int:
                   integrator=settings.integrator if settings else None, **keywords)
     run = f.run
     display = machine_units(args, mech)
-    if args.csv:
+    written = args.csv and f.passed                 # a failed MuJoCo check writes nothing (exit 1)
+    if args.csv and not written:
+        from sim.front.cli.options import say_not_written
+        say_not_written([args.csv, f"{args.csv}.units.json"], "MuJoCo's joint forces disagree with the analytic ones")
+    if written:
         cols, qty = service.forces_columns(run)
         write_csv(args.csv, {c: display.convert(qty[c], v) for c, v in cols.items()})
         write_text(f"{args.csv}.units.json", json.dumps(
@@ -67,7 +71,7 @@ def cmd_forces(args) -> int:
              "units": {c: display.unit(q) for c, q in qty.items()}}, indent=2) + "\n")
     if args.json:
         record = f.to_dict(display=display)
-        if args.csv:
+        if written:
             record["csv"] = args.csv
         print(dumps(record))
     else:
@@ -79,7 +83,7 @@ def cmd_forces(args) -> int:
             print(f"  MuJoCo ({simulated['steps']} steps of {simulated['timestep']:.3g} s{plain}): joint forces within "
                   f"{a['worst']:.2e} of the peak {a['peak']:.4g} N ({a['worst_of']}; median {a['median']:.2e}), "
                   f"tolerance {a['tol']:.0e}: {'PASSED' if simulated.get('passed') else 'FAILED'}")
-        if args.csv:
+        if written:
             print(f"wrote {args.csv} ({len(run.t)} rows)")
     return 0 if f.passed else 1
 
