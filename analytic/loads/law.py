@@ -4,7 +4,6 @@ a range of the first input (``active = "LO:HI"``) and only while its point moves
 
 from __future__ import annotations
 
-import ast
 import csv
 import io
 import math
@@ -38,9 +37,6 @@ MAX_ROWS = 100000
 MAX_TABLE_BYTES = 8 * 1024 * 1024
 """The largest table file read [bytes]: MAX_ROWS rows of two numbers in full precision fit in 5 MB."""
 
-_NUMPY = {"sqrt": np.sqrt, "sin": np.sin, "cos": np.cos, "tan": np.tan, "asin": np.arcsin, "acos": np.arccos,
-          "atan": np.arctan, "atan2": np.arctan2, "hypot": np.hypot, "abs": np.abs, "min": np.minimum,
-          "max": np.maximum, "radians": np.radians, "degrees": np.degrees}
 
 
 @dataclass(frozen=True)
@@ -151,45 +147,11 @@ class Law:
 
 
 def evaluate(text: str, values: dict):
-    """An expression of arrays (numpy): the same grammar as the file's values (:mod:`analytic.format.expr`)."""
-    tree = expr._parse(text)
-
-    def walk(node):
-        if isinstance(node, ast.Expression):
-            return walk(node.body)
-        if isinstance(node, ast.Constant):
-            return float(node.value)
-        if isinstance(node, ast.Name):
-            if node.id in expr.CONSTANTS:
-                return expr.CONSTANTS[node.id]
-            if node.id not in values:
-                raise ValueError(f"{text!r} uses {node.id!r}, which is neither an input, t nor a parameter "
-                                 f"(inputs: {', '.join(k for k in values if k != 't')})")
-            return values[node.id]
-        if isinstance(node, ast.UnaryOp):
-            v = walk(node.operand)
-            return -v if isinstance(node.op, ast.USub) else v
-        if isinstance(node, ast.BinOp):
-            a, b = walk(node.left), walk(node.right)
-            op = type(node.op)
-            with np.errstate(all="ignore"):
-                if op is ast.Add:
-                    return a + b
-                if op is ast.Sub:
-                    return a - b
-                if op is ast.Mult:
-                    return a * b
-                if op is ast.Div:
-                    return np.divide(a, b)
-                return np.power(a, b)
-        if isinstance(node, ast.Call) and node.func.id == expr._DEG_MARK:
-            return np.radians(walk(node.args[0]))
-        if isinstance(node, ast.Call):
-            with np.errstate(all="ignore"):
-                return _NUMPY[node.func.id](*[walk(a) for a in node.args])
-        raise ValueError(f"{text!r} is not a valid expression")
-
-    out = np.asarray(walk(tree), dtype=float)
+    """An expression of arrays (numpy): the file's one evaluator (:func:`analytic.format.expr.evaluate_array`,
+    the same parse and closures as the file's values), refused where it is not finite at some sample."""
+    names = ", ".join(k for k in values if k != "t")
+    out = expr.evaluate_array(text, values, unknown=lambda name: f"{text!r} uses {name!r}, which is neither an "
+                              f"input, t nor a parameter (inputs: {names})")
     if not np.all(np.isfinite(out)):
         raise ValueError(f"{text!r} is not finite at every sample (a division by zero or a root of a negative); "
                          f"write it finite over the whole motion")
