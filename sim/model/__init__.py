@@ -30,7 +30,8 @@ mujoco.set_mju_user_warning(lambda message: None)
 MUJOCO_LOG.TXT): a run that goes wrong is detected from its data and reported by SimulationError in one line."""
 
 __all__ = ["Built", "Context", "Drive", "Loads", "Loop", "Settings", "build", "body_inertias", "choose_timestep",
-           "default_inertia", "drive_command", "export_xml", "frame_extent", "framing", "input_jerk", "load_exported", "model_loads",
+           "default_inertia", "drive_command", "export_xml", "frame_extent", "framing", "input_jerk", "load_exported",
+           "model_loads",
            "motion_scale", "path_points", "rate_scale", "regularization", "slow_stroke", "spanning_tree",
            "DEFAULT_INTEGRATOR", "DRIVE_ERROR_BUDGET", "INTEGRATORS", "INVWEIGHT_NUMERIC", "LINEAR_DENSITY",
            "LOOP_TIMECONST", "MAX_TIMESTEP", "MIN_INERTIA", "MIN_MASS", "MIN_SIZE", "MIN_TIMESTEP",
