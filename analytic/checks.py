@@ -23,6 +23,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from analytic import kinds
+from analytic.errors import ParameterError
 from analytic.solution import StateView
 
 
@@ -389,3 +390,70 @@ def _slow_stroke(mech, cycle) -> tuple[float, float]:
     if inner >= len(t) - 1 - inner:
         return float(phase[a]), float(phase[b])
     return float(phase[b]), float(phase[a] + 2 * math.pi)
+
+
+# ------------------------------------------------------------------------------ the runs' refusals
+def check_turns_fully(mech, cycle=None) -> None:
+    """A single-input mechanism whose first input cannot make a full turn is refused with its limits
+    (a rocking drive, ``input_range``, is the way to run it). ``cycle``: the run's (analytic.cycle.Cycle);
+    one turn of the crank at constant speed that assembles at every sample (the 3600 of a turn that
+    :attr:`Checks.scan` scans, and the refined ones) turns fully; else the mechanism's assembly ranges
+    (:attr:`Checks.ranges`) say."""
+    if len(mech.inputs) != 1 or mech.rock is not None or not mech.inputs[0].angular:
+        return
+    law = mech.inputs[0].motion.law
+    if law is not None and law.rise == 0.0:      # a law that returns to its start: its samples are checked
+        return
+    if cycle is not None and cycle.full_turn and cycle.solution.valid.all():
+        return
+    ranges = assembly_ranges(mech)
+    if not ranges:
+        raise ParameterError(f"the {mech.name} cannot be assembled at any value of {mech.inputs[0].q}: change its "
+                             f"lengths")
+    if not turns_fully(mech, ranges):
+        first = mech.inputs[0]
+        ends = ", ".join(sorted({f"{(math.degrees(a) + 180) % 360 - 180:.4f}deg" for r in ranges for a in r},
+                                key=lambda x: float(x[:-3])))
+        reach = describe_ranges(first, ranges) if ranges else "nowhere"
+        raise ParameterError(f"the input {first.q} of the {mech.name} cannot turn fully (limit angles {ends}; "
+                             f"reachable {reach}, rounded inward): run it between the limits with an input range LO:HI")
+
+
+def check_forces_singular(mech, q: np.ndarray, sol=None) -> None:
+    """Refuse a run that passes a singular pose of a group (its joint forces are unbounded there), naming the
+    first input's value: the refined singular poses of the first input's range (one input), or the smallest
+    singularity measure over the run's samples (``sol``: the run's solution at ``q``, with the outputs the
+    measures read, :func:`measured_outputs`; solved here when None)."""
+    from analytic.cycle import take
+    first = mech.inputs[0]
+    if len(mech.inputs) == 1:
+        for x, label, _ in singular_poses(mech):
+            if visited(first, q[:, 0], x):
+                raise ParameterError(singular_text(mech, x, label))
+    step = max(1, len(q) // 20001)
+    if sol is not None:                        # the measures read the poses: the run's own, at every step-th sample
+        sub = take(sol, slice(None, None, step))
+    else:
+        sub = mech.solve(q[::step], 1.0 if len(mech.inputs) == 1 else np.ones(len(mech.inputs)))
+    for label, m in singularity(mech, sub).items():
+        m = np.where(np.isfinite(m), m, np.inf)
+        k = int(np.argmin(m))
+        if m[k] < SINGULAR:
+            raise ParameterError(singular_text(mech, float(q[::step][k, 0]), label))
+
+
+def measured_outputs(mech) -> list[str]:
+    """The outputs the singularity measures read (:func:`singularity`, through
+    analytic.solution.StateView): every point's, link's and prismatic pair's state."""
+    return ([c + p for p in mech.points for c in ("x", "y", "vx", "vy", "ax", "ay")]
+            + [c + ln for ln in mech.links for c in ("cos", "sin", "omega", "alpha")]
+            + [c + j for j in mech.slides for c in ("s", "ds", "dds")])
+
+
+def singular_text(mech, x: float, label: str) -> str:
+    """The refusal of a run whose joint forces are unbounded at the first input's value ``x`` (``label`` folds)."""
+    from analytic.applications.forces import angle_text
+    first = mech.inputs[0]
+    return (f"the {mech.name} passes through a singular pose at {first.q}={angle_text(first, x)} ({label} folds): "
+            f"its joint forces are unbounded there; change a length by a little, or run between two such "
+            f"values with an input range")

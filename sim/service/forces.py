@@ -9,6 +9,8 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from analytic import ParameterError, kinds
+from analytic.checks import check_forces_singular, measured_outputs  # noqa: F401 (the service's names)
+from analytic.checks import singular_text as _singular_text
 from analytic.mechanism import Mechanism
 from sim.service.analysis import check_range, check_revolutions, check_samples, check_turns_fully
 
@@ -39,38 +41,6 @@ class ForceRun:
     """Each load's work per cycle, friction's dissipation and the energy balance (sim.service.loads.energy_of)."""
 
 
-def check_forces_singular(mech: Mechanism, q: np.ndarray, sol=None) -> None:
-    """Refuse a run that passes a singular pose of a group (its joint forces are unbounded there), naming the
-    first input's value: the refined singular poses of the first input's range (one input), or the smallest
-    singularity measure over the run's samples (``sol``: the run's solution at ``q``, with the outputs the
-    measures read, :func:`measured_outputs`; solved here when None)."""
-    from analytic import checks
-    from analytic.cycle import take
-    first = mech.inputs[0]
-    if len(mech.inputs) == 1:
-        for x, label, _ in checks.singular_poses(mech):
-            if checks.visited(first, q[:, 0], x):
-                raise ParameterError(_singular_text(mech, x, label))
-    step = max(1, len(q) // 20001)
-    if sol is not None:                        # the measures read the poses: the run's own, at every step-th sample
-        sub = take(sol, slice(None, None, step))
-    else:
-        sub = mech.solve(q[::step], 1.0 if len(mech.inputs) == 1 else np.ones(len(mech.inputs)))
-    for label, m in checks.singularity(mech, sub).items():
-        m = np.where(np.isfinite(m), m, np.inf)
-        k = int(np.argmin(m))
-        if m[k] < checks.SINGULAR:
-            raise ParameterError(_singular_text(mech, float(q[::step][k, 0]), label))
-
-
-def measured_outputs(mech: Mechanism) -> list[str]:
-    """The outputs the singularity measures read (analytic.checks.singularity, through
-    analytic.solution.StateView): every point's, link's and prismatic pair's state."""
-    return ([c + p for p in mech.points for c in ("x", "y", "vx", "vy", "ax", "ay")]
-            + [c + ln for ln in mech.links for c in ("cos", "sin", "omega", "alpha")]
-            + [c + j for j in mech.slides for c in ("s", "ds", "dds")])
-
-
 def _local_at_start(mech: Mechanism, t: np.ndarray, sol):
     """Every link's points in its frame (analytic.mass.local_points) from the run's first sample where the run
     starts at t = 0 (the pose the mass model is built at), else None (solved there)."""
@@ -81,14 +51,6 @@ def _local_at_start(mech: Mechanism, t: np.ndarray, sol):
     frames = {ln: (points[mech.link_origins[ln]][0], points[mech.link_origins[ln]][1],
                    math.atan2(float(sol["sin" + ln][0]), float(sol["cos" + ln][0]))) for ln in mech.links}
     return mass.local_points(mech, points, frames)
-
-
-def _singular_text(mech: Mechanism, x: float, label: str) -> str:
-    from analytic.applications.forces import angle_text
-    first = mech.inputs[0]
-    return (f"the {mech.name} passes through a singular pose at {first.q}={angle_text(first, x)} ({label} folds): "
-            f"its joint forces are unbounded there; change a length by a little, or run between two such "
-            f"values with an input range")
 
 
 def _load_window(mech: Mechanism, q1: np.ndarray):
