@@ -260,9 +260,16 @@ def find_singular_poses(mech, samples: int = SCAN, ranges=None, scan=None) -> li
                     xi = a0 + (xi - a0) % (2 * math.pi)
                 elif min(abs(xi - a0), abs(xi - b0)) < 1e-6:
                     continue                               # a dead point, reported as a range end
-                if value < SINGULAR and not any(abs(xi - f[0]) < 1e-6 and f[1] == label for f in found):
+                if value < SINGULAR and not any(_apart(xi, f[0], full) < 1e-6 and f[1] == label for f in found):
                     found.append((xi, label, float(value)))
     return sorted(found)
+
+
+def _apart(a: float, b: float, full: bool) -> float:
+    """|a - b|, over a full turn the shorter way round (a pose found at both ends of the scanned turn, at 0 and
+    at 2 pi to rounding, is one pose)."""
+    d = a - b
+    return abs((d + math.pi) % (2 * math.pi) - math.pi) if full else abs(d)
 
 
 def _padded(q, measures):
