@@ -14,8 +14,8 @@ import lazy_loader
 
 from analytic.errors import AssemblyError, FileError, ParameterError
 
-SUBMODULES = ("_common", "applications", "builtin_forms", "catalog", "closed_forms", "cycle", "errors", "format",
-              "cams", "kinds", "laws", "loads", "mass", "mechanism", "motion", "parts", "periodic", "quantities", "registry",
+SUBMODULES = ("_common", "applications", "builtin_forms", "cams", "catalog", "checks", "closed_forms", "cycle", "errors",
+              "format", "kinds", "laws", "loads", "mass", "mechanism", "motion", "parts", "periodic", "quantities", "registry",
               "solution", "solver", "synthesis", "topology")
 """The package's modules, each imported on its first access (``analytic.registry``)."""
 

@@ -310,6 +310,13 @@ class Mechanism:
         return Solution(arrays, failed.reshape(shape), labels, aliases)
 
     @functools.cached_property
+    def checks(self):
+        """What the kinematic checks find of this mechanism (its assembly ranges, its singular poses), from one
+        scan of its first input's range, each found once when first asked (:class:`analytic.checks.Checks`)."""
+        from analytic.checks import Checks
+        return Checks(self)
+
+    @functools.cached_property
     def _scheduled(self):
         from analytic.solver.change_points import schedule_and_scan
         return schedule_and_scan(self)
@@ -357,7 +364,7 @@ class Mechanism:
         at = ", ".join(f"{i.q}={_fmt_q(i, v)}" for i, v in zip(self.inputs, qk))
         hint = ""
         if len(self.inputs) == 1:
-            from analytic.applications.figures import assembly_ranges, describe_ranges
+            from analytic.checks import assembly_ranges, describe_ranges
             ranges = assembly_ranges(self)
             hint = (f"; {first.q} assembles in {describe_ranges(first, ranges)}" if ranges
                     else f"; it assembles at no value of {first.q}")

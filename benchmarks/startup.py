@@ -14,6 +14,8 @@ every run compiles every module it imports from source: about 0.1-0.2 s more per
 
 ``import linkage`` (issue 39's door) is measured beside ``python -c pass``: it loads no numpy.
 
+``forces fourbar`` (issue 39, item 2: one solved run, no MuJoCo) is measured beside ``analyze fourbar``.
+
 Targets (issue 30): ``list`` and ``check`` at most 0.3 s, ``compare fourbar`` at most 1.5 s, a numerically
 solved group's compare (``stephenson_ii``) at most 2.5 s.
 """
@@ -27,7 +29,7 @@ import subprocess
 import sys
 import tempfile
 
-COMMANDS = [("list", 0.3), ("check fourbar", 0.3), ("analyze fourbar", None),
+COMMANDS = [("list", 0.3), ("check fourbar", 0.3), ("analyze fourbar", None), ("forces fourbar", None),
             ("compare fourbar", 1.5), ("compare stephenson_ii", 2.5)]
 
 

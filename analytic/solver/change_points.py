@@ -116,7 +116,7 @@ def _distinct(found: list[float], lo: float, period: float | None) -> list[float
 def _measures(mech, q: np.ndarray, keep: bool = False):
     """The elements' singularity measures at q ({label: measure}); ``keep``: and the solution (the input at
     unit rate: its velocities are the velocity coefficients, its accelerations the motion's at unit speed)."""
-    from analytic.applications.figures import singularity
+    from analytic.checks import singularity
     if not keep:                                      # the measures read positions only: no rates to solve
         return singularity(mech, mech.solve(q))
     sol = mech.solve(q, 1.0)

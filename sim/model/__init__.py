@@ -16,8 +16,8 @@ files and loading them back).
 
 import mujoco
 
-from sim.model.build import (MIN_SIZE, REGULARIZATION_SCALE, Built, Context, Loop, build, regularization,
-                             spanning_tree)
+from sim.model.build import (MIN_SIZE, REGULARIZATION_SCALE, Built, Context, Loop, build, model_loads,
+                             regularization, spanning_tree)
 from sim.model.drives import DRIVE_ERROR_BUDGET, SERVO_RATE, Drive, drive_command, input_jerk, slow_stroke
 from sim.model.export import INVWEIGHT_NUMERIC, export_xml, load_exported
 from sim.model.inertia import LINEAR_DENSITY, MIN_INERTIA, MIN_MASS, body_inertias, default_inertia
@@ -31,6 +31,7 @@ MUJOCO_LOG.TXT): a run that goes wrong is detected from its data and reported by
 
 __all__ = ["Built", "Context", "Drive", "Loads", "Loop", "Settings", "build", "body_inertias", "choose_timestep",
            "default_inertia", "drive_command", "export_xml", "frame_extent", "framing", "input_jerk", "load_exported",
+           "model_loads",
            "motion_scale", "path_points", "rate_scale", "regularization", "slow_stroke", "spanning_tree",
            "DEFAULT_INTEGRATOR", "DRIVE_ERROR_BUDGET", "INTEGRATORS", "INVWEIGHT_NUMERIC", "LINEAR_DENSITY",
            "LOOP_TIMECONST", "MAX_TIMESTEP", "MIN_INERTIA", "MIN_MASS", "MIN_SIZE", "MIN_TIMESTEP",

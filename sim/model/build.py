@@ -200,6 +200,25 @@ def build(mech, settings: Settings = Settings(), loads: Loads = Loads(), revolut
                        export)
 
 
+def model_loads(mech, loads: Loads, cycle):
+    """What a model of ``mech`` under ``loads`` carries besides its geometry, without building one: (each link's
+    inertia as its body has it, sim.model.inertia.model_inertias at the cycle's start pose; gravity (gx, gy),
+    (0, 0) where None; the load's force (Fx, Fy); its slow-stroke window or None; the file's loads,
+    sim.model.loads.loadset_of). ``cycle``: the run's (analytic.cycle.Cycle), whose start pose the bodies
+    are placed at."""
+    from sim.model import loads as ML
+    from sim.model.inertia import model_inertias
+    _, sol = cycle.at_start()
+    if not sol.valid.all():
+        mech.check_assembles(cycle.q[:1])
+    points = {p: (float(sol["x" + p][0]), float(sol["y" + p][0])) for p in mech.points}
+    inertias = model_inertias(mech, points, body_frames(mech, sol), loads)
+    gravity = (float(loads.gravity[0]), float(loads.gravity[1])) if loads.gravity is not None else (0.0, 0.0)
+    force = (float(loads.force[0]), float(loads.force[1]))
+    window = slow_stroke(mech, cycle) if loads.slow_stroke_only else None
+    return inertias, gravity, force, window, ML.loadset_of(mech, loads)
+
+
 def build_model(mech, settings, loads, h, sol, points, q_start, revolutions, native=False, cycle=None,
                 export=False) -> Built:
     spec = mujoco.MjSpec.from_file(str(TEMPLATE))

@@ -13,6 +13,7 @@ from dataclasses import dataclass, replace
 import mujoco
 import numpy as np
 
+from analytic.checks import slow_stroke  # noqa: F401 (the builder's and the loads' window; found in analytic)
 from sim.model.armature import set_armature
 from sim.model.inertia import body_inertias
 
@@ -141,29 +142,6 @@ def input_jerk(mech, t):
     for k, inp in enumerate(mech.inputs):
         out[:, k] = inp.motion.jerk(t)
     return out
-
-
-def slow_stroke(mech, cycle=None) -> tuple[float, float]:
-    """The first input's phase interval [rad from its start] in which the output point makes its slower
-    stroke along x (the cutting stroke of a quick-return mechanism), from analytic.cycle.SAMPLES + 1 instants
-    of one turn: the dense samples of the run's ``cycle`` where it is one period (analytic.cycle.Cycle), else
-    the same instants solved here."""
-    from analytic.cycle import SAMPLES, periodic
-    first = mech.inputs[0]
-    T = mech.duration(1.0)
-    if cycle is not None and periodic(mech) and len(cycle.dense) == SAMPLES + 1:
-        t = cycle.t[cycle.dense]
-        x = np.asarray(cycle.solution["x" + mech.output_point])[cycle.dense]
-    else:
-        t = np.linspace(0.0, T, SAMPLES + 1)
-        x = mech.solve(*mech.drive(t))["x" + mech.output_point]
-    k_min, k_max = int(np.nanargmin(x)), int(np.nanargmax(x))
-    a, b = sorted((k_min, k_max))
-    inner = b - a                           # samples from one extreme to the other
-    phase = (first.motion.at(t)[0] - first.motion.q0)
-    if inner >= len(t) - 1 - inner:
-        return float(phase[a]), float(phase[b])
-    return float(phase[b]), float(phase[a] + 2 * math.pi)
 
 
 def load_switch(built, t: np.ndarray) -> np.ndarray:

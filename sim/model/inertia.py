@@ -50,12 +50,19 @@ def massless_stand_ins(mech, inertias: dict) -> dict:
     return {ln: (b if b.m > 0 else mass.Inertia(m=m, cx=0.0, cy=0.0, I=I)) for ln, b in inertias.items()}
 
 
+def model_inertias(mech, points, frames, loads) -> dict:
+    """Every link's inertia as the model carries it (SI, :class:`analytic.mass.Inertia` in the link's frame at
+    the pose ``points``/``frames``): the mass model with ``loads.inertias`` and the massless links' stand-ins.
+    :func:`body_inertias` reads the same numbers back from a compiled model (its bodies' principal axes are the
+    frame's: no rotation)."""
+    local = {ln: _local(mech, points, frames, ln) for ln in mech.links}
+    return massless_stand_ins(mech, mass.model(mech, loads.inertias, local))
+
+
 def add_inertias(spec, mech, points, frames, loads):
     """Every body's inertial data from the mass model (:func:`analytic.mass.model`: --inertia, [inertia],
     [mass], the default; counterweights added), so the model and the analytic forces read the same masses."""
-    local = {ln: _local(mech, points, frames, ln) for ln in mech.links}
-    inertias = mass.model(mech, loads.inertias, local)
-    inertias = massless_stand_ins(mech, inertias)
+    inertias = model_inertias(mech, points, frames, loads)
     for ln in mech.links:
         b = spec.body(ln)
         inertia = inertias[ln]

@@ -9,6 +9,7 @@ from dataclasses import dataclass
 import mujoco
 
 from analytic import ParameterError
+from sim.loading import Loads  # noqa: F401 (a run's loads, read without MuJoCo by the kinetostatics too)
 
 INTEGRATORS = {"euler": mujoco.mjtIntegrator.mjINT_EULER, "rk4": mujoco.mjtIntegrator.mjINT_RK4,
                "implicit": mujoco.mjtIntegrator.mjINT_IMPLICIT,
@@ -39,23 +40,3 @@ class Settings:
             raise ParameterError(f"timestep={self.timestep!r} must be a number in (0, 0.05] s (e.g. 0.001)")
         if self.integrator not in INTEGRATORS:
             raise ParameterError(f"integrator={self.integrator!r} is not known: use one of {', '.join(INTEGRATORS)}")
-
-
-@dataclass(frozen=True)
-class Loads:
-    """What acts on the mechanism besides its drives: ``gravity`` (gx, gy) [m/s^2] in the plane (None:
-    normal to it, no effect); ``force`` (Fx, Fy) [N] on the output point, fixed in the world frame, on
-    throughout or (``slow_stroke_only``) only while the output point makes its slow stroke (a cutting
-    force); ``inertias``: {link: Inertia} replacing the default masses."""
-
-    gravity: tuple[float, float] | None = None
-    force: tuple[float, float] = (0.0, 0.0)
-    slow_stroke_only: bool = False
-    inertias: dict | None = None
-    extra: tuple = ()
-
-    def __post_init__(self):
-        for name, v in (("gravity", self.gravity), ("force", self.force)):
-            if v is not None and not all(isinstance(x, (int, float)) and math.isfinite(x) and abs(x) <= 1e9
-                                         for x in v):
-                raise ParameterError(f"{name}={v} must be two finite numbers of magnitude <= 1e9")

@@ -323,17 +323,17 @@ class Dynamics:
 
 
 def reduced_for(mech, loads, settings=M.Settings(), cycle=None):
-    """(make_reduced(J), the model built for the prescribed motion): the mass model and loads as MuJoCo's
-    model has them (sim.model.body_inertias, its gravity, its load actuator and slow-stroke window).
-    ``cycle``: the prescribed motion over one turn (made here when None)."""
-    b0 = M.build(mech, settings, loads, cycle=cycle if cycle is not None else Cycle.of(mech, 1.0))
-    inertias = M.body_inertias(b0.model, mech.links)
-    gravity = tuple(float(x) for x in b0.model.opt.gravity[:2]) if loads.gravity is not None else (0.0, 0.0)
-    force = tuple(float(x) for x in b0.model.actuator("load").gear[:2])
+    """(make_reduced(J), the inertias): the mass model and loads as MuJoCo's model carries them
+    (sim.model.model_loads: its bodies' inertias, its gravity, its load's force and slow-stroke window, the
+    file's loads), found without building a model: the one model of a motor run is the motor's
+    (:func:`build`), which carries the same. ``cycle``: the prescribed motion over one turn (made here when
+    None). ``settings`` is accepted for the callers that pass it; the reduced equation does not read it."""
+    cycle = cycle if cycle is not None else Cycle.of(mech, 1.0)
+    inertias, gravity, force, window, loadset = M.model_loads(mech, loads, cycle)
 
     def make(J):
-        return amotor.reduce(mech, inertias, J, gravity, force, b0.slow_stroke, b0.loadset)
-    return make, b0
+        return amotor.reduce(mech, inertias, J, gravity, force, window, loadset)
+    return make, inertias
 
 
 def dynamics(mech, loads, motor, flywheel: float | None = 0.0, target: float | None = None,

@@ -11,6 +11,7 @@ import analytic
 from analytic import ParameterError
 from analytic.applications import figures as _figures
 from analytic.applications.figures import of as figures_of
+from analytic.checks import check_turns_fully  # noqa: F401 (the service's name; the check reads the run)
 from analytic.mechanism import Mechanism
 from analytic.quantities import (ANGLE, ANGULAR_VELOCITY, LENGTH, SI, TIME, TORQUE,  # noqa: F401 (re-exported)
                                  Display)
@@ -95,32 +96,6 @@ def figures(mech: Mechanism) -> dict:
     """The figures of merit of one cycle, as ``analyze`` computes them (361 samples of one revolution, or
     of the rocking range): what every front end shows, so a figure reads the same everywhere."""
     return analyze(mech, 361, 1.0, mech.rock).figures
-
-
-def check_turns_fully(mech: Mechanism, cycle=None) -> None:
-    """A single-input mechanism whose first input cannot make a full turn is refused with its limits
-    (a rocking drive, ``input_range``, is the way to run it). ``cycle``: the run's (analytic.cycle.Cycle);
-    one turn of the crank at constant speed that assembles at every sample (the 3600 of a turn that
-    analytic.applications.figures.assembly_ranges scans, and the refined ones) turns fully."""
-    if len(mech.inputs) != 1 or mech.rock is not None or not mech.inputs[0].angular:
-        return
-    law = mech.inputs[0].motion.law
-    if law is not None and law.rise == 0.0:      # a law that returns to its start: its samples are checked
-        return
-    if cycle is not None and cycle.full_turn and cycle.solution.valid.all():
-        return
-    from analytic.applications import figures
-    ranges = figures.assembly_ranges(mech)
-    if not ranges:
-        raise ParameterError(f"{mech.definition.source}: the {mech.name} cannot be assembled at any value of "
-                             f"{mech.inputs[0].q}: change its lengths")
-    if not figures.turns_fully(mech, ranges):
-        first = mech.inputs[0]
-        ends = ", ".join(sorted({f"{(math.degrees(a) + 180) % 360 - 180:.4f}deg" for r in ranges for a in r},
-                                key=lambda x: float(x[:-3])))
-        reach = figures.describe_ranges(first, ranges) if ranges else "nowhere"
-        raise ParameterError(f"the input {first.q} of the {mech.name} cannot turn fully (limit angles {ends}; "
-                             f"reachable {reach}, rounded inward): run it between the limits with an input range LO:HI")
 
 
 def analysis_record(mech: Mechanism, a: Analysis, samples: int, revolutions: float, display=None) -> dict:

@@ -9,9 +9,10 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from analytic import ParameterError, kinds
+from analytic.checks import check_forces_singular, measured_outputs  # noqa: F401 (the service's names)
+from analytic.checks import singular_text as _singular_text
 from analytic.mechanism import Mechanism
 from sim.service.analysis import check_range, check_revolutions, check_samples, check_turns_fully
-from sim.service.simulation import _visited
 
 
 @dataclass(frozen=True)
@@ -40,37 +41,22 @@ class ForceRun:
     """Each load's work per cycle, friction's dissipation and the energy balance (sim.service.loads.energy_of)."""
 
 
-def check_forces_singular(mech: Mechanism, q: np.ndarray, sol=None) -> None:
-    """Refuse a run that passes a singular pose of a group (its joint forces are unbounded there), naming the
-    first input's value: the refined singular poses of the first input's range (one input), or the smallest
-    singularity measure over the run's samples."""
-    from analytic.applications import figures
-    first = mech.inputs[0]
-    if len(mech.inputs) == 1:
-        for x, label, _ in figures.singular_poses(mech):
-            if _visited(first, q[:, 0], x):
-                raise ParameterError(_singular_text(mech, x, label))
-    step = max(1, len(q) // 20001)
-    sub = mech.solve(q[::step], 1.0 if len(mech.inputs) == 1 else np.ones(len(mech.inputs)))
-    for label, m in figures.singularity(mech, sub).items():
-        m = np.where(np.isfinite(m), m, np.inf)
-        k = int(np.argmin(m))
-        if m[k] < figures.SINGULAR:
-            raise ParameterError(_singular_text(mech, float(q[::step][k, 0]), label))
-
-
-def _singular_text(mech: Mechanism, x: float, label: str) -> str:
-    from analytic.applications.forces import angle_text
-    first = mech.inputs[0]
-    return (f"the {mech.name} passes through a singular pose at {first.q}={angle_text(first, x)} ({label} folds): "
-            f"its joint forces are unbounded there; change a length by a little, or run between two such "
-            f"values with an input range")
+def _local_at_start(mech: Mechanism, t: np.ndarray, sol):
+    """Every link's points in its frame (analytic.mass.local_points) from the run's first sample where the run
+    starts at t = 0 (the pose the mass model is built at), else None (solved there)."""
+    from analytic import mass
+    if len(t) == 0 or t[0] != 0.0 or not bool(np.asarray(sol.valid)[0]):
+        return None
+    points = {p: (float(sol["x" + p][0]), float(sol["y" + p][0])) for p in mech.points}
+    frames = {ln: (points[mech.link_origins[ln]][0], points[mech.link_origins[ln]][1],
+                   math.atan2(float(sol["sin" + ln][0]), float(sol["cos" + ln][0]))) for ln in mech.links}
+    return mass.local_points(mech, points, frames)
 
 
 def _load_window(mech: Mechanism, q1: np.ndarray):
     """1 where a cutting force acts (the output point's slow stroke along x), else 0: the simulation's switch
     (sim.model.drives.load_switch) on the first input's phase; and the window (lo, hi) [rad of phase]."""
-    from sim.model.drives import slow_stroke
+    from analytic.checks import slow_stroke
     lo, hi = slow_stroke(mech)
     phase = np.mod(q1 - mech.inputs[0].motion.q0, 2 * math.pi)
     on = ((phase >= lo) & (phase <= hi)) | ((phase + 2 * math.pi >= lo) & (phase + 2 * math.pi <= hi))
@@ -138,10 +124,11 @@ def forces_run(mech: Mechanism, samples: int = 361, revolutions: float = 1.0, in
     t, cycles = L.run_times(mech, samples, revolutions, at)
     q, qd, qdd = mech.drive(t)
     mech.check_motion(q, t)
-    mech.check_assembles(q)
-    check_forces_singular(mech, q)
-    sol = mech.solve(q, qd, qdd, outputs=L.K.full_wanted(mech))
-    model = mass.model(mech, inertias)
+    sol = mech.solve(q, qd, qdd, outputs=sorted(set(L.K.full_wanted(mech)) | set(measured_outputs(mech))))
+    if sol.first_failure() is not None:      # which samples assemble is the positions' alone: refused as the
+        mech.check_assembles(q)              # positions' own check words it
+    check_forces_singular(mech, q, sol)
+    model = mass.model(mech, inertias, local=_local_at_start(mech, t, sol))
     gx, gy = gravity if gravity is not None else (0.0, 0.0)
     fx, fy = force
     on, window = (_load_window(mech, q[:, 0]) if slow_stroke_only and (fx or fy) else (1.0, None))

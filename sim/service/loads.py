@@ -205,7 +205,7 @@ def inertia(values: dict, scale: float = 1.0):
 def cutting_direction(mech) -> float:
     """-1 or +1: the x direction that resists the output point during its slow (cutting) stroke (where a
     ``--cutting-force`` acts)."""
-    from sim.model import slow_stroke
+    from analytic.checks import slow_stroke
     lo, hi = slow_stroke(mech)
     first = mech.inputs[0]
     q = first.motion.q0 + np.linspace(lo, hi, 50)[1:-1]

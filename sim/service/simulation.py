@@ -9,6 +9,7 @@ import numpy as np
 
 from analytic import ParameterError
 from analytic.mechanism import Mechanism
+from analytic.checks import visited as _visited
 from sim.service.analysis import check_range, check_revolutions, check_turns_fully
 
 
@@ -239,16 +240,6 @@ def check_folded_change_points(mech: Mechanism, q1: np.ndarray) -> None:
                          f"between two of its change points ({every}) with --input-range")
 
 
-def _visited(first, q1: np.ndarray, x: float) -> bool:
-    """Whether the first input's run ``q1`` passes the value ``x`` (a crank: any turn of it)."""
-    lo, hi = float(np.min(q1)), float(np.max(q1))
-    tol = 1e-9 * max(1.0, abs(lo), abs(hi))
-    if not first.angular:
-        return lo - tol <= x <= hi + tol
-    k = math.ceil((lo - tol - x) / (2 * math.pi))
-    return x + 2 * math.pi * k <= hi + tol
-
-
 def check_fold(mech: Mechanism, cycle=None) -> None:
     """Refuse a rocking run that comes so close to a dead point that the simulation cannot meet compare's
     tolerances there (:data:`sim.model.timestep.FOLD_FLOOR`, ``FOLD_MARGIN``), naming how far inside to
@@ -411,7 +402,7 @@ def run_loads(gravity=None, force=(0.0, 0.0), slow_stroke_only: bool = False, in
     ``force`` (fx, fy) [N] on the output point (only over its slow stroke with ``slow_stroke_only``), the
     links' ``inertias`` ({link: analytic.mass.Inertia}, SI; None: the default bars) and ``extra`` loads
     (analytic.loads dataclasses, as :func:`sim.service.loads.force_load` makes)."""
-    from sim.model import Loads
+    from sim.loading import Loads
     return Loads(gravity=gravity, force=force, slow_stroke_only=slow_stroke_only, inertias=inertias, extra=extra)
 
 
