@@ -48,7 +48,7 @@ def test_the_inputs_columns_and_drives_are_named_as_the_spec_says():
     assert r.returncode == 0, r.stderr
     out = json.loads(r.stdout)
     assert list(out["drives"]) == ["s_lift"] and list(out["inputs"]) == ["s_lift"]
-    assert set(out["actuators"]) == {"lift"} and out["units"]["actuators"] == {"pressure": "Pa"}
+    assert set(out["actuators"]) == {"lift"} and out["units"]["actuators"] == {"pressure": "Pa", "F": "N", "bore": "m"}
 
 
 def test_the_motor_coordinate_is_the_relative_angle():

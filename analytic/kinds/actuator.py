@@ -200,15 +200,18 @@ class Actuator(Kind):
         st.links[barrel] = st.links[rod] = (ce, se, w2, al2)
         st.slides[rod] = lq
 
-    report_units = {"actuators": {"pressure": "Pa"}}
+    report_units = {"actuators": {"pressure": "Pa", "F": "N", "bore": "m"}}
 
-    def drive_report(self, e, drive):
-        """With a bore: ``{"actuators": {NAME: {"pressure": [Pa], "area": "push"|"pull" per sample}}}``."""
+    def drive_report(self, e, drive, pressure_given=None):
+        """``{"actuators": {NAME: entry}}``: the sizing table (:func:`sizing`: the peak push and pull and, with
+        ``pressure_given`` [Pa], the bores they need) and with a bore ``"pressure"`` [Pa] and ``"area"``
+        ("push"|"pull") per sample."""
+        entry = sizing(e, drive, pressure_given)
         p = pressure(e, drive)
-        if p is None:
-            return {}
-        value, push = p
-        return {"actuators": {e["name"]: {"pressure": value, "area": ["push" if x else "pull" for x in push]}}}
+        if p is not None:
+            value, push = p
+            entry.update({"pressure": value, "area": ["push" if x else "pull" for x in push]})
+        return {"actuators": {e["name"]: entry}}
 
     def measured_extras(self, e, st):
         """Its length and rates: the measured rod's slide."""
@@ -260,8 +263,43 @@ def pressure(e: dict, force) -> tuple[np.ndarray, np.ndarray] | None:
         return None
     force = np.asarray(force, dtype=float)
     push = force >= 0
-    a_push, a_pull = math.pi * bore * bore / 4, math.pi * (bore * bore - rod * rod) / 4
+    a_push, a_pull = areas(bore, rod)
     return np.where(push, force / a_push, -force / a_pull), push
+
+
+def areas(bore: float, rod: float) -> tuple[float, float]:
+    """The push area pi bore^2 / 4 (the piston's full face) and the pull area pi (bore^2 - rod^2) / 4 (the
+    annulus round the rod) [m^2]."""
+    return math.pi * bore * bore / 4, math.pi * (bore * bore - rod * rod) / 4
+
+
+def sizing(e: dict, force, pressure_given: float | None = None) -> dict:
+    """The cylinder sizing table of one actuator from its ``force`` [N, + pushing] over the samples:
+    ``push`` and ``pull`` each {"F": the peak force [N, >= 0], "at": its sample} (F = 0 and at None where it
+    never pushes or pulls); with the file's bore the peak pressure [Pa] on each one's area (:func:`areas`); with a supply
+    ``pressure_given`` [Pa] ``"sizing"``: the bore the peak push needs, D = sqrt(4 F_push / (pi p)), the bore
+    the peak pull needs round the rod d (the file's, 0 when not given), D = sqrt(4 F_pull / (pi p) + d^2), the
+    larger of the two, and with a bore given whether it is enough."""
+    force = np.asarray(force, dtype=float)
+    bore, rod = e["bore"], e["rod"]
+    out = {}
+    for side, f in (("push", force), ("pull", -force)):
+        f = np.where(np.isfinite(f), f, -np.inf)
+        i = int(np.argmax(f))
+        out[side] = {"F": float(f[i]), "at": i} if f[i] > 0 else {"F": 0.0, "at": None}
+    if bore > 0:
+        a_push, a_pull = areas(bore, rod)
+        out["push"]["pressure"] = out["push"]["F"] / a_push
+        out["pull"]["pressure"] = out["pull"]["F"] / a_pull
+    if pressure_given is not None:
+        p = float(pressure_given)
+        need_push = math.sqrt(4 * out["push"]["F"] / (math.pi * p))
+        need_pull = math.sqrt(4 * out["pull"]["F"] / (math.pi * p) + rod * rod)
+        need = max(need_push, need_pull)
+        out["sizing"] = {"pressure": p, "bore_push": need_push, "bore_pull": need_pull, "rod": rod, "bore": need}
+        if bore > 0:
+            out["sizing"]["enough"] = bool(bore >= need)
+    return out
 
 
 def actuated(A, C, a, b, bd, bdd, branch, stroke=None):

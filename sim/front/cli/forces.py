@@ -19,6 +19,10 @@ def register(sub) -> None:
                         "links named (default: those pivoted at the ground); before/after reported")
     p.add_argument("--simulate", action="store_true",
                    help="also run the MuJoCo model and compare its joint forces with the analytic ones")
+    p.add_argument("--pressure", metavar="P",
+                   help="size each actuator for this supply pressure (e.g. 200bar; units Pa, kPa, MPa, bar, psi): "
+                        "the bore its peak push needs (area pi D^2/4) and its peak pull needs round the rod "
+                        "(pi (D^2 - d^2)/4)")
     from sim.front.cli.loads_opts import add_at
     add_at(p)
     add_unit_options(p)
@@ -52,12 +56,19 @@ def cmd_forces(args) -> int:
         raise ParameterError("--at evaluates one pose: it does not combine with --simulate, --balance or "
                              "--input-range")
     links = balance_links(args.balance)
+    pressure = None
+    if args.pressure is not None:
+        from analytic.quantities import parse_pressure
+        pressure = parse_pressure(args.pressure)
+        if not any(e["kind"] == "actuator" for e in mech.geometry.elements):
+            raise ParameterError(f"--pressure sizes actuators: the {mech.name} has none (an [[inputs]] kind = "
+                                 f"\"actuator\")")
     settings = settings_from(args) if args.simulate else None
     f = lk.forces(mech, samples=args.samples, revolutions=args.revolutions,
                   input_range=parse_range(mech, args.input_range) if at is None else None,
                   balance=links, at=at, simulate=args.simulate,
                   timestep=settings.timestep if settings else None,
-                  integrator=settings.integrator if settings else None, **keywords)
+                  integrator=settings.integrator if settings else None, pressure=pressure, **keywords)
     run = f.run
     display = machine_units(args, mech)
     if args.csv:
