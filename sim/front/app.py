@@ -679,7 +679,8 @@ def drag(body: dict, cache: Mechanisms | None = None) -> dict:
     d = dragging.drag(mech, text, point, target, q, locked, step)
     new_set = {**body.get("set", {}), **d.values}
     answer = {"point": d.point, "target": list(target), "set": new_set, "text": d.text, "input": d.input, "position": list(d.position),
-              "reached": d.reached, "scrub": d.scrub, "message": d.message, "changed": d.values}
+              "reached": d.reached, "scrub": d.scrub, "message": d.message, "changed": d.values,
+              "input_name": d.input_name}
     solve_body = {k: v for k, v in body.items() if k in FIELDS["solve"]}
     solve_body["set"] = new_set
     if d.text is not None:

@@ -2208,17 +2208,18 @@
       applySolve(answer.solve, version, false, false, false);   // drawn once below, at the pose to show
       if (state.tab === "forces") requestForces();     // the joint forces follow the drag (one request at a time)
     }
-    if (g.input !== null) setFrame(nearestFrame(g.input));
+    if (g.input !== null) setFrame(nearestFrame(g.input, g.input_name));
     drawFrame();
     moveCursors();
     dragNote(g.message, !g.reached && !g.scrub);
     bumpRevision();
   }
 
-  function nearestFrame(q) {
+  function nearestFrame(q, name) {              // name: the input q is a value of (an actuator's own), else the first
     const data = state.solve;
-    const qs = data.inputs[data.describe.inputs[0].q];
-    const crank = data.describe.inputs[0].periodic;   // its kind turns fully: compare angles round the turn
+    const inp = data.describe.inputs.find((i) => i.q === name) || data.describe.inputs[0];
+    const qs = data.inputs[inp.q];
+    const crank = inp.periodic;                    // its kind turns fully: compare angles round the turn
     let best = state.frame; let bestD = Infinity;
     for (let i = 0; i < qs.length; i++) {
       let dq = qs[i] - q;
