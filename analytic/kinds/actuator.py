@@ -28,6 +28,12 @@ STROKE_ROUNDING = 1e-12
 the motion law's sum)."""
 
 
+ALONG = 1e-5
+"""[rad] A P joint's written direction this close to the line through the cylinder's pins is along it: an angle
+written to 6 significant digits of degrees (as the importers write a peer's slide) is within 5e-4 deg, 8.7e-6
+rad, of its value."""
+
+
 class Actuator(Kind):
     name = "actuator"
     section = "inputs"
@@ -103,7 +109,7 @@ class Actuator(Kind):
         u = rc.unit()
         ux, uy = u.value
         along = math.atan2(uy, ux)
-        if abs(math.sin(s.angle.value - along)) > 1e-9:
+        if abs(math.sin(s.angle.value - along)) > ALONG:
             raise dec.fail(where, f"the P joint at {d!r} slides at {math.degrees(s.angle.value):.6g} deg, not along "
                                   f"the cylinder {c} -> {d} ({math.degrees(along):.6g} deg): its line must pass both pins")
         side = (dec.pose[c] - dec.pose[a]).cross(rd)
@@ -123,6 +129,26 @@ class Actuator(Kind):
         dec.classes.append(f"input actuator {barrel}-{rod} from {c} to {d}, turning {link} about {a}")
         for ln in (link, barrel, rod):
             dec.rigid(ln, where)
+
+    def from_pmks(self, driver):
+        """An RP joint between two moving links (``barrel link RP x y angle``: the link pinned to a block that
+        slides in the barrel's slot) is a cylinder: the barrel pinned at one other point C, the block its rod.
+        PMKS gives no stroke: the pose's pin-to-pin length l0 with a quarter of it either way, [0.75, 1.25] l0
+        (a cylinder extends to at most about twice its retracted length), and a speed of 0.2 l0 per second, so
+        that the run (one second) stays within it."""
+        if driver.type != "RP" or len(driver.links) < 2 or GROUND in driver.links[:2]:
+            return None
+        barrel, d = driver.links[0], driver.point
+        form = driver.form
+        pins = [j["point"] for j in form["joints"] if j["kind"] == "R" and barrel in j.get("links", ()) and j["point"] != d]
+        if len(pins) != 1:
+            return None                              # the importer says which joint it cannot drive
+        (cx, cy), (dx, dy) = form["pose"][pins[0]], form["pose"][d]
+        l0 = math.hypot(dx - cx, dy - cy)
+        if not l0 > 0:
+            return None
+        return {"kind": "actuator", "joint": d, "stroke": [float(f"{0.75 * l0:.6g}"), float(f"{1.25 * l0:.6g}")],
+                "v": float(f"{0.2 * l0:.3g}")}
 
     def input_key(self, e):
         """``_NAME``: its columns are ``s_NAME ds_NAME dds_NAME``, its drive ``tau_NAME``."""
