@@ -198,19 +198,19 @@ def forces(mech, /, *, samples: int = 361, revolutions: float = 1.0, input_range
     links = None if balance is None or balance is False else () if balance is True else tuple(balance)
     loads = _loads(mech, gravity, force, cutting_force, torque, inertia)
     run = forces_run(mech, samples, revolutions, input_range_of(mech, input_range), loads.gravity, loads.force,
-                     loads.slow_stroke_only, loads.inertias, links, loads.extra, at, _pressure(pressure))
+                     loads.slow_stroke_only, loads.inertias, links, loads.extra, at, _pressure(mech, pressure))
     if not simulate:
         return Forces(mech, run)
     settings = _settings(timestep, integrator)
     return Forces(mech, run, simulated_forces_run(run, settings, loads), (settings, loads))
 
 
-def _pressure(value):
-    """A supply pressure [Pa] from a number (Pa) or text with its unit (analytic.quantities.parse_pressure)."""
-    from analytic.quantities import parse_pressure
+def _pressure(mech, value):
+    """A supply pressure [Pa] from a number (Pa) or text with its unit (sim.service.forces.supply_pressure)."""
+    from sim.service.forces import supply_pressure
     if value is None:
         return None
-    return parse_pressure(value if isinstance(value, str) else repr(float(value)), "pressure=")
+    return supply_pressure(value if isinstance(value, str) else repr(float(value)), mech, "pressure=")
 
 
 def _motor(value, what: str):

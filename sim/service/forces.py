@@ -228,6 +228,17 @@ def forces_record(run: ForceRun, display=None) -> dict:
     return record
 
 
+def supply_pressure(text, mech: Mechanism, what: str = "--pressure") -> float:
+    """The supply pressure [Pa] to size ``mech``'s actuators for, from ``text`` with its unit (``200bar``,
+    ``20MPa``, ``3000psi``; analytic.quantities.parse_pressure); a ParameterError naming ``what`` for a bad
+    one or where ``mech`` has no actuator."""
+    from analytic.quantities import parse_pressure
+    value = parse_pressure(text, what)
+    if not any(e["kind"] == "actuator" for e in mech.geometry.elements):
+        raise ParameterError(f"{what} sizes actuators: the {mech.name} has none (an [[inputs]] kind = \"actuator\")")
+    return value
+
+
 def actuator_sizing(run: ForceRun) -> dict:
     """{actuator's name: its sizing table} (analytic.kinds.actuator.sizing: the peak push and pull [N] with
     their samples, the peak pressures with a bore, the bores ``run.pressure`` needs), SI."""

@@ -56,13 +56,8 @@ def cmd_forces(args) -> int:
         raise ParameterError("--at evaluates one pose: it does not combine with --simulate, --balance or "
                              "--input-range")
     links = balance_links(args.balance)
-    pressure = None
-    if args.pressure is not None:
-        from analytic.quantities import parse_pressure
-        pressure = parse_pressure(args.pressure)
-        if not any(e["kind"] == "actuator" for e in mech.geometry.elements):
-            raise ParameterError(f"--pressure sizes actuators: the {mech.name} has none (an [[inputs]] kind = "
-                                 f"\"actuator\")")
+    from sim.service.forces import supply_pressure
+    pressure = supply_pressure(args.pressure, mech) if args.pressure is not None else None
     settings = settings_from(args) if args.simulate else None
     f = lk.forces(mech, samples=args.samples, revolutions=args.revolutions,
                   input_range=parse_range(mech, args.input_range) if at is None else None,
