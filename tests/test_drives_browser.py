@@ -51,3 +51,25 @@ def test_dragging_the_stick_cylinders_pin_shows_the_frame_of_its_length(page):
     frame = int(page.evaluate("+document.querySelector('#scrub').value"))
     assert frame == int(np.argmin(np.abs(s_stick - drag["input"])))     # the stick's own length picks the frame
     assert frame != 20                                                   # and the drag did move it
+
+
+def test_the_forces_panel_lists_each_cylinders_peak_push_and_pull(page):
+    r0 = page.evaluate("+document.body.dataset.revision")
+    page.select_option("#mechanism", "dump_tipper")
+    page.wait_for_function(f"+document.body.dataset.revision > {r0} && window.linkageState.mechanism === 'dump_tipper'")
+    page.click("#tab-forces")
+    page.fill("#gravity", "0,-9.81")
+    page.wait_for_function("window.linkageForces && window.linkageForces.mechanism === 'dump_tipper' && "
+                           "window.linkageForces.loads.gravity !== null")
+    data = page.evaluate("window.linkageForces")
+    drive = np.array(data["drives"]["s_tip"], dtype=float)
+    push = data["actuators"]["tip"]["push"]
+    # the peak is a sample of the drawn drive force, which the page asks to 7 significant digits of its peak
+    assert push["F"] == pytest.approx(drive.max(), rel=1e-6)
+    # its pressure on the file's bore of 160 mm, by hand: F / (pi 0.16^2 / 4); one division
+    assert push["pressure"] == pytest.approx(push["F"] / (np.pi * 0.16 ** 2 / 4), rel=1e-12)
+    row = page.locator('#force-peaks tr[data-cylinder="tip push"]')
+    assert row.count() == 1
+    cells = row.locator("td").all_inner_texts()
+    assert cells[1] == "cylinder tip push" and "bar" in cells[4]
+    assert page.locator('#force-peaks tr[data-cylinder="tip pull"] td').all_inner_texts()[5] == "never"

@@ -453,7 +453,9 @@ def forces(body: dict) -> dict:
     out = {"mechanism": mech.name, "samples": samples, "revolutions": revolutions,
            **force_series(rec, digits), "peaks": clean(rec["peaks"]), "loads": clean(run.loads),
            "applied": clean(rec["loads"]), "friction": clean(rec.get("friction")), "energy": clean(rec.get("energy")),
-           "units": clean(rec["units"]), "simulated": None}
+           "units": clean(rec["units"]), "simulated": None,
+           "actuators": clean({name: {k: v for k, v in entry.items() if k not in ("pressure", "area")}
+                               for name, entry in rec.get("actuators", {}).items()})}   # the sizing table
     if simulate_too:
         sim = service.simulated_forces(run, loads=loads)
         out["simulated"] = {**force_series(sim, None), "agreement": clean(sim["agreement"]),

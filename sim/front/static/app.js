@@ -1026,6 +1026,16 @@
       if (sim) { const a = sim.agreement.drives[q] || {}; cells.push(`${fmt(a.mujoco_max, 2)} ${unit}`, fmt(a.mujoco_share, 2)); }
       row(cells, null);
     }
+    for (const [name, a] of Object.entries(data.actuators || {})) {   // each cylinder's peak push and pull
+      for (const side of ["push", "pull"]) {
+        const pk = a[side];
+        const p = pk.pressure !== undefined ? ` (${fmt(pk.pressure / 1e5, 4)} bar)` : "";
+        const at = pk.at === null ? "never" : angleText(data.inputs[data.input][pk.at]);
+        const cells = [`cylinder ${name} ${side}`, "", "", `${fmt(pk.F, 4)} N${p}`, at];
+        if (sim) cells.push("", "");
+        row(cells, null).dataset.cylinder = `${name} ${side}`;
+      }
+    }
     const sh = data.peaks.shaking;
     const cells = ["shaking", "", "", `${fmt(sh.F, 4)} (RMS ${fmt(sh.F_rms, 4)})`, angleText(sh[data.input])];
     if (sim) cells.push(`${fmt(sim.agreement.shaking.F_max, 2)} N`, fmt(sim.agreement.shaking.F_share, 2));
