@@ -137,6 +137,150 @@ def shape(name: str, x) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]
     raise ValueError(f"unknown shape {name!r}; shapes: {', '.join(SHAPES)}")
 
 
+def shape_pieces(name: str) -> tuple[tuple[float, float, tuple[float, ...], float, float, float], ...]:
+    """Shape ``name`` as pieces (x0, x1, c, A, w, p) on [x0, x1): y = sum_k c[k] u^k + A sin(w u + p) with
+    u = x - x0, the same closed forms as :func:`shape` written as a polynomial and one sine each (a dwell: none
+    of either), so that a profile evaluates every sample in one pass (:class:`Compiled`)."""
+    tau = 2 * math.pi
+    if name == "dwell":
+        return ((0.0, 1.0, (0.0,), 0.0, 0.0, 0.0),)
+    if name == "constant":
+        return ((0.0, 1.0, (0.0, 1.0), 0.0, 0.0, 0.0),)
+    if name == "harmonic":                          # (1 - cos pi x) / 2 = 1/2 - sin(pi x + pi/2) / 2
+        return ((0.0, 1.0, (0.5,), -0.5, math.pi, _HALF),)
+    if name == "parabolic":                         # 1 - 2 (1 - x)^2 = 1/2 + 2 u - 2 u^2 with u = x - 1/2
+        return ((0.0, 0.5, (0.0, 0.0, 2.0), 0.0, 0.0, 0.0), (0.5, 1.0, (0.5, 2.0, -2.0), 0.0, 0.0, 0.0))
+    if name == "cycloidal":
+        return ((0.0, 1.0, (0.0, 1.0), -1.0 / tau, tau, 0.0),)
+    if name == "poly345":
+        return ((0.0, 1.0, (0.0, 0.0, 0.0, 10.0, -15.0, 6.0), 0.0, 0.0, 0.0),)
+    if name == "poly4567":
+        return ((0.0, 1.0, (0.0, 0.0, 0.0, 0.0, 35.0, -84.0, 70.0, -20.0), 0.0, 0.0, 0.0),)
+    if name in ("modified_trapezoid", "modified_sine"):
+        # an acceleration k sin(w u + p) integrated from (y0, v0): y0 + k sin p / w^2 + (v0 + k cos p / w) u
+        # - k / w^2 sin(w u + p); a constant k: y0 + v0 u + k u^2 / 2
+        out = []
+        for q in (MODIFIED_TRAPEZOID if name == "modified_trapezoid" else MODIFIED_SINE):
+            if q.w == 0.0:
+                out.append((q.x0, q.x1, (q.y0, q.v0, 0.5 * q.k), 0.0, 0.0, 0.0))
+            else:
+                out.append((q.x0, q.x1, (q.y0 + q.k * math.sin(q.p) / q.w ** 2, q.v0 + q.k * math.cos(q.p) / q.w),
+                            -q.k / q.w ** 2, q.w, q.p))
+        return tuple(out)
+    raise ValueError(f"unknown shape {name!r}; shapes: {', '.join(SHAPES)}")
+
+
+@dataclass(frozen=True)
+class Compiled:
+    """A profile's pieces over one cycle, ready to evaluate every sample at once: ``breaks`` (P - 1,) the
+    times [s] where each piece after the first starts (the first starts at 0); ``starts`` (P,) every piece's
+    start; ``poly`` (D, 4, P) the coefficients of q (its start value included), dq, ddq and dddq in powers
+    0..D-1 of the time since the piece's start; ``wave`` (2, P) the angular frequency [rad/s] and phase of
+    its sine term and ``amp`` (4, P) the amplitude of that term in q and its three derivatives, A w^d
+    (d/du A sin(w u + p) = A w sin(w u + p + pi/2)); all zero where a piece has none."""
+
+    breaks: np.ndarray
+    starts: np.ndarray
+    poly: np.ndarray
+    wave: np.ndarray
+    amp: np.ndarray
+    has_sine: bool
+    degree: tuple = ()
+    """Per derivative and piece the highest power with a non-zero coefficient (-1: none)."""
+
+    SHIFT = np.array([[0.0], [_HALF], [math.pi], [3 * _HALF]])
+    """The phase each derivative adds to the sine term: d pi / 2."""
+
+    @classmethod
+    def of(cls, segments) -> Compiled:
+        rows, waves, amps, starts = [], [], [], []
+        start, lift = 0.0, 0.0
+        for seg in segments:
+            T, h = seg.duration, seg.rise
+            for x0, _x1, c, A, w, p in shape_pieces(seg.shape if h != 0.0 else "dwell"):
+                starts.append(start + x0 * T)
+                rows.append([h * ck / T ** k for k, ck in enumerate(c)])
+                rows[-1][0] += lift
+                waves.append((w / T, p))
+                amps.append([A * h * (w / T) ** d for d in range(4)])
+            start += T
+            lift += h
+        deg = max(len(r) for r in rows)
+        poly = np.zeros((len(rows), 4, deg))
+        k = np.arange(deg, dtype=float)
+        for i, r in enumerate(rows):
+            poly[i, 0, :len(r)] = r
+            for d in range(1, 4):                    # d/du of sum c_k u^k: sum k c_k u^(k - 1)
+                poly[i, d, :-1] = poly[i, d - 1, 1:] * k[1:]
+        amp = np.asarray(amps, dtype=float)
+        degree = tuple(tuple(int(np.flatnonzero(poly[i, d])[-1]) if poly[i, d].any() else -1
+                             for i in range(len(rows))) for d in range(4))
+        return cls(np.asarray(starts[1:]), np.asarray(starts), np.ascontiguousarray(poly.transpose(2, 1, 0)),
+                   np.ascontiguousarray(np.asarray(waves, dtype=float).T), np.ascontiguousarray(amp.T),
+                   bool(np.any(amp[:, 0] != 0.0)), degree)
+
+    def at(self, tau, rows: int = 4) -> np.ndarray:
+        """(q, dq, ddq, dddq) stacked (``rows``, N) (the first ``rows`` of them) at the times ``tau`` [s] in the
+        cycle (a flat array). Samples in long runs of one piece, from :data:`RUNS` of them on, are evaluated a
+        run at a time (views, no gather: the cheaper per sample); others gather each sample's coefficients (one
+        search, no loop: the cheaper per call)."""
+        k = np.searchsorted(self.breaks, tau, side="right")       # the piece: 0 .. P - 1
+        if len(tau) >= RUNS:
+            change = np.flatnonzero(k[1:] != k[:-1]) + 1
+            if len(change) * 64 <= len(tau):       # long runs of one piece (samples in time order)
+                return self._runs(tau, k, change, rows)
+        u = tau - self.starts.take(k)
+        c = self.poly[:, :rows].take(k, axis=2)      # (D, rows, N): each sample's piece's coefficients
+        powers = np.empty((len(c), 1, len(tau)))     # u^0 .. u^(D-1)
+        powers[0] = 1.0
+        if len(c) > 1:
+            powers[1] = u
+        for d in range(2, len(c)):
+            np.multiply(powers[d - 1], u, out=powers[d])
+        c *= powers
+        out = c.sum(axis=0)
+        if self.has_sine:
+            w, p = self.wave.take(k, axis=1)
+            arg = w * u + p + self.SHIFT[:rows]      # (rows, N): the phase of each derivative's sine
+            np.sin(arg, out=arg)
+            arg *= self.amp[:rows].take(k, axis=1)
+            out += arg
+        return out
+
+    def _runs(self, tau, k, change, rows: int) -> np.ndarray:
+        """:meth:`at` a run of samples of one piece (``k``: each sample's; ``change``: where a run starts) at a
+        time: each a slice, Horner's rule with its piece's coefficients."""
+        out = np.zeros((rows, len(tau)))
+        bounds = [0, *change.tolist(), len(tau)]
+        for a, b in zip(bounds[:-1], bounds[1:]):
+            p = int(k[a])
+            u = tau[a:b] - self.starts[p]
+            for r in range(rows):
+                c, top = self.poly[:, r, p], self.degree[r][p]
+                if top <= 0:                         # a constant (0 where all are zero: out's own)
+                    if top == 0:
+                        out[r, a:b] = c[0]
+                    continue
+                acc = c[top] * u
+                for d in range(top - 1, 0, -1):
+                    acc += c[d]
+                    acc *= u
+                acc += c[0]
+                out[r, a:b] = acc
+            if self.amp[0, p] != 0.0:
+                th = self.wave[0, p] * u + self.wave[1, p]
+                s, co = np.sin(th), np.cos(th)
+                for r in range(rows):                # A w^r sin(th + r pi / 2): s, c, -s, -c
+                    out[r, a:b] += (self.amp[r, p] * (-1.0) ** (r // 2)) * (s if r % 2 == 0 else co)
+        return out
+
+
+RUNS = 1000
+"""From this many samples on, a profile whose samples come in runs of one piece (64 or more on average: samples
+in time order) is evaluated a run at a time (benchmarks/motion_laws.py, the servo press's drive: the gather's
+per-sample cost overtakes the runs' per-piece cost near 1000 samples)."""
+
+
 # --------------------------------------------------------------------------------------- profiles
 @dataclass(frozen=True)
 class Segment:
@@ -198,9 +342,32 @@ class Profile:
         """The input at each segment's start, from the cycle's start value [rad or m], and at the end."""
         return np.r_[0.0, np.cumsum([s.rise for s in self.segments])]
 
-    def at(self, t):
-        """(q, dq, ddq, dddq) at times ``t`` [s] (any shape), q from the start value: the samples sorted into
-        their segments once, each moving segment's samples evaluated at once (a dwell's need nothing)."""
+    @functools.cached_property
+    def compiled(self) -> Compiled:
+        """The segments' pieces and their coefficients, built once (:class:`Compiled`)."""
+        return Compiled.of(self.segments)
+
+    @functools.cached_property
+    def _cycle(self) -> tuple[float, float]:
+        return self.duration, self.rise
+
+    def at(self, t, jerk: bool = True):
+        """(q, dq, ddq, dddq) at times ``t`` [s] (any shape), q from the start value, evaluated together
+        (:attr:`compiled`; no loop over the segments); ``jerk=False``: dddq not computed (None)."""
+        t = np.asarray(t, dtype=float)
+        shape_ = t.shape
+        t = t.reshape(-1)
+        T, rise = self._cycle
+        n = np.floor(t / T)
+        tau = t - n * T
+        out = self.compiled.at(tau, 4 if jerk else 3)
+        if rise != 0.0:
+            out[0] += n * rise
+        return tuple(x.reshape(shape_) for x in out) + (() if jerk else (None,))
+
+    def at_segments(self, t):
+        """(q, dq, ddq, dddq) at times ``t`` [s] as :meth:`at`, segment by segment through :meth:`Segment.at`
+        (:func:`shape`'s closed forms): the reference :meth:`at` is checked against."""
         t = np.asarray(t, dtype=float)
         shape_ = t.shape
         t = t.reshape(-1)
@@ -215,7 +382,7 @@ class Profile:
         for i, seg in enumerate(self.segments):
             if seg.shape == "dwell" or seg.rise == 0.0:
                 continue
-            idx = np.flatnonzero(k == i) if len(self.segments) > 1 else slice(None)
+            idx = np.flatnonzero(k == i)
             parts = seg.at(tau[idx] - starts[i])
             q[idx] += parts[0]
             v[idx], a[idx], j[idx] = parts[1:]
@@ -267,6 +434,10 @@ class Table:
         return float(self.q[-1] - self.q[0])
 
     def _spline(self):
+        return self._spline_once
+
+    @functools.cached_property
+    def _spline_once(self):
         from scipy.interpolate import CubicSpline
         t = np.asarray(self.t) - self.t[0]
         q = np.asarray(self.q) - self.q[0]
@@ -277,9 +448,9 @@ class Table:
         resid[-1] = resid[0]
         return CubicSpline(t, resid, bc_type="periodic")
 
-    def at(self, t):
+    def at(self, t, jerk: bool = True):
         """(q, dq, ddq, dddq) at times ``t`` [s] from the table's start (q from its first row), repeated
-        after each cycle as a :class:`Profile` is."""
+        after each cycle as a :class:`Profile` is (``jerk`` is accepted as :meth:`Profile.at` takes it)."""
         t = np.asarray(t, dtype=float)
         T = self.duration
         n = np.floor(t / T)

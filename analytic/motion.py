@@ -36,7 +36,7 @@ class Motion:
         """(q, dq/dt, d2q/dt2) at times ``t`` [s], broadcast to the shape of ``t``."""
         t = np.asarray(t, dtype=float)
         if self.law is not None and self.rock is None:
-            q, v, a, _ = self.law.at(t)
+            q, v, a, _ = self.law.at(t, jerk=False)
             return self.q0 + q, v, a
         if self.rock is not None:
             lo, hi = self.rock

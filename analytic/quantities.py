@@ -33,6 +33,25 @@ LENGTH_UNITS = {"m": 1.0, "mm": 1e-3, "cm": 1e-2, "in": 0.0254}
 FORCE_UNITS = {"N": 1.0, "kN": 1000.0, "lbf": 4.4482216152605}
 """Newtons per force unit (lbf: the international avoirdupois pound-force, 0.45359237 kg x 9.80665 m/s^2, exact)."""
 
+PRESSURE_UNITS = {"Pa": 1.0, "kPa": 1e3, "MPa": 1e6, "bar": 1e5, "psi": FORCE_UNITS["lbf"] / LENGTH_UNITS["in"] ** 2}
+"""Pascals per pressure unit (bar: 1e5 Pa exactly; psi: lbf per square inch, ~6894.757 Pa)."""
+
+
+def parse_pressure(text: str, what: str = "--pressure") -> float:
+    """``text`` such as ``"200bar"``, ``"20 MPa"`` or ``"3000psi"`` in Pa (a bare number is Pa); a
+    ParameterError naming ``what`` and the units accepted otherwise, or where the pressure is not > 0."""
+    from analytic.errors import ParameterError
+    m = re.fullmatch(r"\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*([A-Za-z]*)\s*", str(text))
+    unit = m.group(2) if m else ""
+    if m is None or (unit and unit not in PRESSURE_UNITS):
+        raise ParameterError(f"{what} {text!r}: give a number and one of the units {', '.join(PRESSURE_UNITS)} "
+                             f"(e.g. {what} 200bar)")
+    value = float(m.group(1)) * PRESSURE_UNITS[unit or "Pa"]
+    if not (math.isfinite(value) and value > 0):
+        raise ParameterError(f"{what} {text!r}: a pressure must be > 0")
+    return value
+
+
 RPM = 60.0 / (2.0 * math.pi)
 """rpm per rad/s (a turn is 2 pi rad, a minute 60 s)."""
 

@@ -166,7 +166,8 @@ def compare(mech, /, *, revolutions: float = 1.0, input_range=None, timestep: fl
 
 def forces(mech, /, *, samples: int = 361, revolutions: float = 1.0, input_range=None, gravity=None,
            force=None, cutting_force=None, torque=None, inertia=None, balance=None, at=None,
-           simulate: bool = False, timestep: float | None = None, integrator: str | None = None) -> Forces:
+           simulate: bool = False, timestep: float | None = None, integrator: str | None = None,
+           pressure=None) -> Forces:
     """Every joint's force, the drives and the shaking force and moment along the motion (``linkage
     forces``): Newton-Euler per Assur group with the file's ``[[loads]]`` and ``[friction]`` and the loads
     given here (as :func:`simulate` takes them).
@@ -177,6 +178,8 @@ def forces(mech, /, *, samples: int = 361, revolutions: float = 1.0, input_range
             the links' names; the forces with them in ``to_dict()["balance"]``.
         at: one pose instead of a run: the first input's value (rad, or m; or text such as ``"30deg"``).
         simulate: also run the MuJoCo model and compare its joint forces (``f.simulated``, ``f.passed``).
+        pressure: a supply pressure (Pa, or text such as ``"200bar"``, ``"20MPa"``, ``"3000psi"``) to size each
+            actuator for: the bores its peak push and pull need, in ``to_dict()["actuators"][name]["sizing"]``.
 
     Returns:
         :class:`linkage.Forces`: ``f.drives["phi1"]``, ``f.joints``, ``f.shaking``, ``f.peaks``;
@@ -195,11 +198,19 @@ def forces(mech, /, *, samples: int = 361, revolutions: float = 1.0, input_range
     links = None if balance is None or balance is False else () if balance is True else tuple(balance)
     loads = _loads(mech, gravity, force, cutting_force, torque, inertia)
     run = forces_run(mech, samples, revolutions, input_range_of(mech, input_range), loads.gravity, loads.force,
-                     loads.slow_stroke_only, loads.inertias, links, loads.extra, at)
+                     loads.slow_stroke_only, loads.inertias, links, loads.extra, at, _pressure(mech, pressure))
     if not simulate:
         return Forces(mech, run)
     settings = _settings(timestep, integrator)
     return Forces(mech, run, simulated_forces_run(run, settings, loads), (settings, loads))
+
+
+def _pressure(mech, value):
+    """A supply pressure [Pa] from a number (Pa) or text with its unit (sim.service.forces.supply_pressure)."""
+    from sim.service.forces import supply_pressure
+    if value is None:
+        return None
+    return supply_pressure(value if isinstance(value, str) else repr(float(value)), mech, "pressure=")
 
 
 def _motor(value, what: str):

@@ -5,9 +5,10 @@ The element-kind conformance suite (tests/test_kinds.py over tests/kinds/actuato
 both kinds against the Newton oracle, finite differences, MuJoCo and the whole-linkage Newton-Euler oracle.
 Here: what only these kinds do, each against something the code does not share.
 
-* The cylinder force by virtual work, by hand geometry: no printed dump-truck or scissor-lift example with
-  enough data was found, so the reference is derived here (see :func:`_virtual_work_force`), statically, with
-  the body's weight as the only load.
+* The cylinder force by virtual work, by hand geometry: no printed dump-truck example with enough data was
+  found, so the reference is derived here (see :func:`_virtual_work_force`), statically, with the body's
+  weight as the only load. (A scissor lift against the published relation F = (W + Wa/2) / tan(phi):
+  tests/test_scissor_published.py.)
 * The holding torques of a 2R arm at rest, by hand (moments of the weights about the joints).
 * The pressure on the push and pull areas from the file's bore and rod diameters, by hand.
 * An actuator is solved in closed form: one sample far from the start gives the circle-circle intersection
@@ -48,7 +49,7 @@ def test_the_inputs_columns_and_drives_are_named_as_the_spec_says():
     assert r.returncode == 0, r.stderr
     out = json.loads(r.stdout)
     assert list(out["drives"]) == ["s_lift"] and list(out["inputs"]) == ["s_lift"]
-    assert set(out["actuators"]) == {"lift"} and out["units"]["actuators"] == {"pressure": "Pa"}
+    assert set(out["actuators"]) == {"lift"} and out["units"]["actuators"] == {"pressure": "Pa", "F": "N", "bore": "m"}
 
 
 def test_the_motor_coordinate_is_the_relative_angle():

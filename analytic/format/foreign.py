@@ -145,9 +145,9 @@ def read(path: str | Path, inputs: list[tuple[int, int]] | None = None, units: s
         raise FileError(f"{source}: the project has no input; give one with --input BASE,DRIVER")
     _check_numbers(form, source)
     size = _size(form)
-    for item in form["inputs"]:                        # each at its kind's default rate
+    for item in form["inputs"]:                        # each at its kind's default rate, unless its kind set one
         rate, value = kinds.get(item["kind"]).default_rate(size)
-        item[rate] = value
+        item.setdefault(rate, value)
     out = {"format": "linkage/1", "name": _name(p.stem), "units": units,
            "description": f"imported from the {kind} {p.name}"}
     out.update(form)

@@ -22,7 +22,8 @@ slide's direction in degrees in the drawn pose (``P`` and ``RP``), and ``flags``
 
 Joints have no names: the n-th joint line is point ``Jn``. The driver is ``d=``, else the first joint
 whose fourth flag is set, else the first ``R`` or ``P`` joint of two or more links; it drives its first
-two links relative to each other, one of which must be the ground.
+two links relative to each other, one of which must be the ground, or it is an ``RP`` joint between two
+moving links: a cylinder (:meth:`analytic.kinds.actuator.Actuator.from_pmks`).
 """
 
 from __future__ import annotations
@@ -189,7 +190,10 @@ def _input(k: int, joints, form: dict, source: str) -> dict:
         raise FileError(f"{source}: the driving joint {p} is a {kind} joint of {len(links)} link(s); PMKS drives an "
                         f"R or P joint between two links")
     a, b = links[:2]
+    if GROUND not in (a, b) and kind == "P":
+        raise FileError(f"{source}: the driving joint {p} slides {b} on {a}, two moving links; write a cylinder as "
+                        f"an RP joint '{a} LINK RP x y angle' (LINK: the link its rod is pinned to) at the rod's pin")
     if GROUND not in (a, b):
         raise FileError(f"{source}: the driving joint {p} turns {a} relative to {b}; only an input on the ground can "
-                        f"be driven")
+                        f"be driven (or a cylinder: an RP joint between two moving links)")
     raise FileError(f"{source}: the driving joint {p} ({kind}) is driven by no input kind")

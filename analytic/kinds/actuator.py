@@ -28,6 +28,12 @@ STROKE_ROUNDING = 1e-12
 the motion law's sum)."""
 
 
+ALONG = 1e-5
+"""[rad] A P joint's written direction this close to the line through the cylinder's pins is along it: an angle
+written to 6 significant digits of degrees (as the importers write a peer's slide) is within 5e-4 deg, 8.7e-6
+rad, of its value."""
+
+
 class Actuator(Kind):
     name = "actuator"
     section = "inputs"
@@ -103,7 +109,7 @@ class Actuator(Kind):
         u = rc.unit()
         ux, uy = u.value
         along = math.atan2(uy, ux)
-        if abs(math.sin(s.angle.value - along)) > 1e-9:
+        if abs(math.sin(s.angle.value - along)) > ALONG:
             raise dec.fail(where, f"the P joint at {d!r} slides at {math.degrees(s.angle.value):.6g} deg, not along "
                                   f"the cylinder {c} -> {d} ({math.degrees(along):.6g} deg): its line must pass both pins")
         side = (dec.pose[c] - dec.pose[a]).cross(rd)
@@ -123,6 +129,26 @@ class Actuator(Kind):
         dec.classes.append(f"input actuator {barrel}-{rod} from {c} to {d}, turning {link} about {a}")
         for ln in (link, barrel, rod):
             dec.rigid(ln, where)
+
+    def from_pmks(self, driver):
+        """An RP joint between two moving links (``barrel link RP x y angle``: the link pinned to a block that
+        slides in the barrel's slot) is a cylinder: the barrel pinned at one other point C, the block its rod.
+        PMKS gives no stroke: the pose's pin-to-pin length l0 with a quarter of it either way, [0.75, 1.25] l0
+        (a cylinder extends to at most about twice its retracted length), and a speed of 0.2 l0 per second, so
+        that the run (one second) stays within it."""
+        if driver.type != "RP" or len(driver.links) < 2 or GROUND in driver.links[:2]:
+            return None
+        barrel, d = driver.links[0], driver.point
+        form = driver.form
+        pins = [j["point"] for j in form["joints"] if j["kind"] == "R" and barrel in j.get("links", ()) and j["point"] != d]
+        if len(pins) != 1:
+            return None                              # the importer says which joint it cannot drive
+        (cx, cy), (dx, dy) = form["pose"][pins[0]], form["pose"][d]
+        l0 = math.hypot(dx - cx, dy - cy)
+        if not l0 > 0:
+            return None
+        return {"kind": "actuator", "joint": d, "stroke": [float(f"{0.75 * l0:.6g}"), float(f"{1.25 * l0:.6g}")],
+                "v": float(f"{0.2 * l0:.3g}")}
 
     def input_key(self, e):
         """``_NAME``: its columns are ``s_NAME ds_NAME dds_NAME``, its drive ``tau_NAME``."""
@@ -200,15 +226,18 @@ class Actuator(Kind):
         st.links[barrel] = st.links[rod] = (ce, se, w2, al2)
         st.slides[rod] = lq
 
-    report_units = {"actuators": {"pressure": "Pa"}}
+    report_units = {"actuators": {"pressure": "Pa", "F": "N", "bore": "m"}}
 
-    def drive_report(self, e, drive):
-        """With a bore: ``{"actuators": {NAME: {"pressure": [Pa], "area": "push"|"pull" per sample}}}``."""
+    def drive_report(self, e, drive, pressure_given=None):
+        """``{"actuators": {NAME: entry}}``: the sizing table (:func:`sizing`: the peak push and pull and, with
+        ``pressure_given`` [Pa], the bores they need) and with a bore ``"pressure"`` [Pa] and ``"area"``
+        ("push"|"pull") per sample."""
+        entry = sizing(e, drive, pressure_given)
         p = pressure(e, drive)
-        if p is None:
-            return {}
-        value, push = p
-        return {"actuators": {e["name"]: {"pressure": value, "area": ["push" if x else "pull" for x in push]}}}
+        if p is not None:
+            value, push = p
+            entry.update({"pressure": value, "area": ["push" if x else "pull" for x in push]})
+        return {"actuators": {e["name"]: entry}}
 
     def measured_extras(self, e, st):
         """Its length and rates: the measured rod's slide."""
@@ -260,8 +289,43 @@ def pressure(e: dict, force) -> tuple[np.ndarray, np.ndarray] | None:
         return None
     force = np.asarray(force, dtype=float)
     push = force >= 0
-    a_push, a_pull = math.pi * bore * bore / 4, math.pi * (bore * bore - rod * rod) / 4
+    a_push, a_pull = areas(bore, rod)
     return np.where(push, force / a_push, -force / a_pull), push
+
+
+def areas(bore: float, rod: float) -> tuple[float, float]:
+    """The push area pi bore^2 / 4 (the piston's full face) and the pull area pi (bore^2 - rod^2) / 4 (the
+    annulus round the rod) [m^2]."""
+    return math.pi * bore * bore / 4, math.pi * (bore * bore - rod * rod) / 4
+
+
+def sizing(e: dict, force, pressure_given: float | None = None) -> dict:
+    """The cylinder sizing table of one actuator from its ``force`` [N, + pushing] over the samples:
+    ``push`` and ``pull`` each {"F": the peak force [N, >= 0], "at": its sample} (F = 0 and at None where it
+    never pushes or pulls); with the file's bore the peak pressure [Pa] on each one's area (:func:`areas`); with a supply
+    ``pressure_given`` [Pa] ``"sizing"``: the bore the peak push needs, D = sqrt(4 F_push / (pi p)), the bore
+    the peak pull needs round the rod d (the file's, 0 when not given), D = sqrt(4 F_pull / (pi p) + d^2), the
+    larger of the two, and with a bore given whether it is enough."""
+    force = np.asarray(force, dtype=float)
+    bore, rod = e["bore"], e["rod"]
+    out = {}
+    for side, f in (("push", force), ("pull", -force)):
+        f = np.where(np.isfinite(f), f, -np.inf)
+        i = int(np.argmax(f))
+        out[side] = {"F": float(f[i]), "at": i} if f[i] > 0 else {"F": 0.0, "at": None}
+    if bore > 0:
+        a_push, a_pull = areas(bore, rod)
+        out["push"]["pressure"] = out["push"]["F"] / a_push
+        out["pull"]["pressure"] = out["pull"]["F"] / a_pull
+    if pressure_given is not None:
+        p = float(pressure_given)
+        need_push = math.sqrt(4 * out["push"]["F"] / (math.pi * p))
+        need_pull = math.sqrt(4 * out["pull"]["F"] / (math.pi * p) + rod * rod)
+        need = max(need_push, need_pull)
+        out["sizing"] = {"pressure": p, "bore_push": need_push, "bore_pull": need_pull, "rod": rod, "bore": need}
+        if bore > 0:
+            out["sizing"]["enough"] = bool(bore >= need)
+    return out
 
 
 def actuated(A, C, a, b, bd, bdd, branch, stroke=None):

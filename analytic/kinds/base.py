@@ -473,10 +473,10 @@ class Kind:
     report_units: dict = {}
     """For inputs: the units of what :meth:`drive_report` reports, {section: {field: unit}}."""
 
-    def drive_report(self, e: dict, drive) -> dict:
+    def drive_report(self, e: dict, drive, pressure_given=None) -> dict:
         """For inputs: what ``linkage forces --json`` reports of its drive besides the drive itself (``drive``:
-        over the samples, SI), as {section: {name: entry}} merged into the record (an actuator's pressure);
-        {} for nothing."""
+        over the samples, SI), as {section: {name: entry}} merged into the record (an actuator's sizing and
+        pressure; ``pressure_given`` [Pa]: the supply pressure ``--pressure`` to size it for); {} for nothing."""
         return {}
 
     def contact(self, e: dict, ctx) -> tuple:

@@ -507,7 +507,9 @@ def forces(body: dict) -> dict:
     out = {"mechanism": mech.name, "samples": samples, "revolutions": revolutions,
            **force_series(rec, digits), "peaks": clean(rec["peaks"]), "loads": clean(run.loads),
            "applied": clean(rec["loads"]), "friction": clean(rec.get("friction")), "energy": clean(rec.get("energy")),
-           "units": clean(rec["units"]), "simulated": None}
+           "units": clean(rec["units"]), "simulated": None,
+           "actuators": clean({name: {k: v for k, v in entry.items() if k not in ("pressure", "area")}
+                               for name, entry in rec.get("actuators", {}).items()})}   # the sizing table
     if simulate_too:
         sim = service.simulated_forces(run, loads=loads)
         out["simulated"] = {**force_series(sim, None), "agreement": clean(sim["agreement"]),
@@ -733,7 +735,8 @@ def drag(body: dict, cache: Mechanisms | None = None) -> dict:
     d = dragging.drag(mech, text, point, target, q, locked, step)
     new_set = {**body.get("set", {}), **d.values}
     answer = {"point": d.point, "target": list(target), "set": new_set, "text": d.text, "input": d.input, "position": list(d.position),
-              "reached": d.reached, "scrub": d.scrub, "message": d.message, "changed": d.values}
+              "reached": d.reached, "scrub": d.scrub, "message": d.message, "changed": d.values,
+              "input_name": d.input_name}
     solve_body = {k: v for k, v in body.items() if k in FIELDS["solve"]}
     solve_body["set"] = new_set
     if d.text is not None:

@@ -41,6 +41,17 @@ def drive_scale(u, inp) -> tuple[float, str]:
     return u.factor(q), u.unit(q)
 
 
+def tex_escape(name: str) -> str:
+    """``name`` for matplotlib's math text: its underscores literal (``phiboom_barrel``, ``s_boom``), not
+    subscripts that would swallow the next letter."""
+    return name.replace("_", r"\_")
+
+
+def math_name(name: str) -> str:
+    """An output's name set in math italics: ``$name$`` with its underscores literal."""
+    return f"${tex_escape(name)}$"
+
+
 def panels(mech, display=None) -> list[tuple[str, list[tuple[str, str, float]], str]]:
     """The six curve panels of a mechanism, from its reported outputs: link angles, their rates and
     accelerations, transmission angles (or slides), the output point's velocity and acceleration; each
@@ -64,22 +75,22 @@ def panels(mech, display=None) -> list[tuple[str, list[tuple[str, str, float]], 
     p = mech.output_point
     vel = [n for n in (f"vx{p}", f"vy{p}") if n in outs or not mech.builtin]
     acc = [n for n in (f"ax{p}", f"ay{p}") if n in outs or not mech.builtin]
-    fourth = ("Transmission angle", [(n, f"${n}$", DEG) for n in mus], "angle [deg]") if mus else (
-        "Slides", [(n, f"${n}$", fL) for n in slides], lab(Q.LENGTH))
-    return [("Link angles", [(n, f"${n}$", DEG) for n in angles], "angle [deg]"),
-            ("Angular velocities", [(n, f"${n}$", fW) for n in rates], lab(Q.ANGULAR_VELOCITY)),
-            ("Angular accelerations", [(n, f"${n}$", fAl) for n in accs], lab(Q.ANGULAR_ACCELERATION)),
+    fourth = ("Transmission angle", [(n, math_name(n), DEG) for n in mus], "angle [deg]") if mus else (
+        "Slides", [(n, math_name(n), fL) for n in slides], lab(Q.LENGTH))
+    return [("Link angles", [(n, math_name(n), DEG) for n in angles], "angle [deg]"),
+            ("Angular velocities", [(n, math_name(n), fW) for n in rates], lab(Q.ANGULAR_VELOCITY)),
+            ("Angular accelerations", [(n, math_name(n), fAl) for n in accs], lab(Q.ANGULAR_ACCELERATION)),
             fourth,
-            (f"Point {p}: velocity", [(n, f"${n}$", fV) for n in vel], lab(Q.VELOCITY)),
-            (f"Point {p}: acceleration", [(n, f"${n}$", fA) for n in acc], lab(Q.ACCELERATION))]
+            (f"Point {p}: velocity", [(n, math_name(n), fV) for n in vel], lab(Q.VELOCITY)),
+            (f"Point {p}: acceleration", [(n, math_name(n), fA) for n in acc], lab(Q.ACCELERATION))]
 
 
 def _input_angle(c: Comparison, mech, u) -> tuple[np.ndarray, str]:
     first = mech.inputs[0]
     q = c.trajectory.inputs[first.q]
     if first.angular:
-        return np.degrees(np.unwrap(q)), f"input angle ${first.q}$ [deg]"
-    return q * u.factor("length"), f"input ${first.q}$ [{u.unit('length')}]"
+        return np.degrees(np.unwrap(q)), f"input angle {math_name(first.q)} [deg]"
+    return q * u.factor("length"), f"input {math_name(first.q)} [{u.unit('length')}]"
 
 
 def _series(ax, x, c: Comparison, lines, colors, mech) -> None:
@@ -179,7 +190,7 @@ def law_panels(axes, mech, driven, u, trajectory=None) -> None:
         units = (unit, f"{unit}/s", f"{unit}/s$^2$", f"{unit}/s$^3$")
         color = colors[k % len(colors)] if len(driven) > 1 else None
         for n, (ax, y, yu) in enumerate(zip(axes, series, units)):
-            ax.plot(t, y * f, lw=1.4, color=color or colors[n], label=f"${i.q}$ law")
+            ax.plot(t, y * f, lw=1.4, color=color or colors[n], label=f"{math_name(i.q)} law")
             for b in bounds:
                 ax.axvline(b, color="0.6", ls=":", lw=0.8)
             ax.set(title=f"Input law: {titles[n]}", xlabel="time $t$ [s]", ylabel=f"[{yu}]")
@@ -188,7 +199,7 @@ def law_panels(axes, mech, driven, u, trajectory=None) -> None:
             for ax, name in ((axes[0], i.q), (axes[1], i.qd)):
                 if name in trajectory.inputs:
                     ax.plot(trajectory.t[::MARK_EVERY], np.asarray(trajectory.inputs[name])[::MARK_EVERY] * f, "o",
-                            ms=3, mfc="none", color="k", label=f"${name}$ MuJoCo")
+                            ms=3, mfc="none", color="k", label=f"{math_name(name)} MuJoCo")
         for jump in law.jumps():
             for cyc in cycles:
                 tj = cyc * T + jump.t
@@ -429,9 +440,9 @@ def _torque_panels(axes, x, c: Comparison, xlabel, colors, built, u) -> None:
         f, unit = drive_scale(u, by_link[link])
         units.append(unit)
         ref, sim = np.asarray(c.torques[name]) * f, np.asarray(tr.forces[name]) * f
-        axes[0].plot(x, ref, color=color, lw=1.6, label=f"$\\tau_{{{link}}}$ analytic")
+        axes[0].plot(x, ref, color=color, lw=1.6, label=f"$\\tau_{{{tex_escape(link)}}}$ analytic")
         axes[0].plot(x[::MARK_EVERY], sim[::MARK_EVERY], "o", ms=3.5, mfc="none", color=color,
-                     label=f"$\\tau_{{{link}}}$ MuJoCo")
+                     label=f"$\\tau_{{{tex_escape(link)}}}$ MuJoCo")
         axes[1].plot(x, np.abs(sim - ref), color=color, lw=1.0, label=name)
         axes[1].axhline(c.errors[name]["tol"] * f, color=color, ls="--", lw=0.8)
     unit = " or ".join(dict.fromkeys(units)) or "N m"

@@ -9,10 +9,14 @@ The motors are :mod:`analytic.applications.motor`'s; the runs are :mod:`sim.run.
 
 from __future__ import annotations
 
+import numpy as np
+
+from analytic import ParameterError
 from analytic.applications import motor as _motor
 
 __all__ = ["sizing_tolerance", "linear_motor", "table_motor", "is_linear_motor", "cycle_of", "dynamics",
-           "motor_timestep", "simulated", "dynamics_two", "record", "record_two", "in_units"]
+           "motor_timestep", "simulated", "dynamics_two", "record", "record_two", "in_units", "CylinderDynamics",
+           "cylinder_dynamics", "cylinder_record", "CYLINDER_S_TOL", "CYLINDER_V_TOL"]
 
 
 def sizing_tolerance() -> float:
@@ -114,4 +118,87 @@ def in_units(record: dict, display) -> dict:
         out["units"] = {**record["units"], **{k: display.unit(q) for k, q in names.items()}}
     else:
         out["units"] = {k: display.unit(q) for k, q in names.items()}
+    return out
+
+
+# ------------------------------------------------------------------------------------ a cylinder's supply
+CYLINDER_S_TOL = 1e-5
+"""[of the stroke] the cylinder's length, MuJoCo against the reduced equation at MuJoCo's steps: RK4's error at a
+quarter of the supply's time constant per step and the loops' regulariser (the tipper at 200 bar, 2 L/s under
+gravity: 1.1e-9 of the stroke)."""
+CYLINDER_V_TOL = 1e-3
+"""[of the free speed v0] the rod's speed, likewise (the start, where the speed rises within a few time
+constants, is the worst: the tipper 6e-6 of v0)."""
+
+
+class CylinderDynamics:
+    """A cylinder's supply drives the linkage (:func:`cylinder_dynamics`): the supply, the reduced equation's run
+    (:class:`analytic.applications.cylinder.CylinderRun`), MuJoCo's (:class:`sim.run.cylinder.CylinderSim`) and
+    their largest differences."""
+
+    def __init__(self, mech, pressure, flow, drive, run, sim, stroke):
+        self.mech, self.pressure, self.flow, self.drive, self.run, self.sim = mech, pressure, flow, drive, run, sim
+        self.stroke = stroke
+        self.s_error = self.v_error = None
+        if sim is not None:
+            s, v = run.dense(sim.t)
+            self.s_error = float(np.max(np.abs(sim.s - s)))
+            self.v_error = float(np.max(np.abs(sim.v - v)))
+
+    @property
+    def passed(self) -> bool:
+        if self.sim is None:
+            return True
+        lo, hi = self.stroke
+        return self.s_error <= CYLINDER_S_TOL * (hi - lo) and self.v_error <= CYLINDER_V_TOL * self.drive.v0
+
+
+def cylinder_dynamics(mech, pressure: float, flow: float, gravity=None, force=(0.0, 0.0), settings=None,
+                      simulate_too: bool = True):
+    """The linkage driven out by its cylinder (its one input, an actuator with a bore) from rest at the start
+    length to the end of its stroke, the supply at ``pressure`` [Pa] and ``flow`` [m^3/s]: the stall force
+    p A and the free speed Q / A on the push area (:mod:`analytic.applications.cylinder`), the mass model and
+    loads as MuJoCo's model has them (``gravity`` (gx, gy) [m/s^2] or None, ``force`` (Fx, Fy) [N] on the output
+    point); with ``simulate_too`` MuJoCo's run of the same supply and the agreement."""
+    from analytic.applications import cylinder as acyl
+    from sim import model as M
+    from sim.model.settings import Loads
+    from sim.run import cylinder as scyl
+    if mech.definition.loads:
+        raise ParameterError("a cylinder's supply runs with gravity and a constant force on the output point; "
+                             "the file's [[loads]] are not applied to it yet: leave them out")
+    loads = Loads(gravity=None if gravity is None else tuple(gravity), force=tuple(force))
+    if len(mech.inputs) != 1 or mech.inputs[0].kind != "actuator":
+        raise ParameterError(f"--pressure drives a cylinder: the {mech.name}'s one input must be an actuator "
+                             f"(its inputs: {', '.join(i.q for i in mech.inputs)})")
+    e = next(x for x in mech.geometry.elements if x["kind"] == "actuator")
+    drive = acyl.supply(e, pressure, flow)
+    settings = settings or M.Settings()
+    b0 = M.build(mech, settings, loads)
+    inertias = M.body_inertias(b0.model, mech.links)
+    gravity = tuple(float(x) for x in b0.model.opt.gravity[:2]) if loads.gravity is not None else (0.0, 0.0)
+    force = tuple(float(x) for x in b0.model.actuator("load").gear[:2])
+    run = acyl.run(mech, inertias, drive, gravity, force)
+    sim = None
+    if simulate_too:
+        sim = scyl.simulate(mech, loads, drive, float(run.t[-1]), e["stroke"][1], run.J_min, settings)
+    return CylinderDynamics(mech, pressure, flow, drive, run, sim, tuple(e["stroke"]))
+
+
+def cylinder_record(d: CylinderDynamics) -> dict:
+    """The JSON of ``linkage dynamics --pressure --json`` (SI)."""
+    r = d.run
+    out = {"mechanism": d.mech.name, "input": d.mech.inputs[0].q,
+           "supply": {"pressure": d.pressure, "flow": d.flow, "F0": d.drive.F0, "v0": d.drive.v0},
+           "analytic": {"t": r.t, "s": r.s, "v": r.v, "force": r.force, "end": r.end, "duration": float(r.t[-1]),
+                        "v_max": float(np.max(r.v))},
+           "units": {"t": "s", "s": "m", "v": "m/s", "force": "N", "pressure": "Pa", "flow": "m^3/s", "F0": "N",
+                     "v0": "m/s"}}
+    if d.sim is not None:
+        lo, hi = d.stroke
+        out["simulated"] = {"steps": len(d.sim.t) - 1, "timestep": d.sim.timestep,
+                            "loop_violation": d.sim.loop_violation, "duration": float(d.sim.t[-1]),
+                            "agreement": {"s": d.s_error, "v": d.v_error, "tol_s": CYLINDER_S_TOL * (hi - lo),
+                                          "tol_v": CYLINDER_V_TOL * d.drive.v0}}
+        out["passed"] = d.passed
     return out

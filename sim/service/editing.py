@@ -77,6 +77,8 @@ class Drag:
     message: str
     scrub: bool = False
     """Only the input moved (a locked or pose-given crank): the pose turns to the pointer, off its circle."""
+    input_name: str | None = None
+    """The column of the input whose value ``input`` is (an actuator's pin dragged moves its own input)."""
 
 
 # ------------------------------------------------------------------------------------ what moves P
@@ -136,8 +138,8 @@ def variables(mech: Mechanism, point: str, data: dict | None, locked=()) -> tupl
             continue
         kind = kinds.get(e.kind)
         motion = set(getattr(kind, "motion_fields", ()) or ())
-        if kind.section == "inputs" and len(mech.inputs) == 1:
-            add(Variable("input", mech.inputs[0].q))
+        if kind.section == "inputs":              # the input that places it (each of several: its own)
+            add(Variable("input", next((i.q for i in mech.inputs if i.point == point), mech.inputs[0].q)))
         for field, value in e.fields.items():
             if field in motion or field in SKIP_FIELDS:
                 if field == "branch":
@@ -200,7 +202,7 @@ class _Model:
             if var.kind == "parameter":
                 values[var.name] = float(v)
             elif var.kind == "input":
-                q[0] = float(v)
+                q[input_index(self.mech, var)] = float(v)
             else:
                 data = set_pose(data, var, v)
         if data is not self.data:
@@ -242,15 +244,20 @@ def start_values(mech: Mechanism, data: dict | None, vars_: list[Variable], q: n
         if var.kind == "parameter":
             out.append(mech.values[var.name])
         elif var.kind == "input":
-            out.append(q[0])
+            out.append(q[input_index(mech, var)])
         else:
             out.append(float(data[var.section][var.name][var.axis]))
     return np.array(out, dtype=float)
 
 
+def input_index(mech: Mechanism, var: Variable) -> int:
+    """Which of ``mech``'s inputs an input variable is (by its column's name)."""
+    return next((k for k, i in enumerate(mech.inputs) if i.q == var.name), 0)
+
+
 def is_angle(mech: Mechanism, var: Variable) -> bool:
     if var.kind == "input":
-        return mech.inputs[0].angular
+        return mech.inputs[input_index(mech, var)].angular
     return var.kind == "parameter" and mech.definition.parameter_kind.get(var.name) == "angle"
 
 
@@ -407,14 +414,16 @@ def _drag(mech: Mechanism, text: str | None, point: str, target, q, locked, roun
     new_text = None
     if new_data is not data and new_data is not None:
         new_text = rewrite_pose(text, data, new_data)
-    q_new = next((float(v) for var, v in zip(vars_, x) if var.kind == "input"), None)
+    moved = next(((var, float(v)) for var, v in zip(vars_, x) if var.kind == "input"), None)
+    q_new, input_name = (moved[1], moved[0].name) if moved else (None, None)
     names = [var.name if var.kind != "pose" else f"{var.name}'s {var.section}" for var in vars_]
     scrub = all(var.kind == "input" for var in vars_)
     if scrub and not reached:
-        first = mech.inputs[0]
-        shown = f"{math.degrees(q_new):.1f} deg" if first.angular else f"{q_new:.6g} m"
+        inp = mech.inputs[input_index(mech, moved[0])]
+        shown = f"{math.degrees(q_new):.1f} deg" if inp.angular else f"{q_new:.6g} m"
         return Drag(point, values, new_text, q_new, (float(p[0]), float(p[1])), False,
-                    f"{point}: {first.q} turned to {shown} (its length stays)", True)
+                    f"{point}: {inp.q} {'turned' if inp.angular else 'moved'} to {shown} (its length stays)", True,
+                    input_name)
     if reached or round_to and np.hypot(*(p - target)) < round_to * mech.scale:
         message = f"{point}: {', '.join(dict.fromkeys(names))} changed" + (f"; {flipped} flipped" if flipped else "")
     else:
@@ -425,7 +434,7 @@ def _drag(mech: Mechanism, text: str | None, point: str, target, q, locked, roun
             message = (f"{point} stops at the limit: it moves only as {', '.join(dict.fromkeys(names))} "
                        f"change{'s' if len(set(names)) == 1 else ''} (the file's other values that place it are "
                        f"numbers{', or locked: ' + ', '.join(held) if held else ''})")
-    return Drag(point, values, new_text, q_new, (float(p[0]), float(p[1])), reached, message)
+    return Drag(point, values, new_text, q_new, (float(p[0]), float(p[1])), reached, message, input_name=input_name)
 
 
 def plain(why: str, mech: Mechanism) -> str:

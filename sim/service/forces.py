@@ -39,6 +39,8 @@ class ForceRun:
     loadset: object = None
     energy: dict | None = None
     """Each load's work per cycle, friction's dissipation and the energy balance (sim.service.loads.energy_of)."""
+    pressure: float | None = None
+    """The supply pressure [Pa] to size the actuators for (``--pressure``), or None."""
 
 
 def _local_at_start(mech: Mechanism, t: np.ndarray, sol):
@@ -99,14 +101,15 @@ def check_forces_memory(mech: Mechanism, samples: int) -> None:
 
 def forces_run(mech: Mechanism, samples: int = 361, revolutions: float = 1.0, input_range=None,
                gravity=None, force=(0.0, 0.0), slow_stroke_only: bool = False, inertias: dict | None = None,
-               balance=None, extra_loads=(), at=None) -> ForceRun:
+               balance=None, extra_loads=(), at=None, pressure=None) -> ForceRun:
     """Every joint force of ``mech`` along its motion law: ``samples`` instants over ``revolutions`` of the
     first input (or rocking over ``input_range``), with ``gravity`` (gx, gy) [m/s^2], ``force`` (Fx, Fy) [N]
     on the output point (only on the slow stroke when ``slow_stroke_only``: a cutting force) and the mass
     model with ``inertias`` ({link: Inertia}, SI) replacing links' own. ``balance``: None, or the links to
     carry counterweights (an empty tuple: the default choice, see analytic.applications.balance).
     ``extra_loads``: the command line's loads (analytic.loads dataclasses) besides the file's ``[[loads]]``
-    and ``[friction]`` (SPEC "Loads"); ``at``: one value of the first input [rad or m] instead of a run."""
+    and ``[friction]`` (SPEC "Loads"); ``at``: one value of the first input [rad or m] instead of a run;
+    ``pressure``: the supply pressure [Pa] to size the actuators for (their bores, :func:`actuator_sizing`)."""
     from analytic import mass
     from analytic.applications import balance as bal
     from analytic.applications import forces as F
@@ -154,7 +157,7 @@ def forces_run(mech: Mechanism, samples: int = 361, revolutions: float = 1.0, in
                              loadset, (gx, gy), (fx, fy), on, sol=sol).forces
     energy = L.energy_of(mech, loaded, loadset, model, (gx, gy), (fx, fy), on, cycles)
     return ForceRun(mech, t, q, qd, qdd, cols, sol, model, mass_sources(mech, inertias), loads, result,
-                    balance_result, balanced, loaded, loadset, energy)
+                    balance_result, balanced, loaded, loadset, energy, pressure)
 
 
 def force_peaks(run: ForceRun, forces=None) -> dict:
@@ -233,12 +236,14 @@ def forces_record(run: ForceRun, display=None) -> dict:
     for e in mech.geometry.elements:               # what an input's kind reports of its drive (a pressure)
         kind = kinds.get(e["kind"])
         if kind.section == "inputs":
-            for section, entries in kind.drive_report(e, f.drives[kind.input_key(e)]).items():
+            for section, entries in kind.drive_report(e, f.drives[kind.input_key(e)], run.pressure).items():
                 record.setdefault(section, {}).update(entries)
                 record["units"].setdefault(section, dict(kind.report_units.get(section, {})))
     cams = cams_record(run)
     if cams:
         record["cams"] = cams
+    if "actuators" in record:
+        _actuator_units(record, run, display)
     if run.balance is not None:
         record["balance"] = balance_record(run, display)
     from sim.service import loads as L
@@ -307,6 +312,42 @@ def jump_speed(run: ForceRun, name: str) -> float:
     N1 = N - Ns
     falls = N1 < 0
     return float(np.sqrt(np.min(-Ns[falls] / N1[falls])) * speed) if falls.any() else float("inf")
+def supply_pressure(text, mech: Mechanism, what: str = "--pressure") -> float:
+    """The supply pressure [Pa] to size ``mech``'s actuators for, from ``text`` with its unit (``200bar``,
+    ``20MPa``, ``3000psi``; analytic.quantities.parse_pressure); a ParameterError naming ``what`` for a bad
+    one or where ``mech`` has no actuator."""
+    from analytic.quantities import parse_pressure
+    value = parse_pressure(text, what)
+    if not any(e["kind"] == "actuator" for e in mech.geometry.elements):
+        raise ParameterError(f"{what} sizes actuators: the {mech.name} has none (an [[inputs]] kind = \"actuator\")")
+    return value
+
+
+def actuator_sizing(run: ForceRun) -> dict:
+    """{actuator's name: its sizing table} (analytic.kinds.actuator.sizing: the peak push and pull [N] with
+    their samples, the peak pressures with a bore, the bores ``run.pressure`` needs), SI."""
+    from analytic.kinds.actuator import sizing
+    return {e["name"]: sizing(e, run.forces.drives["_" + e["name"]], run.pressure)
+            for e in run.mech.geometry.elements if e["kind"] == "actuator"}
+
+
+def _actuator_units(record: dict, run: ForceRun, display) -> None:
+    """The sizing entries of ``record["actuators"]`` where people read them: beside each peak's sample ``at``
+    its time ``t`` and the actuator's length there, forces in the force unit, diameters in the length unit."""
+    from analytic import quantities as Q
+    columns = {inp.link: inp.q for inp in run.mech.inputs}          # an actuator's input link is _NAME
+    for name, entry in record["actuators"].items():
+        for side in ("push", "pull"):
+            if side in entry:
+                pk, q = entry[side], columns["_" + name]
+                if pk["at"] is not None:
+                    pk["t"] = float(run.t[pk["at"]])
+                    pk[q] = display.convert(Q.LENGTH, float(run.inputs[q][pk["at"]]))
+                pk["F"] = float(display.convert(Q.FORCE, pk["F"]))
+        for k in ("bore_push", "bore_pull", "bore", "rod"):
+            if k in entry.get("sizing", {}):
+                entry["sizing"][k] = float(display.convert(Q.LENGTH, entry["sizing"][k]))
+    record["units"]["actuators"].update({"F": display.unit(Q.FORCE), "bore": display.unit(Q.LENGTH)})
 
 
 def _force_units(record: dict, mech: Mechanism, display) -> None:
@@ -497,6 +538,7 @@ def forces_table(run: ForceRun, display=None) -> str:
         lines.append(f"  cam {j['name']} ({j['links'][0]}-{j['links'][1]}): contact force {F(N[lo]):.5g} {FU} at "
                      f"{at(lo)} .. {F(N[hi]):.5g} {FU} at {at(hi)}{' (the follower leaves the cam)' if N[lo] < 0 else ''};"
                      f" jump speed {jump}")
+    lines += sizing_lines(run, display)
     s = peaks["shaking"]
     lines.append(f"  shaking force: peak {F(s['F']):.5g} {FU} at {at(s['at'])} (RMS {F(s['F_rms']):.5g} {FU}); "
                  f"shaking moment about the origin: peak {M(s['M']):.5g} {MU} at {at(s['at_M'])}")
@@ -513,6 +555,52 @@ def forces_table(run: ForceRun, display=None) -> str:
     from sim.service import loads as L
     lines += L.summary(run)
     return "\n".join(lines)
+
+
+def sizing_lines(run: ForceRun, display=None) -> list[str]:
+    """The cylinder sizing table of ``linkage forces``: per actuator the peak push and pull force and where
+    (time and the actuator's length), with a bore the peak pressure on the push area pi D^2/4 and the pull area
+    pi (D^2 - d^2)/4, and with ``--pressure p`` the bore each needs: sqrt(4 F / (pi p)) for the push,
+    sqrt(4 F / (pi p) + d^2) for the pull round the rod d."""
+    from analytic import quantities as Q
+    display = display or Q.SI
+    table = actuator_sizing(run)
+    if not table:
+        return []
+    FU, LU = display.unit(Q.FORCE), display.unit(Q.LENGTH)
+
+    def F(v):
+        return display.convert(Q.FORCE, v)
+
+    def L(v):
+        return display.convert(Q.LENGTH, v)
+    columns = {inp.link: inp.q for inp in run.mech.inputs}          # an actuator's input link is _NAME
+    lines = ["  cylinder sizing (push area pi D^2/4, pull area pi (D^2 - d^2)/4; D bore, d rod):",
+             f"  {'actuator':<12s} {f'peak push [{FU}]':>16s}  {'at':<30s} {f'peak pull [{FU}]':>16s}  at"]
+    elements = {e["name"]: e for e in run.mech.geometry.elements if e["kind"] == "actuator"}
+
+    def where(q, i):
+        return "never" if i is None else f"t={run.t[i]:.4g} s, {q}={L(float(run.inputs[q][i])):.5g} {LU}"
+    for name, s in table.items():
+        q = columns["_" + name]
+        push, pull = s["push"], s["pull"]
+        lines.append(f"  {name:<12s} {F(push['F']):16.5g}  {where(q, push['at']):<30s} {F(pull['F']):16.5g}  "
+                     f"{where(q, pull['at'])}")
+        e = elements[name]
+        if e["bore"] > 0:
+            lines.append(f"    bore {L(e['bore']):.4g} {LU}, rod {L(e['rod']):.4g} {LU}: peak "
+                         f"{push['pressure'] / 1e5:.4g} bar pushing, {pull['pressure'] / 1e5:.4g} bar pulling")
+        if "sizing" in s:
+            z = s["sizing"]
+            rod = f"round the rod {L(z['rod']):.4g} {LU}" if z["rod"] > 0 else "(no rod given: taken as 0)"
+            verdict = ""
+            if "enough" in z:
+                verdict = (f"; the file's bore {L(e['bore']):.4g} {LU} "
+                           + ("suffices" if z["enough"] else "is too small"))
+            lines.append(f"    at {z['pressure'] / 1e5:.4g} bar: bore >= {L(z['bore_push']):.4g} {LU} for the push, "
+                         f">= {L(z['bore_pull']):.4g} {LU} for the pull {rod}: "
+                         f"bore >= {L(z['bore']):.4g} {LU}{verdict}")
+    return lines
 
 
 def balanced_mechanism(mech: Mechanism, links=None) -> tuple[Mechanism, object]:

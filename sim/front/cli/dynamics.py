@@ -97,6 +97,12 @@ def register(sub) -> None:
     add_common(p, revolutions=10.0)
     add_sim_options(p)
     add_motor_options(p)
+    p.add_argument("--pressure", metavar="P",
+                   help="instead of a motor: the cylinder (the one actuator input) pushed by a supply at this "
+                        "pressure (e.g. 200bar; Pa, kPa, MPa, bar, psi) on its bore's push area, from rest to the "
+                        "end of its stroke; with --flow")
+    p.add_argument("--flow", metavar="Q", help="the supply's flow with --pressure: m^3/s, or with a suffix L/s or "
+                                               "L/min (the free speed is Q over the push area)")
     p.add_argument("--json", action="store_true", help="print one JSON object (SI unless --units/--angles/--speeds)")
     p.add_argument("--csv", metavar="PATH", help="write the analytic run (t, phi, omega, torque) as CSV")
     p.add_argument("--plot", metavar="PATH", help="dynamics sheet: .png, .svg or .pdf")
@@ -140,12 +146,77 @@ def check_motor_args(args) -> None:
                              "through whole revolutions; leave it out")
 
 
+FLOW_UNITS = {"l/s": 1e-3, "l/min": 1e-3 / 60, "m^3/s": 1.0, "m3/s": 1.0}
+"""The flow suffixes --flow takes, in m^3/s each."""
+
+
+def parse_flow(text: str) -> float:
+    """``--flow Q`` [m^3/s]: a bare number is m^3/s; a suffix L/s or L/min (also m^3/s)."""
+    t = text.strip()
+    key = t.lower().replace(" ", "")
+    for unit, scale in FLOW_UNITS.items():
+        if key.endswith(unit):
+            t, break_scale = key[:-len(unit)], scale
+            break
+    else:
+        break_scale = 1.0
+    value = parse_value("--flow", t, angle=False) * break_scale
+    if not value > 0:
+        raise ParameterError(f"--flow {text!r} must be > 0 (m^3/s, or with a suffix L/s or L/min)")
+    return value
+
+
+def _cylinder(args, mech) -> int:
+    """``--pressure P --flow Q``: the cylinder driven out by its supply (sim.service.dynamics.cylinder_dynamics)."""
+    from sim.front.cli.options import load_keywords, settings_from
+    from sim.output.jsonout import dumps
+    from sim.service import dynamics as dynamics_service
+    from sim.service.forces import supply_pressure
+    given = [o for o, v in (("--motor", args.motor), ("--motor-table", args.motor_table), ("--flywheel", args.flywheel),
+                            ("--target-fluctuation", args.target_fluctuation), ("--csv", args.csv),
+                            ("--plot", args.plot), ("--render", args.render)) if v]
+    if given:
+        raise ParameterError(f"--pressure drives the cylinder by its supply: {', '.join(given)} "
+                             f"{'do' if len(given) > 1 else 'does'} not apply; leave {'them' if len(given) > 1 else 'it'} out")
+    if args.flow is None:
+        raise ParameterError("--pressure needs the supply's flow: --flow Q (m^3/s, or e.g. 2L/s, 120L/min)")
+    pressure = supply_pressure(args.pressure, mech)
+    flow = parse_flow(args.flow)
+    kw = load_keywords(args, mech)
+    force = kw.get("force")
+    if kw.get("cutting_force") is not None or kw.get("torque") or kw.get("inertia") or (force and len(force) != 2):
+        raise ParameterError("--pressure runs with --gravity and --force FX,FY (on the output point) only")
+    d = dynamics_service.cylinder_dynamics(mech, pressure, flow, kw.get("gravity"), tuple(force or (0.0, 0.0)),
+                                           settings_from(args))
+    rec = dynamics_service.cylinder_record(d)
+    if args.json:
+        print(dumps(rec))
+        return 0 if d.passed else 1
+    a, sup = rec["analytic"], rec["supply"]
+    print(f"{mech.name}: cylinder {mech.inputs[0].q} pushed at {sup['pressure'] / 1e5:.4g} bar (stall force "
+          f"{sup['F0']:.5g} N) and {sup['flow'] * 1e3:.4g} L/s (free speed {sup['v0']:.4g} m/s)")
+    end = "the end of its stroke" if a["end"] == "stroke" else "the time limit"
+    print(f"  from {a['s'][0]:.5g} m at rest to {a['s'][-1]:.5g} m ({end}) in {a['duration']:.5g} s; peak speed "
+          f"{a['v_max']:.4g} m/s")
+    sim = rec.get("simulated")
+    if sim is not None:
+        g = sim["agreement"]
+        print(f"  MuJoCo ({sim['steps']} steps of {sim['timestep']:.3g} s): length within {g['s']:.2e} m (tol "
+              f"{g['tol_s']:.1e}), speed within {g['v']:.2e} m/s (tol {g['tol_v']:.1e}): "
+              f"{'PASSED' if rec['passed'] else 'FAILED'}")
+    return 0 if d.passed else 1
+
+
 def cmd_dynamics(args) -> int:
     from sim.service import dynamics as dynamics_service
     from sim.front.cli.options import check_outputs, mechanism_from
     from sim.output.io import write_csv, write_text
     from sim.output.jsonout import dumps
     from sim.output.units import machine_units, shown_units
+    if args.pressure is not None or args.flow is not None:
+        if args.pressure is None:
+            raise ParameterError("--flow is the supply's flow of --pressure: give --pressure P too")
+        return _cylinder(args, mechanism_from(args))
     check_motor_args(args)
     check_outputs(args, {"csv": (".csv",), "plot": (".png", ".svg", ".pdf")})
     if args.render:

@@ -19,6 +19,10 @@ def register(sub) -> None:
                         "links named (default: those pivoted at the ground); before/after reported")
     p.add_argument("--simulate", action="store_true",
                    help="also run the MuJoCo model and compare its joint forces with the analytic ones")
+    p.add_argument("--pressure", metavar="P",
+                   help="size each actuator for this supply pressure (e.g. 200bar; units Pa, kPa, MPa, bar, psi): "
+                        "the bore its peak push needs (area pi D^2/4) and its peak pull needs round the rod "
+                        "(pi (D^2 - d^2)/4)")
     from sim.front.cli.loads_opts import add_at
     add_at(p)
     add_unit_options(p)
@@ -51,12 +55,14 @@ def cmd_forces(args) -> int:
     if at is not None and (args.simulate or args.balance is not None):
         raise ParameterError("--at evaluates one pose: it does not combine with --simulate or --balance")
     links = balance_links(args.balance)
+    from sim.service.forces import supply_pressure
+    pressure = supply_pressure(args.pressure, mech) if args.pressure is not None else None
     settings = settings_from(args) if args.simulate else None
     f = lk.forces(mech, samples=args.samples, revolutions=args.revolutions,
                   input_range=parse_range(mech, args.input_range),
                   balance=links, at=at, simulate=args.simulate,
                   timestep=settings.timestep if settings else None,
-                  integrator=settings.integrator if settings else None, **keywords)
+                  integrator=settings.integrator if settings else None, pressure=pressure, **keywords)
     run = f.run
     display = machine_units(args, mech)
     written = args.csv and f.passed                 # a failed MuJoCo check writes nothing (exit 1)

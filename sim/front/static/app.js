@@ -1028,6 +1028,16 @@
       if (sim) { const a = sim.agreement.drives[q] || {}; cells.push(`${fmt(a.mujoco_max, 2)} ${unit}`, fmt(a.mujoco_share, 2)); }
       row(cells, null);
     }
+    for (const [name, a] of Object.entries(data.actuators || {})) {   // each cylinder's peak push and pull
+      for (const side of ["push", "pull"]) {
+        const pk = a[side];
+        const p = pk.pressure !== undefined ? ` (${fmt(pk.pressure / 1e5, 4)} bar)` : "";
+        const at = pk.at === null ? "never" : angleText(data.inputs[data.input][pk.at]);
+        const cells = [`cylinder ${name} ${side}`, "", "", `${fmt(pk.F, 4)} N${p}`, at];
+        if (sim) cells.push("", "");
+        row(cells, null).dataset.cylinder = `${name} ${side}`;
+      }
+    }
     const sh = data.peaks.shaking;
     const cells = ["shaking", "", "", `${fmt(sh.F, 4)} (RMS ${fmt(sh.F_rms, 4)})`, angleText(sh[data.input])];
     if (sim) cells.push(`${fmt(sim.agreement.shaking.F_max, 2)} ${fu}`, fmt(sim.agreement.shaking.F_share, 2));
@@ -2212,17 +2222,18 @@
       applySolve(answer.solve, version, false, false, false);   // drawn once below, at the pose to show
       if (state.tab === "forces") requestForces();     // the joint forces follow the drag (one request at a time)
     }
-    if (g.input !== null) setFrame(nearestFrame(g.input));
+    if (g.input !== null) setFrame(nearestFrame(g.input, g.input_name));
     drawFrame();
     moveCursors();
     dragNote(g.message, !g.reached && !g.scrub);
     bumpRevision();
   }
 
-  function nearestFrame(q) {
+  function nearestFrame(q, name) {              // name: the input q is a value of (an actuator's own), else the first
     const data = state.solve;
-    const qs = data.inputs[data.describe.inputs[0].q];
-    const crank = data.describe.inputs[0].periodic;   // its kind turns fully: compare angles round the turn
+    const inp = data.describe.inputs.find((i) => i.q === name) || data.describe.inputs[0];
+    const qs = data.inputs[inp.q];
+    const crank = inp.periodic;                    // its kind turns fully: compare angles round the turn
     let best = state.frame; let bestD = Infinity;
     for (let i = 0; i < qs.length; i++) {
       let dq = qs[i] - q;
