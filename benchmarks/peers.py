@@ -42,7 +42,6 @@ sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "benchmarks" / "peers"))
 
 from analytic import ParameterError, kinds  # noqa: E402
-from analytic.applications import figures  # noqa: E402
 from analytic.format import foreign, linkfile  # noqa: E402
 from analytic.mechanism import Mechanism  # noqa: E402
 from sim import service  # noqa: E402
