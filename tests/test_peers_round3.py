@@ -177,3 +177,21 @@ def test_the_range_is_what_the_commands_read(tmp_path):
     assert d.input_range == imp.data["input_range"]
     m = Mechanism.from_definition(d, {})
     service.prepare(m, 1.0, importing.range_values(m, d.input_range))
+
+
+def test_a_peer_file_opened_as_it_is_runs_over_the_same_range(tmp_path):
+    """``linkage compare rprr.txt`` (no import step) loads the PMKS file driven as the import writes it."""
+    src = tmp_path / "rrp.txt"
+    src.write_text(RRP)
+    m = service.load(str(src))
+    assert m.definition.input_range == importing.convert(str(src)).data["input_range"]
+
+
+@pytest.mark.slow
+def test_compare_on_the_peer_file_itself_passes(tmp_path):
+    src = tmp_path / "slider.txt"
+    src.write_text(SLIDER)
+    done = subprocess.run([sys.executable, "-m", "sim", "compare", str(src), "--json"], capture_output=True,
+                          text=True, timeout=600, cwd=Path(__file__).resolve().parent.parent)
+    assert done.returncode == 0, done.stderr
+    assert json.loads(done.stdout)["passed"]

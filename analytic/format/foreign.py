@@ -88,7 +88,8 @@ def detect(path: str | Path) -> str | None:
     return None
 
 
-def _name(stem: str) -> str:
+def name_of(stem: str) -> str:
+    """A mechanism name from a file's stem (characters a name cannot hold become ``_``)."""
     name = re.sub(r"[^A-Za-z0-9_]+", "_", stem).strip("_")
     return name if name and name[0].isalpha() else f"m_{name}" if name else "imported"
 
@@ -151,7 +152,7 @@ def read(path: str | Path, inputs: list[tuple[int, int]] | None = None, units: s
     for k, item in enumerate(form["inputs"]):          # the first at its kind's default rate, the others held
         rate, value = kinds.get(item["kind"]).default_rate(size)
         item[rate] = value if k == 0 else 0.0
-    out = {"format": "linkage/1", "name": _name(p.stem), "units": units,
+    out = {"format": "linkage/1", "name": name_of(p.stem), "units": units,
            "description": f"imported from the {kind} {p.name}"}
     out.update(form)
     return out
@@ -160,7 +161,7 @@ def read(path: str | Path, inputs: list[tuple[int, int]] | None = None, units: s
 def definition(path: str | Path, inputs=None, units: str = DEFAULT_UNITS):
     """Another tool's file as a :class:`~analytic.format.linkfile.Definition`."""
     from analytic.format import linkfile
-    return linkfile.from_data(read(path, inputs, units), str(path), _name(Path(path).stem))
+    return linkfile.from_data(read(path, inputs, units), str(path), name_of(Path(path).stem))
 
 
 # --------------------------------------------------------------------------------------------- writing

@@ -13,8 +13,12 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 from analytic.format import foreign
+
+if TYPE_CHECKING:
+    from analytic.format.linkfile import Definition
 
 UNITS = foreign.UNITS
 """The length units a source's numbers may be given in (neither format stores one)."""
@@ -28,7 +32,7 @@ keeps half its distance to it, so the drawn pose is always inside."""
 REFUSALS = ("cannot turn fully", "singular pose", "cannot be assembled", " meet (")
 """The refusals of a run over a turn that mean the source stops earlier: its range is written instead."""
 
-__all__ = ["UNITS", "DEFAULT_UNITS", "MARGIN", "Imported", "detect", "convert", "source_range", "driven", "range_text",
+__all__ = ["UNITS", "DEFAULT_UNITS", "MARGIN", "Imported", "detect", "convert", "source_range", "driven", "foreign_definition", "range_text",
            "range_values"]
 
 
@@ -63,6 +67,20 @@ def convert(source, inputs=None, units: str = DEFAULT_UNITS, kind: str | None = 
     d = linkfile.from_data(data, source)
     linkfile.parse(text, out)
     return Imported(kind, text, data, tuple(joints.structure(data, source, linkfile.parameter_values(d))), why)
+
+
+def foreign_definition(path) -> Definition | None:
+    """The definition of the Pyslvs or PMKS file at ``path`` as :func:`convert` writes it (its own inputs, the
+    default unit), for the commands that open one as it is; None where ``path`` names no such file (a name,
+    a ``linkage/1`` file)."""
+    from pathlib import Path
+    from analytic import registry
+    from analytic.format import linkfile
+    p = Path(str(path))
+    if registry.is_name(str(path)) or not p.exists() or foreign.detect(p) is None:
+        return None
+    data, _ = driven(foreign.read(p), str(p))
+    return linkfile.from_data(data, str(p), foreign.name_of(p.stem))
 
 
 def driven(data: dict, source: str = "<import>") -> tuple[dict, str]:
