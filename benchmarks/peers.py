@@ -7,11 +7,13 @@ exist, as benchmarks/peers_layout.py lays them out from checkouts of Pyslvs and 
 part of this repository): import it as ``linkage import`` would, solve it at
 the source's own input values and measure how far each source point lies from where the source draws it
 (relative to the mechanism's size; the goal is 1e-6), then run ``linkage compare`` (MuJoCo against the
-analytic solution) over a turn of the input (a slider: one second at its default speed, the mechanism's size),
-or, where the input cannot turn fully, passes a singular pose or a change point where a dyad's pivots meet (the
-sources stop at all of these), rocking between the limits around its start (10 % clear of each, the start
-always inside). Several inputs are driven as Pyslvs drives them: each in turn, the others held at their
-start. A file that is refused is listed with the one line the tool gives.
+analytic solution) on the file as ``linkage import`` writes it, with no option, as a user outside would: over a
+turn of the input (a slider: one second at its default speed, the mechanism's size), or where the source
+stops earlier (the input cannot turn fully, leaves its assembly range, passes a singular pose or a change
+point where a dyad's pivots meet) over the ``input_range`` the import writes, the range the source moves it
+through (sim.service.importing.driven; docs/CONVENTIONS.md). Several inputs are driven as Pyslvs drives them:
+each in turn, the others held at their start (the import holds all but the first). A file that is refused
+is listed with the one line the tool gives.
 
 Pyslvs' bare expressions carry no inputs: they are read from a comment ``# inputs (base, driver): [...]``
 (the research copies have one), or for the synthesis collections from ``classification.json`` beside the
