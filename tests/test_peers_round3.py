@@ -195,3 +195,13 @@ def test_compare_on_the_peer_file_itself_passes(tmp_path):
                           text=True, timeout=600, cwd=Path(__file__).resolve().parent.parent)
     assert done.returncode == 0, done.stderr
     assert json.loads(done.stdout)["passed"]
+
+
+def test_linkage_import_says_it_wrote_a_range(tmp_path):
+    src, out = tmp_path / "rrp.txt", tmp_path / "rrp.toml"
+    src.write_text(RRP)
+    done = subprocess.run([sys.executable, "-m", "sim", "import", str(src), "--out", str(out)], capture_output=True,
+                          text=True, timeout=300, cwd=Path(__file__).resolve().parent.parent)
+    assert done.returncode == 0, done.stderr
+    written = linkfile.read(out).input_range
+    assert f"input_range = {written}:" in done.stdout and "cannot turn fully" in done.stdout

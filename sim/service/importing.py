@@ -94,7 +94,10 @@ def driven(data: dict, source: str = "<import>") -> tuple[dict, str]:
     from sim.service.simulation import prepare
     if data.get("input_range"):
         return data, ""
-    mech = Mechanism.from_definition(linkfile.from_data(data, source), {})
+    try:
+        mech = Mechanism.from_definition(linkfile.from_data(data, source), {})
+    except ParameterError:                     # not a mechanism: the caller's own checks say why
+        return data, ""
     try:
         prepare(mech, 1.0)
         return data, ""
