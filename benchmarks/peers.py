@@ -7,11 +7,13 @@ exist, as benchmarks/peers_layout.py lays them out from checkouts of Pyslvs and 
 part of this repository): import it as ``linkage import`` would, solve it at
 the source's own input values and measure how far each source point lies from where the source draws it
 (relative to the mechanism's size; the goal is 1e-6), then run ``linkage compare`` (MuJoCo against the
-analytic solution) over a turn of the input (a slider: one second at its default speed, the mechanism's size),
-or, where the input cannot turn fully, passes a singular pose or a change point where a dyad's pivots meet (the
-sources stop at all of these), rocking between the limits around its start (10 % clear of each, the start
-always inside). Several inputs are driven as Pyslvs drives them: each in turn, the others held at their
-start. A file that is refused is listed with the one line the tool gives.
+analytic solution) on the file as ``linkage import`` writes it, with no option, as a user outside would: over a
+turn of the input (a slider: one second at its default speed, the mechanism's size), or where the source
+stops earlier (the input cannot turn fully, leaves its assembly range, passes a singular pose or a change
+point where a dyad's pivots meet) over the ``input_range`` the import writes, the range the source moves it
+through (sim.service.importing.driven; docs/CONVENTIONS.md). Several inputs are driven as Pyslvs drives them:
+each in turn, the others held at their start (the import holds all but the first). A file that is refused
+is listed with the one line the tool gives.
 
 Pyslvs' bare expressions carry no inputs: they are read from a comment ``# inputs (base, driver): [...]``
 (the research copies have one), or for the synthesis collections from ``classification.json`` beside the
@@ -31,6 +33,7 @@ import math
 import re
 import sys
 import time
+import tomllib
 import warnings
 from pathlib import Path
 
@@ -40,15 +43,14 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "benchmarks" / "peers"))
 
-from analytic import ParameterError  # noqa: E402
-from analytic.applications import figures  # noqa: E402
+from analytic import ParameterError, kinds  # noqa: E402
 from analytic.format import foreign, linkfile  # noqa: E402
 from analytic.mechanism import Mechanism  # noqa: E402
 from sim import service  # noqa: E402
+from sim.service import importing  # noqa: E402
 
 RESEARCH = Path("/tmp/research/examples")
 POSE_GOAL = 1e-6          # / size: the source's pose reproduced (issue 16)
-MARGIN = 0.10             # a rocking window keeps this fraction of its width clear of each limit
 
 
 def reason_class(msg: str) -> str:
@@ -61,63 +63,30 @@ def reason_class(msg: str) -> str:
     return "other"
 
 
-def window(m: Mechanism) -> tuple[float, float] | None:
-    """The first input's rocking range around its start: between the nearest limits or change points (the
-    source drives it until it stops there), MARGIN of the width clear of each, but never past the start (a
-    start near a limit is kept, at half its distance from it)."""
-    q0 = m.inputs[0].motion.q0
-    crank = m.inputs[0].kind == "crank"
-    ranges = figures.assembly_ranges(m)
-    full = figures.turns_fully(m, ranges)
-    turn = 2 * math.pi if crank else 0.0
-    cands = [x for x, _, _ in figures.singular_poses(m)]
-    if not full:
-        cands += [e for r in ranges for e in r if abs(e - q0) > 1e-9 and abs(e - q0 - turn) > 1e-9]
-    cands = [c + k * turn for c in cands for k in ((-1, 0, 1) if crank else (0,))]
-    tiny = 1e-9
-    below = [c for c in cands if c <= q0 + tiny]
-    above = [c for c in cands if c > q0 + tiny]
-    if not below or not above:
-        return None
-    lo, hi = max(below), min(above)
-    if not full and not any(a - tiny <= (lo + hi) / 2 - turn * k <= b + tiny
-                            for a, b in ranges for k in ((-1, 0, 1) if crank else (0,))):
-        return None
-    pad = MARGIN * (hi - lo)
-    lo_pad = pad if q0 - lo > 2 * pad else 0.5 * (q0 - lo)
-    hi_pad = pad if hi - q0 > 2 * pad else 0.5 * (hi - q0)
-    return lo + lo_pad, hi - hi_pad
-
-
-REFUSALS = ("cannot turn fully", "singular pose", "cannot be assembled", " meet (")
-"""The refusals of a run over a turn (a slider: one second) after which it is rocked in :func:`window`."""
-
-
-def run_compare(m: Mechanism) -> tuple[str, str, tuple[float, float] | None]:
-    """(verdict, note, rocking range or None) of ``linkage compare`` over a turn (a slider: a second at its
-    default speed), or rocking in a window where the input cannot turn or passes a change point where the
-    dyad's known points meet (the sources stop there)."""
-    try:
-        _, c = service.compare(m, 1.0)
-        return ("passed", "", None) if c.passed else ("FAILED", finer(m, None)[2:], None)
-    except ParameterError as exc:
-        msg = str(exc)
-        if not any(r in msg for r in REFUSALS):
-            return "not run", msg, None
-    rng = window(m)
-    if rng is None:
-        return "not run", "no rocking window around the start", None
+def run_compare(data: dict, source: str) -> tuple[str, str, tuple[float, float] | None]:
+    """(verdict, note, rocking range or None) of ``linkage compare`` on the file ``linkage import`` writes
+    for ``data``: over a turn (a slider: a second at its default speed), or where the source stops earlier
+    (the input cannot turn fully, leaves its assembly range, passes a singular pose or a change point where a
+    dyad's pivots meet) rocking over the ``input_range`` the import writes (sim.service.importing.driven)."""
+    data, why = importing.driven(data, source)
+    m = Mechanism.from_definition(linkfile.from_data(data, source, Path(source).stem), {})
+    text = data.get("input_range")
+    rng = importing.range_values(m, text) if text else None
     try:
         _, c = service.compare(m, 1.0, input_range=rng)
     except ParameterError as exc:
-        return "not run", str(exc), None
-    first = m.inputs[0]
-    if first.kind == "crank":
-        note = f"rocking {math.degrees(rng[0]):.1f} to {math.degrees(rng[1]):.1f} deg"
-    else:
-        note = f"rocking {rng[0] / m.scale:.4g} to {rng[1] / m.scale:.4g} {m.units}"
-    if " meet (" in msg:
-        note += " (between change points: a full run passes one where a dyad's pivots meet, where the source stops)"
+        return "not run", str(exc), rng
+    note = ""
+    if rng is not None:
+        first = m.inputs[0]
+        if first.angular:
+            note = f"rocking {math.degrees(rng[0]):.1f} to {math.degrees(rng[1]):.1f} deg"
+        else:
+            note = f"rocking {rng[0] / m.scale:.4g} to {rng[1] / m.scale:.4g} {m.units}"
+        note += " (the file's input_range"
+        if " meet (" in why:
+            note += "; between change points: a full run passes one where a dyad's pivots meet, where the source stops"
+        note += ")"
     if not c.passed:
         note += finer(m, rng)
     return ("passed" if c.passed else "FAILED"), note, rng
@@ -169,18 +138,20 @@ def row_for(collection: str, path: Path, inputs, compare: bool) -> dict:
     row["status"] = "imported"
     row["pose"] = pose_error(m, data["pose"])
     if compare and len(m.inputs) == 1:
-        row["compare"], row["reason"], _ = run_compare(m)
+        row["compare"], row["reason"], _ = run_compare(data, str(path))
     elif compare:                          # as Pyslvs drives them: each input in turn, the others held
         verdicts, notes = [], []
         for k in range(len(m.inputs)):
             items = [dict(x) for x in data["inputs"]]
             items = [items[k]] + items[:k] + items[k + 1:]
-            for item in items[1:]:
-                item.update({"omega": 0.0} if item["kind"] == "crank" else {"v": 0.0})
-            held = Mechanism.from_definition(linkfile.from_data({**data, "inputs": items}, str(path), path.stem), {})
-            verdict, note, _ = run_compare(held)
+            size = foreign.pose_size(data)
+            for j, item in enumerate(items):
+                rate, value = kinds.get(item["kind"]).default_rate(size)
+                item[rate] = value if j == 0 else 0.0
+            verdict, note, _ = run_compare({**data, "inputs": items}, str(path))
             verdicts.append(verdict)
-            notes.append(f"input {k + 1} ({held.inputs[0].q}), the others held: {verdict}{'; ' + note if note else ''}")
+            notes.append(f"input {k + 1} ({items[0].get('link') or items[0].get('point')}), the others held: "
+                         f"{verdict}{'; ' + note if note else ''}")
         row["compare"] = ("passed" if all(v == "passed" for v in verdicts) else
                           "FAILED" if "FAILED" in verdicts else "not run")
         row["reason"] = " | ".join(notes)
@@ -189,6 +160,9 @@ def row_for(collection: str, path: Path, inputs, compare: bool) -> dict:
 
 def pylinkage_rows(compare: bool) -> list[dict]:
     import pylinkage as pl
+    if not hasattr(pl, "Linkage"):           # benchmarks/peers/pylinkage/ (our files) read as a namespace package
+        raise SystemExit("peers.py: pylinkage is not installed (pip install pylinkage==1.3.0), or leave out "
+                         "--pylinkage")
     import pylinkage_models as models
     rows = []
     here = ROOT / "benchmarks" / "peers" / "pylinkage"
@@ -214,7 +188,8 @@ def pylinkage_rows(compare: bool) -> list[dict]:
         size = max(size, float(np.nanmax([np.linalg.norm(a[0] - b[0]) for a in xy.values() for b in xy.values()])))
         rng = None
         if compare:
-            row["compare"], row["reason"], rng = run_compare(m)
+            row["compare"], row["reason"], rng = run_compare(tomllib.loads((here / f"{name}.toml").read_text()),
+                                                             str(here / f"{name}.toml"))
         sol = m.solve(q)
         keep = np.ones(len(q), bool) if rng is None else (q >= rng[0]) & (q <= rng[1])
         errs = [np.linalg.norm(np.stack([sol["x" + p], sol["y" + p]], axis=-1) / m.scale - v, axis=-1)

@@ -135,15 +135,16 @@ def test_a_rocking_run_checks_the_poses_its_other_inputs_move_through():
     now drives every input as the run does, and says how to hold one. Two cranks 30 long on pivots 100 apart
     with a pair 2 x 58.31: with the second crank pointing away (J3 = (130, 0)) and the first up, |J2 J3| =
     sqrt(130^2 + 30^2) = 133.4 > 116.6: no pose (hand geometry)."""
-    m = mech_of("two_crank_fivebar.txt", [(0, 2), (1, 3)])
+    from analytic.format import linkfile
+    data = foreign.read(EXAMPLES / "two_crank_fivebar.txt", [(0, 2), (1, 3)])
+    assert data["inputs"][1]["omega"] == 0.0                          # imported held, as Pyslvs sweeps them
+    held = analytic.registry.Mechanism.from_definition(linkfile.from_data(data, "h", "h"), {})
     rng = (math.radians(80.0), math.radians(100.0))
+    service.prepare(held, 1.0, rng)                                   # every pose of that run assembles
+    data["inputs"][1]["omega"] = "360deg"                             # the second turning while the first rocks
+    m = analytic.registry.Mechanism.from_definition(linkfile.from_data(data, "t", "t"), {})
     with pytest.raises(ParameterError, match=r"cannot be assembled at .*others keep their own motion .*omega = 0"):
         service.prepare(m, 1.0, rng)
-    data = foreign.read(EXAMPLES / "two_crank_fivebar.txt", [(0, 2), (1, 3)])
-    data["inputs"][1]["omega"] = 0.0                                  # the second held, as Pyslvs sweeps them
-    from analytic.format import linkfile
-    held = analytic.registry.Mechanism.from_definition(linkfile.from_data(data, "h", "h"), {})
-    service.prepare(held, 1.0, rng)                                   # every pose of that run assembles
 
 
 @pytest.mark.slow
@@ -189,22 +190,18 @@ def test_a_slider_rocks_at_its_speed_over_the_size():
     assert np.max(np.abs(qd)) == pytest.approx((hi - lo) / 2 * 0.1 / 0.05, rel=1e-5)   # amp v / size, m/s
 
 
-def test_the_benchmark_rocking_window_keeps_the_drawn_start_inside(tmp_path):
+def test_the_import_rocking_range_keeps_the_drawn_start_inside(tmp_path):
     """The rhombus drawn at 175 deg, 5 deg short of its change point at 180 (J2 = 80 (cos 175, sin 175), J3 = J2 +
     (80, 0): hand geometry): the window between its change points 0 and 180 keeps 10 % clear of each except on the
     start's side, where it keeps half the start's distance (PMKS' rprp is drawn 1 deg from its singular pose;
-    the window was 18-162 deg, leaving out the pose the source starts from)."""
-    import importlib.util
-    from pathlib import Path
-    spec = importlib.util.spec_from_file_location(
-        "peers_bench", Path(__file__).resolve().parent.parent / "benchmarks" / "peers.py")
-    bench = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(bench)
+    the window was 18-162 deg, leaving out the pose the source starts from). The range linkage import writes
+    (sim.service.importing.source_range; it was benchmarks/peers.py's window)."""
+    from sim.service.importing import source_range
     c, s = math.cos(math.radians(175.0)), math.sin(math.radians(175.0))
     (tmp_path / "r175.txt").write_text(
         f"M[J[R, P[0, 0], L[ground, crank]], J[R, P[80, 0], L[ground, rocker]], "
         f"J[R, P[{80 * c!r}, {80 * s!r}], L[crank, coupler]], J[R, P[{80 * c + 80!r}, {80 * s!r}], L[coupler, rocker]]]")
     m = analytic.registry.Mechanism.from_definition(foreign.definition(tmp_path / "r175.txt", [(0, 2)]), {})
-    lo, hi = (math.degrees(x) for x in bench.window(m))
+    lo, hi = (math.degrees(x) for x in source_range(m))
     assert lo == pytest.approx(18.0, abs=1e-3)                      # 10 % of 180 deg clear of the change point at 0
     assert hi == pytest.approx(177.5, abs=1e-3)                     # half of the start's 5 deg to 180

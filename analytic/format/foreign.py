@@ -8,9 +8,10 @@ file (``linkage import``) and :func:`definition` reads as a mechanism (every com
 Point names are the source's joints ``J0``, ``J1``, ... (neither tool names its joints), link names the
 source's (``ground`` stays ``ground``; PMKS' spellings of the ground become ``ground``; characters a name
 cannot hold become ``_``; a pin-in-slot joint ``Jn`` adds its block ``Jn_block``). Neither format has units:
-the file's unit is ``mm`` unless told otherwise. Inputs move at the format's defaults: a crank one turn
-per second (``omega = "360deg"``), a slider the mechanism's size per second
-(:meth:`analytic.kinds.slider.Slider.default_rate`). Which input kind a source's input is, the input kinds
+the file's unit is ``mm`` unless told otherwise. The first input moves at the format's defaults: a crank one
+turn per second (``omega = "360deg"``), a slider the mechanism's size per second
+(:meth:`analytic.kinds.slider.Slider.default_rate`); the others are held at their drawn values (rate 0), as
+Pyslvs drives its inputs, one dial at a time (PMKS has one driver). Which input kind a source's input is, the input kinds
 say themselves (:meth:`analytic.kinds.base.Kind.from_pyslvs`, ``from_pmks``: the first registered kind that
 claims it), so a new input kind is one module.
 """
@@ -87,12 +88,15 @@ def detect(path: str | Path) -> str | None:
     return None
 
 
-def _name(stem: str) -> str:
+def name_of(stem: str) -> str:
+    """A mechanism name from a file's stem (characters a name cannot hold become ``_``)."""
     name = re.sub(r"[^A-Za-z0-9_]+", "_", stem).strip("_")
     return name if name and name[0].isalpha() else f"m_{name}" if name else "imported"
 
 
-def _size(form: dict) -> float:
+def pose_size(form: dict) -> float:
+    """The largest distance between two of the pose's points (file units): the size the inputs' default
+    rates are scaled by."""
     xy = list(form["pose"].values())
     return max((math.dist(a, b) for i, a in enumerate(xy) for b in xy[i + 1:]), default=0.0)
 
@@ -144,11 +148,14 @@ def read(path: str | Path, inputs: list[tuple[int, int]] | None = None, units: s
     if not form["inputs"]:
         raise FileError(f"{source}: the project has no input; give one with --input BASE,DRIVER")
     _check_numbers(form, source)
-    size = _size(form)
-    for item in form["inputs"]:                        # each at its kind's default rate, unless its kind set one
-        rate, value = kinds.get(item["kind"]).default_rate(size)
-        item.setdefault(rate, value)
-    out = {"format": "linkage/1", "name": _name(p.stem), "units": units,
+    size = pose_size(form)
+    for k, item in enumerate(form["inputs"]):          # the first at its kind's default rate (unless its kind
+        rate, value = kinds.get(item["kind"]).default_rate(size)   # set one), the others held
+        if k == 0:
+            item.setdefault(rate, value)
+        else:
+            item[rate] = 0.0
+    out = {"format": "linkage/1", "name": name_of(p.stem), "units": units,
            "description": f"imported from the {kind} {p.name}"}
     out.update(form)
     return out
@@ -157,13 +164,13 @@ def read(path: str | Path, inputs: list[tuple[int, int]] | None = None, units: s
 def definition(path: str | Path, inputs=None, units: str = DEFAULT_UNITS):
     """Another tool's file as a :class:`~analytic.format.linkfile.Definition`."""
     from analytic.format import linkfile
-    return linkfile.from_data(read(path, inputs, units), str(path), _name(Path(path).stem))
+    return linkfile.from_data(read(path, inputs, units), str(path), name_of(Path(path).stem))
 
 
 # --------------------------------------------------------------------------------------------- writing
 def dumps(data: dict) -> str:
     """A links-and-joints table as ``linkage/1`` TOML text (:func:`analytic.format.writing.dumps`)."""
     from analytic.format import writing
-    top = {k: data[k] for k in ("format", "name", "units", "description", "output") if k in data}
+    top = {k: data[k] for k in ("format", "name", "units", "description", "output", "input_range") if k in data}
     rest = {k: data[k] for k in ("parameters", "ground", "pose", "links", "joints", "inputs", "groups") if data.get(k)}
     return writing.dumps({**top, **rest})

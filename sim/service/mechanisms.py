@@ -34,8 +34,13 @@ def parameter_value(mech_or_def, name: str, value) -> float:
 
 def load(mechanism: str, values: dict | None = None, text: str | None = None) -> Mechanism:
     """A mechanism by name or path (or from a file's ``text``), with parameter ``values`` (numbers or
-    strings such as ``"30deg"``, file units)."""
-    d = analytic.format.linkfile.parse(text, "<upload>") if text is not None else analytic.definition(mechanism)
+    strings such as ``"30deg"``, file units). A Pyslvs or PMKS file is driven as ``linkage import`` writes it
+    (:func:`sim.service.importing.foreign_definition`: its source's range where it cannot run a turn)."""
+    if text is not None:
+        d = analytic.format.linkfile.parse(text, "<upload>")
+    else:
+        from sim.service.importing import foreign_definition
+        d = foreign_definition(mechanism) or analytic.definition(mechanism)
     overrides = {k: parameter_value(d, k, v) for k, v in (values or {}).items()}
     builtin = analytic.BUILTINS.get(mechanism) if text is None else None
     return Mechanism.from_definition(d, overrides, builtin)

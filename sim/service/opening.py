@@ -15,7 +15,8 @@ def foreign_text(path) -> tuple[str, str] | None:
     kind = foreign.detect(path)
     if kind is None:
         return None
-    return kind, foreign.dumps(foreign.read(path, kind=kind))
+    from sim.service.importing import driven
+    return kind, foreign.dumps(driven(foreign.read(path, kind=kind), str(path))[0])
 
 
 def file_text(path) -> str:
@@ -23,7 +24,8 @@ def file_text(path) -> str:
     ``linkage/1`` file checked to read (a regular UTF-8 file within the size cap) and given as written."""
     from analytic.format import foreign, linkfile
     if foreign.detect(path):
+        from sim.service.importing import driven
         foreign.definition(path)            # a mechanism, or one line naming the file
-        return foreign.dumps(foreign.read(path))
+        return foreign.dumps(driven(foreign.read(path), str(path))[0])    # driven as linkage import writes it
     linkfile.read(path)
     return Path(path).read_bytes()[:linkfile.MAX_FILE_BYTES].decode("utf-8-sig")

@@ -51,4 +51,7 @@ def cmd_import(args) -> int:
     print(f"wrote {args.out}: {kind} {source} as {points} points, {len(data['links'])} link entries, "
           f"{len(data['joints'])} joints; units {args.units}")
     print("  " + "; ".join(groups))
+    if data.get("input_range"):
+        print(f"  input_range = {data['input_range']}: the range the source drives it through, which every command "
+              f"rocks over (a run over a turn is refused: {imported.why})")
     return 0
