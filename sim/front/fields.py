@@ -192,5 +192,11 @@ def arguments(body: dict, action: str) -> dict:
 
 def for_door(args: dict, fn) -> dict:
     """Of ``args``, the keywords ``fn`` takes."""
-    names = inspect.signature(fn).parameters
+    names = _parameters(fn)
     return {k: v for k, v in args.items() if k in names}
+
+
+@functools.cache
+def _parameters(fn) -> frozenset:
+    """The names of ``fn``'s parameters (read once: a drag step asks at every step)."""
+    return frozenset(inspect.signature(fn).parameters)
