@@ -115,6 +115,7 @@ UNANNOTATED_NUMBERS = {"flywheel", "cutting_force"}
 """Keywords without an annotation that are plain numbers (the door takes more for a two-motor run)."""
 
 
+@functools.cache
 def _kind(param: inspect.Parameter) -> tuple[str, bool]:
     """(kind, may be null) of a keyword from its annotation's text (the door's annotations are strings):
     ``int``, ``float``, ``bool``, ``str``, or ``shape`` where :data:`SHAPES` checks it."""
