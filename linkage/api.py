@@ -86,10 +86,13 @@ def load(mechanism, /, *, text: str | None = None, **values):
     return of(service_load(mechanism, values, text))
 
 
-def analyze(mech, /, *, samples: int = 361, revolutions: float = 1.0, input_range=None) -> Analysis:
+def analyze(mech, /, *, samples: int = 361, revolutions: float = 1.0, input_range=None,
+            figures: bool = True) -> Analysis:
     """Closed-form kinematics over a run (``linkage analyze``): ``samples`` instants over ``revolutions`` of
     the first input, or its values evenly spaced over ``input_range`` (``(lo, hi)`` in rad or m, or
-    ``"LO:HI"`` as the command line takes it; default: the file's own, if any).
+    ``"LO:HI"`` as the command line takes it; default: the file's own, if any). ``figures=False`` skips the
+    figures of merit (their scans take 50 ms to 2 s, the curves ~1 ms), as the app does while a value is
+    dragged.
 
     Returns:
         :class:`linkage.Analysis`: ``a["xE"]`` (SI arrays, the CSV's columns), ``a.t``, ``a.figures``;
@@ -102,7 +105,7 @@ def analyze(mech, /, *, samples: int = 361, revolutions: float = 1.0, input_rang
     """
     from sim.service.analysis import analyze as run
     mech = _mechanism(mech)
-    a = run(mech, samples, revolutions, input_range_of(mech, input_range))
+    a = run(mech, samples, revolutions, input_range_of(mech, input_range), figures=figures)
     return Analysis(mech, samples, revolutions, a)
 
 

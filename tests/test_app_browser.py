@@ -213,6 +213,10 @@ def test_forces_panel_renders_and_follows_the_sliders_and_the_loads(page):
     page.evaluate(MOVE, ["l1", 0.11])
     page.wait_for_function("window.linkageForces.simulated === null")
     assert page.locator("#forces-verdict").is_hidden()
+    # the cutting force field travels as the door's cutting_force (refused as an unknown field otherwise)
+    page.fill("#cutting", "100")
+    page.wait_for_function("window.linkageForces.loads.force && window.linkageForces.loads.force.cutting === true")
+    assert "bad" not in (page.locator("#forces-status").get_attribute("class") or "")
 
 
 def test_dynamics_panel_runs_both_answers_and_sizes_the_flywheel(page):

@@ -80,7 +80,7 @@ def test_forces_panel_simulate_adds_mujocos_forces_and_the_verdict(server):
 
 
 def test_forces_panel_cutting_force_acts_on_the_slow_stroke_only(server):
-    status, body = post(server, "/api/forces", {"mechanism": "sixbar", "cutting": 100.0})
+    status, body = post(server, "/api/forces", {"mechanism": "sixbar", "cutting_force": 100.0})
     assert status == 200, body
     f = body["loads"]["force"]
     assert f["cutting"] is True and abs(f["Fx"]) == 100.0 and f["Fy"] == 0.0 and len(f["window"]) == 2
@@ -100,9 +100,9 @@ BAD_FORCES = [
     {"mechanism": "fourbar", "gravity": [0, 1e12]},
     {"mechanism": "fourbar", "gravity": [True, 0]},
     {"mechanism": "fourbar", "force": [1, 2, 3]},
-    {"mechanism": "fourbar", "cutting": -1},
-    {"mechanism": "fourbar", "cutting": "100"},
-    {"mechanism": "fourbar", "cutting": 100, "force": [1, 0]},
+    {"mechanism": "fourbar", "cutting_force": -1},
+    {"mechanism": "fourbar", "cutting_force": "100"},
+    {"mechanism": "fourbar", "cutting_force": 100, "force": [1, 0]},
     {"mechanism": "fourbar", "simulate": "yes"},
     {"mechanism": "fourbar", "digits": 1},
     {"mechanism": "fourbar", "samples": 10 ** 9},

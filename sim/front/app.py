@@ -33,8 +33,11 @@ import numpy as np
 import analytic
 from analytic import Mechanism, ParameterError
 from sim import service
-from sim.service import dynamics as sdyn, path_targets, simulation, viewing
+from sim.service import dynamics as sdyn, path_targets, viewing
 from sim.front import loads_panel
+from sim.front.fields import (MAX_DYNAMICS_REVOLUTIONS, MAX_FLYWHEEL, MAX_LOAD, MAX_MOTOR,  # noqa: F401
+                              MAX_RENDER_REVOLUTIONS, accepted, arguments, check_fields as check_door_fields,
+                              for_door)
 from sim.front.requests import (MAX_REVOLUTIONS, MAX_SAMPLES, Mechanisms, RequestError, _short,  # noqa: F401
                                 Seeded, input_range_of, mechanism_of, number, packed, run_options, series)
 from sim.output.jsonout import clean
@@ -44,7 +47,6 @@ MAX_BODY = 1_000_000
 WORKERS = 16
 """Requests served at once; more wait in the listen queue (a page uses a few keep-alive connections)."""
 """[bytes] the largest request body: an uploaded mechanism file travels inside it."""
-MAX_RENDER_REVOLUTIONS = 5.0
 MAX_RENDER_SIZE = (640, 480)
 MAX_RENDER_FPS = 60.0
 MAX_RENDER_FRAMES = 900
@@ -52,17 +54,9 @@ MAX_RENDER_FRAMES = 900
 OVERLAY_POINTS = 1000
 """Simulated samples sent back per series: enough for markers and error curves, small for the page."""
 MAX_ERROR_CHARS = 1000
-MAX_LOAD = 1e9
-"""[N, m/s^2] The largest gravity or force component accepted (sim.model.Loads' own bound)."""
-MAX_DYNAMICS_REVOLUTIONS = 50.0
-"""Revolutions of a motor run from the page: the last is the one measured, the first ones the start-up."""
 MAX_DYNAMICS_STEPS = 200_000
 """MuJoCo steps of one motor run from the page (~40 s at the ~5000 steps/s of a six-bar on this machine);
 the reduced equation's run gives the duration and the step before any is taken."""
-MAX_MOTOR = 1e6
-"""[N m, rad/s] The largest stall torque, no-load speed or start speed accepted."""
-MAX_FLYWHEEL = 1e6
-"""[kg m^2] The largest flywheel accepted."""
 MAX_SYNTH_BUDGET = 120.0
 """[s] The longest synthesis search the page may ask for (the issue's per-case bound)."""
 MAX_TARGETS = 500
@@ -94,25 +88,15 @@ SECURITY_HEADERS = {
     "Cache-Control": "no-store",
 }
 
-LOAD_FIELDS = {"gravity", "force", "cutting"}
 FIELDS = {
-    "solve": {"mechanism", "text", "set", "samples", "revolutions", "input_range", "outputs", "figures", "digits",
-              "arrays"},
-    "simulate": {"mechanism", "text", "set", "revolutions", "input_range", "outputs"},
-    "render": {"mechanism", "text", "set", "revolutions", "input_range", "size", "fps"},
-    "export": {"mechanism", "text", "set", "samples", "revolutions", "input_range"},
-    "forces": {"mechanism", "text", "set", "samples", "revolutions", "input_range", "digits", "simulate",
-               *LOAD_FIELDS},
-    "dynamics": {"mechanism", "text", "set", "motor", "flywheel", "target_fluctuation", "start_speed",
-                 "revolutions", "simulate", *LOAD_FIELDS},
     "open": {"text", "filename"},
     "targets": {"text", "filename", "unit"},
     "synthesize": {"targets", "type", "closed", "budget", "unit"},
     "draw": {"drawing"},
-    "drag": {"mechanism", "text", "set", "samples", "revolutions", "input_range", "outputs", "figures", "digits",
-             "arrays", "point", "target", "input", "locked", "round"},
 }
-"""The fields each POST accepts; any other is refused, so a misspelt field is never silently ignored."""
+"""The fields of the POSTs that run no door function (:mod:`linkage.api`); those that do take their door
+functions' keywords (:mod:`sim.front.fields`). Any other field is refused, so a misspelt field is never silently
+ignored."""
 
 _RENDER_LOCK = threading.Lock()
 """One offscreen GL context at a time: two renders would only compete for the same two cores."""
@@ -133,9 +117,7 @@ def parse_json(raw: bytes) -> dict:
 
 
 def check_fields(body: dict, action: str) -> None:
-    unknown = sorted(set(body) - FIELDS[action])
-    if unknown:
-        raise RequestError(400, f"unknown field {unknown[0]!r}; {action} takes {', '.join(sorted(FIELDS[action]))}")
+    check_door_fields(body, action, FIELDS[action])
 
 
 def outputs_of(body: dict, mech: Mechanism) -> list[str]:
@@ -173,9 +155,19 @@ class Run:
     input_range: tuple[float, float] | None
 
 
-def analysis(mech: Mechanism, body: dict, figures: bool) -> Run:
-    samples, revolutions, rng = run_options(body, mech)
-    return Run(service.analyze(mech, samples, revolutions, rng, figures=figures), samples, revolutions, rng)
+def analysis(mech: Mechanism, body: dict, figures: bool, action: str = "solve") -> Run:
+    """The door's analysis (:func:`linkage.analyze`) of the run ``body`` asks ``action`` for."""
+    args = {**arguments(body, action), "figures": figures}
+    return analysis_of(mech, args)
+
+
+def analysis_of(mech: Mechanism, args: dict) -> Run:
+    """:func:`linkage.analyze` called with the keywords of ``args`` it takes; the run's range as the door
+    reads it (absent: the file's own)."""
+    import linkage as lk
+    from linkage._inputs import input_range_of as door_range
+    a = lk.analyze(mech, **for_door(args, lk.analyze))
+    return Run(a.analysis, a.samples, a.revolutions, door_range(mech, args["input_range"]))
 
 
 def point_paths(mech: Mechanism, sol, n: int, stride: int = 1, digits: int | None = None) -> dict:
@@ -187,10 +179,8 @@ def point_paths(mech: Mechanism, sol, n: int, stride: int = 1, digits: int | Non
 def solve(body: dict, cache: Mechanisms | None = None) -> dict:
     """Curves of the outputs against the input, every point's path, block angles, figures of merit.
     ``cache``: the server's recently loaded mechanisms (:class:`sim.front.requests.Mechanisms`)."""
-    check_fields(body, "solve")
-    figures = body.get("figures", True)
-    if not isinstance(figures, bool):
-        raise RequestError(400, "figures must be true or false")
+    args = arguments(body, "solve")
+    figures = args["figures"]
     digits = int(number(body, "digits", 15, 3, 15, integer=True)) if "digits" in body else None
     if body.get("arrays", "lists") not in ("lists", "f64"):
         raise RequestError(400, "arrays must be \"lists\" (JSON numbers) or \"f64\" (base64 float64, exact)")
@@ -198,7 +188,7 @@ def solve(body: dict, cache: Mechanisms | None = None) -> dict:
         (lambda v, m=None: series(v, m, digits))
     mech = mechanism_of(body, cache)
     names = outputs_of(body, mech)
-    run = analysis(mech, body, figures)
+    run = analysis_of(mech, args)
     a = run.analysis
     n, sol = len(a.t), a.solution
     return {
@@ -249,11 +239,12 @@ def describe(mech: Mechanism) -> dict:
 def simulate(body: dict) -> dict:
     """``compare --json`` plus the overlay: simulated outputs, their errors and the output point's path,
     at most OVERLAY_POINTS samples each."""
-    check_fields(body, "simulate")
+    import linkage as lk
+    args = arguments(body, "simulate")
     mech = mechanism_of(body)
     names = outputs_of(body, mech)
-    revolutions = float(number(body, "revolutions", 1.0, 1e-6, MAX_REVOLUTIONS))
-    built, c = service.compare(mech, revolutions, input_range=input_range_of(body, mech))
+    compared = lk.compare(mech, **for_door(args, lk.compare))
+    built, c = compared.built, compared.comparison
     tr = c.trajectory
     n = len(tr.t)
     k = max(1, math.ceil(n / OVERLAY_POINTS))
@@ -276,13 +267,14 @@ def error(mech: Mechanism, name: str, simulated, reference, n: int) -> np.ndarra
 
 def render_video(body: dict) -> bytes:
     """The MuJoCo animation as MP4 bytes, rendered into a private temporary folder."""
-    check_fields(body, "render")
+    import linkage as lk
     from sim.output.render import render
+    args = arguments(body, "render")
     mech = mechanism_of(body)
-    revolutions = float(number(body, "revolutions", 1.0, 1e-6, MAX_RENDER_REVOLUTIONS))
     fps = float(number(body, "fps", 30.0, 1.0, MAX_RENDER_FPS))
     size = size_of(body)
-    built, tr = service.simulate(mech, revolutions, input_range=input_range_of(body, mech))
+    s = lk.simulate(mech, **for_door(args, lk.simulate))
+    built, tr = s.built, s.trajectory
     frames = int(tr.t[-1] * fps) + 1
     if frames > MAX_RENDER_FRAMES:
         raise RequestError(400, f"the video would have {frames} frames (at most {MAX_RENDER_FRAMES}): lower the "
@@ -402,22 +394,6 @@ def pair_of(body: dict, key: str, example: str) -> tuple[float, float] | None:
     return float(v[0]), float(v[1])
 
 
-def loads_of(body: dict, mech: Mechanism):
-    """The loads of a request (:func:`sim.service.simulation.run_loads`): ``gravity`` [gx, gy] m/s^2, ``force``
-    [Fx, Fy] N on the output point, or ``cutting`` F >= 0 N resisting its slow stroke along x (as
-    ``--cutting-force``)."""
-    gravity = pair_of(body, "gravity", "[0, -9.81]")
-    force = pair_of(body, "force", "[10, 0]") or (0.0, 0.0)
-    cutting = body.get("cutting")
-    if cutting is None:
-        return simulation.run_loads(gravity, force)
-    cutting = float(number(body, "cutting", 0.0, 0.0, MAX_LOAD))
-    if force != (0.0, 0.0):
-        raise RequestError(400, "give either force or cutting (a force on the slow stroke), not both")
-    from sim.front.cli.options import cutting_direction
-    return simulation.run_loads(gravity, (cutting_direction(mech) * cutting, 0.0), slow_stroke_only=True)
-
-
 def force_series(rec: dict, digits: int | None) -> dict:
     """What the forces panel draws from a :func:`service.forces_record` (SI): the first input's values, each
     joint's |F| [N] (a prismatic pair's couple M [N m] too), each drive [N m or N], the shaking force's
@@ -496,38 +472,25 @@ def forces(body: dict) -> dict:
     """The forces panel: every joint's force, the drives and the shaking force along the analysed run under
     the request's loads (:func:`service.forces_run`); with ``simulate`` MuJoCo's forces and their agreement
     (:func:`service.simulated_forces`)."""
-    check_fields(body, "forces")
-    simulate_too = flag(body, "simulate", False)
+    import linkage as lk
+    from sim.service.forces import simulated_forces
+    args = arguments(body, "forces")
     digits = int(number(body, "digits", 15, 3, 15, integer=True)) if "digits" in body else None
     mech = mechanism_of(body)
-    samples, revolutions, rng = run_options(body, mech)
-    loads = loads_of(body, mech)
-    run = service.forces_run(mech, samples, revolutions, rng, loads.gravity, loads.force, loads.slow_stroke_only)
+    f = lk.forces(mech, **for_door(args, lk.forces))
+    run = f.run
     rec = service.forces_record(run)
-    out = {"mechanism": mech.name, "samples": samples, "revolutions": revolutions,
+    out = {"mechanism": mech.name, "samples": args["samples"], "revolutions": args["revolutions"],
            **force_series(rec, digits), "peaks": clean(rec["peaks"]), "loads": clean(run.loads),
            "applied": clean(rec["loads"]), "friction": clean(rec.get("friction")), "energy": clean(rec.get("energy")),
            "units": clean(rec["units"]), "simulated": None,
            "actuators": clean({name: {k: v for k, v in entry.items() if k not in ("pressure", "area")}
                                for name, entry in rec.get("actuators", {}).items()})}   # the sizing table
-    if simulate_too:
-        sim = service.simulated_forces(run, loads=loads)
+    if f.simulated_run is not None:
+        sim = simulated_forces(run, *f.simulation, simulated=f.simulated_run)
         out["simulated"] = {**force_series(sim, None), "agreement": clean(sim["agreement"]),
                             "passed": bool(sim["passed"]), "timestep": sim["timestep"], "steps": sim["steps"]}
     return shown_forces(out, mech)
-
-
-def motor_of(body: dict):
-    """The request's linear motor: ``motor`` = {"T0": stall torque N m, "W0": no-load speed rad/s}."""
-    m = body.get("motor")
-    if not isinstance(m, dict) or set(m) != {"T0", "W0"}:
-        raise RequestError(400, "motor must be {\"T0\": stall torque [N m], \"W0\": no-load speed [rad/s]}, e.g. "
-                                "{\"T0\": 2, \"W0\": 15.7}")
-    for key, what in (("T0", "stall torque [N m]"), ("W0", "no-load speed [rad/s]")):
-        v = m[key]
-        if isinstance(v, bool) or not isinstance(v, (int, float)) or not (math.isfinite(v) and 0 < v <= MAX_MOTOR):
-            raise RequestError(400, f"motor.{key}={_short(v)}: the {what} must be a number in (0, {MAX_MOTOR:g}]")
-    return sdyn.linear_motor(float(m["T0"]), float(m["W0"]))
 
 
 def dynamics(body: dict) -> dict:
@@ -535,24 +498,22 @@ def dynamics(body: dict) -> dict:
     equation's answer and, with ``simulate`` (default), MuJoCo's and the verdict; with ``target_fluctuation``
     the flywheel sized for that Cs. The MuJoCo run is refused before it starts when it would take more than
     MAX_DYNAMICS_STEPS steps (the reduced equation's run gives its duration)."""
-    check_fields(body, "dynamics")
+    args = arguments(body, "dynamics")
     mech = mechanism_of(body)
     if len(mech.inputs) != 1:
         raise RequestError(400, f"the {mech.name} has {len(mech.inputs)} inputs; the dynamics panel drives one "
                                 f"(run `linkage dynamics` with --motor per input)")
-    motor = motor_of(body)
-    revolutions = float(number(body, "revolutions", 10.0, 1.0, MAX_DYNAMICS_REVOLUTIONS))
-    start = float(number(body, "start_speed", 0.0, 0.0, MAX_MOTOR))
-    target = body.get("target_fluctuation")
+    motor = sdyn.linear_motor(*args["motor"])
+    revolutions, start, target = args["revolutions"], float(args["start_speed"]), args["target_fluctuation"]
     if target is not None:
-        target = float(number(body, "target_fluctuation", 0.05, 0.0, 1.0))
         if not 0 < target < 1:
             raise RequestError(400, f"target_fluctuation={target:g} must be in (0, 1), e.g. 0.05")
-        if body.get("flywheel") not in (None, 0, 0.0):
+        if args["flywheel"] not in (None, 0, 0.0):
             raise RequestError(400, "give flywheel or target_fluctuation (which sizes the flywheel), not both")
-    flywheel = None if target is not None else float(number(body, "flywheel", 0.0, 0.0, MAX_FLYWHEEL))
+    flywheel = None if target is not None else float(args["flywheel"] or 0.0)
     simulate_too = flag(body, "simulate", True)
-    loads = loads_of(body, mech)
+    from linkage._loads import run_loads
+    loads = run_loads(mech, **{k: args[k] for k in ("gravity", "force", "cutting_force", "torque", "inertia")})
     cycle = sdyn.cycle_of(mech)                     # one prescribed-motion cycle for every model of the run
     d = sdyn.dynamics(mech, loads, motor, flywheel, target, start, revolutions, simulate_too=False, cycle=cycle)
     if simulate_too:
@@ -630,20 +591,20 @@ def open_file(body: dict) -> dict:
 
 def export(kind: str, body: dict) -> tuple[bytes, str, str]:
     """A download: (bytes, content type, file name) of the CSV, JSON, mechanism file or MJCF."""
-    check_fields(body, "export")
+    import linkage as lk
+    args = arguments(body, "export")                # a bad field is refused whichever file is asked for
     mech = mechanism_of(body)
-    run_options(body, mech)                         # a bad field is refused whichever file is asked for
     stem = re.sub(r"[^A-Za-z0-9_.-]", "_", mech.name)[:64] or "mechanism"
     if kind == "toml":
         return service.mechanism_text(mech, body.get("text")).encode(), "application/toml", f"{stem}.toml"
     if kind == "mjcf":
-        return service.export_mjcf(mech).encode(), "application/xml", f"{stem}.xml"
+        return lk.export(mech, **for_door(args, lk.export)).mjcf.encode(), "application/xml", f"{stem}.xml"
     if kind in PARTS_EXPORTS:                       # the parts (issue 28), written to a temporary folder
         return parts_export(mech, kind, stem)
     if kind == "csv":
-        run = analysis(mech, body, figures=False)
+        run = analysis_of(mech, {**args, "figures": False})
         return csv_text(service.analysis_columns(mech, run.analysis)).encode(), "text/csv", f"{stem}.csv"
-    run = analysis(mech, body, figures=True)
+    run = analysis_of(mech, {**args, "figures": True})
     record = service.analysis_record(mech, run.analysis, run.samples, run.revolutions)
     return json.dumps(clean(record), indent=2, allow_nan=False).encode(), "application/json", f"{stem}.json"
 
@@ -714,7 +675,7 @@ def drag(body: dict, cache: Mechanisms | None = None) -> dict:
     keeps the old ones and says why. ``cache``: the server's recently loaded mechanisms (a step starts from the
     values the last one solved)."""
     from sim.service import editing as dragging
-    check_fields(body, "drag")
+    arguments(body, "drag")
     mech = mechanism_of(body, cache)
     point = body.get("point")
     if not isinstance(point, str):
@@ -737,7 +698,7 @@ def drag(body: dict, cache: Mechanisms | None = None) -> dict:
     answer = {"point": d.point, "target": list(target), "set": new_set, "text": d.text, "input": d.input, "position": list(d.position),
               "reached": d.reached, "scrub": d.scrub, "message": d.message, "changed": d.values,
               "input_name": d.input_name}
-    solve_body = {k: v for k, v in body.items() if k in FIELDS["solve"]}
+    solve_body = {k: v for k, v in body.items() if k in accepted("solve")}
     solve_body["set"] = new_set
     if d.text is not None:
         solve_body["text"] = d.text

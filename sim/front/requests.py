@@ -132,10 +132,13 @@ def mechanism_of(body: dict, cache: Mechanisms | None = None) -> Mechanism:
 
 
 def input_range_of(body: dict, mech: Mechanism) -> tuple[float, float] | None:
-    """The first input's range: ``"LO:HI"`` (angles in rad or with a deg suffix) or [LO, HI]; None: turns."""
+    """The first input's range: ``"LO:HI"`` (angles in rad or with a deg suffix) or [LO, HI]; absent: the
+    file's own ``input_range`` as the door reads it (:func:`linkage._inputs.input_range_of`), None where the
+    file has none (the input turns)."""
+    from linkage._inputs import input_range_of as door_range
     v = body.get("input_range")
     if v is None or v == "":
-        return None
+        return door_range(mech, None)
     if isinstance(v, str) and ":" in v:
         return inputs.input_range(mech, v)
     if isinstance(v, list) and len(v) == 2 and all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in v):

@@ -828,7 +828,8 @@
 
   function loadsBody() {
     const out = {};
-    for (const [k, v] of Object.entries(state.loads)) if (v !== null) out[k] = v;
+    // the page's "cutting" field is the API's cutting_force (the door's keyword)
+    for (const [k, v] of Object.entries(state.loads)) if (v !== null) out[k === "cutting" ? "cutting_force" : k] = v;
     return out;
   }
 
