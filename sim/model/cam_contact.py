@@ -80,7 +80,7 @@ import numpy as np
 
 from analytic import ParameterError
 
-IN_MECHANISMS = False
+IN_MECHANISMS = True
 """Whether a mechanism's model (``compare``, ``simulate``, ``plot`` of a file with a ``cam`` group) builds its
 cam through :func:`add`: not until its time step (2000 steps per cam turn) and its readings are wired into
 those commands; the cam kind refuses the model in one line meanwhile."""
