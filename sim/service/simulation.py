@@ -364,7 +364,8 @@ def simulation_record(built, tr, revolutions: float, display=None) -> dict:
     return {"mechanism": tr.name, "revolutions": revolutions, "timestep": tr.timestep, "integrator": tr.integrator,
             "steps": int(tr.steps), "cpu_seconds": tr.cpu_seconds,
             "max_loop_violation": display.convert("length", float(np.max(tr.loop_violation))),
-            "columns": convert_columns(mech, cols, display), "units": units_of(mech, cols, display)}
+            "columns": convert_columns(mech, cols, display), "units": units_of(mech, cols, display),
+            **({"cams": tr.cams} if tr.cams else {})}
 
 
 def trajectory_columns(tr) -> dict:
