@@ -96,10 +96,14 @@ def tolerances(built, steps=None) -> dict[str, float] | None:
     L = built.mech.size
     out = dict.fromkeys(("position", "angle", "velocity", "ang_velocity", "acceleration", "ang_acceleration",
                          "force"), 0.0)
-    an = None
+    an = analytic_contact(built, steps)
     for k, e in enumerate(cams):
-        if an is None:
-            an = analytic_contact(built, steps)
+        if np.min(an[k]) <= 0:
+            raise ParameterError(
+                f"{built.mech.definition.source}: cam {e['name']}: at this speed the analytic contact force falls to "
+                f"{np.min(an[k]):.3g} N (the follower leaves the cam: above its jump speed, `linkage forces` gives "
+                f"it); compare checks the follower against the law below it: slow the cam, or add a return spring "
+                f"([[loads]]); `linkage simulate --speed W` shows the jump")
         c = compliance(built, an[k], e)
         T = c.position
         ang = T / c.arm if c.arm > 0 else T / L
