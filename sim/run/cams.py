@@ -58,7 +58,7 @@ def compliance(built, solved_n: np.ndarray, e: dict) -> Compliance:
     """The contact of cam ``e`` in ``built`` with the analytic contact force ``solved_n`` [N] over the run."""
     from analytic import cams as C
     from sim.model import body_inertias
-    from sim.model.cam_contact import CONTACT_STEPS
+    from sim.model.cam_contact import CONTACT_STEPS, collision_profile
     geo = C.build(e["setup"])
     link = e["links"][0]
     b = body_inertias(built.model, [link])[link]
@@ -70,7 +70,7 @@ def compliance(built, solved_n: np.ndarray, e: dict) -> Compliance:
         # penetration (a looser, not a wrong, bound)
         arm = float(e["arm"])
         m_eff = (b.I + b.m * (b.cx ** 2 + b.cy ** 2)) / arm ** 2
-    P = np.asarray(geo.profile)
+    P = collision_profile(geo.profile)                   # the outline MuJoCo collides
     seg = float(np.max(np.hypot(*(np.roll(P, -1, axis=0) - P).T)))
     rho = np.abs(np.asarray(geo.rho))
     rho = float(np.min(rho[rho > 0])) if np.any(rho > 0) else math.inf

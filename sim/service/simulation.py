@@ -424,3 +424,10 @@ def simulate_part(mech: Mechanism, revolutions: float):
     from sim.run.simulate import simulate as run
     built = build(mech, revolutions=revolutions)
     return built, run(built, revolutions)
+
+
+def cam_speed_sets(mech: Mechanism, speed: float) -> dict[str, str]:
+    """``simulate --speed W``: the ``--set`` items that turn the mechanism's cam at W rad/s
+    (:func:`sim.run.cams.speed_sets`)."""
+    from sim.run.cams import speed_sets
+    return speed_sets(mech, speed)

@@ -27,10 +27,10 @@ def run(args) -> int:
     mech = mechanism_from(args)
     if args.speed is not None:
         from sim.front.cli.options import sets_of
-        from sim.run.cams import speed_sets
         from sim.service import load
+        from sim.service.simulation import cam_speed_sets
         sets = sets_of(args.sets)
-        sets.update(speed_sets(mech, args.speed))
+        sets.update(cam_speed_sets(mech, args.speed))
         mech = load(args.mechanism, sets)
     check_outputs(args, {"csv": (".csv",)})
     import linkage as lk
