@@ -82,8 +82,9 @@ from analytic import ParameterError
 
 IN_MECHANISMS = True
 """Whether a mechanism's model (``compare``, ``simulate``, ``plot`` of a file with a ``cam`` group) builds its
-cam through :func:`add`: not until its time step (2000 steps per cam turn) and its readings are wired into
-those commands; the cam kind refuses the model in one line meanwhile."""
+cam through :func:`add`: its time step is capped at STEPS_PER_TURN a turn (sim.model.build.cam_capped), its
+readings go to ``simulate``'s ``cams`` and compare's tolerances (sim.run.cams); False makes the cam kind
+refuse the model in one line."""
 
 STEPS_PER_TURN = 2000
 """Time steps per cam revolution: h = 2 pi / (omega * STEPS_PER_TURN) (1000 doubled the tracking error)."""
