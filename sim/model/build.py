@@ -184,7 +184,7 @@ def build(mech, settings: Settings = Settings(), loads: Loads = Loads(), revolut
     if cycle is None:
         cycle = Cycle.of(mech, revolutions)
     if settings.timestep is None:
-        settings = replace(settings, timestep=choose_timestep(mech, revolutions, cycle))
+        settings = replace(settings, timestep=cam_capped(mech, choose_timestep(mech, revolutions, cycle)))
     if mech.size < MIN_SIZE:
         raise ParameterError(
             f"{mech.definition.source}: the {mech.name} spans {mech.size:.3g} m ({mech.size / mech.scale:.3g} "
@@ -217,6 +217,17 @@ def model_loads(mech, loads: Loads, cycle):
     force = (float(loads.force[0]), float(loads.force[1]))
     window = slow_stroke(mech, cycle) if loads.slow_stroke_only else None
     return inertias, gravity, force, window, ML.loadset_of(mech, loads)
+
+
+def cam_capped(mech, h: float) -> float:
+    """The chosen step ``h`` [s], at most 1 / cam_contact.STEPS_PER_TURN of a turn of the fastest input for a
+    mechanism with a cam: MuJoCo's contact (sim.model.cam_contact) is as stiff as its step allows, its
+    penetration growing as h^2; at the ~250 steps a turn the motion alone needs it is 60x softer than
+    the 2000 its figures were measured at."""
+    if not any(e["kind"] == "cam" for e in mech.geometry.elements):
+        return h
+    from sim.model.cam_contact import STEPS_PER_TURN
+    return min(h, 2 * math.pi / (motion_scale(mech) * STEPS_PER_TURN))
 
 
 def build_model(mech, settings, loads, h, sol, points, q_start, revolutions, native=False, cycle=None,

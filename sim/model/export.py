@@ -46,8 +46,8 @@ def export_xml(built: Built) -> str:
             st = m.site(name)
             el.set("pos", fmt(st.pos))
             el.set("quat", fmt(st.quat))
-        elif el.tag == "geom":
-            g = m.geom(name)
+        elif el.tag == "geom" and el.get("type") != "mesh":     # a mesh's compiled frame is its recentred one:
+            g = m.geom(name)                                      # the compiler would shift it again
             el.set("pos", fmt(g.pos))
             el.set("quat", fmt(g.quat))
         elif el.tag == "general" or el.tag in ("motor", "velocity", "position", "intvelocity"):

@@ -103,7 +103,8 @@ class Layout:
     drives: tuple
     """(input link, actuator id, dof, sign onto the driven link) of each input."""
     couplings: tuple
-    """Equality id of each gear pair's tendon equality, in the topology's order."""
+    """Per coupling in the topology's order: ("gear", equality id of its tendon equality) or ("cam", cam body id,
+    follower body id)."""
     sites: tuple
     """Site id of each joint's point (its carrier's site)."""
     load_site: int
@@ -147,8 +148,11 @@ def layout(built) -> Layout:
         drives.append((d.input.link, model.actuator(d.actuator).id, int(model.jnt_dofadr[jid]),
                        1.0 if child == body(jt.b) else -1.0))
     couplings = []
-    for c in topo.couplings:
-        couplings.append(model.equality(f"couple_gear_{c.link}").id)
+    for c in topo.couplings:                  # a gear pair's tendon equality; a cam's contact: its bodies
+        if c.kind == "cam":
+            couplings.append(("cam", body(c.mesh), body(c.link)))
+        else:
+            couplings.append(("gear", model.equality(f"couple_gear_{c.link}").id))
     sites = tuple(model.site(j.point).id for j in topo.joints)
     load_site = int(model.actuator_trnid[model.actuator("load").id, 0])   # on the loaded link
     carrier = int(model.site_bodyid[load_site])
@@ -174,6 +178,7 @@ class Record:
     actuator_force: np.ndarray  # (N, nu)
     qacc: np.ndarray          # (N, nv)
     xaxis: np.ndarray         # (N, njnt, 3)
+    contact: np.ndarray       # (N, cams)  each cam's contact force along its normal [N]
 
 
 def settle(model, data) -> None:
@@ -188,7 +193,7 @@ def settle(model, data) -> None:
     a drive's rotor torque (armature x qacc) reached 1e4 times the link torques (a rocking four-bar at its
     turnaround), with M qacc - qfrc - J' f = 3e-3 N m. The dual solve is conditioned like A itself."""
     n = data.nefc
-    if n:
+    if n and np.all(np.asarray(data.efc_type[:n]) == mujoco.mjtConstraint.mjCNSTR_EQUALITY):
         nv = model.nv
         if mujoco.mj_isSparse(model):
             J = np.zeros((n, nv))
@@ -210,36 +215,63 @@ def settle(model, data) -> None:
     mujoco.mj_rnePostConstraint(model, data)
 
 
-def reader(model):
+def cam_pairs(model, mech) -> tuple:
+    """(cam body id, follower body id) of each cam coupling of ``mech``, in the topology's order."""
+    return tuple((model.body(c.mesh).id, model.body(c.link).id) for c in mech.topology.couplings
+                 if c.kind == "cam")
+
+
+def contact_forces(model, data, pairs) -> np.ndarray:
+    """The normal force [N] of each cam's contact (``pairs``: :func:`cam_pairs`), summed over its active
+    contact rows (frictionless, condim 1: one row per contact, its force along the normal)."""
+    out = np.zeros(len(pairs))
+    for r in range(data.nefc):
+        if data.efc_type[r] != mujoco.mjtConstraint.mjCNSTR_EQUALITY:
+            con = data.contact[int(data.efc_id[r])]
+            b = {int(model.geom_bodyid[con.geom[0]]), int(model.geom_bodyid[con.geom[1]])}
+            for k, pair in enumerate(pairs):
+                if b == set(pair):
+                    out[k] += data.efc_force[r]
+    return out
+
+
+def reader(model, mech=None):
     """The function :func:`sim.run.simulate.replay` calls at each instant: :func:`settle`, then a flat copy of
-    what :class:`Record` holds (the efc rows are all equality rows in a model without contacts or limits)."""
+    what :class:`Record` holds: the equality rows' forces (always the first rows, as many at every step)
+    and each cam's contact force (its rows come and go with the contact)."""
+    pairs = cam_pairs(model, mech) if mech is not None else ()
+
     def read(data):
         settle(model, data)
+        eq = int(np.sum(np.asarray(data.efc_type[:data.nefc]) == mujoco.mjtConstraint.mjCNSTR_EQUALITY))
         return np.concatenate([data.cfrc_int.ravel(), data.subtree_com.ravel(), data.site_xpos.ravel(),
-                               data.efc_force[:data.nefc], data.actuator_force, data.qacc, data.xaxis.ravel()])
+                               data.efc_force[:eq], data.actuator_force, data.qacc, data.xaxis.ravel(),
+                               contact_forces(model, data, pairs)])
     return read
 
 
-def unpack(model, rows: np.ndarray, data) -> Record:
+def unpack(model, rows: np.ndarray, data, ncams: int = 0) -> Record:
     """Split the stacked reads of :func:`reader` into a :class:`Record`."""
     n = len(rows)
     nb, ns, nu, nv, nj = model.nbody, model.nsite, model.nu, model.nv, model.njnt
-    nefc = rows.shape[1] - (nb * 9 + ns * 3 + nu + nv + nj * 3)
+    ncam = ncams
+    nefc = rows.shape[1] - (nb * 9 + ns * 3 + nu + nv + nj * 3 + ncam)
     sizes = [nb * 6, nb * 3, ns * 3, nefc, nu, nv, nj * 3]
-    parts = np.split(rows, np.cumsum(sizes)[:-1], axis=1)
+    parts = np.split(rows, np.cumsum(sizes), axis=1)
     types = np.asarray(data.efc_type[:nefc])
     if np.any(types != mujoco.mjtConstraint.mjCNSTR_EQUALITY):
-        raise RuntimeError("the model has constraint rows other than equalities (contacts or limits)")
+        raise RuntimeError("the model has constraint rows other than equalities and cam contacts (limits)")
     return Record(parts[0].reshape(n, nb, 6), parts[1].reshape(n, nb, 3), parts[2].reshape(n, ns, 3), parts[3],
-                  np.asarray(data.efc_id[:nefc]).copy(), parts[4], parts[5], parts[6].reshape(n, nj, 3))
+                  np.asarray(data.efc_id[:nefc]).copy(), parts[4], parts[5], parts[6].reshape(n, nj, 3),
+                  parts[7])
 
 
 def record(built, tr, steps) -> Record:
     """MuJoCo's raw force data at the trajectory's steps ``steps`` (indices)."""
     from sim.run.simulate import replay
     model = built.model
-    rows, data = replay(built, tr, steps, reader(model))
-    return unpack(model, rows, data)
+    rows, data = replay(built, tr, steps, reader(model, built.mech))
+    return unpack(model, rows, data, len(cam_pairs(model, built.mech)))
 
 
 def _load_wrench(built, lay: Layout, rec: Record):
@@ -302,7 +334,9 @@ def joint_forces(built, rec: Record) -> F.Forces:
         r = rows[c.eq]
         Fo[c.joint, 0] = c.sign * rec.efc_force[:, r[0]]
         Fo[c.joint, 1] = c.sign * rec.efc_force[:, r[1]]
-    couplings = np.array([rec.efc_force[:, rows[eq][0]] for eq in lay.couplings]).reshape(len(lay.couplings), n)
+    cams = iter(range(rec.contact.shape[1]))
+    couplings = np.array([rec.efc_force[:, rows[c[1]][0]] if c[0] == "gear" else rec.contact[:, next(cams)]
+                          for c in lay.couplings]).reshape(len(lay.couplings), n)
     # what the ground exerts on the moving links: its tree joints' wrenches and the loops closed at the ground
     gx, gy, gm = np.zeros(n), np.zeros(n), np.zeros(n)
     for t in lay.ground_children:
@@ -493,10 +527,11 @@ def agreement(mech, mj: F.Forces, an: F.Forces, power: dict, keep=None, floor: f
         shares[f"drive {inp.q}"] = m / dscale
         identity = max(identity, pb / dscale)
     couplings = []
-    for k in range(len(an.couplings)):
+    for k, c in enumerate(mech.topology.couplings[:len(an.couplings)]):
         m = _err(mj.couplings[k], an.couplings[k])
-        couplings.append({"max": m, "share": m / (scale * L)})
-        shares[f"gear pair {k}"] = m / (scale * L)
+        share = m / scale if c.kind == "cam" else m / (scale * L)     # a cam's: a force; a gear's: a moment
+        couplings.append({"max": m, "share": share})
+        shares[f"cam {c.link}" if c.kind == "cam" else f"gear pair {k}"] = share
     fs = float(np.max(np.hypot(*(mj.shaking[:2] - an.shaking[:2])))) if an.shaking.shape[-1] else 0.0
     fs = fs if math.isfinite(fs) else math.inf
     ms = _err(mj.shaking[2], an.shaking[2])
@@ -538,11 +573,16 @@ def spread(n: int, most: int = CHECKED_STEPS) -> np.ndarray:
 def check(built, tr, steps=None, solved=None) -> Agreement | None:
     """MuJoCo's joint forces of run ``tr`` against the analytic ones at its simulated inputs (by default every
     step, at most CHECKED_STEPS of them: :func:`spread`); None where statics cannot give the joint forces (a redundant constraint: MuJoCo shares such a
-    load by its regulariser, the analytic solve refuses it). ``solved``: see :func:`analytic_at`."""
+    load by its regulariser, the analytic solve refuses it) or a cam's contact carries them (see below). ``solved``: see :func:`analytic_at`."""
     mech = built.mech
     try:
         F.check_determinate(mech)
     except F.StaticsError:
+        return None
+    if any(c.kind == "cam" for c in mech.topology.couplings):
+        # a cam's contact force is a train of impulses over its profile's facets (sim.model.cam_contact:
+        # measured 0 to 1.2x the law's force step to step on cam_roller, micro-flights included): the law
+        # fixes its impulse over a window, not each sample, so the per-sample check cannot judge it
         return None
     steps = spread(len(tr.t)) if steps is None else np.asarray(steps, dtype=int)
     steps = away_from_change_points(mech, tr, steps)

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import mujoco
 import numpy as np
@@ -57,6 +57,9 @@ class Trajectory:
     qvel: np.ndarray
     act: np.ndarray
     joint_names: tuple[str, ...]
+    cams: dict = field(default_factory=dict)
+    """Per cam (its name): {"separated": bool, "first_at": cam angle [rad] in [0, 2 pi) or None}: whether its
+    follower left it (sim.run.cams.separations); {} without a cam."""
 
 
 def steps_for(built: Built, revolutions: float) -> int:
@@ -191,9 +194,11 @@ def simulate(built: Built, revolutions: float = 1.0) -> Trajectory:
     commanded = {inp.q: q_des[:, k] for k, inp in enumerate(mech.inputs)}
     _check_run(built, sens, inputs, viol, h)
     integrator = next(k for k, v in INTEGRATORS.items() if v == model.opt.integrator)
+    from sim.run import cams
+    separated = cams.separations(built, sens, {ln: outputs["phi" + ln] for ln in mech.links})
     return Trajectory(mech.name, h, integrator, nstep, cpu, _reader(model, sens)("time")[:, 0], inputs, outputs,
                       viol, forces, commanded, _reader(model, sens)("load")[:, 0], qpos, qvel, act,
-                      tuple(model.joint(i).name for i in range(model.njnt)))
+                      tuple(model.joint(i).name for i in range(model.njnt)), separated)
 
 
 def energies(built: Built, tr: Trajectory) -> tuple[np.ndarray, np.ndarray]:

@@ -647,7 +647,7 @@ def simulated_forces(run: ForceRun, settings=None, loads=None, display=None, sim
     s = simulated if simulated is not None else simulated_forces_run(run, settings, loads)
     mech, tr = run.mech, s.trajectory
     q, qd, qdd = s.inputs
-    sol = {k: np.asarray(v)[s.steps] for k, v in tr.outputs.items() if k[:1] in ("x", "y", "c", "s")}
+    sol = {k: np.asarray(v)[s.steps] for k, v in tr.outputs.items() if k[:1] in ("x", "y", "c", "s", "o")}
     sim_run = replace(run, t=run.t[:len(s.steps)], q=q, qd=qd, qdd=qdd, inputs={inp.q: q[:, k] for k, inp in enumerate(mech.inputs)},
                       solution=sol, inertias=body_inertias(s.built.model, mech.links), forces=s.forces,
                       balance=None, balanced=None)

@@ -355,7 +355,8 @@ def simulation_record(built, tr, revolutions: float, display=None) -> dict:
     return {"mechanism": tr.name, "revolutions": revolutions, "timestep": tr.timestep, "integrator": tr.integrator,
             "steps": int(tr.steps), "cpu_seconds": tr.cpu_seconds,
             "max_loop_violation": display.convert("length", float(np.max(tr.loop_violation))),
-            "columns": convert_columns(mech, cols, display), "units": units_of(mech, cols, display)}
+            "columns": convert_columns(mech, cols, display), "units": units_of(mech, cols, display),
+            **({"cams": tr.cams} if tr.cams else {})}
 
 
 def trajectory_columns(tr) -> dict:
@@ -414,3 +415,10 @@ def simulate_part(mech: Mechanism, revolutions: float):
     from sim.run.simulate import simulate as run
     built = build(mech, revolutions=revolutions)
     return built, run(built, revolutions)
+
+
+def cam_speed_sets(mech: Mechanism, speed: float) -> dict[str, str]:
+    """``simulate --speed W``: the ``--set`` items that turn the mechanism's cam at W rad/s
+    (:func:`sim.run.cams.speed_sets`)."""
+    from sim.run.cams import speed_sets
+    return speed_sets(mech, speed)

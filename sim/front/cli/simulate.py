@@ -14,6 +14,9 @@ def register(sub) -> None:
     add_common(p)
     add_sim_options(p)
     p.add_argument("--csv", metavar="PATH", help="write every step as CSV (units in PATH.units.json)")
+    p.add_argument("--speed", type=float, default=None, metavar="W",
+                   help="a cam mechanism: the cam's speed [rad/s] (every input's speed scaled alike); the JSON's "
+                        "\"cams\" says whether the follower left the cam and where")
     p.add_argument("--json", action="store_true",
                    help="print one JSON object: the run's settings, its loop violation and every column")
     add_unit_options(p)
@@ -22,6 +25,13 @@ def register(sub) -> None:
 
 def run(args) -> int:
     mech = mechanism_from(args)
+    if args.speed is not None:
+        from sim.front.cli.options import sets_of
+        from sim.service import load
+        from sim.service.simulation import cam_speed_sets
+        sets = sets_of(args.sets)
+        sets.update(cam_speed_sets(mech, args.speed))
+        mech = load(args.mechanism, sets)
     check_outputs(args, {"csv": (".csv",)})
     import linkage as lk
     settings = settings_from(args)
@@ -41,6 +51,9 @@ def run(args) -> int:
     u = shown_units(args, mech)
     print(f"{tr.name}: {tr.steps} steps of {tr.timestep:.3g} s ({tr.integrator}), {tr.cpu_seconds * 1e3:.1f} ms CPU; "
           f"max loop violation {u.convert('length', tr.loop_violation.max()):.3e} {u.unit('length')}")
+    for name, c in tr.cams.items():
+        print(f"cam {name}: " + (f"the follower leaves the cam at cam angle {c['first_at']:.4f} rad"
+                                 if c["separated"] else "the follower stays on the cam"))
     if args.csv:
         print(f"wrote {args.csv} ({len(tr.t)} rows)")
     return 0
