@@ -70,7 +70,7 @@ def test_the_solve_and_forces_fields_written_out(server):
     assert accepted_by_server(server, "forces") == {
         "mechanism", "text", "set", "digits",
         "samples", "revolutions", "input_range", "gravity", "force", "cutting_force", "torque", "inertia",
-        "simulate"}
+        "simulate", "pressure"}                                                 # pressure: the cylinders' sizing
 
 
 def test_every_withheld_keyword_is_one_of_the_doors():

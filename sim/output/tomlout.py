@@ -113,16 +113,29 @@ def edit_parameters(mech, text: str | None = None) -> str | None:
     return out if same and rest and set(values) == set(mech.values) else None
 
 
+def _segments(segments) -> list | str:
+    """A law's ``segments`` as written: tables {shape, duration, rise} (a dwell without its rise); an empty
+    law stays empty."""
+    if not segments:
+        return ""
+    return [{"shape": shape, "duration": duration, **({} if shape == "dwell" else {"rise": rise})}
+            for shape, duration, rise in segments]
+
+
 def _element(e) -> dict:
     """An element's table as written: its kind's fields, and an input's motion law (``segments`` or ``table``)
     in place of the fields it replaces (the rates; a table's start too)."""
     kind = kinds.get(e.kind)
     law = getattr(e, "law", None)
     drop = () if law is None else kind.motion_fields[1:] if law.segments else kind.motion_fields
-    out = {"kind": e.kind, **{f: _field(e.fields[f]) for f in kind.fields if f not in drop}}
+    out = {"kind": e.kind}
+    for f, spec in kind.fields.items():
+        v = e.fields[f]
+        if f in drop or (v is None or (isinstance(v, str) and v == "")) and spec.default in (None, ""):
+            continue                                   # unset and optional (a cam's profile, an arm's guide)
+        out[f] = _segments(v) if spec.type == "camlaw" else _field(v)
     if law is not None and law.segments:
-        out["segments"] = [{"shape": shape, "duration": duration, **({} if shape == "dwell" else {"rise": rise})}
-                           for shape, duration, rise in law.segments]
+        out["segments"] = _segments(law.segments)
     elif law is not None:
         out["table"] = law.path
     return out
