@@ -145,8 +145,10 @@ def test_a_budgeted_synthesis_ends_within_its_budget_plus_one_second(server):
         # the budget counts from the search's start; the process's start-up before it is reported apart
         assert data["seconds"] <= budget + synth_job.GRACE and data["budget"] == budget
         assert took <= data["startup"] + budget + synth_job.GRACE + SLACK
-    else:                                               # one that does not is stopped, and says so
-        assert status == 400 and f"past its {budget:g} s budget" in data["error"]
+    else:                                               # one that does not is stopped, and says so; on a loaded
+        # machine the search may see at once that its checks' reserve leaves nothing of the budget, and says that
+        assert status == 400 and (f"past its {budget:g} s budget" in data["error"]
+                                  or "no restart could run" in data["error"]), data["error"]
         assert took <= synth_job.STARTUP_LIMIT + budget + synth_job.GRACE + SLACK
     assert post(server, "/api/synthesize/status", {})[1]["state"] == "idle"
     assert group_members(server.synthesis.proc.pid) == []

@@ -175,7 +175,7 @@ def test_a_load_table_that_cannot_be_read_is_one_line(tmp_path, case):
     _one_line(r, r"m\.toml: loads\[3\] \(brake\)\.table: " + pattern)
 
 
-BAD_SCHEDULERS = ["junk", "tcp://", "http://x:99", ":::", "tcp://h:99999", "tcp://h:0", "[::1]:x"]
+BAD_SCHEDULERS = ["junk", "tcp://", "http://x:99", ":::", "tcp://h:99999", "tcp://h:0", "[::1]:x", "inproc://x"]
 
 
 @pytest.mark.parametrize("address", BAD_SCHEDULERS)
@@ -432,3 +432,12 @@ def test_a_failed_forces_simulation_writes_no_csv(tmp_path, monkeypatch):
     assert r.returncode == 1
     assert not out.exists() and not (tmp_path / "f.csv.units.json").exists()
     assert "not written" in r.stderr and "f.csv" in r.stderr and len(r.stderr.strip().splitlines()) == 1
+
+
+@pytest.mark.parametrize("address", ["tcp://127.0.0.1:8786", "127.0.0.1:8786", "tls://h.example:8786", "[::1]:8786",
+                                     "inproc://192.0.2.2/24398/1", "local"])
+def test_a_well_formed_scheduler_address_is_accepted(address):
+    """The check refuses what Dask's parser cannot read, not the schemes it can (an in-process cluster's address
+    came back refused: the tolerance test's cluster in this process)."""
+    from sim.run.parallel import check_scheduler
+    assert check_scheduler(address) == address

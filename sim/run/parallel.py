@@ -77,15 +77,18 @@ def mapper(workers: int = 1, scheduler: str | None = None):
         yield pool.map
 
 
-_ADDRESS = re.compile(r"(?:tcp://)?(\[[0-9A-Fa-f:.]+\]|[A-Za-z0-9_.-]+):([0-9]{1,5})")
-"""A scheduler address: ``tcp://HOST:PORT`` or ``HOST:PORT`` (an IPv6 host in brackets)."""
+_ADDRESS = re.compile(r"(?:(?:tcp|tls)://)?(\[[0-9A-Fa-f:.]+\]|[A-Za-z0-9_.-]+):([0-9]{1,5})")
+"""A scheduler address: ``tcp://HOST:PORT``, ``tls://HOST:PORT`` or ``HOST:PORT`` (an IPv6 host in brackets)."""
+_INPROC = re.compile(r"inproc://[0-9A-Za-z_.:/-]+/[0-9]+/[0-9]+")
+"""An in-process scheduler's address (a ``LocalCluster(processes=False)`` of the same process)."""
 
 
 def check_scheduler(text: str) -> str:
-    """``--scheduler``: ``local`` or a TCP address with a port in 1..65535, else one line saying the form
+    """``--scheduler``: ``local``, a TCP or TLS address with a port in 1..65535 (or an in-process cluster's
+    ``inproc://`` address, as a script's ``LocalCluster(processes=False)`` gives), else one line saying the form
     (Dask's own parser raises a ValueError on ``junk``, ``tcp://``, ``http://...``)."""
     m = _ADDRESS.fullmatch(text)
-    if text != "local" and not (m and 1 <= int(m.group(2)) <= 65535):
+    if text != "local" and not (m and 1 <= int(m.group(2)) <= 65535) and not _INPROC.fullmatch(text):
         raise ParameterError(f"--scheduler {text[:80]!r} is not a Dask scheduler address; give tcp://HOST:PORT "
                              f"(e.g. tcp://127.0.0.1:8786, a running dask scheduler) or local (a cluster here)")
     return text
