@@ -45,12 +45,56 @@ class Scene:
     """Gears drawn on links (:class:`analytic.kinds.base.Wheel`), from the kinds."""
     cylinders: tuple = ()
     """Linear actuators drawn as a barrel and a rod (:class:`analytic.kinds.base.Cylinder`), from the kinds."""
+    plates: tuple = ()
+    """Cam plates (:class:`Plate`): each outline turned with its link, and a roller drawn on its follower."""
     force_scale: float = 0.0
     """[m per N] The length of a joint-force arrow per newton (0: no arrows), see :func:`force_arrows`."""
     force_ref: float = 0.0
     """[N] The force of the legend's arrow: a round value (in the display's force unit) near half the peak."""
     force_label: str = "joint forces (first link on the second)"
     """The legend's words for the arrows (joint forces, the file's loads, or both)."""
+
+
+@dataclass(frozen=True, eq=False)
+class Plate:
+    """A cam plate as drawn: its ``outline`` (k, 2) [m] in the cam's frame (origin at ``pivot``, x-axis along the
+    link ``link`` from its first point ``ref[0]`` to its second ``ref[1]``: the cam angle is that link's angle)
+    and the follower's roller, radius ``roller`` [m] (0: a knife or a face) about the trace point ``point``."""
+
+    link: str
+    pivot: str
+    ref: tuple
+    outline: np.ndarray
+    roller: float
+    point: str
+
+
+PLATE_CORNERS = 360
+"""The drawn plate's corners (one a degree: a chord of ~1e-4 of a 30 mm cam, under a pixel)."""
+
+
+def plates_of(mech) -> tuple:
+    """The mechanism's cam plates to draw (:class:`Plate`), from its cams' geometry (:mod:`analytic.cams`)."""
+    from analytic import cams
+    out = []
+    for e in cams.elements(mech).values():
+        g = cams.geometry(mech, e, n=PLATE_CORNERS)
+        pts = mech.topology.links[e["cam"]].points
+        out.append(Plate(e["cam"], e["pivot"], (pts[0], pts[1]), np.asarray(g.profile, dtype=float),
+                         float(e["roller"]) if e["contact"] == "roller" else 0.0, e["point"]))
+    return tuple(out)
+
+
+def plate_world(pl: Plate, at: dict):
+    """The plate's outline (k, 2) [m] in the world, its points at ``at`` ({point: (x, y)} [m]): turned by its
+    link's angle about its pivot; None where a point is not placed."""
+    o, a, b = (np.asarray(at[p], dtype=float) for p in (pl.pivot, *pl.ref))
+    if not (np.all(np.isfinite(o)) and np.all(np.isfinite(a)) and np.all(np.isfinite(b))):
+        return None
+    ang = math.atan2(b[1] - a[1], b[0] - a[0])
+    c, s = math.cos(ang), math.sin(ang)
+    return np.column_stack([o[0] + c * pl.outline[:, 0] - s * pl.outline[:, 1],
+                            o[1] + s * pl.outline[:, 0] + c * pl.outline[:, 1]])
 
 
 def poses(built, qpos_frames: np.ndarray) -> tuple[np.ndarray, dict[str, np.ndarray]]:
@@ -112,6 +156,11 @@ def scene(built, xy: np.ndarray, display, path: np.ndarray | None = None) -> Sce
         reach = w.radius + 5.0 * w.radius / w.teeth
         centre = xy[:, index[w.centre]]
         every = np.vstack([every] + [centre + (dx * reach, dy * reach) for dx, dy in ((1, 0), (-1, 0), (0, 1), (0, -1))])
+    plates = plates_of(mech)
+    for pl in plates:                                  # a plate reaches its largest radius in every direction
+        reach = float(np.max(np.hypot(pl.outline[:, 0], pl.outline[:, 1])))
+        centre = xy[:, index[pl.pivot]]
+        every = np.vstack([every] + [centre + (dx * reach, dy * reach) for dx, dy in ((1, 0), (-1, 0), (0, 1), (0, -1))])
     finite = every[np.all(np.isfinite(every), axis=-1)]
     lo, hi = (finite.min(axis=0), finite.max(axis=0)) if len(finite) else (np.array([-1.0, -1]), np.array([1.0, 1]))
     pad = PAD * max(float(np.max(hi - lo)), 1e-9)
@@ -121,7 +170,7 @@ def scene(built, xy: np.ndarray, display, path: np.ndarray | None = None) -> Sce
     return Scene(tuple((d["name"], tuple(d["points"]), d["block"]) for d in link_drawing(mech) if d["name"] not in drawn),
                  tuple(mech.points), tuple(mech.ground_points), mech.output_point,
                  (lo[0] - pad, lo[1] - pad, hi[0] + pad, hi[1] + pad), mech.size, display, first.q,
-                 first.angular, wheels, cylinders=cylinders)
+                 first.angular, wheels, cylinders=cylinders, plates=plates)
 
 
 ARROW_REACH = 0.4
@@ -219,6 +268,8 @@ class Painter:
         if len(trace) > 1:
             d.line([tuple(p) for p in self.px(trace)], fill=PATH, width=max(2 * SUPERSAMPLE, round(2.4 * u)),
                    joint="curve")                          # at least 2 pixels wide in the smallest frames
+        for pl in sc.plates:                                   # under the follower it drives
+            self._plate(d, pl, xy, colors.get(pl.link, "#888888"))
         P = self.px(xy)
         at = {p: P[i] for p, i in self.index.items() if np.all(np.isfinite(P[i]))}
         for c in sc.cylinders:                                 # under the links they push
@@ -300,6 +351,21 @@ class Painter:
         d.line([(base[0] + ex * inside, base[1] + ey * inside), tuple(end)], fill=ROD, width=max(1, round(0.45 * wide)))
         barrel = min(BARREL * lo, length)                    # over the rod's end inside it
         d.line([tuple(base), (base[0] + ex * barrel, base[1] + ey * barrel)], fill=CYLINDER, width=round(wide))
+
+    def _plate(self, d, pl, xy, color) -> None:
+        """A cam plate: its outline turned with its link about the pivot, filled pale; its roller as a circle
+        about the trace point."""
+        world = plate_world(pl, {p: xy[i] for p, i in self.index.items()})
+        if world is None:
+            return
+        rgb = tuple(int(color[i:i + 2], 16) for i in (1, 3, 5))
+        width = max(1, round(1.5 * self.u))
+        d.polygon([tuple(p) for p in self.px(world)], fill=rgb + (0x30,), outline=color, width=width)
+        f = xy[self.index[pl.point]]
+        if pl.roller > 0 and np.all(np.isfinite(f)):
+            cx, cy = self.px(np.array([f]))[0]
+            r = pl.roller * self.s
+            d.ellipse([cx - r, cy - r, cx + r, cy + r], fill=(255, 255, 255, 0xd0), outline="#1a1a1a", width=width)
 
     def _wheel(self, d, w, xy, color) -> None:
         """A gear: its toothed outline about its centre, turned with its link (the direction centre -> ref);
