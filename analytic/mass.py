@@ -290,7 +290,7 @@ def link_inertia(mech, link: str, local: dict[str, tuple[float, float]],
     return b if b is not None else block(material, size)
 
 
-def model(mech, given: dict | None = None, local=None) -> dict[str, Inertia]:
+def model(mech, given: dict | None = None, local=None, parts: dict | None = None) -> dict[str, Inertia]:
     """Every link's inertia (SI; see the module docstring for the precedence), counterweights included.
 
     Parameters
@@ -300,6 +300,9 @@ def model(mech, given: dict | None = None, local=None) -> dict[str, Inertia]:
         {link: Inertia} in SI that replace the rest (``--inertia``).
     local : dict, optional
         Every link's points in its frame (:func:`local_points`); computed at t = 0 when None.
+    parts : dict, optional
+        The links' parts already built ({link: analytic.parts.model.Part}), for a file with ``[parts]``; built
+        here when None.
     """
     given = dict(given or {})
     unknown = set(given) - set(mech.links)
@@ -311,7 +314,7 @@ def model(mech, given: dict | None = None, local=None) -> dict[str, Inertia]:
     s = mech.scale
     table = mech.definition.inertia or {}
     source = sources(mech, given)
-    from_parts = parts_inertias(mech) if "parts" in source.values() else {}
+    from_parts = parts_inertias(mech, parts) if "parts" in source.values() else {}
     weights: dict[str, list] = {}
     for w in counterweights(mech):
         weights.setdefault(w.link, []).append(w)
@@ -343,13 +346,13 @@ def sources(mech, given: dict | None = None) -> dict[str, str]:
             else "[mass]" if ln in mats else "default" for ln in mech.links}
 
 
-def parts_inertias(mech) -> dict[str, Inertia]:
+def parts_inertias(mech, parts: dict | None = None) -> dict[str, Inertia]:
     """Every link's inertia (SI, its frame) from its part (:mod:`analytic.parts`): the exact mass properties of
     its outline less its holes and slots, as the bill of materials gives them."""
     from analytic.parts import model as parts_model
     s = mech.scale
     out = {}
-    for ln, part in parts_model.build(mech).items():
+    for ln, part in (parts if parts is not None else parts_model.build(mech)).items():
         mp = parts_model.mass_properties(part, s)
         out[ln] = Inertia(m=mp.m, cx=mp.cx * s, cy=mp.cy * s, I=mp.I)
     return out

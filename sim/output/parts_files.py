@@ -204,7 +204,7 @@ included); ``analysis_mass_from``: what gave it (:func:`analytic.mass.sources`: 
 
 def bom_rows(pm) -> list[dict]:
     from analytic import mass
-    analysis, source = mass.model(pm.mech), mass.sources(pm.mech)
+    analysis, source = mass.model(pm.mech, parts=pm.parts), mass.sources(pm.mech)   # the parts built once
     rows = []
     for ln, part in pm.parts.items():
         mp = model.mass_properties(part, pm.mech.scale)

@@ -271,7 +271,7 @@ def mass_comparison(pm: PartsModel) -> dict:
     mech = pm.mech
     s = mech.scale
     local = {ln: {p: tuple(np.asarray(uv) * s) for p, uv in part.points.items()} for ln, part in pm.parts.items()}
-    analytic_model = mass.model(mech, local=local)
+    analytic_model = mass.model(mech, local=local, parts=pm.parts)
     spec = mujoco.MjSpec()
     for ln, part in pm.parts.items():
         region = parts_files.part_region(part, pm.chord)
