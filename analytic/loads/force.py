@@ -47,13 +47,7 @@ class Force(Load):
     def mujoco(self):
         """A constant-force actuator where the law is a constant always on; else why not."""
         law = self.law
-        if law.expression is not None:
-            return f"its magnitude {law.expression!r} follows the motion"
-        if law.table is not None:
-            return "its magnitude is a table over the input"
-        if law.active is not None or law.stroke is not None:
-            return "it acts over part of the cycle only (active/stroke)"
-        return ConstantActuator(self.end.link, self.end, self.direction, not self.turning,
+        return law.not_constant() or ConstantActuator(self.end.link, self.end, self.direction, not self.turning,
                                 float(law.constant * law.unit) * self.area_factor)
 
     area_factor = 1.0

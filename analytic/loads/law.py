@@ -135,6 +135,16 @@ class Law:
         """The names its expression reads (none for a constant or a table)."""
         return frozenset(expr.names_in(self.expression)) if self.expression is not None else frozenset()
 
+    def not_constant(self) -> str | None:
+        """Why the law is no constant always on (a MuJoCo constant actuator cannot hold it), or None."""
+        if self.expression is not None:
+            return f"its magnitude {self.expression!r} follows the motion"
+        if self.table is not None:
+            return "its magnitude is a table over the input"
+        if self.active is not None or self.stroke is not None:
+            return "it acts over part of the cycle only (active/stroke)"
+        return None
+
     def record(self) -> dict:
         out = {}
         if self.constant is not None:

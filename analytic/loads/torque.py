@@ -30,13 +30,7 @@ class Torque(Load):
 
     def mujoco(self):
         law = self.law
-        if law.expression is not None:
-            return f"its magnitude {law.expression!r} follows the motion"
-        if law.table is not None:
-            return "its magnitude is a table over the input"
-        if law.active is not None or law.stroke is not None:
-            return "it acts over part of the cycle only (active/stroke)"
-        return ConstantActuator(self.link, None, (0.0, 0.0), True, float(law.constant * law.unit))
+        return law.not_constant() or ConstantActuator(self.link, None, (0.0, 0.0), True, float(law.constant * law.unit))
 
     def drawing(self, state, apps) -> dict:
         """The link's centre (its points' mean) and the couple."""
