@@ -543,3 +543,30 @@ def test_the_search_near_the_followers_line_leaves_out_nothing_that_touches(cont
     theta = np.arange(1441) * (2 * np.pi / 1440)
     near = np.concatenate([cams._rest_near(st, q, theta[k:k + cams.BAND]) for k in range(0, 1441, cams.BAND)])
     assert np.array_equal(near, cams._rest(st, q, theta))
+
+
+# ------------------------------------------------------------------------------- a published cam, to its digits
+INCH = 0.0254
+
+
+def test_the_mechanism_packages_readme_cam_to_its_printed_digits():
+    """The cam of the README of the ``mechanism`` package (PyPI ``mechanism`` 1.1.8, Gabe Morris,
+    https://github.com/gabemorris12/mechanism, README section "Cams", "Problem Statement" and "Solution"):
+    dwell 90deg, cycloidal rise 1 in over 90deg, dwell 90deg, cycloidal fall 1 in over 90deg, a radial
+    flat-faced follower sized with ``get_base_circle(kind='cycloidal', follower='flat', desired_min_rho=0.25)``;
+    it prints "The base circle radius was found to be 1.893" and the minimum face width for the follower was
+    found to be 2.55"". Our file (tests/mechanisms/cam_mechanism_readme.toml) takes that printed base radius:
+    the profile's smallest radius of curvature must then be the 0.25 in it was sized for, and the face the
+    contact sweeps the printed 2.55 in. A peer's printed output, not a textbook's: no textbook example with
+    printed base circle, pressure angle or curvature figures was found in the searchable sources."""
+    r = run("analyze", HERE / "mechanisms" / "cam_mechanism_readme.toml", "--json")
+    assert r.returncode == 0, r.stderr
+    cam = json.loads(r.stdout)["cams"]["c1"]
+    # rho = Rb + s + s'' for a radial flat face (Rb enters one to one), and the README prints Rb to 0.001 in:
+    # half a unit of that last digit
+    assert abs(cam["rho_min"] / INCH - 0.25) <= 0.0005, cam["rho_min"] / INCH
+    # the printed 2.55 in: half a unit of its last digit (0.01 in)
+    assert abs(cam["face_width"] / INCH - 2.55) <= 0.005, cam["face_width"] / INCH
+    # a flat face square to its radial guide: the normal is always along the guide (pressure angle 0 by
+    # construction, Norton sec. 8.8); rounding only
+    assert cam["pressure_angle_max"] <= 1e-12
