@@ -86,3 +86,42 @@ def test_cam_roller_passes_compare_at_half_its_jump_speed():
     # on the law within 0.5 % of the 20 mm stroke (measured 0.018 mm: the contact is 130x stiffer relative
     # to the follower's loads than at the file's 6.3 rad/s, its penetration falling as 1 / omega^2)
     assert e["max"] <= 0.005 * 0.020, e
+
+
+def test_forces_simulate_judges_the_cams_contact_by_its_impulses_within_the_compliance_bound():
+    """``forces --simulate`` of a cam: the contact's force is a train of impulses over the profile's facets, so
+    MuJoCo's forces are compared as their means over the contact's ring period (50 steps), at the step capped
+    to 2000 a cam turn, against the bound the contact's compliance gives (sim.run.cams.Compliance.mean_force)."""
+    r = run("forces", "cam_roller", "--simulate", "--json")
+    assert r.returncode == 0, r.stdout + r.stderr
+    d = json.loads(r.stdout)
+    s = d["simulated"]
+    assert s["passed"] is True
+    assert s["timestep"] <= 1.0 / 2000 * (1 + 1e-12)      # the file's cam turns once a second: the step cap
+    a = s["agreement"]
+    assert a["window"] == 50                               # 2 pi tau, tau = 8 steps
+    # the bound by hand: the follower rings about the law by T = 50 static penetrations (1 - d) / d (d tau)^2
+    # N_max / m at the contact's rate 1 / tau, so the window's mean force is off by at most 2 m (T / tau) / W,
+    # W = 2 pi tau: 50 (1 - d) d / pi of N_max (d = 0.99), plus the chord's sagitta's share (1e-4 of that:
+    # the 1e-3 relative allowance)
+    N = np.asarray(next(j for j in d["joints"] if j["kind"] == "cam")["N"])
+    bound = 50 * 0.01 * 0.99 / np.pi * float(np.max(N))
+    assert abs(a["tol"] * a["peak"] - bound) <= 1e-3 * bound, (a["tol"] * a["peak"], bound)
+    # MuJoCo's contact force (its means) against the analytic one at the same samples, within that bound
+    N_mj = np.asarray(next(j for j in s["joints"] if j["kind"] == "cam")["N"])
+    assert len(N_mj) == len(N)
+    assert np.max(np.abs(N_mj - N)) <= bound
+    # and far inside it: the means are off by 3 % of N_max (measured 2.4 N); the raw steps by up to 99 %
+    assert np.max(np.abs(N_mj - N)) <= 0.06 * float(np.max(N))
+
+
+def test_forces_simulate_of_a_cam_fails_with_exit_1_where_the_contact_is_too_soft():
+    """At 1081 steps a turn instead of 2000 the rocker's contact (its penetration growing as the step squared)
+    rings past the bound: measured 20 % of the peak against 16 %; the verdict FAILED exits 1, as for any
+    mechanism."""
+    r = run("forces", "cam_rocker", "--simulate", "--timestep", "0.001")
+    assert r.returncode == 1, r.stdout + r.stderr
+    assert "FAILED" in r.stdout.splitlines()[-1]
+    r = run("forces", "cam_rocker", "--simulate", "--timestep", "0.001", "--json")
+    assert r.returncode == 1
+    assert json.loads(r.stdout)["simulated"]["passed"] is False

@@ -86,9 +86,10 @@ def cmd_forces(args) -> int:
         if simulated is not None:
             a = simulated["agreement"]
             plain = ", the file's masses without the counterweights" if run.balance is not None else ""
+            means = f" (means over {a['window']} steps: a cam's contact is a train of impulses)" if a.get("window") else ""
             print(f"  MuJoCo ({simulated['steps']} steps of {simulated['timestep']:.3g} s{plain}): joint forces within "
                   f"{a['worst']:.2e} of the peak {a['peak']:.4g} N ({a['worst_of']}; median {a['median']:.2e}), "
-                  f"tolerance {a['tol']:.0e}: {'PASSED' if simulated.get('passed') else 'FAILED'}")
+                  f"tolerance {a['tol']:{'.2g' if means else '.0e'}}{means}: {'PASSED' if simulated.get('passed') else 'FAILED'}")
         if written:
             print(f"wrote {args.csv} ({len(run.t)} rows)")
     return 0 if f.passed else 1
