@@ -59,7 +59,9 @@ class Scene:
 class Plate:
     """A cam plate as drawn: its ``outline`` (k, 2) [m] in the cam's frame (origin at ``pivot``, x-axis along the
     link ``link`` from its first point ``ref[0]`` to its second ``ref[1]``: the cam angle is that link's angle)
-    and the follower's roller, radius ``roller`` [m] (0: a knife or a face) about the trace point ``point``."""
+    and the follower's roller, radius ``roller`` [m] (0: a knife or a face) about the trace point ``point``;
+    a flat face: ``face`` = (ux, uy, lo, hi), the guide's direction u (world) and the face's ends [m] along
+    n = J u from its foot ``point`` (the face through the foot, square to the guide), else None."""
 
     link: str
     pivot: str
@@ -67,7 +69,11 @@ class Plate:
     outline: np.ndarray
     roller: float
     point: str
+    face: tuple | None = None
 
+
+FACE_DEPTH = 0.03
+"""A flat face's drawn thickness up its guide, as a fraction of the mechanism's size (only drawn)."""
 
 PLATE_CORNERS = 360
 """The drawn plate's corners (one a degree: a chord of ~1e-4 of a 30 mm cam, under a pixel)."""
@@ -81,8 +87,35 @@ def plates_of(mech) -> tuple:
         g = cams.geometry(mech, e, n=PLATE_CORNERS)
         pts = mech.topology.links[e["cam"]].points
         out.append(Plate(e["cam"], e["pivot"], (pts[0], pts[1]), np.asarray(g.profile, dtype=float),
-                         float(e["roller"]) if e["contact"] == "roller" else 0.0, e["point"]))
+                         float(e["roller"]) if e["contact"] == "roller" else 0.0, e["point"], face_of(e, g)))
     return tuple(out)
+
+
+def face_of(e: dict, g) -> tuple | None:
+    """A flat-faced follower's face as :class:`Plate` draws it, (ux, uy, lo, hi): a given ``face_width``
+    centred on the foot (as the MuJoCo model builds it, sim.model.cam_contact.add), else the analytic face
+    width (the contact's travel, :attr:`analytic.cams.CamGeometry.face_travel`) where the contact sweeps it;
+    None for a roller or a knife."""
+    if e["contact"] != "flat":
+        return None
+    ux, uy = g.setup.u
+    if e.get("face_width"):
+        w = float(e["face_width"])
+        return (ux, uy, -0.5 * w, 0.5 * w)
+    return (ux, uy, float(np.min(g.face_offset)), float(np.max(g.face_offset)))
+
+
+def face_world(pl: Plate, at: dict):
+    """The drawn face's contact edge (2, 2) [m] in the world, its ends at ``lo`` and ``hi`` along n from the
+    foot at ``at[pl.point]``; None without a face or where the foot is not placed."""
+    if pl.face is None:
+        return None
+    f = np.asarray(at[pl.point], dtype=float)
+    if not np.all(np.isfinite(f)):
+        return None
+    ux, uy, lo, hi = pl.face
+    n = np.array([-uy, ux])
+    return np.array([f + lo * n, f + hi * n])
 
 
 def plate_world(pl: Plate, at: dict):
@@ -366,6 +399,11 @@ class Painter:
             cx, cy = self.px(np.array([f]))[0]
             r = pl.roller * self.s
             d.ellipse([cx - r, cy - r, cx + r, cy + r], fill=(255, 255, 255, 0xd0), outline="#1a1a1a", width=width)
+        edge = face_world(pl, {pl.point: f})
+        if edge is not None:                  # the face: its contact edge on the plate, its back FACE_DEPTH up the guide
+            back = edge + FACE_DEPTH * self.sc.size * np.array(pl.face[:2])
+            d.polygon([tuple(p) for p in self.px(np.vstack([edge, back[::-1]]))], fill=(255, 255, 255, 0xd0),
+                      outline="#1a1a1a", width=width)
 
     def _wheel(self, d, w, xy, color) -> None:
         """A gear: its toothed outline about its centre, turned with its link (the direction centre -> ref);
