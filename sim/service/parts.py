@@ -62,8 +62,15 @@ def layer_lines(pm: PartsModel) -> list[str]:
     u = pm.mech.units
     lines = [f"  parts layers: {L.count} (z index, 0 = against the frame)"]
     for ln, p in pm.parts.items():
-        z0, z1 = L.z[ln]
-        lines.append(f"    {ln}: layer {L.layers[ln]} (z {z0:.4g}..{z1:.4g} {u}; {p.kind}, {p.thickness:g} {u} thick)")
+        plates = L.plates(ln)
+        if len(plates) == 1:
+            z0, z1 = L.z[ln]
+            lines.append(f"    {ln}: layer {L.layers[ln]} (z {z0:.4g}..{z1:.4g} {u}; {p.kind}, {p.thickness:g} {u} thick)")
+        else:
+            (a, (a0, a1)), (b, (b0, b1)) = plates
+            lines.append(f"    {ln}: layers {a} and {b} (z {a0:.4g}..{a1:.4g} and {b0:.4g}..{b1:.4g} {u}; {p.kind}, two "
+                         f"plates {p.thickness:g} {u} thick)")
+    lines += construction_lines(pm)
     if L.meshing:
         lines.append("    meshing gears share a layer: " + ", ".join(f"{a}-{b}" for a, b in L.meshing))
     pins = []
@@ -77,6 +84,38 @@ def layer_lines(pm: PartsModel) -> list[str]:
     for p in pm.parts.values():
         for block, point in p.crossings:
             lines.append(f"    note: link {p.link}'s slot for {block} runs into its joint {point} (the pins meet)")
+    return lines
+
+
+def construction_lines(pm: PartsModel) -> list[str]:
+    """How the layering gets the links past the pins it could not keep them off by layers alone: each
+    two-plate link (a clevis at the pin that joins its plates; which plate each of its other pins takes) and
+    each ground pin held from a top plate with links passing under it. Empty for a plain layering."""
+    L = pm.layout
+    if not L.second:
+        return []
+    lines = []
+    spans = L.pins
+    for ln, point in L.joined.items():
+        (a, za), (b, zb) = L.plates(ln)
+        between = [m for m in pm.parts if m != ln and any(a < k < b for k, _ in L.plates(m))]
+        lines.append(f"    link {ln}: two plates (layers {a} and {b}), a clevis at {point}: its pin fixed in both plates, "
+                     f"{', '.join(between) or 'nothing'} between them")
+        for h in pm.parts[ln].holes:
+            if h.point == point:
+                continue
+            lo, hi = spans[h.point]
+            held = [k for k, (z0, z1) in L.plates(ln) if z0 < hi and z1 > lo]
+            which = "both plates" if len(held) == 2 else f"the layer-{held[0]} plate only" if held else "no plate"
+            lines.append(f"    link {ln}: pin {h.point} through {which}")
+    for point in pm.mech.ground_points:
+        if point not in spans:
+            continue
+        lo, hi = spans[point]
+        under = [m for m in (L.crossing or {}).get(point, ()) if all(z1 <= lo for _, (z0, z1) in L.plates(m))]
+        if lo > 0 and under:
+            lines.append(f"    pin {point}: stub from the top plate, link{'s' if len(under) > 1 else ''} "
+                         f"{', '.join(under)} pass{'es' if len(under) == 1 else ''} under")
     return lines
 
 
