@@ -150,7 +150,8 @@ def interference(pm: PartsModel) -> dict:
 
     from sim.model import parts_scene
     mech = pm.mech
-    clash_pins = tuple(dict.fromkeys(p for p, _ in pm.layout.clashes))
+    passing = pin_passes(pm)
+    clash_pins = tuple(dict.fromkeys([p for p, _ in pm.layout.clashes] + [p for p, _ in passing]))
     scene = parts_scene.build(mech, pm.parts, pm.layout, pm.chord, clash_pins)
     out = lay.outlines(mech, pm.parts)
     size = mech.size / mech.scale
@@ -200,18 +201,38 @@ def interference(pm: PartsModel) -> dict:
                       "geometric": {"first_at": None if t_2d is None else _input_value(mech, t_2d),
                                     "depth": float(max(0.0, -np.min(d2)))}})
     pin_items = [pin_clash(pm, scene, data, out, p, ln, distmax, tol) for p, ln in pm.layout.clashes]
+    passed = []
+    for p, ln in passing:                             # two-plate layouts: every pin a link passes over, in 3-D
+        item = pin_clash(pm, scene, data, out, p, ln, distmax, tol, plane=False)
+        passed.append({"pin": p, "link": ln, "min_distance": item["min_distance"]})
+        if item["first_at"] is not None:
+            pin_items.append(pin_clash(pm, scene, data, out, p, ln, distmax, tol))
     first = mech.inputs[0]
     return {"mechanism": mech.name, "units": mech.units,
             "input": first.q, "input_unit": "deg" if first.angular else mech.units,
             "samples": len(pm.sweep.t), "layers": dict(pm.layout.layers),
             "interference": items, "min_clearance": clear, "min_clearance_geometric": clear2d,
             "pins": {p: list(span) for p, span in pm.layout.pins.items()},
-            "pin_clashes": pin_items}
+            "pin_clashes": pin_items, **({"pins_passed": passed} if pm.layout.second else {})}
 
 
-def pin_clash(pm: PartsModel, scene, data, out, point: str, link: str, distmax: float, tol: float) -> dict:
+def pin_passes(pm: PartsModel) -> list[tuple[str, str]]:
+    """(point, link) of every link passing over a pin's place, where the layout has two-plate links (their
+    pins' spans are the layering's own, checked again in MuJoCo over the cycle); none for a plain layering
+    (its spans hold by the pin rules, and its clashes are checked as such)."""
+    L = pm.layout
+    if not L.second:
+        return []
+    return [(p, ln) for p, links in (L.crossing or {}).items() for ln in links]
+
+
+def pin_clash(pm: PartsModel, scene, data, out, point: str, link: str, distmax: float, tol: float,
+              plane: bool = True) -> dict:
     """A link passing over a pin within its span: where MuJoCo's pin cylinder first touches the link's solid
-    (bisected) and where the plane test's circle first comes within the pin's radius of the outline."""
+    (bisected) and where the plane test's circle first comes within the pin's radius of the outline; and
+    MuJoCo's least distance of the two over the sweep (``min_distance``, negative: penetration). ``plane``
+    False: the plane test left out (a link passing over a pin's place above or below it: the plane test finds
+    the overlap in plan that the layers keep apart)."""
     import shapely
 
     from sim.model import parts_scene
@@ -234,7 +255,7 @@ def pin_clash(pm: PartsModel, scene, data, out, point: str, link: str, distmax: 
 
     ts = pm.sweep.t
     d2 = np.asarray(shapely.distance(shapely.polygons(lay.world(out, pm.sweep, link)),
-                                     shapely.points(pm.sweep.points[point]))) - r
+                                     shapely.points(pm.sweep.points[point]))) - r if plane else None
     dm = np.empty(len(ts))
     for k in range(len(ts)):                          # the sweep's poses, as solved (no re-solve per instant)
         parts_scene.pose(single, data, pm.sweep, k)
@@ -247,7 +268,10 @@ def pin_clash(pm: PartsModel, scene, data, out, point: str, link: str, distmax: 
             return None
         k = int(hit[0])
         return _input_value(mech, ts[0] if k == 0 else _bisect(f, ts[k - 1], ts[k], tol))
-    return {"pin": point, "link": link, "first_at": first(dm, f_mj), "geometric": {"first_at": first(d2, f_2d)}}
+    item = {"pin": point, "link": link, "first_at": first(dm, f_mj), "min_distance": float(np.min(dm))}
+    if plane:
+        item["geometric"] = {"first_at": first(d2, f_2d)}
+    return item
 
 
 # ------------------------------------------------------------------------------------------ exports
