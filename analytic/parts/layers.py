@@ -470,9 +470,10 @@ def layout(mech, parts: dict, sweep: model.Sweep | None = None) -> Layout:
 
 
 # ------------------------------------------------------------------------------------------ two-plate links
-TWO_PLATE_SEARCH = 400_000
+TWO_PLATE_SEARCH = 50_000
 """Assignments tried in search of a layering with two-plate links (:func:`two_plates`) before the plain
-layering and its pin clashes are kept."""
+layering and its pin clashes are kept (the library's Whitworth, Stephenson II and double butterfly need up to
+10,000; the elliptic trammel, which has none, spends the budget in about a second)."""
 MAX_TWO_PLATE = 2
 """The most two-plate links a layering takes (one, then two, each with the fewest layers first)."""
 

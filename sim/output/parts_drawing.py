@@ -179,7 +179,6 @@ def exploded(ax, pm, fs: float = 7.0) -> None:
     flat = np.vstack([_world_poly(pm, ln, p.outline, chord) for ln, p in pm.parts.items()])
     iso = _iso(flat, 0.0)
     gap = 0.9 * float(iso[:, 1].max() - iso[:, 1].min())
-    layers = pm.layout.layers
     count = pm.layout.count
     pts = {p: pm.sweep.points[p][0] for p in mech.points}
     for k in range(count):

@@ -80,7 +80,8 @@ def layer_lines(pm: PartsModel) -> list[str]:
         lines.append(f"    pins (z from..to, {u}; ground pivots from the frame at 0, or from a top plate): " + ", ".join(pins))
     for point, ln in L.clashes:
         lines.append(f"    pin clash: link {ln} passes over the pin at {point} within its layers (no layering of up to "
-                     f"{L.count + 2} layers avoids it: offset the joint or shorten the link)")
+                     f"{L.count + 2} layers avoids it, nor one with up to {lay.MAX_TWO_PLATE} two-plate links: offset the joint "
+                     f"or shorten the link)")
     for p in pm.parts.values():
         for block, point in p.crossings:
             lines.append(f"    note: link {p.link}'s slot for {block} runs into its joint {point} (the pins meet)")
