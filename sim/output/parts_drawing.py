@@ -199,7 +199,7 @@ def exploded(ax, pm, fs: float = 7.0) -> None:
                 ax.fill(sp[:, 0], sp[:, 1], fc="white", ec=EDGE, lw=0.5, zorder=10 * k + 3)
             c = _iso(np.asarray([np.mean([pts[p] for p in part.points], axis=0)]), z + t)[0]
             plates = pm.layout.plates(ln)
-            label = ln if len(plates) == 1 else f"{ln} ({'lower' if plates[0][0] == k else 'upper'} plate)"
+            label = ln if len(plates) == 1 else f"{ln} ({'lower' if plates[0][0] == k else 'upper'})"
             ax.text(c[0], c[1], label, fontsize=fs, ha="center", va="center", zorder=10 * k + 4, weight="bold")
         ax.text(float(iso[:, 0].min()) - 0.05 * size, float(iso[:, 1].mean()) + k * gap, f"layer {k}",
                 fontsize=fs + 1, color=DIM, ha="right", va="center")
@@ -276,11 +276,11 @@ def mass_note(pm) -> str:
 
 
 def two_plate_note(pm) -> str:
-    """Note 1's words on the two-plate links: each drawn (and listed) as two plates, and the pin joining them."""
+    """Note 5: the two-plate links, each drawn (and listed) as two plates, and the pin joining them."""
     L = pm.layout
     if not L.second:
         return ""
-    return " Two plates, joined by a pin fixed in both (a clevis): " + ", ".join(
+    return "5. Two plates of one outline, joined by a pin fixed in both (a clevis): " + ", ".join(
         f"{ln} (layers {L.layers[ln]} and {L.second[ln][0]}, pin {L.joined[ln]})" for ln in L.second) + "."
 
 
@@ -315,13 +315,13 @@ def figure(pm):
     title_block(fig.add_subplot(gs[2, 1]), pm)
     ax = fig.add_subplot(gs[2, 0])
     ax.axis("off")
-    notes = ["NOTES", "1. Outlines: rounded plates over each link's joints; holes = pin + clearance on every joint."
-             + two_plate_note(pm),
+    notes = ["NOTES", "1. Outlines: rounded plates over each link's joints; holes = pin + clearance on every joint.",
              "2. Links on one layer never come closer than the clearance over the cycle (linkage check --interference).",
              "3. Ground pivots dimensioned from the file's origin; link dimensions are centre distances.",
-             mass_note(pm)]
+             mass_note(pm)] + ([two_plate_note(pm)] if pm.layout.second else [])
+    step = min(0.22, 0.9 / (len(notes) - 1))
     for k, t in enumerate(notes):
-        ax.text(0.0, 0.9 - 0.22 * k, t, fontsize=8 if k else 9, weight="bold" if k == 0 else "normal",
+        ax.text(0.0, 0.9 - step * k, t, fontsize=8 if k else 9, weight="bold" if k == 0 else "normal",
                 transform=ax.transAxes)
     fig.patch.set_facecolor("white")
     border = fig.add_axes([0.005, 0.005, 0.99, 0.99])
