@@ -204,6 +204,7 @@ def test_interference_checks_every_passed_pin_in_mujoco():
     pm = prepared("whitworth")
     report = parts_service.interference(pm)
     assert report["interference"] == [] and report["pin_clashes"] == []
+    assert report["two_plates"] == {"3": {"layers": [1, 4], "joined_by": "D"}}
     passed = {(i["pin"], i["link"]): i["min_distance"] for i in report["pins_passed"]}
     assert set(passed) == {("O", "3"), ("O", "4"), ("C", "2"), ("C", "4"), ("A", "4"), ("D", "2")}
     gap = 2.0                                              # the Whitworth's layer gap [mm]: width 40, 10 thick, /5

@@ -64,7 +64,7 @@ def build(mech, parts: dict, layout: lay.Layout, chord: float, pins=()) -> Scene
     spec.option.disableflags = NATIVE_OFF
     spec.option.gravity = [0.0, 0.0, 0.0]
     links = tuple(parts)
-    if max(layout.layers.values(), default=0) >= MAX_LAYERS_BITS:
+    if layout.count > MAX_LAYERS_BITS:
         raise ValueError(f"{layout.count} layers: the contact bits hold {MAX_LAYERS_BITS}")
     rank: dict[int, int] = {}
     names: dict = {}

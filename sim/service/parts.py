@@ -214,7 +214,11 @@ def interference(pm: PartsModel) -> dict:
             "samples": len(pm.sweep.t), "layers": dict(pm.layout.layers),
             "interference": items, "min_clearance": clear, "min_clearance_geometric": clear2d,
             "pins": {p: list(span) for p, span in pm.layout.pins.items()},
-            "pin_clashes": pin_items, **({"pins_passed": passed} if pm.layout.second else {})}
+            "pin_clashes": pin_items,
+            **({"pins_passed": passed,
+                "two_plates": {ln: {"layers": [pm.layout.layers[ln], pm.layout.second[ln][0]],
+                                    "joined_by": pm.layout.joined[ln]} for ln in pm.layout.second}}
+               if pm.layout.second else {})}
 
 
 def pin_passes(pm: PartsModel) -> list[tuple[str, str]]:
