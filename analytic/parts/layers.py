@@ -380,10 +380,23 @@ class Layout:
     clashes: tuple = ()
     """(point, link): a link that passes over a pin within the pin's span of layers, where no layering of as
     many layers plus two avoids it (the interference check then reports it)."""
+    second: dict = None
+    """{link: (layer, (z bottom, z top))}: the upper plate of a two-plate link (:func:`two_plates`); ``layers``
+    and ``z`` hold its lower plate."""
+    joined: dict = None
+    """{link: point}: a two-plate link's plates are joined by the pin at that joint, fixed in both plates (the
+    links between them turn on it: a clevis)."""
+    crossing: dict = None
+    """{point: links that pass over the pin's place at some instant (the pin's span keeps clear of them)}."""
 
     @property
     def count(self) -> int:
-        return max(self.layers.values(), default=-1) + 1
+        return max([*self.layers.values()] + [lz[0] for lz in (self.second or {}).values()], default=-1) + 1
+
+    def plates(self, link: str) -> tuple:
+        """((layer, (z bottom, z top)), ...) of the link's plates: one, or two for a two-plate link."""
+        first = (self.layers[link], self.z[link])
+        return (first, self.second[link]) if self.second and link in self.second else (first,)
 
 
 def layout(mech, parts: dict, sweep: model.Sweep | None = None) -> Layout:
@@ -437,6 +450,7 @@ def layout(mech, parts: dict, sweep: model.Sweep | None = None) -> Layout:
         level += thick + cfg.layer_gap
     top = level - cfg.layer_gap
     pins, clashes = {}, []
+    passing = {r.point: tuple(ln for ln in links if group[ln] in r.crossing) for r in rules}
     for rule in rules:
         zs = [z[ln] for ln in links if group[ln] in rule.members]
         lo, hi = min(v[0] for v in zs), max(v[1] for v in zs)
@@ -448,7 +462,207 @@ def layout(mech, parts: dict, sweep: model.Sweep | None = None) -> Layout:
         span = min(spans, key=lambda sp: len(hits(sp)))  # a ground pin from below unless above clashes less
         pins[rule.point] = span
         clashes += [(rule.point, ln) for ln in hits(span)]
-    return Layout(layers, z, tuple(conflicts), mesh, pins, tuple(clashes))
+    if clashes:
+        two = _two_plate_layout(mech, parts, sweep, cfg, links, group, nodes, edges, fixed, rules, layers)
+        if two is not None:
+            return Layout(two[0], two[1], tuple(conflicts), mesh, two[2], (), two[3], two[4], passing)
+    return Layout(layers, z, tuple(conflicts), mesh, pins, tuple(clashes), crossing=passing)
+
+
+# ------------------------------------------------------------------------------------------ two-plate links
+TWO_PLATE_SEARCH = 50_000
+"""Assignments tried in search of a layering with two-plate links (:func:`two_plates`) before the plain
+layering and its pin clashes are kept (the library's Whitworth, Stephenson II and double butterfly need up to
+10,000; the elliptic trammel, which has none, spends the budget in about a second)."""
+MAX_TWO_PLATE = 2
+"""The most two-plate links a layering takes (one, then two, each with the fewest layers first)."""
+
+
+@dataclass(frozen=True)
+class Span:
+    """A pin's span in layers: from layer ``lo`` to ``hi``; ``side`` "below" (a ground pin from the frame:
+    ``lo`` is -1), "above" (from a top plate: ``hi`` is None, the top) or "" (a pin between its links)."""
+
+    lo: int
+    hi: int | None
+    side: str
+
+    def covers(self, layer: int) -> bool:
+        return self.lo <= layer and (self.hi is None or layer <= self.hi)
+
+    def overlaps(self, other: Span) -> bool:
+        return (self.hi is None or other.lo <= self.hi) and (other.hi is None or self.lo <= other.hi)
+
+
+def spans(rule: PinRule, plates: dict) -> list[Span]:
+    """The spans a pin may take with the links' ``plates`` ({node: tuple of layers}): through one plate of each
+    of its links (or both plates of a two-plate link), no plate of a link that passes over it inside; a ground
+    pin from the frame (every crossing plate above) or from a top plate (every one below); shortest first."""
+    import itertools
+    options = [[(layer,) for layer in plates[m]] + ([tuple(plates[m])] if len(plates[m]) == 2 else [])
+               for m in rule.members]
+    cross = [layer for c in rule.crossing for layer in plates[c]]
+    out = set()
+    for pick in itertools.product(*options):
+        at = [layer for one in pick for layer in one]
+        lo, hi = min(at), max(at)
+        if rule.ground:
+            if all(c > hi for c in cross):
+                out.add(Span(-1, hi, "below"))
+            if all(c < lo for c in cross):
+                out.add(Span(lo, None, "above"))
+        elif all(c < lo or c > hi for c in cross):
+            out.add(Span(lo, hi, ""))
+    top = max(layer for ls in plates.values() for layer in ls)
+    return sorted(out, key=lambda sp: ((sp.hi if sp.hi is not None else top) - sp.lo, sp.side != "below", sp.lo))
+
+
+def two_plates(nodes, edges, fixed, rules, meets, joints, k0: int):
+    """A layering where some links are two plates (``k0`` the plain layering's count): each node one layer or
+    two (with at least one layer between: the links there pass between the plates), no edge sharing a layer,
+    every pin with a span (:func:`spans`), pins that meet (``meets``: pairs of points whose pins come within
+    a pin's width of each other) with disjoint spans, and each two-plate link's plates joined by the pin at
+    one of its ``joints`` ({node: moving points where it has a hole}) running through both, fixed in them (a
+    clevis: no two two-plate links fixed to one pin). Fewest two-plate links first, then fewest layers;
+    ``fixed`` nodes keep their one layer. Returns ({node: layers}, {point: Span}, {node: point}) or None."""
+    nodes = list(nodes)
+    adj = {n: set() for n in nodes}
+    for a, b in edges:
+        if a in adj and b in adj and a != b:
+            adj[a].add(b)
+            adj[b].add(a)
+    order = {n: i for i, n in enumerate(nodes)}
+    due: dict = {}
+    for rule in rules:
+        involved = set(rule.members) | set(rule.crossing)
+        if rule.crossing and involved <= set(nodes):
+            due.setdefault(max(order[n] for n in involved), []).append(rule)
+    budget = [TWO_PLATE_SEARCH]
+    for most in range(1, MAX_TWO_PLATE + 1):
+        for k in range(k0, k0 + 4):
+            options = [(c,) for c in range(k)] + [(a, b) for a in range(k) for b in range(a + 2, k)]
+            found = _fill_plates(nodes, 0, adj, fixed, {}, options, due, rules, meets, joints, most, budget)
+            if found is not None:
+                return found
+            if budget[0] < 0:
+                return None
+    return None
+
+
+def _fill_plates(nodes, i, adj, fixed, out, options, due, rules, meets, joints, most, budget):
+    if i == len(nodes):
+        if sum(len(v) == 2 for v in out.values()) == 0:
+            return None                                  # the plain layering's question: answered already
+        return _choose_spans(rules, out, meets, joints)
+    n = nodes[i]
+    doubled = sum(len(v) == 2 for v in out.values())
+    for opt in ([(fixed[n],)] if n in fixed else options):
+        if len(opt) == 2 and (doubled >= most or not joints.get(n)):
+            continue
+        if any(set(opt) & set(out[m]) for m in adj[n] if m in out):
+            continue
+        budget[0] -= 1
+        if budget[0] < 0:
+            return None
+        out[n] = opt
+        if all(spans(r, out) for r in due.get(i, ())):
+            found = _fill_plates(nodes, i + 1, adj, fixed, out, options, due, rules, meets, joints, most, budget)
+            if found is not None:
+                return found
+        del out[n]
+    return None
+
+
+def _choose_spans(rules, plates, meets, joints):
+    """Each pin's span (shortest first) with the pins that meet apart and every two-plate link joined."""
+    cands = [(r.point, spans(r, plates) if r.crossing or any(len(plates[m]) == 2 for m in r.members)
+              else spans(r, plates)[:1]) for r in rules]
+    if any(not c for _, c in cands):
+        return None
+    two = [n for n, v in plates.items() if len(v) == 2]
+    meet = {p: {q for a, b in meets for p_, q in ((a, b), (b, a)) if p_ == p} for p, _ in cands}
+    chosen: dict = {}
+    steps = [20_000]
+
+    def joined():
+        out, used = {}, set()
+        for n in two:
+            p = next((p for p in joints[n] if p not in used and p in chosen
+                      and all(chosen[p].covers(layer) for layer in plates[n])), None)
+            if p is None:
+                return None
+            out[n] = p
+            used.add(p)
+        return out
+
+    def go(i):
+        if i == len(cands):
+            return joined()
+        steps[0] -= 1
+        if steps[0] < 0:
+            return None
+        p, options = cands[i]
+        for sp in options:
+            if any(q in chosen and sp.overlaps(chosen[q]) for q in meet[p]):
+                continue
+            chosen[p] = sp
+            j = go(i + 1)
+            if j is not None:
+                return j
+            del chosen[p]
+        return None
+    j = go(0)
+    return None if j is None else (dict(plates), dict(chosen), j)
+
+
+def _two_plate_layout(mech, parts, sweep, cfg, links, group, nodes, edges, fixed, rules, plain):
+    """The layout with two-plate links where the plain layering leaves pins clashing (:func:`two_plates`), in
+    :func:`layout`'s terms: (layers, z, pins, second, joined), or None where none is found."""
+    multi = {g for g in group.values() if sum(1 for v in group.values() if v == g) > 1}
+    joints = {}
+    for ln in links:
+        g = group[ln]
+        if g in multi or g in fixed:
+            continue
+        joints[g] = [h.point for h in parts[ln].holes if h.point not in mech.ground_points]
+    meets = []
+    pts = [r.point for r in rules]
+    reach = cfg.pin_diameter + cfg.clearance
+    for i, a in enumerate(pts):
+        for b in pts[i + 1:]:
+            if float(np.min(np.hypot(*(sweep.points[a] - sweep.points[b]).T))) < reach:
+                meets.append((a, b))
+    k0 = max([*plain.values()] + [v for v in fixed.values()], default=-1) + 1
+    found = two_plates(nodes, edges, fixed, rules, meets, joints, k0)
+    if found is None:
+        return None
+    plates, chosen, joins = found
+    per_layer: dict = {}
+    for ln in links:
+        for layer in plates[group[ln]]:
+            per_layer.setdefault(layer, []).append(ln)
+    zs, level = {}, 0.0
+    for k in range(max(per_layer, default=-1) + 1):
+        thick = max((parts[ln].thickness for ln in per_layer.get(k, ())), default=0.0)
+        zs[k] = level
+        level += thick + cfg.layer_gap
+    top = level - cfg.layer_gap
+
+    def zspan(ln, layer):
+        return (zs[layer], zs[layer] + parts[ln].thickness)
+    layers = {ln: plates[group[ln]][0] for ln in links}
+    z = {ln: zspan(ln, layers[ln]) for ln in links}
+    second = {ln: (plates[group[ln]][1], zspan(ln, plates[group[ln]][1])) for ln in links if len(plates[group[ln]]) == 2}
+    pins = {}
+    for rule in rules:
+        sp = chosen[rule.point]
+        members = [ln for ln in links if group[ln] in rule.members]
+        ends = [zspan(ln, layer) for ln in members for layer in plates[group[ln]] if sp.covers(layer)]
+        lo = 0.0 if sp.side == "below" else min(e[0] for e in ends)
+        hi = top if sp.side == "above" else max(e[1] for e in ends)
+        pins[rule.point] = (lo, hi)
+    joined = {ln: joins[group[ln]] for ln in second}
+    return layers, z, pins, second, joined
 
 
 def pin_rules(mech, parts, out: Outlines, sweep, cfg, group, swept: Swept | None = None) -> list[PinRule]:

@@ -40,9 +40,10 @@ class Scene:
     model: mujoco.MjModel
     links: tuple[str, ...]
     pairs: tuple[tuple[str, str], ...]
-    """The pairs in contact range: same layer (and FRAME with each layer-0 link), meshing gears left out."""
+    """The pairs in contact range: a layer in common (and FRAME with each layer-0 link), meshing gears left out."""
     geoms: dict
-    """{link: geom id}; FRAME: the frame triangles' geom ids (a tuple); ``pin_P``: the pin at P."""
+    """{link: geom id, or a tuple of one per plate for a two-plate link}; FRAME: the frame triangles' geom ids
+    (a tuple); ``pin_P``: the pin at P (:func:`ids` reads either)."""
     pins: tuple = ()
     """The points whose pins are solids here (cylinders of ``pin_diameter`` over the pin's span, posed at the
     point, touching only the links of the layers they pass, not those pinned on them)."""
@@ -63,31 +64,34 @@ def build(mech, parts: dict, layout: lay.Layout, chord: float, pins=()) -> Scene
     spec.option.disableflags = NATIVE_OFF
     spec.option.gravity = [0.0, 0.0, 0.0]
     links = tuple(parts)
-    if max(layout.layers.values(), default=0) >= MAX_LAYERS_BITS:
+    if layout.count > MAX_LAYERS_BITS:
         raise ValueError(f"{layout.count} layers: the contact bits hold {MAX_LAYERS_BITS}")
     rank: dict[int, int] = {}
+    names: dict = {}
     for ln in links:
-        z0, z1 = layout.z[ln]
-        k = rank[layout.layers[ln]] = rank.get(layout.layers[ln], -1) + 1
-        inset = INSET * k * (z1 - z0)                # no two solids of a layer share a face plane
-        z0, z1 = z0 + inset, z1 - inset
-        mesh = spec.add_mesh(name=f"solid_{ln}")
-        mesh.uservert = _prism(parts[ln].polygon(chord), z0, z1).ravel().tolist()
         body = spec.worldbody.add_body(name=ln)
         body.add_freejoint(name=ln)
         body.explicitinertial = True                 # posed, never simulated: any regular inertia will do
         body.mass = 1.0
         body.inertia = [1.0, 1.0, 1.0]
-        bit = 1 << layout.layers[ln]
-        body.add_geom(name=ln, type=mujoco.mjtGeom.mjGEOM_MESH, meshname=f"solid_{ln}", contype=bit,
-                      conaffinity=bit, density=0.0, margin=0.0)
+        for n, (layer, (z0, z1)) in enumerate(layout.plates(ln)):   # a two-plate link: a solid per plate
+            name = ln if n == 0 else f"{ln}#{n + 1}"
+            k = rank[layer] = rank.get(layer, -1) + 1
+            inset = INSET * k * (z1 - z0)            # no two solids of a layer share a face plane
+            z0, z1 = z0 + inset, z1 - inset
+            mesh = spec.add_mesh(name=f"solid_{name}")
+            mesh.uservert = _prism(parts[ln].polygon(chord), z0, z1).ravel().tolist()
+            bit = 1 << layer
+            body.add_geom(name=name, type=mujoco.mjtGeom.mjGEOM_MESH, meshname=f"solid_{name}", contype=bit,
+                          conaffinity=bit, density=0.0, margin=0.0)
+            names.setdefault(ln, []).append(name)
     for a, b in layout.meshing:
         spec.add_exclude(bodyname1=a, bodyname2=b)
     cfg = model.settings(mech)
     frame_geoms = []
     if cfg.frame:
         out = lay.Outlines({}, np.asarray(cfg.frame, dtype=float), chord)
-        zs = [layout.z[ln] for ln in links if layout.layers[ln] == 0]
+        zs = [zz for ln in links for k, zz in layout.plates(ln) if k == 0]
         z0, z1 = (min(z[0] for z in zs), max(z[1] for z in zs)) if zs else (0.0, 1.0)
         for k, tri in enumerate(lay.frame_parts(out)):
             mesh = spec.add_mesh(name=f"frame_{k}")
@@ -104,9 +108,9 @@ def build(mech, parts: dict, layout: lay.Layout, chord: float, pins=()) -> Scene
         body.inertia = [1.0, 1.0, 1.0]
         bits = 0
         for ln in links:
-            z0, z1 = layout.z[ln]
-            if z0 < hi and z1 > lo:
-                bits |= 1 << layout.layers[ln]
+            for layer, (z0, z1) in layout.plates(ln):
+                if z0 < hi and z1 > lo:
+                    bits |= 1 << layer
         body.add_geom(name=f"pin_{p}", type=mujoco.mjtGeom.mjGEOM_CYLINDER, size=[cfg.pin_diameter / 2, (hi - lo) / 2, 0],
                       pos=[0, 0, (lo + hi) / 2], contype=PIN_BIT, conaffinity=bits, density=0.0, margin=0.0)
         spec.add_exclude(bodyname1="world", bodyname2=f"pin_{p}")
@@ -115,14 +119,15 @@ def build(mech, parts: dict, layout: lay.Layout, chord: float, pins=()) -> Scene
             if ln in held:
                 spec.add_exclude(bodyname1=ln, bodyname2=f"pin_{p}")
     m = spec.compile()
-    geoms = {ln: m.geom(ln).id for ln in links}
+    geoms = {ln: m.geom(ln).id if len(names[ln]) == 1 else tuple(m.geom(g).id for g in names[ln]) for ln in links}
     geoms[lay.FRAME] = tuple(m.geom(g).id for g in frame_geoms)
     geoms.update({f"pin_{p}": m.geom(f"pin_{p}").id for p in pins})
     mesh_pairs = {frozenset(p) for p in layout.meshing}
+    on = {ln: {k for k, _ in layout.plates(ln)} for ln in links}
     pairs = [(a, b) for i, a in enumerate(links) for b in links[i + 1:]
-             if layout.layers[a] == layout.layers[b] and frozenset((a, b)) not in mesh_pairs]
+             if on[a] & on[b] and frozenset((a, b)) not in mesh_pairs]
     if frame_geoms:
-        pairs += [(ln, lay.FRAME) for ln in links if layout.layers[ln] == 0]
+        pairs += [(ln, lay.FRAME) for ln in links if 0 in on[ln]]
     return Scene(m, links, tuple(pairs), geoms, tuple(pins))
 
 
@@ -154,10 +159,16 @@ def pose(scene: Scene, data: mujoco.MjData, sweep: model.Sweep, k: int) -> None:
     mujoco.mj_collision(scene.model, data)
 
 
+def ids(scene: Scene, name: str) -> tuple:
+    """The geom ids of a link (one per plate), the frame's triangles or a pin."""
+    g = scene.geoms[name]
+    return tuple(g) if isinstance(g, tuple) else (g,)
+
+
 def in_contact(scene: Scene, data: mujoco.MjData, a: str, b: str) -> bool:
     """Whether ``mj_collision`` found a penetrating contact between ``a`` and ``b`` (after :func:`pose`)."""
-    ga = {scene.geoms[a]}
-    gb = set(scene.geoms[b]) if b == lay.FRAME else {scene.geoms[b]}
+    ga = set(ids(scene, a))
+    gb = set(ids(scene, b))
     for c in data.contact[:data.ncon]:
         g = {int(c.geom[0]), int(c.geom[1])}
         if c.dist < 0 and g & ga and g & gb:
@@ -166,12 +177,11 @@ def in_contact(scene: Scene, data: mujoco.MjData, a: str, b: str) -> bool:
 
 
 def distance(scene: Scene, data: mujoco.MjData, a: str, b: str, distmax: float) -> float:
-    ga = scene.geoms[a]
-    gbs = scene.geoms[b] if b == lay.FRAME else (scene.geoms[b],)
     opt = scene.model.opt
     opt.disableflags = opt.disableflags & ~NATIVE_OFF
     try:
-        return min(mujoco.mj_geomDistance(scene.model, data, ga, gb, distmax, None) for gb in gbs)
+        return min(mujoco.mj_geomDistance(scene.model, data, ga, gb, distmax, None)
+                   for ga in ids(scene, a) for gb in ids(scene, b))
     finally:
         opt.disableflags = opt.disableflags | NATIVE_OFF
 
@@ -182,9 +192,7 @@ def sweep(scene: Scene, sw: model.Sweep, distmax: float) -> Swept:
     n = len(sw.t)
     dist = np.full((len(scene.pairs), n), np.nan)
     contact = np.zeros((len(scene.pairs), n), dtype=bool)
-    body_of = {g: ln for ln, g in scene.geoms.items() if ln != lay.FRAME}
-    for g in scene.geoms[lay.FRAME]:
-        body_of[g] = lay.FRAME
+    body_of = {g: name for name in scene.geoms for g in ids(scene, name)}
     index = {frozenset(p): i for i, p in enumerate(scene.pairs)}
     for k in range(n):
         pose(scene, data, sw, k)

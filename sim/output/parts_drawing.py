@@ -179,11 +179,10 @@ def exploded(ax, pm, fs: float = 7.0) -> None:
     flat = np.vstack([_world_poly(pm, ln, p.outline, chord) for ln, p in pm.parts.items()])
     iso = _iso(flat, 0.0)
     gap = 0.9 * float(iso[:, 1].max() - iso[:, 1].min())
-    layers = pm.layout.layers
     count = pm.layout.count
     pts = {p: pm.sweep.points[p][0] for p in mech.points}
     for k in range(count):
-        members = [ln for ln in pm.parts if layers[ln] == k]
+        members = [ln for ln in pm.parts if any(j == k for j, _ in pm.layout.plates(ln))]   # two-plate links twice
         z = k * gap
         for ln in members:
             part = pm.parts[ln]
@@ -199,19 +198,22 @@ def exploded(ax, pm, fs: float = 7.0) -> None:
                 sp = _iso(_world_poly(pm, ln, sl.outline, chord), z + t)
                 ax.fill(sp[:, 0], sp[:, 1], fc="white", ec=EDGE, lw=0.5, zorder=10 * k + 3)
             c = _iso(np.asarray([np.mean([pts[p] for p in part.points], axis=0)]), z + t)[0]
-            ax.text(c[0], c[1], ln, fontsize=fs, ha="center", va="center", zorder=10 * k + 4, weight="bold")
+            plates = pm.layout.plates(ln)
+            label = ln if len(plates) == 1 else f"{ln} ({'lower' if plates[0][0] == k else 'upper'})"
+            ax.text(c[0], c[1], label, fontsize=fs, ha="center", va="center", zorder=10 * k + 4, weight="bold")
         ax.text(float(iso[:, 0].min()) - 0.05 * size, float(iso[:, 1].mean()) + k * gap, f"layer {k}",
                 fontsize=fs + 1, color=DIM, ha="right", va="center")
     # pins: their spans (a ground pivot's from the frame below or a top plate above), as chain lines
-    zs = sorted({z for span in pm.layout.z.values() for z in span})
+    plates = [pl for ln in pm.parts for pl in pm.layout.plates(ln)]     # (layer, (z0, z1)), a two-plate link's both
+    zs = sorted({z for _, span in plates for z in span})
     zmax = zs[-1] if zs else 1.0
 
-    used = sorted({layers[ln] for ln in pm.layout.z})   # a layer may be empty (a frame over the ground
+    used = sorted({k for k, _ in plates})              # a layer may be empty (a frame over the ground
                                                         # pivots lifts every link off layer 0)
 
     def zlevel(z):                                    # a z [file units] in the exploded view's spacing
-        k = min(used, key=lambda i: abs(min(v[0] for ln, v in pm.layout.z.items() if layers[ln] == i) - z))
-        base = min(v[0] for ln, v in pm.layout.z.items() if layers[ln] == k)
+        k = min(used, key=lambda i: abs(min(v[0] for j, v in plates if j == i) - z))
+        base = min(v[0] for j, v in plates if j == k)
         return k * gap + (z - base)
 
     for p, (lo, hi) in pm.layout.pins.items():
@@ -233,7 +235,8 @@ def parts_list(ax, pm, fs: float = 7.0) -> None:
     unit = pm.mech.units
     head = ["link", "layer", "kind", f"length [{unit}]", f"width [{unit}]", f"thick. [{unit}]", "holes", "mass [g]",
             "analysis [g]"]
-    body = [[r["link"], r["layer"], r["kind"], _fmt(r["length"]), _fmt(r["width"]), _fmt(r["thickness"]), r["holes"],
+    body = [[r["link"], r["layer"] if r["plates"] == 1 else f"{r['layer']} + {r['upper_layer']}",
+             r["kind"] if r["plates"] == 1 else f"2 x {r['kind']}", _fmt(r["length"]), _fmt(r["width"]), _fmt(r["thickness"]), r["holes"],
              f"{1000 * r['mass_kg']:.3g}", _analysis_mass(r)] for r in rows]
     ax.axis("off")
     table = ax.table(cellText=body, colLabels=head, loc="upper left", cellLoc="center", colLoc="center")
@@ -252,7 +255,10 @@ def _analysis_mass(row) -> str:
     it is the part's own)."""
     m = f"{1000 * row['analysis_mass_kg']:.3g}"
     if row["analysis_mass_from"] == "parts":
-        same = abs(row["analysis_mass_kg"] - row["mass_kg"]) <= 1e-9 * max(row["mass_kg"], 1e-30)
+        one = row["mass_kg"] / row["plates"]            # the analysis builds one plate per link
+        same = abs(row["analysis_mass_kg"] - one) <= 1e-9 * max(one, 1e-30)
+        if row["plates"] > 1:
+            return f"{m} (one plate of {row['plates']})" if same else f"{m} (one plate + counterweights)"
         return "= part" if same else f"{m} (part + counterweights)"
     return f"{m} ({row['analysis_mass_from']})"
 
@@ -269,6 +275,15 @@ def mass_note(pm) -> str:
             "these parts'.")
 
 
+def two_plate_note(pm) -> str:
+    """Note 5: the two-plate links, each drawn (and listed) as two plates, and the pin joining them."""
+    L = pm.layout
+    if not L.second:
+        return ""
+    return "5. Two plates of one outline, joined by a pin fixed in both (a clevis): " + ", ".join(
+        f"{ln} (layers {L.layers[ln]} and {L.second[ln][0]}, pin {L.joined[ln]})" for ln in L.second) + "."
+
+
 def title_block(ax, pm, fs: float = 7.0) -> None:
     mech = pm.mech
     cfg = model.settings(mech)
@@ -278,7 +293,8 @@ def title_block(ax, pm, fs: float = 7.0) -> None:
     lines = [(mech.name.upper().replace("_", " "), fs + 5, "bold"),
              (f"units: {mech.units}   pins Ø{_fmt(cfg.pin_diameter)}, holes Ø{_fmt(cfg.hole)} "
               f"(clearance {_fmt(cfg.clearance)})", fs, "normal"),
-             (f"layer gap {_fmt(cfg.layer_gap)}   {pm.layout.count} layers   {len(pm.parts)} parts", fs, "normal"),
+             (f"layer gap {_fmt(cfg.layer_gap)}   {pm.layout.count} layers   {len(pm.parts)} links, "
+              f"{len(pm.parts) + len(pm.layout.second or {})} plates", fs, "normal"),
              ("linkage export --svg/--pdf: parts at the start pose", fs - 1, "normal")]
     y = 0.8
     for text, size, weight in lines:
@@ -302,9 +318,10 @@ def figure(pm):
     notes = ["NOTES", "1. Outlines: rounded plates over each link's joints; holes = pin + clearance on every joint.",
              "2. Links on one layer never come closer than the clearance over the cycle (linkage check --interference).",
              "3. Ground pivots dimensioned from the file's origin; link dimensions are centre distances.",
-             mass_note(pm)]
+             mass_note(pm)] + ([two_plate_note(pm)] if pm.layout.second else [])
+    step = min(0.22, 0.9 / (len(notes) - 1))
     for k, t in enumerate(notes):
-        ax.text(0.0, 0.9 - 0.22 * k, t, fontsize=8 if k else 9, weight="bold" if k == 0 else "normal",
+        ax.text(0.0, 0.9 - step * k, t, fontsize=8 if k else 9, weight="bold" if k == 0 else "normal",
                 transform=ax.transAxes)
     fig.patch.set_facecolor("white")
     border = fig.add_axes([0.005, 0.005, 0.99, 0.99])

@@ -66,7 +66,11 @@ def write_dxf(pm, path) -> None:
         if ln not in doc.layers:
             doc.layers.add(ln, color=1 + n % 6)
         layer = doc.layers.get(ln)
-        layer.description = f"link {ln}: layer {pm.layout.layers[ln]}, {part.thickness:g} {mech.units} thick"
+        plates = pm.layout.plates(ln)
+        layer.description = (f"link {ln}: layer {plates[0][0]}, {part.thickness:g} {mech.units} thick" if len(plates) == 1
+                             else f"link {ln}: two plates of this outline, layers {plates[0][0]} and {plates[1][0]}, "
+                                  f"{part.thickness:g} {mech.units} thick each, joined by the pin at "
+                                  f"{pm.layout.joined[ln]} fixed in both")
         frame = placed(pm, ln)
         msp.add_lwpolyline(_bulged(world_arcs(part.outline, frame)), format="xyb", close=True,
                            dxfattribs={"layer": ln})
@@ -132,10 +136,13 @@ def extrude(region, z0: float, z1: float):
 
 
 def solid_mesh(pm, link: str):
-    """The link's solid at the pose of t = 0, in its layer (file units)."""
+    """The link's solid at the pose of t = 0, in its layer (file units); a two-plate link's two plates, each in
+    its layer, as one mesh of two shells."""
+    import trimesh
     part = pm.parts[link]
-    z0, z1 = pm.layout.z[link]
-    return extrude(part_region(part, pm.chord, placed(pm, link)), z0, z1)
+    region = part_region(part, pm.chord, placed(pm, link))
+    meshes = [extrude(region, z0, z1) for _, (z0, z1) in pm.layout.plates(link)]
+    return meshes[0] if len(meshes) == 1 else trimesh.util.concatenate(meshes)
 
 
 def write_stl(pm, folder) -> list[Path]:
@@ -176,10 +183,12 @@ def step_solids(pm) -> dict:
             face = face - b3d.Pos(h.x, h.y) * b3d.Circle(h.r)
         for sl in part.slots:
             face = face - _b3d_face(sl.outline, b3d)
-        z0, z1 = pm.layout.z[ln]
-        solid = b3d.extrude(face, amount=z1 - z0)
         x, y, a = placed(pm, ln)
-        solid = b3d.Pos(x, y, z0) * b3d.Rot(0, 0, math.degrees(a)) * solid
+        plates = []
+        for _, (z0, z1) in pm.layout.plates(ln):        # a two-plate link: a compound of its two plates
+            solid = b3d.Pos(x, y, z0) * b3d.Rot(0, 0, math.degrees(a)) * b3d.extrude(face, amount=z1 - z0)
+            plates.append(solid)
+        solid = plates[0] if len(plates) == 1 else b3d.Compound(children=plates)
         solid.label = ln
         out[ln] = solid
     return out
@@ -196,10 +205,12 @@ def write_step(pm, path) -> None:
 
 # ------------------------------------------------------------------------------------------------- BOM
 BOM_COLUMNS = ("link", "layer", "mass_kg", "length", "width", "thickness", "holes", "kind", "volume", "density_kg_m3",
-               "analysis_mass_kg", "analysis_mass_from")
+               "analysis_mass_kg", "analysis_mass_from", "plates", "upper_layer")
 """``analysis_mass_kg``: the mass ``forces``, ``dynamics`` and the MuJoCo model give the link (counterweights
 included); ``analysis_mass_from``: what gave it (:func:`analytic.mass.sources`: ``parts`` where the file has a
-``[parts]`` section, else ``[inertia]``, ``[mass]`` or ``default``)."""
+``[parts]`` section, else ``[inertia]``, ``[mass]`` or ``default``); ``plates``: 2 for a two-plate link (a
+clevis: ``layer`` its lower plate, ``upper_layer`` its upper, ``mass_kg``, ``volume`` and ``holes`` both plates'),
+else 1 (``upper_layer`` empty)."""
 
 
 def bom_rows(pm) -> list[dict]:
@@ -208,10 +219,12 @@ def bom_rows(pm) -> list[dict]:
     rows = []
     for ln, part in pm.parts.items():
         mp = model.mass_properties(part, pm.mech.scale)
-        rows.append({"link": ln, "layer": pm.layout.layers[ln], "mass_kg": mp.m, "length": part.length,
-                     "width": part.width, "thickness": part.thickness, "holes": len(part.holes), "kind": part.kind,
-                     "volume": mp.volume, "density_kg_m3": part.density, "analysis_mass_kg": analysis[ln].m,
-                     "analysis_mass_from": source[ln]})
+        plates = pm.layout.plates(ln)
+        n = len(plates)
+        rows.append({"link": ln, "layer": plates[0][0], "mass_kg": n * mp.m, "length": part.length,
+                     "width": part.width, "thickness": part.thickness, "holes": n * len(part.holes), "kind": part.kind,
+                     "volume": n * mp.volume, "density_kg_m3": part.density, "analysis_mass_kg": analysis[ln].m,
+                     "analysis_mass_from": source[ln], "plates": n, "upper_layer": plates[1][0] if n == 2 else ""})
     return rows
 
 

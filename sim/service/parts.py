@@ -62,8 +62,15 @@ def layer_lines(pm: PartsModel) -> list[str]:
     u = pm.mech.units
     lines = [f"  parts layers: {L.count} (z index, 0 = against the frame)"]
     for ln, p in pm.parts.items():
-        z0, z1 = L.z[ln]
-        lines.append(f"    {ln}: layer {L.layers[ln]} (z {z0:.4g}..{z1:.4g} {u}; {p.kind}, {p.thickness:g} {u} thick)")
+        plates = L.plates(ln)
+        if len(plates) == 1:
+            z0, z1 = L.z[ln]
+            lines.append(f"    {ln}: layer {L.layers[ln]} (z {z0:.4g}..{z1:.4g} {u}; {p.kind}, {p.thickness:g} {u} thick)")
+        else:
+            (a, (a0, a1)), (b, (b0, b1)) = plates
+            lines.append(f"    {ln}: layers {a} and {b} (z {a0:.4g}..{a1:.4g} and {b0:.4g}..{b1:.4g} {u}; {p.kind}, two "
+                         f"plates {p.thickness:g} {u} thick)")
+    lines += construction_lines(pm)
     if L.meshing:
         lines.append("    meshing gears share a layer: " + ", ".join(f"{a}-{b}" for a, b in L.meshing))
     pins = []
@@ -73,10 +80,43 @@ def layer_lines(pm: PartsModel) -> list[str]:
         lines.append(f"    pins (z from..to, {u}; ground pivots from the frame at 0, or from a top plate): " + ", ".join(pins))
     for point, ln in L.clashes:
         lines.append(f"    pin clash: link {ln} passes over the pin at {point} within its layers (no layering of up to "
-                     f"{L.count + 2} layers avoids it: offset the joint or shorten the link)")
+                     f"{L.count + 2} layers avoids it, nor one with up to {lay.MAX_TWO_PLATE} two-plate links: offset the joint "
+                     f"or shorten the link)")
     for p in pm.parts.values():
         for block, point in p.crossings:
             lines.append(f"    note: link {p.link}'s slot for {block} runs into its joint {point} (the pins meet)")
+    return lines
+
+
+def construction_lines(pm: PartsModel) -> list[str]:
+    """How the layering gets the links past the pins it could not keep them off by layers alone: each
+    two-plate link (a clevis at the pin that joins its plates; which plate each of its other pins takes) and
+    each ground pin held from a top plate with links passing under it. Empty for a plain layering."""
+    L = pm.layout
+    if not L.second:
+        return []
+    lines = []
+    spans = L.pins
+    for ln, point in L.joined.items():
+        (a, za), (b, zb) = L.plates(ln)
+        between = [m for m in pm.parts if m != ln and any(a < k < b for k, _ in L.plates(m))]
+        lines.append(f"    link {ln}: two plates (layers {a} and {b}), a clevis at {point}: its pin fixed in both plates, "
+                     f"{', '.join(between) or 'nothing'} between them")
+        for h in pm.parts[ln].holes:
+            if h.point == point:
+                continue
+            lo, hi = spans[h.point]
+            held = [k for k, (z0, z1) in L.plates(ln) if z0 < hi and z1 > lo]
+            which = "both plates" if len(held) == 2 else f"the layer-{held[0]} plate only" if held else "no plate"
+            lines.append(f"    link {ln}: pin {h.point} through {which}")
+    for point in pm.mech.ground_points:
+        if point not in spans:
+            continue
+        lo, hi = spans[point]
+        under = [m for m in (L.crossing or {}).get(point, ()) if all(z1 <= lo for _, (z0, z1) in L.plates(m))]
+        if lo > 0 and under:
+            lines.append(f"    pin {point}: stub from the top plate, link{'s' if len(under) > 1 else ''} "
+                         f"{', '.join(under)} pass{'es' if len(under) == 1 else ''} under")
     return lines
 
 
@@ -111,7 +151,8 @@ def interference(pm: PartsModel) -> dict:
 
     from sim.model import parts_scene
     mech = pm.mech
-    clash_pins = tuple(dict.fromkeys(p for p, _ in pm.layout.clashes))
+    passing = pin_passes(pm)
+    clash_pins = tuple(dict.fromkeys([p for p, _ in pm.layout.clashes] + [p for p, _ in passing]))
     scene = parts_scene.build(mech, pm.parts, pm.layout, pm.chord, clash_pins)
     out = lay.outlines(mech, pm.parts)
     size = mech.size / mech.scale
@@ -161,18 +202,42 @@ def interference(pm: PartsModel) -> dict:
                       "geometric": {"first_at": None if t_2d is None else _input_value(mech, t_2d),
                                     "depth": float(max(0.0, -np.min(d2)))}})
     pin_items = [pin_clash(pm, scene, data, out, p, ln, distmax, tol) for p, ln in pm.layout.clashes]
+    passed = []
+    for p, ln in passing:                             # two-plate layouts: every pin a link passes over, in 3-D
+        item = pin_clash(pm, scene, data, out, p, ln, distmax, tol, plane=False)
+        passed.append({"pin": p, "link": ln, "min_distance": item["min_distance"]})
+        if item["first_at"] is not None:
+            pin_items.append(pin_clash(pm, scene, data, out, p, ln, distmax, tol))
     first = mech.inputs[0]
     return {"mechanism": mech.name, "units": mech.units,
             "input": first.q, "input_unit": "deg" if first.angular else mech.units,
             "samples": len(pm.sweep.t), "layers": dict(pm.layout.layers),
             "interference": items, "min_clearance": clear, "min_clearance_geometric": clear2d,
             "pins": {p: list(span) for p, span in pm.layout.pins.items()},
-            "pin_clashes": pin_items}
+            "pin_clashes": pin_items,
+            **({"pins_passed": passed,
+                "two_plates": {ln: {"layers": [pm.layout.layers[ln], pm.layout.second[ln][0]],
+                                    "joined_by": pm.layout.joined[ln]} for ln in pm.layout.second}}
+               if pm.layout.second else {})}
 
 
-def pin_clash(pm: PartsModel, scene, data, out, point: str, link: str, distmax: float, tol: float) -> dict:
+def pin_passes(pm: PartsModel) -> list[tuple[str, str]]:
+    """(point, link) of every link passing over a pin's place, where the layout has two-plate links (their
+    pins' spans are the layering's own, checked again in MuJoCo over the cycle); none for a plain layering
+    (its spans hold by the pin rules, and its clashes are checked as such)."""
+    L = pm.layout
+    if not L.second:
+        return []
+    return [(p, ln) for p, links in (L.crossing or {}).items() for ln in links]
+
+
+def pin_clash(pm: PartsModel, scene, data, out, point: str, link: str, distmax: float, tol: float,
+              plane: bool = True) -> dict:
     """A link passing over a pin within its span: where MuJoCo's pin cylinder first touches the link's solid
-    (bisected) and where the plane test's circle first comes within the pin's radius of the outline."""
+    (bisected) and where the plane test's circle first comes within the pin's radius of the outline; and
+    MuJoCo's least distance of the two over the sweep (``min_distance``, negative: penetration). ``plane``
+    False: the plane test left out (a link passing over a pin's place above or below it: the plane test finds
+    the overlap in plan that the layers keep apart)."""
     import shapely
 
     from sim.model import parts_scene
@@ -195,7 +260,7 @@ def pin_clash(pm: PartsModel, scene, data, out, point: str, link: str, distmax: 
 
     ts = pm.sweep.t
     d2 = np.asarray(shapely.distance(shapely.polygons(lay.world(out, pm.sweep, link)),
-                                     shapely.points(pm.sweep.points[point]))) - r
+                                     shapely.points(pm.sweep.points[point]))) - r if plane else None
     dm = np.empty(len(ts))
     for k in range(len(ts)):                          # the sweep's poses, as solved (no re-solve per instant)
         parts_scene.pose(single, data, pm.sweep, k)
@@ -208,7 +273,10 @@ def pin_clash(pm: PartsModel, scene, data, out, point: str, link: str, distmax: 
             return None
         k = int(hit[0])
         return _input_value(mech, ts[0] if k == 0 else _bisect(f, ts[k - 1], ts[k], tol))
-    return {"pin": point, "link": link, "first_at": first(dm, f_mj), "geometric": {"first_at": first(d2, f_2d)}}
+    item = {"pin": point, "link": link, "first_at": first(dm, f_mj), "min_distance": float(np.min(dm))}
+    if plane:
+        item["geometric"] = {"first_at": first(d2, f_2d)}
+    return item
 
 
 # ------------------------------------------------------------------------------------------ exports
