@@ -9,7 +9,9 @@ Everything is computed by the analytic side: the law is the file's own :class:`a
 
 Units: the cam angle in deg; a translating follower's lift in the file's length unit and its derivatives per
 radian of cam angle (unit/rad, unit/rad^2, unit/rad^3); an arm's in deg (deg/rad, ...); the profile [m] in
-the cam's frame (as the mechanism view's points); radii of curvature in the file's unit.
+the cam's frame (as the mechanism view's points); radii of curvature in the file's unit: ``rho_min`` is the
+analytic side's (the smallest, the most negative where the profile is concave), ``rho_convex_min`` the
+sharpest convex bend (the smallest positive radius), the one the drawing marks.
 """
 
 from __future__ import annotations
@@ -91,6 +93,8 @@ def view(setup, unit: tuple[float, str]) -> dict:
     i_pa = int(np.nanargmax(np.abs(pa)))
     rho = dense.rho
     i_rho = int(np.nanargmin(rho)) if np.isfinite(rho).any() else 0
+    convex = np.where(rho > 0, rho, np.inf)
+    i_sharp = int(np.argmin(convex)) if np.isfinite(convex).any() else None
     bad, worst = _mask_and_worst(dense)
     problem = cams.problems(dense, unit)
     kc = dense.contact_cam
@@ -112,6 +116,7 @@ def view(setup, unit: tuple[float, str]) -> dict:
         "pitch": {"x": _list(dense.pitch[pick, 0]), "y": _list(dense.pitch[pick, 1])},
         "pressure_angle_max": mark(i_pa, math.degrees(abs(float(pa[i_pa]))), "deg"),
         "rho_min": mark(i_rho, float(rho[i_rho]) / k, uname),
+        "rho_convex_min": None if i_sharp is None else mark(i_sharp, float(rho[i_sharp]) / k, uname),
         "undercut": None if worst is None else {**mark(worst, None, ""), "message": problem},
         "problem": problem,
         "length_unit": uname,
