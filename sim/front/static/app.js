@@ -221,7 +221,7 @@
       buildCharts();
       setFrame(0);
       if (state.tab === "forces") setTimeout(requestForces, 0);
-      camOpened(data.describe);
+      camOpened(data.describe, data.mechanism);
     }
     clearErrors();
     syncParameters(data.parameters);
@@ -2865,11 +2865,17 @@
 
   function camsOf(d) { return (d && d.cams) || []; }
 
-  function camOpened(d) {                           // a new mechanism: the tab and the picker follow its cams
+  function camOpened(d, mechanism) {               // a new mechanism: the tab and the picker follow its cams
     const cams = camsOf(d);
     $("#tab-cam").hidden = !cams.length;
+    const key = `${mechanism}:${cams.map((c) => c.name).join(",")}`;
+    if (key === state.cam.key && cams.length) {     // the same cams again (a library one written out by an edit)
+      if (state.tab === "cam") requestCam();
+      return;
+    }
+    state.cam.key = key;
     state.cam.data = null;
-    state.cam.shown = null;
+    state.cam.refused = false;
     window.linkageCam = null;
     const pick = $("#cam-pick");
     pick.replaceChildren(...cams.map((c) => { const o = document.createElement("option"); o.value = c.name; o.textContent = c.name; return o; }));
@@ -2895,6 +2901,8 @@
       const res = await api("/api/cam", camBody(edit ? { edit } : {}));
       const data = await res.json();
       const cam = data.cams[state.cam.name];
+      if (!edit && state.cam.refused) return;      // the rows hold a refused edit to fix: leave it and its line
+      state.cam.refused = !!data.problem;
       $("#cam-error").textContent = data.problem || "";
       if (edit && data.text) {
         if (state.mech.text === null) {             // a library mechanism becomes a file with its values and its law
@@ -2912,6 +2920,8 @@
       }
       if (edit || version >= state.opened) showCam(cam, !!data.problem);
     } catch (err) {
+      if (!edit && state.cam.refused) return;
+      if (edit) state.cam.refused = true;
       $("#cam-error").textContent = err.message || String(err);
       $("#cam-status").textContent = "not written";
       status(err.message || String(err), true);
@@ -2926,8 +2936,12 @@
   function showCam(cam, refused) {
     state.cam.data = cam;
     window.linkageCam = cam;
-    const rows = document.activeElement && document.activeElement.closest("#cam-segments");
-    if (!rows || !refused) camRows(cam.written, cam.shapes);   // a refused edit stays in the rows to be fixed
+    // the rows follow the file, except a refused edit (it stays to be fixed) and a box being typed in (the
+    // answer to the edit of another box must not overwrite it)
+    const el = document.activeElement;
+    const typing = el && el.matches("#pane-cam input, #pane-cam select") && cam.written
+      && document.querySelectorAll("#cam-segments tbody tr").length === cam.written.segments.length;
+    if (!refused && !typing) camRows(cam.written, cam.shapes);
     $("#cam-status").textContent = refused ? "not written: fix the edit" : "";
     drawSvaj(cam);
     drawCamProfile();
@@ -3038,6 +3052,7 @@
       }, [s.theta, s[key]], card);
       state.cam.charts.push(plot);
     }
+    window.linkageCamPlots = state.cam.charts;      // for tests: the SVAJ plots as drawn
   }
 
   function paColor(deg) {                          // |pressure angle| -> green, yellow, red
