@@ -1642,6 +1642,7 @@
     ctx.restore();
     drawLegend(d.output_point, !!sp);
     updateReadout();
+    if (state.tab === "cam") paintCamProfile();
   }
 
   function drawLegend(point, sim) {
@@ -2951,9 +2952,11 @@
 
   function camRows(written, shapes) {
     const body = $("#cam-segments tbody");
-    if (!written) {
+    $("#cam-segments").hidden = !written;
+    for (const el of document.querySelectorAll(".cam-fields > :not(#cam-status)")) el.hidden = !written;
+    if (!written) {                                 // a cam given by its outline (profile = "cam.csv")
       body.replaceChildren();
-      $("#cam-status").textContent = "this cam is given by its profile: no segments to edit";
+      $("#cam-status").textContent = "this cam is given by its profile: the law below is found from it, no segments to edit";
       return;
     }
     const unit = written.rise_measure === "angle" ? "angle, e.g. 12deg" : (state.cam.data || {}).length_unit || "";
@@ -2983,7 +2986,7 @@
       return tr;
     }));
     $("#cam-roller").value = String(written.roller);
-    $("#cam-roller-label").hidden = state.cam.data && state.cam.data.contact !== "roller";
+    $("#cam-roller-label").hidden = !!state.cam.data && state.cam.data.contact !== "roller";
     $("#cam-base").value = String(written.base_radius);
     $("#cam-length-unit").textContent = (state.cam.data || {}).length_unit || "";
   }
@@ -3000,7 +3003,8 @@
       rise.disabled = shape === "dwell";
       segments.push(row);
     });
-    const edit = { segments, base_radius: numberOrText($("#cam-base").value.trim()) };
+    const edit = { base_radius: numberOrText($("#cam-base").value.trim()) };
+    if (segments.length) edit.segments = segments;
     if (state.cam.data && state.cam.data.contact === "roller") edit.roller = numberOrText($("#cam-roller").value.trim());
     return edit;
   }
@@ -3064,11 +3068,13 @@
 
   function drawCamProfile() {
     const cam = state.cam.data;
-    const cv = $("#cam-profile");
+    const shown = $("#cam-profile");
     if (!cam || $("#pane-cam").hidden) return;
     const dpr = window.devicePixelRatio || 1;
-    const W = cv.clientWidth || 500; const H = cv.clientHeight || 380;
+    const W = shown.clientWidth || 500; const H = shown.clientHeight || 380;
+    const cv = document.createElement("canvas");     // the still drawing; paintCamProfile adds the pose on it
     cv.width = Math.round(W * dpr); cv.height = Math.round(H * dpr);
+    shown.width = cv.width; shown.height = cv.height;
     const c = cv.getContext("2d");
     c.setTransform(dpr, 0, 0, dpr, 0, 0);
     c.clearRect(0, 0, W, H);
@@ -3152,6 +3158,38 @@
     c.fillText("pitch curve", lx + 10, top + hgt + 30);
     c.fillText("base circle", lx + 10, top + hgt + 48);
     c.restore();
+    state.cam.sheet = { canvas: cv, X, Y, s, cam };
+    paintCamProfile();
+  }
+
+  // The profile's still drawing and, on it, the follower at the animation's pose seen from the cam: the contact
+  // point and the roller (or the face's foot) at the cam angle of the current frame. Called at every frame.
+  function paintCamProfile() {
+    const sheet = state.cam.sheet;
+    if (!sheet || sheet.cam !== state.cam.data || $("#pane-cam").hidden) return;
+    const shown = $("#cam-profile");
+    const c = shown.getContext("2d");
+    c.setTransform(1, 0, 0, 1, 0, 0);
+    c.clearRect(0, 0, shown.width, shown.height);
+    c.drawImage(sheet.canvas, 0, 0);
+    const data = state.solve;
+    const cm = ((data && data.describe && data.describe.cams) || []).find((x) => x.name === state.cam.name);
+    if (!cm) return;
+    const a = data.points[cm.ref[0]]; const b = data.points[cm.ref[1]]; const i = state.frame;
+    if (!a || !b || [a.x[i], a.y[i], b.x[i], b.y[i]].includes(null)) return;
+    const theta = ((Math.atan2(b.y[i] - a.y[i], b.x[i] - a.x[i]) * DEG) % 360 + 360) % 360;
+    const P = sheet.cam.profile; const Q = sheet.cam.pitch;
+    let k = 0; let best = Infinity;
+    P.theta.forEach((t, j) => { const d = Math.abs(t - theta); if (d < best) { best = d; k = j; } });
+    if (P.x[k] === null || Q.x[k] === null) return;
+    const dpr = window.devicePixelRatio || 1;
+    c.setTransform(dpr, 0, 0, dpr, 0, 0);
+    c.strokeStyle = "#1a1a1a"; c.fillStyle = "#1a1a1a"; c.lineWidth = 1.2;
+    const rr = sheet.cam.contact === "roller" ? sheet.cam.roller : 0;
+    if (rr > 0) { c.beginPath(); c.arc(sheet.X(Q.x[k]), sheet.Y(Q.y[k]), rr * sheet.s, 0, 2 * Math.PI); c.stroke(); }
+    c.beginPath(); c.arc(sheet.X(P.x[k]), sheet.Y(P.y[k]), 3.5, 0, 2 * Math.PI); c.fill();
+    c.font = "11px system-ui, sans-serif"; c.textAlign = "left"; c.textBaseline = "top";
+    c.fillText(`contact at cam angle ${theta.toFixed(1)}°`, 8, 8);
   }
 
   function camMarks(cam) {
