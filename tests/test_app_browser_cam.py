@@ -137,3 +137,29 @@ def test_an_undercutting_edit_is_drawn_with_its_undercut(page):
         for (let i = 0; i < d.length; i += 4) if (d[i] > 190 && d[i + 1] < 40 && d[i + 2] < 40) n++; return n; }""")
     assert red > 50
     shot(page, "app-cam-undercut")
+
+
+def test_rows_are_removed_and_added_as_a_draft_until_the_law_makes_a_turn(page):
+    def segment_count():
+        text = page.evaluate("document.querySelector('#mechanism').selectedOptions[0].dataset.text || ''")
+        return text.count('{ shape = "') if text else None
+
+    page.click("#cam-segments tbody tr:nth-child(3) button[data-remove]")      # the 30deg dwell goes
+    page.wait_for_function("document.querySelector('#cam-error').textContent.includes('sum to 330deg')")
+    assert page.locator("#cam-segments tbody tr").count() == 3                  # the draft keeps the removal
+    page.fill("#cam-segments tbody tr:nth-child(3) [data-key=duration]", "150deg")
+    page.press("#cam-segments tbody tr:nth-child(3) [data-key=duration]", "Enter")
+    page.wait_for_function("window.linkageCam.written.segments.length === 3")
+    assert page.text_content("#cam-error") == ""
+    assert segment_count() == 3
+    # the return now starts at 210deg: the displacement plotted there is the rise's top, falling after
+    theta = page.evaluate("Array.from(window.linkageCamPlots[0].data[0])")
+    s = plotted(page, 0)
+    at = {round(t, 6): v for t, v in zip(theta, s)}
+    assert at[210.0] == pytest.approx(0.020, abs=1e-12) and at[240.0] < 0.019
+    page.click("#cam-add")
+    assert page.locator("#cam-segments tbody tr").count() == 4
+    set_rows(page, {(3, "duration"): "120deg", (4, "duration"): "30deg"})
+    page.wait_for_function("window.linkageCam.written.segments.length === 4")
+    assert segment_count() == 4
+    assert page.evaluate("window.linkageCam.written.segments[3]") == {"shape": "dwell", "duration": "30deg"}

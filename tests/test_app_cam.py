@@ -135,6 +135,16 @@ def test_an_edit_is_written_into_the_file_with_its_comments_and_read_back(server
     for comment in ("# the cam's shaft", "# the return spring: from its anchor above", "# N/m"):
         assert comment in new                        # every comment the edit does not touch is kept
     assert re.search(r"roller = 0\.008\b", new) and "rise = 0.025" in new
+    # only the edited lines changed: the roller and the two rises (the rows are written as the file writes them)
+    import difflib
+    changed = [ln for ln in difflib.unified_diff(text.splitlines(), new.splitlines(), lineterm="", n=0)
+               if ln[:1] in "+-" and not ln.startswith(("+++", "---"))]
+    assert sorted(changed) == sorted([
+        "-roller = 0.010", "+roller = 0.008",
+        '-  { shape = "cycloidal", duration = "120deg", rise = 0.020 },',
+        '+  { shape = "cycloidal", duration = "120deg", rise = 0.025 },',
+        '-  { shape = "poly345", duration = "120deg", rise = -0.020 },',
+        '+  { shape = "poly345", duration = "120deg", rise = -0.025 },']), changed
     # read back: the follower's rise is the new 25 mm (the analysis of the new text, not the panel's answer)
     status, solved = post(server, "/api/solve", {"text": new, "samples": 361})
     y = np.asarray(solved["points"]["F"]["y"])

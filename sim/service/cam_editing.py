@@ -227,15 +227,17 @@ def edited_text(text: str, name: str, edit: dict) -> str:
     for key in ("roller", "base_radius"):
         if key in edit:
             table[key] = edit[key]
-    if "segments" in edit:
-        arr = tomlkit.array()
-        for row in edit["segments"]:
-            t = tomlkit.inline_table()
-            t.update({k: row[k] for k in SEGMENT_KEYS if k in row})
-            arr.append(t)
-        arr.multiline(True)
-        table["segments"] = arr
+    if "segments" in edit:                          # one row a line, as the library's files write them
+        rows = "".join(f"  {{ {', '.join(f'{k} = {_toml(row[k])}' for k in SEGMENT_KEYS if k in row)} }},\n"
+                       for row in edit["segments"])
+        table["segments"] = tomlkit.parse(f"segments = [\n{rows}]\n")["segments"]
     return tomlkit.dumps(doc)
+
+
+def _toml(v) -> str:
+    """A checked scalar (:func:`_scalar`) as TOML: a number as Python writes it, text in quotes."""
+    import json
+    return json.dumps(v, ensure_ascii=False) if isinstance(v, str) else repr(v)
 
 
 def _plain(edit: dict) -> dict:

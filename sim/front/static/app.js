@@ -2991,10 +2991,9 @@
     $("#cam-length-unit").textContent = (state.cam.data || {}).length_unit || "";
   }
 
-  function camEdit(removeRow) {                     // the rows as the edit the server takes
+  function camEdit() {                              // the rows as the edit the server takes
     const segments = [];
-    [...document.querySelectorAll("#cam-segments tbody tr")].forEach((tr, k) => {
-      if (k === removeRow) return;
+    [...document.querySelectorAll("#cam-segments tbody tr")].forEach((tr) => {
       const shape = tr.querySelector("[data-key=shape]").value;
       const row = { shape, duration: numberOrText(tr.querySelector("[data-key=duration]").value.trim()) };
       const rise = tr.querySelector("[data-key=rise]");
@@ -3012,7 +3011,8 @@
   function camAddRow() {
     const edit = camEdit();
     edit.segments.push({ shape: "dwell", duration: "0deg" });
-    const written = { ...state.cam.data.written, segments: edit.segments };
+    const written = { ...state.cam.data.written, segments: edit.segments, roller: $("#cam-roller").value,
+      base_radius: $("#cam-base").value };
     camRows(written, state.cam.data.shapes);
     const boxes = document.querySelectorAll("#cam-segments [data-key=duration]");
     boxes[boxes.length - 1].focus();
@@ -3208,7 +3208,11 @@
     $("#cam-segments").addEventListener("click", (e) => {
       const b = e.target.closest("button[data-remove]");
       if (!b) return;
-      requestCam(camEdit([...document.querySelectorAll("#cam-segments tbody tr")].indexOf(b.closest("tr"))));
+      b.closest("tr").remove();                      // the table is the draft: the row goes, then the draft is sent
+      const rows = [...document.querySelectorAll("#cam-segments tbody tr")];
+      rows.forEach((tr, k) => { tr.firstChild.textContent = String(k + 1); });
+      if (rows.length < 2) rows.forEach((tr) => { tr.querySelector("button[data-remove]").disabled = true; });
+      requestCam(camEdit());
     });
     $("#cam-add").addEventListener("click", camAddRow);
     for (const id of ["#cam-roller", "#cam-base"]) $(id).addEventListener("change", () => requestCam(camEdit()));
