@@ -228,3 +228,26 @@ def test_the_app_page_has_the_cam_tab(server):
     assert 'id="tab-cam"' in text and 'id="cam-segments"' in text and 'id="cam-profile"' in text
     assert "/api/cam" in app.ROUTES
     assert json.dumps(app.describe(__import__("sim.service", fromlist=["load"]).load("fourbar"))["cams"]) == "[]"
+
+
+def test_a_flat_face_cusp_is_marked_where_base_plus_lift_plus_its_curvature_goes_negative(server):
+    # Norton eq. 8.31: a flat face's profile has radius of curvature r_b + s + s'' (s'' per rad^2); a 25 mm
+    # modified-sine rise over 30deg on a 35 mm base circle drives it negative: a cusp, drawn and refused
+    segs = [{"shape": "dwell", "duration": "80deg"}, {"shape": "modified_sine", "duration": "30deg", "rise": 25},
+            {"shape": "dwell", "duration": "130deg"}, {"shape": "cycloidal", "duration": "120deg", "rise": -25}]
+    status, data = post(server, "/api/cam", {"mechanism": "cam_flat", "cam": "tappet", "edit": {"segments": segs}})
+    assert status == 200, data
+    assert data["text"] is None and "cusp" in data["problem"]
+    cam = data["cams"]["tappet"]
+    s = cam["svaj"]
+    theta, lift, acc = (np.asarray(s[k]) for k in ("theta", "s", "a"))
+    assert s["units"]["s"] == "mm" and s["units"]["a"] == "mm/rad^2"
+    rho = 35.0 + lift + acc                          # the file's base radius, 35 mm, in the file's unit
+    flagged = np.asarray(cam["profile"]["undercut"])
+    t_flag = np.asarray(cam["profile"]["theta"])[flagged]
+    # every flagged sample lies where the hand formula is negative (within one 0.5 deg sample of its edge)
+    for t in t_flag:
+        near = np.abs(theta - t) <= 0.5
+        assert np.min(rho[near]) <= 0, t
+    assert np.interp(cam["undercut"]["theta"], theta, rho) < 0
+    assert cam["undercut"]["theta"] == pytest.approx(theta[np.argmin(rho)], abs=0.5)
