@@ -107,6 +107,10 @@ def test_editing_a_segment_writes_the_file_and_changes_the_plots(page):
     after_a = plotted(page, 2)
     assert max(abs(x - y) for x, y in zip(after_a, before_a)) > 0.1 * max(abs(x) for x in before_a)
     shot(page, "app-cam-edited")
+    # Undo steps back through the written law like any edit: the rows and the plots follow the file again
+    page.click("#undo")
+    page.wait_for_function("window.linkageCam.written.segments[1].shape === 'cycloidal'")
+    assert page.input_value("#cam-segments tbody tr:nth-child(2) [data-key=shape]") == "cycloidal"
 
 
 def test_a_bad_edit_shows_the_one_line_and_writes_nothing(page):

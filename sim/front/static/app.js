@@ -54,7 +54,7 @@
     dynamics: null,
     dynamicsCharts: [],
     synth: { targets: [], result: null, selected: 0, charts: [] },
-    cam: { name: null, data: null, charts: [] },   // the cam panel: the cam shown and its last answer (POST /api/cam)
+    cam: { name: null, data: null, charts: [], changes: 0, draft: false },   // the cam panel: the cam shown and its last answer (POST /api/cam)
     draw: null,                         // the drawing on the empty page (null: not drawing)
     drag: null,                         // the point being dragged: {point, before, moved, input}
     undo: [],                           // snapshots before each drag or edit (values, file text, frame)
@@ -2282,6 +2282,7 @@
 
   function restore(entry) {
     state.set = { ...entry.set };
+    camDraftDropped();
     if (entry.text !== state.mech.text && entry.text !== null) setText(entry.text);
     for (const [name, v] of Object.entries(state.set)) if (Number.isFinite(Number(v))) showValue(name, Number(v));
     const frame = entry.frame;
@@ -2370,6 +2371,7 @@
     state.forceKey = "";
     state.loadsDraw = null;
     stopEditingLoad();
+    camDraftDropped();
     for (const c of state.forceCharts) c.plot.destroy();
     state.forceCharts = [];
     $("#force-charts").replaceChildren();
@@ -2866,6 +2868,11 @@
 
   function camsOf(d) { return (d && d.cams) || []; }
 
+  function camDraftDropped() {                      // undo, Clear or another file: the rows follow the file again
+    state.cam.draft = false;
+    $("#cam-error").textContent = "";
+  }
+
   function camOpened(d, mechanism) {               // a new mechanism: the tab and the picker follow its cams
     const cams = camsOf(d);
     $("#tab-cam").hidden = !cams.length;
@@ -2876,7 +2883,7 @@
     }
     state.cam.key = key;
     state.cam.data = null;
-    state.cam.refused = false;
+    state.cam.draft = false;
     window.linkageCam = null;
     const pick = $("#cam-pick");
     pick.replaceChildren(...cams.map((c) => { const o = document.createElement("option"); o.value = c.name; o.textContent = c.name; return o; }));
@@ -2892,20 +2899,29 @@
     return body;
   }
 
+  // The rows are the user's draft: every local change (a box, a row added or removed) marks it, and until an
+  // edit of the latest draft is written into the file the answers that only refresh the panel (after a slider
+  // moved, say) leave the rows, the plots and the line alone. A refused edit keeps its draft to be fixed.
+  function camTouched() {
+    state.cam.changes += 1;
+    state.cam.draft = true;
+  }
+
   async function requestCam(edit) {
     if (!state.cam.name) return;
     if (camChannel.busy) { camChannel.queued = edit ? { edit } : (camChannel.queued || {}); return; }
     camChannel.busy = true;
     camChannel.queued = null;
     const version = state.version;
+    const changes = state.cam.changes;              // the draft this edit sends
     try {
       const res = await api("/api/cam", camBody(edit ? { edit } : {}));
       const data = await res.json();
       const cam = data.cams[state.cam.name];
-      if (!edit && state.cam.refused) return;      // the rows hold a refused edit to fix: leave it and its line
-      state.cam.refused = !!data.problem;
+      if (!edit && state.cam.draft) return;         // a refresh under a draft: the draft stays as it is
       $("#cam-error").textContent = data.problem || "";
       if (edit && data.text) {
+        if (state.cam.changes === changes) state.cam.draft = false;   // written; a later change is still a draft
         if (state.mech.text === null) {             // a library mechanism becomes a file with its values and its law
           addUploadOption(data.mechanism, data.text, "cam edited");
           openMechanism(data.mechanism, data.text);
@@ -2917,12 +2933,13 @@
         }
         status(`wrote the law of cam ${state.cam.name}; running again`);
       } else if (data.problem) {
+        state.cam.draft = true;                     // refused: its draft stays to be fixed
         status(data.problem, true);
       }
       if (edit || version >= state.opened) showCam(cam, !!data.problem);
     } catch (err) {
-      if (!edit && state.cam.refused) return;
-      if (edit) state.cam.refused = true;
+      if (!edit && state.cam.draft) return;
+      if (edit) state.cam.draft = true;
       $("#cam-error").textContent = err.message || String(err);
       $("#cam-status").textContent = "not written";
       status(err.message || String(err), true);
@@ -2937,12 +2954,12 @@
   function showCam(cam, refused) {
     state.cam.data = cam;
     window.linkageCam = cam;
-    // the rows follow the file, except a refused edit (it stays to be fixed) and a box being typed in (the
-    // answer to the edit of another box must not overwrite it)
+    // the rows follow the file, except a draft not yet written (a refused edit stays to be fixed) and a box
+    // being typed in (the answer to the edit of another box must not overwrite it)
     const el = document.activeElement;
     const typing = el && el.matches("#pane-cam input, #pane-cam select") && cam.written
       && document.querySelectorAll("#cam-segments tbody tr").length === cam.written.segments.length;
-    if (!refused && !typing) camRows(cam.written, cam.shapes);
+    if (!state.cam.draft && !typing) camRows(cam.written, cam.shapes);
     $("#cam-status").textContent = refused ? "not written: fix the edit" : "";
     drawSvaj(cam);
     drawCamProfile();
@@ -3009,6 +3026,7 @@
   }
 
   function camAddRow() {
+    camTouched();
     const edit = camEdit();
     edit.segments.push({ shape: "dwell", duration: "0deg" });
     const written = { ...state.cam.data.written, segments: edit.segments, roller: $("#cam-roller").value,
@@ -3204,18 +3222,19 @@
 
   function wireCam() {
     $("#cam-pick").addEventListener("change", (e) => { state.cam.name = e.target.value; requestCam(); });
-    $("#cam-segments").addEventListener("change", () => requestCam(camEdit()));
+    $("#cam-segments").addEventListener("change", () => { camTouched(); requestCam(camEdit()); });
     $("#cam-segments").addEventListener("click", (e) => {
       const b = e.target.closest("button[data-remove]");
       if (!b) return;
       b.closest("tr").remove();                      // the table is the draft: the row goes, then the draft is sent
       const rows = [...document.querySelectorAll("#cam-segments tbody tr")];
+      camTouched();
       rows.forEach((tr, k) => { tr.firstChild.textContent = String(k + 1); });
       if (rows.length < 2) rows.forEach((tr) => { tr.querySelector("button[data-remove]").disabled = true; });
       requestCam(camEdit());
     });
     $("#cam-add").addEventListener("click", camAddRow);
-    for (const id of ["#cam-roller", "#cam-base"]) $(id).addEventListener("change", () => requestCam(camEdit()));
+    for (const id of ["#cam-roller", "#cam-base"]) $(id).addEventListener("change", () => { camTouched(); requestCam(camEdit()); });
   }
 
   // The cam plates on the animation (describe's cams, as the videos draw them: sim/output/drawing.py
