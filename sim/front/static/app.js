@@ -3190,6 +3190,7 @@
     c.setTransform(1, 0, 0, 1, 0, 0);
     c.clearRect(0, 0, shown.width, shown.height);
     c.drawImage(sheet.canvas, 0, 0);
+    if (state.cam.draft) return;                    // a draft's profile: the animation still runs the file's law
     const data = state.solve;
     const cm = ((data && data.describe && data.describe.cams) || []).find((x) => x.name === state.cam.name);
     if (!cm) return;
