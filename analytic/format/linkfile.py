@@ -890,8 +890,11 @@ def parameter_values(d: Definition, overrides: dict[str, float] | None = None) -
     return values
 
 
-def resolve(d: Definition, values: dict[str, float]) -> Geometry:
-    """Evaluate every field of ``d`` with parameter ``values`` (see :func:`parameter_values`)."""
+def resolve(d: Definition, values: dict[str, float], keep_problems: bool = False) -> Geometry:
+    """Evaluate every field of ``d`` with parameter ``values`` (see :func:`parameter_values`). An element its
+    kind finds unbuildable once resolved (``check_resolved``: a cam that undercuts) is refused in one line; with
+    ``keep_problems`` it is kept, its one line in its ``"problem"`` field (the app's cam panel draws the
+    undercut it refuses)."""
     k = d.scale
 
     def num(v, kind: str, where: str) -> float:
@@ -934,8 +937,10 @@ def resolve(d: Definition, values: dict[str, float]) -> Geometry:
         kind.resolve_extra(out, d.topology)
         kind.resolve_at(out, ground)
         problem = kind.check_resolved(out)
-        if problem:
+        if problem and not keep_problems:
             raise ParameterError(f"{d.source}: {e.label}: {problem}")
+        if problem:
+            out["problem"] = problem
         elements.append(out)
     return Geometry(ground, tuple(elements), dict(values))
 

@@ -34,7 +34,7 @@ import analytic
 from analytic import Mechanism, ParameterError
 from sim import service
 from sim.service import dynamics as sdyn, path_targets, viewing
-from sim.front import loads_panel
+from sim.front import cam_panel, loads_panel
 from sim.front.fields import (MAX_DYNAMICS_REVOLUTIONS, MAX_FLYWHEEL, MAX_LOAD, MAX_MOTOR,  # noqa: F401
                               MAX_RENDER_REVOLUTIONS, accepted, arguments, check_fields as check_door_fields,
                               for_door)
@@ -225,9 +225,10 @@ def describe(mech: Mechanism) -> dict:
         base = "rad" if i.angular else mech.units
         _, speed, accel = i.parameters
         rates.update({name: unit for name, unit in ((speed, f"{base}/s"), (accel, f"{base}/s^2")) if name})
-    from sim.output.drawing import cylinder_drawing, wheels_of
+    from sim.output.drawing import cam_drawing, cylinder_drawing, wheels_of
     d["wheels"] = [dataclasses.asdict(w) for w in wheels_of(mech)]      # gears, drawn as the videos draw them
     d["cylinders"] = cylinder_drawing(mech)                             # actuators, drawn as the videos draw them
+    d["cams"] = cam_drawing(mech)                                       # cam plates, drawn as the videos draw them
     size = mech.size / mech.scale                   # [file units]
     for p in d["parameters"]:
         p["unit"] = rates.get(p["name"], p["unit"])
@@ -810,7 +811,8 @@ def render(body: dict) -> tuple[bytes, str, None]:
 
 
 ACTIONS = {"/api/draw": draw, "/api/drag": drag, "/api/forces": forces, "/api/dynamics": dynamics, "/api/open": open_file,
-           "/api/targets": targets, "/api/loads/draw": loads_panel.draw, "/api/loads/edit": loads_panel.edit}
+           "/api/targets": targets, "/api/loads/draw": loads_panel.draw, "/api/loads/edit": loads_panel.edit,
+           "/api/cam": cam_panel.cam}
 """The panels' JSON actions (forces, dynamics, opening a file), by path."""
 ROUTES = {"/api/solve": solve, "/api/simulate": simulate, "/api/render": render, "/api/synthesize": synthesize,
           "/api/synthesize/status": synthesis_status, "/api/synthesize/cancel": cancel_synthesis, **ACTIONS,

@@ -130,6 +130,30 @@ def plate_world(pl: Plate, at: dict):
                             o[1] + s * pl.outline[:, 0] + c * pl.outline[:, 1]])
 
 
+def cam_drawing(mech) -> list[dict]:
+    """:func:`plates_of` as the app's page draws them (sim/front/static/app.js drawCam): each plate's link, pivot,
+    reference points (the cam angle is the angle from ``ref[0]`` to ``ref[1]``), ``outline`` [[x, y], ...] [m]
+    in the cam's frame, ``roller`` [m] about the trace point ``point``; and a flat face's ``face``: the guide's
+    unit direction ``u`` and the face's ends ``[lo, hi]`` [m] along n = (-u_y, u_x) from the trace point (centred
+    on the contact's travel; its ``face_width`` where given, else the travel)."""
+    from analytic import cams
+    els = list(cams.elements(mech).values())
+    out = []
+    for pl, e in zip(plates_of(mech), els):
+        face = None
+        if e["contact"] == "flat":
+            g = cams.geometry(mech, e)
+            lo, hi = float(np.min(g.face_offset)), float(np.max(g.face_offset))
+            half = 0.5 * max(e["face_width"] or 0.0, hi - lo)
+            mid = 0.5 * (lo + hi)
+            st = e["setup"]
+            face = {"u": list(st.u), "ends": [mid - half, mid + half]}
+        out.append({"name": e["name"], "link": pl.link, "pivot": pl.pivot, "ref": list(pl.ref),
+                    "outline": pl.outline.tolist(), "roller": pl.roller, "point": pl.point, "contact": e["contact"],
+                    "face": face})
+    return out
+
+
 def poses(built, qpos_frames: np.ndarray) -> tuple[np.ndarray, dict[str, np.ndarray]]:
     """Every point's position [m] at each frame, shape (frames, points, 2), from the model's sites at
     the frames' joint positions; and each block link's angle [rad] per frame."""

@@ -19,7 +19,8 @@ One module per use case:
 - :mod:`.parts`: link solids, layers, interference, DXF/SVG/PDF/STEP/STL exports and the bill of materials.
 - the app's use cases: :mod:`.editing` (a point dragged: the file's values that place it; a drawn linkage's
   groups), :mod:`.opening` (a file as ``linkage/1`` text),
-  :mod:`.load_editing` (the file's loads drawn and checked), :mod:`.path_targets` (path synthesis from placed
+  :mod:`.load_editing` (the file's loads drawn and checked), :mod:`.cam_editing` (a cam's law, SVAJ and profile
+  for the cam panel, its segments edited), :mod:`.path_targets` (path synthesis from placed
   points), :mod:`.inputs` (input values from text), :mod:`.viewing` (the figures' summary).
 
 The first five's names are given here (imported on first use, so that ``from sim import service`` stays light),
@@ -52,7 +53,7 @@ _LAZY = {
 (they load numpy): ``from sim import service`` costs nothing until a function is used."""
 
 
-SUBMODULES = ("analysis", "catalog", "design", "dynamics", "editing", "export", "forces", "importing", "inputs",
+SUBMODULES = ("analysis", "cam_editing", "catalog", "design", "dynamics", "editing", "export", "forces", "importing", "inputs",
               "load_editing", "loads", "mechanisms", "opening", "pareto", "parts", "path_targets", "simulation",
               "structure", "sweep_forces", "synth_checks", "tolerance", "values", "viewing")
 """Every use-case module, imported on its first access (``service.design``)."""

@@ -54,6 +54,7 @@
     dynamics: null,
     dynamicsCharts: [],
     synth: { targets: [], result: null, selected: 0, charts: [] },
+    cam: { name: null, data: null, charts: [], changes: 0, draft: false },   // the cam panel: the cam shown and its last answer (POST /api/cam)
     draw: null,                         // the drawing on the empty page (null: not drawing)
     drag: null,                         // the point being dragged: {point, before, moved, input}
     undo: [],                           // snapshots before each drag or edit (values, file text, frame)
@@ -220,6 +221,7 @@
       buildCharts();
       setFrame(0);
       if (state.tab === "forces") setTimeout(requestForces, 0);
+      camOpened(data.describe, data.mechanism);
     }
     clearErrors();
     syncParameters(data.parameters);
@@ -227,6 +229,7 @@
     updateCharts();
     if (draw) drawFrame();
     if (full) showFigures(data);
+    if (full && !rebuild && state.tab === "cam") requestCam();          // the values may move the cam
     if (full || rebuild || !state.loadsDraw || hasFileLoads()) requestLoadsDraw();   // the loads follow each edit
     if (bump) bumpRevision();
   }
@@ -769,6 +772,7 @@
     $("#view").classList.toggle("picking", name === "synthesis");
     if (name === "forces" && state.solve && state.forcesVersion < state.version) requestForces();
     if (name === "synthesis") synthTypes();
+    if (name === "cam") { if (state.cam.data) drawCamProfile(); requestCam(); }
     resizePanels();
     drawFrame();
     bumpRevision();
@@ -1487,6 +1491,16 @@
     for (const [x, y] of synthPoints()) {
       if (x < x0) x0 = x; if (x > x1) x1 = x; if (y < y0) y0 = y; if (y > y1) y1 = y;
     }
+    for (const cm of (data.describe && data.describe.cams) || []) {   // a plate reaches its largest radius all round
+      const p = data.points[cm.pivot];
+      const reach = Math.max(...cm.outline.map(([x, y]) => Math.hypot(x, y)));
+      if (!p) continue;
+      for (let i = 0; i < p.x.length; i++) {
+        if (p.x[i] === null || p.y[i] === null) continue;
+        x0 = Math.min(x0, p.x[i] - reach); x1 = Math.max(x1, p.x[i] + reach);
+        y0 = Math.min(y0, p.y[i] - reach); y1 = Math.max(y1, p.y[i] + reach);
+      }
+    }
     if (!Number.isFinite(x0)) { x0 = -1; x1 = 1; y0 = -1; y1 = 1; }
     const pad = 0.08 * Math.max(x1 - x0, y1 - y0, 1e-9);
     return { x0: x0 - pad, x1: x1 + pad, y0: y0 - pad, y1: y1 + pad, n: data.t.length };
@@ -1617,6 +1631,7 @@
     if (out) pathLine(v, out.x, out.y, i, "#d62728", 2.4);
     const colorOf = Object.fromEntries(d.links.map((link, k) => [link.name, COLORS[k % COLORS.length]]));
     for (const w of d.wheels || []) drawWheel(w, at, v, colorOf[w.link] || "#888888");
+    for (const cm of d.cams || []) drawCam(cm, at, v, colorOf[cm.link] || "#888888");
     const ownDrawn = new Set((d.cylinders || []).flatMap((c) => [c.barrel, c.rod]));   // a cylinder draws its own
     for (const c of d.cylinders || []) drawCylinder(c, at, v, d.size);
     d.links.filter((link) => !ownDrawn.has(link.name)).forEach((link, k) => drawLink(link, k, at, data, i, v));
@@ -1627,6 +1642,7 @@
     ctx.restore();
     drawLegend(d.output_point, !!sp);
     updateReadout();
+    if (state.tab === "cam") paintCamProfile();
   }
 
   function drawLegend(point, sim) {
@@ -2266,6 +2282,7 @@
 
   function restore(entry) {
     state.set = { ...entry.set };
+    camDraftDropped();
     if (entry.text !== state.mech.text && entry.text !== null) setText(entry.text);
     for (const [name, v] of Object.entries(state.set)) if (Number.isFinite(Number(v))) showValue(name, Number(v));
     const frame = entry.frame;
@@ -2354,6 +2371,7 @@
     state.forceKey = "";
     state.loadsDraw = null;
     stopEditingLoad();
+    camDraftDropped();
     for (const c of state.forceCharts) c.plot.destroy();
     state.forceCharts = [];
     $("#force-charts").replaceChildren();
@@ -2455,6 +2473,8 @@
       const w = chartWidth();
       for (const c of state.charts) { c.plot.setSize({ width: w, height: CHART_HEIGHT }); c.err.setSize({ width: w, height: ERROR_HEIGHT }); }
       resizePanels();
+      for (const c of state.cam.charts) c.setSize({ width: camChartWidth(), height: CAM_CHART_HEIGHT });
+      drawCamProfile();
     });
   }
 
@@ -2835,6 +2855,422 @@
     $("#load-cancel").addEventListener("click", stopEditingLoad);
   }
 
+  // ------------------------------------------------------------------------------------- cam panel
+  // A cam's law (POST /api/cam: the segments as the file writes them, the SVAJ diagram over the cam angle and
+  // the profile with its pressure angle and radius of curvature, all computed by the server) and its editor:
+  // each change of a row, the roller or the base radius is sent as an edit, which the server writes into the
+  // file (tomlkit, comments kept) and answers with the new diagram; a refused edit shows its one line here.
+  const CAM_SVAJ = [["s", "displacement", "#1f77b4"], ["v", "velocity", "#2ca02c"],
+    ["a", "acceleration", "#ff7f0e"], ["j", "jerk", "#9467bd"]];
+  const CAM_CHART_HEIGHT = 200;
+  const CAM_PA_SCALE = 45;            // [deg] the profile's colour ramp: green at 0, red from here up
+  const camChannel = { busy: false, queued: null };
+
+  function camsOf(d) { return (d && d.cams) || []; }
+
+  function camDraftDropped() {                      // undo, Clear or another file: the rows follow the file again
+    state.cam.draft = false;
+    $("#cam-error").textContent = "";
+  }
+
+  function camOpened(d, mechanism) {               // a new mechanism: the tab and the picker follow its cams
+    const cams = camsOf(d);
+    $("#tab-cam").hidden = !cams.length;
+    const key = `${mechanism}:${cams.map((c) => c.name).join(",")}`;
+    if (key === state.cam.key && cams.length) {     // the same cams again (a library one written out by an edit)
+      if (state.tab === "cam") requestCam();
+      return;
+    }
+    state.cam.key = key;
+    state.cam.data = null;
+    state.cam.draft = false;
+    window.linkageCam = null;
+    const pick = $("#cam-pick");
+    pick.replaceChildren(...cams.map((c) => { const o = document.createElement("option"); o.value = c.name; o.textContent = c.name; return o; }));
+    pick.hidden = cams.length < 2;
+    state.cam.name = cams.length ? cams[0].name : null;
+    if (!cams.length && state.tab === "cam") showTab("curves");
+    else if (cams.length && state.tab === "cam") requestCam();
+  }
+
+  function camBody(extra) {
+    const body = { set: { ...state.set }, cam: state.cam.name, ...(extra || {}) };
+    if (state.mech.text !== null) body.text = state.mech.text; else body.mechanism = state.mech.name;
+    return body;
+  }
+
+  // The rows are the user's draft: every local change (a box, a row added or removed) marks it, and until an
+  // edit of the latest draft is written into the file the answers that only refresh the panel (after a slider
+  // moved, say) leave the rows, the plots and the line alone. A refused edit keeps its draft to be fixed.
+  function camTouched() {
+    state.cam.changes += 1;
+    state.cam.draft = true;
+  }
+
+  async function requestCam(edit) {
+    if (!state.cam.name) return;
+    if (camChannel.busy) { camChannel.queued = edit ? { edit } : (camChannel.queued || {}); return; }
+    camChannel.busy = true;
+    camChannel.queued = null;
+    const version = state.version;
+    const changes = state.cam.changes;              // the draft this edit sends
+    try {
+      const res = await api("/api/cam", camBody(edit ? { edit } : {}));
+      const data = await res.json();
+      const cam = data.cams[state.cam.name];
+      if (!edit && state.cam.draft) return;         // a refresh under a draft: the draft stays as it is
+      $("#cam-error").textContent = data.problem || "";
+      if (edit && data.text) {
+        if (state.cam.changes === changes) state.cam.draft = false;   // written; a later change is still a draft
+        if (state.mech.text === null) {             // a library mechanism becomes a file with its values and its law
+          addUploadOption(data.mechanism, data.text, "cam edited");
+          openMechanism(data.mechanism, data.text);
+        } else {
+          const before = snapshot();
+          setText(data.text);
+          pushUndo(before);
+          edited();
+        }
+        status(`wrote the law of cam ${state.cam.name}; running again`);
+      } else if (data.problem) {
+        state.cam.draft = true;                     // refused: its draft stays to be fixed
+        status(data.problem, true);
+      }
+      if (edit || version >= state.opened) showCam(cam, !!data.problem);
+    } catch (err) {
+      if (!edit && state.cam.draft) return;
+      if (edit) state.cam.draft = true;
+      $("#cam-error").textContent = err.message || String(err);
+      $("#cam-status").textContent = "not written";
+      status(err.message || String(err), true);
+      bumpRevision();
+    } finally {
+      camChannel.busy = false;
+      const next = camChannel.queued;
+      if (next) requestCam(next.edit);
+    }
+  }
+
+  function showCam(cam, refused) {
+    state.cam.data = cam;
+    window.linkageCam = cam;
+    // the rows follow the file, except a draft not yet written (a refused edit stays to be fixed) and a box
+    // being typed in (the answer to the edit of another box must not overwrite it)
+    const el = document.activeElement;
+    const typing = el && el.matches("#pane-cam input, #pane-cam select") && cam.written
+      && document.querySelectorAll("#cam-segments tbody tr").length === cam.written.segments.length;
+    if (!state.cam.draft && !typing) camRows(cam.written, cam.shapes);
+    $("#cam-status").textContent = refused ? "not written: fix the edit" : "";
+    drawSvaj(cam);
+    drawCamProfile();
+    camMarks(cam);
+    bumpRevision();
+  }
+
+  function camRows(written, shapes) {
+    const body = $("#cam-segments tbody");
+    $("#cam-segments").hidden = !written;
+    for (const el of document.querySelectorAll(".cam-fields > :not(#cam-status)")) el.hidden = !written;
+    if (!written) {                                 // a cam given by its outline (profile = "cam.csv")
+      body.replaceChildren();
+      $("#cam-status").textContent = "this cam is given by its profile: the law below is found from it, no segments to edit";
+      return;
+    }
+    const unit = written.rise_measure === "angle" ? "angle, e.g. 12deg" : (state.cam.data || {}).length_unit || "";
+    $("#cam-rise-head").textContent = `rise [${unit}]`;
+    body.replaceChildren(...written.segments.map((seg, k) => {
+      const tr = document.createElement("tr");
+      const cell = (el) => { const td = document.createElement("td"); td.appendChild(el); tr.appendChild(td); return el; };
+      const num = document.createElement("span"); num.textContent = String(k + 1); cell(num);
+      const sel = document.createElement("select");
+      sel.dataset.key = "shape";
+      sel.setAttribute("aria-label", `segment ${k + 1} shape`);
+      for (const s of shapes) { const o = document.createElement("option"); o.value = s; o.textContent = s.replace("_", " "); sel.appendChild(o); }
+      sel.value = seg.shape;
+      cell(sel);
+      for (const key of ["duration", "rise"]) {
+        const box = document.createElement("input");
+        box.type = "text"; box.dataset.key = key; box.autocomplete = "off"; box.spellcheck = false;
+        box.setAttribute("aria-label", `segment ${k + 1} ${key}`);
+        box.value = seg[key] === undefined ? "" : String(seg[key]);
+        box.disabled = key === "rise" && seg.shape === "dwell";
+        cell(box);
+      }
+      const del = document.createElement("button");
+      del.textContent = "×"; del.title = "remove this segment"; del.dataset.remove = "1";
+      del.disabled = written.segments.length < 2;
+      cell(del);
+      return tr;
+    }));
+    $("#cam-roller").value = String(written.roller);
+    $("#cam-roller-label").hidden = !!state.cam.data && state.cam.data.contact !== "roller";
+    $("#cam-base").value = String(written.base_radius);
+    $("#cam-length-unit").textContent = (state.cam.data || {}).length_unit || "";
+  }
+
+  function camEdit() {                              // the rows as the edit the server takes
+    const segments = [];
+    [...document.querySelectorAll("#cam-segments tbody tr")].forEach((tr) => {
+      const shape = tr.querySelector("[data-key=shape]").value;
+      const row = { shape, duration: numberOrText(tr.querySelector("[data-key=duration]").value.trim()) };
+      const rise = tr.querySelector("[data-key=rise]");
+      if (shape !== "dwell" && rise.value.trim() !== "") row.rise = numberOrText(rise.value.trim());
+      if (shape === "dwell") rise.value = "";
+      rise.disabled = shape === "dwell";
+      segments.push(row);
+    });
+    const edit = { base_radius: numberOrText($("#cam-base").value.trim()) };
+    if (segments.length) edit.segments = segments;
+    if (state.cam.data && state.cam.data.contact === "roller") edit.roller = numberOrText($("#cam-roller").value.trim());
+    return edit;
+  }
+
+  function camAddRow() {
+    camTouched();
+    const edit = camEdit();
+    edit.segments.push({ shape: "dwell", duration: "0deg" });
+    const written = { ...state.cam.data.written, segments: edit.segments, roller: $("#cam-roller").value,
+      base_radius: $("#cam-base").value };
+    camRows(written, state.cam.data.shapes);
+    const boxes = document.querySelectorAll("#cam-segments [data-key=duration]");
+    boxes[boxes.length - 1].focus();
+    $("#cam-status").textContent = "give the new segment a duration and take it from another (they make one turn)";
+  }
+
+  function camChartWidth() {
+    const box = $("#cam-svaj");
+    const w = box.clientWidth || paneWidth();
+    return w >= 480 ? Math.floor((w - 12) / 2) - 8 : Math.floor(w) - 8;   // a card's border and padding
+  }
+
+  function drawSvaj(cam) {
+    for (const c of state.cam.charts) c.destroy();
+    state.cam.charts = [];
+    const box = $("#cam-svaj");
+    box.replaceChildren();
+    const s = cam.svaj;
+    const bounds = cam.boundaries || [];
+    const marks = (u) => {                          // the segments' ends, as faint verticals
+      const c = u.ctx;
+      c.save();
+      c.strokeStyle = "rgba(0,0,0,0.18)"; c.setLineDash([3, 3]); c.lineWidth = 1;
+      for (const b of bounds) {
+        const x = Math.round(u.valToPos(b, "x", true)) + 0.5;
+        c.beginPath(); c.moveTo(x, u.bbox.top); c.lineTo(x, u.bbox.top + u.bbox.height); c.stroke();
+      }
+      c.restore();
+    };
+    for (const [key, name, color] of CAM_SVAJ) {
+      const card = document.createElement("div");
+      card.className = "panel-chart";
+      card.dataset.quantity = key;
+      box.appendChild(card);
+      const plot = new uPlot({
+        width: camChartWidth(), height: CAM_CHART_HEIGHT, title: `${name} ${key} [${s.units[key]}]`,
+        scales: { x: { time: false, range: [0, 360] } }, legend: { show: false },
+        cursor: { drag: { x: false, y: false } }, hooks: { draw: [marks] },
+        axes: [{ ...axisOptions("cam angle [deg]"), incrs: [15, 30, 45, 90, 180] }, axisOptions("", 60)],
+        series: [{ label: "cam angle" }, { label: key, stroke: color, width: 1.8 }],
+      }, [s.theta, s[key]], card);
+      state.cam.charts.push(plot);
+    }
+    window.linkageCamPlots = state.cam.charts;      // for tests: the SVAJ plots as drawn
+  }
+
+  function paColor(deg) {                          // |pressure angle| -> green, yellow, red
+    const f = Math.max(0, Math.min(1, Math.abs(deg) / CAM_PA_SCALE));
+    const r = f < 0.5 ? Math.round(60 + 2 * f * (230 - 60)) : 230;
+    const g = f < 0.5 ? 170 : Math.round(170 - 2 * (f - 0.5) * 150);
+    return `rgb(${r},${g},40)`;
+  }
+
+  function drawCamProfile() {
+    const cam = state.cam.data;
+    const shown = $("#cam-profile");
+    if (!cam || $("#pane-cam").hidden) return;
+    const dpr = window.devicePixelRatio || 1;
+    const W = shown.clientWidth || 500; const H = shown.clientHeight || 380;
+    const cv = document.createElement("canvas");     // the still drawing; paintCamProfile adds the pose on it
+    cv.width = Math.round(W * dpr); cv.height = Math.round(H * dpr);
+    shown.width = cv.width; shown.height = cv.height;
+    const c = cv.getContext("2d");
+    c.setTransform(dpr, 0, 0, dpr, 0, 0);
+    c.clearRect(0, 0, W, H);
+    const P = cam.profile; const Q = cam.pitch;
+    let reach = 0;
+    for (let i = 0; i < P.x.length; i++) {
+      for (const [x, y] of [[P.x[i], P.y[i]], [Q.x[i], Q.y[i]]]) if (x !== null && y !== null) reach = Math.max(reach, Math.abs(x), Math.abs(y));
+    }
+    reach = reach || 1;
+    const legendW = 110;
+    const s = 0.46 * Math.min(W - legendW, H) / reach;
+    const cx = (W - legendW) / 2; const cy = H / 2;
+    const X = (x) => cx + s * x; const Y = (y) => cy - s * y;
+    c.save();
+    c.strokeStyle = "#bbb"; c.lineWidth = 1; c.setLineDash([2, 4]);
+    c.beginPath(); c.arc(cx, cy, s * cam.base_radius, 0, 2 * Math.PI); c.stroke();     // the base circle
+    c.setLineDash([6, 4]); c.strokeStyle = "#999";
+    c.beginPath();
+    Q.x.forEach((x, i) => { if (x !== null && Q.y[i] !== null) (i ? c.lineTo(X(x), Y(Q.y[i])) : c.moveTo(X(x), Y(Q.y[i]))); });
+    c.closePath(); c.stroke();                                                            // the pitch curve
+    c.setLineDash([]);
+    c.lineWidth = 4; c.lineCap = "round";
+    const n = P.x.length;
+    for (let i = 0; i < n; i++) {                    // the profile, each piece coloured by its pressure angle
+      const j = (i + 1) % n;
+      if ([P.x[i], P.y[i], P.x[j], P.y[j]].includes(null)) continue;
+      c.strokeStyle = paColor(P.pressure_angle[i] ?? 0);
+      c.beginPath(); c.moveTo(X(P.x[i]), Y(P.y[i])); c.lineTo(X(P.x[j]), Y(P.y[j])); c.stroke();
+    }
+    c.strokeStyle = "#d00000"; c.lineWidth = 7;      // where it undercuts
+    for (let i = 0; i < n; i++) {
+      const j = (i + 1) % n;
+      if (!P.undercut[i] || [P.x[i], P.y[i], P.x[j], P.y[j]].includes(null)) continue;
+      c.beginPath(); c.moveTo(X(P.x[i]), Y(P.y[i])); c.lineTo(X(P.x[j]), Y(P.y[j])); c.stroke();
+    }
+    c.fillStyle = "#222"; c.beginPath(); c.arc(cx, cy, 3, 0, 2 * Math.PI); c.fill();    // the pivot
+    const unit = cam.length_unit;
+    const labels = [];
+    const pa = cam.pressure_angle_max;
+    labels.push([pa, "#b35900", `max pressure angle ${fmt(pa.value, 3)}° at ${fmt(pa.theta, 4)}°`, "triangle"]);
+    const rho = cam.rho_convex_min;
+    if (rho && rho.value !== null) labels.push([rho, "#1f5fbf", `smallest radius of curvature ${fmt(rho.value, 3)} ${unit} at ${fmt(rho.theta, 4)}°`, "circle"]);
+    if (cam.undercut) labels.push([cam.undercut, "#d00000", `undercut at cam angle ${fmt(cam.undercut.theta, 4)}°`, "cross"]);
+    c.font = "12px system-ui, sans-serif";
+    const placed = [];                               // labels drawn [left, y, width]: the next one moves down clear
+    for (const [m, color, text, shape] of labels) {
+      const px = X(m.x); const py = Y(m.y);
+      c.strokeStyle = color; c.fillStyle = color; c.lineWidth = 2.2;
+      c.beginPath();
+      if (shape === "triangle") { c.moveTo(px, py - 8); c.lineTo(px - 7, py + 5); c.lineTo(px + 7, py + 5); c.closePath(); c.fill(); }
+      else if (shape === "circle") { c.arc(px, py, 6, 0, 2 * Math.PI); c.stroke(); }
+      else { c.moveTo(px - 8, py - 8); c.lineTo(px + 8, py + 8); c.moveTo(px + 8, py - 8); c.lineTo(px - 8, py + 8); c.stroke(); }
+      // the label outward from the pivot, on the side the mark is
+      const out = Math.atan2(py - cy, px - cx);
+      const lx = px + 16 * Math.cos(out); const ly0 = py + 16 * Math.sin(out);
+      c.textAlign = Math.cos(out) >= 0 ? "left" : "right";
+      c.textBaseline = "middle";
+      const wdt = c.measureText(text).width;
+      const left = Math.max(4, Math.min(W - legendW - wdt - 4, c.textAlign === "left" ? lx : lx - wdt));
+      let ly = ly0;
+      while (placed.some(([l, t, w]) => left < l + w + 4 && l < left + wdt + 4 && Math.abs(ly - t) < 17)) ly += 18;
+      placed.push([left, ly, wdt]);
+      c.textAlign = "left";
+      c.fillStyle = "rgba(255,255,255,0.85)";
+      c.fillRect(left - 2, ly - 8, wdt + 4, 16);
+      c.fillStyle = color;
+      c.fillText(text, left, ly);
+    }
+    // the colour ramp's legend
+    const lx = W - legendW + 24; const top = 30; const hgt = H - 110;
+    for (let k = 0; k <= 60; k++) {
+      c.fillStyle = paColor(CAM_PA_SCALE * (1 - k / 60));
+      c.fillRect(lx, top + (k / 60) * hgt, 14, hgt / 60 + 1);
+    }
+    c.fillStyle = "#333"; c.textAlign = "left"; c.textBaseline = "middle"; c.font = "11px system-ui, sans-serif";
+    for (const v of [0, 15, 30, 45]) c.fillText(`${v}°${v === CAM_PA_SCALE ? "+" : ""}`, lx + 20, top + (1 - v / CAM_PA_SCALE) * hgt);
+    c.fillText("|pressure angle|", lx - 10, top - 14);
+    c.strokeStyle = "#999"; c.setLineDash([6, 4]); c.lineWidth = 1;
+    c.beginPath(); c.moveTo(lx - 20, top + hgt + 30); c.lineTo(lx + 4, top + hgt + 30); c.stroke();
+    c.setLineDash([2, 4]); c.beginPath(); c.moveTo(lx - 20, top + hgt + 48); c.lineTo(lx + 4, top + hgt + 48); c.stroke();
+    c.fillText("pitch curve", lx + 10, top + hgt + 30);
+    c.fillText("base circle", lx + 10, top + hgt + 48);
+    c.restore();
+    state.cam.sheet = { canvas: cv, X, Y, s, cam };
+    paintCamProfile();
+  }
+
+  // The profile's still drawing and, on it, the follower at the animation's pose seen from the cam: the contact
+  // point and the roller (or the face's foot) at the cam angle of the current frame. Called at every frame.
+  function paintCamProfile() {
+    const sheet = state.cam.sheet;
+    if (!sheet || sheet.cam !== state.cam.data || $("#pane-cam").hidden) return;
+    const shown = $("#cam-profile");
+    const c = shown.getContext("2d");
+    c.setTransform(1, 0, 0, 1, 0, 0);
+    c.clearRect(0, 0, shown.width, shown.height);
+    c.drawImage(sheet.canvas, 0, 0);
+    if (state.cam.draft) return;                    // a draft's profile: the animation still runs the file's law
+    const data = state.solve;
+    const cm = ((data && data.describe && data.describe.cams) || []).find((x) => x.name === state.cam.name);
+    if (!cm) return;
+    const a = data.points[cm.ref[0]]; const b = data.points[cm.ref[1]]; const i = state.frame;
+    if (!a || !b || [a.x[i], a.y[i], b.x[i], b.y[i]].includes(null)) return;
+    const theta = ((Math.atan2(b.y[i] - a.y[i], b.x[i] - a.x[i]) * DEG) % 360 + 360) % 360;
+    const P = sheet.cam.profile; const Q = sheet.cam.pitch;
+    let k = 0; let best = Infinity;
+    P.theta.forEach((t, j) => { const d = Math.abs(t - theta); if (d < best) { best = d; k = j; } });
+    if (P.x[k] === null || Q.x[k] === null) return;
+    const dpr = window.devicePixelRatio || 1;
+    c.setTransform(dpr, 0, 0, dpr, 0, 0);
+    c.strokeStyle = "#1a1a1a"; c.fillStyle = "#1a1a1a"; c.lineWidth = 1.2;
+    const rr = sheet.cam.contact === "roller" ? sheet.cam.roller : 0;
+    if (rr > 0) { c.beginPath(); c.arc(sheet.X(Q.x[k]), sheet.Y(Q.y[k]), rr * sheet.s, 0, 2 * Math.PI); c.stroke(); }
+    c.beginPath(); c.arc(sheet.X(P.x[k]), sheet.Y(P.y[k]), 3.5, 0, 2 * Math.PI); c.fill();
+    c.font = "11px system-ui, sans-serif"; c.textAlign = "left"; c.textBaseline = "top";
+    c.fillText(`contact at cam angle ${theta.toFixed(1)}°`, 8, 8);
+  }
+
+  function camMarks(cam) {
+    const li = (text, bad) => { const el = document.createElement("li"); el.textContent = text; if (bad) el.className = "bad"; return el; };
+    const items = [li(`largest pressure angle ${fmt(cam.pressure_angle_max.value, 4)}° at cam angle ${fmt(cam.pressure_angle_max.theta, 4)}°`)];
+    const sharp = cam.rho_convex_min;
+    if (sharp && sharp.value !== null) items.push(li(`smallest convex radius of curvature ${fmt(sharp.value, 4)} ${cam.length_unit} at cam angle ${fmt(sharp.theta, 4)}° (marked)`));
+    if (cam.rho_min.value !== null && cam.rho_min.value < 0) items.push(li(`concave: radius of curvature down to ${fmt(cam.rho_min.value, 4)} ${cam.length_unit} at cam angle ${fmt(cam.rho_min.theta, 4)}° (linkage check's rho_min)`));
+    if (cam.undercut) items.push(li(cam.undercut.message, true));
+    $("#cam-marks").replaceChildren(...items);
+  }
+
+  function wireCam() {
+    $("#cam-pick").addEventListener("change", (e) => { state.cam.name = e.target.value; requestCam(); });
+    $("#cam-segments").addEventListener("change", () => { camTouched(); requestCam(camEdit()); });
+    $("#cam-segments").addEventListener("click", (e) => {
+      const b = e.target.closest("button[data-remove]");
+      if (!b) return;
+      b.closest("tr").remove();                      // the table is the draft: the row goes, then the draft is sent
+      const rows = [...document.querySelectorAll("#cam-segments tbody tr")];
+      camTouched();
+      rows.forEach((tr, k) => { tr.firstChild.textContent = String(k + 1); });
+      if (rows.length < 2) rows.forEach((tr) => { tr.querySelector("button[data-remove]").disabled = true; });
+      requestCam(camEdit());
+    });
+    $("#cam-add").addEventListener("click", camAddRow);
+    for (const id of ["#cam-roller", "#cam-base"]) $(id).addEventListener("change", () => { camTouched(); requestCam(camEdit()); });
+  }
+
+  // The cam plates on the animation (describe's cams, as the videos draw them: sim/output/drawing.py
+  // Painter._plate): each outline turned with its link about its pivot, the roller on the follower, or the
+  // flat face square to its guide.
+  function drawCam(cm, at, v, color) {
+    const o = at(cm.pivot); const a = at(cm.ref[0]); const b = at(cm.ref[1]);
+    if (!o || !a || !b) return;
+    const ang = Math.atan2(-(b[1] - a[1]), b[0] - a[0]);       // the link's angle (canvas y points down)
+    const cs = Math.cos(ang); const sn = Math.sin(ang);
+    ctx.save();
+    ctx.beginPath();
+    cm.outline.forEach(([x, y], k) => {
+      const px = o[0] + v.s * (cs * x - sn * y); const py = o[1] - v.s * (sn * x + cs * y);
+      if (k) ctx.lineTo(px, py); else ctx.moveTo(px, py);
+    });
+    ctx.closePath();
+    ctx.fillStyle = `${color}30`; ctx.strokeStyle = color; ctx.lineWidth = 1.5;
+    ctx.fill(); ctx.stroke();
+    const f = at(cm.point);
+    if (f && cm.roller > 0) {
+      ctx.fillStyle = "rgba(255,255,255,0.82)"; ctx.strokeStyle = "#1a1a1a";
+      ctx.beginPath(); ctx.arc(f[0], f[1], cm.roller * v.s, 0, 2 * Math.PI); ctx.fill(); ctx.stroke();
+    }
+    if (f && cm.face) {
+      const [ux, uy] = cm.face.u; const nx = -uy; const ny = ux;
+      const [lo, hi] = cm.face.ends;
+      ctx.strokeStyle = "#1a1a1a"; ctx.lineWidth = 3; ctx.lineCap = "butt";
+      ctx.beginPath();
+      ctx.moveTo(f[0] + v.s * nx * lo, f[1] - v.s * ny * lo); ctx.lineTo(f[0] + v.s * nx * hi, f[1] - v.s * ny * hi);
+      ctx.stroke();
+    }
+    ctx.restore();
+  }
+
   // for tests and the drag benchmark: a world point [m] as client pixels of the page, and back
   window.linkageCanvas = {
     toClient(x, y) { const r = canvas.getBoundingClientRect(); const v = view(); return [r.left + v.X(x), r.top + v.Y(y)]; },
@@ -2844,6 +3280,7 @@
   function start() {
     wire();
     wireLoads();
+    wireCam();
     sizeCanvas();
     syncClock();
     requestAnimationFrame(tick);
