@@ -351,7 +351,7 @@ def simulation_record(built, tr, revolutions: float, display=None) -> dict:
     from sim.service.analysis import units_of
     display = display or SI
     mech = built.mech
-    cols = trajectory_columns(tr)
+    cols = trajectory_columns(tr, mech)
     return {"mechanism": tr.name, "revolutions": revolutions, "timestep": tr.timestep, "integrator": tr.integrator,
             "steps": int(tr.steps), "cpu_seconds": tr.cpu_seconds,
             "max_loop_violation": display.convert("length", float(np.max(tr.loop_violation))),
@@ -359,12 +359,15 @@ def simulation_record(built, tr, revolutions: float, display=None) -> dict:
             **({"cams": tr.cams} if tr.cams else {})}
 
 
-def trajectory_columns(tr) -> dict:
-    """CSV columns of a trajectory: t, inputs, every output, loop violation, drive forces, commanded
-    inputs (``cmd_phi1``) and every joint's coordinate and rate (``q_NAME``, ``v_NAME``)."""
+def trajectory_columns(tr, mech) -> dict:
+    """CSV columns of a trajectory of ``mech``: t, inputs, every output, loop violation, drive forces, commanded
+    inputs (``cmd_phi1``) and every joint's coordinate and rate (``q_NAME``, ``v_NAME``). A driven slide's
+    measured columns are its input's (``s_lift``), not repeated under the block's name (Mechanism.driven_slides)."""
+    from analytic.mechanism import SLIDE_COMPONENTS
     joints = {f"q_{n}": tr.qpos[:, i] for i, n in enumerate(tr.joint_names)}
     joints.update({f"v_{n}": tr.qvel[:, i] for i, n in enumerate(tr.joint_names)})
-    outs = {k: np.asarray(v) for k, v in tr.outputs.items() if not k.startswith(("cos", "sin"))}
+    again = {c + j for j in mech.driven_slides for c in SLIDE_COMPONENTS} - set(tr.inputs)
+    outs = {k: np.asarray(v) for k, v in tr.outputs.items() if not k.startswith(("cos", "sin")) and k not in again}
     return {"t": tr.t, **tr.inputs, **outs, "loop_violation": tr.loop_violation, **tr.forces,
             **{f"cmd_{k}": v for k, v in tr.commanded.items()}, **joints}
 
