@@ -66,3 +66,15 @@ def test_one_rule_bounds_analyze_forces_and_the_simulation(monkeypatch):
     lk.compare(mech, revolutions=turns)                                  # the revolutions it names fit
     with pytest.raises(lk.ParameterError, match="a run may use"):
         lk.compare(mech, revolutions=20)
+
+
+@pytest.mark.parametrize("name", ["fourbar", "fivebar", "jansen", "excavator", "scissor_lift", "arm_2r", "cam_roller"])
+def test_the_analysis_count_covers_every_array_a_solve_makes(name):
+    """The bound counts an analysis's arrays from the structure (no solve: a command solves at most three times,
+    tests/test_solve_counts.py); a solve at one sample, counted here, must not keep more."""
+    import numpy as np
+    from sim.service.analysis import analysis_values
+    mech = lk.load(name)
+    solved = len(list(mech.solve(*mech.drive(np.zeros(1))).keys()))
+    kept = solved + 4 * len(mech.inputs) + 1                 # with the inputs' columns, their jerk, the time
+    assert kept <= analysis_values(mech) <= kept + 3 * len(mech.inputs)   # a crank's own 3 counted again at most

@@ -31,9 +31,9 @@ RUN_MEMORY = 2 * 1024 ** 3
 BYTES_PER_VALUE = 16
 """[bytes] Peak memory per value per sample of ``analyze`` (:func:`analysis_values`) and ``forces``
 (kinetostatics.full_wanted): measured (peak RSS over 300,000-400,000 samples less that over 2,000), ``forces``
-13.6 on the four-bar, 12.5 on Jansen's linkage, 12.1 on Klann's; ``analyze --csv`` 11.7 on the four-bar, 15.0
-on Jansen's, 14.1 on the excavator (8.3-9.1 without the CSV); rounded up. At the four-bar's bound (2,581,110
-samples) ``analyze`` peaked at 1.2 GB, with ``--csv`` 1.6 GB."""
+13.6 on the four-bar, 12.5 on Jansen's linkage, 12.1 on Klann's; ``analyze --csv`` 11.1 on the four-bar, 14.5
+on Jansen's, 14.1 on the excavator (8.2-8.6 without the CSV); rounded up. ``analyze fourbar`` at 2,581,110
+samples (6 % past its bound, 2,440,322) peaked at 1.2 GB, with ``--csv`` 1.5 GB (benchmarks/run_memory.py)."""
 
 
 def check_memory(option: str, asked: str, count: int, values: int, per_value: float, what: str,
@@ -52,10 +52,14 @@ def check_memory(option: str, asked: str, count: int, values: int, per_value: fl
 
 
 def analysis_values(mech: Mechanism) -> int:
-    """The arrays an analysis keeps a value of per sample: the solver's outputs (one sample solved) and the inputs'
-    columns (with a motion law's jerk) and the time."""
-    q, qd, qdd = mech.drive(np.zeros(1))
-    return len(list(mech.solve(q, qd, qdd).keys())) + 4 * len(mech.inputs) + 1
+    """The arrays an analysis keeps a value of per sample, counted from the structure (no solve): the solver's
+    (every point's 6, every link's 5 with its cosine and sine, every slide's 3, the kinds' own outputs, the
+    aliases, at most 3 of an input's own), the inputs' columns with a motion law's jerk, and the time. Exact
+    on the library but for a crank's or slider's own 3 (its link's or slide's), counted again: an upper bound."""
+    n = len(mech.inputs)
+    solved = (6 * len(mech.points) + 5 * len(mech.links) + 3 * len(mech.slides) + len(mech.extra_outputs)
+              + len(mech.aliases) + 3 * n)
+    return solved + 4 * n + 1
 
 
 @dataclass(frozen=True)
