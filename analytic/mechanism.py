@@ -198,9 +198,17 @@ class Mechanism:
         out = [c + p for p in self.points for c in POINT_COMPONENTS]
         own = {n for i in self.inputs for n in (i.q, i.qd, i.qdd)}      # an input's columns are its own
         out += [c + ln for ln in self.links for c in LINK_COMPONENTS if c + ln not in own]
-        out += [c + j for j in self.slides for c in SLIDE_COMPONENTS if c + j not in own]
+        out += [c + j for j in self.slides for c in SLIDE_COMPONENTS
+                if c + j not in own and j not in self.driven_slides]
         out += self.extra_outputs
         return tuple(out)
+
+    @functools.cached_property
+    def driven_slides(self) -> frozenset[str]:
+        """The prismatic pairs an input drives (an actuator's rod in its barrel, a driven P joint, a slider's
+        block): their length and rates are the input's own columns (SPEC "Drives": ``s_lift``, ``ds_lift``,
+        ``dds_lift``), reported once under that name, not again under the block's (``slift_rod``)."""
+        return frozenset(j.slide for j in self.joints if j.kind == "prismatic" and j.input is not None)
 
     @functools.cached_property
     def extra_outputs(self) -> tuple[str, ...]:
@@ -346,7 +354,7 @@ class Mechanism:
         elements = [e for e in self.geometry.elements if kinds.get(e["kind"]).section == "inputs"]
         for e in sorted(elements, key=lambda x: x["input"]):
             inp = self.inputs[e["input"]]
-            problem = kinds.get(e["kind"]).motion_problem(e, inp.q, t, q[:, e["input"]])
+            problem = kinds.get(e["kind"]).motion_problem(e, inp.q, t, q[:, e["input"]], units=self.units)
             if problem:
                 raise ParameterError(f"{self.definition.source}: {e['label']}: {problem}")
 

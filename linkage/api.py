@@ -231,7 +231,7 @@ def _motor(value, what: str):
 def dynamics(mech, /, *, motor, flywheel=None, target_fluctuation: float | None = None,
              start_speed: float = 0.0, revolutions: float = 10.0, timestep: float | None = None,
              integrator: str | None = None, gravity=None, force=None, cutting_force=None, torque=None,
-             inertia=None) -> Dynamics:
+             inertia=None, simulate: bool = True, max_steps: int | None = None) -> Dynamics:
     """A motor drives the linkage (``linkage dynamics``): the reduced equation of motion and MuJoCo's run,
     the speed fluctuation, start-up and flywheel; the loads as in :func:`simulate`.
 
@@ -242,6 +242,9 @@ def dynamics(mech, /, *, motor, flywheel=None, target_fluctuation: float | None 
         flywheel: on the input link [kg m^2] (``{input: J}`` for two motors).
         target_fluctuation: size the flywheel for this coefficient Cs, in (0, 1), instead.
         start_speed: the input's speed at t = 0 [rad/s].
+        simulate: MuJoCo's run too (one motor; False: the reduced equation's answer alone).
+        max_steps: refuse, before MuJoCo, a run that would take more steps than this (the reduced equation's
+            duration over MuJoCo's step; None: the simulation's own cap, sim.run.simulate.MAX_STEPS).
 
     Returns:
         :class:`linkage.Dynamics`: ``d.passed``, ``d.run``; ``to_dict()`` is ``linkage dynamics --json``.
@@ -256,7 +259,14 @@ def dynamics(mech, /, *, motor, flywheel=None, target_fluctuation: float | None 
     loads = _loads(mech, gravity, force, cutting_force, torque, inertia)
     settings = _settings(timestep, integrator)
     names = [i.q for i in mech.inputs]
+    if not isinstance(simulate, bool):
+        raise ParameterError(f"simulate={simulate!r} must be True or False")
+    if max_steps is not None and (isinstance(max_steps, bool) or not isinstance(max_steps, int) or max_steps < 1):
+        raise ParameterError(f"max_steps={max_steps!r} must be an integer >= 1 (or None: the simulation's own cap)")
     if len(names) == 2:
+        if not simulate or max_steps is not None:
+            raise ParameterError(f"{'simulate=False' if not simulate else 'max_steps='}: the {mech.name}'s two-motor "
+                                 f"run always runs MuJoCo, up to its own cap")
         if not isinstance(motor, dict) or set(motor) != set(names):
             raise ParameterError(f"motor=: the {mech.name} has two inputs; give {{{names[0]!r}: (T0, W0), "
                                  f"{names[1]!r}: (T0, W0)}}")
@@ -271,8 +281,12 @@ def dynamics(mech, /, *, motor, flywheel=None, target_fluctuation: float | None 
         raise ParameterError(f"the {mech.name} has {len(names)} inputs; dynamics drives one or two")
     if flywheel is not None and not float(flywheel) >= 0:
         raise ParameterError(f"flywheel={flywheel!r} must be >= 0 [kg m^2] (the flywheel's moment of inertia)")
+    cycle = D.cycle_of(mech)                        # one prescribed-motion cycle for both models of the run
     d = D.dynamics(mech, loads, _motor(motor, "motor"), None if flywheel is None else float(flywheel),
-                   target_fluctuation, float(start_speed), revolutions, settings)
+                   target_fluctuation, float(start_speed), revolutions, settings, simulate_too=False, cycle=cycle)
+    if simulate:                                    # its steps bounded before MuJoCo takes any
+        D.check_motor_steps(d, cycle, settings, max_steps)
+        d = D.simulated(d, loads, float(start_speed), settings, cycle)
     return Dynamics(mech, d)
 
 

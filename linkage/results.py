@@ -135,7 +135,7 @@ class Simulation(_Result):
     @property
     def columns(self) -> dict:
         from sim.service.simulation import trajectory_columns
-        return trajectory_columns(self.trajectory)
+        return trajectory_columns(self.trajectory, self.mechanism)
 
     def __getitem__(self, name: str):
         cols = self.columns

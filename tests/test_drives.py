@@ -18,6 +18,7 @@ Here: what only these kinds do, each against something the code does not share.
 
 from __future__ import annotations
 
+import csv
 import json
 import math
 import re
@@ -50,6 +51,36 @@ def test_the_inputs_columns_and_drives_are_named_as_the_spec_says():
     out = json.loads(r.stdout)
     assert list(out["drives"]) == ["s_lift"] and list(out["inputs"]) == ["s_lift"]
     assert set(out["actuators"]) == {"lift"} and out["units"]["actuators"] == {"pressure": "Pa", "F": "N", "bore": "m"}
+
+
+def test_the_rods_slide_is_reported_once_under_the_inputs_name(tmp_path):
+    """SPEC "Drives": an actuator's pin-to-pin length is column s_lift (ds_lift, dds_lift); the rod's prismatic pair
+    (slift_rod, the same numbers) is not reported again in analyze's CSV and JSON, simulate's CSV or compare."""
+    mech = analytic.load(str(ACTUATOR))
+    assert "lift_rod" in mech.slides                       # the pair is there, driven by the input
+    twice = {"slift_rod", "dslift_rod", "ddslift_rod"}
+    csv_a, csv_s = tmp_path / "a.csv", tmp_path / "s.csv"
+    r = run("analyze", ACTUATOR, "--csv", csv_a, "--samples", "9")
+    assert r.returncode == 0, r.stderr
+    with open(csv_a) as fh:
+        rows = list(csv.DictReader(fh))
+    cols = list(rows[0])
+    assert [cols.count(c) for c in ("s_lift", "ds_lift", "dds_lift")] == [1, 1, 1] and not twice & set(cols)
+    # s_lift is the pin-to-pin length |CD|: the pins' columns, by Pythagoras here; rounding on ~1 m
+    for row in rows:
+        cd = math.hypot(float(row["xD"]) - float(row["xC"]), float(row["yD"]) - float(row["yC"]))
+        assert float(row["s_lift"]) == pytest.approx(cd, abs=1e-12)
+    r = run("analyze", ACTUATOR, "--json", "--samples", "9")
+    assert r.returncode == 0, r.stderr
+    out = json.loads(r.stdout)
+    assert not twice & set(out["ranges"]) and not twice & set(out["units"]["outputs"])
+    assert "lift_rod" not in out["figures"]["slides"]     # its range is the input's, not a figure of its own
+    r = run("simulate", ACTUATOR, "--csv", csv_s, "--revolutions", "0.2")
+    assert r.returncode == 0, r.stderr
+    with open(csv_s) as fh:
+        cols = next(csv.reader(fh))
+    assert cols.count("s_lift") == 1 and not twice & set(cols)
+    assert not twice & set(analytic.load(str(ACTUATOR)).outputs)    # what compare and the app's tables list
 
 
 def test_the_motor_coordinate_is_the_relative_angle():
@@ -192,6 +223,34 @@ def test_a_motion_past_the_stroke_is_refused_saying_when_and_by_how_much(tmp_pat
     assert by == pytest.approx(0.1, rel=1e-3)            # printed to 4 digits
     r = run("compare", bad)
     _refused(r, "field 'stroke'", "at t = ")
+
+
+def _in_mm(tmp_path, v="450", l0="600"):
+    """tests/kinds/actuator.toml written in mm (every length x 1000), with the speed and start length given."""
+    text = ACTUATOR.read_text()
+    for old, new in (('format = "linkage/1"', 'format = "linkage/1"\nunits = "mm"'), ("C = [0.6, -0.25]", "C = [600, -250]"),
+                     ("length = 0.8", "length = 800"), ("l0 = 0.60", f"l0 = {l0}"), ("v = 0.25", f"v = {v}"),
+                     ("a = -0.1", "a = -100"), ("stroke = [0.50, 0.95]", "stroke = [500, 950]"),
+                     ("bore = 0.063", "bore = 63"), ("rod = 0.036", "rod = 36"), ("at = [1.2, 0.1]", "at = [1200, 100]")):
+        assert old in text
+        text = text.replace(old, new)
+    path = tmp_path / "mm.toml"
+    path.write_text(text)
+    return path
+
+
+def test_a_mm_files_stroke_refusals_speak_mm(tmp_path):
+    """The stroke's lengths and the overshoot in the file's unit (issue 37): the metres case above, x 1000."""
+    r = run("forces", _in_mm(tmp_path), "--csv", tmp_path / "f.csv")
+    line = _refused(r, "field 'stroke'", "the stroke [500, 950] mm", "extended length 950 mm")
+    by = float(re.search(r"goes ([0-9.]+) mm beyond", line).group(1))
+    assert by == pytest.approx(100.0, rel=1e-3)          # 0.1 m past the end, by hand above; printed to 4 digits
+    assert not re.search(r"[0-9] m\b", line), line        # no length left in metres
+    r = run("analyze", _in_mm(tmp_path, l0="400"))
+    line = _refused(r, "field 'l0'", "400 mm is outside the stroke [500, 950] mm", "by 100 mm")
+    assert not re.search(r"[0-9] m\b", line), line
+    r = run("analyze", _edit(tmp_path, _in_mm(tmp_path), "stroke = [500, 950]", "stroke = [950, 500]", "swapped.toml"))
+    _refused(r, "field 'stroke'", "the extended length 500 mm must exceed the retracted 950 mm")
 
 
 def test_a_motor_whose_carrier_does_not_hold_its_pivot_is_refused(tmp_path):
@@ -386,6 +445,41 @@ def test_the_drive_mechanisms_of_the_library_pass_compare_under_gravity(name):
     _, c = service.compare(analytic.load(name), loads=Loads(gravity=(0.0, -G)))
     failed = {k: v for k, v in c.errors.items() if not v["passed"]}
     assert c.passed, (failed, c.drive_error, c.work_balance)
+
+
+@pytest.mark.parametrize("name", ["arm_2r", "dump_tipper", "excavator", "scissor_lift", "servo_press"])
+def test_the_drive_mechanisms_of_the_library_pass_compare_without_gravity(name):
+    """As above with no weight to stiffen the loops (sim.model.build.regularization): a cylinder's light rod on a
+    heavy link is covered by the loops' spread alone (SPREAD_REF)."""
+    from sim import service
+    _, c = service.compare(analytic.load(name))
+    failed = {k: v for k, v in c.errors.items() if not v["passed"]}
+    assert c.passed, (failed, c.drive_error, c.work_balance)
+
+
+def test_the_loop_spread_is_the_light_rod_on_the_heavy_link():
+    """sim.model.build.loop_spread against a two-body hand model: a light body (m) on a slide whose rotor
+    inertia is J, pinned by the loop to a heavy body (M) on a slide at right angles. In the plane the loop's
+    mobility is diag(1 / (m + J), 1 / M) (each direction moves one slide), so lambda_min = 1 / max(m + J, M),
+    and MuJoCo's compiled invweight0 (without J) is each body's mobility along its slide, 1 / its mass."""
+    import mujoco
+    from sim.model.build import Loop, loop_spread
+    from sim.model.armature import set_armature
+    m, M, J = 0.3, 1500.0, 4.0e6
+    xml = f"""<mujoco><option gravity="0 0 0"/><worldbody>
+      <body name="rod"><joint name="s" type="slide" axis="1 0 0"/><geom type="sphere" size="0.01" mass="{m}"/>
+        <site name="p_rod"/></body>
+      <body name="boom"><joint name="b" type="slide" axis="0 1 0"/><geom type="sphere" size="0.01" mass="{M}"/>
+        <site name="p_boom"/></body></worldbody>
+      <equality><connect site1="p_rod" site2="p_boom"/></equality></mujoco>"""
+    model = mujoco.MjModel.from_xml_string(xml)
+    w = model.body_invweight0[1:, 0].copy()
+    # MuJoCo's compile-time estimate (its own arithmetic): 1 / mass for a body on one slide
+    assert w == pytest.approx([1 / m, 1 / M], rel=1e-6)
+    set_armature(model, "s", J)
+    spread = loop_spread(model, (Loop("c", "p", "p_rod", "p_boom"),), np.zeros(2), np.zeros(2))
+    # the hand model's eigenvalues; rel: mj_solveM's factorisation rounding on a 1e7 spread of inertias
+    assert spread == pytest.approx((w[0] + w[1]) * max(m + J, M), rel=1e-9)
 
 
 def test_the_model_tree_hangs_a_driven_link_from_its_base():

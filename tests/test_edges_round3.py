@@ -282,8 +282,8 @@ def test_a_target_of_1e300_is_out_of_range(tmp_path):
 def test_forces_refuses_a_sample_count_past_its_memory_before_any_work(tmp_path):
     """Fault: ``forces --samples 10000000`` took 5.7 GB (peak RSS) and tens of seconds before answering.
     The bound: 2 GB at 16 bytes a solved value a sample, 42 values on the four-bar."""
-    from sim.service.forces import BYTES_PER_VALUE, FORCES_MEMORY
-    most = FORCES_MEMORY // (BYTES_PER_VALUE * 42)
+    from sim.service.analysis import BYTES_PER_VALUE, RUN_MEMORY
+    most = RUN_MEMORY // (BYTES_PER_VALUE * 42)
     r = cli_runner.run("forces", "fourbar", "--samples", "10000000", "--csv", "f.csv", cwd=tmp_path)
     _one_line(r, rf"samples=10,000,000: the fourbar's joint forces .* need about 6\.3 GB \(42 values a sample\); "
                  rf"at most {most:,} fit in the 2 GB")

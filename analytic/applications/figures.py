@@ -49,7 +49,7 @@ def general(mech, sol) -> dict:
         out["dead_points"] = [] if full else [x for r in ranges for x in r]
         out["singular_points"] = [{"at": x, "group": g} for x, g, _ in singular_poses(mech)]
     out["slides"] = {j: {"range": _span(sol["s" + j]), "stroke": float(np.nanmax(sol["s" + j]) - np.nanmin(sol["s" + j]))}
-                     for j in mech.slides if j not in {i.link for i in mech.inputs}}
+                     for j in mech.slides if j not in mech.driven_slides}
     out["time_ratio"] = time_ratio(mech, sol)
     m, label = min_singularity(mech, sol)
     out["min_singularity"] = {"value": m, "group": label}

@@ -936,7 +936,7 @@ def resolve(d: Definition, values: dict[str, float], keep_problems: bool = False
                 out[kind.motion_fields[0]] = e.law.table[1][0]
         kind.resolve_extra(out, d.topology)
         kind.resolve_at(out, ground)
-        problem = kind.check_resolved(out)
+        problem = kind.check_resolved(out, units=d.units)
         if problem and not keep_problems:
             raise ParameterError(f"{d.source}: {e.label}: {problem}")
         if problem:

@@ -34,6 +34,18 @@ written to 6 significant digits of degrees (as the importers write a peer's slid
 rad, of its value."""
 
 
+def _in(units: str):
+    """Lengths [m] as the file writes them: ``f(x)`` gives "950 mm", ``f(lo, hi)`` "[950, 2700] mm" (``units``:
+    the file's, one of analytic.quantities.LENGTH_UNITS; ``digits``: significant digits, default as :g)."""
+    from analytic.quantities import LENGTH_UNITS
+    per = LENGTH_UNITS[units]
+
+    def say(*xs: float, digits: int | None = None) -> str:
+        text = [f"{x / per:.{digits}g}" if digits else f"{x / per:g}" for x in xs]
+        return f"{text[0]} {units}" if len(text) == 1 else f"[{', '.join(text)}] {units}"
+    return say
+
+
 class Actuator(Kind):
     name = "actuator"
     section = "inputs"
@@ -157,25 +169,26 @@ class Actuator(Kind):
     def needs(self, f):
         return tuple(f["from"])
 
-    def check_resolved(self, e):
+    def check_resolved(self, e, units="m"):
         lo, hi = e["stroke"]
+        u = _in(units)
         if not hi > lo:
-            return f"field 'stroke': the extended length {hi:g} m must exceed the retracted {lo:g} m"
+            return f"field 'stroke': the extended length {u(hi)} must exceed the retracted {u(lo)}"
         l0 = e["l0"]
         if not lo <= l0 <= hi:
             by = lo - l0 if l0 < lo else l0 - hi
-            return (f"field 'l0': {l0:g} m is outside the stroke [{lo:g}, {hi:g}] m by {by:.4g} m; give a start "
+            return (f"field 'l0': {u(l0)} is outside the stroke {u(lo, hi)} by {u(by, digits=4)}; give a start "
                     f"length within it")
         if e["bore"] < 0 or e["rod"] < 0:
             return f"field '{'bore' if e['bore'] < 0 else 'rod'}': a diameter must be >= 0 (0: not given)"
         if e["rod"] > 0 and not e["rod"] < e["bore"]:
-            return f"field 'rod': the rod's diameter {e['rod']:g} m must be smaller than the bore {e['bore']:g} m"
+            return f"field 'rod': the rod's diameter {u(e['rod'])} must be smaller than the bore {u(e['bore'])}"
         return None
 
     def stops(self, e):
         return tuple(e["stroke"])
 
-    def motion_problem(self, e, column, t, q):
+    def motion_problem(self, e, column, t, q, units="m"):
         """Refuse a motion that drives the actuator past either end of its stroke: the first time (or sample)
         it does and the farthest it goes."""
         lo, hi = e["stroke"]
@@ -193,9 +206,10 @@ class Actuator(Kind):
             at = float(t[k]) if k == 0 else float(t[k - 1] + (edge_k - q[k - 1]) / (q[k] - q[k - 1]) * (t[k] - t[k - 1]))
             when = f"at t = {at:.4g} s"
         else:
-            when = f"where {column} reaches {q[k]:.6g} m"
-        return (f"field 'stroke': the motion leaves the stroke [{lo:g}, {hi:g}] m {when} and goes {by:.4g} m "
-                f"beyond the {end} length {edge:g} m; shorten the motion (or its speed) or lengthen the stroke")
+            when = f"where {column} reaches {_in(units)(q[k], digits=6)}"
+        u = _in(units)
+        return (f"field 'stroke': the motion leaves the stroke {u(lo, hi)} {when} and goes {u(by, digits=4)} "
+                f"beyond the {end} length {u(edge)}; shorten the motion (or its speed) or lengthen the stroke")
 
     def structure(self, f):
         (a, c), d = f["from"], f["point"]

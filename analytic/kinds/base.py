@@ -284,8 +284,9 @@ class Kind:
         """A problem with the fields given the ground points (once every name is known to exist), or None."""
         return None
 
-    def check_resolved(self, e: dict) -> str | None:
-        """A problem with the resolved numbers (one line naming the field), or None."""
+    def check_resolved(self, e: dict, units: str = "m") -> str | None:
+        """A problem with the resolved numbers (one line naming the field, its lengths in the file's ``units``, one
+        of analytic.quantities.LENGTH_UNITS), or None."""
         return None
 
     def check_start(self, e: dict, st: "State") -> str | None:
@@ -367,9 +368,10 @@ class Kind:
         """For inputs: the ends its coordinate cannot pass whatever the linkage (an actuator's stroke), or None."""
         return None
 
-    def motion_problem(self, e: dict, column: str, t, q) -> str | None:
+    def motion_problem(self, e: dict, column: str, t, q, units: str = "m") -> str | None:
         """For inputs: a problem with the input's motion ``q`` at times ``t`` [s] (``t`` None: samples of unknown
-        time), one line naming the field (an actuator driven past its stroke), or None."""
+        time), one line naming the field (an actuator driven past its stroke), its lengths in the file's
+        ``units``, or None."""
         return None
 
     # ---------------------------------------------------------------------- links-and-joints form

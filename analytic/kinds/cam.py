@@ -145,7 +145,7 @@ class Cam(Kind):
         e["setup"] = setup
         e["problem"] = C.problems(C.build(setup)) or ""
 
-    def check_resolved(self, e):
+    def check_resolved(self, e, units="m"):
         return e["problem"] or None
 
     def extent(self, e):

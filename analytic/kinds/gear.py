@@ -79,7 +79,7 @@ class Gear(Kind):
                     f"the link it is on in 'carrier'")
         return None
 
-    def check_resolved(self, e):
+    def check_resolved(self, e, units="m"):
         if e["problem"]:
             return e["problem"]
         k = e["ratio"]

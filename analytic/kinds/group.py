@@ -150,7 +150,7 @@ class Group(Kind):
             return f"field 'pose': point {extra[0]} is on none of the group's links; remove it from the pose"
         return None
 
-    def check_resolved(self, e):
+    def check_resolved(self, e, units="m"):
         try:
             group(e)
         except ParameterError as exc:          # the fields as written passed check(): what is left is the pose

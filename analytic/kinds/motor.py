@@ -126,7 +126,7 @@ class Motor(Kind):
             f"field 'pivot': {e['pivot']!r} is not a point of the carrier {e['on']!r} (its points: "
             f"{', '.join(held)}); pivot the motor on a point of the link named in 'on'")
 
-    def check_resolved(self, e):
+    def check_resolved(self, e, units="m"):
         return e.get("problem") or None
 
     def input_joint(self, e):

@@ -32,7 +32,7 @@ class PPR(Kind):
     def needs(self, f):
         return f["guide"].uses() + (f["through"],)
 
-    def check_resolved(self, e):
+    def check_resolved(self, e, units="m"):
         return _lines.check_slot_angle(e)
 
     def structure(self, f):

@@ -37,7 +37,7 @@ class PRP(Kind):
             return "field 'guide2': the same line as guide1; the two guides must cross"
         return None
 
-    def check_resolved(self, e):
+    def check_resolved(self, e, units="m"):
         g1, g2 = e["guide1"], e["guide2"]
         if "angle" in g1 and "angle" in g2 and abs(math.sin(g2["angle"] - g1["angle"])) < _lines.PARALLEL:
             return (f"field 'guide2': parallel to guide1 (ground lines at {math.degrees(g1['angle']):.6g} and "

@@ -33,7 +33,7 @@ class RPP(Kind):
     def needs(self, f):
         return (f["through"],) + f["guide"].uses()
 
-    def check_resolved(self, e):
+    def check_resolved(self, e, units="m"):
         return _lines.check_slot_angle(e)
 
     def structure(self, f):

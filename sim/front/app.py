@@ -495,37 +495,24 @@ def forces(body: dict) -> dict:
 
 
 def dynamics(body: dict) -> dict:
-    """The dynamics panel: the linkage driven by a motor (:mod:`sim.service.dynamics`), the reduced
-    equation's answer and, with ``simulate`` (default), MuJoCo's and the verdict; with ``target_fluctuation``
-    the flywheel sized for that Cs. The MuJoCo run is refused before it starts when it would take more than
-    MAX_DYNAMICS_STEPS steps (the reduced equation's run gives its duration)."""
+    """The dynamics panel: the linkage driven by a motor through the door (:func:`linkage.dynamics`, as the
+    command line), the reduced equation's answer and, with ``simulate`` (default), MuJoCo's and the verdict;
+    with ``target_fluctuation`` the flywheel sized for that Cs. The door refuses the MuJoCo run before it starts
+    when it would take more than MAX_DYNAMICS_STEPS steps (the reduced equation's run gives its duration)."""
+    import linkage as lk
     args = arguments(body, "dynamics")
     mech = mechanism_of(body)
     if len(mech.inputs) != 1:
         raise RequestError(400, f"the {mech.name} has {len(mech.inputs)} inputs; the dynamics panel drives one "
                                 f"(run `linkage dynamics` with --motor per input)")
-    motor = sdyn.linear_motor(*args["motor"])
-    revolutions, start, target = args["revolutions"], float(args["start_speed"]), args["target_fluctuation"]
+    target = args["target_fluctuation"]
     if target is not None:
         if not 0 < target < 1:
             raise RequestError(400, f"target_fluctuation={target:g} must be in (0, 1), e.g. 0.05")
         if args["flywheel"] not in (None, 0, 0.0):
             raise RequestError(400, "give flywheel or target_fluctuation (which sizes the flywheel), not both")
-    flywheel = None if target is not None else float(args["flywheel"] or 0.0)
-    simulate_too = flag(body, "simulate", True)
-    from linkage._loads import run_loads
-    loads = run_loads(mech, **{k: args[k] for k in ("gravity", "force", "cutting_force", "torque", "inertia")})
-    cycle = sdyn.cycle_of(mech)                     # one prescribed-motion cycle for every model of the run
-    d = sdyn.dynamics(mech, loads, motor, flywheel, target, start, revolutions, simulate_too=False, cycle=cycle)
-    if simulate_too:
-        h = sdyn.motor_timestep(d, cycle)
-        steps = float(d.run.t[-1]) / h
-        if steps > MAX_DYNAMICS_STEPS:
-            raise RequestError(400, f"MuJoCo would take about {steps:,.0f} steps of {h:.3g} s for this run (at most "
-                                    f"{MAX_DYNAMICS_STEPS:,}): lower the revolutions, or run `linkage dynamics` "
-                                    f"on the command line")
-        d = sdyn.simulated(d, loads, start, cycle=cycle)
-    return dynamics_view(d)
+    keywords = {**for_door(args, lk.dynamics), "flywheel": None if target is not None else float(args["flywheel"] or 0.0)}
+    return dynamics_view(lk.dynamics(mech, **keywords, max_steps=MAX_DYNAMICS_STEPS).run)
 
 
 def dynamics_view(d) -> dict:

@@ -37,13 +37,12 @@ APP_FIELDS = {
     "simulate": {*_MECHANISM, "outputs"},
     "render": {*_MECHANISM, "size", "fps"},
     "forces": {*_MECHANISM, "digits"},
-    "dynamics": {*_MECHANISM, "simulate"},
+    "dynamics": {*_MECHANISM},
     "export": {*_MECHANISM},
 }
 """The app's own fields by action: the mechanism (a name or a file's ``text``, and the values ``set``), the
 plotted ``outputs``, how arrays are encoded (``digits``, ``arrays``), a video's ``size`` and ``fps``, a drag's
-point and target; the dynamics panel's ``simulate`` (the door's run always simulates; the panel may show the
-reduced equation's alone)."""
+point and target."""
 
 WITHHELD = {
     "mjcf": "a path the door writes: the server writes no file a request names",
@@ -53,6 +52,7 @@ WITHHELD = {
     "balance": "the page shows no counterweights",
     "at": "the forces panel draws a run, not one pose",
     "interference": "the page's comparison draws no parts",
+    "max_steps": "the server bounds a motor run's MuJoCo steps itself (sim.front.app.MAX_DYNAMICS_STEPS)",
 }
 """The door's keywords the app does not take, each with its reason."""
 

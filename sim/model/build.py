@@ -131,12 +131,13 @@ class Built:
         return float(self.model.opt.timestep)
 
 
-def regularization(model, mech, loads, extra=None) -> float:
+def regularization(model, mech, loads, extra=None, spread: float = 1.0) -> float:
     """REGULARIZATION_SCALE / (1 + load / inertial force), with the load |F| + m |g| and the inertial force
-    m L Omega^2 (m the links' mass, L the size, Omega the fastest input speed). The leak into the loops
-    grows with the constraint force (R lambda) and the torque error with the inertial forces over R, so
-    scaling R by their ratio keeps both at their unloaded level: a 6.6 mm Peaucellier cell pushed by 24 N
-    (140x its inertial force) had 4e-6 rad of angle error at 1e-6, 3e-8 at the 8e-9 chosen here."""
+    m L Omega^2 (m the links' mass, L the size, Omega the fastest input speed), times min(1, SPREAD_REF /
+    ``spread``) (the loops' :func:`loop_spread`). The leak into the loops grows with the constraint force
+    (R lambda) and the torque error with the inertial forces over R, so scaling R by their ratio keeps both
+    at their unloaded level: a 6.6 mm Peaucellier cell pushed by 24 N (140x its inertial force) had 4e-6 rad
+    of angle error at 1e-6, 3e-8 at the 8e-9 chosen here."""
     m = float(model.body_mass.sum())
     inertial = m * mech.size * motion_scale(mech) ** 2
     load = math.hypot(*loads.force) + (m * math.hypot(*loads.gravity) if loads.gravity is not None else 0.0)
@@ -145,7 +146,45 @@ def regularization(model, mech, loads, extra=None) -> float:
     scale = REGULARIZATION_SCALE / (1.0 + load / inertial) if inertial > 0 else REGULARIZATION_SCALE
     if any(e.get("flips") for e in mech.solving_geometry.elements):
         scale *= CHANGE_POINT_SCALE
-    return scale
+    return scale * min(1.0, SPREAD_REF / spread)
+
+
+SPREAD_REF = 30.0
+"""The largest :func:`loop_spread` the regulariser is left at REGULARIZATION_SCALE for; a loop closure with a
+larger spread has its scale divided by spread / SPREAD_REF. MuJoCo sizes a connect's regulariser from its two
+bodies' compiled mobilities (R = (1 - d) / d (invweight0_1 + invweight0_2)), so the leak's share is R over the
+constraint's mobility in its stiffest direction, lambda_min(J M^-1 J'); their ratio is the spread. Over the
+library's linkages of slender bars it is 0.27-29 (scissor_lift's cylinder pin 29, klann 23, the four-bar 0.86).
+A cylinder's rod (0.29 kg in the excavator) pinned to a boom of 1.5 t, its slide carrying the servo's rotor,
+moves along its axis with the boom: there the spread is 1.5e3-1.1e5 (excavator), 3.2e4 (dump_tipper), the
+leak 1e4x its calibrated share, and without gravity (which divides the scale by 1 + m g / m L Omega^2, 113 in
+the excavator) tests/drives/excavator_cycle.toml's points missed by 2.2x their tolerance and its boom force by
+1.1x at the rate-chosen step (a shorter step only shortens the loops' correction time, 32 steps)."""
+
+
+def loop_spread(model, loops, qpos, qvel) -> float:
+    """The largest over the loop closures (connects, :class:`Loop`) of (invweight0_1 + invweight0_2) /
+    lambda_min, lambda_min the smallest eigenvalue of the in-plane block of J M^-1 J' at the pose ``qpos`` with
+    the drives' rotor inertias (armature) in M, invweight0 as compiled (unscaled); 1 without loops."""
+    if not loops:
+        return 1.0
+    data = mujoco.MjData(model)
+    data.qpos[:], data.qvel[:] = qpos, qvel
+    mujoco.mj_forward(model, data)
+    worst = 1.0
+    for loop in loops:
+        a, b = model.site(loop.site1), model.site(loop.site2)
+        ja, jb = np.zeros((3, model.nv)), np.zeros((3, model.nv))
+        mujoco.mj_jacSite(model, data, ja, None, a.id)
+        mujoco.mj_jacSite(model, data, jb, None, b.id)
+        J = (ja - jb)[:2]                                 # the plane's two directions (nothing moves along z)
+        X = np.zeros((2, model.nv))
+        mujoco.mj_solveM(model, data, X, J)
+        lam = float(np.linalg.eigvalsh(0.5 * (J @ X.T + X @ J.T))[0])
+        diag = float(model.body_invweight0[a.bodyid[0], 0] + model.body_invweight0[b.bodyid[0], 0])
+        if lam > 0.0 and diag > 0.0:
+            worst = max(worst, diag / lam)
+    return worst
 
 
 CHANGE_POINT_SCALE = 1e-4
@@ -322,11 +361,11 @@ def build_model(mech, settings, loads, h, sol, points, q_start, revolutions, nat
     draft = Built(mech, model, settings, loads, tuple(drives), tuple(loops), tuple(mech.links), None, None, None,
                   None, window, xml, held, () if export else carried)
     extra = ML.drive_loads(draft, revolutions, cycle) if held else None
-    scale = regularization(model, mech, loads, extra)
-    model.body_invweight0[:] *= scale
-    model.tendon_invweight0[:] *= scale             # a tendon equality (a gear coupling) is sized by these
     drives = size_drives(model, mech, drives, loads, h, extra, cycle)
     qpos0, qvel0 = initial_state(model, mech, order, frames, sol)
+    scale = regularization(model, mech, loads, extra, loop_spread(model, loops, qpos0, qvel0))
+    model.body_invweight0[:] *= scale
+    model.tendon_invweight0[:] *= scale             # a tendon equality (a gear coupling) is sized by these
     act0, ctrl0 = initial_controls(model, mech, drives, q_start, loads, extra, cycle)
     built = Built(mech, model, settings, loads, tuple(drives), tuple(loops), tuple(mech.links),
                   qpos0, qvel0, act0, ctrl0, window, xml, loadset, carried, scale)

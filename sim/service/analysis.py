@@ -18,10 +18,48 @@ from analytic.quantities import (ANGLE, ANGULAR_VELOCITY, LENGTH, SI, TIME, TORQ
 
 
 MAX_SAMPLES = 10_000_000
-"""Largest analysis accepted (~1.5 GB of outputs for a four-bar)."""
+"""Largest analysis accepted (the memory bound, RUN_MEMORY, binds first: 2.9 million on the four-bar)."""
 
 
 MAX_REVOLUTIONS = 10_000
+
+RUN_MEMORY = 2 * 1024 ** 3
+"""[bytes] The most memory one run's samples (or steps) may take: ``analyze``, ``forces``, ``simulate`` and
+``compare`` refuse a run that would need more before it starts (:func:`check_memory`): ``forces --samples
+10000000`` took 5.7 GB on the four-bar, ``analyze`` 4.6 GB, ``simulate`` 37 GB at its former 2e7-step cap."""
+
+BYTES_PER_VALUE = 16
+"""[bytes] Peak memory per value per sample of ``analyze`` (:func:`analysis_values`) and ``forces``
+(kinetostatics.full_wanted): measured (peak RSS over 300,000-400,000 samples less that over 2,000), ``forces``
+13.6 on the four-bar, 12.5 on Jansen's linkage, 12.1 on Klann's; ``analyze --csv`` 11.1 on the four-bar, 14.5
+on Jansen's, 14.1 on the excavator (8.2-8.6 without the CSV); rounded up. ``analyze fourbar`` at 2,581,110
+samples (6 % past its bound, 2,440,322) peaked at 1.2 GB, with ``--csv`` 1.5 GB (benchmarks/run_memory.py)."""
+
+
+def check_memory(option: str, asked: str, count: int, values: int, per_value: float, what: str,
+                 unit: str = "sample", most=None) -> None:
+    """Refuse a run of ``count`` samples (``unit``: or steps) of ``values`` values each, ``per_value`` bytes a
+    value, that would need more than RUN_MEMORY: one line naming the option as given (``option``=``asked``), what
+    it is (``what``: "the fourbar's joint forces at that many samples"), the memory it needs and the most that
+    fit, in the option's terms (``most``: the largest count that fits -> its text; default the count itself)."""
+    limit = int(RUN_MEMORY // (per_value * values))
+    if count <= limit:
+        return
+    need = count * per_value * values / 1024 ** 3
+    shown = f"{limit:,}" if most is None else most(limit)
+    raise ParameterError(f"{option}={asked}: {what} need about {need:.1f} GB ({values} values a {unit}); at most "
+                         f"{shown} fit in the {RUN_MEMORY / 1024 ** 3:.3g} GB a run may use: give fewer")
+
+
+def analysis_values(mech: Mechanism) -> int:
+    """The arrays an analysis keeps a value of per sample, counted from the structure (no solve): the solver's
+    (every point's 6, every link's 5 with its cosine and sine, every slide's 3, the kinds' own outputs, the
+    aliases, at most 3 of an input's own), the inputs' columns with a motion law's jerk, and the time. Exact
+    on the library but for a crank's or slider's own 3 (its link's or slide's), counted again: an upper bound."""
+    n = len(mech.inputs)
+    solved = (6 * len(mech.points) + 5 * len(mech.links) + 3 * len(mech.slides) + len(mech.extra_outputs)
+              + len(mech.aliases) + 3 * n)
+    return solved + 4 * n + 1
 
 
 @dataclass(frozen=True)
@@ -67,6 +105,8 @@ def analyze(mech: Mechanism, samples: int = 361, revolutions: float = 1.0,
     front end does while a value is being dragged."""
     check_samples(samples)
     check_revolutions(revolutions)
+    check_memory("samples", f"{samples:,}", samples, analysis_values(mech), BYTES_PER_VALUE,
+                 f"the {mech.name}'s outputs at that many samples")
     if input_range is not None:
         lo, hi = check_range(mech, *input_range)
         first = mech.inputs[0]

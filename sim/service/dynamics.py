@@ -15,7 +15,7 @@ from analytic import ParameterError
 from analytic.applications import motor as _motor
 
 __all__ = ["sizing_tolerance", "linear_motor", "table_motor", "is_linear_motor", "cycle_of", "dynamics",
-           "motor_timestep", "simulated", "dynamics_two", "record", "record_two", "in_units", "CylinderDynamics",
+           "motor_timestep", "check_motor_steps", "simulated", "dynamics_two", "record", "record_two", "in_units", "CylinderDynamics",
            "cylinder_dynamics", "cylinder_record", "CYLINDER_S_TOL", "CYLINDER_V_TOL"]
 
 
@@ -69,6 +69,20 @@ def motor_timestep(d, cycle=None) -> float:
     from sim.run import motor as smotor
     return smotor.timestep_for(d.mech, d.run.reduced, d.motor, float(np.max(np.abs(d.run.omega))),
                                cycle if cycle is not None else cycle_of(d.mech))
+
+
+def check_motor_steps(d, cycle=None, settings=None, most: int | None = None) -> None:
+    """Refuse, before MuJoCo, the simulation of a motor run ``d`` (the reduced equation's answer) that would take
+    more than ``most`` steps (None: sim.run.simulate.MAX_STEPS, the simulation's own cap) of its step
+    (``settings.timestep`` where given, else :func:`motor_timestep`): one line with the steps, the step and the
+    bound. The command line and the app both reach it through :func:`linkage.dynamics`."""
+    from sim.run.simulate import MAX_STEPS
+    most = MAX_STEPS if most is None else int(most)
+    h = settings.timestep if settings is not None and settings.timestep is not None else motor_timestep(d, cycle)
+    steps = float(d.run.t[-1]) / h
+    if steps > most:
+        raise ParameterError(f"MuJoCo would take about {steps:,.0f} steps of {h:.3g} s for this run (at most "
+                             f"{most:,}): lower the revolutions or the motor's speed")
 
 
 def simulated(d, loads, start_speed: float = 0.0, settings=None, cycle=None):

@@ -12,7 +12,8 @@ from analytic import ParameterError, kinds
 from analytic.checks import check_forces_singular, measured_outputs  # noqa: F401 (the service's names)
 from analytic.checks import singular_text as _singular_text
 from analytic.mechanism import Mechanism
-from sim.service.analysis import check_range, check_revolutions, check_samples, check_turns_fully
+from sim.service.analysis import (BYTES_PER_VALUE, check_memory, check_range, check_revolutions, check_samples,
+                                  check_turns_fully)
 
 
 @dataclass(frozen=True)
@@ -78,25 +79,12 @@ def mass_sources(mech: Mechanism, given: dict | None) -> dict[str, str]:
     return out
 
 
-FORCES_MEMORY = 2 * 1024 ** 3
-"""[bytes] The most memory a force run's samples may take: a run that would need more is refused before it
-starts (``forces --samples 10000000`` took 5.7 GB on the four-bar and more on a bigger linkage)."""
-BYTES_PER_VALUE = 16
-"""[bytes] Peak memory per solved value per sample of a force run: measured (peak RSS over 400,000 samples
-less that over 2,000) 13.6 on the four-bar, 12.5 on Jansen's linkage, 12.1 on Klann's, rounded up."""
-
-
 def check_forces_memory(mech: Mechanism, samples: int) -> None:
-    """Refuse a sample count whose force run would need more than FORCES_MEMORY: one line with the count
-    that fits."""
+    """Refuse a sample count whose force run would need more than RUN_MEMORY (the runs' one rule,
+    :func:`sim.service.analysis.check_memory`): one line with the count that fits."""
     from analytic.loads.kinetostatics import full_wanted
-    values = len(full_wanted(mech))
-    most = FORCES_MEMORY // (BYTES_PER_VALUE * values)
-    if samples > most:
-        need = samples * BYTES_PER_VALUE * values / 1024 ** 3
-        raise ParameterError(f"samples={samples:,}: the {mech.name}'s joint forces at that many samples need about "
-                             f"{need:.1f} GB ({values} values a sample); at most {most:,} fit in the "
-                             f"{FORCES_MEMORY // 1024 ** 3} GB a force run may use: give fewer")
+    check_memory("samples", f"{samples:,}", samples, len(full_wanted(mech)), BYTES_PER_VALUE,
+                 f"the {mech.name}'s joint forces at that many samples")
 
 
 def forces_run(mech: Mechanism, samples: int = 361, revolutions: float = 1.0, input_range=None,

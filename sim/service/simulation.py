@@ -10,7 +10,7 @@ import numpy as np
 from analytic import ParameterError
 from analytic.mechanism import Mechanism
 from analytic.checks import visited as _visited
-from sim.service.analysis import check_range, check_revolutions, check_turns_fully
+from sim.service.analysis import check_memory, check_range, check_revolutions, check_turns_fully
 
 
 def check_singular(mech: Mechanism, cycle=None) -> None:
@@ -328,7 +328,35 @@ def simulate(mech: Mechanism, revolutions: float = 1.0, settings=None, loads=Non
     from sim.run.simulate import simulate as run
     mech, cycle = prepare_run(mech, revolutions, input_range)
     built = build(mech, settings or Settings(), loads or Loads(), revolutions, cycle=cycle)
+    check_run_memory(built, revolutions)
     return built, run(built, revolutions)
+
+
+BYTES_PER_STEP_VALUE = 24
+"""[bytes] Peak memory per recorded value (the model's sensors and state, nsensordata + nq + nv + na) per step
+of ``compare`` (the larger user: the analytic solution at every step and the comparison besides the run):
+measured (peak RSS over 800 turns less that over 4) 21.8 on the four-bar, 20.4 on Jansen's linkage; ``simulate``
+11-12, with ``--csv`` 18; rounded up. ``simulate --json`` writes every step as text, 107 a value
+(BYTES_PER_JSON_VALUE)."""
+
+BYTES_PER_JSON_VALUE = 128
+"""[bytes] The same for ``simulate --json``'s record of every step (107 on the four-bar, rounded up)."""
+
+
+def check_run_memory(built, revolutions: float, per_value: float = BYTES_PER_STEP_VALUE) -> None:
+    """Refuse a run of ``revolutions`` whose recorded steps would need more than RUN_MEMORY (the runs' one rule,
+    :func:`sim.service.analysis.check_memory`), naming the most revolutions that fit."""
+    from sim.run.simulate import steps_for
+    model, mech = built.model, built.mech
+    steps, h = steps_for(built, revolutions), built.timestep
+    per_turn = mech.duration(1.0) / h                       # steps a revolution (a cycle of a motion law)
+
+    def most(limit: int) -> str:
+        turns = float(f"{max(limit - 1, 0) / per_turn:.3g}")
+        turns = turns if turns * per_turn <= limit - 1 else float(f"{turns * (1 - 1e-3):.3g}")
+        return f"{turns:g} revolutions ({limit:,} steps)"
+    check_memory("revolutions", f"{revolutions:g}", steps, model.nsensordata + model.nq + model.nv + model.na,
+                 per_value, f"the {mech.name}'s {steps:,} steps of {h:.3g} s", unit="step", most=most)
 
 
 def compare(mech: Mechanism, revolutions: float = 1.0, settings=None, loads=None, input_range=None):
@@ -351,7 +379,8 @@ def simulation_record(built, tr, revolutions: float, display=None) -> dict:
     from sim.service.analysis import units_of
     display = display or SI
     mech = built.mech
-    cols = trajectory_columns(tr)
+    check_run_memory(built, revolutions, BYTES_PER_JSON_VALUE)          # before its text is made
+    cols = trajectory_columns(tr, mech)
     return {"mechanism": tr.name, "revolutions": revolutions, "timestep": tr.timestep, "integrator": tr.integrator,
             "steps": int(tr.steps), "cpu_seconds": tr.cpu_seconds,
             "max_loop_violation": display.convert("length", float(np.max(tr.loop_violation))),
@@ -359,12 +388,15 @@ def simulation_record(built, tr, revolutions: float, display=None) -> dict:
             **({"cams": tr.cams} if tr.cams else {})}
 
 
-def trajectory_columns(tr) -> dict:
-    """CSV columns of a trajectory: t, inputs, every output, loop violation, drive forces, commanded
-    inputs (``cmd_phi1``) and every joint's coordinate and rate (``q_NAME``, ``v_NAME``)."""
+def trajectory_columns(tr, mech) -> dict:
+    """CSV columns of a trajectory of ``mech``: t, inputs, every output, loop violation, drive forces, commanded
+    inputs (``cmd_phi1``) and every joint's coordinate and rate (``q_NAME``, ``v_NAME``). A driven slide's
+    measured columns are its input's (``s_lift``), not repeated under the block's name (Mechanism.driven_slides)."""
+    from analytic.mechanism import SLIDE_COMPONENTS
     joints = {f"q_{n}": tr.qpos[:, i] for i, n in enumerate(tr.joint_names)}
     joints.update({f"v_{n}": tr.qvel[:, i] for i, n in enumerate(tr.joint_names)})
-    outs = {k: np.asarray(v) for k, v in tr.outputs.items() if not k.startswith(("cos", "sin"))}
+    again = {c + j for j in mech.driven_slides for c in SLIDE_COMPONENTS} - set(tr.inputs)
+    outs = {k: np.asarray(v) for k, v in tr.outputs.items() if not k.startswith(("cos", "sin")) and k not in again}
     return {"t": tr.t, **tr.inputs, **outs, "loop_violation": tr.loop_violation, **tr.forces,
             **{f"cmd_{k}": v for k, v in tr.commanded.items()}, **joints}
 

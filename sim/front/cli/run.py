@@ -110,7 +110,7 @@ def _run_all(args, mechs, out_dir, ext, size) -> int:
             shown = shown_units(args, mech)
             files = [out_dir / f"{mech.name}.csv", out_dir / f"{mech.name}.png"]
             made(files[0], Path(f"{files[0]}.units.json"), files[1])
-            write_columns(files[0], mech, service.trajectory_columns(c.trajectory), machine_units(args))
+            write_columns(files[0], mech, service.trajectory_columns(c.trajectory, mech), machine_units(args))
             sheet(c, built, str(files[1]), shown)
             if not args.no_video:
                 files.append(made(out_dir / f"{mech.name}{ext}"))
