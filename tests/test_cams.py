@@ -460,14 +460,43 @@ def test_check_refuses_an_undercut_saying_where(tmp_path):
     assert abs(said - worst) <= 0.1                          # the check samples every 0.1 deg
 
 
+def test_a_mm_files_cam_refusals_speak_mm(tmp_path):
+    """The undercut, the roller and the guide refusals of a cam in a mm file give their lengths in mm (they were
+    printed in metres: 0.015 m for a 15 mm roller)."""
+    text = (LIBRARY / "cam_roller.toml").read_text()
+    for a, b in (('units = "m"', 'units = "mm"'), ("G = [-0.005, 0]", "G = [-5, 0]"),
+                 ("R = [-0.005, 0.12]", "R = [-5, 120]"), ("length = 0.02", "length = 20"),
+                 ('{ shape = "dwell", duration = "90deg" }', '{ shape = "dwell", duration = "170deg" }'),
+                 ('duration = "120deg", rise = 0.020', 'duration = "40deg", rise = 20'), ("rise = -0.020", "rise = -20"),
+                 ("base_radius = 0.030", "base_radius = 20"), ("roller = 0.010", "roller = 15"),
+                 ("free_length = 0.10", "free_length = 100"), ("stiffness = 2000.0", "stiffness = 2.0"),
+                 ("I = 2e-5", "I = 20")):
+        assert a in text
+        text = text.replace(a, b)
+    cases = {"undercut": (text, "the roller (15 mm) is larger than the pitch curve's radius of curvature there ("),
+             "roller": (text.replace("roller = 15", "roller = -4"), "field 'roller': -4 mm;"),
+             "guide": (text.replace("G = [-5, 0]", "G = [-50, 0]"), "passes 50 mm from the pivot, outside the prime "
+                                                                     "circle (35 mm)")}
+    for name, (body, said) in cases.items():
+        bad = tmp_path / f"{name}.toml"
+        bad.write_text(body)
+        r = run("check", bad)
+        assert r.returncode == 2 and said in r.stderr, (name, r.stderr)
+        assert " m " not in r.stderr and " m)" not in r.stderr, (name, r.stderr)   # no metre left in the line
+    # the undercut's radius of curvature in mm: the same geometry in metres says 12.x mm as 0.012x m
+    rho = float(r_undercut := run("check", tmp_path / "undercut.toml").stderr.split("radius of curvature there (")[1]
+                .split(" mm")[0])
+    assert 5 < rho < 15, r_undercut.stderr                   # the 20 mm rise in 40deg turns on a ~12 mm radius
+
+
 def test_check_refuses_a_face_too_narrow(tmp_path):
     text = (LIBRARY / "cam_flat.toml").read_text()
     assert "face_width = 40" in text
     bad = tmp_path / "bad.toml"
     bad.write_text(text.replace("face_width = 40", "face_width = 20"))
     r = run("check", bad)
-    # the contact's travel is 22.46 mm (the eccentric-circle test checks the travel by hand)
-    assert r.returncode == 2 and "field 'face_width': 0.02 m is narrower" in r.stderr, r.stderr
+    # the contact's travel is 22.46 mm (the eccentric-circle test checks the travel by hand); the file is in mm
+    assert r.returncode == 2 and "field 'face_width': 20 mm is narrower" in r.stderr, r.stderr
     assert len(r.stderr.strip().splitlines()) == 1
 
 

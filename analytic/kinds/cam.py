@@ -26,8 +26,12 @@ import math
 import numpy as np
 
 from analytic import cams as C
-from ..quantities import ANGLE, LENGTH
+from ..quantities import ANGLE, LENGTH, LENGTH_UNITS
 from .base import GROUND, Coupling, ExtraOutput, Field, Kind, LinkPart, Slide, State, Structure, slide_origin
+
+GEOMETRY = "profile"
+"""The marker of a problem the profile's geometry has (an undercut, a cusp, a narrow face): its text is made
+where the file's units are known (:meth:`Cam.check_resolved`)."""
 
 
 class Cam(Kind):
@@ -105,10 +109,10 @@ class Cam(Kind):
         if e["problem"]:
             return
         if e["contact"] == "roller" and not e["roller"] > 0:
-            e["problem"] = f"field 'roller': {e['roller']:g} m; a roller's radius must be > 0"
+            e["problem"] = ("field 'roller': {0}; a roller's radius must be > 0", e["roller"])
             return
         if e["contact"] == "flat" and e["face_width"] < 0:
-            e["problem"] = f"field 'face_width': {e['face_width']:g} m must be >= 0 (0: not given)"
+            e["problem"] = ("field 'face_width': {0} must be >= 0 (0: not given)", e["face_width"])
             return
         A = ground[e["pivot"]]
         kw = dict(pivot=A, motion=e["follower"], contact=e["contact"], roller=e["roller"],
@@ -121,18 +125,18 @@ class Cam(Kind):
             kw.update(direction=gam, offset=offset, origin=tuple(O))
             prime = e["base_radius"] + (e["roller"] if e["contact"] == "roller" else 0.0)
             if e["contact"] != "flat" and abs(offset) >= prime:
-                e["problem"] = (f"field 'guide': the guide passes {abs(offset):.4g} m from the pivot, outside the "
-                                f"{'prime' if e['contact'] == 'roller' else 'base'} circle ({prime:.4g} m); "
-                                f"move it closer or make base_radius larger")
+                circle = "prime" if e["contact"] == "roller" else "base"
+                e["problem"] = (f"field 'guide': the guide passes {{0}} from the pivot, outside the {circle} circle "
+                                f"({{1}}); move it closer or make base_radius larger", abs(offset), prime)
                 return
         else:
             B = ground[e["arm_pivot"]]
             D = math.dist(A, B)
             prime = e["base_radius"] + (e["roller"] if e["contact"] == "roller" else 0.0)
             if not e["arm"] > 0 or not D > 0 or not abs(e["arm"] - D) < prime < e["arm"] + D:
-                e["problem"] = (f"field 'arm': an arm of {e['arm']:g} m about {e['arm_pivot']} ({D:.4g} m from the "
-                                f"pivot) cannot reach the prime circle ({prime:.4g} m); give an arm between "
-                                f"{abs(D - prime):.4g} and {D + prime:.4g} m")
+                e["problem"] = (f"field 'arm': an arm of {{0}} about {e['arm_pivot']} ({{1}} from the pivot) cannot "
+                                f"reach the prime circle ({{2}}); give an arm between {{3}} and {{4}}",
+                                e["arm"], D, prime, abs(D - prime), D + prime)
                 return
             kw.update(arm_pivot=tuple(B), arm=e["arm"])
         setup = C.Setup(**kw)
@@ -143,10 +147,18 @@ class Cam(Kind):
                 e["problem"] = f"field 'profile': {exc}"
                 return
         e["setup"] = setup
-        e["problem"] = C.problems(C.build(setup)) or ""
+        e["problem"] = (GEOMETRY,) if C.problems(C.build(setup)) else ""
 
     def check_resolved(self, e, units="m"):
-        return e["problem"] or None
+        """The problem found when resolving, its lengths in the file's ``units``: a text, a (template, lengths
+        [m]...) pair, or the profile's own (:func:`analytic.cams.problems`, built again in those units)."""
+        problem = e["problem"]
+        if not problem or isinstance(problem, str):
+            return problem or None
+        if problem[0] is GEOMETRY:
+            return C.problems(C.build(e["setup"]), (LENGTH_UNITS[units], units))
+        per = LENGTH_UNITS[units]
+        return problem[0].format(*(f"{x / per:.4g} {units}" for x in problem[1:]))
 
     def extent(self, e):
         return max(abs(e["base_radius"]) + abs(e["roller"]) + abs(e["arm"]), 0.0)
