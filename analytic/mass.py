@@ -9,7 +9,8 @@ angle ``phiL``; a centre of mass ``(cx, cy)`` is given in that frame. Per link, 
 3. with a ``[parts]`` section (:mod:`analytic.parts`): the link's part, exactly (its outline less its holes and
    slots, :func:`analytic.parts.model.mass_properties`), made of ``[mass]``'s material where it gives one and of
    the parts' defaults (printed PLA) where not: the bill of materials' masses are the analysis's (:func:`sources`
-   says which of these gave each link);
+   says which of these gave each link); a link the parts' layering makes of two plates (a clevis,
+   :func:`analytic.parts.layers.layout`) weighs both: twice the mass and the moment of inertia, the same centre;
 4. the file's ``[mass]`` section: the link as **bars** (a bar of ``width`` x ``thickness`` from the link's
    origin to each of its other points, density ``density``) or as a **plate** (the convex hull of its points,
    ``thickness`` thick; a hull without area, two points or points on a line, is a bar of ``width``); a sliding
@@ -290,7 +291,8 @@ def link_inertia(mech, link: str, local: dict[str, tuple[float, float]],
     return b if b is not None else block(material, size)
 
 
-def model(mech, given: dict | None = None, local=None, parts: dict | None = None) -> dict[str, Inertia]:
+def model(mech, given: dict | None = None, local=None, parts: dict | None = None,
+          layout=None) -> dict[str, Inertia]:
     """Every link's inertia (SI; see the module docstring for the precedence), counterweights included.
 
     Parameters
@@ -303,6 +305,8 @@ def model(mech, given: dict | None = None, local=None, parts: dict | None = None
     parts : dict, optional
         The links' parts already built ({link: analytic.parts.model.Part}), for a file with ``[parts]``; built
         here when None.
+    layout : analytic.parts.layers.Layout, optional
+        Their layering (which links are two plates), with ``parts``; made here when None.
     """
     given = dict(given or {})
     unknown = set(given) - set(mech.links)
@@ -314,7 +318,7 @@ def model(mech, given: dict | None = None, local=None, parts: dict | None = None
     s = mech.scale
     table = mech.definition.inertia or {}
     source = sources(mech, given)
-    from_parts = parts_inertias(mech, parts) if "parts" in source.values() else {}
+    from_parts = parts_inertias(mech, parts, layout) if "parts" in source.values() else {}
     weights: dict[str, list] = {}
     for w in counterweights(mech):
         weights.setdefault(w.link, []).append(w)
@@ -346,13 +350,22 @@ def sources(mech, given: dict | None = None) -> dict[str, str]:
             else "[mass]" if ln in mats else "default" for ln in mech.links}
 
 
-def parts_inertias(mech, parts: dict | None = None) -> dict[str, Inertia]:
+def parts_inertias(mech, parts: dict | None = None, layout=None) -> dict[str, Inertia]:
     """Every link's inertia (SI, its frame) from its part (:mod:`analytic.parts`): the exact mass properties of
-    its outline less its holes and slots, as the bill of materials gives them."""
+    its outline less its holes and slots, as the bill of materials gives them; a link the layering makes of two
+    plates (:meth:`analytic.parts.layers.Layout.plates`) counts both (mass and I twice, the centre the same).
+    ``parts`` and ``layout``: as the caller built them (the bill of materials); else built here over one sweep
+    of the cycle (the layering needs the sweep: only files whose masses come from ``[parts]`` pay for it)."""
+    from analytic.parts import layers
     from analytic.parts import model as parts_model
+    if parts is None or layout is None:
+        sweep = parts_model.cycle(mech)
+        parts = parts if parts is not None else parts_model.build(mech, sweep)
+        layout = layers.layout(mech, parts, sweep)
     s = mech.scale
     out = {}
-    for ln, part in (parts if parts is not None else parts_model.build(mech)).items():
+    for ln, part in parts.items():
         mp = parts_model.mass_properties(part, s)
-        out[ln] = Inertia(m=mp.m, cx=mp.cx * s, cy=mp.cy * s, I=mp.I)
+        n = len(layout.plates(ln))
+        out[ln] = Inertia(m=n * mp.m, cx=mp.cx * s, cy=mp.cy * s, I=n * mp.I)
     return out

@@ -173,3 +173,59 @@ def test_a_slotted_lever_weighs_its_outline_less_its_hole_and_slot(tmp_path, c):
     tol = 1e-9 if c == 100 else 1e-5
     assert float(bom[lever]["mass_kg"]) == pytest.approx(hand, rel=tol)
     assert out["links"][lever]["m"] == pytest.approx(hand, rel=tol)
+
+
+# ----------------------------------------------------------------------------------------- two-plate links
+def _stadium_moments(u0, u1, r):
+    """Area, first moment along u and polar second moment about the origin of a stadium on the u-axis: the
+    rectangle [u0, u1] x [-r, r] and a half disc of radius r on each end (centroids 4r / 3pi beyond them)."""
+    L = u1 - u0
+    A = 2 * r * L + math.pi * r * r
+    S = 2 * r * L * (u0 + u1) / 2 + math.pi * r * r / 2 * ((u1 + 4 * r / (3 * math.pi)) + (u0 - 4 * r / (3 * math.pi)))
+    J = 2 * r * (u1 ** 3 - u0 ** 3) / 3 + L * 2 * r ** 3 / 3            # the rectangle: int x^2 + int y^2
+    for u, sign in ((u1, 1), (u0, -1)):                                 # a half disc: J about its circle's centre
+        J += math.pi * r ** 4 / 4 + math.pi * r * r / 2 * u * u + 2 * u * sign * math.pi * r * r / 2 * 4 * r / (3 * math.pi)
+    return A, S, J
+
+
+def _disc_moments(u, r):
+    return math.pi * r * r, math.pi * r * r * u, math.pi * r ** 4 / 2 + math.pi * r * r * u * u
+
+
+def test_a_two_plate_link_weighs_both_plates_in_the_bom_and_the_forces(tmp_path):
+    """The Whitworth with [parts]: its slotted lever 3 is made two plates (a clevis at D). The BOM's mass for it,
+    the BOM's analysis mass and the mass ``forces`` uses all equal twice the plate the test computes from the
+    geometry (not the parts code): pivot C at u = 0, the arm's end D at u = -125 (arm), the slot for the crank pin
+    A from |CA| = r - c = 50 to r + c = 250 mm (A on the crank circle of 150 about O, 100 from C), so the outline
+    is the stadium of radius w/2 over [-125, 250] less the holes at C and D and the slot (its stadium of the hole's
+    radius). Its moment of inertia doubles too, its centre stays; a one-plate link (the crank) counts once."""
+    from pathlib import Path
+    lib = (Path(__file__).resolve().parent.parent / "analytic" / "library" / "whitworth.toml").read_text()
+    text = lib + "\n[mass]\ndensity = 2700\nwidth = 40\nthickness = 10\n\n[parts]\npin_diameter = 15\nclearance = 0.5\n"
+    out, bom = forces_and_bom(tmp_path, text)
+    assert bom["3"]["plates"] == "2" and all(bom[ln]["plates"] == "1" for ln in bom if ln != "3")
+    rho, t, re, rh = 2700, 10e-3, 20e-3, (15 + 0.5) / 2 * 1e-3          # SI
+    A, S, J = _stadium_moments(-0.125, 0.250, re)
+    for cut in (_disc_moments(0.0, rh), _disc_moments(-0.125, rh), _stadium_moments(0.050, 0.250, rh)):
+        A, S, J = A - cut[0], S - cut[1], J - cut[2]
+    cx = S / A
+    m_plate, i_plate = rho * t * A, rho * t * (J - A * cx * cx)
+    lever = out["links"]["3"]
+    # exact arcs on both sides (Green's theorem against the hand formulas): rounding, 1e-12 relative
+    assert float(bom["3"]["mass_kg"]) == pytest.approx(2 * m_plate, rel=1e-12)
+    assert float(bom["3"]["analysis_mass_kg"]) == pytest.approx(2 * m_plate, rel=1e-12)
+    assert lever["m"] == pytest.approx(2 * m_plate, rel=1e-12)
+    assert lever["I"] == pytest.approx(2 * i_plate, rel=1e-11)          # J - A cx^2 cancels a digit: 1e-11
+    assert lever["cx"] == pytest.approx(cx, rel=1e-12)
+    # the drawing's parts list and note say the analysis's lever is the BOM's two plates
+    from sim import service
+    from sim.output import parts_drawing, parts_files
+    from sim.service import parts as parts_service
+    pm = parts_service.prepare(service.load(str(tmp_path / "m.toml"), {}))
+    row = next(r for r in parts_files.bom_rows(pm) if r["link"] == "3")
+    assert parts_drawing._analysis_mass(row) == "= 2 plates"
+    assert "both plates of a two-plate link" in parts_drawing.mass_note(pm)
+    # the crank O-A (150 mm) is one plate: a stadium less its two holes, counted once
+    crank = stadium_minus_holes(0.150, re, rh, t, rho)
+    assert out["links"]["2"]["m"] == pytest.approx(crank, rel=1e-12)
+    assert float(bom["2"]["mass_kg"]) == pytest.approx(crank, rel=1e-12)

@@ -33,11 +33,18 @@ def test_check_reports_no_pin_clash_and_names_the_construction(name):
         assert "pin C: stub from the top plate, links 2, 4 pass under" in text, text
 
 
-def test_elliptic_trammel_still_reports_its_clash():
-    """Not solved: its yokes' slots run into their own pins (A and K meet in blockA's plate) and no layering with
-    up to two two-plate links, joined by one of their pins, keeps every pin apart: the clash stays reported."""
-    text = "\n".join(parts_service.layer_lines(prepared("elliptic_trammel")))
-    assert "pin clash: link pinB passes over the pin at A" in text, text
+def test_elliptic_trammel_builds_without_a_pin_clash():
+    """The trammel's yokes carry the rod's pins c clear of their slots and its crank turns about (-c, -c), so the
+    rod never passes over the crank pin K: it runs between the two yokes, so each rod pin reaches its yoke without
+    passing the other yoke's plate (which sweeps over it), and K runs through both yokes' slots past the rod's
+    layer. check reports no pin clash and no slot running into its own pin."""
+    pm = prepared("elliptic_trammel")
+    text = "\n".join(parts_service.layer_lines(pm))
+    assert "pin clash" not in text and "runs into" not in text, text
+    L = pm.layout
+    assert not L.clashes and not L.second
+    low, high = sorted((L.layers["blockA"], L.layers["blockB"]))
+    assert low < L.layers["rod"] < high, L.layers                  # the rod between the yokes
 
 
 def _plates_from_stl(path):
@@ -57,7 +64,7 @@ def _plates_from_stl(path):
     return sorted(out, key=lambda p: p[0])
 
 
-@pytest.mark.parametrize("name", SOLVED)
+@pytest.mark.parametrize("name", SOLVED + ["elliptic_trammel"])
 def test_exported_solids_never_reach_into_a_pin(name, tmp_path):
     """From the STL files alone (each link's plates: z extent and region) and the solver's motion: at every one
     of DENSE instants no plate whose z range overlaps a pin's span comes within the pin's radius of the pin's
@@ -74,7 +81,8 @@ def test_exported_solids_never_reach_into_a_pin(name, tmp_path):
     size = mech.size / mech.scale
     parts_files.write_stl(pm, tmp_path)
     plates = {ln: _plates_from_stl(tmp_path / f"{ln}.stl") for ln in pm.parts}
-    assert any(len(p) == 2 for p in plates.values())      # the construction is in the files
+    # the construction is in the files (the trammel needs none: its rod runs between its yokes)
+    assert any(len(p) == 2 for p in plates.values()) == (name in SOLVED)
     pin_r = model.settings(mech).pin_diameter / 2
     chord = model.CHORD * size                            # the STL's polygons lie inside the exact arcs by this
     top = max(z1 for ps in plates.values() for _, z1, _ in ps)
@@ -176,6 +184,23 @@ def test_bom_lists_a_two_plate_link_as_two_plates(tmp_path):
     assert int(lever["holes"]) == 2 * len(pm.parts["3"].holes)
     assert all(rows[ln]["plates"] == "1" and rows[ln]["upper_layer"] == "" for ln in rows if ln != "3")
     assert "3 (layers 1 and 4, pin D)" in parts_drawing.two_plate_note(pm)
+
+
+def test_mujoco_weighs_both_plates_of_the_lever():
+    """The mass comparison of a two-plate link: the parts' figures both plates', and MuJoCo's exact inertia of the
+    two plates' triangle meshes (at their layers' z) the same: twice one plate's mass and moment of inertia
+    about z, the same in-plane centre."""
+    from analytic.parts import model
+    pm = prepared("whitworth")
+    lever = parts_service.mass_comparison(pm)["3"]
+    one = model.mass_properties(pm.parts["3"], pm.mech.scale)
+    assert lever["parts"]["m"] == pytest.approx(2 * one.m, rel=1e-12)             # the same sums: rounding
+    assert lever["parts"]["I"] == pytest.approx(2 * one.I, rel=1e-12)
+    # the meshes' polygons lie inside the exact arcs by the chord: 1.3e-4 in m and 1.6e-4 in I at most over the
+    # library's parts (CONVENTIONS, "Mass properties"); 2e-4 of the lever's length for its centre
+    assert lever["mujoco"]["m"] == pytest.approx(2 * one.m, rel=2e-4)
+    assert lever["mujoco"]["I"] == pytest.approx(2 * one.I, rel=2e-4)
+    assert lever["mujoco"]["cx"] == pytest.approx(one.cx * pm.mech.scale, abs=2e-4 * 0.375)
 
 
 @pytest.mark.slow

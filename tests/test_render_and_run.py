@@ -122,3 +122,23 @@ def test_a_signal_while_ffmpeg_starts_stops_it_before_the_temporary_is_removed(t
             pass
     assert events == ["started", "killed"]
     assert list(tmp_path.iterdir()) == []
+
+
+def test_a_block_draws_the_arm_to_the_points_it_carries():
+    """A yoke (a block) carrying a point off its pin, as the elliptic trammel's carry the rod's pins: the video
+    draws a bar of the block's colour from the pin to that point (its midpoint's pixels), besides the block's box
+    at the pin; a block with its pin alone draws nothing there."""
+    from analytic.quantities import Display
+    from sim.output.drawing import COLORS, Painter, Scene
+    xy = np.array([[0.0, 0.0], [0.1, 0.0]])                       # the pin P, the carried point A [m]
+    rgb = np.array([int(COLORS[0][i:i + 2], 16) for i in (1, 3, 5)])
+    mids = []
+    for pts in (("P", "A"), ("P",)):
+        sc = Scene(((("yoke", pts, True)),), ("P", "A"), (), "A", (-0.05, -0.1, 0.15, 0.1), 0.1, Display("m"),
+                   "q", True)
+        painter = Painter(sc, (320, 320))
+        frame = painter.frame(xy, {"yoke": 0.0}, np.empty((0, 2)), np.empty((0, 2)), 0.0, 0.0).astype(int)
+        mid = painter.px(np.array([[0.06, 0.0]]))[0] / 2           # supersampled 2x; past the box (0.006 m)
+        r, c = int(round(mid[1])), int(round(mid[0]))
+        mids.append(np.all(np.abs(frame[r - 1:r + 2, c - 1:c + 2] - rgb) <= 40, axis=-1).any())
+    assert mids == [True, False]

@@ -473,7 +473,8 @@ def layout(mech, parts: dict, sweep: model.Sweep | None = None) -> Layout:
 TWO_PLATE_SEARCH = 50_000
 """Assignments tried in search of a layering with two-plate links (:func:`two_plates`) before the plain
 layering and its pin clashes are kept (the library's Whitworth, Stephenson II and double butterfly need up to
-10,000; the elliptic trammel, which has none, spends the budget in about a second)."""
+10,000; a design that has none, such as the elliptic trammel with the rod's pins at its yokes' slot crossings,
+spends the budget in about a second)."""
 MAX_TWO_PLATE = 2
 """The most two-plate links a layering takes (one, then two, each with the fewest layers first)."""
 

@@ -374,6 +374,10 @@ class Painter:
             return
         rgb = tuple(int(color[i:i + 2], 16) for i in (1, 3, 5))
         if block:
+            w = max(1, round(6 * u))
+            for p in pts[1:]:                                 # a point the block carries (a yoke's arm): a bar
+                d.line([tuple(pts[0]), tuple(p)], fill=color, width=w)
+                d.ellipse([p[0] - w / 2, p[1] - w / 2, p[0] + w / 2, p[1] + w / 2], fill=color)
             size = max(10 * u, 0.06 * self.sc.size * self.s)
             c, s = math.cos(phi), math.sin(phi)
             corners = [(-size, -0.55 * size), (size, -0.55 * size), (size, 0.55 * size), (-size, 0.55 * size)]

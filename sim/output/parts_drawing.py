@@ -254,12 +254,11 @@ def _analysis_mass(row) -> str:
     """The parts list's "analysis" cell: the mass the analysis gives the link and what gave it ("= part" where
     it is the part's own)."""
     m = f"{1000 * row['analysis_mass_kg']:.3g}"
-    if row["analysis_mass_from"] == "parts":
-        one = row["mass_kg"] / row["plates"]            # the analysis builds one plate per link
-        same = abs(row["analysis_mass_kg"] - one) <= 1e-9 * max(one, 1e-30)
-        if row["plates"] > 1:
-            return f"{m} (one plate of {row['plates']})" if same else f"{m} (one plate + counterweights)"
-        return "= part" if same else f"{m} (part + counterweights)"
+    if row["analysis_mass_from"] == "parts":                # the part's plates, both of a two-plate link
+        # the same part's moments summed apart (BOM and mass model): equal to rounding, 1e-9 relative
+        same = abs(row["analysis_mass_kg"] - row["mass_kg"]) <= 1e-9 * max(row["mass_kg"], 1e-30)
+        what = "part" if row["plates"] == 1 else f"{row['plates']} plates"
+        return f"= {what}" if same else f"{m} ({what} + counterweights)"
     return f"{m} ({row['analysis_mass_from']})"
 
 
@@ -267,8 +266,9 @@ def mass_note(pm) -> str:
     """What the drawing says of the analysis's masses (forces, dynamics, MuJoCo) against these parts'."""
     from analytic import mass
     src = set(mass.sources(pm.mech).values())
+    both = ", both plates of a two-plate link" if pm.layout.second else ""
     if src == {"parts"}:
-        return "4. The analysis (forces, dynamics, MuJoCo) uses these parts' masses (holes and slots cut)."
+        return f"4. The analysis (forces, dynamics, MuJoCo) uses these parts' masses (holes and slots cut{both})."
     if "parts" in src:
         return "4. The analysis uses these parts' masses, except where the column 'analysis' names [inertia]."
     return ("4. The analysis uses other masses (column 'analysis'); with a [parts] section in the file it uses "

@@ -215,7 +215,8 @@ else 1 (``upper_layer`` empty)."""
 
 def bom_rows(pm) -> list[dict]:
     from analytic import mass
-    analysis, source = mass.model(pm.mech, parts=pm.parts), mass.sources(pm.mech)   # the parts built once
+    analysis = mass.model(pm.mech, parts=pm.parts, layout=pm.layout)      # the parts and layers built once
+    source = mass.sources(pm.mech)
     rows = []
     for ln, part in pm.parts.items():
         mp = model.mass_properties(part, pm.mech.scale)

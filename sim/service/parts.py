@@ -329,9 +329,10 @@ def export(pm: PartsModel, dxf=None, svg=None, pdf=None, step=None, stl=None, bo
 # ------------------------------------------------------------------------------------------ mass properties
 def mass_comparison(pm: PartsModel) -> dict:
     """Per link, in SI and the link's frame (origin its first point, x along it): the part's exact mass
-    properties (:func:`analytic.parts.model.mass_properties`), the mass model's (:func:`analytic.mass.model`,
-    what ``forces`` and ``dynamics`` use) and MuJoCo's inertia of the part's triangle mesh (the STL's solid,
-    density from the part): {link: {"parts"|"model"|"mujoco": {"m", "cx", "cy", "I"}}}."""
+    properties (:func:`analytic.parts.model.mass_properties`; both plates of a two-plate link), the mass
+    model's (:func:`analytic.mass.model`, what ``forces`` and ``dynamics`` use) and MuJoCo's inertia of the
+    part's triangle meshes (the STL's solids, one per plate at its z, density from the part): {link:
+    {"parts"|"model"|"mujoco": {"m", "cx", "cy", "I"}}}."""
     import mujoco
 
     from analytic import mass
@@ -339,30 +340,32 @@ def mass_comparison(pm: PartsModel) -> dict:
     mech = pm.mech
     s = mech.scale
     local = {ln: {p: tuple(np.asarray(uv) * s) for p, uv in part.points.items()} for ln, part in pm.parts.items()}
-    analytic_model = mass.model(mech, local=local, parts=pm.parts)
+    analytic_model = mass.model(mech, local=local, parts=pm.parts, layout=pm.layout)
     spec = mujoco.MjSpec()
     for ln, part in pm.parts.items():
         region = parts_files.part_region(part, pm.chord)
-        mesh = parts_files.extrude(region, 0.0, part.thickness)
-        m = spec.add_mesh(name=f"m_{ln}")
-        m.uservert = (np.asarray(mesh.vertices) * s).ravel().tolist()
-        m.userface = np.asarray(mesh.faces).ravel().tolist()
-        m.inertia = mujoco.mjtMeshInertia.mjMESH_INERTIA_EXACT
         b = spec.worldbody.add_body(name=ln)
         b.add_freejoint()
-        b.add_geom(type=mujoco.mjtGeom.mjGEOM_MESH, meshname=f"m_{ln}", density=part.density)
+        for k, (_, (z0, z1)) in enumerate(pm.layout.plates(ln)):
+            mesh = parts_files.extrude(region, z0, z1)
+            m = spec.add_mesh(name=f"m_{ln}_{k}")
+            m.uservert = (np.asarray(mesh.vertices) * s).ravel().tolist()
+            m.userface = np.asarray(mesh.faces).ravel().tolist()
+            m.inertia = mujoco.mjtMeshInertia.mjMESH_INERTIA_EXACT
+            b.add_geom(type=mujoco.mjtGeom.mjGEOM_MESH, meshname=f"m_{ln}_{k}", density=part.density)
     model_mj = spec.compile()
     data = mujoco.MjData(model_mj)
     mujoco.mj_forward(model_mj, data)
     out = {}
     for ln, part in pm.parts.items():
         mp = model.mass_properties(part, s)
+        n = len(pm.layout.plates(ln))
         bid = model_mj.body(ln).id
         com = data.xipos[bid]
         R = data.ximat[bid].reshape(3, 3)
         inertia = R @ np.diag(model_mj.body_inertia[bid]) @ R.T
         a = analytic_model[ln]
-        out[ln] = {"parts": {"m": mp.m, "cx": mp.cx * s, "cy": mp.cy * s, "I": mp.I},
+        out[ln] = {"parts": {"m": n * mp.m, "cx": mp.cx * s, "cy": mp.cy * s, "I": n * mp.I},
                    "model": {"m": a.m, "cx": a.cx, "cy": a.cy, "I": a.I},
                    "mujoco": {"m": float(model_mj.body_mass[bid]), "cx": float(com[0]), "cy": float(com[1]),
                               "I": float(inertia[2, 2])}}

@@ -1689,6 +1689,10 @@
     ctx.save();
     ctx.lineJoin = "round"; ctx.lineCap = "round";
     if (link.block) {
+      ctx.strokeStyle = color; ctx.lineWidth = 6;                 // a point the block carries (a yoke's arm)
+      for (const p of pts.slice(1)) {
+        ctx.beginPath(); ctx.moveTo(pts[0][0], pts[0][1]); ctx.lineTo(p[0], p[1]); ctx.stroke();
+      }
       const phi = (data.angles[link.name] || [])[i] ?? 0;
       const size = Math.max(10, 0.06 * data.describe.size * v.s);
       ctx.translate(pts[0][0], pts[0][1]);
