@@ -185,6 +185,40 @@ def test_function_min_link_and_max_ratio_refuse_the_given_design(tmp_path):
     assert r.returncode == 0, r.stdout
 
 
+def test_function_min_link_and_max_ratio_count_the_ground_link(tmp_path):
+    # a drag link whose ground (1.0) is its shortest link: crank 1.2, coupler 1.5, rocker 1.4; the three
+    # moving links alone would meet --min-link 1.1 and --max-ratio 1.4 (1.5 / 1.2 = 1.25), the four do not
+    m = analytic.load("fourbar", l1=1.2, l2=1.5, l3=1.4, l4=1.0)
+    phi = np.radians([30.0, 75.0, 140.0])
+    psi = np.asarray(m.solve(phi, outputs=["phi3"])["phi3"])
+    csv = write(tmp_path / "f.csv", "input,output", np.degrees(np.column_stack([phi, psi])))
+    few = ("--min-transmission", "20")                              # its transmission angle dips to 23.6 deg
+    r = run("synthesize", "function", csv, *few, "--min-link", "1.1")
+    assert r.returncode == 1 and "shortest link 1 m" in r.stdout and "--min-link 1.1" in r.stdout, r.stdout
+    r = run("synthesize", "function", csv, *few, "--max-ratio", "1.4")     # 1.5 / 1.0
+    assert r.returncode == 1 and "longest/shortest link 1.5 " in r.stdout, r.stdout
+    r = run("synthesize", "function", csv, *few, "--min-link", "0.95", "--max-ratio", "1.6")
+    assert r.returncode == 0, r.stdout
+
+
+def test_function_search_keeps_only_candidates_whose_four_links_meet_max_ratio():
+    # at --max-ratio 2 some start angles give moving links within a ratio of 2 of each other but a ground
+    # (1.0) outside it: the search must turn those down, not keep them as meeting the limits
+    from analytic.synthesis import function as F
+    phi, psi = log_pairs(3)
+    kept, turned, _ = F.search(np.radians(phi), np.radians(psi), 1.0, sc.Limits(max_ratio=2.0), evaluations=400,
+                               count=2)
+    assert kept
+    for c in kept:
+        f = c.function.linkage
+        links = [abs(f.l1), abs(f.l2), abs(f.l3), f.D[0]]              # crank, coupler, rocker, ground
+        assert max(links) <= 2.0 * min(links) * (1 + 1e-9), links      # SLACK_REL: rounding
+    # and such candidates exist among those turned down: the case is met, not vacuous
+    assert any(max(abs(x) for x in (c.function.linkage.l1, c.function.linkage.l2, c.function.linkage.l3))
+               <= 2.0 * min(abs(x) for x in (c.function.linkage.l1, c.function.linkage.l2, c.function.linkage.l3))
+               and "max-ratio" in c.why for c in turned)
+
+
 # --------------------------------------------------------------------------- path: --evaluations a bound
 def count_designs(monkeypatch):
     """Count every design evaluated on the targets at the call sites that evaluate them (outermost calls
