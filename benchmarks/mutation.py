@@ -620,6 +620,32 @@ MUTATIONS = [
              "not |v|", "analytic/applications/tolerance.py", 'speed = np.hypot(sol["vx" + p], sol["vy" + p])',
              'speed = np.abs(sol["vx" + p])', [LAWS_SETUPS, TOLERANCE],
              "a four-bar coupler point's speed fluctuation by hand (the slider-crank's piston moves along x only)"),
+    # (third round)
+    Mutation("law-compiled-jerk-phase", "analytic/laws.py Compiled: the jerk's sine term a quarter turn of phase, "
+             "not three (the jerk of a sine piece of the wrong sign)", "analytic/laws.py",
+             "SHIFT = np.array([[0.0], [_HALF], [math.pi], [3 * _HALF]])",
+             "SHIFT = np.array([[0.0], [_HALF], [math.pi], [_HALF]])", [LAWS, LAW_EVAL],
+             "tests/test_motion_laws.py::test_the_servo_press_cycle_is_its_profile_and_analyze_gives_the_exact_jerk"),
+    Mutation("cam-separation-start-early", "sim/model/cam_contact.py separation: the separation said to start at the "
+             "last sample in contact, not the first after it", "sim/model/cam_contact.py",
+             "start = int(touching[-1]) + 1 if len(touching) else 0",
+             "start = int(touching[-1]) if len(touching) else 0", [CAM_CONTACT],
+             "tests/test_cam_contact.py::test_separation_at_1_3_the_jump_speed_where_the_force_vanishes"),
+    Mutation("motor-measured-rate-absolute", "analytic/kinds/motor.py measured_extras: the simulated dq, ddq of a motor "
+             "its link's absolute rates, not relative to the carrier", "analytic/kinds/motor.py",
+             "return {self.columns[1] + key: w - w0, self.columns[2] + key: a - a0}",
+             "return {self.columns[1] + key: w, self.columns[2] + key: a}", [KINDS],
+             "tests/test_kinds.py (MuJoCo against the closed forms, motor.toml)"),
+    Mutation("path-ratio-check-10x", "analytic/synthesis/path.py: the final --max-ratio check 10x looser",
+             "analytic/synthesis/path.py", "if L.max() / L.min() > cons.max_ratio:",
+             "if L.max() / L.min() > 10 * cons.max_ratio:", ["tests/test_synthesis_path_limits.py",
+                                                             "tests/test_synthesis_constraints.py"],
+             "a path design just over --max-ratio refused by the final check"),
+    Mutation("path-ratio-violation-dropped", "analytic/synthesis/path.py shape_violation: the link ratio left out of "
+             "the search's penalty", "analytic/synthesis/path.py", "np.maximum(ratio / cons.max_ratio - 1, 0)",
+             "0.0 * np.maximum(ratio / cons.max_ratio - 1, 0)", ["tests/test_synthesis_path_limits.py",
+                                                                 "tests/test_synthesis_constraints.py"],
+             "tests/test_synthesis_path_limits.py::test_margins_hold_exactly_where_nothing_is_violated_..."),
 ]
 
 

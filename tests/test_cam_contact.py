@@ -123,6 +123,19 @@ def test_convex_pieces_are_convex_and_tile_the_plate(make):
     assert pieces[-1][1] - pieces[0][0] == n                          # once round, no vertex twice
 
 
+def test_separation_starts_at_the_first_sample_off_the_cam_before_the_gap_grows():
+    # samples by hand: a brief lift of 0.02 mm at theta = 0.05, back on the cam at 0.1, off from 0.2 on, the gap
+    # past the threshold (1 mm) at 0.4: the separation is the one the large gap belongs to, and it starts at the
+    # first sample after the last one in contact (gap <= 0)
+    theta = np.array([0.0, 0.05, 0.1, 0.2, 0.3, 0.4, 0.5])
+    gap = np.array([0.0, 2e-5, -1e-7, 1e-6, 5e-4, 2e-3, 4e-3])
+    force = np.where(gap <= 0, 1.0, 0.0)
+    assert cc.separation(theta, force, gap, 1e-3) == (True, 0.2)       # theta's own sample: exact
+    assert cc.separation(theta, force, gap, 1e-2) == (False, None)      # never past a 10 mm threshold
+    # off the cam from the start: the separation starts at the first sample
+    assert cc.separation(theta[3:], force[3:], gap[3:], 1e-3) == (True, 0.2)
+
+
 def test_outline_not_around_the_pivot_is_refused():
     with pytest.raises(ParameterError, match="profile"):
         cc.build(cc.CamFollower(disc() + [0.05, 0.0], (0.0, 0.0), 10.0, roller=RR, stiffness=K))
