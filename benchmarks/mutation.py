@@ -646,6 +646,11 @@ MUTATIONS = [
              "0.0 * np.maximum(ratio / cons.max_ratio - 1, 0)", ["tests/test_synthesis_path_limits.py",
                                                                  "tests/test_synthesis_constraints.py"],
              "tests/test_synthesis_path_limits.py::test_margins_hold_exactly_where_nothing_is_violated_..."),
+    Mutation("synth-broken-ratio-without-ground", "analytic/synthesis/constraints.py broken: --max-ratio over the "
+             "moving links only", "analytic/synthesis/constraints.py",
+             "if m.links and limits.max_ratio is not None and max(m.links) > limits.max_ratio * min(m.links) * (1 + SLACK_REL):",
+             "if m.links and limits.max_ratio is not None and max(m.links[:3]) > limits.max_ratio * min(m.links[:3]) * (1 + SLACK_REL):",
+             [SYN_BUILD], "tests/test_synthesis_buildable.py::test_function_min_link_and_max_ratio_count_the_ground_link"),
 ]
 
 

@@ -185,20 +185,23 @@ def test_function_min_link_and_max_ratio_refuse_the_given_design(tmp_path):
     assert r.returncode == 0, r.stdout
 
 
-def test_function_min_link_and_max_ratio_count_the_ground_link(tmp_path):
+def test_function_min_link_and_max_ratio_count_the_ground_link():
     # a drag link whose ground (1.0) is its shortest link: crank 1.2, coupler 1.5, rocker 1.4; the three
     # moving links alone would meet --min-link 1.1 and --max-ratio 1.4 (1.5 / 1.2 = 1.25), the four do not
+    from sim.service import design as design_service
     m = analytic.load("fourbar", l1=1.2, l2=1.5, l3=1.4, l4=1.0)
     phi = np.radians([30.0, 75.0, 140.0])
     psi = np.asarray(m.solve(phi, outputs=["phi3"])["phi3"])
-    csv = write(tmp_path / "f.csv", "input,output", np.degrees(np.column_stack([phi, psi])))
-    few = ("--min-transmission", "20")                              # its transmission angle dips to 23.6 deg
-    r = run("synthesize", "function", csv, *few, "--min-link", "1.1")
-    assert r.returncode == 1 and "shortest link 1 m" in r.stdout and "--min-link 1.1" in r.stdout, r.stdout
-    r = run("synthesize", "function", csv, *few, "--max-ratio", "1.4")     # 1.5 / 1.0
-    assert r.returncode == 1 and "longest/shortest link 1.5 " in r.stdout, r.stdout
-    r = run("synthesize", "function", csv, *few, "--min-link", "0.95", "--max-ratio", "1.6")
-    assert r.returncode == 0, r.stdout
+    pairs = np.column_stack([phi, psi])
+
+    def synthesize(**limits):                                       # its transmission angle dips to 23.6 deg
+        return design_service.synthesize_function(pairs, limits=sc.Limits(min_transmission=20, **limits))
+    designs, rejected = synthesize(min_link=1.1)
+    assert not designs and "shortest link 1 m" in rejected[0]["why"] and "--min-link 1.1" in rejected[0]["why"]
+    designs, rejected = synthesize(max_ratio=1.4)                   # 1.5 / 1.0
+    assert not designs and "longest/shortest link 1.5 " in rejected[0]["why"]
+    designs, rejected = synthesize(min_link=0.95, max_ratio=1.6)
+    assert len(designs) == 1 and not rejected
 
 
 def test_function_search_keeps_only_candidates_whose_four_links_meet_max_ratio():
