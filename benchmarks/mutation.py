@@ -62,6 +62,22 @@ SV = "tests/test_singularity_values.py"
 CMD = "tests/test_commanded_columns.py"
 GEARS = "tests/test_gears_accelerating.py"
 FLY = "tests/test_flywheel_energy.py"
+LAWS = "tests/test_motion_laws.py"
+LAW_EVAL = "tests/test_law_evaluation.py"
+CYL_SIZE = "tests/test_cylinder_sizing.py"
+CYL_DYN = "tests/test_cylinder_dynamics.py"
+DRIVES = "tests/test_drives.py"
+DRIVES_CF = "tests/test_drives_closed_form.py"
+CAMS = "tests/test_cams.py"
+CAM_MECH = "tests/test_cam_mechanism.py"
+LOAD_KINDS = "tests/test_load_kinds.py"
+LOADS_EL = "tests/test_loads_elements.py"
+WINDOW = "tests/test_load_window_work.py"
+DRIVE_TORQUE = "tests/test_drive_torque.py"
+SYN_BUILD = "tests/test_synthesis_buildable.py"
+LAWS_SETUPS = "tests/test_load_laws_setups.py"
+CAM_CONTACT = "tests/test_cam_contact.py"
+TOLERANCE = "tests/test_tolerance.py"
 
 
 @dataclass(frozen=True)
@@ -419,6 +435,222 @@ MUTATIONS = [
     Mutation("titles-no-shrink", "sim/output/fit.py: a word wider than its room left as it is",
              "sim/output/fit.py", "        text_artist.set_fontsize(max(MIN_FONTSIZE, 0.9 * text_artist.get_fontsize()))",
              "        break", ["tests/test_plot_titles.py"], "tests/test_plot_titles.py"),
+    # --- the phase's newer code: motion laws, actuators and relative motors, cams, load kinds, the drive
+    # torque, synthesis limits, the tolerance's speed fluctuation (a fresh batch of realistic faults)
+    Mutation("law-parabolic-decel-sign", "analytic/laws.py shape: the parabolic law's second half accelerating (+4, "
+             "not -4)", "analytic/laws.py", "np.where(first, 4.0, -4.0), zero.copy())",
+             "np.where(first, 4.0, 4.0), zero.copy())", [LAWS, LAW_EVAL],
+             "tests/test_motion_laws.py (finite differences of y' give y'')"),
+    Mutation("law-compiled-sine-rate-T", "analytic/laws.py Compiled.of: a sine term's derivatives w^d not (w / T)^d "
+             "(the segment's duration dropped)", "analytic/laws.py",
+             "amps.append([A * h * (w / T) ** d for d in range(4)])", "amps.append([A * h * w ** d for d in range(4)])",
+             [LAWS, LAW_EVAL], "tests/test_law_evaluation.py (one pass equals segment by segment)"),
+    Mutation("law-modtrap-middle-period", "analytic/laws.py: the modified trapezoid's middle cosine at half its "
+             "frequency (2 pi, not 4 pi)", "analytic/laws.py",
+             "(3 / 8, 5 / 8, 1.0, 4 * math.pi, _HALF)", "(3 / 8, 5 / 8, 1.0, 2 * math.pi, _HALF)", [LAWS, LAW_EVAL],
+             "tests/test_motion_laws.py::test_peak_velocity_and_acceleration_are_norton_s (C_a 4.888)"),
+    Mutation("law-table-not-periodic", "analytic/laws.py Table: a closing table splined with not-a-knot ends (the "
+             "acceleration jumps where the cycle repeats)", "analytic/laws.py",
+             'return CubicSpline(t, resid, bc_type="periodic")', 'return CubicSpline(t, resid, bc_type="not-a-knot")',
+             [LAWS], "tests/test_motion_laws.py::test_a_table_that_closes_a_turn_is_periodic"),
+    Mutation("law-boundary-left", "analytic/laws.py Compiled.at: a sample exactly at a segment boundary given the "
+             "piece that ends there (searchsorted side left)", "analytic/laws.py",
+             'k = np.searchsorted(self.breaks, tau, side="right")       # the piece: 0 .. P - 1',
+             'k = np.searchsorted(self.breaks, tau, side="left")       # the piece: 0 .. P - 1', [LAWS, LAW_EVAL],
+             "a profile with a velocity jump sampled exactly at the boundary (constant then dwell)"),
+    Mutation("lawfield-slider-rise-unscaled", "analytic/format/lawfield.py resolve: a slider's rise not converted from "
+             "the file's unit", "analytic/format/lawfield.py",
+             'num(rise, "angle" if kind.angular else "length", where + ": rise")',
+             'num(rise, "angle" if kind.angular else "number", where + ": rise")', [LAWS],
+             "tests/test_motion_laws.py::test_a_slider_takes_a_law_in_file_units"),
+    Mutation("act-pull-area-full", "analytic/kinds/actuator.py areas: the pull area the full bore (the rod not "
+             "taken off)", "analytic/kinds/actuator.py", "math.pi * (bore * bore - rod * rod) / 4",
+             "math.pi * (bore * bore) / 4", [CYL_SIZE, DRIVES], "tests/test_cylinder_sizing.py (pressures by hand)"),
+    Mutation("act-areas-swapped", "analytic/kinds/actuator.py pressure: the push force over the pull area and the pull "
+             "over the push area", "analytic/kinds/actuator.py", "np.where(push, force / a_push, -force / a_pull)",
+             "np.where(push, force / a_pull, -force / a_push)", [CYL_SIZE, DRIVES],
+             "tests/test_drives.py::test_the_pressure_is_the_force_over_the_push_or_pull_area"),
+    Mutation("act-drive-sign", "analytic/kinds/actuator.py forces: the cylinder's force positive when it pulls",
+             "analytic/kinds/actuator.py", "drive = -(ux * tx + uy * ty)", "drive = ux * tx + uy * ty",
+             [CYL_SIZE, DRIVES], "tests/test_drives.py::test_the_tipper_cylinder_force_equals_virtual_work"),
+    Mutation("act-stroke-extended-unchecked", "analytic/kinds/actuator.py motion_problem: a motion past the extended "
+             "end of the stroke not refused", "analytic/kinds/actuator.py",
+             "out = (q < lo - tol) | (q > hi + tol)", "out = (q < lo - tol)", [DRIVES],
+             "tests/test_drives.py::test_a_motion_past_the_stroke_is_refused_saying_when_and_by_how_much"),
+    Mutation("act-sizing-pull-no-rod", "analytic/kinds/actuator.py sizing: the bore the pull needs without the rod's "
+             "area", "analytic/kinds/actuator.py",
+             'need_pull = math.sqrt(4 * out["pull"]["F"] / (math.pi * p) + rod * rod)',
+             'need_pull = math.sqrt(4 * out["pull"]["F"] / (math.pi * p))', [CYL_SIZE],
+             "tests/test_cylinder_sizing.py::test_the_peaks_pressures_and_bores_by_hand"),
+    Mutation("cyl-supply-radius", "analytic/applications/cylinder.py supply: the push area pi bore^2 (the bore taken "
+             "as a radius)", "analytic/applications/cylinder.py", "area = math.pi * bore * bore / 4",
+             "area = math.pi * bore * bore", [CYL_DYN],
+             "tests/test_cylinder_dynamics.py::test_the_supply_is_the_pressure_and_flow_on_the_push_area"),
+    Mutation("motor-reaction-on-ground", "analytic/applications/forces.py Context.drive: a motor's reaction put on "
+             "the ground, not on its carrier `on`", "analytic/applications/forces.py",
+             '        if j.kind == "revolute":\n            self._couple(j.a, -value)',
+             '        if j.kind == "revolute":\n            self._couple(GROUND, -value)', [DRIVES],
+             "tests/test_drives.py::test_the_2r_arm_holds_its_weights_with_the_moments_about_its_joints"),
+    Mutation("motor-carrier-rate-dropped", "analytic/kinds/motor.py solve: the driven link's rate without the "
+             "carrier's", "analytic/kinds/motor.py", "w, a = w0 + qd, a0 + qdd", "w, a = qd, a0 + qdd",
+             [DRIVES, DRIVES_CF], "tests/test_drives.py (power balance of the 2R arm)"),
+    Mutation("cam-pa-sign", "analytic/cams.py at: the pressure angle's sign flipped (normal to motion, not motion to "
+             "normal)", "analytic/cams.py", "pa = np.arctan2(tx * nwy - ty * nwx, tx * nwx + ty * nwy)",
+             "pa = np.arctan2(ty * nwx - tx * nwy, tx * nwx + ty * nwy)", [CAMS],
+             "tests/test_cams.py::test_pressure_angle_by_the_textbook_formula (signed, with an offset)"),
+    Mutation("cam-rho-pitch-sign", "analytic/cams.py at: the pitch curve's radius of curvature of the wrong sign "
+             "(convex negative)", "analytic/cams.py", "rho_p = -speed ** 3 / cross", "rho_p = speed ** 3 / cross",
+             [CAMS], "tests/test_cams.py::test_pressure_angle_and_curvature_match_finite_differences"),
+    Mutation("cam-offset-sign", "analytic/kinds/cam.py resolve_at: the guide's offset measured to its right",
+             "analytic/kinds/cam.py", "offset = (O[0] - A[0]) * -math.sin(gam) + (O[1] - A[1]) * math.cos(gam)",
+             "offset = (O[0] - A[0]) * math.sin(gam) - (O[1] - A[1]) * math.cos(gam)", [CAMS, CAM_MECH],
+             "tests/test_cams.py (an offset follower's place)"),
+    Mutation("cam-flat-rho-sign", "analytic/cams.py at: a flat face's radius of curvature d - h'' (Norton 8.31: "
+             "d + h'')", "analytic/cams.py", "        rho = d + h2\n", "        rho = d - h2\n", [CAMS],
+             "tests/test_cams.py::test_pressure_angle_and_curvature_match_finite_differences[flat]"),
+    Mutation("cam-face-travel-one-side", "analytic/cams.py face_travel: the contact's largest distance from the foot, "
+             "not its travel (max - min)", "analytic/cams.py", "return float(np.ptp(self.face_offset))",
+             "return float(np.max(np.abs(self.face_offset)))", [CAMS],
+             "tests/test_cams.py::test_a_flat_face_cusp_and_a_narrow_face_are_refused"),
+    Mutation("cam-roller-undercut-ignored", "analytic/cams.py problems: a roller larger than the pitch curve's radius "
+             "of curvature not refused", "analytic/cams.py",
+             "bad = np.flatnonzero((geo.rho_pitch > 0) & (geo.rho_pitch <= rr))",
+             "bad = np.flatnonzero((geo.rho_pitch > 0) & (geo.rho_pitch <= 0.0))", [CAMS],
+             "tests/test_cams.py::test_an_undercut_is_refused_saying_where"),
+    Mutation("cam-force-no-cos", "analytic/kinds/cam.py forces: a translating follower's contact force without "
+             "1/cos(pressure angle)", "analytic/kinds/cam.py",
+             "N = -(W[0] * c + W[1] * s) / (nx * c + ny * s)", "N = -(W[0] * c + W[1] * s)", [CAMS],
+             "tests/test_cams.py::test_contact_force_by_the_followers_newton_equation"),
+    Mutation("cam-jump-speed-no-sqrt", "sim/service/forces.py jump_speed: k* = min(-Ns/N1), not its square root "
+             "(forces scale with k^2)", "sim/service/forces.py", "return float(np.sqrt(np.min(-Ns[falls] / N1[falls])) * speed)",
+             "return float(np.min(-Ns[falls] / N1[falls]) * speed)", [CAMS],
+             "tests/test_cams.py::test_jump_speed_matches_a_scan_of_the_contact_force"),
+    Mutation("gas-a-exponent", "analytic/loads/gas_spring.py a: 1 - ratio^(-n), not ratio^(-1/n) (equal at n = 1)",
+             "analytic/loads/gas_spring.py", "return -float(np.expm1(-np.log(self.ratio) / self.n))",
+             "return -float(np.expm1(-np.log(self.ratio) * self.n))", [LOAD_KINDS],
+             "tests/test_load_kinds.py::test_gas_spring_pushes_its_ends_apart_by_the_polytropic_law (n != 1)"),
+    Mutation("gas-energy-exponent-sign", "analytic/loads/gas_spring.py stored: the energy's exponent (n - 1), not "
+             "(1 - n)", "analytic/loads/gas_spring.py", "_phi((1.0 - self.n) * np.log1p(-u))",
+             "_phi((self.n - 1.0) * np.log1p(-u))", [LOAD_KINDS],
+             "tests/test_load_kinds.py::test_gas_spring_energy_is_the_integral_of_its_push"),
+    Mutation("table-spring-hi-slope", "analytic/loads/spring.py table_value: beyond the last row continued with the "
+             "first rows' slope", "analytic/loads/spring.py",
+             "slope_hi = (y[-1] - y[-2]) / (x[-1] - x[-2])", "slope_hi = (y[1] - y[0]) / (x[1] - x[0])",
+             [LOAD_KINDS, LOADS_EL], "tests/test_load_kinds.py::test_table_spring_follows_its_table (beyond its rows)"),
+    Mutation("table-spring-energy-rectangle", "analytic/loads/spring.py table_integral: the last part's area as a "
+             "rectangle (the slope term dropped)", "analytic/loads/spring.py",
+             "return cum[k] + y[k] * d + 0.5 * slope * d * d", "return cum[k] + y[k] * d", [LOAD_KINDS, LOADS_EL],
+             "tests/test_load_kinds.py::test_power_balance (table_spring)"),
+    Mutation("window-edge-wrong-side", "analytic/loads/kinetostatics.py switched_work: the load's value at the edge "
+             "taken from the sample outside the window", "analytic/loads/kinetostatics.py",
+             "k = np.where(on[cut], cut, cut + 1)", "k = np.where(on[cut], cut + 1, cut)", [WINDOW],
+             "tests/test_load_window_work.py"),
+    Mutation("window-crank-not-wrapped", "analytic/loads/law.py on: a crank's window not repeated every turn",
+             "analytic/loads/law.py", "return np.mod(q1 - lo, 2 * math.pi) <= (hi - lo) + 1e-12",
+             "return (q1 >= lo) & (q1 <= hi)", [WINDOW], "tests/test_load_window_work.py (a window across 0 deg)"),
+    Mutation("delivered-armature-sign", "sim/run/simulate.py delivered: the rotor's inertia term added, not taken off",
+             "sim/run/simulate.py", "return np.asarray(actuator_force) - drive.armature * np.asarray(qdd)",
+             "return np.asarray(actuator_force) + drive.armature * np.asarray(qdd)", [DRIVE_TORQUE],
+             "tests/test_drive_torque.py::test_an_accelerating_crank_reports_its_links_torque_not_its_rotors"),
+    Mutation("synth-ratio-without-ground", "analytic/synthesis/function.py _closed_form: --max-ratio over the moving "
+             "links only (the ground left out)", "analytic/synthesis/function.py",
+             "elif limits.max_ratio is not None and max(links) > limits.max_ratio * min(links) * (1 + sc.SLACK_REL):",
+             "elif limits.max_ratio is not None and max(links[:3]) > limits.max_ratio * min(links[:3]) * (1 + sc.SLACK_REL):",
+             [SYN_BUILD], "tests/test_synthesis_buildable.py::test_function_search_of_start_angles_..."),
+    Mutation("synth-min-link-without-ground", "analytic/synthesis/constraints.py broken: --min-link over the moving "
+             "links only", "analytic/synthesis/constraints.py",
+             "if m.links and limits.min_link is not None and min(m.links) < limits.min_link * (1 - SLACK_REL):",
+             "if m.links and limits.min_link is not None and min(m.links[:3]) < limits.min_link * (1 - SLACK_REL):",
+             [SYN_BUILD], "tests/test_synthesis_buildable.py::test_function_min_link_and_max_ratio_refuse_the_given_design"),
+    Mutation("synth-structural-error-ends", "sim/service/design.py structural_error: the error's max over the range's "
+             "ends only (where the first and last pairs are)", "sim/service/design.py",
+             "    k = int(np.argmax(e))\n    return {\"max\": float(e[k]),",
+             "    k = int(np.argmax(e[[0, -1]])) * (len(e) - 1)\n    return {\"max\": float(e[k]),", [SYN_BUILD],
+             "tests/test_synthesis_buildable.py::test_function_structural_error_over_the_range_not_only_at_the_pairs"),
+    Mutation("tol-fluct-plain-mean", "analytic/applications/tolerance.py: the speed fluctuation over the plain mean "
+             "(the closed run's repeated sample counted twice)", "analytic/applications/tolerance.py",
+             'out["speed_fluctuation"] = (speed_max - speed_min) / closed_mean(speed, axis=1)',
+             'out["speed_fluctuation"] = (speed_max - speed_min) / np.nanmean(speed, axis=1)', [LAWS_SETUPS],
+             "tests/test_load_laws_setups.py::test_tolerance_speed_fluctuation_and_its_percentiles_by_hand"),
+    Mutation("tol-fluct-unrefined", "analytic/applications/tolerance.py: the speed's extremes at the samples (not "
+             "refined between them)", "analytic/applications/tolerance.py",
+             "speed_max, speed_min = _extreme(speed, 1.0), _extreme(speed, -1.0)",
+             "speed_max, speed_min = np.nanmax(speed, axis=1), np.nanmin(speed, axis=1)", [LAWS_SETUPS],
+             "tests/test_load_laws_setups.py::test_tolerance_speed_fluctuation_and_its_percentiles_by_hand"),
+    # (second round: subtler faults of the same code, after the first round was all killed but three)
+    Mutation("law-harmonic-jerk-sign", "analytic/laws.py shape: the harmonic law's jerk of the wrong sign",
+             "analytic/laws.py", "-math.pi ** 3 / 2 * np.sin(a))", "math.pi ** 3 / 2 * np.sin(a))", [LAWS, LAW_EVAL],
+             "tests/test_motion_laws.py::test_each_derivative_is_the_finite_difference_of_the_one_before[harmonic]"),
+    Mutation("act-enough-push-only", "analytic/kinds/actuator.py sizing: a bore judged enough against the push's "
+             "need only (the pull round the rod ignored)", "analytic/kinds/actuator.py",
+             'out["sizing"]["enough"] = bool(bore >= need)', 'out["sizing"]["enough"] = bool(bore >= need_push)',
+             [CYL_SIZE], "a bore between the push's need and the pull's (a thick rod)"),
+    Mutation("act-singularity-cos", "analytic/kinds/actuator.py singularity: the cos of the angle between the link "
+             "and the cylinder, not its sin", "analytic/kinds/actuator.py", "return np.abs(c1 * s2 - s1 * c2)",
+             "return np.abs(c1 * c2 + s1 * s2)", ["tests/test_singularity_values.py", DRIVES],
+             "tests/test_singularity_values.py (an actuator's measure at a known pose)"),
+    Mutation("cyl-stall-sign", "analytic/applications/cylinder.py run: the stall check with the load's sign flipped",
+             "analytic/applications/cylinder.py", "if drive.F0 + Q0[0] <= 0:", "if drive.F0 - Q0[0] <= 0:",
+             [CYL_DYN], "tests/test_cylinder_dynamics.py::test_bad_supplies_are_refused_in_one_line"),
+    Mutation("cam-arm-direction-radial", "analytic/cams.py follow: an arm's direction of motion taken along the arm "
+             "(B -> F), not square to it", "analytic/cams.py", "return Follow(theta, r, r1, r2, (-sw, cw), (h, h1, h2, h3), psi)",
+             "return Follow(theta, r, r1, r2, (cw, sw), (h, h1, h2, h3), psi)", [CAMS],
+             "an oscillating follower's pressure angle against finite differences or a hand value"),
+    Mutation("cam-jump-speed-peak-speed", "sim/service/forces.py jump_speed: k* times the cam's peak speed, not its "
+             "mean", "sim/service/forces.py", 'speed = float(np.mean(np.abs(run.solution["omega" + e["cam"]])))',
+             'speed = float(np.max(np.abs(run.solution["omega" + e["cam"]])))', [CAMS],
+             "tests/test_cams.py::test_jump_speed_matches_a_scan_of_the_contact_force (an accelerating cam)"),
+    Mutation("cam-add-knife-sphere-sunk", "sim/model/cam_contact.py add: a knife's sphere centred below the trace point "
+             "(sunk 2 r into the plate)", "sim/model/cam_contact.py", "px, py = px + r * ux, py + r * uy",
+             "px, py = px - r * ux, py - r * uy", [CAM_CONTACT],
+             "tests/test_cam_contact.py (the knife added to a mechanism's bodies rests on the plate)"),
+    Mutation("cam-add-flat-face-sunk", "sim/model/cam_contact.py add: a flat face's box centred below the trace point "
+             "(its face 2 ht into the plate)", "sim/model/cam_contact.py", "pos=loc(px + ht * ux, py + ht * uy)",
+             "pos=loc(px - ht * ux, py - ht * uy)", [CAM_CONTACT],
+             "tests/test_cam_contact.py (the flat face added to a mechanism's bodies rests on the plate)"),
+    Mutation("load-stroke-sign-dropped", "analytic/loads/law.py gate: a load's stroke condition ignores its sign (\"-x\" "
+             "acts as \"+x\")", "analytic/loads/law.py", "return np.where(sign * rate > 0, v, 0.0)",
+             "return np.where(rate > 0, v, 0.0)", ["tests/test_loads.py", "tests/test_sweep_forces.py"],
+             "tests/test_sweep_forces.py (an up and a down torque, stroke + and -)"),
+    Mutation("tol-extreme-vertex-2x", "analytic/applications/tolerance.py _extreme: the parabola's vertex twice as far "
+             "from the sample (8 -> 4)", "analytic/applications/tolerance.py",
+             "vertex = best - (b - a) ** 2 / (8 * bend)", "vertex = best - (b - a) ** 2 / (4 * bend)", [LAWS_SETUPS, TOLERANCE],
+             "tests/test_load_laws_setups.py::test_tolerance_speed_fluctuation_and_its_percentiles_by_hand"),
+    Mutation("tol-fluct-x-speed", "analytic/applications/tolerance.py: the output point's speed as |vx| (a piston's), "
+             "not |v|", "analytic/applications/tolerance.py", 'speed = np.hypot(sol["vx" + p], sol["vy" + p])',
+             'speed = np.abs(sol["vx" + p])', [LAWS_SETUPS, TOLERANCE],
+             "a four-bar coupler point's speed fluctuation by hand (the slider-crank's piston moves along x only)"),
+    # (third round)
+    Mutation("law-compiled-jerk-phase", "analytic/laws.py Compiled: the jerk's sine term a quarter turn of phase, "
+             "not three (the jerk of a sine piece of the wrong sign)", "analytic/laws.py",
+             "SHIFT = np.array([[0.0], [_HALF], [math.pi], [3 * _HALF]])",
+             "SHIFT = np.array([[0.0], [_HALF], [math.pi], [_HALF]])", [LAWS, LAW_EVAL],
+             "tests/test_motion_laws.py::test_the_servo_press_cycle_is_its_profile_and_analyze_gives_the_exact_jerk"),
+    Mutation("cam-separation-start-early", "sim/model/cam_contact.py separation: the separation said to start at the "
+             "last sample in contact, not the first after it", "sim/model/cam_contact.py",
+             "start = int(touching[-1]) + 1 if len(touching) else 0",
+             "start = int(touching[-1]) if len(touching) else 0", [CAM_CONTACT],
+             "tests/test_cam_contact.py::test_separation_at_1_3_the_jump_speed_where_the_force_vanishes"),
+    Mutation("motor-measured-rate-absolute", "analytic/kinds/motor.py measured_extras: the simulated dq, ddq of a motor "
+             "its link's absolute rates, not relative to the carrier", "analytic/kinds/motor.py",
+             "return {self.columns[1] + key: w - w0, self.columns[2] + key: a - a0}",
+             "return {self.columns[1] + key: w, self.columns[2] + key: a}", [KINDS],
+             "tests/test_kinds.py (MuJoCo against the closed forms, motor.toml)"),
+    Mutation("path-ratio-check-10x", "analytic/synthesis/path.py: the final --max-ratio check 10x looser",
+             "analytic/synthesis/path.py", "if L.max() / L.min() > cons.max_ratio:",
+             "if L.max() / L.min() > 10 * cons.max_ratio:", ["tests/test_synthesis_path_limits.py",
+                                                             "tests/test_synthesis_constraints.py"],
+             "a path design just over --max-ratio refused by the final check"),
+    Mutation("path-ratio-violation-dropped", "analytic/synthesis/path.py shape_violation: the link ratio left out of "
+             "the search's penalty", "analytic/synthesis/path.py", "np.maximum(ratio / cons.max_ratio - 1, 0)",
+             "0.0 * np.maximum(ratio / cons.max_ratio - 1, 0)", ["tests/test_synthesis_path_limits.py",
+                                                                 "tests/test_synthesis_constraints.py"],
+             "tests/test_synthesis_path_limits.py::test_margins_hold_exactly_where_nothing_is_violated_..."),
+    Mutation("synth-broken-ratio-without-ground", "analytic/synthesis/constraints.py broken: --max-ratio over the "
+             "moving links only", "analytic/synthesis/constraints.py",
+             "if m.links and limits.max_ratio is not None and max(m.links) > limits.max_ratio * min(m.links) * (1 + SLACK_REL):",
+             "if m.links and limits.max_ratio is not None and max(m.links[:3]) > limits.max_ratio * min(m.links[:3]) * (1 + SLACK_REL):",
+             [SYN_BUILD], "tests/test_synthesis_buildable.py::test_function_min_link_and_max_ratio_count_the_ground_link"),
 ]
 
 

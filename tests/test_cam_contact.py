@@ -123,6 +123,19 @@ def test_convex_pieces_are_convex_and_tile_the_plate(make):
     assert pieces[-1][1] - pieces[0][0] == n                          # once round, no vertex twice
 
 
+def test_separation_starts_at_the_first_sample_off_the_cam_before_the_gap_grows():
+    # samples by hand: a brief lift of 0.02 mm at theta = 0.05, back on the cam at 0.1, off from 0.2 on, the gap
+    # past the threshold (1 mm) at 0.4: the separation is the one the large gap belongs to, and it starts at the
+    # first sample after the last one in contact (gap <= 0)
+    theta = np.array([0.0, 0.05, 0.1, 0.2, 0.3, 0.4, 0.5])
+    gap = np.array([0.0, 2e-5, -1e-7, 1e-6, 5e-4, 2e-3, 4e-3])
+    force = np.where(gap <= 0, 1.0, 0.0)
+    assert cc.separation(theta, force, gap, 1e-3) == (True, 0.2)       # theta's own sample: exact
+    assert cc.separation(theta, force, gap, 1e-2) == (False, None)      # never past a 10 mm threshold
+    # off the cam from the start: the separation starts at the first sample
+    assert cc.separation(theta[3:], force[3:], gap[3:], 1e-3) == (True, 0.2)
+
+
 def test_outline_not_around_the_pivot_is_refused():
     with pytest.raises(ParameterError, match="profile"):
         cc.build(cc.CamFollower(disc() + [0.05, 0.0], (0.0, 0.0), 10.0, roller=RR, stiffness=K))
@@ -321,17 +334,35 @@ def test_arm_tracks_the_law_at_half_its_jump_speed_and_leaves_at_1_3():
 
 
 # ------------------------------------------------------------------- the kind's hook: add to a model
-def test_add_places_the_plate_and_roller_in_a_mechanisms_bodies():
+@pytest.mark.parametrize("contact", ["roller", "knife", "flat"])
+def test_add_places_the_plate_and_follower_in_a_mechanisms_bodies(contact):
     """A mechanism's model as sim/model/build.py makes it (bodies at their assembled pose, every geom
     contype 0, contact disabled): the cam link's body with its origin off the pivot and turned by the cam's
-    angle, the follower block on a slide. After :func:`add` the roller rests on the plate where the closed
-    form puts it, raised by 0.1 mm the gap reads 0.1 mm, and only the plate and roller can touch."""
+    angle, the follower block on a slide. After :func:`add` the roller (the knife's small sphere, the flat
+    face) rests on the plate where the closed form puts it, raised by 0.1 mm the gap reads what the hand
+    geometry gives, and only the plate and the follower's contact can touch."""
     import types
 
     import mujoco
     A, phi, O = (0.01, 0.02), 0.3, (0.03, -0.01)                    # pivot, cam angle, cam body's origin
     dcx, dcy = A[0] + E * math.sin(phi), A[1] - E * math.cos(phi)   # the disc's centre, R(phi) (0, -e) + A
-    fy = dcy + math.sqrt((R + RR) ** 2 - (A[0] - dcx) ** 2)         # the roller on the vertical through A
+    rk = cc.KNIFE_RADIUS * (R + E)                                  # the knife's sphere: of the plate's size
+    if contact == "roller":                                         # the trace point on the vertical through A:
+        fy = dcy + math.sqrt((R + RR) ** 2 - (A[0] - dcx) ** 2)     # the roller's centre,
+    elif contact == "knife":
+        fy = dcy + math.sqrt(R ** 2 - (A[0] - dcx) ** 2)            # the knife's edge on the disc,
+    else:
+        fy = dcy + R                                                # the face's foot on the disc's top
+
+    def gap_by_hand(lift):
+        """The follower's distance from the disc raised by ``lift`` along the guide (+y), by hand: the
+        roller's centre or the knife's sphere (its lowest point on the edge) from the disc's centre less both
+        radii; the flat face's underside above the disc's top."""
+        if contact == "flat":
+            return lift
+        r = RR if contact == "roller" else rk
+        cy = fy + lift + (rk if contact == "knife" else 0.0)
+        return math.hypot(A[0] - dcx, cy - dcy) - R - r
     spec = mujoco.MjSpec()
     spec.option.disableflags |= int(mujoco.mjtDisableBit.mjDSBL_CONTACT)
     spec.worldbody.add_geom(name="paper", type=mujoco.mjtGeom.mjGEOM_PLANE, size=[1, 1, 0.01], contype=0,
@@ -348,20 +379,21 @@ def test_add_places_the_plate_and_roller_in_a_mechanisms_bodies():
                                 points={"F": (A[0], fy)})
     setup = types.SimpleNamespace(pivot=A, u=(0.0, 1.0), motion="translating")
     geo = types.SimpleNamespace(profile=disc(), setup=setup)
-    e = {"name": "c1", "cam": "1", "links": ["follower"], "point": "F", "contact": "roller", "roller": RR}
+    e = {"name": "c1", "cam": "1", "links": ["follower"], "point": "F", "contact": contact, "roller": RR,
+         "face_width": 0.06}
     cc.add(e, ctx, geo)
     m = spec.compile()
     d = mujoco.MjData(m)
     mujoco.mj_forward(m, d)
     dists = [d.contact[j].dist for j in range(d.ncon)]
-    assert dists and abs(min(dists)) <= 2 * SAGITTA                  # resting: the polyline's chord error
+    assert dists and abs(min(dists) - gap_by_hand(0.0)) <= 2 * SAGITTA   # resting: the polyline's chord error
     d.qpos[1] = 1e-4
     mujoco.mj_forward(m, d)
     force, gap = cc.readings(m, d.sensordata[None], "c1", 1.0)
-    assert gap[0] == pytest.approx(1e-4, abs=2 * SAGITTA)            # the chord error again
+    assert gap[0] == pytest.approx(gap_by_hand(1e-4), abs=2 * SAGITTA)   # the chord error again
     assert force[0] == 0.0                                           # exact: no contact force across a gap
     pairs = {(m.geom(int(d.contact[j].geom[0])).name, m.geom(int(d.contact[j].geom[1])).name) for j in range(d.ncon)}
     assert pairs and all(a.startswith("cam0_piece") or a == "c1_contact" for p in pairs for a in p)
     can = [(i, j) for i in range(m.ngeom) for j in range(i + 1, m.ngeom)
            if (m.geom_contype[i] & m.geom_conaffinity[j]) or (m.geom_contype[j] & m.geom_conaffinity[i])]
-    assert can and all({m.geom(i).name, m.geom(j).name} & {"c1_contact"} for i, j in can)   # only with the roller
+    assert can and all({m.geom(i).name, m.geom(j).name} & {"c1_contact"} for i, j in can)   # only with the follower

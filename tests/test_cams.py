@@ -253,6 +253,36 @@ def test_oscillating_roller_profile_is_the_envelope_of_its_roller_circles():
     assert np.max(np.abs(_polar_radius(geo.profile, phi) - envelope)) <= 1e-7
 
 
+def test_an_arms_pressure_angle_is_from_its_swing_to_the_normal_by_finite_differences():
+    """SPEC: the pressure angle is the signed angle from the follower's direction of motion (an arm's
+    counter-clockwise tangent at the trace point, square to the arm) to the contact normal. Here the roller
+    centres are placed by hand (psi0 as above, then the law), the normal is square to their polyline's
+    finite-difference tangent, and the swing's direction is (-sin psi, cos psi)."""
+    law = _law(("cycloidal", 100, math.radians(12)), ("dwell", 50, 0.0), ("poly345", 110, -math.radians(12)),
+               ("dwell", 100, 0.0))
+    A, B, arm, rr, rb = (0.0, 0.0), (0.06, 0.045), 0.055, 0.008, 0.025
+    st = cams.Setup(pivot=A, motion="oscillating", contact="roller", roller=rr, face_width=None, base_radius=rb,
+                    law=law, arm_pivot=B, arm=arm)
+    n = 36000
+    geo = cams.build(st, n)
+    D = math.hypot(*B)
+    g = math.acos((arm ** 2 + D ** 2 - (rb + rr) ** 2) / (2 * arm * D))
+    psi0 = [p for p in (math.atan2(-B[1], -B[0]) + g, math.atan2(-B[1], -B[0]) - g)
+            if math.cos(p) * (B[1] + arm * math.sin(p)) - math.sin(p) * (B[0] + arm * math.cos(p)) > 0][0]
+    theta = np.arange(n) * (2 * np.pi / n)
+    psi = psi0 + law.at(theta)[0]
+    x, y = B[0] + arm * np.cos(psi), B[1] + arm * np.sin(psi)
+    ct, s_ = np.cos(theta), np.sin(theta)
+    centres = np.column_stack([ct * x + s_ * y, -s_ * x + ct * y])          # the pitch curve, cam's frame
+    t, _ = _fd_tangent_and_rho(centres)
+    tx, ty = ct * t[:, 0] - s_ * t[:, 1], s_ * t[:, 0] + ct * t[:, 1]        # the tangent turned to the world
+    nx, ny = -ty, tx                                                        # outward: left of a clockwise run
+    ux, uy = -np.sin(psi), np.cos(psi)                                      # the swing at F
+    pa = np.arctan2(ux * ny - uy * nx, ux * nx + uy * ny)
+    assert np.max(np.abs(pa - geo.pressure_angle)) <= 1e-6                  # the tangent's O(h^2) error, in rad
+    assert np.max(np.abs(pa)) > math.radians(5)                             # a real swing, not a near-zero angle
+
+
 # ----------------------------------------------------------------------------------- checks refused
 def test_an_undercut_is_refused_saying_where():
     st = _translating("roller", rr=0.030, rb=0.012, e=0.0,

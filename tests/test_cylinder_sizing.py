@@ -46,6 +46,20 @@ def test_the_peaks_pressures_and_bores_by_hand():
     assert low["bore"] == pytest.approx(0.138198, rel=1e-5) and low["enough"] is False
 
 
+def test_a_bore_enough_for_the_push_but_not_the_pull_round_a_thick_rod_is_not_enough():
+    # bore 100 mm, rod 70 mm, pushing 1000 N and pulling 2500 N, at 5 bar = 5e5 Pa:
+    # D_push = sqrt(4 1000 / (pi 5e5)) = sqrt(2.546479e-3) = 50.4627 mm (the bore is plenty for it), but
+    # D_pull = sqrt(4 2500 / (pi 5e5) + 0.07^2) = sqrt(1.126620e-2) = 106.142 mm > 100 mm: hand values to 6 digits
+    s = sizing({"bore": 0.100, "rod": 0.070}, np.array([1000.0, -2500.0]), 5e5)
+    z = s["sizing"]
+    assert z["bore_push"] == pytest.approx(0.0504627, rel=1e-5)
+    assert z["bore_pull"] == pytest.approx(0.106142, rel=1e-5)
+    assert z["bore"] == pytest.approx(0.106142, rel=1e-5)               # the pull governs
+    assert z["enough"] is False                                         # 100 mm < 106.1 mm
+    # the pull's pressure on the annulus: 2500 N / (pi (0.1^2 - 0.07^2) / 4 = 4.005531e-3 m^2) = 624137.03 Pa
+    assert s["pull"]["pressure"] == pytest.approx(624137.03, rel=1e-7)
+
+
 def test_a_cylinder_that_never_pulls_has_no_pull_peak():
     s = sizing({"bore": 0.0, "rod": 0.0}, np.array([10.0, 20.0, 5.0]), 1e5)
     assert s["pull"] == {"F": 0.0, "at": None}

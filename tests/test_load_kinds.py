@@ -362,6 +362,37 @@ def test_table_spring_follows_its_table():
     assert np.allclose(E, want, rtol=1e-9, atol=1e-12)                    # quad's error on the kinks
 
 
+def test_table_spring_beyond_its_rows_goes_on_with_each_end_rows_slope(tmp_path):
+    # the example's table cut short so that the rocker's motion (deflection -29.8 to +65.1 mm) leaves it at both
+    # ends: below its first row the tension goes on with the first two rows' slope (2 N / 10 mm = 200 N/m), above
+    # its last with the last two rows' (40 N / 20 mm = 2000 N/m), SPEC "table_spring"
+    old = "table = [[-0.1, -10], [0, 0], [0.05, 40], [0.1, 150], [0.2, 600]]"
+    text = (HERE / "loads" / "table_spring.toml").read_text()
+    assert old in text
+    path = tmp_path / "short_table.toml"
+    path.write_text(text.replace(old, "table = [[-0.01, -2], [0, 0], [0.02, 10], [0.04, 50]]"))
+    mech, ld, _ = load(path)
+    st = state_over(mech, np.linspace(0, 2 * math.pi, 25))
+    (x1, y1), (x2, y2) = st.position(ld.ends[0]), st.position(ld.ends[1])
+    L = np.hypot(x2 - x1, y2 - y1)
+    d = L - 0.15
+    assert d.min() < -0.01 and d.max() > 0.04                              # past both ends of the table
+
+    def tension(v):                                                        # by hand, piece by piece
+        if v < -0.01:
+            return -2.0 + 200.0 * (v + 0.01)
+        if v > 0.04:
+            return 50.0 + 2000.0 * (v - 0.04)
+        return float(np.interp(v, [-0.01, 0.0, 0.02, 0.04], [-2.0, 0.0, 10.0, 50.0]))
+    T = np.array([tension(v) for v in d])
+    a = ld.applications(st)[0]                                             # on the frame's end: pulled along
+    # one product of a tension of <= 100 N with a unit vector: rounding
+    assert np.allclose(a.fx, T * (x2 - x1) / L, rtol=1e-12, atol=1e-12)
+    assert np.allclose(a.fy, T * (y2 - y1) / L, rtol=1e-12, atol=1e-12)
+    want = [integrate.quad(tension, 0.0, v, points=[-0.01, 0.02, 0.04], epsrel=1e-12)[0] for v in d]
+    assert np.allclose(ld.energy(st), want, rtol=1e-9, atol=1e-12)        # quad's error on the kinks
+
+
 @pytest.mark.parametrize("path", EXAMPLES, ids=lambda p: p.stem)
 def test_the_panel_adds_each_kind_as_the_file_writes_it(path):
     """The app's panel (POST /api/loads/edit) adds the load, given as its table, to the file without loads:

@@ -185,6 +185,43 @@ def test_function_min_link_and_max_ratio_refuse_the_given_design(tmp_path):
     assert r.returncode == 0, r.stdout
 
 
+def test_function_min_link_and_max_ratio_count_the_ground_link():
+    # a drag link whose ground (1.0) is its shortest link: crank 1.2, coupler 1.5, rocker 1.4; the three
+    # moving links alone would meet --min-link 1.1 and --max-ratio 1.4 (1.5 / 1.2 = 1.25), the four do not
+    from sim.service import design as design_service
+    m = analytic.load("fourbar", l1=1.2, l2=1.5, l3=1.4, l4=1.0)
+    phi = np.radians([30.0, 75.0, 140.0])
+    psi = np.asarray(m.solve(phi, outputs=["phi3"])["phi3"])
+    pairs = np.column_stack([phi, psi])
+
+    def synthesize(**limits):                                       # its transmission angle dips to 23.6 deg
+        return design_service.synthesize_function(pairs, limits=sc.Limits(min_transmission=20, **limits))
+    designs, rejected = synthesize(min_link=1.1)
+    assert not designs and "shortest link 1 m" in rejected[0]["why"] and "--min-link 1.1" in rejected[0]["why"]
+    designs, rejected = synthesize(max_ratio=1.4)                   # 1.5 / 1.0
+    assert not designs and "longest/shortest link 1.5 " in rejected[0]["why"]
+    designs, rejected = synthesize(min_link=0.95, max_ratio=1.6)
+    assert len(designs) == 1 and not rejected
+
+
+def test_function_search_keeps_only_candidates_whose_four_links_meet_max_ratio():
+    # at --max-ratio 2 some start angles give moving links within a ratio of 2 of each other but a ground
+    # (1.0) outside it: the search must turn those down, not keep them as meeting the limits
+    from analytic.synthesis import function as F
+    phi, psi = log_pairs(3)
+    kept, turned, _ = F.search(np.radians(phi), np.radians(psi), 1.0, sc.Limits(max_ratio=2.0), evaluations=400,
+                               count=2)
+    assert kept
+    for c in kept:
+        f = c.function.linkage
+        links = [abs(f.l1), abs(f.l2), abs(f.l3), f.D[0]]              # crank, coupler, rocker, ground
+        assert max(links) <= 2.0 * min(links) * (1 + 1e-9), links      # SLACK_REL: rounding
+    # and such candidates exist among those turned down: the case is met, not vacuous
+    assert any(max(abs(x) for x in (c.function.linkage.l1, c.function.linkage.l2, c.function.linkage.l3))
+               <= 2.0 * min(abs(x) for x in (c.function.linkage.l1, c.function.linkage.l2, c.function.linkage.l3))
+               and "max-ratio" in c.why for c in turned)
+
+
 # --------------------------------------------------------------------------- path: --evaluations a bound
 def count_designs(monkeypatch):
     """Count every design evaluated on the targets at the call sites that evaluate them (outermost calls

@@ -80,6 +80,15 @@ def test_size_box_and_grashof_limits_by_hand():
     assert sp.violation(LIB[None], dc, t)[0] > 0 and "double-crank" in sp.failed_constraint(LIB, dc, t)
 
 
+def test_max_ratio_by_hand():
+    # the library four-bar's links (ground 0.3, crank 0.1, coupler 0.3, rocker 0.25): longest/shortest 3 exactly
+    t = lib_target()
+    assert sp.violation(LIB[None], sp.Constraints(max_ratio=3.01), t)[0] == 0
+    over = sp.Constraints(max_ratio=2.9)
+    assert sp.violation(LIB[None], over, t)[0] > 0                  # the search's penalty sees it
+    assert "link-length ratio above 2.9" in sp.failed_constraint(LIB, over, t)    # and the final check says it
+
+
 def test_margins_hold_exactly_where_nothing_is_violated_with_the_new_limits():
     fam = FAMILIES["fourbar"]
     rng = np.random.default_rng(8)
