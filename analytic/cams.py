@@ -193,6 +193,13 @@ class CamGeometry:
         """Flat: the width of face the contact sweeps [m] (max - min of :attr:`face_offset`); else 0."""
         return float(np.ptp(self.face_offset))
 
+    @property
+    def face_centre(self) -> float:
+        """Flat: the middle of the contact's travel along the face [m], to the guide's left of the foot: where
+        a face of ``face_width`` is centred, so that a face as wide as the travel (the least the check
+        accepts) covers it; else 0."""
+        return 0.5 * float(np.max(self.face_offset) + np.min(self.face_offset))
+
 
 def at(setup: Setup, theta) -> dict:
     """Everything about the contact at cam angles ``theta`` [rad] (arrays): the follower (:func:`follow`),

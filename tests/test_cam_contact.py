@@ -378,7 +378,7 @@ def test_add_places_the_plate_and_follower_in_a_mechanisms_bodies(contact):
     ctx = types.SimpleNamespace(spec=spec, timestep=1e-4, frames={"1": (O[0], O[1], phi), "follower": (A[0], 0.0, 0.0)},
                                 points={"F": (A[0], fy)})
     setup = types.SimpleNamespace(pivot=A, u=(0.0, 1.0), motion="translating")
-    geo = types.SimpleNamespace(profile=disc(), setup=setup)
+    geo = types.SimpleNamespace(profile=disc(), setup=setup, face_centre=0.0)   # the disc sweeps the face evenly
     e = {"name": "c1", "cam": "1", "links": ["follower"], "point": "F", "contact": contact, "roller": RR,
          "face_width": 0.06}
     cc.add(e, ctx, geo)

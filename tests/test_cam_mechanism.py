@@ -125,3 +125,43 @@ def test_forces_simulate_of_a_cam_fails_with_exit_1_where_the_contact_is_too_sof
     r = run("forces", "cam_rocker", "--simulate", "--timestep", "0.001", "--json")
     assert r.returncode == 1
     assert json.loads(r.stdout)["simulated"]["passed"] is False
+
+
+def test_a_flat_face_as_narrow_as_the_check_allows_covers_the_contacts_travel_in_mujoco(tmp_path):
+    """cam_flat's contact runs about -3 to +19.5 mm along the face from the foot (its guide is offset): a
+    ``face_width`` just wider than that travel, the least the check accepts (SPEC: refused when narrower than
+    the contact point's travel), must lie over the travel in MuJoCo. It was centred on the foot: the contact
+    ran 7 mm past its end and the simulated follower strayed 2.4x as far from the law."""
+    import math
+    from pathlib import Path
+
+    import mujoco
+
+    from analytic import cams
+    from sim import service
+    from sim.model.build import build
+    text = (Path(__file__).parent.parent / "analytic" / "library" / "cam_flat.toml").read_text()
+    assert "face_width = 40" in text
+    f = tmp_path / "narrow_face.toml"
+    f.write_text(text.replace("face_width = 40", "face_width = 23"))
+    mech = service.load(str(f))
+    e = cams.elements(mech)["tappet"]
+    assert 22.0e-3 < cams.geometry(mech, e).face_travel < 23.0e-3       # the check's travel: 23 mm is enough
+    m = build(mech).model
+    d = mujoco.MjData(m)
+    mujoco.mj_forward(m, d)
+    g = m.geom("tappet_contact").id
+    centre, axis, half = d.geom_xpos[g][:2], d.geom_xmat[g].reshape(3, 3)[:2, 0], float(m.geom_size[g][0])
+    # the contact by hand: over a whole turn of the outline about the pivot A, the outline's point farthest up
+    # the guide (a flat face square to the guide touches there); its distance along the face from the box's
+    # centre (every turn angle is met once a turn, so the start phase does not matter)
+    gam, pivot = math.radians(75.0), np.array([0.0, 0.0])
+    u = np.array([math.cos(gam), math.sin(gam)])
+    outline = cams.geometry(mech, e).profile                            # the cam frame, about A
+    psi = np.linspace(0.0, 2 * math.pi, 3600, endpoint=False)
+    c, s = np.cos(psi)[:, None], np.sin(psi)[:, None]
+    world = np.stack([c * outline[:, 0] - s * outline[:, 1], s * outline[:, 0] + c * outline[:, 1]], axis=-1) + pivot
+    touch = world[np.arange(len(psi)), np.argmax(world @ u, axis=1)]
+    along = (touch - centre) @ axis
+    chord = 2e-4                           # the outline's 720 corners on a ~47 mm radius: the support point's step
+    assert np.min(along) >= -half - chord and np.max(along) <= half + chord, (np.min(along), np.max(along), half)

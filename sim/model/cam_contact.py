@@ -744,9 +744,10 @@ def add(e: dict, ctx, geo) -> None:
         ux, uy = geo.setup.u
         ht = 0.02 * size
         width = e.get("face_width") or 2 * size
+        mid = geo.face_centre                  # the face over the contact's travel, as the check measures it
         fb.add_geom(name=f"{name}_contact", type=G.mjGEOM_BOX, size=[0.5 * width, ht, 1.5 * t],
-                    pos=loc(px + ht * ux, py + ht * uy), quat=_quat(math.atan2(uy, ux) - math.pi / 2 - fphi),
-                    **common)
+                    pos=loc(px + ht * ux - mid * uy, py + ht * uy + mid * ux),
+                    quat=_quat(math.atan2(uy, ux) - math.pi / 2 - fphi), **common)
     else:
         r = e["roller"] if e["contact"] == "roller" else KNIFE_RADIUS * size
         if e["contact"] == "knife":                                    # the sphere's lowest point on F

@@ -93,15 +93,15 @@ def plates_of(mech) -> tuple:
 
 def face_of(e: dict, g) -> tuple | None:
     """A flat-faced follower's face as :class:`Plate` draws it, (ux, uy, lo, hi): a given ``face_width``
-    centred on the foot (as the MuJoCo model builds it, sim.model.cam_contact.add), else the analytic face
-    width (the contact's travel, :attr:`analytic.cams.CamGeometry.face_travel`) where the contact sweeps it;
-    None for a roller or a knife."""
+    centred on the middle of the contact's travel (:attr:`analytic.cams.CamGeometry.face_centre`, as the
+    MuJoCo model builds it, sim.model.cam_contact.add), else the analytic face width (the contact's travel,
+    :attr:`analytic.cams.CamGeometry.face_travel`) where the contact sweeps it; None for a roller or a knife."""
     if e["contact"] != "flat":
         return None
     ux, uy = g.setup.u
     if e.get("face_width"):
-        w = float(e["face_width"])
-        return (ux, uy, -0.5 * w, 0.5 * w)
+        w, mid = float(e["face_width"]), g.face_centre
+        return (ux, uy, mid - 0.5 * w, mid + 0.5 * w)
     return (ux, uy, float(np.min(g.face_offset)), float(np.max(g.face_offset)))
 
 
