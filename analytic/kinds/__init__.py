@@ -4,9 +4,7 @@ protocol every kind implements), listed here once. Nothing outside a kind's modu
 
 from __future__ import annotations
 
-import functools
-import importlib
-from collections.abc import Iterator, Mapping
+from analytic._common import LazyKinds
 
 from .base import GROUND, Kind
 
@@ -33,36 +31,9 @@ MODULES = tuple(name.lower() for name in SECTIONS)
 """The kinds' modules, in the same order."""
 
 
-@functools.cache
-def _kind(name: str) -> Kind:
-    kind = importlib.import_module(f"{__name__}.{name.lower()}").KIND
-    if (kind.name, kind.section) != (name, SECTIONS[name]):
-        raise RuntimeError(f"analytic/kinds/{name.lower()}.py: its KIND is {kind.name!r} in {kind.section!r}; "
-                           f"SECTIONS says {name!r} in {SECTIONS[name]!r}: make them agree")
-    return kind
-
-
-class _Kinds(Mapping):
-    """The kinds by name, each module imported when its kind is first asked for (a four-bar's command loads
-    the crank and the RRR group, not the cam's or the general group's solvers)."""
-
-    def __getitem__(self, name: str) -> Kind:
-        if not isinstance(name, str) or name not in SECTIONS:
-            raise KeyError(name)
-        return _kind(name)
-
-    def __contains__(self, name) -> bool:
-        return isinstance(name, str) and name in SECTIONS
-
-    def __iter__(self) -> Iterator[str]:
-        return iter(SECTIONS)
-
-    def __len__(self) -> int:
-        return len(SECTIONS)
-
-
-KINDS: Mapping[str, Kind] = _Kinds()
-"""Every element kind by name."""
+KINDS: LazyKinds = LazyKinds(__name__, tuple(SECTIONS))
+"""Every element kind by name, each module imported when its kind is first asked for (a four-bar's command
+loads the crank and the RRR group, not the cam's or the general group's solvers)."""
 
 
 def get(name: str) -> Kind:
@@ -72,7 +43,10 @@ def get(name: str) -> Kind:
 
 def of_section(section: str) -> tuple[str, ...]:
     """The names of the kinds an ``[[inputs]]`` or ``[[groups]]`` entry may have."""
-    return tuple(n for n, s in SECTIONS.items() if s == section)
+    def section_of(name: str) -> str:        # a kind not imported yet: its line of SECTIONS (nothing imported)
+        kind = KINDS.loaded(name) if isinstance(KINDS, LazyKinds) else KINDS[name]
+        return SECTIONS[name] if kind is None else kind.section
+    return tuple(n for n in KINDS if section_of(n) == section)
 
 
 __all__ = ["KINDS", "MODULES", "SECTIONS", "GROUND", "Kind", "get", "of_section"]
