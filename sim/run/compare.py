@@ -269,13 +269,6 @@ def _end_accelerations(built, tr: Trajectory, steps, ctrl, xfrc=None, energy: bo
     data = mujoco.MjData(model)
     dofs = [model.jnt_dofadr[model.joint(d.joint).id] for d in built.drives]
     out = {}
-    flags = model.opt.enableflags
-    if energy:
-        model.opt.enableflags = flags | mujoco.mjtEnableBit.mjENBL_ENERGY
-        energies = np.empty((len(tr.t), 2))
-        data.qpos[:], data.qvel[:] = tr.qpos[0], tr.qvel[0]
-        mujoco.mj_forward(model, data)
-        energies[0] = data.energy[1], data.energy[0]
     S = mujoco.mjtState
     sig = S.mjSTATE_QPOS | S.mjSTATE_QVEL | S.mjSTATE_ACT | S.mjSTATE_CTRL
     steps = np.asarray(steps, dtype=int)
@@ -284,7 +277,16 @@ def _end_accelerations(built, tr: Trajectory, steps, ctrl, xfrc=None, energy: bo
         sig |= S.mjSTATE_XFRC_APPLIED
         parts.append(xfrc[steps].reshape(len(steps), 6 * model.nbody))
     states = np.concatenate(parts, axis=1)              # each step's end as one state: one call sets it
+    energies = np.empty((len(tr.t), 2)) if energy else None
+    flags, off = model.opt.enableflags, model.opt.disableflags
+    model.opt.disableflags = off | mujoco.mjtDisableBit.mjDSBL_SENSOR      # qacc and the energy only are read
+    if energy:
+        model.opt.enableflags = flags | mujoco.mjtEnableBit.mjENBL_ENERGY
     try:
+        if energy:
+            data.qpos[:], data.qvel[:] = tr.qpos[0], tr.qvel[0]
+            mujoco.mj_forward(model, data)
+            energies[0] = data.energy[1], data.energy[0]
         for n, k in enumerate(steps.tolist()):
             mujoco.mj_setState(model, data, states[n], sig)
             mujoco.mj_forward(model, data)
@@ -292,7 +294,7 @@ def _end_accelerations(built, tr: Trajectory, steps, ctrl, xfrc=None, energy: bo
             if energy:
                 energies[k + 1] = data.energy[1], data.energy[0]
     finally:
-        model.opt.enableflags = flags
+        model.opt.enableflags, model.opt.disableflags = flags, off
     return out, ((energies[:, 0], energies[:, 1]) if energy else None)
 
 
