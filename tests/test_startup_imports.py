@@ -160,3 +160,23 @@ def test_a_command_asks_openblas_for_one_thread_unless_told():
                            timeout=120)
         assert r.returncode == 0, r.stderr
         assert r.stdout.split()[-1] == expected
+
+
+def test_the_gl_backend_is_chosen_without_looking_for_osmesa_where_egl_is_found(monkeypatch):
+    """EGL where it is installed, else OSMesa where that is, else EGL (MuJoCo's message then names it); a
+    library not found costs ldconfig, gcc and ld runs, so OSMesa is not looked for where EGL is found."""
+    import ctypes.util
+    from sim.output import gl
+    for egl, osmesa, expected in ((True, True, "egl"), (True, False, "egl"), (False, True, "osmesa"),
+                                  (False, False, "egl")):
+        asked = []
+        found = {"EGL": egl, "OSMesa": osmesa}
+        monkeypatch.setattr(ctypes.util, "find_library",
+                            lambda name: asked.append(name) or (f"lib{name}.so" if found[name] else None))
+        for var in ("MUJOCO_GL", "PYOPENGL_PLATFORM"):      # set first: their state is restored after the test
+            monkeypatch.setenv(var, "")
+            monkeypatch.delenv(var)
+        assert gl.ensure_gl_backend() == expected
+        assert asked == (["EGL"] if egl else ["EGL", "OSMesa"])
+    monkeypatch.setenv("MUJOCO_GL", "glfw")                 # the user's choice, nothing looked for
+    assert gl.ensure_gl_backend() == "glfw"
