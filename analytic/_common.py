@@ -3,9 +3,12 @@
 from __future__ import annotations
 
 import ctypes
+import importlib
 import math
 import os
 import sys
+
+from collections.abc import Iterator, MutableMapping
 
 import numpy as np
 
@@ -120,3 +123,44 @@ def keep_freed_memory() -> bool:
         return bool(libc.mallopt(m_trim_threshold, 256 << 20) and libc.mallopt(m_mmap_threshold, 32 << 20))
     except (OSError, AttributeError):                        # not glibc (e.g. musl): nothing to tune
         return False
+
+
+class LazyKinds(MutableMapping):
+    """{name: the ``KIND`` of module ``package.NAME`` (lower case)} for ``names``, in their order, each module
+    imported when its kind is first asked for (a command loads the modules of the kinds its mechanism uses).
+    A kind set here (a plug-in's, or one replaced) is held as given."""
+
+    def __init__(self, package: str, names: tuple[str, ...]):
+        self._package = package
+        self._entries: dict[str, object] = dict.fromkeys(names)      # None: its module not imported yet
+
+    def __getitem__(self, name: str):
+        kind = self._entries[name] if isinstance(name, str) else None
+        if kind is None:
+            if name not in self:
+                raise KeyError(name)
+            kind = importlib.import_module(f"{self._package}.{name.lower()}").KIND
+            if kind.name != name:
+                raise RuntimeError(f"{self._package}.{name.lower()}: its KIND is named {kind.name!r}, not "
+                                   f"{name!r}: make them agree")
+            self._entries[name] = kind
+        return kind
+
+    def loaded(self, name: str):
+        """The kind called ``name`` if its module is imported or it was set here, else None (nothing imported)."""
+        return self._entries.get(name)
+
+    def __setitem__(self, name: str, kind) -> None:
+        self._entries[name] = kind
+
+    def __delitem__(self, name: str) -> None:
+        del self._entries[name]
+
+    def __contains__(self, name) -> bool:
+        return isinstance(name, str) and name in self._entries
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self._entries)
+
+    def __len__(self) -> int:
+        return len(self._entries)

@@ -177,7 +177,11 @@ class Compiled:
     start; ``poly`` (D, 4, P) the coefficients of q (its start value included), dq, ddq and dddq in powers
     0..D-1 of the time since the piece's start; ``wave`` (2, P) the angular frequency [rad/s] and phase of
     its sine term and ``amp`` (4, P) the amplitude of that term in q and its three derivatives, A w^d
-    (d/du A sin(w u + p) = A w sin(w u + p + pi/2)); all zero where a piece has none."""
+    (d/du A sin(w u + p) = A w sin(w u + p + pi/2)); all zero where a piece has none.
+
+    ``basis`` (4, P, B): the same as each derivative's weights on one basis per sample, 1, u .. u^(D-1), then
+    (where any piece has a sine) sin(w u + p) and cos(w u + p): A w^d sin(w u + p + d pi/2) is A w^d times
+    s, c, -s, -c for d = 0..3. Every derivative is then one matrix product with the basis."""
 
     breaks: np.ndarray
     starts: np.ndarray
@@ -187,9 +191,7 @@ class Compiled:
     has_sine: bool
     degree: tuple = ()
     """Per derivative and piece the highest power with a non-zero coefficient (-1: none)."""
-
-    SHIFT = np.array([[0.0], [_HALF], [math.pi], [3 * _HALF]])
-    """The phase each derivative adds to the sine term: d pi / 2."""
+    basis: np.ndarray = None
 
     @classmethod
     def of(cls, segments) -> Compiled:
@@ -215,63 +217,69 @@ class Compiled:
         amp = np.asarray(amps, dtype=float)
         degree = tuple(tuple(int(np.flatnonzero(poly[i, d])[-1]) if poly[i, d].any() else -1
                              for i in range(len(rows))) for d in range(4))
+        has_sine = bool(np.any(amp[:, 0] != 0.0))
+        basis = poly.transpose(1, 0, 2)                                   # (4, P, D)
+        if has_sine:                                 # A w^d on s (d even, sign (-1)^(d/2)) or c (d odd)
+            sc = np.zeros((4, len(rows), 2))
+            for d in range(4):
+                sc[d, :, d % 2] = (-1.0) ** (d // 2) * amp[:, d]
+            basis = np.concatenate([basis, sc], axis=2)
         return cls(np.asarray(starts[1:]), np.asarray(starts), np.ascontiguousarray(poly.transpose(2, 1, 0)),
                    np.ascontiguousarray(np.asarray(waves, dtype=float).T), np.ascontiguousarray(amp.T),
-                   bool(np.any(amp[:, 0] != 0.0)), degree)
+                   has_sine, degree, np.ascontiguousarray(basis))
+
+    @staticmethod
+    def _basis(u, w, p, top: int, sine: bool) -> np.ndarray:
+        """(top + 1 [+ 2], n): 1, u .. u^top [, sin(w u + p), cos(w u + p)] at the times ``u`` since the pieces'
+        starts (``w``, ``p``: scalars, or per sample)."""
+        out = np.empty((top + 1 + (2 if sine else 0), len(u)))
+        out[0] = 1.0
+        if top >= 1:
+            out[1] = u
+        for d in range(2, top + 1):
+            np.multiply(out[d - 1], u, out=out[d])
+        if sine:
+            th = u * w
+            th += p
+            np.sin(th, out=out[top + 1])
+            np.cos(th, out=out[top + 2])
+        return out
 
     def at(self, tau, rows: int = 4) -> np.ndarray:
         """(q, dq, ddq, dddq) stacked (``rows``, N) (the first ``rows`` of them) at the times ``tau`` [s] in the
         cycle (a flat array). Samples in long runs of one piece, from :data:`RUNS` of them on, are evaluated a
-        run at a time (views, no gather: the cheaper per sample); others gather each sample's coefficients (one
-        search, no loop: the cheaper per call)."""
+        run at a time (views, no gather: the cheaper per sample); others as every piece's rows times the basis
+        of each sample (one matrix product), each sample's own piece's taken (one search, one gather: the
+        cheaper per call)."""
         k = np.searchsorted(self.breaks, tau, side="right")       # the piece: 0 .. P - 1
-        if len(tau) >= RUNS:
+        n = len(tau)
+        if n >= RUNS:
             change = np.flatnonzero(k[1:] != k[:-1]) + 1
-            if len(change) * 64 <= len(tau):       # long runs of one piece (samples in time order)
+            if len(change) * 64 <= n:              # long runs of one piece (samples in time order)
                 return self._runs(tau, k, change, rows)
         u = tau - self.starts.take(k)
-        c = self.poly[:, :rows].take(k, axis=2)      # (D, rows, N): each sample's piece's coefficients
-        powers = np.empty((len(c), 1, len(tau)))     # u^0 .. u^(D-1)
-        powers[0] = 1.0
-        if len(c) > 1:
-            powers[1] = u
-        for d in range(2, len(c)):
-            np.multiply(powers[d - 1], u, out=powers[d])
-        c *= powers
-        out = c.sum(axis=0)
-        if self.has_sine:
-            w, p = self.wave.take(k, axis=1)
-            arg = w * u + p + self.SHIFT[:rows]      # (rows, N): the phase of each derivative's sine
-            np.sin(arg, out=arg)
-            arg *= self.amp[:rows].take(k, axis=1)
-            out += arg
-        return out
+        P = len(self.starts)
+        w, p = self.wave.take(k, axis=1) if self.has_sine else (0.0, 0.0)
+        every = self.basis[:rows].reshape(rows * P, -1) @ self._basis(u, w, p, len(self.poly) - 1, self.has_sine)
+        return every.reshape(rows, P * n).take(k * n + np.arange(n), axis=1)   # row r: piece k_i's at sample i
 
     def _runs(self, tau, k, change, rows: int) -> np.ndarray:
         """:meth:`at` a run of samples of one piece (``k``: each sample's; ``change``: where a run starts) at a
-        time: each a slice, Horner's rule with its piece's coefficients."""
-        out = np.zeros((rows, len(tau)))
+        time: each a slice, its piece's rows times the slice's basis (only the powers it has, its sine if any)."""
+        out = np.empty((rows, len(tau)))
         bounds = [0, *change.tolist(), len(tau)]
-        for a, b in zip(bounds[:-1], bounds[1:]):
-            p = int(k[a])
-            u = tau[a:b] - self.starts[p]
-            for r in range(rows):
-                c, top = self.poly[:, r, p], self.degree[r][p]
-                if top <= 0:                         # a constant (0 where all are zero: out's own)
-                    if top == 0:
-                        out[r, a:b] = c[0]
-                    continue
-                acc = c[top] * u
-                for d in range(top - 1, 0, -1):
-                    acc += c[d]
-                    acc *= u
-                acc += c[0]
-                out[r, a:b] = acc
-            if self.amp[0, p] != 0.0:
-                th = self.wave[0, p] * u + self.wave[1, p]
-                s, co = np.sin(th), np.cos(th)
-                for r in range(rows):                # A w^r sin(th + r pi / 2): s, c, -s, -c
-                    out[r, a:b] += (self.amp[r, p] * (-1.0) ** (r // 2)) * (s if r % 2 == 0 else co)
+        D = len(self.poly)
+        for a, b, p in zip(bounds[:-1], bounds[1:], k[bounds[:-1]].tolist()):
+            top = max(self.degree[r][p] for r in range(rows))
+            sine = bool(self.amp[0, p] != 0.0)
+            if top <= 0 and not sine:                # a constant (0 where all are zero)
+                out[:, a:b] = self.basis[:rows, p, :1]
+                continue
+            weights = self.basis[:rows, p, :top + 1]
+            if sine:
+                weights = np.concatenate([weights, self.basis[:rows, p, D:]], axis=1)
+            np.matmul(weights, self._basis(tau[a:b] - self.starts[p], self.wave[0, p], self.wave[1, p], top, sine),
+                      out=out[:, a:b])
         return out
 
 
@@ -358,11 +366,13 @@ class Profile:
         shape_ = t.shape
         t = t.reshape(-1)
         T, rise = self._cycle
-        n = np.floor(t / T)
-        tau = t - n * T
+        n = np.floor(t / T)                        # each sample's cycle; in place below (fewer temporaries)
+        tau = n * T
+        np.subtract(t, tau, out=tau)
         out = self.compiled.at(tau, 4 if jerk else 3)
         if rise != 0.0:
-            out[0] += n * rise
+            n *= rise
+            out[0] += n
         return tuple(x.reshape(shape_) for x in out) + (() if jerk else (None,))
 
     def at_segments(self, t):

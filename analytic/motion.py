@@ -37,7 +37,8 @@ class Motion:
         t = np.asarray(t, dtype=float)
         if self.law is not None and self.rock is None:
             q, v, a, _ = self.law.at(t, jerk=False)
-            return self.q0 + q, v, a
+            q += self.q0                              # the law's own array
+            return q, v, a
         if self.rock is not None:
             lo, hi = self.rock
             w, amp = abs(self.rate), 0.5 * (hi - lo)
@@ -49,7 +50,8 @@ class Motion:
         """(q, dq/dt, d2q/dt2, d3q/dt3) at times ``t`` [s], a law evaluated once."""
         if self.law is not None and self.rock is None:
             q, v, a, j = self.law.at(t)
-            return self.q0 + q, v, a, j
+            q += self.q0                              # the law's own array
+            return q, v, a, j
         return (*self.at(t), self.jerk(t))
 
     def jerk(self, t) -> np.ndarray:

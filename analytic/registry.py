@@ -9,26 +9,53 @@ This module is the only place that knows mechanisms by name.
 from __future__ import annotations
 
 import functools
+import importlib
+from collections.abc import Iterator, Mapping
 from pathlib import Path
 
-from analytic.closed_forms import fivebar
 from analytic.applications import figures
-from analytic.closed_forms import fourbar
-from analytic.format import foreign, linkfile
-from analytic.closed_forms import sixbar
+from analytic.format import linkfile
 from analytic._common import ParameterError
 from analytic.closed_forms import Builtin
 from analytic.mechanism import Mechanism
 from analytic.catalog import BUILTIN_NAMES, LIBRARY, names, summary  # noqa: F401 (re-exported: the names and headers, light)
 
-BUILTINS: dict[str, Builtin] = {
-    "fourbar": Builtin(fourbar.OUTPUTS, {"mu": "muC"}, fourbar, fourbar.FourBar,
-                       figures.fourbar_figures, figures.fourbar_summary),
-    "sixbar": Builtin(sixbar.OUTPUTS, {"s": "sblock", "ds": "dsblock", "dds": "ddsblock"}, sixbar,
-                      sixbar.SixBar, figures.sixbar_figures, figures.sixbar_summary),
-    "fivebar": Builtin(fivebar.OUTPUTS, {"S": "sblock", "dS": "dsblock", "ddS": "ddsblock", "theta3": "phi3"},
-                       fivebar, fivebar.FiveBar, figures.fivebar_figures, figures.fivebar_summary),
+_BUILTIN_PARTS = {
+    "fourbar": ({"mu": "muC"}, "FourBar"),
+    "sixbar": ({"s": "sblock", "ds": "dsblock", "dds": "ddsblock"}, "SixBar"),
+    "fivebar": ({"S": "sblock", "dS": "dsblock", "ddS": "ddsblock", "theta3": "phi3"}, "FiveBar"),
 }
+"""Each built-in's aliases and parameter class; its closed-form module is ``analytic.closed_forms.NAME`` and
+its figures ``analytic.applications.figures.NAME_figures`` and ``NAME_summary``."""
+
+
+@functools.cache
+def _builtin(name: str) -> Builtin:
+    aliases, params = _BUILTIN_PARTS[name]
+    module = importlib.import_module(f"analytic.closed_forms.{name}")
+    return Builtin(module.OUTPUTS, aliases, module, getattr(module, params), getattr(figures, f"{name}_figures"),
+                   getattr(figures, f"{name}_summary"))
+
+
+class _Builtins(Mapping):
+    """The built-ins by name, each closed-form module imported when its mechanism is first loaded."""
+
+    def __getitem__(self, name: str) -> Builtin:
+        if not isinstance(name, str) or name not in _BUILTIN_PARTS:
+            raise KeyError(name)
+        return _builtin(name)
+
+    def __contains__(self, name) -> bool:
+        return isinstance(name, str) and name in _BUILTIN_PARTS
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(_BUILTIN_PARTS)
+
+    def __len__(self) -> int:
+        return len(_BUILTIN_PARTS)
+
+
+BUILTINS: Mapping[str, Builtin] = _Builtins()
 """The three mechanisms of SPEC.md: their SPEC outputs, aliases and closed-form modules."""
 
 
@@ -50,6 +77,7 @@ def definition(name_or_path: str) -> linkfile.Definition:
     or a Pyslvs or PMKS file: :mod:`analytic.format.foreign`)."""
     if is_name(name_or_path):
         return _library_definition(name_or_path)
+    from analytic.format import foreign             # a path: perhaps another tool's file
     p = Path(name_or_path)
     if p.exists() and foreign.detect(p):            # a Pyslvs or PMKS file, opened as it is
         return foreign.definition(p)

@@ -8,6 +8,13 @@ furthest off the cam (MuJoCo's offscreen renderer, from above).
 
 The cam: an eccentric disc (R = 30 mm, e = 10 mm, 720 points), a roller follower (r = 10 mm, 0.1 kg,
 1000 N/m, 10 N preload) at half its jump speed; one revolution.
+
+Issue 38 (a cam's ``compare`` within 3x the four-bar's): ``python benchmarks/cycle.py fourbar cam_roller
+--repeats 5`` (the command in process, least CPU of 5), two runs: main at efa21bc 0.043 / 0.044 s and 0.247 /
+0.238 s (5.5x); after 0.037 / 0.035 s and 0.130 / 0.125 s (3.5x: not met). What is left is MuJoCo's: 2001 steps
+(the cap, STEPS_PER_TURN; 1500 fails cam_fourbar's compare) x 4 RK4 evaluations + 2000 end-of-step
+evaluations at ~7.3 us, 4.4 us of them the roller against the plate's pieces; the meshes' compile 14.6 ms.
+benchmarks/RESULTS-2026-12-02.md.
 """
 
 from __future__ import annotations

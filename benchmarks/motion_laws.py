@@ -16,6 +16,15 @@ and 0.159 / 0.133 at 3600, solve_at ratio 1.43 / 1.49 and 1.34 / 1.29; after (``
 one search, each sample's polynomial and sine gathered, or a piece's run a slice at a time from 1000
 samples on; no jerk unless asked) drive 0.065 / 0.046 and 0.132 / 0.101, solve_at ratio 1.34 / 1.02 and
 1.21 / 1.18. The constant speed's drive is 0.012 / 0.020 ms; the law's fixed cost is now ~0.035 ms.
+
+Issue 37 (``--samples 361 3600 100000 --repeats 40 --clock cpu --no-compare``, main at efa21bc and after, two
+alternating runs each, load 1.5): before drive 0.040 / 0.040 at 361, 0.085 / 0.086 at 3600, solve_at ratio
+1.21 / 1.23 at 361, 1.20 / 1.28 at 3600, 1.12 / 1.15 at 100000; after (each piece as weights on one basis per
+sample, 1, u .. u^k, sin, cos: the gather one matrix product and one take, a run one small product; the
+wrap in place) drive 0.035 / 0.031 and 0.077 / 0.078, solve_at ratio 1.17 / 1.20, 1.18 / 1.16, 1.07 / 1.09;
+analyze 1.15 / 1.12, 1.15 / 1.10, 1.00 / 1.08. The solve after the law's drive costs 10-20 us more than the
+same solve after the constant's (its caches: measured with the drives' arrays fixed), so solve_at's gap is
+larger than the drives'. benchmarks/RESULTS-2026-12-02.md.
 """
 
 from __future__ import annotations

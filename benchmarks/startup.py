@@ -17,7 +17,15 @@ every run compiles every module it imports from source: about 0.1-0.2 s more per
 ``forces fourbar`` (issue 39, item 2: one solved run, no MuJoCo) is measured beside ``analyze fourbar``.
 
 Targets (issue 30): ``list`` and ``check`` at most 0.3 s, ``compare fourbar`` at most 1.5 s, a numerically
-solved group's compare (``stephenson_ii``) at most 2.5 s.
+solved group's compare (``stephenson_ii``) at most 2.5 s. Issue 39: ``analyze fourbar`` and ``forces fourbar``
+at most half of their CPU when it was filed.
+
+Measured (issue 39; ``--repeats 5`` on each tree back to back, load 0.6, s CPU): main at efa21bc ``list`` /
+``check`` / ``analyze`` / ``forces`` / ``compare fourbar`` 0.053 / 0.328 / 0.269 / 0.285 / 0.465; after (the
+kinds, built-ins, formats, laws and loads imported when used; OpenBLAS asked for one thread by the entry
+point) 0.043 / 0.167 / 0.118 / 0.134 / 0.281. ``python -c pass`` 0.019; ``import numpy`` 0.144 with OpenBLAS'
+threads, 0.084 with one: the floor under ``analyze``. Medians of alternating pairs and the tree the issue was
+filed on: benchmarks/RESULTS-2026-12-02.md.
 """
 
 from __future__ import annotations

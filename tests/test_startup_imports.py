@@ -101,3 +101,82 @@ def test_the_lazy_faces_list_every_module_and_give_every_name():
                        timeout=120)
     assert r.returncode == 0, r.stderr
     assert r.stdout.strip() == "[]", r.stdout          # nothing heavy before the first use
+
+
+def test_analyze_of_the_four_bar_loads_only_what_it_uses():
+    """Issue 39: ``linkage analyze fourbar`` imports the kinds it is built of (crank, RRR; ``point`` for its
+    coupler point), its own closed form, and none of: the other kinds' modules (the cam's, the general
+    group's solvers), the links-and-joints form, the motion laws, the other tools' formats, the loads, the
+    other built-ins' closed forms, tempfile (no file written)."""
+    mods = _loaded_after("from sim.front.cli import main\n"
+                         "with contextlib.redirect_stdout(io.StringIO()):\n    assert main(['analyze', 'fourbar']) == 0")
+    kinds = sorted(m.removeprefix("analytic.kinds.") for m in mods if m.startswith("analytic.kinds."))
+    assert kinds == ["base", "compiled", "crank", "point", "rrr"], kinds
+    unused = ("analytic.format.joints", "analytic.laws", "analytic.cams", "analytic.format.foreign",
+              "analytic.format.pyslvs", "analytic.format.pmks", "sim.service.importing", "sim.service.loads",
+              "analytic.loads", "analytic.solver.general_group", "analytic.solver.prismatic_group",
+              "analytic.closed_forms.sixbar", "analytic.closed_forms.fivebar", "tempfile")
+    assert sorted(m for m in unused if m in mods) == []
+
+
+def test_the_kinds_table_names_each_kinds_module_and_section():
+    """analytic.kinds.SECTIONS (light: no kind's module loaded to list the kinds or a section's) against each
+    kind's own module: the same names, in the same sections."""
+    from analytic import kinds
+    import importlib
+    for name, section in kinds.SECTIONS.items():
+        kind = importlib.import_module(f"analytic.kinds.{name.lower()}").KIND
+        assert (kind.name, kind.section) == (name, section)
+        assert kinds.KINDS[name] is kind
+    found = {p.stem for p in (ROOT / "analytic" / "kinds").glob("*.py")} - {"__init__", "base", "compiled", "_lines"}
+    assert found == set(kinds.MODULES)
+    assert "nope" not in kinds.KINDS and kinds.KINDS.get("nope") is None and len(kinds.KINDS) == len(found)
+
+
+def test_the_light_lists_agree_with_the_modules_they_stand_for():
+    """linkfile's JOINTS_FORM is joints.FIELDS (linkfile loads joints only for such a file); the lazy BUILTINS
+    give each built-in its own closed-form module and parameter class."""
+    import analytic
+    from analytic.closed_forms import Builtin
+    from analytic.format import joints, linkfile
+    assert linkfile.JOINTS_FORM == joints.FIELDS
+    assert list(analytic.BUILTINS) == list(analytic.catalog.BUILTIN_NAMES)
+    for name, b in analytic.BUILTINS.items():
+        assert isinstance(b, Builtin) and b.module.__name__ == f"analytic.closed_forms.{name}"
+        assert b.params.__module__ == b.module.__name__ and b.outputs == b.module.OUTPUTS
+
+
+def test_a_command_asks_openblas_for_one_thread_unless_told():
+    """The entry point sets OPENBLAS_NUM_THREADS before numpy loads (OpenBLAS' spinning threads cost a command
+    ~60 ms of CPU), and keeps the user's value."""
+    code = ("import os, sys\nsys.argv = ['linkage', 'list']\nfrom sim.front import launch\n"
+            "import contextlib, io\nwith contextlib.redirect_stdout(io.StringIO()):\n    launch.main()\n"
+            "print(os.environ['OPENBLAS_NUM_THREADS'])")
+    for given, expected in ((None, "1"), ("3", "3")):
+        env = {k: v for k, v in __import__("os").environ.items() if k != "OPENBLAS_NUM_THREADS"}
+        if given:
+            env["OPENBLAS_NUM_THREADS"] = given
+        r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT, env=env,
+                           timeout=120)
+        assert r.returncode == 0, r.stderr
+        assert r.stdout.split()[-1] == expected
+
+
+def test_the_gl_backend_is_chosen_without_looking_for_osmesa_where_egl_is_found(monkeypatch):
+    """EGL where it is installed, else OSMesa where that is, else EGL (MuJoCo's message then names it); a
+    library not found costs ldconfig, gcc and ld runs, so OSMesa is not looked for where EGL is found."""
+    import ctypes.util
+    from sim.output import gl
+    for egl, osmesa, expected in ((True, True, "egl"), (True, False, "egl"), (False, True, "osmesa"),
+                                  (False, False, "egl")):
+        asked = []
+        found = {"EGL": egl, "OSMesa": osmesa}
+        monkeypatch.setattr(ctypes.util, "find_library",
+                            lambda name: asked.append(name) or (f"lib{name}.so" if found[name] else None))
+        for var in ("MUJOCO_GL", "PYOPENGL_PLATFORM"):      # set first: their state is restored after the test
+            monkeypatch.setenv(var, "")
+            monkeypatch.delenv(var)
+        assert gl.ensure_gl_backend() == expected
+        assert asked == (["EGL"] if egl else ["EGL", "OSMesa"])
+    monkeypatch.setenv("MUJOCO_GL", "glfw")                 # the user's choice, nothing looked for
+    assert gl.ensure_gl_backend() == "glfw"

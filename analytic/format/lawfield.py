@@ -13,7 +13,6 @@ import math
 from dataclasses import dataclass
 from pathlib import Path
 
-from analytic import laws
 from analytic._common import FileError, ParameterError
 from analytic.format import expr
 
@@ -88,6 +87,7 @@ def check(item: dict, kind, motion_fields, label: str, source: str, scale: float
 
 
 def _segments(value, kind, fail) -> tuple:
+    from analytic import laws                   # a file with a law only (a constant speed needs none)
     if not (isinstance(value, list) and value):
         raise fail("segments", "give a list of {shape = ..., duration = ..., rise = ...}")
     if len(value) > MAX_SEGMENTS:
@@ -135,6 +135,7 @@ def _resolve(value: str, source: str) -> Path:
 
 
 def _table(value, kind, source, scale, fail):
+    from analytic import laws                   # a file with a law only (a constant speed needs none)
     if not (isinstance(value, str) and value.strip()):
         raise fail("table", f"{_short(value)} must be the path of a CSV file (columns t,q or t,q_deg)")
     path = _resolve(value, source)
@@ -164,6 +165,7 @@ def resolve(written: Written, kind, num, label: str, source: str):
     """The law (:class:`analytic.laws.Profile` or :class:`~analytic.laws.Table`) with values from
     ``num(value, kind, where)`` (SI); a duration <= 0 or a turning input whose cycle does not close raises
     ParameterError naming the input and the field."""
+    from analytic import laws                   # a file with a law only (a constant speed needs none)
     turn = 2 * math.pi if kind.periodic else None
     if written.table is not None:
         t, q = written.table

@@ -21,7 +21,7 @@ from pathlib import Path
 
 from analytic import kinds, topology
 from analytic._common import FileError, ParameterError
-from analytic.format import expr, joints, lawfield
+from analytic.format import expr, lawfield
 from analytic.kinds.base import GROUND, REQUIRED, SIZE_PER_SECOND, Guide
 
 FORMAT = "linkage/1"
@@ -33,8 +33,12 @@ LINK_NAME = re.compile(r"^[A-Za-z0-9_]+$")
 """Link names may start with a digit (SPEC's example names the four-bar's links "1", "2", "3")."""
 
 
+JOINTS_FORM = ("links", "joints", "pose")
+"""The top-level fields that mark a file in the links-and-joints form (:data:`.joints.FIELDS`: that module, and
+what it imports, loaded only for such a file)."""
+
 TOP_LEVEL = {"format", "name", "units", "description", "output", "parameters", "ground", "inputs", "groups",
-             "inertia", "mass", "force_units", "loads", "friction", "parts"} | set(joints.FIELDS)
+             "inertia", "mass", "force_units", "loads", "friction", "parts"} | set(JOINTS_FORM)
 """The links-and-joints form (:mod:`.joints`) adds ``links``, ``joints`` and ``pose``."""
 TOP_LEVEL = TOP_LEVEL | {"input_range"}
 """``input_range = "LO:HI"``: the first input's working range (as ``--input-range`` takes it; a synthesised
@@ -237,7 +241,8 @@ def _check(data: dict, source: str, default_name: str) -> Definition:
         _scalar(value, f"parameters.{pname}", source)
 
     labels, measured = None, None
-    if joints.is_form(data):                   # links and joints: converted into the elements below
+    if any(k in data for k in JOINTS_FORM):     # links and joints: converted into the elements below
+        from analytic.format import joints
         from types import SimpleNamespace
         values = parameter_values(SimpleNamespace(parameters=params, parameter_order=tuple(params), source=source,
                                                   name=name))

@@ -4,30 +4,36 @@ protocol every kind implements), listed here once. Nothing outside a kind's modu
 
 from __future__ import annotations
 
-import importlib
+from analytic._common import LazyKinds
 
 from .base import GROUND, Kind
 
-MODULES = (
-    "crank",
-    "slider",
-    "actuator",
-    "motor",
-    "rrr",
-    "rrp",
-    "rpr",
-    "point",
-    "rpp",
-    "prp",
-    "ppr",
-    "gear",
-    "cam",
-    "group",
-)
-"""The kinds' modules, in the order the docs list them: adding a kind is one line here."""
+SECTIONS = {
+    "crank": "inputs",
+    "slider": "inputs",
+    "actuator": "inputs",
+    "motor": "inputs",
+    "RRR": "groups",
+    "RRP": "groups",
+    "RPR": "groups",
+    "point": "groups",
+    "RPP": "groups",
+    "PRP": "groups",
+    "PPR": "groups",
+    "gear": "groups",
+    "cam": "groups",
+    "group": "groups",
+}
+"""Every kind's name and the section (``[[inputs]]`` or ``[[groups]]``) it is written in, in the order the docs
+list them; its module is its name in lower case. Adding a kind is one line here."""
 
-KINDS: dict[str, Kind] = {k.name: k for k in (importlib.import_module(f"{__name__}.{m}").KIND for m in MODULES)}
-"""Every element kind by name."""
+MODULES = tuple(name.lower() for name in SECTIONS)
+"""The kinds' modules, in the same order."""
+
+
+KINDS: LazyKinds = LazyKinds(__name__, tuple(SECTIONS))
+"""Every element kind by name, each module imported when its kind is first asked for (a four-bar's command
+loads the crank and the RRR group, not the cam's or the general group's solvers)."""
 
 
 def get(name: str) -> Kind:
@@ -37,7 +43,10 @@ def get(name: str) -> Kind:
 
 def of_section(section: str) -> tuple[str, ...]:
     """The names of the kinds an ``[[inputs]]`` or ``[[groups]]`` entry may have."""
-    return tuple(n for n, k in KINDS.items() if k.section == section)
+    def section_of(name: str) -> str:        # a kind not imported yet: its line of SECTIONS (nothing imported)
+        kind = KINDS.loaded(name) if isinstance(KINDS, LazyKinds) else KINDS[name]
+        return SECTIONS[name] if kind is None else kind.section
+    return tuple(n for n in KINDS if section_of(n) == section)
 
 
-__all__ = ["KINDS", "MODULES", "GROUND", "Kind", "get", "of_section"]
+__all__ = ["KINDS", "MODULES", "SECTIONS", "GROUND", "Kind", "get", "of_section"]

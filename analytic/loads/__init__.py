@@ -10,10 +10,10 @@ kind's module switches on its class or name.
 
 from __future__ import annotations
 
-import importlib
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
+from analytic._common import LazyKinds
 from analytic.loads import friction
 from analytic.loads.base import Load, LoadKind
 from analytic.loads.common import FORCE_UNITS, Application, LoadError, Scales, State, wanted
@@ -30,8 +30,8 @@ MODULES = (
 )
 """The load kinds' modules, in the order the docs and the editor list them: adding a kind is one line here."""
 
-KINDS: dict[str, LoadKind] = {k.name: k for k in (importlib.import_module(f"{__name__}.{m}").KIND for m in MODULES)}
-"""Every load kind by name."""
+KINDS: LazyKinds = LazyKinds(__name__, MODULES)
+"""Every load kind by name (its module's name), each module imported when its kind is first asked for."""
 TOP_LEVEL = ("force_units", "loads", "friction")
 MAX_LOADS = 200
 

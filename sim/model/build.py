@@ -111,6 +111,8 @@ class Built:
     slow_stroke: tuple[float, float] | None = None
     """For a slow-stroke load: the first input's phase interval [rad] where it acts."""
     spec_xml: str = field(default="", repr=False)
+    """The spec's MJCF before compiling, for :func:`sim.model.export.export_xml`: written only by a build with
+    ``export=True`` ("" otherwise)."""
     loadset: object = None
     """The file's and the command line's loads (analytic.loads.LoadSet), carried as xfrc_applied
     (sim.model.loads); None when there are none."""
@@ -348,7 +350,7 @@ def build_model(mech, settings, loads, h, sol, points, q_start, revolutions, nat
     if loads.gravity is not None:
         spec.option.gravity = [loads.gravity[0], loads.gravity[1], 0.0]
     frame_camera(spec, mech, cycle=cycle)
-    xml = spec.to_xml()
+    xml = spec.to_xml() if export else ""          # read by export_xml alone (a cam's meshes: ~16 ms to write)
     try:
         model = spec.compile()
     except ValueError as exc:

@@ -719,13 +719,9 @@ def add(e: dict, ctx, geo) -> None:
     t = 0.5 * THICKNESS * size
     n = len(prof)
     for j, (i0, i1) in enumerate(convex_pieces(prof)):
-        ring = [prof[m % n] + shift for m in range(i0, i1 + 1)]
-        vert = []
-        for z in (-t, t):
-            vert += [float(shift[0]), float(shift[1]), z]
-            for x, y in ring:
-                vert += [float(x), float(y), z]
-        spec.add_mesh(name=f"cam{k}_piece{j}", uservert=vert)
+        ring = np.vstack([shift, prof[np.arange(i0, i1 + 1) % n] + shift])          # the pivot, then the arc
+        vert = np.concatenate([np.c_[ring, np.full(len(ring), z)] for z in (-t, t)])
+        spec.add_mesh(name=f"cam{k}_piece{j}", uservert=vert.ravel().tolist())
         body.add_geom(name=f"cam{k}_piece{j}", type=G.mjGEOM_MESH, meshname=f"cam{k}_piece{j}", contype=0,
                       conaffinity=bit, condim=1, solref=solref, solimp=solimp, density=0,
                       rgba=[0.85, 0.55, 0.2, 1])

@@ -19,6 +19,8 @@ def export_xml(built: Built) -> str:
     pose (bodies, joints, sites, geoms), the drives' gains and the keyframe are written again here at full
     double precision from the compiled model."""
     m = built.model
+    if not built.spec_xml:
+        raise ValueError(f"the {built.name} model was built without its MJCF: build it with export=True")
     root = ET.fromstring(built.spec_xml)
     fmt = lambda xs: " ".join(repr(float(x)) for x in xs)                   # noqa: E731
     for el in root.iter():

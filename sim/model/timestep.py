@@ -94,12 +94,17 @@ def peak_rates(cycle) -> float:
             continue
         if col in hermite:
             y, dy = hermite[col]
-            for a, b in ((i - 1, i), (i, i + 1)):
-                h = (t[b] - t[a])[:, None]
-                h00, h10, h01, h11 = (2 * u ** 3 - 3 * u ** 2 + 1, u ** 3 - 2 * u ** 2 + u, -2 * u ** 3 + 3 * u ** 2,
-                                      u ** 3 - u ** 2)
-                v = (y[a][:, None] * h00 + h * dy[a][:, None] * h10 + y[b][:, None] * h01 + h * dy[b][:, None] * h11)
-                best = max(best, float(np.max(np.abs(v))))
+            a = np.union1d(i - 1, i)                 # the interval either side of each maximum, each once (a
+            if y.min() == y.max() and not dy.any():  # plateau's maxima share theirs: a dwell's are thousands);
+                a = a[:1]                            # a steady rate's intervals are all the same one
+            b = a + 1
+            h = (t[b] - t[a])[:, None]
+            h00, h10, h01, h11 = (2 * u ** 3 - 3 * u ** 2 + 1, u ** 3 - 2 * u ** 2 + u, -2 * u ** 3 + 3 * u ** 2,
+                                  u ** 3 - u ** 2)
+            v = (y[a][:, None] * h00 + h * dy[a][:, None] * h10 + y[b][:, None] * h01 + h * dy[b][:, None] * h11)
+            best = max(best, float(np.max(np.abs(v))))
+            continue
+        if r[:, col].min() == r[:, col].max():       # a constant: no parabola has a maximum inside
             continue
         t0, t1, t2 = t[i - 1], t[i], t[i + 1]
         y0, y1, y2 = r[i - 1, col], r[i, col], r[i + 1, col]

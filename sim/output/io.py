@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import contextlib
 import os
-import tempfile
 from pathlib import Path
 
 from analytic import ParameterError
@@ -25,6 +24,7 @@ def check_writable(path: str | os.PathLike, suffixes: tuple[str, ...] | None = N
         raise ParameterError(f"{p} is a folder; give a file name")
     try:                                          # the only sure test: make a file there, then remove it
         with deferred_signals():                  # a Ctrl-C between the two would leave the probe behind
+            import tempfile                 # a written file only (its modules: ~3 ms of a command's start)
             fd, probe = tempfile.mkstemp(prefix=f".{p.name}.", dir=parent)
             os.close(fd)
             os.remove(probe)
@@ -44,6 +44,7 @@ def atomic_path(path: str | os.PathLike):
     tmp = None
     try:
         with deferred_signals():                  # made and known to the clean-up below as one step
+            import tempfile
             fd, tmp = tempfile.mkstemp(prefix=f".{p.stem}.", suffix=p.suffix, dir=p.parent if str(p.parent) else ".")
             os.close(fd)
         yield tmp

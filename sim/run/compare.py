@@ -209,7 +209,8 @@ def work_balance(tr: Trajectory, built) -> float:
         from sim.model.loads import wrenches
         xfrc = wrenches(built, np.arange(len(tr.t)) * h).xfrc
         switch_changes = np.arange(len(tr.t) - 1)
-    ends = _end_accelerations(built, tr, switch_changes, ctrl, xfrc)
+    every = len(switch_changes) == len(tr.t) - 1          # then the energies come from the same evaluations
+    ends, both = _end_accelerations(built, tr, switch_changes, ctrl, xfrc, energy=every)
     work = np.zeros(len(tr.t) - 1)
     for k, d in enumerate(built.drives):
         jid = model.joint(d.joint).id
@@ -237,7 +238,7 @@ def work_balance(tr: Trajectory, built) -> float:
         loads = step_work(built, tr)
         work += loads
     total = np.concatenate([[0.0], np.cumsum(work)])
-    kinetic, potential = energies(built, tr)
+    kinetic, potential = both if both is not None else energies(built, tr)
     energy = kinetic + potential
     scale = work_scale(kinetic, np.concatenate([[0.0], np.cumsum(loads)]))
     revs = max(1.0, tr.t[-1] / mech.duration(1.0))
@@ -256,22 +257,45 @@ def work_scale(kinetic: np.ndarray, loads=None) -> float:
     return max(float(np.ptp(kinetic)), swing, WORK_FLOOR * float(np.max(np.abs(kinetic))), np.finfo(float).tiny)
 
 
-def _end_accelerations(built, tr: Trajectory, steps, ctrl, xfrc=None) -> dict[int, list[float]]:
+def _end_accelerations(built, tr: Trajectory, steps, ctrl, xfrc=None, energy: bool = False):
     """Each drive's joint acceleration at the end of each step in ``steps`` under that step's controls (and
-    body wrenches ``xfrc``, the file's loads), needed where the load switched between steps."""
+    body wrenches ``xfrc``, the file's loads), needed where the load switched between steps: ({step: [each
+    drive's]}, None). ``energy`` (``steps`` is every step): MuJoCo's kinetic and potential energy at every
+    recorded state too, as :func:`sim.run.simulate.energies` gives them, read from the same evaluations (the
+    energy depends on the state alone, not on the controls or the wrenches; a cam's contacts make each
+    evaluation costly): ({...}, (kinetic, potential))."""
     import mujoco
     model = built.model
     data = mujoco.MjData(model)
     dofs = [model.jnt_dofadr[model.joint(d.joint).id] for d in built.drives]
     out = {}
-    for k in steps:
-        data.qpos[:], data.qvel[:], data.act[:] = tr.qpos[k + 1], tr.qvel[k + 1], tr.act[k + 1]
-        data.ctrl[:] = ctrl[k]
-        if xfrc is not None:
-            data.xfrc_applied[:] = xfrc[k]
-        mujoco.mj_forward(model, data)
-        out[int(k)] = [float(data.qacc[dof]) for dof in dofs]
-    return out
+    S = mujoco.mjtState
+    sig = S.mjSTATE_QPOS | S.mjSTATE_QVEL | S.mjSTATE_ACT | S.mjSTATE_CTRL
+    steps = np.asarray(steps, dtype=int)
+    parts = [tr.qpos[steps + 1], tr.qvel[steps + 1], tr.act[steps + 1], ctrl[steps]]
+    if xfrc is not None:
+        sig |= S.mjSTATE_XFRC_APPLIED
+        parts.append(xfrc[steps].reshape(len(steps), 6 * model.nbody))
+    states = np.concatenate(parts, axis=1)              # each step's end as one state: one call sets it
+    energies = np.empty((len(tr.t), 2)) if energy else None
+    flags, off = model.opt.enableflags, model.opt.disableflags
+    model.opt.disableflags = off | mujoco.mjtDisableBit.mjDSBL_SENSOR      # qacc and the energy only are read
+    if energy:
+        model.opt.enableflags = flags | mujoco.mjtEnableBit.mjENBL_ENERGY
+    try:
+        if energy:
+            data.qpos[:], data.qvel[:] = tr.qpos[0], tr.qvel[0]
+            mujoco.mj_forward(model, data)
+            energies[0] = data.energy[1], data.energy[0]
+        for n, k in enumerate(steps.tolist()):
+            mujoco.mj_setState(model, data, states[n], sig)
+            mujoco.mj_forward(model, data)
+            out[k] = data.qacc[dofs].tolist()
+            if energy:
+                energies[k + 1] = data.energy[1], data.energy[0]
+    finally:
+        model.opt.enableflags, model.opt.disableflags = flags, off
+    return out, ((energies[:, 0], energies[:, 1]) if energy else None)
 
 
 def compare(tr: Trajectory, built, revolutions: float = 1.0) -> Comparison:

@@ -245,6 +245,8 @@ def cam_joints(run: ForceRun, display=None) -> list:
     """The ``joints`` entries of kind ``cam`` (SPEC "Cams and followers"): per cam contact, its point (the
     follower's trace point; ``x``, ``y``: the contact point itself), the cam's and the follower's links, the
     contact force ``N`` [N] along the common normal (> 0 pressing) and its components on the follower."""
+    if not any(c.kind == "cam" for c in run.mech.topology.couplings):
+        return []                                  # no cam: its module not loaded
     from analytic import cams
     from analytic import quantities as Q
     display = display or Q.SI

@@ -38,6 +38,8 @@ def load(mechanism: str, values: dict | None = None, text: str | None = None) ->
     (:func:`sim.service.importing.foreign_definition`: its source's range where it cannot run a turn)."""
     if text is not None:
         d = analytic.format.linkfile.parse(text, "<upload>")
+    elif analytic.registry.is_name(mechanism):         # a library name: no other tool's file to look for
+        d = analytic.definition(mechanism)
     else:
         from sim.service.importing import foreign_definition
         d = foreign_definition(mechanism) or analytic.definition(mechanism)

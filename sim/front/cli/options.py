@@ -40,6 +40,8 @@ def mechanism_from(args):
 def guard_tables(args, mech) -> None:
     """No output is a table file the mechanism's loads read (named inside the file, so known only once it
     is read; before any work still): one line naming the option, the table and the fix."""
+    if not any(isinstance(getattr(args, name, None), str) for name in OUTPUT_ARGS):
+        return                                 # no output: nothing to guard (and the loads' modules not loaded)
     from sim.service.loads import table_files
     tables = {os.path.realpath(p): p for p in table_files(mech)}
     for name in OUTPUT_ARGS:
