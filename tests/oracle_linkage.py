@@ -8,6 +8,8 @@ two scalar constraint equations per element, in the element's own point (x, y):
 * ``slider``  P = O + q u                              (u: unit direction of the ground guide)
 * ``actuator`` |D - A|^2 = length^2,  |D - C|^2 = q^2  (the cylinder's pin-to-pin length is the input)
 * ``motor``   P = pivot + r (cos psi, sin psi), psi = phi_on + q (the carrier's angle as for a gear)
+* ``motor_dyad`` (two points, four rows) |J - P|^2 = a^2,  R - J = (b / a) rot(theta) (J - P),  |R - C|^2 = c^2
+              (J its pivot, R its point, theta = q where ``on`` is its first link, -q where its second)
 * ``RRR``     |C - P|^2 = a^2,  |C - Q|^2 = b^2
 * ``RRP``     |C - P|^2 = l^2,  cross(u, C - O) = offset   (O, u: the guide line, possibly moving)
 * ``RPR``     |R - P|^2 = l^2,  cross(R - P, Q - P) = l * offset
@@ -408,6 +410,15 @@ def residual(geometry, X, Q):
             k += 1
             psi = _link_angle(geometry, e["on"], pts, Q)[0] + q
             rows += [R[0] - P[0] - e["length"] * jcos(psi), R[1] - P[1] - e["length"] * jsin(psi)]
+        elif kind == "motor_dyad":
+            (P, Cp), (a, b), J = (pts[n] for n in e["from"]), e["lengths"], pts[e["pivot"]]
+            th = Q[k] if (e["on"] or e["links"][0]) == e["links"][0] else -1.0 * Q[k]
+            k += 1
+            ux, uy = J[0] - P[0], J[1] - P[1]
+            ct, st_ = jcos(th), jsin(th)
+            rows += [_dot(ux, uy, ux, uy) - a * a,
+                     R[0] - J[0] - (b / a) * (ux * ct - uy * st_), R[1] - J[1] - (b / a) * (ux * st_ + uy * ct),
+                     _dot(R[0] - Cp[0], R[1] - Cp[1], R[0] - Cp[0], R[1] - Cp[1]) - e["length"] ** 2]
         elif kind == "RRR":
             (P, Qp), (a, b) = (pts[n] for n in e["from"]), e["lengths"]
             rows += [_dot(R[0] - P[0], R[1] - P[1], R[0] - P[0], R[1] - P[1]) - a * a,
@@ -527,7 +538,7 @@ def branch_violations(geometry, points):
             bad[e["label"]] = _group_branch_violations(e, P)
             continue
         R = P[e["point"]]
-        if e["kind"] in ("RRR", "actuator"):
+        if e["kind"] in ("RRR", "actuator", "motor_dyad"):
             A, B = (P[n] for n in e["from"])
             side = _cross(B[0] - A[0], B[1] - A[1], R[0] - A[0], R[1] - A[1])
         elif e["kind"] == "RRP":
@@ -653,6 +664,10 @@ def link_rates(geometry, points):
         elif k == "slider":
             G = e["guide"]
             out[e["link"]] = rates(*G["points"]) if "points" in G else (0.0, 0.0)
+        elif k == "motor_dyad":
+            out[e["links"][0]] = rates(e["from"][0], e["pivot"])
+            out[e["links"][1]] = rates(e["pivot"], pt)
+            out[e["closing"]] = rates(e["from"][1], pt)
         elif k == "RRR":
             out[e["links"][0]] = rates(e["from"][0], pt)
             out[e["links"][1]] = rates(e["from"][1], pt)

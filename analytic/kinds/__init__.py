@@ -13,6 +13,7 @@ SECTIONS = {
     "slider": "inputs",
     "actuator": "inputs",
     "motor": "inputs",
+    "motor_dyad": "inputs",
     "RRR": "groups",
     "RRP": "groups",
     "RPR": "groups",
