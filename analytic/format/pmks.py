@@ -22,8 +22,11 @@ slide's direction in degrees in the drawn pose (``P`` and ``RP``), and ``flags``
 
 Joints have no names: the n-th joint line is point ``Jn``. The driver is ``d=``, else the first joint
 whose fourth flag is set, else the first ``R`` or ``P`` joint of two or more links; it drives its first
-two links relative to each other, one of which must be the ground, or it is an ``RP`` joint between two
-moving links: a cylinder (:meth:`analytic.kinds.actuator.Actuator.from_pmks`).
+two links relative to each other: an ``R`` or ``P`` joint on the ground (a crank, a slider), an ``R`` joint of
+exactly two moving links (a motor turning the second relative to the first, :meth:`analytic.kinds.motor.Motor.
+from_pmks`: placed from its carrier where other joints place that, else, where the two links close a loop with
+one more link between placed points (a four-bar driven at its coupler joint), as a ``motor_dyad``), or an
+``RP`` joint between two moving links: a cylinder (:meth:`analytic.kinds.actuator.Actuator.from_pmks`).
 """
 
 from __future__ import annotations
@@ -194,6 +197,7 @@ def _input(k: int, joints, form: dict, source: str) -> dict:
         raise FileError(f"{source}: the driving joint {p} slides {b} on {a}, two moving links; write a cylinder as "
                         f"an RP joint '{a} LINK RP x y angle' (LINK: the link its rod is pinned to) at the rod's pin")
     if GROUND not in (a, b):
-        raise FileError(f"{source}: the driving joint {p} turns {a} relative to {b}; only an input on the ground can "
-                        f"be driven (or a cylinder: an RP joint between two moving links)")
+        raise FileError(f"{source}: the driving joint {p} pins {len(links)} links ({', '.join(links)}); a relative "
+                        f"drive turns one moving link about another: drive an R joint of two links (or the "
+                        f"ground)")
     raise FileError(f"{source}: the driving joint {p} ({kind}) is driven by no input kind")

@@ -98,9 +98,10 @@ class MotorDyad(Kind):
         (p, c), j, q = f["from"], f["pivot"], f["point"]
         first, second = f["links"]
         on, link, _ = roles(f)
-        return Structure(links=(LinkPart(first, p, (p, j)), LinkPart(second, j, (j, q)),
-                                LinkPart(f["closing"], c, (c, q))),
-                         driven_pin=(j, link, on))
+        parts = (LinkPart(first, p, (p, j)), LinkPart(second, j, (j, q)))
+        if on == second:            # the carrier first at the pivot: the topology joins a driven pin's base to it
+            parts = parts[::-1]
+        return Structure(links=parts + (LinkPart(f["closing"], c, (c, q)),), driven_pin=(j, link, on))
 
     def input_joint(self, e):
         return e["pivot"]
