@@ -151,7 +151,9 @@ def test_import_writes_a_links_and_joints_file(tmp_path):
     (["free.txt", "--input", "0,1"], r"joint J2 is a free point \(L\[\] names no link\)"),
     (["three.txt", "--input", "0,1"], r"joint J2 is a P joint on 3 links \(ground, L2, L3\); a prismatic pair joins "
                                       r"two links"),
-    (["relative.txt"], r"the driving joint J1 turns a relative to b; only an input on the ground can be driven"),
+    # a relative drive of a triangle (mobility 0): the motor's link is already placed by the dyad
+    (["relative.txt"], r"inputs\[1\] \(joint J1\): link 'b' is already placed by other joints \(or driven twice; "
+                       r"Gruebler: 3 x \(3 - 1\) - 2 x 3 = 0, with 1 input\)"),
     (["notes.txt"], r"not a Pyslvs project \(.pyslvs\), a Pyslvs expression \(M\[...\]\) or a PMKS text file"),
     (["locked_ppp.txt"], r"locked_ppp.txt: links a, b: the loop input - a - b - ground locks the mechanism"),
 ])

@@ -100,8 +100,8 @@ class Motor(Kind):
                                       f"{'' if free else ', each already placed by other joints'}")
             link = free[0]
         if link in dec.known:
-            raise dec.fail(where, f"link {link!r} is already placed by other joints (or driven twice); drive a "
-                                  f"link that only this joint turns")
+            raise dec.fail(where, f"link {link!r} is already placed by other joints (or driven twice; "
+                                  f"{dec.gruebler_note()}); drive a link that only this joint turns")
         on = next((ln for ln in at if ln != link and ln in dec.known), None)
         if on is None:
             raise dec.fail(where, f"no link at {pivot!r} besides {link!r} is placed: a motor turns its link "
