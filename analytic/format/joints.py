@@ -7,7 +7,8 @@ a crank turning a link about a ground pivot, or a slider driving a block along a
 ``ground`` is the frame. :func:`convert` finds the Assur groups itself and writes the same mechanism in the
 ordinary form (``[ground]``, ``[[inputs]]``, ``[[groups]]``), so every command reads it unchanged:
 
-1. the inputs (their lengths and start angles from the pose);
+1. the inputs (their lengths and start angles from the pose; a motor whose two links nothing else places but
+   which close a loop with one more link between placed points: a ``motor_dyad``, the three links at once);
 2. before any dyad, a link turned by gears: pinned at one placed point, its angle fixed by the meshes'
    relations (Willis', linear in the link angles) as a linear form of placed links' angles: a ``gear``
    element on the link it is pinned to (docs/CONVENTIONS.md, "Gears");

@@ -5,7 +5,9 @@ point of the carrier link ``on``), ``on`` (the carrier: a moving link that exist
 ``length`` from the pivot on the driven link), ``link`` (the driven link, default pivot + point) and its motion
 law ``q(t) = q0 + omega t + alpha t^2 / 2`` of the relative angle ``q = phi(link) - phi(on)``.
 
-Its drive is the torque the motor puts on ``link``; the reaction (the motor's housing) acts on ``on``.
+Its drive is the torque the motor puts on ``link``; the reaction (the motor's housing) acts on ``on``. In the
+links-and-joints form (and from a PMKS driver on two moving links) a motor whose carrier no group places but
+whose two links close a loop with a third is written as a ``motor_dyad`` (:mod:`analytic.kinds.motor_dyad`).
 """
 
 from __future__ import annotations
