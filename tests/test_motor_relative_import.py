@@ -45,18 +45,19 @@ def _imported(tmp_path, text: str, name: str = "fourbar"):
     return out, analytic.load(str(out))
 
 
-def _hand(q, on_crank: bool = True):
+def _hand(q, on_crank: bool = True, dims=(A_, B_, C_, G_)):
     """A and B [m] at the motor's angle q by hand: theta (coupler from crank) = q, or -q with the housing on
     the coupler; the side |A0 B| by the law of cosines on the bent link (interior angle pi - theta at A), B on
     the circles about A0 and B0 above A0 -> B0 (the pose's side), A at the angle alpha (law of cosines again)
     from A0 -> B, to its right where the coupler turns left of the crank (sin theta > 0)."""
+    a_, b_, c_, g_ = dims
     th = np.asarray(q, dtype=float) * (1 if on_crank else -1)
-    d = np.sqrt(A_ ** 2 + B_ ** 2 - 2 * A_ * B_ * np.cos(math.pi - th))
-    x = (d ** 2 - C_ ** 2 + G_ ** 2) / (2 * G_)
+    d = np.sqrt(a_ ** 2 + b_ ** 2 - 2 * a_ * b_ * np.cos(math.pi - th))
+    x = (d ** 2 - c_ ** 2 + g_ ** 2) / (2 * g_)
     bx, by = x, np.sqrt(d ** 2 - x ** 2)
-    alpha = np.arccos((A_ ** 2 + d ** 2 - B_ ** 2) / (2 * A_ * d))
+    alpha = np.arccos((a_ ** 2 + d ** 2 - b_ ** 2) / (2 * a_ * d))
     beta = np.arctan2(by, bx) - np.sign(np.sin(th)) * alpha
-    return np.stack([A_ * np.cos(beta), A_ * np.sin(beta)]) / 1000, np.stack([bx, by]) / 1000
+    return np.stack([a_ * np.cos(beta), a_ * np.sin(beta)]) / 1000, np.stack([bx, by]) / 1000
 
 
 def test_a_pmks_relative_driver_imports_as_a_motor_and_solves_as_hand_geometry_says(tmp_path):
@@ -165,3 +166,75 @@ def test_a_bad_relative_driver_is_refused_in_one_line_naming_the_joint(tmp_path,
     assert r.returncode == 2 and not out.exists()
     line = r.stderr.strip()
     assert "\n" not in line and "Traceback" not in line and "J1" in line and what in line, line
+
+
+JOINTS_FORM = """
+format = "linkage/1"
+units = "mm"
+output = "E"
+
+[pose]
+A = [0, 0]
+D = [80, 0]
+B = [12.5, 21.6506]
+C = [74.2099, 54.6944]
+E = [29.506, 53.4436]
+
+[[links]]
+name = "crank"
+points = ["A", "B"]
+
+[[links]]
+name = "coupler"
+points = ["B", "C", "E"]
+
+[[links]]
+name = "rocker"
+points = ["D", "C"]
+
+[[joints]]
+kind = "R"
+point = "A"
+links = ["ground", "crank"]
+
+[[joints]]
+kind = "R"
+point = "B"
+links = ["crank", "coupler"]
+
+[[joints]]
+kind = "R"
+point = "C"
+links = ["coupler", "rocker"]
+
+[[joints]]
+kind = "R"
+point = "D"
+links = ["rocker", "ground"]
+
+[[inputs]]
+kind = "motor"
+joint = "B"
+"""
+
+
+def test_a_links_and_joints_motor_at_the_coupler_joint_drives_the_coupler_and_places_its_third_point():
+    m = analytic.from_text(JOINTS_FORM, "motor_at_b.toml")
+    e = m.geometry.elements[0]
+    assert e["kind"] == "motor_dyad" and e["on"] == "crank" and tuple(e["links"]) == ("crank", "coupler")
+    A0, B0, C0, D, E0 = (np.array(v) for v in ([0, 0], [12.5, 21.6506], [74.2099, 54.6944], [80, 0],
+                                               [29.506, 53.4436]))
+    dims = (np.linalg.norm(B0 - A0), np.linalg.norm(C0 - B0), np.linalg.norm(C0 - D), 80.0)
+    q = np.linspace(-math.pi, math.pi, 37)
+    sol = m.solve(q)
+    valid = np.isfinite(sol["xC"])
+    assert valid.all()          # |A C| in [|BC| - |AB|, |BC| + |AB|] = [36.7, 86.7] mm; D's circle reaches [25.3, 134.7]
+    B, C = (x[:, valid] * 1000 for x in _hand(q, dims=dims))     # [mm]
+    b = dims[1]
+    u0 = (C0 - B0) / b
+    eu, ev = (E0 - B0) @ u0, u0[0] * (E0 - B0)[1] - u0[1] * (E0 - B0)[0]
+    u = (C - B) / b
+    E = B + eu * u + ev * np.stack([-u[1], u[0]])
+    for p, want in (("B", B), ("C", C), ("E", E)):
+        got = np.stack([sol[f"x{p}"][valid], sol[f"y{p}"][valid]]) * 1000
+        assert np.max(np.hypot(*(got - want))) <= 1e-9       # hand formulas on an 80 mm figure: rounding
