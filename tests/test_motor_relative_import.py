@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import json
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -238,3 +239,12 @@ def test_a_links_and_joints_motor_at_the_coupler_joint_drives_the_coupler_and_pl
     for p, want in (("B", B), ("C", C), ("E", E)):
         got = np.stack([sol[f"x{p}"][valid], sol[f"y{p}"][valid]]) * 1000
         assert np.max(np.hypot(*(got - want))) <= 1e-9       # hand formulas on an 80 mm figure: rounding
+
+
+def test_a_motor_dyad_housing_on_a_link_not_its_own_is_refused_naming_the_field(tmp_path):
+    text = (Path(__file__).resolve().parent / "kinds" / "motor_dyad.toml").read_text()
+    bad = tmp_path / "bad_on.toml"
+    bad.write_text(text.replace('name = "elbow"', 'name = "elbow"\non = "rocker"'))
+    r = run("check", bad)
+    line = r.stderr.strip()
+    assert r.returncode == 2 and "\n" not in line and "field 'on'" in line and "'rocker'" in line, line
