@@ -122,7 +122,8 @@ class Built:
     """The factor the constraints' inverse weights were scaled by (:func:`regularization`), as built."""
     memo: dict = field(default_factory=dict, repr=False, compare=False)
     """What a run reads several times from the model's commanded motion, kept once per model: the loads'
-    wrenches at every step start (sim.model.loads.wrenches)."""
+    wrenches at every step start (sim.model.loads.wrenches) and the cycle the model was built from
+    (analytic.cycle.Cycle, read by sim.run.cams.analytic_contact)."""
 
     @property
     def name(self) -> str:
@@ -237,8 +238,10 @@ def build(mech, settings: Settings = Settings(), loads: Loads = Loads(), revolut
     if not sol.valid.all():
         mech.check_assembles(q0)
     points = {p: (float(sol["x" + p][0]), float(sol["y" + p][0])) for p in mech.points}
-    return build_model(mech, settings, loads, h, sol, points, (q0[0], qd0[0], qdd0[0]), revolutions, native, cycle,
-                       export)
+    built = build_model(mech, settings, loads, h, sol, points, (q0[0], qd0[0], qdd0[0]), revolutions, native, cycle,
+                        export)
+    built.memo["cycle"] = cycle                  # what the run's checks read of the motion (sim.run.cams)
+    return built
 
 
 def model_loads(mech, loads: Loads, cycle):
