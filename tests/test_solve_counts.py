@@ -180,3 +180,36 @@ def test_dynamics_builds_one_model(monkeypatch):
     r = cli_runner.run("dynamics", "fourbar", "--motor", "2,15", "--revolutions", "3", "--json")
     assert r.returncode == 0, r.stderr
     assert len(built) == 1, f"dynamics built {len(built)} MuJoCo models"
+
+
+def test_a_motion_laws_cycle_is_its_turns_scan():
+    """A crank driven by a motion law that turns it once a cycle (servo_press): its cycle read as the turn's scan
+    (sim.service.simulation.turn_scan) holds each value of the turn once, ascending from the start to a turn
+    on, with the singularity measures of those values solved apart here."""
+    import math
+    from analytic.checks import singularity
+    from analytic.cycle import Cycle
+    from analytic.registry import load as load_mechanism
+    from sim.service.simulation import turn_scan
+    mech = load_mechanism("servo_press")
+    cycle = Cycle.of(mech, 0.25)
+    assert cycle.covers_turn and not cycle.full_turn
+    q, measures = turn_scan(mech, cycle)
+    q0 = mech.inputs[0].motion.q0
+    assert np.all(np.diff(q) > 0)
+    # the start itself, and the start a turn on (its pose repeated): 2 pi added to q0 rounds to ~1e-15
+    assert q[0] == pytest.approx(q0, abs=1e-12) and q[-1] == pytest.approx(q0 + 2 * math.pi, abs=1e-12)
+    apart = singularity(mech, mech.solve(q))
+    assert set(measures) == set(apart) and measures
+    for label, m in measures.items():
+        # the values taken into the turn (q0 + (q - q0) mod 2 pi) move by rounding: the measures by ~1e-15
+        np.testing.assert_allclose(m, apart[label], rtol=0, atol=1e-12)
+
+
+def test_a_motion_law_that_cannot_turn_fully_is_refused_with_its_limits():
+    """The law's cycle is the turn's check only where it assembles at every sample: a rod shorter than the
+    crank (servo_press, l = 0.04 < r = 0.05) is still refused in one line naming the limit angles."""
+    r = cli_runner.run("compare", "servo_press", "--set", "l=0.04", "--revolutions", "0.25")
+    assert r.returncode == 2
+    assert "cannot turn fully (limit angles -143.1301deg, -36.8699deg, 36.8699deg, 143.1301deg" in r.stderr, r.stderr
+    assert "Traceback" not in r.stderr
