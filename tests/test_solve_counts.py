@@ -7,6 +7,13 @@ command in this process through the CLI (tests/cli_runner.py) and count the call
 fourbar`` 6 times; a command now solves at most 3 times: the change points' scan, the turn the checks read
 (or the run's cycle), and the run. ``forces`` reads no MuJoCo (a fresh interpreter's ``sys.modules``), and
 ``dynamics`` builds one MuJoCo model.
+
+Every command is counted on one design of each kind (REPRESENTATIVE, ``--revolutions 0.25`` for the simulating
+ones); a compare with a file's loads solves once more, for the loads' wrenches along the commanded motion (OVER).
+Outside this rule, measured and left: a one-input machine whose input does not sweep a whole turn or stroke
+that assembles (an actuator or a slider: dump_tipper, scissor_lift, tests/drives/scissor_*.toml,
+tests/mechanisms/slider_driven.toml) solves 12 to 17 times, the ends of its assembly range refined by 9
+successive solves of 32 values and its singular poses scanned over that range apart.
 """
 
 from __future__ import annotations
@@ -213,3 +220,13 @@ def test_a_motion_law_that_cannot_turn_fully_is_refused_with_its_limits():
     assert r.returncode == 2
     assert "cannot turn fully (limit angles -143.1301deg, -36.8699deg, 36.8699deg, 143.1301deg" in r.stderr, r.stderr
     assert "Traceback" not in r.stderr
+
+
+def test_tolerance_solves_the_nominal_cycle_once(solves):
+    """``tolerance``'s nominal cycle (sim.service.tolerance.cycle_of, what every design is evaluated along) on the
+    four-bar: the checks' scan of the turn (3601), the change points' scan (1443) and the cycle's 361 instants,
+    once (before: twice, its assembly checked by a solve of its own)."""
+    from analytic.registry import load as load_mechanism
+    from sim.service.tolerance import cycle_of
+    cycle_of(load_mechanism("fourbar"))
+    assert sorted(solves) == [361, 1443, 3601], solves
