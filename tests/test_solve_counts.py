@@ -125,6 +125,23 @@ def test_jump_speed_from_the_shared_rest_poses_is_the_one_solved_apart():
             assert shared == pytest.approx(apart, rel=1e-12), (name, cam, shared, apart)
 
 
+def test_jump_speed_of_other_poses_does_not_read_the_runs_rest_poses():
+    """A run whose samples were replaced (as ``forces --simulate`` puts MuJoCo's in) but which still carries the
+    analytic run's rest poses: its jump speed is weighed at its own poses, as with no rest poses at all."""
+    from dataclasses import replace
+    from analytic.loads.kinetostatics import full_wanted
+    from analytic.registry import load as load_mechanism
+    from sim.service.forces import cams_record, forces_run, jump_speed
+    mech = load_mechanism("cam_roller")
+    run = forces_run(mech, samples=90)
+    q = run.q + 0.01                                  # 0.01 rad further on
+    moved = replace(run, q=q, solution=mech.solve(q, run.qd, run.qdd, outputs=full_wanted(mech)))
+    for cam in cams_record(run):
+        kept, own = jump_speed(moved, cam), jump_speed(replace(moved, rest=None), cam)
+        # the same poses weighed both ways: equal to the kinetostatics' rounding (~1e-15)
+        assert kept == pytest.approx(own, rel=1e-12), (cam, kept, own)
+
+
 def test_cam_contact_from_the_cycle_is_the_one_solved_apart():
     """The cam's analytic contact force over a cycle (compare's tolerance floors) read from the run's cycle
     against the same 721 instants solved apart (no cycle kept in the model's memo)."""

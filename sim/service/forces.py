@@ -312,13 +312,21 @@ def jump_speed(run: ForceRun, name: str) -> float:
     force = run.loads["force"]
     fx, fy = (force["Fx"], force["Fy"]) if force else (0.0, 0.0)
     rest = L.K.solve(mech, run.q, zero, zero, run.t, run.inertias, loadset, tuple(gravity), (fx, fy), 1.0,
-                     sol=run.rest).forces
+                     sol=run.rest if _at_poses(run.rest, run.solution, mech) else None).forces
     Ns, N = rest.couplings[k], run.forces.couplings[k]
     if np.any(Ns <= 0):
         return 0.0
     N1 = N - Ns
     falls = N1 < 0
     return float(np.sqrt(np.min(-Ns[falls] / N1[falls])) * speed) if falls.any() else float("inf")
+def _at_poses(rest, sol, mech) -> bool:
+    """Whether ``rest`` (ForceRun.rest) holds the poses of ``sol``: every point where the run's solution has it (a
+    run whose samples were replaced, MuJoCo's, solves its own rest poses)."""
+    if rest is None:
+        return False
+    return all(np.array_equal(np.asarray(rest[c + p]), np.asarray(sol[c + p])) for p in mech.points for c in "xy")
+
+
 def supply_pressure(text, mech: Mechanism, what: str = "--pressure") -> float:
     """The supply pressure [Pa] to size ``mech``'s actuators for, from ``text`` with its unit (``200bar``,
     ``20MPa``, ``3000psi``; analytic.quantities.parse_pressure); a ParameterError naming ``what`` for a bad
@@ -657,7 +665,7 @@ def simulated_forces(run: ForceRun, settings=None, loads=None, display=None, sim
     sol = {k: np.asarray(v)[s.steps] for k, v in tr.outputs.items() if k[:1] in ("x", "y", "c", "s", "o")}
     sim_run = replace(run, t=run.t[:len(s.steps)], q=q, qd=qd, qdd=qdd, inputs={inp.q: q[:, k] for k, inp in enumerate(mech.inputs)},
                       solution=sol, inertias=body_inertias(s.built.model, mech.links), forces=s.forces,
-                      balance=None, balanced=None)
+                      balance=None, balanced=None, rest=None)          # the rest poses: solved at these inputs
     record = forces_record(sim_run, display)
     for key in ("mechanism", "loads", "units"):
         record.pop(key, None)
