@@ -403,15 +403,16 @@ def _slow_stroke(mech, cycle) -> tuple[float, float]:
 def check_turns_fully(mech, cycle=None) -> None:
     """A single-input mechanism whose first input cannot make a full turn is refused with its limits
     (a rocking drive, ``input_range``, is the way to run it). ``cycle``: the run's (analytic.cycle.Cycle);
-    one turn of the crank at constant speed that assembles at every sample (the 3600 of a turn that
-    :attr:`Checks.scan` scans, and the refined ones) turns fully; else the mechanism's assembly ranges
+    one that sweeps the crank's turn (:attr:`analytic.cycle.Cycle.covers_turn`: at constant speed the 3600 of a
+    turn that :attr:`Checks.scan` scans, and the refined ones; a motion law's cycle, its samples the values the
+    run visits) and assembles at every sample turns fully; else the mechanism's assembly ranges
     (:attr:`Checks.ranges`) say."""
     if len(mech.inputs) != 1 or mech.rock is not None or not mech.inputs[0].angular:
         return
     law = mech.inputs[0].motion.law
     if law is not None and law.rise == 0.0:      # a law that returns to its start: its samples are checked
         return
-    if cycle is not None and cycle.full_turn and cycle.solution.valid.all():
+    if cycle is not None and cycle.covers_turn and cycle.solution.valid.all():
         return
     ranges = assembly_ranges(mech)
     if not ranges:

@@ -197,6 +197,20 @@ class Cycle:
         m = mech.inputs[0].motion
         return m.constant and m.rate != 0.0 and self.revolutions == 1.0
 
+    @property
+    def covers_turn(self) -> bool:
+        """Whether the samples sweep every value of a lone crank's turn: one turn at constant speed
+        (:attr:`full_turn`), or one cycle of a motion law that turns it by whole turns (analytic.laws: a crank's
+        law rises by a whole number of turns, or returns); the run visits exactly these values, so they are the
+        turn's check (analytic.checks.check_turns_fully, sim.service.simulation.turn_scan)."""
+        if self.full_turn:
+            return True
+        mech = self.mech
+        if len(mech.inputs) != 1 or not mech.inputs[0].angular or mech.rock is not None:
+            return False
+        law = mech.inputs[0].motion.law
+        return law is not None and law.rise != 0.0 and self.revolutions == 1.0
+
     def at_start(self) -> tuple[tuple[np.ndarray, np.ndarray, np.ndarray], Solution]:
         """The inputs and the solution at t = 0 (shapes (1, n_inputs) and (1,))."""
         return (self.q[:1], self.qd[:1], self.qdd[:1]), take(self.solution, slice(0, 1))

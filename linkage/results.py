@@ -261,13 +261,19 @@ class Forces(_Result):
 
     @property
     def _si(self) -> dict:
-        cached = self.__dict__.get("_si_record")
-        if cached is None:
-            cached = self._record(None)
-            object.__setattr__(self, "_si_record", cached)
-        return cached
+        return self._record(None)
 
     def _record(self, display):
+        """The record in ``display`` units (None: SI), made once per display: ``passed`` reads the SI one and
+        ``to_dict`` the one asked for, the same when that is SI (a cam's jump speed is not found twice)."""
+        from analytic.quantities import SI
+        records = self.__dict__.setdefault("_records", {})
+        key = display or SI
+        if key not in records:
+            records[key] = self._made(display)
+        return records[key]
+
+    def _made(self, display):
         from sim.service.forces import forces_record, simulated_forces
         record = forces_record(self.run, display)
         if self.simulated_run is not None:

@@ -122,7 +122,9 @@ class Built:
     """The factor the constraints' inverse weights were scaled by (:func:`regularization`), as built."""
     memo: dict = field(default_factory=dict, repr=False, compare=False)
     """What a run reads several times from the model's commanded motion, kept once per model: the loads'
-    wrenches at every step start (sim.model.loads.wrenches)."""
+    wrenches at every step start (sim.model.loads.wrenches) and, for a cam's one-period motion, the cycle the
+    model was built from (analytic.cycle.Cycle, read by sim.run.cams.analytic_contact; a longer cycle, up to
+    analytic.cycle.SAMPLES_MAX samples, is not held past the build)."""
 
     @property
     def name(self) -> str:
@@ -221,7 +223,7 @@ def build(mech, settings: Settings = Settings(), loads: Loads = Loads(), revolut
     read for the time step, the initial pose, the drives' sizes and the camera: the model never solves the
     mechanism itself. ``export``: the model written as a file (sim.model.export): the loads MJCF can hold
     statically in it (sim.model.loads.not_in_xml), as tendons and constant-force actuators."""
-    from analytic.cycle import Cycle
+    from analytic.cycle import Cycle, periodic
     if cycle is None:
         cycle = Cycle.of(mech, revolutions)
     if settings.timestep is None:
@@ -237,8 +239,11 @@ def build(mech, settings: Settings = Settings(), loads: Loads = Loads(), revolut
     if not sol.valid.all():
         mech.check_assembles(q0)
     points = {p: (float(sol["x" + p][0]), float(sol["y" + p][0])) for p in mech.points}
-    return build_model(mech, settings, loads, h, sol, points, (q0[0], qd0[0], qdd0[0]), revolutions, native, cycle,
-                       export)
+    built = build_model(mech, settings, loads, h, sol, points, (q0[0], qd0[0], qdd0[0]), revolutions, native, cycle,
+                        export)
+    if any(c.kind == "cam" for c in mech.topology.couplings) and periodic(mech):
+        built.memo["cycle"] = cycle              # one period: a cam's contact force read from it (sim.run.cams)
+    return built
 
 
 def model_loads(mech, loads: Loads, cycle):

@@ -159,18 +159,37 @@ def tolerances(built, steps=None) -> dict[str, float] | None:
 
 
 def analytic_contact(built, steps=None) -> list[np.ndarray]:
-    """The analytic contact force [N] of each cam over one cycle of the run's motion (721 samples), with the
-    file's loads, gravity and the compiled model's masses (:func:`analytic.loads.kinetostatics.solve`)."""
+    """The analytic contact force [N] of each cam over one cycle of the run's motion (CONTACT_SAMPLES + 1 samples,
+    :func:`_one_cycle`: the run's cycle's own where it is one period), with the file's loads, gravity and the
+    compiled model's masses (:func:`analytic.loads.kinetostatics.solve`)."""
     from analytic.loads import kinetostatics as K
     from sim.model import body_inertias
     from sim.service import loads as L
     mech = built.mech
-    t = np.linspace(0.0, mech.duration(1.0), 721)
-    q, qd, qdd = mech.drive(t)
+    t, q, qd, qdd, sol = _one_cycle(built)
     loadset = built.loadset if built.loadset is not None else L.loadset(mech, ())
     gravity = tuple(float(x) for x in built.model.opt.gravity[:2])
-    res = K.solve(mech, q, qd, qdd, t, body_inertias(built.model, mech.links), loadset, gravity).forces
+    res = K.solve(mech, q, qd, qdd, t, body_inertias(built.model, mech.links), loadset, gravity, sol=sol).forces
     return [np.asarray(res.couplings[k]) for k, c in enumerate(mech.topology.couplings) if c.kind == "cam"]
+
+
+CONTACT_SAMPLES = 720
+"""Intervals of one cycle of the motion at which :func:`analytic_contact` weighs the contact force."""
+
+
+def _one_cycle(built):
+    """(t, q, qd, qdd, solution) at CONTACT_SAMPLES + 1 instants evenly over one cycle of the run's motion: every
+    (SAMPLES / CONTACT_SAMPLES)-th dense sample of the cycle the model was built from where it is one period
+    (analytic.cycle.Cycle, kept in ``built.memo``), else the instants' inputs and None (solved by the caller)."""
+    from analytic.cycle import SAMPLES, periodic, take
+    mech = built.mech
+    cycle = (getattr(built, "memo", None) or {}).get("cycle")
+    if (cycle is not None and cycle.mech is mech and periodic(mech) and len(cycle.dense) == SAMPLES + 1
+            and SAMPLES % CONTACT_SAMPLES == 0):
+        rows = cycle.dense[::SAMPLES // CONTACT_SAMPLES]
+        return cycle.t[rows], cycle.q[rows], cycle.qd[rows], cycle.qdd[rows], take(cycle.solution, rows)
+    t = np.linspace(0.0, mech.duration(1.0), CONTACT_SAMPLES + 1)
+    return (t, *mech.drive(t), None)
 
 
 def separations(built, sens: np.ndarray, theta: dict[str, np.ndarray]) -> dict:

@@ -42,6 +42,8 @@ class ForceRun:
     """Each load's work per cycle, friction's dissipation and the energy balance (sim.service.loads.energy_of)."""
     pressure: float | None = None
     """The supply pressure [Pa] to size the actuators for (``--pressure``), or None."""
+    rest: object = None
+    """Where the mechanism has a cam: the solution at the run's poses at rest (no rates), for :func:`jump_speed`."""
 
 
 def _local_at_start(mech: Mechanism, t: np.ndarray, sol):
@@ -115,7 +117,7 @@ def forces_run(mech: Mechanism, samples: int = 361, revolutions: float = 1.0, in
     t, cycles = L.run_times(mech, samples, revolutions, at)
     q, qd, qdd = mech.drive(t)
     mech.check_motion(q, t)
-    sol = mech.solve(q, qd, qdd, outputs=sorted(set(L.K.full_wanted(mech)) | set(measured_outputs(mech))))
+    sol, rest = _solved(mech, q, qd, qdd, sorted(set(L.K.full_wanted(mech)) | set(measured_outputs(mech))))
     if sol.first_failure() is not None:      # which samples assemble is the positions' alone: refused as the
         mech.check_assembles(q)              # positions' own check words it
     check_forces_singular(mech, q, sol)
@@ -145,7 +147,21 @@ def forces_run(mech: Mechanism, samples: int = 361, revolutions: float = 1.0, in
                              loadset, (gx, gy), (fx, fy), on, sol=sol).forces
     energy = L.energy_of(mech, loaded, loadset, model, (gx, gy), (fx, fy), on, cycles)
     return ForceRun(mech, t, q, qd, qdd, cols, sol, model, mass_sources(mech, inertias), loads, result,
-                    balance_result, balanced, loaded, loadset, energy, pressure)
+                    balance_result, balanced, loaded, loadset, energy, pressure, rest)
+
+
+def _solved(mech: Mechanism, q, qd, qdd, outputs):
+    """The solution at (q, qd, qdd) with ``outputs``; where the mechanism has a cam, also the poses at rest (the
+    same q, no rates: what :func:`jump_speed` weighs the contact at), in the same solve, the rows interleaved
+    sample by sample (a numerically solved group meets each pose next to itself); else None for those."""
+    if not any(c.kind == "cam" for c in mech.topology.couplings):
+        return mech.solve(q, qd, qdd, outputs=outputs), None
+    from analytic.cycle import take
+    both = [np.repeat(x, 2, axis=0) for x in (q, qd, qdd)]
+    both[1][1::2] = 0.0
+    both[2][1::2] = 0.0
+    sol = mech.solve(*both, outputs=outputs)
+    return take(sol, slice(0, None, 2)), take(sol, slice(1, None, 2))
 
 
 def force_peaks(run: ForceRun, forces=None) -> dict:
@@ -295,13 +311,22 @@ def jump_speed(run: ForceRun, name: str) -> float:
     gravity = run.loads["gravity"] or (0.0, 0.0)
     force = run.loads["force"]
     fx, fy = (force["Fx"], force["Fy"]) if force else (0.0, 0.0)
-    rest = L.K.solve(mech, run.q, zero, zero, run.t, run.inertias, loadset, tuple(gravity), (fx, fy), 1.0).forces
+    rest = L.K.solve(mech, run.q, zero, zero, run.t, run.inertias, loadset, tuple(gravity), (fx, fy), 1.0,
+                     sol=run.rest if _at_poses(run.rest, run.solution, mech) else None).forces
     Ns, N = rest.couplings[k], run.forces.couplings[k]
     if np.any(Ns <= 0):
         return 0.0
     N1 = N - Ns
     falls = N1 < 0
     return float(np.sqrt(np.min(-Ns[falls] / N1[falls])) * speed) if falls.any() else float("inf")
+def _at_poses(rest, sol, mech) -> bool:
+    """Whether ``rest`` (ForceRun.rest) holds the poses of ``sol``: every point where the run's solution has it (a
+    run whose samples were replaced, MuJoCo's, solves its own rest poses)."""
+    if rest is None:
+        return False
+    return all(np.array_equal(np.asarray(rest[c + p]), np.asarray(sol[c + p])) for p in mech.points for c in "xy")
+
+
 def supply_pressure(text, mech: Mechanism, what: str = "--pressure") -> float:
     """The supply pressure [Pa] to size ``mech``'s actuators for, from ``text`` with its unit (``200bar``,
     ``20MPa``, ``3000psi``; analytic.quantities.parse_pressure); a ParameterError naming ``what`` for a bad
@@ -640,7 +665,7 @@ def simulated_forces(run: ForceRun, settings=None, loads=None, display=None, sim
     sol = {k: np.asarray(v)[s.steps] for k, v in tr.outputs.items() if k[:1] in ("x", "y", "c", "s", "o")}
     sim_run = replace(run, t=run.t[:len(s.steps)], q=q, qd=qd, qdd=qdd, inputs={inp.q: q[:, k] for k, inp in enumerate(mech.inputs)},
                       solution=sol, inertias=body_inertias(s.built.model, mech.links), forces=s.forces,
-                      balance=None, balanced=None)
+                      balance=None, balanced=None, rest=None)          # the rest poses: solved at these inputs
     record = forces_record(sim_run, display)
     for key in ("mechanism", "loads", "units"):
         record.pop(key, None)

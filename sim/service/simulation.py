@@ -59,14 +59,19 @@ def check_singular(mech: Mechanism, cycle=None) -> None:
 
 
 def turn_scan(mech: Mechanism, cycle):
-    """For a cycle that is one turn of a lone crank at constant speed (:attr:`analytic.cycle.Cycle.full_turn`):
-    (the crank's values ascending, from its start over a turn, {group label: singularity measure} there),
-    the scan analytic.applications.figures.singular_poses reads; else None."""
-    if not cycle.full_turn:
+    """For a cycle that sweeps a lone crank's turn (:attr:`analytic.cycle.Cycle.covers_turn`): (the crank's values
+    ascending, from its start over a turn, {group label: singularity measure} there), the scan
+    analytic.applications.figures.singular_poses reads; else None. A motion law's values are taken into the turn
+    from the start, each once (a dwell holds one), the start's pose repeated a turn on."""
+    if not cycle.covers_turn:
         return None
     from analytic.applications.figures import singularity
     q = cycle.q[:, 0]
     measures = singularity(mech, cycle.solution)
+    if not cycle.full_turn:
+        q0 = mech.inputs[0].motion.q0
+        x, first = np.unique(q0 + np.mod(q - q0, 2 * math.pi), return_index=True)
+        return np.r_[x, x[0] + 2 * math.pi], {k: np.r_[v[first], v[first[0]]] for k, v in measures.items()}
     if q[-1] < q[0]:                                      # turning backwards: the same poses, in reverse
         q, measures = q[::-1] + 2 * math.pi, {k: v[::-1] for k, v in measures.items()}
     return q, measures

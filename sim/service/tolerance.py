@@ -84,8 +84,10 @@ def cycle_of(mech, loads=None, input_range=None):
         service.check_turns_fully(mech)
     t = np.linspace(0.0, period_of(mech), T.CYCLE_SAMPLES)
     q, _, _ = mech.drive(t)
-    mech.check_assembles(q)
+    mech.check_motion(q)                     # as check_assembles words it
     sol = mech.solve(q, outputs=["x" + mech.output_point, "y" + mech.output_point])
+    if sol.first_failure() is not None:      # which samples assemble is the positions' alone: refused as the
+        mech.check_assembles(q)              # positions' own check words it
     path = np.column_stack([sol["x" + mech.output_point], sol["y" + mech.output_point]])
     gravity, force, on, inertias = (0.0, 0.0), (0.0, 0.0), 1.0, None
     if loads is not None:
