@@ -180,3 +180,15 @@ def test_the_gl_backend_is_chosen_without_looking_for_osmesa_where_egl_is_found(
         assert asked == (["EGL"] if egl else ["EGL", "OSMesa"])
     monkeypatch.setenv("MUJOCO_GL", "glfw")                 # the user's choice, nothing looked for
     assert gl.ensure_gl_backend() == "glfw"
+
+
+def test_every_kinds_module_is_an_attribute_of_its_package_though_imported_lazily():
+    """``analytic.loads.torque`` and ``analytic.kinds.rrr`` read as before the kinds were imported on first use
+    (a script's ``from analytic import loads; loads.torque.constant(...)`` failed with an AttributeError)."""
+    code = ("import analytic.loads as L, analytic.kinds as K\n"
+            "print(all(getattr(L, m).__name__ == 'analytic.loads.' + m for m in L.MODULES),"
+            " all(getattr(K, m).__name__ == 'analytic.kinds.' + m for m in K.MODULES))\n"
+            "try:\n    L.no_such_kind\nexcept AttributeError:\n    print('refused')\n")
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT, timeout=120)
+    assert r.returncode == 0, r.stderr
+    assert r.stdout.split() == ["True", "True", "refused"], r.stdout

@@ -51,3 +51,12 @@ def of_section(section: str) -> tuple[str, ...]:
 
 
 __all__ = ["KINDS", "MODULES", "SECTIONS", "GROUND", "Kind", "get", "of_section"]
+
+
+def __getattr__(name: str):
+    """A kind's module as an attribute of the package (``analytic.kinds.crank``), imported on first use as
+    :data:`KINDS` imports it (PEP 562): the package no longer imports every kind up front."""
+    if name in MODULES:
+        import importlib
+        return importlib.import_module(f"{__name__}.{name}")
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

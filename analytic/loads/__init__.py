@@ -157,3 +157,12 @@ def get(name: str) -> LoadKind:
 
 __all__ = ["KINDS", "MODULES", "Load", "LoadKind", "get", "tables", "parsed", "LoadSet", "LoadError", "Application", "State", "Scales", "FORCE_UNITS", "parse", "resolve",
            "wanted", "input_names", "check_units"]
+
+
+def __getattr__(name: str):
+    """A kind's module as an attribute of the package (``analytic.loads.torque``), imported on first use as
+    :data:`KINDS` imports it (PEP 562): the package no longer imports every kind up front."""
+    if name in MODULES:
+        import importlib
+        return importlib.import_module(f"{__name__}.{name}")
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
