@@ -50,7 +50,7 @@ import numpy as np
 # benchmarks/analytic.py would shadow the package of that name: keep this folder off the import path.
 sys.path[:] = [p for p in sys.path if Path(p or ".").resolve() != Path(__file__).resolve().parent]
 import analytic  # noqa: E402
-from analytic import ParameterError, cams  # noqa: E402
+from analytic import ParameterError, cams, kinds  # noqa: E402
 from analytic.format import expr  # noqa: E402
 from sim.run import compare as sim_compare  # noqa: E402
 from sim import model as sim_model  # noqa: E402
@@ -134,7 +134,8 @@ def error_series(mech, tr) -> tuple[dict, dict]:
     series["loop"], meta["loop"] = np.asarray(tr.loop_violation) / (LOOP * L), ("loop", LOOP * L)
     drive = np.zeros(len(tr.t))
     for i in mech.inputs:
-        drive = np.maximum(drive, np.abs(tr.inputs[i.q] - tr.commanded[i.q]) / (1.0 if i.kind == "crank" else L))
+        angular = kinds.get(i.kind).angular              # a crank's or a motor's angle [rad], else [m]
+        drive = np.maximum(drive, np.abs(tr.inputs[i.q] - tr.commanded[i.q]) / (1.0 if angular else L))
     series["drive"], meta["drive"] = drive / DRIVE, ("drive", DRIVE)
     return series, meta
 
