@@ -85,6 +85,9 @@ SOLVES = "tests/test_solve_counts.py"
 STARTUP = "tests/test_startup_imports.py"
 APP_CAM = "tests/test_app_cam.py"
 TWO_RULES = "tests/test_two_plate_rules.py"
+CAM_FACE = "tests/test_cam_face_and_windows.py"
+PANEL = "tests/test_cam_panel_units.py"
+GUARDS = "tests/test_shared_solve_guards.py"
 
 
 @dataclass(frozen=True)
@@ -728,10 +731,10 @@ MUTATIONS = [
     Mutation("drawing-face-on-foot", "sim/output/drawing.py face_of: a given face_width centred on the foot (the old "
              "placement), not the contact's travel", "sim/output/drawing.py",
              "return (ux, uy, mid - 0.5 * w, mid + 0.5 * w)", "return (ux, uy, -0.5 * w, 0.5 * w)",
-             [CAMS, "tests/test_cam_drawing.py"], "the drawn face holds the touching corner at every pose"),
+             [CAM_FACE, CAMS, "tests/test_cam_drawing.py"], "the drawn face holds the touching corner at every pose"),
     Mutation("cams-window-not-centred", "sim/run/cams.py window_means: each window starting at its step, not "
              "centred on it", "sim/run/cams.py", "start = np.clip(at - (w - 1) // 2, 0, n - w)",
-             "start = np.clip(at, 0, n - w)", [CAM_MECH, CAM_CONTACT, "tests/test_forces_mujoco.py"],
+             "start = np.clip(at, 0, n - w)", [CAM_FACE, CAM_MECH, CAM_CONTACT, "tests/test_forces_mujoco.py"],
              "window_means on a hand ramp: the mean of a centred window is the value at its step"),
     Mutation("cams-mean-force-2x", "sim/run/cams.py Compliance.mean_force: twice the bound (the 2 of the speed "
              "error kept after W = 2 pi tau)", "sim/run/cams.py",
@@ -783,7 +786,7 @@ MUTATIONS = [
     Mutation("covers-turn-any-law", "analytic/cycle.py covers_turn: any motion law's cycle taken as the turn's "
              "check (a law that swings back included)", "analytic/cycle.py",
              "return law is not None and law.rise != 0.0 and self.revolutions == 1.0",
-             "return law is not None and self.revolutions == 1.0", [SOLVES, LAWS],
+             "return law is not None and self.revolutions == 1.0", [GUARDS, SOLVES, LAWS],
              "tests/test_solve_counts.py::test_a_motion_law_that_cannot_turn_fully_is_refused_with_its_limits"),
     Mutation("jump-rest-poses-always-shared", "sim/service/forces.py jump_speed: the run's rest poses read whatever "
              "the samples", "sim/service/forces.py",
@@ -800,7 +803,7 @@ MUTATIONS = [
              "tests/test_solve_counts.py::test_cam_contact_from_the_cycle_is_the_one_solved_apart"),
     Mutation("forces-memo-not-keyed", "linkage/results.py Forces._record: one record whatever the display (the "
              "first asked for kept)", "linkage/results.py", "        key = display or SI\n", "        key = SI\n",
-             [SOLVES, "tests/test_force_units_display.py", UNITS],
+             [GUARDS, SOLVES, "tests/test_force_units_display.py", UNITS],
              "to_dict in mm after passed (SI): the record in mm"),
     Mutation("lazy-loaded-imports", "analytic/_common.py LazyKinds.loaded: imports the kind's module (as []) ",
              "analytic/_common.py", "        return self._entries.get(name)\n",
@@ -812,18 +815,18 @@ MUTATIONS = [
              "tests/test_startup_imports.py::test_a_command_asks_openblas_for_one_thread_unless_told"),
     Mutation("panel-arm-in-radians", "sim/service/cam_editing.py view: an arm's lift sent in rad labelled deg",
              "sim/service/cam_editing.py", "f = math.degrees(1.0) if arm else 1.0 / k", "f = 1.0 if arm else 1.0 / k",
-             [APP_CAM], "tests/test_app_cam.py (an oscillating cam's SVAJ by hand)"),
+             [PANEL, APP_CAM], "tests/test_app_cam.py (an oscillating cam's SVAJ by hand)"),
     Mutation("panel-rho-in-metres", "sim/service/cam_editing.py view: the profile's rho in metres labelled in the "
              "file's unit", "sim/service/cam_editing.py", '"rho": _list(rho[pick] / k)', '"rho": _list(rho[pick])',
-             [APP_CAM], "the profile's rho in a mm file by hand (a circle's)"),
+             [PANEL, APP_CAM], "the profile's rho in a mm file by hand (a circle's)"),
     Mutation("panel-pa-max-signed", "sim/service/cam_editing.py view: the largest pressure angle's mark at the most "
              "positive angle, not the largest |angle|", "sim/service/cam_editing.py",
-             "i_pa = int(np.nanargmax(np.abs(pa)))", "i_pa = int(np.nanargmax(pa))", [APP_CAM],
+             "i_pa = int(np.nanargmax(np.abs(pa)))", "i_pa = int(np.nanargmax(pa))", [PANEL, APP_CAM],
              "tests/test_app_cam.py::test_the_largest_pressure_angle_is_the_pitch_curve_normal_against_the_guide"),
     Mutation("panel-base-radius-not-written", "sim/service/cam_editing.py edited_text: a base radius edit not "
              "written into a TOML file", "sim/service/cam_editing.py",
              'for key in ("roller", "base_radius"):\n        if key in edit:\n            table[key] = edit[key]',
-             'for key in ("roller",):\n        if key in edit:\n            table[key] = edit[key]', [APP_CAM], "an edit of base_radius written and read back"),
+             'for key in ("roller",):\n        if key in edit:\n            table[key] = edit[key]', [PANEL, APP_CAM], "an edit of base_radius written and read back"),
 ]
 
 

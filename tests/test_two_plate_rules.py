@@ -135,3 +135,11 @@ def test_the_scene_measures_every_two_links_with_plates_at_one_height(name):
             and any(p[0] < q[1] and q[0] < p[1] for p in zs[a] for q in zs[b])}
     got = {frozenset(p) for p in scene.pairs if lay.FRAME not in p}
     assert got == want
+
+
+def test_a_two_plate_links_plates_have_a_layer_between_them():
+    """The search on a hand graph: X must be two plates (no plain layering is asked for here) joined by its pin
+    P, Y free. With two layers no clevis fits (its plates need a layer between, where the links it holds
+    pass), so the answer has three: X on layers 0 and 2, P through both, Y on layer 0 (the first tried)."""
+    found = lay.two_plates(["X", "Y"], [], {}, [rule("X", (), False)], [], {"X": ["P"]}, 2)
+    assert found == ({"X": (0, 2), "Y": (0,)}, {"P": lay.Span(0, 2, "")}, {"X": "P"})
