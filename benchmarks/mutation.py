@@ -757,10 +757,11 @@ MUTATIONS = [
              "analytic/mechanism.py", 'if j.kind == "prismatic" and j.input is not None)',
              'if j.kind == "prismatic" and j.input is None)', [DRIVES, CLI_A],
              "tests/test_drives.py (s_lift reported once)"),
-    Mutation("memory-per-value-only", "sim/service/analysis.py check_memory: the limit from the bytes a value, not "
-             "a sample (values left out)", "sim/service/analysis.py", "limit = int(RUN_MEMORY // (per_value * values))",
-             "limit = int(RUN_MEMORY // per_value)", ["tests/test_run_memory.py"],
-             "tests/test_run_memory.py (ten million four-bar samples refused)"),
+    Mutation("memory-most-refused", "sim/service/analysis.py check_memory: the most that fit refused too (< for <=; "
+             "the fault that drops the values a sample lets a 10-million-sample run through: 76 s and 5 GB before "
+             "the test fails, so it is not tried here)", "sim/service/analysis.py",
+             "    if count <= limit:\n        return\n", "    if count < limit:\n        return\n",
+             ["tests/test_run_memory.py"], "tests/test_run_memory.py::test_one_rule_bounds_analyze_forces_and_the_simulation"),
     Mutation("memory-links-undercounted", "sim/service/analysis.py analysis_values: a link's 4 arrays, not 5",
              "sim/service/analysis.py", "5 * len(mech.links)", "4 * len(mech.links)", ["tests/test_run_memory.py"],
              "tests/test_run_memory.py::test_the_analysis_count_covers_every_array_a_solve_makes"),
@@ -809,6 +810,14 @@ MUTATIONS = [
              "analytic/_common.py", "        return self._entries.get(name)\n",
              "        return self[name] if name in self else None\n", [STARTUP],
              "tests/test_startup_imports.py (a command loads only the kinds it uses)"),
+    Mutation("lazy-loads-no-getattr", "analytic/loads/__init__.py: the package's PEP 562 __getattr__ gone (a load "
+             "kind's module no attribute of the package until imported: the bug 4f7911f fixed)", "analytic/loads/__init__.py",
+             "def __getattr__(name: str):", "def _getattr(name: str):", [STARTUP, "tests/test_loads.py"],
+             "tests/test_startup_imports.py::test_every_kinds_module_is_an_attribute_of_its_package_though_imported_lazily"),
+    Mutation("lazy-kinds-modules-case", "analytic/kinds/__init__.py: MODULES as the sections' names unlowered "
+             "(analytic.kinds.crank no attribute)", "analytic/kinds/__init__.py",
+             "MODULES = tuple(name.lower() for name in SECTIONS)", "MODULES = tuple(name for name in SECTIONS)",
+             [STARTUP, KINDS], "tests/test_startup_imports.py (each kind's module an attribute of its package)"),
     Mutation("blas-threads-forced", "sim/front/launch.py: one OpenBLAS thread even where the user set "
              "OPENBLAS_NUM_THREADS", "sim/front/launch.py", 'os.environ.setdefault("OPENBLAS_NUM_THREADS", BLAS_THREADS)',
              'os.environ["OPENBLAS_NUM_THREADS"] = BLAS_THREADS', [STARTUP],

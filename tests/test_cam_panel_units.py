@@ -31,8 +31,9 @@ def test_an_arms_lift_is_in_degrees_as_the_file_writes_it(view):
     assert s.max() - s.min() == pytest.approx(25.0, abs=1e-9)       # the law's ends are exact: rounding only
     fd = np.diff(s) / np.diff(th)
     mid = 0.5 * (np.asarray(svaj["v"])[1:] + np.asarray(svaj["v"])[:-1])
-    # central difference over 0.5 deg of a poly4567: its error h^2 s''' / 24 is below 0.01 deg/rad here
-    assert np.max(np.abs(fd - mid)) < 0.01 * np.max(np.abs(mid))
+    # the chord's slope against the mean of the end slopes over 0.5 deg: O(h^2 s''') (measured 2.6e-5 of the peak);
+    # 1e-3 leaves room; a v not the derivative of the s sent (another law, another scale) is far off
+    assert np.max(np.abs(fd - mid)) < 1e-3 * np.max(np.abs(mid))
 
 
 def test_the_profiles_curvature_is_in_the_files_unit(view):
@@ -44,8 +45,8 @@ def test_the_profiles_curvature_is_in_the_files_unit(view):
     dwell = np.abs(r - r.min()) <= 1e-9 * r.min()                        # the base circle: r constant to rounding
     assert dwell.sum() >= 10
     rho = np.asarray(prof["rho"], dtype=float)[dwell]
-    # the checks' rho from the profile's derivatives: exact on a circle up to rounding of ~1e-9 relative
-    np.testing.assert_allclose(rho * 1e-3, r[dwell], rtol=1e-6)
+    # the checks' rho from the profile's derivatives: exact on a circle (measured 4e-16 relative): rounding
+    np.testing.assert_allclose(rho * 1e-3, r[dwell], rtol=1e-12)
     assert view["rho_min"]["unit"] == "mm"
 
 
@@ -74,5 +75,5 @@ def test_a_base_radius_edit_is_written_into_the_file(tmp_path):
     (v,) = cam_editing.panel(analytic.load(str(p))).values()
     assert v["base_radius"] == pytest.approx(0.034, rel=1e-12)           # mm to m: one product
     pitch = np.hypot(v["pitch"]["x"], v["pitch"]["y"])
-    assert pitch.min() == pytest.approx(0.044, rel=1e-6)                 # rounding of the sampled pitch curve
+    assert pitch.min() == pytest.approx(0.044, rel=1e-12)   # the dwell's samples lie on the circle: rounding
     assert math.isclose(v["roller"], 0.010, rel_tol=1e-12)
