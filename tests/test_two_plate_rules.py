@@ -102,7 +102,8 @@ def test_mujocos_pin_touches_the_upper_plate_of_a_two_plate_link():
     from sim.model import parts_scene
     pm = prepared("whitworth")
     L = pm.layout
-    assert L.second["3"][1] == pytest.approx((48.0, 58.0))   # the lever's upper plate [mm]
+    # the lever's upper plate [mm]: sums of the plates' thicknesses and the gaps, exact to rounding
+    assert L.second["3"][1] == pytest.approx((48.0, 58.0), abs=1e-9)
     layout = dataclasses.replace(L, pins={**L.pins, "O": (49.0, 57.0)})
     scene = parts_scene.build(pm.mech, pm.parts, layout, pm.chord, ("O",))
     r = model.settings(pm.mech).pin_diameter / 2
