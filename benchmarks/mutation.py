@@ -78,6 +78,16 @@ SYN_BUILD = "tests/test_synthesis_buildable.py"
 LAWS_SETUPS = "tests/test_load_laws_setups.py"
 CAM_CONTACT = "tests/test_cam_contact.py"
 TOLERANCE = "tests/test_tolerance.py"
+TWO = "tests/test_parts_two_plates.py"
+MASS1 = "tests/test_one_mass_truth.py"
+MRI = "tests/test_motor_relative_import.py"
+SOLVES = "tests/test_solve_counts.py"
+STARTUP = "tests/test_startup_imports.py"
+APP_CAM = "tests/test_app_cam.py"
+TWO_RULES = "tests/test_two_plate_rules.py"
+CAM_FACE = "tests/test_cam_face_and_windows.py"
+PANEL = "tests/test_cam_panel_units.py"
+GUARDS = "tests/test_shared_solve_guards.py"
 
 
 @dataclass(frozen=True)
@@ -651,6 +661,181 @@ MUTATIONS = [
              "if m.links and limits.max_ratio is not None and max(m.links) > limits.max_ratio * min(m.links) * (1 + SLACK_REL):",
              "if m.links and limits.max_ratio is not None and max(m.links[:3]) > limits.max_ratio * min(m.links[:3]) * (1 + SLACK_REL):",
              [SYN_BUILD], "tests/test_synthesis_buildable.py::test_function_min_link_and_max_ratio_count_the_ground_link"),
+    # (fourth round: the code of the last hours: two-plate links, the trammel's offsets, the cam panel, a flat
+    # face's placement, the cams' compliance, the drives' spread, relative motors, the shared solves, lazy kinds)
+    Mutation("two-plates-swapped", "analytic/parts/layers.py Layout.plates: a two-plate link's upper plate listed "
+             "first (the BOM's layer and the scene's plate names swapped)", "analytic/parts/layers.py",
+             "return (first, self.second[link]) if", "return (self.second[link], first) if", [TWO_RULES, TWO],
+             "the BOM's layer is the lower plate's, upper_layer the upper's (layer < upper_layer)"),
+    Mutation("two-plates-adjacent", "analytic/parts/layers.py two_plates: a two-plate link's plates on adjacent "
+             "layers (nothing can pass between them)", "analytic/parts/layers.py",
+             "[(a, b) for a in range(k) for b in range(a + 2, k)]", "[(a, b) for a in range(k) for b in range(a + 1, k)]",
+             [TWO_RULES, TWO], "every two-plate link has a layer between its plates that a link passing its pin uses"),
+    Mutation("two-plates-stub-short", "analytic/parts/layers.py _two_plate_layout: a pin from a top plate ('above') "
+             "ends at its links' top, not the stack's top", "analytic/parts/layers.py",
+             'hi = top if sp.side == "above" else max(e[1] for e in ends)', "hi = max(e[1] for e in ends)", [TWO_RULES, TWO],
+             "a stub pin from the top plate spans up to the top of the stack"),
+    Mutation("two-plates-ground-pin-floating", "analytic/parts/layers.py _two_plate_layout: a ground pin ('below') "
+             "starts at its links' bottom, not the frame's z = 0", "analytic/parts/layers.py",
+             'lo = 0.0 if sp.side == "below" else min(e[0] for e in ends)', "lo = min(e[0] for e in ends)", [TWO_RULES, TWO],
+             "a ground pin of a two-plate layout reaches the frame (z = 0)"),
+    Mutation("two-plates-span-touching", "analytic/parts/layers.py spans: a ground pin from below allowed where a "
+             "crossing plate shares its top layer", "analytic/parts/layers.py",
+             "            if all(c > hi for c in cross):", "            if all(c >= hi for c in cross):", [TWO_RULES, TWO],
+             "tests/test_parts_two_plates.py (the exported solids never reach into a pin)"),
+    Mutation("mass-two-plate-I-once", "analytic/mass.py parts_inertias: a two-plate link's I of one plate (its mass "
+             "doubled)", "analytic/mass.py", "I=n * mp.I)", "I=mp.I)", [MASS1, TWO],
+             "a two-plate lever's I about its centre by hand (twice the plate's)"),
+    Mutation("mass-two-plate-m-once", "analytic/mass.py parts_inertias: a two-plate link weighed as one plate",
+             "analytic/mass.py", "Inertia(m=n * mp.m,", "Inertia(m=mp.m,", [MASS1, TWO],
+             "tests/test_one_mass_truth.py::test_a_two_plate_link_weighs_both_plates_in_the_bom_and_the_forces"),
+    Mutation("bom-holes-one-plate", "sim/output/parts_files.py bom_rows: a two-plate link's holes of one plate",
+             "sim/output/parts_files.py", '"holes": n * len(part.holes)', '"holes": len(part.holes)', [TWO],
+             "the BOM's holes of a two-plate link: both plates'"),
+    Mutation("bom-volume-one-plate", "sim/output/parts_files.py bom_rows: a two-plate link's volume of one plate",
+             "sim/output/parts_files.py", '"volume": n * mp.volume', '"volume": mp.volume', [TWO_RULES, TWO, MASS1],
+             "the BOM's volume of a two-plate link against its mass / density"),
+    Mutation("bom-upper-layer-lower", "sim/output/parts_files.py bom_rows: upper_layer the lower plate's layer",
+             "sim/output/parts_files.py", '"upper_layer": plates[1][0] if n == 2', '"upper_layer": plates[0][0] if n == 2',
+             [TWO], "tests/test_parts_two_plates.py::test_bom_lists_a_two_plate_link_as_two_plates"),
+    Mutation("stl-one-plate", "sim/output/parts_files.py: a two-plate link's STL holds its lower plate only",
+             "sim/output/parts_files.py", "for _, (z0, z1) in pm.layout.plates(link)]",
+             "for _, (z0, z1) in pm.layout.plates(link)[:1]]", [TWO],
+             "tests/test_parts_two_plates.py (the exported STL over a dense sweep)"),
+    Mutation("scene-pin-bits-lower-plate", "sim/model/parts_scene.py: a pin collides with the lower plates only (the "
+             "upper plates' layer bits left out)", "sim/model/parts_scene.py",
+             "            for layer, (z0, z1) in layout.plates(ln):\n                if z0 < hi",
+             "            for layer, (z0, z1) in layout.plates(ln)[:1]:\n                if z0 < hi", [TWO_RULES, TWO],
+             "tests/test_parts_two_plates.py::test_interference_checks_every_passed_pin_in_mujoco"),
+    Mutation("scene-pairs-lower-layer", "sim/model/parts_scene.py: the link pairs checked from their lower plates' "
+             "layers only", "sim/model/parts_scene.py", "on = {ln: {k for k, _ in layout.plates(ln)} for ln in links}",
+             "on = {ln: {layout.layers[ln]} for ln in links}", [TWO_RULES, TWO],
+             "a two-plate link's upper plate paired with the links on its layer"),
+    Mutation("trammel-offset-small", "analytic/library/elliptic_trammel.toml: the rod pins' offset c = 60 (under "
+             "(L/2 + 11)/sqrt(2) = 78.4: the rod passes over the crank pin)", "analytic/library/elliptic_trammel.toml",
+             "\nc = 100 ", "\nc = 60 ", [TWO, LIB],
+             "tests/test_parts_two_plates.py::test_elliptic_trammel_builds_without_a_pin_clash"),
+    Mutation("trammel-pin-B-flipped", "analytic/library/elliptic_trammel.toml: the rod's pin B c on the other side of "
+             "its slot", "analytic/library/elliptic_trammel.toml", 'on = "blockB"\nat = ["c", 0]',
+             'on = "blockB"\nat = ["-c", 0]', [LIB, TWO], "the trammel's E on the ellipse (L - b) cos, b sin"),
+    Mutation("cam-face-centre-half-travel", "analytic/cams.py face_centre: half the contact's travel (max - min), not "
+             "its middle", "analytic/cams.py",
+             "return 0.5 * float(np.max(self.face_offset) + np.min(self.face_offset))",
+             "return 0.5 * float(np.max(self.face_offset) - np.min(self.face_offset))", [CAM_CONTACT, CAM_MECH],
+             "tests/test_cam_mechanism.py (the face of face_width covers the contact's travel)"),
+    Mutation("cam-add-flat-mid-sign", "sim/model/cam_contact.py add: a flat face shifted to the guide's right by its "
+             "centre, not its left", "sim/model/cam_contact.py",
+             "pos=loc(px + ht * ux - mid * uy, py + ht * uy + mid * ux)",
+             "pos=loc(px + ht * ux + mid * uy, py + ht * uy - mid * ux)", [CAM_CONTACT, CAM_MECH],
+             "a flat face in a mechanism's model covers the contact's travel"),
+    Mutation("drawing-face-on-foot", "sim/output/drawing.py face_of: a given face_width centred on the foot (the old "
+             "placement), not the contact's travel", "sim/output/drawing.py",
+             "return (ux, uy, mid - 0.5 * w, mid + 0.5 * w)", "return (ux, uy, -0.5 * w, 0.5 * w)",
+             [CAM_FACE, CAMS, "tests/test_cam_drawing.py"], "the drawn face holds the touching corner at every pose"),
+    Mutation("cams-window-not-centred", "sim/run/cams.py window_means: each window starting at its step, not "
+             "centred on it", "sim/run/cams.py", "start = np.clip(at - (w - 1) // 2, 0, n - w)",
+             "start = np.clip(at, 0, n - w)", [CAM_FACE, CAM_MECH, CAM_CONTACT, "tests/test_forces_mujoco.py"],
+             "window_means on a hand ramp: the mean of a centred window is the value at its step"),
+    Mutation("cams-mean-force-2x", "sim/run/cams.py Compliance.mean_force: twice the bound (the 2 of the speed "
+             "error kept after W = 2 pi tau)", "sim/run/cams.py",
+             "return self.m_eff * self.position / (math.pi * self.tau ** 2)",
+             "return 2 * self.m_eff * self.position / (math.pi * self.tau ** 2)", [CAM_MECH, CAM_CONTACT],
+             "Compliance.mean_force by hand: m_eff T / (pi tau^2)"),
+    Mutation("cam-refusal-in-metres", "analytic/kinds/cam.py check_resolved: a mm file's refusal gives metres "
+             "labelled mm", "analytic/kinds/cam.py", 'return problem[0].format(*(f"{x / per:.4g} {units}"',
+             'return problem[0].format(*(f"{x:.4g} {units}"', [CAMS],
+             "tests/test_cams.py (a mm file's cam refusals in mm)"),
+    Mutation("spread-ignored", "sim/model/build.py regularization: the loops' spread ignored (min(1, SPREAD_REF / "
+             "spread) dropped)", "sim/model/build.py", "return scale * min(1.0, SPREAD_REF / spread)", "return scale",
+             [DRIVES, "tests/test_drives_cycle.py"], "tests/test_drives_cycle.py (excavator_cycle compare)"),
+    Mutation("spread-one-body", "sim/model/build.py loop_spread: one body's invweight0 only (the second site's "
+             "body left out)", "sim/model/build.py",
+             "diag = float(model.body_invweight0[a.bodyid[0], 0] + model.body_invweight0[b.bodyid[0], 0])",
+             "diag = float(model.body_invweight0[a.bodyid[0], 0])", [DRIVES, "tests/test_drives_cycle.py"],
+             "loop_spread by hand on a loop of two known bodies"),
+    Mutation("driven-slides-inverted", "analytic/mechanism.py driven_slides: the slides no input drives",
+             "analytic/mechanism.py", 'if j.kind == "prismatic" and j.input is not None)',
+             'if j.kind == "prismatic" and j.input is None)', [DRIVES, CLI_A],
+             "tests/test_drives.py (s_lift reported once)"),
+    Mutation("memory-most-refused", "sim/service/analysis.py check_memory: the most that fit refused too (< for <=; "
+             "the fault that drops the values a sample lets a 10-million-sample run through: 76 s and 5 GB before "
+             "the test fails, so it is not tried here)", "sim/service/analysis.py",
+             "    if count <= limit:\n        return\n", "    if count < limit:\n        return\n",
+             ["tests/test_run_memory.py"], "tests/test_run_memory.py::test_one_rule_bounds_analyze_forces_and_the_simulation"),
+    Mutation("memory-links-undercounted", "sim/service/analysis.py analysis_values: a link's 4 arrays, not 5",
+             "sim/service/analysis.py", "5 * len(mech.links)", "4 * len(mech.links)", ["tests/test_run_memory.py"],
+             "tests/test_run_memory.py::test_the_analysis_count_covers_every_array_a_solve_makes"),
+    Mutation("door-steps-per-revolution", "sim/service/dynamics.py check_motor_steps: the steps counted over one "
+             "second, not the run", "sim/service/dynamics.py", "steps = float(d.run.t[-1]) / h", "steps = 1.0 / h",
+             ["tests/test_dynamics_door.py"], "tests/test_dynamics_door.py::test_the_step_bound_is_the_doors_..."),
+    Mutation("motor-dyad-dd-sign", "analytic/kinds/motor_dyad.py bent: d' of the wrong sign", "analytic/kinds/motor_dyad.py",
+             "    dd = -a * b * s * thd / d\n", "    dd = a * b * s * thd / d\n", [KINDS, MRI],
+             "the bent link's side against finite differences (tests/kinds/motor_dyad*.toml)"),
+    Mutation("motor-dyad-gdd-swapped", "analytic/kinds/motor_dyad.py bent: gamma'' with (a^2 - b^2), not (b^2 - a^2)",
+             "analytic/kinds/motor_dyad.py", "gdd = g * thdd + a * b * s * (b * b - a * a) * thd * thd / (d2 * d2)",
+             "gdd = g * thdd + a * b * s * (a * a - b * b) * thd * thd / (d2 * d2)", [KINDS, MRI],
+             "a motor_dyad's accelerations against finite differences"),
+    Mutation("motor-dyad-gd-dropped-cos", "analytic/kinds/motor_dyad.py bent: gamma' = b^2 / d^2 theta' (the a b "
+             "cos term dropped)", "analytic/kinds/motor_dyad.py", "g = b * (b + a * c) / d2", "g = b * b / d2",
+             [KINDS, MRI], "a motor_dyad's rates against finite differences"),
+    Mutation("motor-dyad-on-sign", "analytic/kinds/motor_dyad.py roles: the housing on the second link keeps "
+             "theta = +q", "analytic/kinds/motor_dyad.py", "else (second, first, -1)", "else (second, first, 1)",
+             [KINDS, MRI], "tests/kinds/motor_dyad__on_second.toml"),
+    Mutation("motor-from-pmks-reversed", "analytic/kinds/motor.py from_pmks: PMKS's first link driven, relative to "
+             "the second", "analytic/kinds/motor.py", '"link": links[1]}', '"link": links[0]}',
+             [MRI, "tests/test_input_plugin.py"], "a PMKS driver between two moving links: the second link turns"),
+    Mutation("covers-turn-any-law", "analytic/cycle.py covers_turn: any motion law's cycle taken as the turn's "
+             "check (a law that swings back included)", "analytic/cycle.py",
+             "return law is not None and law.rise != 0.0 and self.revolutions == 1.0",
+             "return law is not None and self.revolutions == 1.0", [GUARDS, SOLVES, LAWS],
+             "tests/test_solve_counts.py::test_a_motion_law_that_cannot_turn_fully_is_refused_with_its_limits"),
+    Mutation("jump-rest-poses-always-shared", "sim/service/forces.py jump_speed: the run's rest poses read whatever "
+             "the samples", "sim/service/forces.py",
+             "sol=run.rest if _at_poses(run.rest, run.solution, mech) else None", "sol=run.rest", [SOLVES, CAMS],
+             "tests/test_solve_counts.py::test_jump_speed_of_other_poses_does_not_read_the_runs_rest_poses"),
+    Mutation("jump-rest-rows-shifted", "sim/service/forces.py _solved: the rest poses taken from the moving rows "
+             "(the interleave's even rows)", "sim/service/forces.py",
+             "return take(sol, slice(0, None, 2)), take(sol, slice(1, None, 2))",
+             "return take(sol, slice(0, None, 2)), take(sol, slice(0, None, 2))", [SOLVES, CAMS],
+             "tests/test_solve_counts.py::test_jump_speed_from_the_shared_rest_poses_is_the_one_solved_apart"),
+    Mutation("cam-contact-cycle-first-rows", "sim/run/cams.py _one_cycle: the first 721 dense samples, not every "
+             "5th over the period", "sim/run/cams.py", "rows = cycle.dense[::SAMPLES // CONTACT_SAMPLES]",
+             "rows = cycle.dense[:CONTACT_SAMPLES + 1]", [SOLVES],
+             "tests/test_solve_counts.py::test_cam_contact_from_the_cycle_is_the_one_solved_apart"),
+    Mutation("forces-memo-not-keyed", "linkage/results.py Forces._record: one record whatever the display (the "
+             "first asked for kept)", "linkage/results.py", "        key = display or SI\n", "        key = SI\n",
+             [GUARDS, SOLVES, "tests/test_force_units_display.py", UNITS],
+             "to_dict in mm after passed (SI): the record in mm"),
+    Mutation("lazy-loaded-imports", "analytic/_common.py LazyKinds.loaded: imports the kind's module (as []) ",
+             "analytic/_common.py", "        return self._entries.get(name)\n",
+             "        return self[name] if name in self else None\n", [STARTUP],
+             "tests/test_startup_imports.py (a command loads only the kinds it uses)"),
+    Mutation("lazy-loads-no-getattr", "analytic/loads/__init__.py: the package's PEP 562 __getattr__ gone (a load "
+             "kind's module no attribute of the package until imported: the bug 4f7911f fixed)", "analytic/loads/__init__.py",
+             "def __getattr__(name: str):", "def _getattr(name: str):", [STARTUP, "tests/test_loads.py"],
+             "tests/test_startup_imports.py::test_every_kinds_module_is_an_attribute_of_its_package_though_imported_lazily"),
+    Mutation("lazy-kinds-modules-case", "analytic/kinds/__init__.py: MODULES as the sections' names unlowered "
+             "(analytic.kinds.crank no attribute)", "analytic/kinds/__init__.py",
+             "MODULES = tuple(name.lower() for name in SECTIONS)", "MODULES = tuple(name for name in SECTIONS)",
+             [STARTUP, KINDS], "tests/test_startup_imports.py (each kind's module an attribute of its package)"),
+    Mutation("blas-threads-forced", "sim/front/launch.py: one OpenBLAS thread even where the user set "
+             "OPENBLAS_NUM_THREADS", "sim/front/launch.py", 'os.environ.setdefault("OPENBLAS_NUM_THREADS", BLAS_THREADS)',
+             'os.environ["OPENBLAS_NUM_THREADS"] = BLAS_THREADS', [STARTUP],
+             "tests/test_startup_imports.py::test_a_command_asks_openblas_for_one_thread_unless_told"),
+    Mutation("panel-arm-in-radians", "sim/service/cam_editing.py view: an arm's lift sent in rad labelled deg",
+             "sim/service/cam_editing.py", "f = math.degrees(1.0) if arm else 1.0 / k", "f = 1.0 if arm else 1.0 / k",
+             [PANEL, APP_CAM], "tests/test_app_cam.py (an oscillating cam's SVAJ by hand)"),
+    Mutation("panel-rho-in-metres", "sim/service/cam_editing.py view: the profile's rho in metres labelled in the "
+             "file's unit", "sim/service/cam_editing.py", '"rho": _list(rho[pick] / k)', '"rho": _list(rho[pick])',
+             [PANEL, APP_CAM], "the profile's rho in a mm file by hand (a circle's)"),
+    Mutation("panel-pa-max-signed", "sim/service/cam_editing.py view: the largest pressure angle's mark at the most "
+             "positive angle, not the largest |angle|", "sim/service/cam_editing.py",
+             "i_pa = int(np.nanargmax(np.abs(pa)))", "i_pa = int(np.nanargmax(pa))", [PANEL, APP_CAM],
+             "tests/test_app_cam.py::test_the_largest_pressure_angle_is_the_pitch_curve_normal_against_the_guide"),
+    Mutation("panel-base-radius-not-written", "sim/service/cam_editing.py edited_text: a base radius edit not "
+             "written into a TOML file", "sim/service/cam_editing.py",
+             'for key in ("roller", "base_radius"):\n        if key in edit:\n            table[key] = edit[key]',
+             'for key in ("roller",):\n        if key in edit:\n            table[key] = edit[key]', [PANEL, APP_CAM], "an edit of base_radius written and read back"),
 ]
 
 
