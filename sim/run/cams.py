@@ -28,8 +28,8 @@ def impulse_mean(x: np.ndarray) -> np.ndarray:
 
 
 def window_steps() -> int:
-    """The steps of the contact's ring period 2 pi tau (tau = CONTACT_STEPS steps: 50), over which the contact's
-    impulses are summed (:func:`impulse_mean`, :func:`window_means`)."""
+    """The steps of the contact's ring period 2 pi tau (tau = CONTACT_STEPS = 8 steps: a window of 50 steps),
+    over which the contact's impulses are summed (:func:`impulse_mean`, :func:`window_means`)."""
     from sim.model.cam_contact import CONTACT_STEPS
     return int(round(2 * math.pi * CONTACT_STEPS))
 
