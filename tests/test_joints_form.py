@@ -21,6 +21,7 @@ from analytic import FileError, kinds
 from analytic.format import foreign
 
 import cli_runner  # the command in this process (tests/cli_runner.py)
+from fourbar_text import joints_fourbar_text  # the mm four-bar in the links-and-joints form
 
 EXAMPLES = Path(__file__).parent / "peers_examples"
 POSE_TOL = 1e-9     # / size: the pose's positions through the derived lengths and angles (rounding, ~1e-15)
@@ -181,56 +182,7 @@ def form_and_mech(path: Path, inputs=None):
     return form, analytic.registry.Mechanism.from_definition(foreign.definition(path, inputs), {})
 
 
-FOURBAR = """
-format = "linkage/1"
-name = "fourbar_lj"
-units = "mm"
-output = "E"
-
-[pose]
-A = [0, 0]
-D = [80, 0]
-B = [12.5, 21.6506]
-C = [74.2099, 54.6944]
-E = [29.506, 53.4436]
-
-[[links]]
-name = "crank"
-points = ["A", "B"]
-
-[[links]]
-name = "coupler"
-points = ["B", "C", "E"]
-
-[[links]]
-name = "rocker"
-points = ["D", "C"]
-
-[[joints]]
-kind = "R"
-point = "A"
-links = ["ground", "crank"]
-
-[[joints]]
-kind = "R"
-point = "B"
-links = ["crank", "coupler"]
-
-[[joints]]
-kind = "R"
-point = "C"
-links = ["coupler", "rocker"]
-
-[[joints]]
-kind = "R"
-point = "D"
-links = ["rocker", "ground"]
-
-[[inputs]]
-kind = "crank"
-pivot = "A"
-point = "B"
-"""
+FOURBAR = joints_fourbar_text('kind = "crank"\npivot = "A"\npoint = "B"', name="fourbar_lj")
 
 
 def test_fourbar_against_hand_geometry():

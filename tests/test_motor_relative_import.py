@@ -16,6 +16,7 @@ import pytest
 
 import analytic
 from tests.cli_runner import run
+from tests.fourbar_text import joints_fourbar_text  # the mm four-bar in the links-and-joints form
 
 A_, B_, C_, G_ = 100.0, 350.0, 300.0, 400.0       # |A0 A|, |A B|, |B B0|, |A0 B0| [mm]
 Q0 = math.radians(60.0)                          # the crank's direction in the drawn pose
@@ -169,54 +170,7 @@ def test_a_bad_relative_driver_is_refused_in_one_line_naming_the_joint(tmp_path,
     assert "\n" not in line and "Traceback" not in line and "J1" in line and what in line, line
 
 
-JOINTS_FORM = """
-format = "linkage/1"
-units = "mm"
-output = "E"
-
-[pose]
-A = [0, 0]
-D = [80, 0]
-B = [12.5, 21.6506]
-C = [74.2099, 54.6944]
-E = [29.506, 53.4436]
-
-[[links]]
-name = "crank"
-points = ["A", "B"]
-
-[[links]]
-name = "coupler"
-points = ["B", "C", "E"]
-
-[[links]]
-name = "rocker"
-points = ["D", "C"]
-
-[[joints]]
-kind = "R"
-point = "A"
-links = ["ground", "crank"]
-
-[[joints]]
-kind = "R"
-point = "B"
-links = ["crank", "coupler"]
-
-[[joints]]
-kind = "R"
-point = "C"
-links = ["coupler", "rocker"]
-
-[[joints]]
-kind = "R"
-point = "D"
-links = ["rocker", "ground"]
-
-[[inputs]]
-kind = "motor"
-joint = "B"
-"""
+JOINTS_FORM = joints_fourbar_text('kind = "motor"\njoint = "B"')
 
 
 def test_a_links_and_joints_motor_at_the_coupler_joint_drives_the_coupler_and_places_its_third_point():
