@@ -32,25 +32,24 @@ def cam_server():
 
 
 @pytest.fixture
-def page(cam_server):
-    with sync_api.sync_playwright() as p:
-        b = p.chromium.launch(executable_path=CHROMIUM, args=ARGS)
-        ctx = b.new_context(viewport={"width": 1500, "height": 1700})
-        pg = ctx.new_page()
-        pg.set_default_timeout(TIMEOUT_MS)
-        errors = []
-        pg.on("pageerror", lambda e: errors.append(f"pageerror: {e}"))
-        # a refused edit is a 400 answer, which the browser logs as a failed resource: not a page error
-        pg.on("console", lambda m: errors.append(f"console.{m.type}: {m.text}")
-              if m.type == "error" and "status of 400" not in m.text else None)
-        pg.goto(cam_server.url)
-        pg.wait_for_function("window.linkageState && window.linkageState.figures")
-        pg.click("#tab-cam")
-        pg.wait_for_function("window.linkageCam && window.linkageCamPlots && window.linkageCamPlots.length === 4")
-        yield pg
-        ctx.close()
-        b.close()
-        assert errors == []
+def page(cam_server, browser):
+    """A fresh page on the Cam tab (``browser``: tests/conftest.py, launched with this module's CHROMIUM and
+    ARGS); no page error or console error may have been logged by its end."""
+    ctx = browser.new_context(viewport={"width": 1500, "height": 1700})
+    pg = ctx.new_page()
+    pg.set_default_timeout(TIMEOUT_MS)
+    errors = []
+    pg.on("pageerror", lambda e: errors.append(f"pageerror: {e}"))
+    # a refused edit is a 400 answer, which the browser logs as a failed resource: not a page error
+    pg.on("console", lambda m: errors.append(f"console.{m.type}: {m.text}")
+          if m.type == "error" and "status of 400" not in m.text else None)
+    pg.goto(cam_server.url)
+    pg.wait_for_function("window.linkageState && window.linkageState.figures")
+    pg.click("#tab-cam")
+    pg.wait_for_function("window.linkageCam && window.linkageCamPlots && window.linkageCamPlots.length === 4")
+    yield pg
+    ctx.close()
+    assert errors == []
 
 
 def shot(pg, name, selector="#analysis-panel"):
