@@ -37,6 +37,17 @@ PRESSURE_UNITS = {"Pa": 1.0, "kPa": 1e3, "MPa": 1e6, "bar": 1e5, "psi": FORCE_UN
 """Pascals per pressure unit (bar: 1e5 Pa exactly; psi: lbf per square inch, ~6894.757 Pa)."""
 
 
+def lengths_in(units: str):
+    """Lengths [m] as a file writes them, for its messages: ``f(x)`` gives "950 mm", ``f(lo, hi)`` "[950, 2700]
+    mm" (``units``: the file's, one of :data:`LENGTH_UNITS`; ``digits``: significant digits, default as :g)."""
+    per = LENGTH_UNITS[units]
+
+    def say(*xs: float, digits: int | None = None) -> str:
+        text = [f"{x / per:.{digits}g}" if digits else f"{x / per:g}" for x in xs]
+        return f"{text[0]} {units}" if len(text) == 1 else f"[{', '.join(text)}] {units}"
+    return say
+
+
 def parse_pressure(text: str, what: str = "--pressure") -> float:
     """``text`` such as ``"200bar"``, ``"20 MPa"`` or ``"3000psi"`` in Pa (a bare number is Pa); a
     ParameterError naming ``what`` and the units accepted otherwise, or where the pressure is not > 0."""

@@ -21,6 +21,7 @@ import math
 
 import numpy as np
 
+from ..quantities import lengths_in
 from .base import GROUND, SIZE_PER_SECOND, Cylinder, Field, Kind, LinkPart, Slide, State, Structure
 
 STROKE_ROUNDING = 1e-12
@@ -32,18 +33,6 @@ ALONG = 1e-5
 """[rad] A P joint's written direction this close to the line through the cylinder's pins is along it: an angle
 written to 6 significant digits of degrees (as the importers write a peer's slide) is within 5e-4 deg, 8.7e-6
 rad, of its value."""
-
-
-def _in(units: str):
-    """Lengths [m] as the file writes them: ``f(x)`` gives "950 mm", ``f(lo, hi)`` "[950, 2700] mm" (``units``:
-    the file's, one of analytic.quantities.LENGTH_UNITS; ``digits``: significant digits, default as :g)."""
-    from analytic.quantities import LENGTH_UNITS
-    per = LENGTH_UNITS[units]
-
-    def say(*xs: float, digits: int | None = None) -> str:
-        text = [f"{x / per:.{digits}g}" if digits else f"{x / per:g}" for x in xs]
-        return f"{text[0]} {units}" if len(text) == 1 else f"[{', '.join(text)}] {units}"
-    return say
 
 
 class Actuator(Kind):
@@ -171,7 +160,7 @@ class Actuator(Kind):
 
     def check_resolved(self, e, units="m"):
         lo, hi = e["stroke"]
-        u = _in(units)
+        u = lengths_in(units)
         if not hi > lo:
             return f"field 'stroke': the extended length {u(hi)} must exceed the retracted {u(lo)}"
         l0 = e["l0"]
@@ -200,14 +189,14 @@ class Actuator(Kind):
         k = int(np.argmax(out))
         over, under = float(np.max(q)) - hi, lo - float(np.min(q))
         end, by, edge = ("extended", over, hi) if over > under else ("retracted", under, lo)
+        u = lengths_in(units)
         if t is not None:                            # the crossing, between the samples on either side of it
             t = np.asarray(t, dtype=float)
             edge_k = hi if q[k] > hi else lo
             at = float(t[k]) if k == 0 else float(t[k - 1] + (edge_k - q[k - 1]) / (q[k] - q[k - 1]) * (t[k] - t[k - 1]))
             when = f"at t = {at:.4g} s"
         else:
-            when = f"where {column} reaches {_in(units)(q[k], digits=6)}"
-        u = _in(units)
+            when = f"where {column} reaches {u(q[k], digits=6)}"
         return (f"field 'stroke': the motion leaves the stroke {u(lo, hi)} {when} and goes {u(by, digits=4)} "
                 f"beyond the {end} length {u(edge)}; shorten the motion (or its speed) or lengthen the stroke")
 

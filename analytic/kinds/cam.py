@@ -26,7 +26,7 @@ import math
 import numpy as np
 
 from analytic import cams as C
-from ..quantities import ANGLE, LENGTH, LENGTH_UNITS
+from ..quantities import ANGLE, LENGTH, LENGTH_UNITS, lengths_in
 from .base import GROUND, Coupling, ExtraOutput, Field, Kind, LinkPart, Slide, State, Structure, slide_origin
 
 GEOMETRY = "profile"
@@ -157,8 +157,8 @@ class Cam(Kind):
             return problem or None
         if problem[0] is GEOMETRY:
             return C.problems(C.build(e["setup"]), (LENGTH_UNITS[units], units))
-        per = LENGTH_UNITS[units]
-        return problem[0].format(*(f"{x / per:.4g} {units}" for x in problem[1:]))
+        say = lengths_in(units)
+        return problem[0].format(*(say(x, digits=4) for x in problem[1:]))
 
     def extent(self, e):
         return max(abs(e["base_radius"]) + abs(e["roller"]) + abs(e["arm"]), 0.0)
