@@ -254,36 +254,49 @@ def build(setup: Setup, n: int = DENSE) -> CamGeometry:
                        g["face_offset"])
 
 
+def defects(geo: CamGeometry) -> tuple[np.ndarray, int | None, str]:
+    """Where the profile cannot be made: a boolean per sample, the sample :func:`problems` names (None where
+    there is none) and what it is: "cusp" (a flat face's profile turning back, rho <= 0, at its most negative;
+    or the pitch curve stopping and turning, |P'| = 0, at its first sample), "undercut" (the roller larger than
+    the pitch curve's radius of curvature, at its tightest) or ""."""
+    st = geo.setup
+    if st.contact == "flat":
+        bad = geo.rho <= 0
+        if not bad.any():
+            return bad, None, ""
+        return bad, int(np.flatnonzero(bad)[np.argmin(geo.rho[bad])]), "cusp"
+    cusp = np.isnan(geo.rho_pitch)
+    if cusp.any():
+        return cusp, int(np.flatnonzero(cusp)[0]), "cusp"
+    rr = st.roller if st.contact == "roller" else 0.0
+    bad = (geo.rho_pitch > 0) & (geo.rho_pitch <= rr)
+    if not bad.any():
+        return bad, None, ""
+    return bad, int(np.flatnonzero(bad)[np.argmin(geo.rho_pitch[bad])]), "undercut"
+
+
 def problems(geo: CamGeometry, unit: tuple[float, str] = (1.0, "m")) -> str | None:
-    """Why the cam cannot be made (one line, saying at which cam angle), or None: an undercut, a cusp, or a
-    flat face narrower than the contact's travel. ``unit``: (metres per display unit, its name)."""
+    """Why the cam cannot be made (one line, saying at which cam angle), or None: an undercut, a cusp
+    (:func:`defects`), or a flat face narrower than the contact's travel. ``unit``: (metres per display unit,
+    its name)."""
     st = geo.setup
     k = unit[0]
-
-    def deg(i):
-        return f"{math.degrees(geo.theta[i]):.4g}deg"
-
-    if st.contact != "flat" and np.isnan(geo.rho_pitch).any():      # |P'| = 0: the pitch curve stops and turns
-        i = int(np.flatnonzero(np.isnan(geo.rho_pitch))[0])
-        return f"the pitch curve has a cusp at cam angle {deg(i)}; make the base radius larger or the rise gentler"
-    if st.contact == "flat":
-        bad = np.flatnonzero(geo.rho <= 0)
-        if len(bad):
-            i = int(bad[np.argmin(geo.rho[bad])])
-            return (f"the profile has a cusp (undercut) at cam angle {deg(i)}: radius of curvature "
-                    f"{geo.rho[i] / k:.4g} {unit[1]} <= 0; make base_radius at least {(st.base_radius - geo.rho[i]) / k:.4g} "
-                    f"{unit[1]}")
-        if st.face_width is not None and st.face_width < geo.face_travel:
-            return (f"field 'face_width': {st.face_width / k:.4g} {unit[1]} is narrower than the contact's travel "
-                    f"along the face, {geo.face_travel / k:.4g} {unit[1]}; make it at least that")
-        return None
-    rr = st.roller if st.contact == "roller" else 0.0
-    bad = np.flatnonzero((geo.rho_pitch > 0) & (geo.rho_pitch <= rr))
-    if len(bad):
-        i = int(bad[np.argmin(geo.rho_pitch[bad])])
-        return (f"the profile undercuts at cam angle {deg(i)}: the roller ({rr / k:.4g} {unit[1]}) is larger than the "
+    _, i, what = defects(geo)
+    at = None if i is None else f"{math.degrees(geo.theta[i]):.4g}deg"
+    if what == "cusp" and st.contact != "flat":
+        return f"the pitch curve has a cusp at cam angle {at}; make the base radius larger or the rise gentler"
+    if what == "cusp":
+        return (f"the profile has a cusp (undercut) at cam angle {at}: radius of curvature "
+                f"{geo.rho[i] / k:.4g} {unit[1]} <= 0; make base_radius at least {(st.base_radius - geo.rho[i]) / k:.4g} "
+                f"{unit[1]}")
+    if what == "undercut":
+        rr = st.roller if st.contact == "roller" else 0.0
+        return (f"the profile undercuts at cam angle {at}: the roller ({rr / k:.4g} {unit[1]}) is larger than the "
                 f"pitch curve's radius of curvature there ({geo.rho_pitch[i] / k:.4g} {unit[1]}); use a smaller roller or "
                 f"a larger base radius")
+    if st.contact == "flat" and st.face_width is not None and st.face_width < geo.face_travel:
+        return (f"field 'face_width': {st.face_width / k:.4g} {unit[1]} is narrower than the contact's travel "
+                f"along the face, {geo.face_travel / k:.4g} {unit[1]}; make it at least that")
     return None
 
 

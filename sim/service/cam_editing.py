@@ -58,21 +58,6 @@ def _name(fields: dict) -> str:
     return name.replace("{point}", str(fields.get("point")))
 
 
-def _mask_and_worst(geo):
-    """(where the profile undercuts or has a cusp: a boolean per sample, the sample :func:`analytic.cams.problems`
-    names, or None): the same conditions as it checks."""
-    st = geo.setup
-    if st.contact == "flat":
-        bad = geo.rho <= 0
-        return bad, (int(np.flatnonzero(bad)[np.argmin(geo.rho[bad])]) if bad.any() else None)
-    cusp = np.isnan(geo.rho_pitch)
-    if cusp.any():
-        return cusp, int(np.flatnonzero(cusp)[0])
-    rr = st.roller if st.contact == "roller" else 0.0
-    bad = (geo.rho_pitch > 0) & (geo.rho_pitch <= rr)
-    return bad, (int(np.flatnonzero(bad)[np.argmin(geo.rho_pitch[bad])]) if bad.any() else None)
-
-
 def view(setup, unit: tuple[float, str]) -> dict:
     """The panel's data for a cam of ``setup`` (:class:`analytic.cams.Setup`); ``unit``: (metres per file unit,
     its name). See the module docstring for the units."""
@@ -95,7 +80,7 @@ def view(setup, unit: tuple[float, str]) -> dict:
     i_rho = int(np.nanargmin(rho)) if np.isfinite(rho).any() else 0
     convex = np.where(rho > 0, rho, np.inf)
     i_sharp = int(np.argmin(convex)) if np.isfinite(convex).any() else None
-    bad, worst = _mask_and_worst(dense)
+    bad, worst, _ = cams.defects(dense)
     problem = cams.problems(dense, unit)
     kc = dense.contact_cam
 
