@@ -125,6 +125,17 @@ def keep_freed_memory() -> bool:
         return False
 
 
+def module_getattr(package: str, modules: tuple[str, ...]):
+    """A package's ``__getattr__`` (PEP 562) that gives each of its ``modules`` as an attribute, imported on
+    first use as :class:`LazyKinds` imports it (``analytic.loads.torque`` reads as when the package imported
+    every kind up front)."""
+    def __getattr__(name: str):
+        if name in modules:
+            return importlib.import_module(f"{package}.{name}")
+        raise AttributeError(f"module {package!r} has no attribute {name!r}")
+    return __getattr__
+
+
 class LazyKinds(MutableMapping):
     """{name: the ``KIND`` of module ``package.NAME`` (lower case)} for ``names``, in their order, each module
     imported when its kind is first asked for (a command loads the modules of the kinds its mechanism uses).

@@ -4,7 +4,7 @@ protocol every kind implements), listed here once. Nothing outside a kind's modu
 
 from __future__ import annotations
 
-from analytic._common import LazyKinds
+from analytic._common import LazyKinds, module_getattr
 
 from .base import GROUND, Kind
 
@@ -52,11 +52,4 @@ def of_section(section: str) -> tuple[str, ...]:
 
 __all__ = ["KINDS", "MODULES", "SECTIONS", "GROUND", "Kind", "get", "of_section"]
 
-
-def __getattr__(name: str):
-    """A kind's module as an attribute of the package (``analytic.kinds.crank``), imported on first use as
-    :data:`KINDS` imports it (PEP 562): the package no longer imports every kind up front."""
-    if name in MODULES:
-        import importlib
-        return importlib.import_module(f"{__name__}.{name}")
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+__getattr__ = module_getattr(__name__, MODULES)

@@ -13,7 +13,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
-from analytic._common import LazyKinds
+from analytic._common import LazyKinds, module_getattr
 from analytic.loads import friction
 from analytic.loads.base import Load, LoadKind
 from analytic.loads.common import FORCE_UNITS, Application, LoadError, Scales, State, wanted
@@ -158,11 +158,4 @@ def get(name: str) -> LoadKind:
 __all__ = ["KINDS", "MODULES", "Load", "LoadKind", "get", "tables", "parsed", "LoadSet", "LoadError", "Application", "State", "Scales", "FORCE_UNITS", "parse", "resolve",
            "wanted", "input_names", "check_units"]
 
-
-def __getattr__(name: str):
-    """A kind's module as an attribute of the package (``analytic.loads.torque``), imported on first use as
-    :data:`KINDS` imports it (PEP 562): the package no longer imports every kind up front."""
-    if name in MODULES:
-        import importlib
-        return importlib.import_module(f"{__name__}.{name}")
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+__getattr__ = module_getattr(__name__, MODULES)
