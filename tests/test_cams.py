@@ -629,3 +629,37 @@ def test_the_mechanism_packages_readme_cam_to_its_printed_digits():
     # a flat face square to its radial guide: the normal is always along the guide (pressure angle 0 by
     # construction, Norton sec. 8.8); rounding only
     assert cam["pressure_angle_max"] <= 1e-12
+
+
+def test_a_textbook_valve_cam_to_its_printed_answers():
+    """A textbook exercise with its printed answers: "Design a cam to raise a valve with simple harmonic motion
+    through 50 mm in 1/3 of a revolution, keep it fully raised through 1/12 revolution and to lower it with
+    harmonic motion in 1/6 revolution. The valve remains closed during the rest of the revolution. The diameter
+    of the roller is 20 mm and the minimum radius of the cam is 25 mm. [...] The axis of the valve rod passes
+    through the axis of the camshaft. If the camshaft rotates at uniform speed of 100 r.p.m.; find the maximum
+    velocity and acceleration of a valve during raising and lowering. [Ans. 0.39 m/s, 0.78 m/s; 6.17 m/s2,
+    24.67 m/s2]" (the exercises of the chapter "Cams" in R.S. Khurmi and J.K. Gupta, Theory of Machines, as
+    quoted at https://www.mycoursehelp.com/QA/design-a-cam-to-raise-a-valve-with-simpl/67124/1). Our file
+    (tests/mechanisms/cam_valve_textbook.toml) states the exercise's data; the answers come from the solved
+    motion, sampled every 0.1 deg, and the plate's outline from the analysis' profile."""
+    import linkage as lk
+    a = lk.analyze(lk.load(HERE / "mechanisms" / "cam_valve_textbook.toml"), samples=3601)
+    turn = np.degrees(np.mod(a["phi1"], 2 * np.pi))
+    raising, lowering = (turn > 0) & (turn < 120), (turn > 150) & (turn < 210)
+    v, acc = a["vyF"], a["ayF"]
+    # the printed answers to one unit of their last digit: the book truncates (pi 0.05 x 10.47 / (2 x 2.094)
+    # = 0.3927 and 0.7854 m/s are printed 0.39 and 0.78)
+    assert abs(v[raising].max() - 0.39) <= 0.01, v[raising].max()
+    assert abs(-v[lowering].min() - 0.78) <= 0.01, v[lowering].min()
+    assert abs(np.abs(acc[raising]).max() - 6.17) <= 0.01, np.abs(acc[raising]).max()
+    assert abs(np.abs(acc[lowering]).max() - 24.67) <= 0.01, np.abs(acc[lowering]).max()
+    # the valve closed, then 50 mm up (the roller's centre on the prime circle, 25 + 10 mm, in line)
+    assert abs(a["yF"].min() - 0.035) <= 1e-12 and abs(a["yF"].max() - 0.085) <= 1e-12
+    r = run("analyze", HERE / "mechanisms" / "cam_valve_textbook.toml", "--json")
+    assert r.returncode == 0, r.stderr
+    outline = np.asarray(json.loads(r.stdout)["cams"]["c1"]["profile"])
+    radius = np.hypot(outline[:, 0], outline[:, 1])
+    # the exercise's least cam radius, 25 mm (the closed dwell is that arc), and the nose 50 mm beyond it (the
+    # roller in line touches the plate on the line of centres when the valve is fully raised): the outline's
+    # 3600 points, rounding only
+    assert abs(radius.min() - 0.025) <= 1e-9 and abs(radius.max() - 0.075) <= 1e-9, (radius.min(), radius.max())
