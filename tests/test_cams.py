@@ -639,7 +639,10 @@ def test_a_textbook_valve_cam_to_its_printed_answers():
     through the axis of the camshaft. If the camshaft rotates at uniform speed of 100 r.p.m.; find the maximum
     velocity and acceleration of a valve during raising and lowering. [Ans. 0.39 m/s, 0.78 m/s; 6.17 m/s2,
     24.67 m/s2]" (the exercises of the chapter "Cams" in R.S. Khurmi and J.K. Gupta, Theory of Machines, as
-    quoted at https://www.mycoursehelp.com/QA/design-a-cam-to-raise-a-valve-with-simpl/67124/1). Our file
+    quoted at https://www.mycoursehelp.com/QA/design-a-cam-to-raise-a-valve-with-simpl/67124/1). The same
+    valve is B.K. Sarkar's worked Illustration 3 (Theory of Machines, ch. 9, p. 249), whose FOSSEE companion
+    (github.com/FOSSEE/Python-Textbook-Companions, Theory_Of_Machines_by_B._K._Sarkar/Chapter9_1.ipynb)
+    prints 6.2 and 24.7 m/s2 for the two accelerations. Our file
     (tests/mechanisms/cam_valve_textbook.toml) states the exercise's data; the answers come from the solved
     motion, sampled every 0.1 deg, and the plate's outline from the analysis' profile."""
     import linkage as lk
