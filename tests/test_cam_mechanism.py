@@ -49,6 +49,9 @@ def test_cam_roller_passes_compare_below_its_jump_speed():
     assert r.returncode == 0, r.stdout + r.stderr
     c = json.loads(r.stdout)
     assert c["passed"], c
+    # the work balance is reported, not judged, with a cam (its contact's damping dissipates energy): no
+    # tolerance is given for it that the verdict ignores
+    assert c["work_tol"] is None and c["work_balance"] > 0, (c["work_tol"], c["work_balance"])
     e = c["errors"]["sfollower"]
     assert e["max"] <= e["tol"], e
     # and on the law within 2 % of its 20 mm stroke whatever that tolerance (measured 1 %: 0.20 mm; the stated
