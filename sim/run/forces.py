@@ -193,7 +193,7 @@ def settle(model, data) -> None:
     a drive's rotor torque (armature x qacc) reached 1e4 times the link torques (a rocking four-bar at its
     turnaround), with M qacc - qfrc - J' f = 3e-3 N m. The dual solve is conditioned like A itself."""
     n = data.nefc
-    if n and np.all(np.asarray(data.efc_type[:n]) == mujoco.mjtConstraint.mjCNSTR_EQUALITY):
+    if n and data.ne == n:                                    # the rows are equalities only (they come first)
         nv = model.nv
         if mujoco.mj_isSparse(model):
             J = np.zeros((n, nv))
@@ -223,16 +223,20 @@ def cam_pairs(model, mech) -> tuple:
 
 def contact_forces(model, data, pairs) -> np.ndarray:
     """The normal force [N] of each cam's contact (``pairs``: :func:`cam_pairs`), summed over its active
-    contact rows (frictionless, condim 1: one row per contact, its force along the normal)."""
-    out = np.zeros(len(pairs))
-    for r in range(data.nefc):
-        if data.efc_type[r] != mujoco.mjtConstraint.mjCNSTR_EQUALITY:
-            con = data.contact[int(data.efc_id[r])]
-            b = {int(model.geom_bodyid[con.geom[0]]), int(model.geom_bodyid[con.geom[1]])}
-            for k, pair in enumerate(pairs):
-                if b == set(pair):
-                    out[k] += data.efc_force[r]
-    return out
+    contact rows in their order (frictionless, condim 1: one row per contact, its force along the normal;
+    MuJoCo orders the rows equalities first, ``data.ne`` of them, then the others: here contacts only)."""
+    out = [0.0] * len(pairs)
+    n, ne = data.nefc, data.ne
+    if n > ne and pairs:
+        which = {}
+        for k, (a, b) in enumerate(pairs):
+            which[a, b] = which[b, a] = k
+        bodies = model.geom_bodyid[data.contact.geom[data.efc_id[ne:n]]].tolist()   # each row's two bodies
+        for (a, b), f in zip(bodies, data.efc_force[ne:n].tolist()):
+            k = which.get((a, b))
+            if k is not None:
+                out[k] += f
+    return np.array(out)
 
 
 def reader(model, mech=None):
@@ -243,7 +247,7 @@ def reader(model, mech=None):
 
     def read(data):
         settle(model, data)
-        eq = int(np.sum(np.asarray(data.efc_type[:data.nefc]) == mujoco.mjtConstraint.mjCNSTR_EQUALITY))
+        eq = data.ne                                        # MuJoCo orders the rows: equalities first
         return np.concatenate([data.cfrc_int.ravel(), data.subtree_com.ravel(), data.site_xpos.ravel(),
                                data.efc_force[:eq], data.actuator_force, data.qacc, data.xaxis.ravel(),
                                contact_forces(model, data, pairs)])

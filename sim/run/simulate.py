@@ -253,18 +253,18 @@ def replay(built: Built, tr: Trajectory, steps, read) -> tuple[np.ndarray, mujoc
     model = built.model
     steps = np.asarray(steps, dtype=int)
     data = mujoco.MjData(model)
-    ctrl = controls(built, steps * built.timestep)
-    xfrc = None
+    t = steps * built.timestep
+    S = mujoco.mjtState
+    sig = S.mjSTATE_TIME | S.mjSTATE_QPOS | S.mjSTATE_QVEL | S.mjSTATE_ACT | S.mjSTATE_CTRL
+    parts = [t[:, None], tr.qpos[steps], tr.qvel[steps], tr.act[steps], controls(built, t)]
     if built.loadset is not None:
         from sim.model.loads import wrenches
-        xfrc = wrenches(built, steps * built.timestep).xfrc
+        sig |= S.mjSTATE_XFRC_APPLIED
+        parts.append(wrenches(built, t).xfrc.reshape(len(steps), 6 * model.nbody))
+    states = np.concatenate(parts, axis=1)              # each step as one state (in mjtState's order): one call
     out = None
-    for row, k in enumerate(steps):
-        data.qpos[:], data.qvel[:], data.act[:] = tr.qpos[k], tr.qvel[k], tr.act[k]
-        data.ctrl[:] = ctrl[row]
-        if xfrc is not None:
-            data.xfrc_applied[:] = xfrc[row]
-        data.time = k * built.timestep
+    for row, state in enumerate(states):
+        mujoco.mj_setState(model, data, state, sig)
         mujoco.mj_forward(model, data)
         values = read(data)
         if out is None:
