@@ -268,7 +268,6 @@ def _end_accelerations(built, tr: Trajectory, steps, ctrl, xfrc=None, energy: bo
     model = built.model
     data = mujoco.MjData(model)
     dofs = [model.jnt_dofadr[model.joint(d.joint).id] for d in built.drives]
-    out = {}
     S = mujoco.mjtState
     sig = S.mjSTATE_QPOS | S.mjSTATE_QVEL | S.mjSTATE_ACT | S.mjSTATE_CTRL
     steps = np.asarray(steps, dtype=int)
@@ -282,20 +281,24 @@ def _end_accelerations(built, tr: Trajectory, steps, ctrl, xfrc=None, energy: bo
     model.opt.disableflags = off | mujoco.mjtDisableBit.mjDSBL_SENSOR      # qacc and the energy only are read
     if energy:
         model.opt.enableflags = flags | mujoco.mjtEnableBit.mjENBL_ENERGY
+    qacc, energy_at = np.empty((len(steps), model.nv)), np.empty((len(steps), 2))
     try:
         if energy:
             data.qpos[:], data.qvel[:] = tr.qpos[0], tr.qvel[0]
             mujoco.mj_forward(model, data)
-            energies[0] = data.energy[1], data.energy[0]
-        for n, k in enumerate(steps.tolist()):
-            mujoco.mj_setState(model, data, states[n], sig)
+            energies[0] = data.energy
+        for n, state in enumerate(states):
+            mujoco.mj_setState(model, data, state, sig)
             mujoco.mj_forward(model, data)
-            out[k] = data.qacc[dofs].tolist()
+            qacc[n] = data.qacc
             if energy:
-                energies[k + 1] = data.energy[1], data.energy[0]
+                energy_at[n] = data.energy                 # (potential, kinetic)
     finally:
         model.opt.enableflags, model.opt.disableflags = flags, off
-    return out, ((energies[:, 0], energies[:, 1]) if energy else None)
+    if energy:
+        energies[steps + 1] = energy_at
+    out = dict(zip(steps.tolist(), qacc[:, dofs].tolist()))
+    return out, ((energies[:, 1], energies[:, 0]) if energy else None)
 
 
 def compare(tr: Trajectory, built, revolutions: float = 1.0) -> Comparison:
