@@ -1,6 +1,7 @@
 """The compare's cheaper paths (issue 38) give what the plain ones give: the step's peak rate with each interval
 evaluated once (a dwell's plateau of maxima, a steady rate), the energies read from the end-of-step evaluations
-of a run with loads (also when the forces check's replay carries them), a cam's contact force as MuJoCo's own mj_contactForce, and the model's MJCF written only for an export."""
+of a run with loads (also when the forces check's replay carries them), a cam's contact force (MuJoCo's own
+mj_contactForce), and the model's MJCF written only for an export."""
 
 from __future__ import annotations
 
