@@ -225,32 +225,41 @@ def contact_forces(model, data, pairs) -> np.ndarray:
     """The normal force [N] of each cam's contact (``pairs``: :func:`cam_pairs`), summed over its active
     contact rows in their order (frictionless, condim 1: one row per contact, its force along the normal;
     MuJoCo orders the rows equalities first, ``data.ne`` of them, then the others: here contacts only)."""
-    out = [0.0] * len(pairs)
-    n, ne = data.nefc, data.ne
-    if n > ne and pairs:
-        which = {}
-        for k, (a, b) in enumerate(pairs):
-            which[a, b] = which[b, a] = k
-        bodies = model.geom_bodyid[data.contact.geom[data.efc_id[ne:n]]].tolist()   # each row's two bodies
-        for (a, b), f in zip(bodies, data.efc_force[ne:n].tolist()):
-            k = which.get((a, b))
-            if k is not None:
-                out[k] += f
-    return np.array(out)
+    return contacts_reader(model, pairs)(data)
+
+
+def contacts_reader(model, pairs):
+    """:func:`contact_forces` as a function of ``data`` alone, its lookups made once (the replay's reader)."""
+    which = {}
+    for k, (a, b) in enumerate(pairs):
+        which[a, b] = which[b, a] = k
+    body = np.asarray(model.geom_bodyid)
+
+    def forces(data) -> np.ndarray:
+        out = [0.0] * len(pairs)
+        n, ne = data.nefc, data.ne
+        if n > ne and which:
+            bodies = body[data.contact.geom[data.efc_id[ne:n]]].tolist()     # each row's two bodies
+            for (a, b), f in zip(bodies, data.efc_force[ne:n].tolist()):
+                k = which.get((a, b))
+                if k is not None:
+                    out[k] += f
+        return np.array(out)
+    return forces
 
 
 def reader(model, mech=None):
     """The function :func:`sim.run.simulate.replay` calls at each instant: :func:`settle`, then a flat copy of
     what :class:`Record` holds: the equality rows' forces (always the first rows, as many at every step)
     and each cam's contact force (its rows come and go with the contact)."""
-    pairs = cam_pairs(model, mech) if mech is not None else ()
+    contacts = contacts_reader(model, cam_pairs(model, mech) if mech is not None else ())
 
     def read(data):
         settle(model, data)
         eq = data.ne                                        # MuJoCo orders the rows: equalities first
         return np.concatenate([data.cfrc_int.ravel(), data.subtree_com.ravel(), data.site_xpos.ravel(),
                                data.efc_force[:eq], data.actuator_force, data.qacc, data.xaxis.ravel(),
-                               contact_forces(model, data, pairs)])
+                               contacts(data)])
     return read
 
 
@@ -275,7 +284,7 @@ def record(built, tr, steps, ends=None) -> Record:
     carries along (sim.run.simulate.Ends: compare's work balance)."""
     from sim.run.simulate import replay
     model = built.model
-    rows, data = replay(built, tr, steps, reader(model, built.mech), ends)
+    rows, data = replay(built, tr, steps, reader(model, built.mech), ends, sensors=False)   # none read
     return unpack(model, rows, data, len(cam_pairs(model, built.mech)))
 
 

@@ -258,14 +258,15 @@ class Ends:
     energy: bool = False
 
 
-def replay(built: Built, tr: Trajectory, steps, read, ends: Ends | None = None
+def replay(built: Built, tr: Trajectory, steps, read, ends: Ends | None = None, sensors: bool = True
            ) -> tuple[np.ndarray, mujoco.MjData]:
     """``read(data)`` (a flat array) at each recorded step in ``steps`` (indices into the trajectory), after
     ``mj_forward`` on that step's state and controls: what the rollout computed at the step's start (its
     sensors' instant), for what ``rollout`` does not return (constraint forces, ``cfrc_int``). Run only when
     asked (joint forces), so an ordinary simulation costs nothing more. The equality constraints' problem
     is quadratic, so Newton's solver reaches the same forces from any warm start. Returns the stacked reads
-    (len(steps), width) and the MjData of the last step (for the model's row layout).
+    (len(steps), width) and the MjData of the last step (for the model's row layout). ``sensors=False``: the
+    sensors are not evaluated (a ``read`` that reads none of them).
 
     ``ends`` (:class:`Ends`) are evaluated on the way: where the replay has just evaluated a step's end state
     itself, only the acceleration stage is redone under the earlier step's controls and wrenches
@@ -287,7 +288,7 @@ def replay(built: Built, tr: Trajectory, steps, read, ends: Ends | None = None
             states, sig = _states(built, tr, steps, controls(built, steps * built.timestep))
             for row, (k, state) in enumerate(zip(steps.tolist(), states)):
                 mujoco.mj_setState(model, data, state, sig)
-                mujoco.mj_forward(model, data)
+                mujoco.mj_forwardSkip(model, data, mujoco.mjtStage.mjSTAGE_NONE, 0 if sensors else 1)
                 values = read(data)
                 if out is None:
                     out = np.empty((len(steps), len(values)))
