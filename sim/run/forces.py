@@ -229,19 +229,21 @@ def contact_forces(model, data, pairs) -> np.ndarray:
 
 
 def contacts_reader(model, pairs):
-    """:func:`contact_forces` as a function of ``data`` alone, its lookups made once (the replay's reader)."""
+    """:func:`contact_forces` as a function of ``data`` alone, its lookups made once (the replay's reader; a
+    few rows a step: read as Python lists)."""
     which = {}
     for k, (a, b) in enumerate(pairs):
         which[a, b] = which[b, a] = k
-    body = np.asarray(model.geom_bodyid)
+    body = [int(b) for b in model.geom_bodyid]
 
     def forces(data) -> np.ndarray:
         out = [0.0] * len(pairs)
         n, ne = data.nefc, data.ne
         if n > ne and which:
-            bodies = body[data.contact.geom[data.efc_id[ne:n]]].tolist()     # each row's two bodies
-            for (a, b), f in zip(bodies, data.efc_force[ne:n].tolist()):
-                k = which.get((a, b))
+            geoms = data.contact.geom.tolist()
+            for i, f in zip(data.efc_id[ne:n].tolist(), data.efc_force[ne:n].tolist()):   # row: its contact
+                g0, g1 = geoms[i]
+                k = which.get((body[g0], body[g1]))
                 if k is not None:
                     out[k] += f
         return np.array(out)
