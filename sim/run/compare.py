@@ -203,9 +203,9 @@ def work_balance(tr: Trajectory, built, ends: EndEvaluations | None = None) -> f
     # integrals of the Hermite basis from 0 to u (times h)
     Hi = np.array([u - u ** 3 + u ** 4 / 2, u ** 2 / 2 - 2 * u ** 3 / 3 + u ** 4 / 4, u ** 3 - u ** 4 / 2,
                    u ** 4 / 4 - u ** 3 / 3])
-    ends = ends if ends is not None else end_evaluations(tr, built)
-    ctrl = ends.ctrl
-    ends, both = ends.answer()
+    evaluated = ends if ends is not None else end_evaluations(tr, built)
+    ctrl = evaluated.ctrl
+    ends, both = evaluated.answer()
     work = np.zeros(len(tr.t) - 1)
     for k, d in enumerate(built.drives):
         jid = model.joint(d.joint).id
