@@ -15,6 +15,21 @@ Issue 38 (a cam's ``compare`` within 3x the four-bar's): ``python benchmarks/cyc
 (the cap, STEPS_PER_TURN; 1500 fails cam_fourbar's compare) x 4 RK4 evaluations + 2000 end-of-step
 evaluations at ~7.3 us, 4.4 us of them the roller against the plate's pieces; the meshes' compile 14.6 ms.
 benchmarks/RESULTS-2026-12-02.md.
+
+Since then a cam's forces check replays every step (its forces as window means), and a second pass:
+``python benchmarks/cycle.py fourbar cam_roller cam_flat cam_rocker cam_fourbar --repeats 3`` (least CPU of 3),
+two runs, main at 69be754: fourbar 0.035 / 0.034 s, cam_roller 0.186 / 0.184 (5.4x), cam_flat 0.266 / 0.269,
+cam_rocker 0.182 / 0.183, cam_fourbar 0.242 / 0.242; after (the replay's per-step Python cut: contact rows
+read as lists, equality rows counted by ``data.ne``, each state set by one ``mj_setState``, no sensors; the
+work balance's end-of-step evaluations carried by that replay, only the acceleration stage redone,
+``mj_forwardSkip`` from mjSTAGE_VEL): fourbar 0.027 / 0.028, cam_roller 0.140 / 0.140 (5.0x; 4.0x the four-bar's
+0.035 before), cam_flat 0.182 / 0.183, cam_rocker 0.139 / 0.141, cam_fourbar 0.175 / 0.175; every number of
+``compare NAME --json`` identical (not met: 3x). cam_roller's 140 ms after (a ``process_time`` wrapper on each
+function, least of 5): the rollout 50, the forces replay with the carried evaluations 36 (2001 x [mj_forward
+6 us + the acceleration stage again 1.1 us + the reads 5.4 us]), the build 27 (the meshes' compile 14: ~9 us a
+mesh vertex, the same with the hull's faces given or any mesh inertia mode), the rest ~26. As whole commands
+(``python -m sim compare NAME``, median wall of 5): cam_roller / fourbar 0.548 / 0.398 s before, 0.511 / 0.395
+after.
 """
 
 from __future__ import annotations

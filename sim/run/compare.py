@@ -10,6 +10,7 @@ parallelogram's coupler) is not judged against zero. Each constant says which er
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -17,7 +18,7 @@ import numpy as np
 from sim.model import motion_scale
 from sim.model.timestep import reference_rate
 from sim.run import forces as joint_forces
-from sim.run.simulate import Trajectory, energies
+from sim.run.simulate import Ends, Trajectory, controls, energies, replay
 from sim.output.units import output_kind
 
 ANGLE_TOL = 1e-6
@@ -187,7 +188,7 @@ def drive_error(tr: Trajectory, mech) -> float:
     return worst
 
 
-def work_balance(tr: Trajectory, built) -> float:
+def work_balance(tr: Trajectory, built, ends: EndEvaluations | None = None) -> float:
     """max over the run of |work done on the mechanism - change of its energy|, as a fraction of the
     work scale (the kinetic-energy swing, at least WORK_FLOOR of the peak kinetic energy), per revolution.
 
@@ -195,7 +196,8 @@ def work_balance(tr: Trajectory, built) -> float:
     rate, the control, is constant over the step) and qdot the cubic through the step's end speeds and
     accelerations (q its integral): 4-point Gauss quadrature of force x qdot is exact for that motion.
     The load's constant force times the output point's displacement is exact. The energy is MuJoCo's
-    kinetic + potential energy at each recorded state."""
+    kinetic + potential energy at each recorded state. ``ends``: :func:`end_evaluations` of the run (made here
+    when None), which a replay of the run's states may have carried already."""
     model, mech = built.model, built.mech
     h = tr.timestep
     nodes, weights = np.polynomial.legendre.leggauss(4)
@@ -204,16 +206,9 @@ def work_balance(tr: Trajectory, built) -> float:
     # integrals of the Hermite basis from 0 to u (times h)
     Hi = np.array([u - u ** 3 + u ** 4 / 2, u ** 2 / 2 - 2 * u ** 3 / 3 + u ** 4 / 4, u ** 3 - u ** 4 / 2,
                    u ** 4 / 4 - u ** 3 / 3])
-    from sim.run.simulate import controls
-    ctrl = controls(built, np.arange(len(tr.t)) * h)
-    switch_changes = np.flatnonzero(np.abs(np.diff(tr.load)) > 0)
-    xfrc = None
-    if getattr(built, "loadset", None) is not None:       # the loads change at every step (sim.model.loads)
-        from sim.model.loads import wrenches
-        xfrc = wrenches(built, np.arange(len(tr.t)) * h).xfrc
-        switch_changes = np.arange(len(tr.t) - 1)
-    every = len(switch_changes) == len(tr.t) - 1          # then the energies come from the same evaluations
-    ends, both = _end_accelerations(built, tr, switch_changes, ctrl, xfrc, energy=every)
+    evaluated = ends if ends is not None else end_evaluations(tr, built)
+    ctrl = evaluated.ctrl
+    ends, both = evaluated.answer()
     work = np.zeros(len(tr.t) - 1)
     for k, d in enumerate(built.drives):
         jid = model.joint(d.joint).id
@@ -260,45 +255,91 @@ def work_scale(kinetic: np.ndarray, loads=None) -> float:
     return max(float(np.ptp(kinetic)), swing, WORK_FLOOR * float(np.max(np.abs(kinetic))), np.finfo(float).tiny)
 
 
+@dataclass(frozen=True)
+class EndEvaluations:
+    """What the work balance needs MuJoCo to evaluate at the steps' ends (:func:`end_evaluations`): the controls
+    at every step, the request a replay of the run's states can carry (:class:`sim.run.simulate.Ends`: the
+    forces check's, :func:`compare`), and ``answer()``: :func:`_end_accelerations`' answer, the request run
+    alone first where no replay carried it."""
+
+    ctrl: np.ndarray
+    request: Ends
+    answer: Callable
+
+
+def end_evaluations(tr: Trajectory, built) -> EndEvaluations:
+    """The work balance's end-of-step evaluations of run ``tr``: at the steps where the load switched, at every
+    step with the file's loads (whose wrenches change at every step), the energies then read there too."""
+    h = tr.timestep
+    ctrl = controls(built, np.arange(len(tr.t)) * h)
+    switch_changes = np.flatnonzero(np.abs(np.diff(tr.load)) > 0)
+    xfrc = None
+    if getattr(built, "loadset", None) is not None:       # the loads change at every step (sim.model.loads)
+        from sim.model.loads import wrenches
+        xfrc = wrenches(built, np.arange(len(tr.t)) * h).xfrc
+        switch_changes = np.arange(len(tr.t) - 1)
+    every = len(switch_changes) == len(tr.t) - 1          # then the energies come from the same evaluations
+    return EndEvaluations(ctrl, *_end_request(built, tr, switch_changes, ctrl, xfrc, energy=every))
+
+
+def _end_request(built, tr: Trajectory, steps, ctrl, xfrc=None, energy: bool = False) -> tuple[Ends, Callable]:
+    """:func:`_end_accelerations`' evaluations as a request a replay carries (sim.run.simulate.Ends) and the
+    function that gives their answer (running the request alone where no replay carried it)."""
+    import mujoco
+    model = built.model
+    steps = np.asarray(steps, dtype=int)
+    S = mujoco.mjtState
+    sig, parts = S.mjSTATE_CTRL, [ctrl[steps]]
+    if xfrc is not None:
+        sig |= S.mjSTATE_XFRC_APPLIED
+        parts.append(xfrc[steps].reshape(len(steps), 6 * model.nbody))
+    qacc, energy_at = np.empty((len(steps), model.nv)), np.empty((len(steps), 2))
+    seen = np.zeros(len(steps), dtype=bool)
+
+    def read(n, data):
+        qacc[n] = data.qacc
+        energy_at[n] = data.energy                         # (potential, kinetic); zeros unless ``energy``
+        seen[n] = True
+    request = Ends(steps, np.concatenate(parts, axis=1), int(sig), read, energy)
+
+    def answer():
+        if not seen.all():                                 # no replay carried them: evaluated alone
+            replay(built, tr, (), None, request)
+        dofs = [model.jnt_dofadr[model.joint(d.joint).id] for d in built.drives]
+        out = dict(zip(steps.tolist(), qacc[:, dofs].tolist()))
+        if not energy:
+            return out, None
+        energies = np.empty((len(tr.t), 2))
+        energies[0] = _energy(model, tr.qpos[0], tr.qvel[0])
+        energies[steps + 1] = energy_at
+        return out, (energies[:, 1], energies[:, 0])
+    return request, answer
+
+
+def _energy(model, qpos, qvel) -> np.ndarray:
+    """MuJoCo's (potential, kinetic) energy [J] of one state (sim.run.simulate.energies' evaluation)."""
+    import mujoco
+    data = mujoco.MjData(model)
+    flags, off = model.opt.enableflags, model.opt.disableflags
+    model.opt.enableflags = flags | mujoco.mjtEnableBit.mjENBL_ENERGY
+    model.opt.disableflags = off | mujoco.mjtDisableBit.mjDSBL_SENSOR
+    try:
+        data.qpos[:], data.qvel[:] = qpos, qvel
+        mujoco.mj_forward(model, data)
+        return data.energy.copy()
+    finally:
+        model.opt.enableflags, model.opt.disableflags = flags, off
+
+
 def _end_accelerations(built, tr: Trajectory, steps, ctrl, xfrc=None, energy: bool = False):
     """Each drive's joint acceleration at the end of each step in ``steps`` under that step's controls (and
     body wrenches ``xfrc``, the file's loads), needed where the load switched between steps: ({step: [each
     drive's]}, None). ``energy`` (``steps`` is every step): MuJoCo's kinetic and potential energy at every
     recorded state too, as :func:`sim.run.simulate.energies` gives them, read from the same evaluations (the
     energy depends on the state alone, not on the controls or the wrenches; a cam's contacts make each
-    evaluation costly): ({...}, (kinetic, potential))."""
-    import mujoco
-    model = built.model
-    data = mujoco.MjData(model)
-    dofs = [model.jnt_dofadr[model.joint(d.joint).id] for d in built.drives]
-    out = {}
-    S = mujoco.mjtState
-    sig = S.mjSTATE_QPOS | S.mjSTATE_QVEL | S.mjSTATE_ACT | S.mjSTATE_CTRL
-    steps = np.asarray(steps, dtype=int)
-    parts = [tr.qpos[steps + 1], tr.qvel[steps + 1], tr.act[steps + 1], ctrl[steps]]
-    if xfrc is not None:
-        sig |= S.mjSTATE_XFRC_APPLIED
-        parts.append(xfrc[steps].reshape(len(steps), 6 * model.nbody))
-    states = np.concatenate(parts, axis=1)              # each step's end as one state: one call sets it
-    energies = np.empty((len(tr.t), 2)) if energy else None
-    flags, off = model.opt.enableflags, model.opt.disableflags
-    model.opt.disableflags = off | mujoco.mjtDisableBit.mjDSBL_SENSOR      # qacc and the energy only are read
-    if energy:
-        model.opt.enableflags = flags | mujoco.mjtEnableBit.mjENBL_ENERGY
-    try:
-        if energy:
-            data.qpos[:], data.qvel[:] = tr.qpos[0], tr.qvel[0]
-            mujoco.mj_forward(model, data)
-            energies[0] = data.energy[1], data.energy[0]
-        for n, k in enumerate(steps.tolist()):
-            mujoco.mj_setState(model, data, states[n], sig)
-            mujoco.mj_forward(model, data)
-            out[k] = data.qacc[dofs].tolist()
-            if energy:
-                energies[k + 1] = data.energy[1], data.energy[0]
-    finally:
-        model.opt.enableflags, model.opt.disableflags = flags, off
-    return out, ((energies[:, 0], energies[:, 1]) if energy else None)
+    evaluation costly): ({...}, (kinetic, potential)). Evaluated alone here; :func:`compare` has the forces
+    check's replay carry them (:func:`end_evaluations`)."""
+    return _end_request(built, tr, steps, ctrl, xfrc, energy)[1]()
 
 
 def compare(tr: Trajectory, built, revolutions: float = 1.0) -> Comparison:
@@ -334,14 +375,15 @@ def compare(tr: Trajectory, built, revolutions: float = 1.0) -> Comparison:
                         "role": mech.table[name].role}
     drive = drive_error(tr, mech)
     viol = float(np.max(tr.loop_violation))
-    balance = work_balance(tr, built)
+    ends = end_evaluations(tr, built)                    # carried by the forces check's replay where it runs
+    forces = joint_forces.check(built, tr, solved=solved, ends=ends.request)
+    balance = work_balance(tr, built, ends)
     # a cam's contact is critically damped (sim.model.cam_contact): its chatter dissipates energy the analytic
     # model has no term for (cam_roller: 2.6 % of the spring's work swing a turn), so the balance is reported,
     # not judged, with a cam
     judged = floors is None
     ok &= drive <= DRIVE_TOL and viol <= LOOP_TOL * mech.size and (balance <= WORK_TOL or not judged)
     changes = tuple(sorted(f for e in mech.solving_geometry.elements if e.get("flips") for f in e["flips"]["at"]))
-    forces = joint_forces.check(built, tr, solved=solved)
     ok &= forces is None or forces.passed
     return Comparison(tr, ref, errors, drive, viol, taus, balance, bool(ok), revolutions, changes, forces=forces,
                       work_judged=judged)

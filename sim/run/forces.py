@@ -193,7 +193,7 @@ def settle(model, data) -> None:
     a drive's rotor torque (armature x qacc) reached 1e4 times the link torques (a rocking four-bar at its
     turnaround), with M qacc - qfrc - J' f = 3e-3 N m. The dual solve is conditioned like A itself."""
     n = data.nefc
-    if n and np.all(np.asarray(data.efc_type[:n]) == mujoco.mjtConstraint.mjCNSTR_EQUALITY):
+    if n and data.ne == n:                                    # the rows are equalities only (they come first)
         nv = model.nv
         if mujoco.mj_isSparse(model):
             J = np.zeros((n, nv))
@@ -223,30 +223,45 @@ def cam_pairs(model, mech) -> tuple:
 
 def contact_forces(model, data, pairs) -> np.ndarray:
     """The normal force [N] of each cam's contact (``pairs``: :func:`cam_pairs`), summed over its active
-    contact rows (frictionless, condim 1: one row per contact, its force along the normal)."""
-    out = np.zeros(len(pairs))
-    for r in range(data.nefc):
-        if data.efc_type[r] != mujoco.mjtConstraint.mjCNSTR_EQUALITY:
-            con = data.contact[int(data.efc_id[r])]
-            b = {int(model.geom_bodyid[con.geom[0]]), int(model.geom_bodyid[con.geom[1]])}
-            for k, pair in enumerate(pairs):
-                if b == set(pair):
-                    out[k] += data.efc_force[r]
-    return out
+    contact rows in their order (frictionless, condim 1: one row per contact, its force along the normal;
+    MuJoCo orders the rows equalities first, ``data.ne`` of them, then the others: here contacts only)."""
+    return contacts_reader(model, pairs)(data)
+
+
+def contacts_reader(model, pairs):
+    """:func:`contact_forces` as a function of ``data`` alone, its lookups made once (the replay's reader; a
+    few rows a step: read as Python lists)."""
+    which = {}
+    for k, (a, b) in enumerate(pairs):
+        which[a, b] = which[b, a] = k
+    body = [int(b) for b in model.geom_bodyid]
+
+    def forces(data) -> np.ndarray:
+        out = [0.0] * len(pairs)
+        n, ne = data.nefc, data.ne
+        if n > ne and which:
+            geoms = data.contact.geom.tolist()
+            for i, f in zip(data.efc_id[ne:n].tolist(), data.efc_force[ne:n].tolist()):   # row: its contact
+                g0, g1 = geoms[i]
+                k = which.get((body[g0], body[g1]))
+                if k is not None:
+                    out[k] += f
+        return np.array(out)
+    return forces
 
 
 def reader(model, mech=None):
     """The function :func:`sim.run.simulate.replay` calls at each instant: :func:`settle`, then a flat copy of
     what :class:`Record` holds: the equality rows' forces (always the first rows, as many at every step)
     and each cam's contact force (its rows come and go with the contact)."""
-    pairs = cam_pairs(model, mech) if mech is not None else ()
+    contacts = contacts_reader(model, cam_pairs(model, mech) if mech is not None else ())
 
     def read(data):
         settle(model, data)
-        eq = int(np.sum(np.asarray(data.efc_type[:data.nefc]) == mujoco.mjtConstraint.mjCNSTR_EQUALITY))
+        eq = data.ne                                        # MuJoCo orders the rows: equalities first
         return np.concatenate([data.cfrc_int.ravel(), data.subtree_com.ravel(), data.site_xpos.ravel(),
                                data.efc_force[:eq], data.actuator_force, data.qacc, data.xaxis.ravel(),
-                               contact_forces(model, data, pairs)])
+                               contacts(data)])
     return read
 
 
@@ -266,11 +281,12 @@ def unpack(model, rows: np.ndarray, data, ncams: int = 0) -> Record:
                   parts[7])
 
 
-def record(built, tr, steps) -> Record:
-    """MuJoCo's raw force data at the trajectory's steps ``steps`` (indices)."""
+def record(built, tr, steps, ends=None) -> Record:
+    """MuJoCo's raw force data at the trajectory's steps ``steps`` (indices). ``ends``: evaluations the replay
+    carries along (sim.run.simulate.Ends: compare's work balance)."""
     from sim.run.simulate import replay
     model = built.model
-    rows, data = replay(built, tr, steps, reader(model, built.mech))
+    rows, data = replay(built, tr, steps, reader(model, built.mech), ends, sensors=False)   # none read
     return unpack(model, rows, data, len(cam_pairs(model, built.mech)))
 
 
@@ -355,11 +371,11 @@ def joint_forces(built, rec: Record) -> F.Forces:
 
 
 # ------------------------------------------------------------------------------------------ the answers
-def measure(built, tr, steps=None) -> F.Forces:
+def measure(built, tr, steps=None, ends=None) -> F.Forces:
     """MuJoCo's joint forces, drives, gear moments and shaking force of run ``tr`` at its steps ``steps``
-    (indices; default every step)."""
+    (indices; default every step). ``ends``: see :func:`record`."""
     steps = np.arange(len(tr.t)) if steps is None else np.asarray(steps, dtype=int)
-    rec = record(built, tr, steps)
+    rec = record(built, tr, steps, ends)
     out = joint_forces(built, rec)
     if built.loadset is not None:          # what the loads anchored to the frame put on it (sim.model.loads)
         from dataclasses import replace
@@ -578,12 +594,12 @@ def spread(n: int, most: int = CHECKED_STEPS) -> np.ndarray:
     return np.unique(np.round(np.linspace(0, n - 1, most)).astype(int))
 
 
-def check(built, tr, steps=None, solved=None) -> Agreement | None:
+def check(built, tr, steps=None, solved=None, ends=None) -> Agreement | None:
     """MuJoCo's joint forces of run ``tr`` against the analytic ones at its simulated inputs (by default every
     step, at most CHECKED_STEPS of them: :func:`spread`; with a cam, their means over its contact's ring
     period: :func:`cam_agreement`); None where statics cannot give the joint forces (a redundant constraint:
     MuJoCo shares such a load by its regulariser, the analytic solve refuses it). ``solved``: see
-    :func:`analytic_at`."""
+    :func:`analytic_at`; ``ends``: see :func:`record` (not run where there is no check)."""
     mech = built.mech
     try:
         F.check_determinate(mech)
@@ -592,8 +608,8 @@ def check(built, tr, steps=None, solved=None) -> Agreement | None:
     steps = spread(len(tr.t)) if steps is None else np.asarray(steps, dtype=int)
     steps = away_from_change_points(mech, tr, steps)
     if has_cam(mech):
-        return cam_agreement(built, tr, steps, solved)[2]
-    mj, an, _, power = both(built, tr, steps, solved)
+        return cam_agreement(built, tr, steps, solved, ends)[2]
+    mj, an, _, power = both(built, tr, steps, solved, ends)
     return agreement(mech, mj, an, power, away_from_reversals(built, tr, steps), joint_floor(built))
 
 
@@ -611,7 +627,7 @@ def windowed(f: F.Forces, at) -> F.Forces:
                    shaking=W(f.shaking, at))
 
 
-def cam_agreement(built, tr, steps, solved=None) -> tuple[F.Forces, F.Forces, Agreement]:
+def cam_agreement(built, tr, steps, solved=None, ends=None) -> tuple[F.Forces, F.Forces, Agreement]:
     """MuJoCo's forces against the analytic ones for a mechanism with a cam, at the steps ``steps``: each as
     its mean over the contact's ring period (50 steps) about the step. The contact's force is a train of
     impulses over the profile's facets (sim.model.cam_contact; on cam_roller 0 to 1.2x the law's force step
@@ -619,12 +635,12 @@ def cam_agreement(built, tr, steps, solved=None) -> tuple[F.Forces, F.Forces, Ag
     (sim.run.cams.Compliance.mean_force, the largest over the cams) as a share of the scale, for every joint,
     drive and the shaking force too: each is the contact's force carried on by statics plus the links'
     momentum change over the window, which the same ring bounds. Returns (MuJoCo's, the analytic, the
-    agreement), the forces at ``steps``."""
+    agreement), the forces at ``steps``. ``ends``: see :func:`record`."""
     from dataclasses import replace
     from sim.run import cams as C
     mech = built.mech
     every = np.arange(len(tr.t))
-    mj_all = measure(built, tr, every)
+    mj_all = measure(built, tr, every, ends)
     an_all, _, power_all = analytic_at(built, tr, every, solved)
     steps = np.asarray(steps, dtype=int)
     mj, an = windowed(mj_all, steps), windowed(an_all, steps)
@@ -667,12 +683,12 @@ def away_from_change_points(mech, tr, steps: np.ndarray) -> np.ndarray:
     return steps if near.all() else steps[~near]
 
 
-def both(built, tr, steps=None, solved=None) -> tuple[F.Forces, F.Forces, tuple, dict]:
+def both(built, tr, steps=None, solved=None, ends=None) -> tuple[F.Forces, F.Forces, tuple, dict]:
     """MuJoCo's forces and the analytic ones at the simulated inputs of ``tr``'s ``steps`` (default every
     step), the inputs (q, qd, qdd) and the power balance's drives there: what a plot of them needs.
-    ``solved``: see :func:`analytic_at`."""
+    ``solved``: see :func:`analytic_at`; ``ends``: see :func:`record`."""
     steps = np.arange(len(tr.t)) if steps is None else np.asarray(steps, dtype=int)
-    mj = measure(built, tr, steps)
+    mj = measure(built, tr, steps, ends)
     an, inputs, power = analytic_at(built, tr, steps, solved)
     return mj, an, inputs, power
 

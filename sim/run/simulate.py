@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import mujoco
@@ -243,31 +244,95 @@ def _check_run(built: Built, sens: np.ndarray, inputs: dict, viol: np.ndarray, h
                               f"too close to a singular pose there to simulate; move it away or lower the speed")
 
 
-def replay(built: Built, tr: Trajectory, steps, read) -> tuple[np.ndarray, mujoco.MjData]:
+@dataclass(frozen=True)
+class Ends:
+    """Evaluations a :func:`replay` carries along (compare's work balance): for each step k of ``steps``, its
+    end state (the recorded state k + 1) under step k's own controls and body wrenches, row n of ``inputs``
+    (set by ``mj_setState`` with ``sig``: mjSTATE_CTRL, with mjSTATE_XFRC_APPLIED for the file's loads), then
+    ``read(n, data)``. ``energy``: MuJoCo's energies are computed too (``data.energy``)."""
+
+    steps: np.ndarray
+    inputs: np.ndarray
+    sig: int
+    read: Callable
+    energy: bool = False
+
+
+def replay(built: Built, tr: Trajectory, steps, read, ends: Ends | None = None, sensors: bool = True
+           ) -> tuple[np.ndarray, mujoco.MjData]:
     """``read(data)`` (a flat array) at each recorded step in ``steps`` (indices into the trajectory), after
     ``mj_forward`` on that step's state and controls: what the rollout computed at the step's start (its
     sensors' instant), for what ``rollout`` does not return (constraint forces, ``cfrc_int``). Run only when
     asked (joint forces), so an ordinary simulation costs nothing more. The equality constraints' problem
     is quadratic, so Newton's solver reaches the same forces from any warm start. Returns the stacked reads
-    (len(steps), width) and the MjData of the last step (for the model's row layout)."""
+    (len(steps), width) and the MjData of the last step (for the model's row layout). ``sensors=False``: the
+    sensors are not evaluated (a ``read`` that reads none of them).
+
+    ``ends`` (:class:`Ends`) are evaluated on the way: where the replay has just evaluated a step's end state
+    itself, only the acceleration stage is redone under the earlier step's controls and wrenches
+    (``mj_forwardSkip`` from mjSTAGE_VEL: the position and velocity stages, the contacts' collision among
+    them, depend on the state alone, not on ``ctrl`` or ``xfrc_applied``, which MuJoCo reads from
+    ``mj_fwdActuation`` on, as mj_step1/mj_step2 document; the solver starts from ``qacc_warmstart``, which
+    only ``mj_step`` writes), so each gives what a fresh ``mj_forward`` gives, bit for bit; the others are
+    evaluated whole after the replay."""
     model = built.model
     steps = np.asarray(steps, dtype=int)
     data = mujoco.MjData(model)
-    ctrl = controls(built, steps * built.timestep)
-    xfrc = None
-    if built.loadset is not None:
-        from sim.model.loads import wrenches
-        xfrc = wrenches(built, steps * built.timestep).xfrc
+    pending = {} if ends is None else {k + 1: n for n, k in enumerate(np.asarray(ends.steps).tolist())}
+    flags = model.opt.enableflags
+    if ends is not None and ends.energy:
+        model.opt.enableflags = flags | mujoco.mjtEnableBit.mjENBL_ENERGY
     out = None
-    for row, k in enumerate(steps):
-        data.qpos[:], data.qvel[:], data.act[:] = tr.qpos[k], tr.qvel[k], tr.act[k]
-        data.ctrl[:] = ctrl[row]
-        if xfrc is not None:
-            data.xfrc_applied[:] = xfrc[row]
-        data.time = k * built.timestep
-        mujoco.mj_forward(model, data)
-        values = read(data)
-        if out is None:
-            out = np.empty((len(steps), len(values)))
-        out[row] = values
+    try:
+        if len(steps):
+            states, sig = _states(built, tr, steps, controls(built, steps * built.timestep))
+            for row, (k, state) in enumerate(zip(steps.tolist(), states)):
+                mujoco.mj_setState(model, data, state, sig)
+                mujoco.mj_forwardSkip(model, data, mujoco.mjtStage.mjSTAGE_NONE, 0 if sensors else 1)
+                values = read(data)
+                if out is None:
+                    out = np.empty((len(steps), len(values)))
+                out[row] = values
+                n = pending.pop(k, None)
+                if n is not None:                  # step k - 1's end: this state under that step's inputs
+                    mujoco.mj_setState(model, data, ends.inputs[n], ends.sig)
+                    mujoco.mj_forwardSkip(model, data, mujoco.mjtStage.mjSTAGE_VEL, 1)
+                    ends.read(n, data)
+        if pending:
+            _evaluate_ends(built, tr, ends, pending)
+    finally:
+        model.opt.enableflags = flags
     return (out if out is not None else np.empty((0, 0))), data
+
+
+def _states(built: Built, tr: Trajectory, steps: np.ndarray, ctrl=None) -> tuple[np.ndarray, int]:
+    """The recorded states at ``steps`` as rows ``mj_setState`` takes whole (time, qpos, qvel, act, in
+    mjtState's order; with ``ctrl`` rows, the controls and the file's loads' wrenches at the steps too) and
+    their signature."""
+    S = mujoco.mjtState
+    t = steps * built.timestep
+    sig = S.mjSTATE_TIME | S.mjSTATE_QPOS | S.mjSTATE_QVEL | S.mjSTATE_ACT
+    parts = [t[:, None], tr.qpos[steps], tr.qvel[steps], tr.act[steps]]
+    if ctrl is not None:
+        sig |= S.mjSTATE_CTRL
+        parts.append(ctrl)
+        if built.loadset is not None:
+            from sim.model.loads import wrenches
+            sig |= S.mjSTATE_XFRC_APPLIED
+            parts.append(wrenches(built, t).xfrc.reshape(len(steps), 6 * built.model.nbody))
+    return np.concatenate(parts, axis=1), int(sig)
+
+
+def _evaluate_ends(built: Built, tr: Trajectory, ends: Ends, pending: dict) -> None:
+    """The end states ``pending`` ({state index: row of ``ends``}) evaluated whole, each under its step's
+    inputs (sensors skipped: none is read)."""
+    model = built.model
+    data = mujoco.MjData(model)
+    at = sorted(pending)
+    states, sig = _states(built, tr, np.asarray(at, dtype=int))
+    for j, state in zip(at, states):
+        n = pending[j]
+        mujoco.mj_setState(model, data, state, sig)
+        mujoco.mj_setState(model, data, ends.inputs[n], ends.sig)
+        mujoco.mj_forwardSkip(model, data, mujoco.mjtStage.mjSTAGE_NONE, 1)
+        ends.read(n, data)
