@@ -631,6 +631,21 @@ def test_the_mechanism_packages_readme_cam_to_its_printed_digits():
     assert cam["pressure_angle_max"] <= 1e-12
 
 
+
+def test_the_mechanism_packages_readme_roller_cam_to_its_printed_base_circle():
+    """The same README's roller follower (radius 1/2 in, sized with ``get_base_circle(kind='cycloidal',
+    follower='roller', roller_radius=1/2, max_pressure_angle=30, plot=True)``): its figure
+    images/pressure_angle.png is titled "Pressure Angles with R_b = 1.25091", the base circle at which the
+    largest pressure angle is the 30 deg asked for. Our file (tests/mechanisms/cam_mechanism_readme_roller.toml)
+    takes that printed base radius: our largest pressure angle must be that 30 deg."""
+    r = run("analyze", HERE / "mechanisms" / "cam_mechanism_readme_roller.toml", "--json")
+    assert r.returncode == 0, r.stderr
+    cam = json.loads(r.stdout)["cams"]["c1"]
+    # the package takes the largest pressure angle over its samples 0.0062 rad apart, which can miss the peak
+    # by 1/2 |phi''| (0.0031 rad)^2 = 0.00097 deg (phi'' = -3.5 /rad^2 there), and prints R_b to 1e-5 in
+    # (5e-6 in of R_b: 6e-5 deg)
+    assert abs(math.degrees(cam["pressure_angle_max"]) - 30.0) <= 0.0011, math.degrees(cam["pressure_angle_max"])
+
 def test_a_textbook_valve_cam_to_its_printed_answers():
     """A textbook exercise with its printed answers: "Design a cam to raise a valve with simple harmonic motion
     through 50 mm in 1/3 of a revolution, keep it fully raised through 1/12 revolution and to lower it with
