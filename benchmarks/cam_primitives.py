@@ -1,7 +1,7 @@
 """Issue 38: would a cam plate made of many primitive geoms (one capsule or one thin box per outline segment)
 collide a roller more cheaply than the convex mesh pieces of sim/model/cam_contact.py? Measured, not built.
 
-    PYTHONPATH=. python benchmarks/cam_primitives.py [--counts 180,360,720] [--repeats 3]
+    PYTHONPATH=. python benchmarks/cam_primitives.py [--counts 180,360,720] [--repeats 3] [--mechanism]
 
 Two cams: the eccentric disc of benchmarks/cam_contact.py (R = 30 mm, e = 10 mm, roller 10 mm, 0.1 kg,
 1000 N/m, 10 N preload, at half its jump speed) and cam_roller's outline (analytic.cams.build of
@@ -16,7 +16,7 @@ The options, on the outline thinned to N vertices (every k-th of the dense one):
   join end to end into the outline's inward offset polyline (each vertex moved along its angle's bisector by
   rc / cos(half the turn)), so the union is that polyline swept by a disc of radius rc, whose outer surface is
   the outline's segments themselves, rounded into each convex vertex by rc (1 / cos(b / 2) - 1) ~ rc b^2 / 8
-  (b the turn at the vertex: 1e-9 m here) and exact at concave ones. No cap sticks out.
+  (b the turn at the vertex: 1.9e-8 m on the disc at 720 segments, as measured) and exact at concave ones. No cap sticks out.
 * ``boxes``: one box per segment, its outer face on the segment, rc deep: the union's surface is the
   polyline (a box cannot stick out past its neighbour's face at a convex vertex, and at a concave one the two
   outer faces meet at the vertex).
@@ -51,6 +51,9 @@ largest error [m] (compare's tolerance: 1.0e-5 disc, 3.2e-3 cam_roller)::
     disc flat   capsules   720  722    2.1    174.2  42.16 39.67    1.9e-08/2.9e-07  92.0  0.43/1.25  1.4e-06
     disc flat   boxes      720  722    1.8    127.7  32.26 28.34    9.3e-18/2.9e-07  91.2  0.44/1.26  1.3e-06
 
+``--mechanism`` (cam_roller's own mechanism model, its plate swapped): pieces 720: compile 13.5 ms, 4.62 us
+per evaluation; capsules 180: 0.7 ms, 9.24 us; capsules 720: 2.0 ms, 27.15 us; boxes 720: 2.0 ms, 27.60 us.
+
 No option pays: every primitive plate is slower per evaluation than the 6 mesh pieces, 1.7-2.5x at 180
 segments and 5-6x at 720. MuJoCo's cost is per geom, not per pair tested: ~8 ns a geom in mj_kinematics (each
 geom's world pose) and ~25 ns a geom in mj_collision (the bounding boxes the broad/midphase sorts), 33 ns a
@@ -63,7 +66,8 @@ sagitta is 1.5e-5 m (1.5x the disc's tolerance) and 3e-4 m; half the pieces' cos
 cam_roller's a even at N = 0. What primitives do save is the compile: 0.5-1.9 ms against the pieces' 2.5-13.5 ms
 (qhull, ~9 us a vertex): 12 ms a build at 720, against ~230 ms more stepping on cam_roller's 2001 x 5
 evaluations. The surface error is the polyline's (the chord's sagitta) for all three: capsules round each
-convex vertex by ~1e-9 m, boxes are exact to rounding. Two or more contacts act at once on 50-95 % of the
+convex vertex by rc b^2 / 8 (1.9e-8 m at 720 on the disc, 7.6e-8 at 360: the 73 probes there land on
+vertices), boxes are exact to rounding. Two or more contacts act at once on 50-95 % of the
 steps (the neighbouring primitives share the contact point); the force ripple is then no worse than the
 pieces' on the disc (0.55 vs 0.45 rms at 720) but the follower tracks cam_roller 5x worse (1.5e-4 vs 3.2e-5 m,
 inside the 3.2e-3 tolerance).
@@ -285,10 +289,48 @@ def _rho_min(dense):
     return float(np.min(ab * bc * ca / np.maximum(2 * cross, 1e-300)))
 
 
+def mechanism_check(repeats):
+    """cam_roller's own mechanism model (sim.model.build, its MJCF as exported), its plate's pieces swapped for
+    the options' (on the cam link's body, whose frame is the cam's here: the pivot at its origin, angle 0):
+    compile and CPU per evaluation (mj_forward) at the start pose."""
+    import analytic
+    from analytic import cams as C
+    from sim.model.build import build
+    mech = analytic.load("cam_roller")
+    built = build(mech, export=True)
+    geo = C.build(next(e for e in mech.geometry.elements if e["kind"] == "cam")["setup"])
+    for kind, n in (("pieces", 720), ("capsules", 180), ("capsules", 720), ("boxes", 720)):
+        spec = mujoco.MjSpec.from_string(built.spec_xml)
+        spec.compiler.balanceinertia = True                  # the MJCF's printed inertias round off A + B >= C
+        pieces = [g for g in spec.geoms if g.name.startswith("cam0_piece")]
+        g0 = pieces[0]
+        attrs = dict(contype=g0.contype, conaffinity=g0.conaffinity, condim=1, solref=list(g0.solref),
+                     solimp=list(g0.solimp), density=0)
+        body = g0.parent
+        for g in pieces:
+            spec.delete(g)
+        for m in [m for m in spec.meshes if m.name.startswith("cam0_piece")]:
+            spec.delete(m)
+        P = thinned(geo.profile, n)
+        add_plate(spec, body, P, kind, float(np.max(np.hypot(*P.T))), attrs, "plate")
+        compile_s = least(spec.compile, repeats)
+        m = spec.compile()
+        d = mujoco.MjData(m)
+        d.qpos[:], d.qvel[:] = built.qpos0, built.qvel0
+
+        def evals():
+            for _ in range(2000):
+                mujoco.mj_forward(m, d)
+        fwd = least(evals, repeats) / 2000
+        print(f"cam_roller's mechanism model, {kind} {n}: {m.ngeom} geoms, compile {compile_s * 1e3:.1f} ms, "
+              f"{fwd * 1e6:.2f} us per evaluation, {d.ncon} contacts found")
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--counts", default="180,360,720")
     ap.add_argument("--repeats", type=int, default=3)
+    ap.add_argument("--mechanism", action="store_true", help="also cam_roller's own mechanism model")
     args = ap.parse_args()
     counts = [int(c) for c in args.counts.split(",")]
     print("N: outline vertices; compile: the whole model [ms]; step: one RK4 mj_step, eval: one mj_forward, coll: "
@@ -308,6 +350,8 @@ def main():
                       f"{r['fwd_us']:>7.2f}{r['geoms_us']:>7.2f}{r['surface']:>11.1e} /{r['surface_dense']:>7.1e}"
                       f"{100 * r['double']:>6.1f}{r['found']:>6.1f}{r['ripple_rms']:>6.2f}/{r['ripple_max']:<5.2f}"
                       f"{r['track']:>9.1e}/{r['bound']:<8.1e}", flush=True)
+    if args.mechanism:
+        mechanism_check(args.repeats)
 
 
 if __name__ == "__main__":
