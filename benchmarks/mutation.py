@@ -858,6 +858,11 @@ MUTATIONS = [
              "mujoco.mjtStage.mjSTAGE_VEL, 1)", "mujoco.mjtStage.mjSTAGE_POS, 1)", REPLAY,
              "EQUIVALENT: the velocity stage reads neither ctrl nor xfrc_applied (mj_fwdVelocity), so it recomputes "
              "the same values; a cost only"),
+    Mutation("replay-skip-from-pos", "sim/run/simulate.py replay: each replayed state evaluated from mjSTAGE_POS "
+             "(the positions' stage of the previous state kept; the reverse of the carried evaluation's skip)",
+             "sim/run/simulate.py", "mujoco.mjtStage.mjSTAGE_NONE, 0 if sensors else 1)",
+             "mujoco.mjtStage.mjSTAGE_POS, 0 if sensors else 1)", REPLAY,
+             "the replayed forces against the analytic ones (test_forces_mujoco)"),
     Mutation("ends-read-before-eval", "sim/run/simulate.py replay: the end evaluation read before its "
              "mj_forwardSkip (the replayed step's own qacc)", "sim/run/simulate.py",
              "                    mujoco.mj_forwardSkip(model, data, mujoco.mjtStage.mjSTAGE_VEL, 1)\n"
@@ -871,7 +876,8 @@ MUTATIONS = [
     Mutation("ends-energy-flag-kept", "sim/run/simulate.py replay: the model's enable flags not restored (energy "
              "left on)", "sim/run/simulate.py", "    finally:\n        model.opt.enableflags = flags\n    return (out",
              "    finally:\n        pass\n    return (out", REPLAY,
-             "EQUIVALENT in values: the energy flag adds mj_energyPos/Vel to later evaluations, no other output"),
+             "the values equal (the energy flag adds mj_energyPos/Vel to later evaluations, no other output), the "
+             "built model changed: test_replay_faults (the model's flags as the replay found them)"),
     Mutation("replay-sensors-always-skipped", "sim/run/simulate.py replay: the sensors never evaluated (the "
              "sensors flag ignored)", "sim/run/simulate.py", "0 if sensors else 1)", "1)", REPLAY,
              "test_forces_mujoco::test_the_replay_reproduces_the_rollout (reads sensordata)"),

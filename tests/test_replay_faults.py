@@ -171,3 +171,17 @@ def test_compares_text_says_a_cams_work_balance_is_reported_not_judged():
         lines[name] = next(ln for ln in r.stdout.splitlines() if ln.strip().startswith("work balance"))
     assert "(tol 1e-03)" in lines["fourbar"] and "not judged" not in lines["fourbar"], lines["fourbar"]
     assert "reported, not judged" in lines["cam_roller"] and "tol 1e-03" not in lines["cam_roller"], lines["cam_roller"]
+
+
+def test_a_replay_that_reads_the_energies_leaves_the_models_flags_as_it_found_them():
+    """The replay enables MuJoCo's energy for a request that reads it, and only for its own evaluations: the
+    built model (kept by the app and the sweeps for further runs) has its enable and disable flags back."""
+    built, tr = _run("cam_roller")
+    model = built.model
+    before = (int(model.opt.enableflags), int(model.opt.disableflags))
+    ends = C.end_evaluations(tr, built)
+    assert ends.request.energy                    # cam_roller's spring: the energies come from these evaluations
+    SF.record(built, tr, np.arange(0, len(tr.t), 3), ends.request)     # some carried, the rest evaluated after
+    ends.answer()
+    assert (int(model.opt.enableflags), int(model.opt.disableflags)) == before
+    assert not before[0] & mujoco.mjtEnableBit.mjENBL_ENERGY
