@@ -88,6 +88,13 @@ TWO_RULES = "tests/test_two_plate_rules.py"
 CAM_FACE = "tests/test_cam_face_and_windows.py"
 PANEL = "tests/test_cam_panel_units.py"
 GUARDS = "tests/test_shared_solve_guards.py"
+EVALS = "tests/test_compare_evaluations.py"
+FMJ = "tests/test_forces_mujoco.py"
+RFAULTS = "tests/test_replay_faults.py"
+REPLAY = [RFAULTS, EVALS, FMJ, CAM_MECH, CV, CLI_S, INDEP, FV, DYN, EDGES, "tests/test_drives_cycle.py",
+          "tests/test_forces.py", "tests/test_loads_mujoco.py", "tests/test_cam_contact.py"]
+"""The forces replay and the work balance's end-of-step evaluations it carries (sim/run/simulate.py replay,
+sim/run/forces.py reader, sim/run/compare.py end_evaluations): the test files that run them."""
 
 
 @dataclass(frozen=True)
@@ -836,6 +843,171 @@ MUTATIONS = [
              "written into a TOML file", "sim/service/cam_editing.py",
              'for key in ("roller", "base_radius"):\n        if key in edit:\n            table[key] = edit[key]',
              'for key in ("roller",):\n        if key in edit:\n            table[key] = edit[key]', [PANEL, APP_CAM], "an edit of base_radius written and read back"),
+    # --- the forces replay carrying the work balance's end-of-step evaluations (simulate.Ends, issue 38)
+    # (measured: without tests/test_replay_faults.py 30 of 42 killed, with it 39 of 42; the 3 left are equivalent,
+    # each says why: --only ends-pending-start-state ... valve-test-masks-swapped [--without tests/test_replay_faults.py])
+    Mutation("ends-pending-start-state", "sim/run/simulate.py replay: step k's end evaluated on its START state "
+             "(the pending map keyed k, not k + 1)", "sim/run/simulate.py",
+             "{k + 1: n for n, k in enumerate(np.asarray(ends.steps).tolist())}",
+             "{k: n for n, k in enumerate(np.asarray(ends.steps).tolist())}", REPLAY,
+             "test_compare_evaluations: the carried accelerations against a fresh mj_forward of state k + 1"),
+    Mutation("ends-inputs-not-swapped", "sim/run/simulate.py replay: the end state evaluated under the replayed "
+             "step's own controls and wrenches (step k's inputs not set before mj_forwardSkip)", "sim/run/simulate.py",
+             "                    mujoco.mj_setState(model, data, ends.inputs[n], ends.sig)\n", "", REPLAY,
+             "the carried accelerations under step k's controls and wrenches (cam_roller's spring changes each step)"),
+    Mutation("ends-skip-from-pos", "sim/run/simulate.py replay: the carried evaluation skips the position stage "
+             "only (mjSTAGE_POS, velocity stage redone)", "sim/run/simulate.py",
+             "mujoco.mjtStage.mjSTAGE_VEL, 1)", "mujoco.mjtStage.mjSTAGE_POS, 1)", REPLAY,
+             "EQUIVALENT: the velocity stage reads neither ctrl nor xfrc_applied (mj_fwdVelocity), so it recomputes "
+             "the same values; a cost only"),
+    Mutation("replay-skip-from-pos", "sim/run/simulate.py replay: each replayed state evaluated from mjSTAGE_POS "
+             "(the positions' stage of the previous state kept; the reverse of the carried evaluation's skip)",
+             "sim/run/simulate.py", "mujoco.mjtStage.mjSTAGE_NONE, 0 if sensors else 1)",
+             "mujoco.mjtStage.mjSTAGE_POS, 0 if sensors else 1)", REPLAY,
+             "the replayed forces against the analytic ones (test_forces_mujoco)"),
+    Mutation("ends-read-before-eval", "sim/run/simulate.py replay: the end evaluation read before its "
+             "mj_forwardSkip (the replayed step's own qacc)", "sim/run/simulate.py",
+             "                    mujoco.mj_forwardSkip(model, data, mujoco.mjtStage.mjSTAGE_VEL, 1)\n"
+             "                    ends.read(n, data)\n",
+             "                    ends.read(n, data)\n"
+             "                    mujoco.mj_forwardSkip(model, data, mujoco.mjtStage.mjSTAGE_VEL, 1)\n", REPLAY,
+             "the carried accelerations against fresh evaluations under step k's inputs"),
+    Mutation("ends-energy-not-enabled", "sim/run/simulate.py replay: mjENBL_ENERGY not set for a request that "
+             "reads the energies", "sim/run/simulate.py", "    if ends is not None and ends.energy:\n",
+             "    if False:\n", REPLAY, "the carried energies against simulate.energies"),
+    Mutation("ends-energy-flag-kept", "sim/run/simulate.py replay: the model's enable flags not restored (energy "
+             "left on)", "sim/run/simulate.py", "    finally:\n        model.opt.enableflags = flags\n    return (out",
+             "    finally:\n        pass\n    return (out", REPLAY,
+             "the values equal (the energy flag adds mj_energyPos/Vel to later evaluations, no other output), the "
+             "built model changed: test_replay_faults (the model's flags as the replay found them)"),
+    Mutation("replay-sensors-always-skipped", "sim/run/simulate.py replay: the sensors never evaluated (the "
+             "sensors flag ignored)", "sim/run/simulate.py", "0 if sensors else 1)", "1)", REPLAY,
+             "test_forces_mujoco::test_the_replay_reproduces_the_rollout (reads sensordata)"),
+    Mutation("evaluate-ends-skip-vel", "sim/run/simulate.py _evaluate_ends: a fresh state evaluated from "
+             "mjSTAGE_VEL (the positions' and velocities' stages of the previous state kept)", "sim/run/simulate.py",
+             "mujoco.mj_forwardSkip(model, data, mujoco.mjtStage.mjSTAGE_NONE, 1)",
+             "mujoco.mj_forwardSkip(model, data, mujoco.mjtStage.mjSTAGE_VEL, 1)", REPLAY,
+             "the end evaluations run alone (no replay) against fresh mj_forward"),
+    Mutation("evaluate-ends-inputs-not-set", "sim/run/simulate.py _evaluate_ends: the end states evaluated without "
+             "their step's controls and wrenches", "sim/run/simulate.py",
+             "        mujoco.mj_setState(model, data, state, sig)\n        mujoco.mj_setState(model, data, ends.inputs[n], "
+             "ends.sig)\n", "        mujoco.mj_setState(model, data, state, sig)\n", REPLAY,
+             "tests/test_replay_faults.py::test_every_end_evaluation_is_a_fresh_mj_forward_whichever_path_made_it[cam_roller-alone]"),
+    Mutation("evaluate-ends-start-state", "sim/run/simulate.py _evaluate_ends: the state before the one pending "
+             "(k, not k + 1)", "sim/run/simulate.py", "_states(built, tr, np.asarray(at, dtype=int))",
+             "_states(built, tr, np.asarray(at, dtype=int) - 1)", REPLAY,
+             "the end evaluations run alone against fresh mj_forward of state k + 1"),
+    Mutation("replay-controls-next-step", "sim/run/simulate.py replay: each replayed state under the next step's "
+             "controls", "sim/run/simulate.py", "controls(built, steps * built.timestep)",
+             "controls(built, (steps + 1) * built.timestep)", REPLAY,
+             "the replayed drive force against the rollout's sensor (a drive whose control changes)"),
+    Mutation("states-wrenches-next-step", "sim/run/simulate.py _states: the file's loads' wrenches of the next "
+             "step", "sim/run/simulate.py", "parts.append(wrenches(built, t).xfrc",
+             "parts.append(wrenches(built, t + built.timestep).xfrc", REPLAY,
+             "the replayed forces of a run with loads against the analytic ones"),
+    Mutation("ends-pending-not-popped", "sim/run/simulate.py replay: the carried ends left pending (evaluated "
+             "again, whole, after the replay)", "sim/run/simulate.py", "n = pending.pop(k, None)",
+             "n = pending.get(k)", REPLAY,
+             "values equal (a fresh evaluation gives the same): tests/test_replay_faults.py::"
+             "test_compare_carries_every_end_evaluation_of_a_cam_on_its_forces_replay"),
+    Mutation("contacts-rows-from-0", "sim/run/forces.py contacts_reader: the contact rows counted from 0, not "
+             "from data.ne (equality rows read as contacts)", "sim/run/forces.py",
+             "zip(data.efc_id[ne:n].tolist(), data.efc_force[ne:n].tolist())",
+             "zip(data.efc_id[:n].tolist(), data.efc_force[:n].tolist())", REPLAY,
+             "test_compare_evaluations::test_a_cams_contact_force_is_mujocos_contact_force[cam_fourbar]"),
+    Mutation("contacts-last-row-only", "sim/run/forces.py contacts_reader: a cam's force the last of its contact "
+             "rows, not their sum", "sim/run/forces.py", "                    out[k] += f\n",
+             "                    out[k] = f\n", REPLAY, "cam_flat's face touching at several points"),
+    Mutation("contacts-sign", "sim/run/forces.py contacts_reader: a contact row's force with the wrong sign",
+             "sim/run/forces.py", "                    out[k] += f\n", "                    out[k] -= f\n", REPLAY,
+             "the cam's contact force against mj_contactForce"),
+    Mutation("contacts-one-order", "sim/run/forces.py contacts_reader: a pair matched in the order (cam, follower) "
+             "only", "sim/run/forces.py", "which[a, b] = which[b, a] = k", "which[a, b] = k", REPLAY,
+             "a contact whose geoms come (follower, cam)"),
+    Mutation("contacts-wrong-cam", "sim/run/forces.py contacts_reader: the pairs matched to the cams in reverse "
+             "order", "sim/run/forces.py", "which[a, b] = which[b, a] = k",
+             "which[a, b] = which[b, a] = len(pairs) - 1 - k", REPLAY,
+             "tests/test_replay_faults.py::test_two_cams_on_one_shaft_each_report_their_own_followers_contact_force (tests/"
+             "mechanisms/cam_twin.toml; no shipped mechanism has two cams)"),
+    Mutation("reader-eq-all-rows", "sim/run/forces.py reader: every constraint row read as an equality's (the "
+             "contact rows counted again)", "sim/run/forces.py", "        eq = data.ne  ", "        eq = data.nefc  ",
+             REPLAY, "a cam's replay (rows that come and go)"),
+    Mutation("settle-contacts-too", "sim/run/forces.py settle: the dual solve applied whatever the rows (contact "
+             "rows treated as equalities)", "sim/run/forces.py", "    if n and data.ne == n:", "    if n:", REPLAY,
+             "a cam's contact force against mj_contactForce after the replay's reader"),
+    Mutation("settle-mixed-rows", "sim/run/forces.py settle: the dual solve applied where any equality row is "
+             "(cam_fourbar's loops and contacts together)", "sim/run/forces.py", "    if n and data.ne == n:",
+             "    if n and data.ne:", REPLAY, "tests/test_replay_faults.py::test_the_replays_contact_force_is_mujocos_with_loop_rows_before_it"),
+    Mutation("reader-no-settle", "sim/run/forces.py reader: the primal solver's forces kept (settle dropped)",
+             "sim/run/forces.py", "        settle(model, data)\n        eq = data.ne", "        eq = data.ne", REPLAY,
+             "test_forces_mujoco (a rocking four-bar's loop forces)"),
+    Mutation("record-sensors-on", "sim/run/forces.py record: the replay evaluates the sensors (sensors=False "
+             "dropped)", "sim/run/forces.py", "ends, sensors=False)", "ends, sensors=True)", REPLAY,
+             "EQUIVALENT: the reader reads no sensor; a cost only"),
+    Mutation("end-request-ctrl-next", "sim/run/compare.py _end_request: step k's end under step k + 1's controls",
+             "sim/run/compare.py", "sig, parts = S.mjSTATE_CTRL, [ctrl[steps]]",
+             "sig, parts = S.mjSTATE_CTRL, [ctrl[steps + 1]]", REPLAY,
+             "tests/test_replay_faults.py::test_every_end_evaluation_is_a_fresh_mj_forward_whichever_path_made_it[fivebar "
+             "cutting-*] (the load's control switches; the shaper's work balance alone does not notice)"),
+    Mutation("end-request-xfrc-next", "sim/run/compare.py _end_request: step k's end under step k + 1's wrenches",
+             "sim/run/compare.py", "parts.append(xfrc[steps].reshape(", "parts.append(xfrc[steps + 1].reshape(",
+             REPLAY, "the carried accelerations under step k's wrenches (cam_roller's spring)"),
+    Mutation("end-request-no-xfrc-bit", "sim/run/compare.py _end_request: the wrenches in the inputs but not in "
+             "their signature (not set)", "sim/run/compare.py", "        sig |= S.mjSTATE_XFRC_APPLIED\n"
+             "        parts.append(xfrc[steps]", "        parts.append(xfrc[steps]", REPLAY,
+             "the carried accelerations under step k's wrenches"),
+    Mutation("end-request-energy-dropped", "sim/run/compare.py _end_request: the request does not ask for the "
+             "energies (Ends.energy False)", "sim/run/compare.py", "int(sig), read, energy)", "int(sig), read)",
+             REPLAY, "the carried energies against simulate.energies"),
+    Mutation("answer-energy-rows-start", "sim/run/compare.py answer: the end energies stored at the steps' "
+             "start rows", "sim/run/compare.py", "energies[steps + 1] = energy_at", "energies[steps] = energy_at",
+             REPLAY, "the energies against simulate.energies"),
+    Mutation("answer-energies-swapped", "sim/run/compare.py answer: kinetic and potential swapped",
+             "sim/run/compare.py", "return out, (energies[:, 1], energies[:, 0])",
+             "return out, (energies[:, 0], energies[:, 1])", REPLAY, "the energies against simulate.energies"),
+    Mutation("energy0-next-state", "sim/run/compare.py answer: the first energy from the second state",
+             "sim/run/compare.py", "_energy(model, tr.qpos[0], tr.qvel[0])", "_energy(model, tr.qpos[1], tr.qvel[1])",
+             REPLAY, "the energies against simulate.energies"),
+    Mutation("answer-first-dofs", "sim/run/compare.py answer: the first len(drives) accelerations, not the "
+             "drives' dofs", "sim/run/compare.py", "qacc[:, dofs].tolist()", "qacc[:, :len(dofs)].tolist()", REPLAY,
+             "tests/test_replay_faults.py::test_every_end_evaluation_is_a_fresh_mj_forward_whichever_path_made_it[fivebar "
+             "cutting-*] (its second drive is dof 3)"),
+    Mutation("answer-seen-any", "sim/run/compare.py answer: the request evaluated alone only where no end at all "
+             "was carried", "sim/run/compare.py", "if not seen.all():", "if not seen.any():", REPLAY,
+             "EQUIVALENT: a replay evaluates every pending end state before it returns (_evaluate_ends)"),
+    Mutation("compare-ends-not-carried", "sim/run/compare.py compare: the forces check not given the request "
+             "(the end states evaluated again, alone)", "sim/run/compare.py",
+             "joint_forces.check(built, tr, solved=solved, ends=ends.request)",
+             "joint_forces.check(built, tr, solved=solved)", REPLAY,
+             "values equal: tests/test_replay_faults.py::test_compare_carries_every_end_evaluation_of_a_cam_on_its_forces_replay"),
+    Mutation("judged-inverted", "sim/run/compare.py compare: work_judged inverted (judged with a cam, not without)",
+             "sim/run/compare.py", "judged = floors is None", "judged = floors is not None", REPLAY,
+             "test_independent (work_tol 1e-3), test_cam_mechanism (work_tol None)"),
+    Mutation("work-tol-always", "sim/run/compare.py as_dict: work_tol given with a cam too", "sim/run/compare.py",
+             '"work_tol": WORK_TOL if self.work_judged else None', '"work_tol": WORK_TOL', REPLAY,
+             "test_cam_mechanism (a cam's JSON work_tol null)"),
+    Mutation("cam-balance-judged", "sim/run/compare.py compare: a cam's work balance judged after all",
+             "sim/run/compare.py", "(balance <= WORK_TOL or not judged)", "(balance <= WORK_TOL)", REPLAY,
+             "test_cam_mechanism (cam_roller passes; its balance 2.6 % of the swing)"),
+    Mutation("judged-not-passed", "sim/run/compare.py compare: work_judged not passed to the Comparison (default "
+             "True)", "sim/run/compare.py", "forces=forces,\n                      work_judged=judged)",
+             "forces=forces)", REPLAY, "test_cam_mechanism (a cam's JSON work_tol null)"),
+    Mutation("text-verdict-inverted", "sim/run/compare.py text: the 'reported, not judged' line shown where it is "
+             "judged and the tolerance where it is not", "sim/run/compare.py", "if c.work_judged else",
+             "if not c.work_judged else", REPLAY, "tests/test_replay_faults.py::test_compares_text_says_a_cams_work_balance_is_reported_not_judged"),
+    Mutation("valve-roller-diameter", "tests/mechanisms/cam_valve_textbook.toml: the roller's 20 mm diameter given "
+             "as its radius", "tests/mechanisms/cam_valve_textbook.toml", "roller = 10\n", "roller = 20\n", [CAMS],
+             "test_cams::test_a_textbook_valve_cam_to_its_printed_answers (the closed valve's 35 mm)"),
+    Mutation("valve-fall-quarter-turn", "tests/mechanisms/cam_valve_textbook.toml: the fall in 1/4 turn, not 1/6",
+             "tests/mechanisms/cam_valve_textbook.toml",
+             '{ shape = "harmonic", duration = "60deg", rise = -50 },\n  { shape = "dwell", duration = "150deg" }',
+             '{ shape = "harmonic", duration = "90deg", rise = -50 },\n  { shape = "dwell", duration = "120deg" }',
+             [CAMS], "the printed 0.78 m/s and 24.67 m/s2 of the lowering"),
+    Mutation("valve-test-masks-swapped", "tests/test_cams.py textbook valve: the raising and lowering masks "
+             "swapped (the test itself wrong: it must then fail)", "tests/test_cams.py",
+             "raising, lowering = (turn > 0) & (turn < 120), (turn > 150) & (turn < 210)",
+             "lowering, raising = (turn > 0) & (turn < 120), (turn > 150) & (turn < 210)", [CAMS],
+             "the test's own printed answers (0.39 against 0.78 m/s)"),
 ]
 
 
