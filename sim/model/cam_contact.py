@@ -196,15 +196,20 @@ def _rot(theta):
     return c, s
 
 
-def check_star(profile: np.ndarray) -> None:
-    """Refuse an outline that is not counter-clockwise and star-shaped about the origin (the pivot)."""
+def check_star(profile: np.ndarray, where: str = "profile",
+               fix: str = "give a counter-clockwise outline around the pivot (star-shaped about it)") -> None:
+    """Refuse an outline that is not counter-clockwise and star-shaped about the origin (the pivot): one line
+    starting with ``where`` (the file, element and field where a mechanism's cam is built) and ending with
+    ``fix``."""
     a, b = profile, np.roll(profile, -1, axis=0)
     cross = a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]
     turn = np.arctan2(cross, np.sum(a * b, axis=1))
     if np.any(cross <= 0) or abs(float(turn.sum()) - 2 * math.pi) > 1e-6:
         k = int(np.argmin(cross))
-        raise ParameterError(f"profile: point {k + 1} of {len(profile)} at {profile[k].tolist()} turns back about "
-                             f"the pivot; give a counter-clockwise outline around the pivot (star-shaped about it)")
+        at = math.degrees(math.atan2(profile[k, 1], profile[k, 0])) % 360
+        raise ParameterError(f"{where}: the cam's outline turns back about the pivot at {at:.4g}deg in the cam's "
+                             f"frame (point {k + 1} of {len(profile)}); the simulation collides a plate star-shaped "
+                             f"about its pivot: {fix}")
 
 
 def convex_pieces(profile: np.ndarray) -> list[tuple[int, int]]:
@@ -699,7 +704,11 @@ def add(e: dict, ctx, geo) -> None:
     spec = ctx.spec
     name = e["name"]
     prof = collision_profile(geo.profile)
-    check_star(prof)
+    if e.get("profile"):
+        check_star(prof, f"{ctx.mech.definition.source}: {e['label']}: field 'profile'")
+    else:
+        check_star(prof, f"{ctx.mech.definition.source}: {e['label']}: field 'segments'",
+                   "rise less steeply there (a smaller rise or a longer segment) or make base_radius larger")
     size = float(np.max(np.hypot(prof[:, 0], prof[:, 1])))
     h = ctx.timestep
     solref = [CONTACT_STEPS * h, 1.0]

@@ -1,0 +1,128 @@
+"""Cams and drives at their edges, from outside (the classes benchmarks/fuzz_cams_drives.py found mishandled):
+a given profile that is a plain polygon (a coarse circle, points repeated) is the cam as made, not an undercut;
+an outline that crosses itself is refused in one line naming the field; the simulation's own refusals (a
+plate not star-shaped about its pivot, a link without rotational inertia) name the file and where."""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parent.parent
+LIBRARY = ROOT / "analytic" / "library"
+
+
+def run(*args, cwd=None):
+    env = {**os.environ, "PYTHONPATH": str(ROOT), "MUJOCO_GL": os.environ.get("MUJOCO_GL", "egl")}
+    return subprocess.run([sys.executable, "-m", "sim", *map(str, args)], capture_output=True, text=True, env=env,
+                          cwd=cwd or ROOT, timeout=300)
+
+
+def given_profile(tmp_path, base: str, rows) -> Path:
+    """The library cam ``base`` with its segments replaced by ``profile = "cam.csv"`` holding ``rows``."""
+    text = (LIBRARY / f"{base}.toml").read_text()
+    start = text.index("segments = [")
+    end = text.index("]\n", text.index("\n]", start)) + 2
+    path = tmp_path / f"{base}.toml"
+    path.write_text(text[:start] + 'profile = "cam.csv"\n' + text[end:])
+    (tmp_path / "cam.csv").write_text("x,y\n" + "".join(f"{x!r},{y!r}\n" for x, y in rows))
+    return path
+
+
+def circle(r, n):
+    return [(r * math.cos(2 * math.pi * k / n), r * math.sin(2 * math.pi * k / n)) for k in range(n)]
+
+
+def refusal(r) -> str:
+    lines = r.stderr.strip().splitlines()
+    assert r.returncode == 2 and len(lines) == 1 and "Traceback" not in r.stderr, (r.returncode, r.stderr[-800:])
+    return lines[0]
+
+
+@pytest.mark.parametrize("base,radius,n", [("cam_flat", 35.0, 720), ("cam_roller", 0.030, 180),
+                                           ("cam_rocker", 0.025, 360)])
+def test_a_polygon_circle_about_the_pivot_holds_the_follower_still(tmp_path, base, radius, n):
+    """By hand: an outline that is a circle of radius R about the cam's pivot keeps the follower where it is,
+    whatever the cam's angle (a dwell all round). As an n-gon its radius varies between R cos(pi/n) and R, so
+    the follower moves by at most R (1 - cos(pi/n)) (the flat face on the polygon's support, the roller's
+    centre on the polygon's offset). Before the fix, check refused these outlines as undercuts or cusps (the
+    curvature of the spline through a polygon's lift)."""
+    path = given_profile(tmp_path, base, circle(radius, n))
+    r = run("check", path)
+    assert r.returncode == 0, r.stderr[-600:]
+    a = run("analyze", path, "--json")
+    assert a.returncode == 0, a.stderr[-600:]
+    column = {"cam_flat": "stappet", "cam_roller": "sfollower", "cam_rocker": "phiarm"}[base]
+    lo, hi = json.loads(a.stdout)["ranges"][column]          # SI
+    travel = hi - lo
+    k = 1e-3 if base == "cam_flat" else 1.0                 # cam_flat's file is in mm
+    sag = radius * k * (1 - math.cos(math.pi / n))
+    if column == "phiarm":                                  # the arm (55 mm) turns by the roller centre's
+        sag = sag / (0.055 * 0.5)                           # move over at least half its length (generous)
+    # the polygon's sag bounds the true motion; the 1440-point spline through it may overshoot by a few sags
+    assert travel <= 4 * sag, (name, travel, sag)
+
+
+def test_repeated_points_are_the_same_outline(tmp_path):
+    """Each point of a 720-gon written twice: the same cam as the 720-gon (the follower's motion identical);
+    before the fix, the zero-length edges made check refuse it as a cusp."""
+    rows = [(x + 4.0, y) for x, y in circle(35.0, 720)]    # its centre 4 mm off the pivot: a real lift
+    (tmp_path / "a").mkdir()
+    (tmp_path / "b").mkdir()
+    once = given_profile(tmp_path / "a", "cam_flat", rows)
+    twice = given_profile(tmp_path / "b", "cam_flat", [p for p in rows for _ in range(2)])
+    a, b = run("analyze", once, "--json"), run("analyze", twice, "--json")
+    assert a.returncode == 0 and b.returncode == 0, (a.stderr[-400:], b.stderr[-400:])
+    ra, rb = json.loads(a.stdout)["ranges"], json.loads(b.stdout)["ranges"]
+    lo, hi = ra["stappet"]
+    # by hand: a flat face on a circle whose centre is eps = 4 mm off the pivot moves harmonically, stroke
+    # 2 eps; the 720-gon's support falls short of the circle's by at most R (1 - cos(pi / 720)) ~ 3e-4 mm
+    assert abs((hi - lo) - 8e-3) <= 2 * 35e-3 * (1 - math.cos(math.pi / 720)) + 1e-9
+    # the same polygon read twice: the same arithmetic once the repeats are dropped, so equal to rounding
+    for name in ra:
+        assert all(abs(x - y) <= 1e-12 * max(1.0, abs(x)) for x, y in zip(ra[name], rb[name])), name
+
+
+@pytest.mark.parametrize("base", ["cam_roller", "cam_flat", "cam_rocker"])
+def test_a_self_crossing_outline_is_refused_naming_the_field(tmp_path, base):
+    """A figure-of-eight outline (it crosses itself at the pivot): one line naming the file, the field and
+    what is wrong (before: refused as an undercut or cusp 'at cam angle ...', or by the arm missing it)."""
+    r = 0.03 if base != "cam_flat" else 30.0
+    rows = [(r * math.sin(2 * math.pi * k / 40), r * math.sin(4 * math.pi * k / 40) / 2) for k in range(40)]
+    line = refusal(run("check", given_profile(tmp_path, base, rows)))
+    assert str(tmp_path / f"{base}.toml") in line and "field 'profile'" in line and "crosses itself" in line, line
+
+
+def test_a_plate_not_star_shaped_is_refused_by_the_simulation_naming_file_and_field(tmp_path):
+    """cam_rocker's arm swung 170deg within 10deg of the cam: check accepts the profile (it does not undercut
+    there), but the plate turns back about the pivot and MuJoCo's convex pieces cannot be made: compare refuses
+    it in one line that names the file, the cam and its segments (before: 'profile: point 528 of 720 ...',
+    no file, no field)."""
+    text = (LIBRARY / "cam_rocker.toml").read_text()
+    start = text.index("segments = [")
+    end = text.index("]\n", text.index("\n]", start)) + 2
+    segs = ('segments = [{ shape = "dwell", duration = "90deg" }, { shape = "cycloidal", duration = "10deg", '
+            'rise = "170deg" }, { shape = "dwell", duration = "130deg" }, { shape = "poly345", duration = "130deg", '
+            'rise = "-170deg" }]\n')
+    path = tmp_path / "cam_rocker.toml"
+    path.write_text(text[:start] + segs + text[end:])
+    assert run("check", path).returncode == 0
+    line = refusal(run("compare", path))
+    assert str(path) in line and "groups[1]" in line and "field 'segments'" in line and "pivot" in line, line
+
+
+def test_a_link_without_rotational_inertia_is_refused_by_the_simulation_naming_the_file(tmp_path):
+    """excavator with its boom's I = 0: the analytic commands take it (a point mass), the simulation cannot
+    (MuJoCo's minimum); compare refuses it in one line that names the file (before: no file)."""
+    text = (LIBRARY / "excavator.toml").read_text().replace("I = 3500.0", "I = 0.0")
+    path = tmp_path / "excavator.toml"
+    path.write_text(text)
+    line = refusal(run("compare", path))
+    assert str(path) in line and "boom" in line and "inertia" in line, line
