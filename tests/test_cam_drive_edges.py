@@ -8,7 +8,6 @@ from __future__ import annotations
 import json
 import math
 import os
-import re
 import subprocess
 import sys
 from pathlib import Path
@@ -67,7 +66,7 @@ def test_a_polygon_circle_about_the_pivot_holds_the_follower_still(tmp_path, bas
     if column == "phiarm":                                  # the arm (55 mm) turns by the roller centre's
         sag = sag / (0.055 * 0.5)                           # move over at least half its length (generous)
     # the polygon's sag bounds the true motion; the 1440-point spline through it may overshoot by a few sags
-    assert travel <= 4 * sag, (name, travel, sag)
+    assert travel <= 4 * sag, (column, travel, sag)
 
 
 def test_repeated_points_are_the_same_outline(tmp_path):
@@ -126,3 +125,17 @@ def test_a_link_without_rotational_inertia_is_refused_by_the_simulation_naming_t
     path.write_text(text)
     line = refusal(run("compare", path))
     assert str(path) in line and "boom" in line and "inertia" in line, line
+
+
+def test_a_drive_law_that_only_dwells_compares_without_a_crash(tmp_path):
+    """servo_press with its crank's law one dwell (the press stands still): every output's tolerance is 0
+    and so is its error; compare passes instead of dividing by the zero tolerance (before: a traceback,
+    ZeroDivisionError in the printed table)."""
+    text = (LIBRARY / "servo_press.toml").read_text()
+    start = text.index("segments = [")
+    end = text.index("]\n", text.index("\n]", start)) + 2
+    path = tmp_path / "servo_press.toml"
+    path.write_text(text[:start] + 'segments = [{ shape = "dwell", duration = 1.0 }]\n' + text[end:])
+    r = run("compare", path)
+    assert r.returncode == 0 and "Traceback" not in r.stderr, r.stderr[-600:]
+    assert "PASSED" in r.stdout
