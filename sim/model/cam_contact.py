@@ -704,10 +704,12 @@ def add(e: dict, ctx, geo) -> None:
     spec = ctx.spec
     name = e["name"]
     prof = collision_profile(geo.profile)
+    mech = getattr(ctx, "mech", None)                  # the file and the element, to say where
+    where = (f"{mech.definition.source}: " if mech is not None else "") + str(e.get("label", f"cam {name}"))
     if e.get("profile"):
-        check_star(prof, f"{ctx.mech.definition.source}: {e['label']}: field 'profile'")
+        check_star(prof, f"{where}: field 'profile'")
     else:
-        check_star(prof, f"{ctx.mech.definition.source}: {e['label']}: field 'segments'",
+        check_star(prof, f"{where}: field 'segments'",
                    "rise less steeply there (a smaller rise or a longer segment) or make base_radius larger")
     size = float(np.max(np.hypot(prof[:, 0], prof[:, 1])))
     h = ctx.timestep
