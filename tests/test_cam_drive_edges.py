@@ -139,3 +139,12 @@ def test_a_drive_law_that_only_dwells_compares_without_a_crash(tmp_path):
     r = run("compare", path)
     assert r.returncode == 0 and "Traceback" not in r.stderr, r.stderr[-600:]
     assert "PASSED" in r.stdout
+
+
+def test_a_speed_too_fast_to_simulate_is_refused_naming_the_option():
+    """simulate --speed 1e6 on cam_roller: the option alone makes the design too fast to step, so the one-line
+    refusal names --speed and asks for a lower one (before: 'lower omega1 (now 1e+06 rad/s)', a parameter the
+    user never set); the same command at 30 rad/s runs (the file itself is fine)."""
+    line = refusal(run("simulate", LIBRARY / "cam_roller.toml", "--speed", "1e6"))
+    assert "cam_roller.toml" in line and "--speed" in line and "omega1" not in line, line
+    assert run("simulate", LIBRARY / "cam_roller.toml", "--speed", "30").returncode == 0
