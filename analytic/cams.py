@@ -297,6 +297,12 @@ def problems(geo: CamGeometry, unit: tuple[float, str] = (1.0, "m")) -> str | No
         return (f"the profile undercuts at cam angle {at}: the roller ({rr / k:.4g} {unit[1]}) is larger than the "
                 f"pitch curve's radius of curvature there ({geo.rho_pitch[i] / k:.4g} {unit[1]}); use a smaller roller or "
                 f"a larger base radius")
+    if what == "" and not isinstance(st.law, Lift):
+        crossing = _crossing(geo.contact_cam)
+        if crossing is not None:                     # no undercut in the small, but the outline overlaps itself
+            i = int(np.argmin(np.hypot(geo.contact_cam[:, 0] - crossing[0], geo.contact_cam[:, 1] - crossing[1])))
+            return (f"the profile crosses itself (undercut) at cam angle {math.degrees(geo.theta[i]):.4g}deg; make the "
+                    f"base radius larger or the rise gentler")
     if st.contact == "flat" and st.face_width is not None and st.face_width < geo.face_travel:
         return (f"field 'face_width': {st.face_width / k:.4g} {unit[1]} is narrower than the contact's travel "
                 f"along the face, {geo.face_travel / k:.4g} {unit[1]}; make it at least that")
@@ -489,7 +495,14 @@ def read_outline(text: str, scale: float) -> np.ndarray:
 
 def _crossing(q: np.ndarray) -> tuple[float, float] | None:
     """A point where the closed polyline ``q`` crosses or touches itself (GEOS's validity test of the polygon
-    it bounds, O(n log n)), or None where it is simple."""
+    it bounds, O(n log n)), or None where it is simple. An outline whose every edge turns the same way about
+    the origin, once round in all, is a polar graph r(angle) and cannot cross itself: it is passed without
+    GEOS (and without importing it)."""
+    a, b = q, np.roll(q, -1, axis=0)
+    cross = a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]
+    turn = float(np.sum(np.arctan2(cross, np.sum(a * b, axis=1))))
+    if (np.all(cross > 0) or np.all(cross < 0)) and abs(abs(turn) - 2 * math.pi) <= 1e-6:
+        return None
     from shapely import Polygon
     from shapely.validation import explain_validity
     why = explain_validity(Polygon(q))

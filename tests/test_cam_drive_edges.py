@@ -99,19 +99,39 @@ def test_a_self_crossing_outline_is_refused_naming_the_field(tmp_path, base):
     assert str(tmp_path / f"{base}.toml") in line and "field 'profile'" in line and "crosses itself" in line, line
 
 
-def test_a_plate_not_star_shaped_is_refused_by_the_simulation_naming_file_and_field(tmp_path):
-    """cam_rocker's arm swung 170deg within 10deg of the cam: check accepts the profile (it does not undercut
-    there), but the plate turns back about the pivot and MuJoCo's convex pieces cannot be made: compare refuses
-    it in one line that names the file, the cam and its segments (before: 'profile: point 528 of 720 ...',
-    no file, no field)."""
-    text = (LIBRARY / "cam_rocker.toml").read_text()
+def with_segments(tmp_path, base: str, segments: str) -> Path:
+    text = (LIBRARY / f"{base}.toml").read_text()
     start = text.index("segments = [")
     end = text.index("]\n", text.index("\n]", start)) + 2
-    segs = ('segments = [{ shape = "dwell", duration = "90deg" }, { shape = "cycloidal", duration = "10deg", '
-            'rise = "170deg" }, { shape = "dwell", duration = "130deg" }, { shape = "poly345", duration = "130deg", '
-            'rise = "-170deg" }]\n')
-    path = tmp_path / "cam_rocker.toml"
-    path.write_text(text[:start] + segs + text[end:])
+    path = tmp_path / f"{base}.toml"
+    path.write_text(text[:start] + f"segments = {segments}\n" + text[end:])
+    return path
+
+
+def test_a_designed_profile_that_crosses_itself_is_refused_before_export_draws_it(tmp_path):
+    """cam_rocker's arm swung 170deg within 10deg of the cam: no undercut in the small (the curvature test
+    passes) but the outline made from the law overlaps itself. check refuses it in one line naming the file,
+    the cam and the cam angle, and export writes nothing (before: check accepted it, and export died on a
+    GEOS TopologyException traceback after writing the DXF)."""
+    path = with_segments(tmp_path, "cam_rocker", '[{ shape = "dwell", duration = "90deg" }, { shape = "cycloidal", '
+                         'duration = "10deg", rise = "170deg" }, { shape = "dwell", duration = "130deg" }, '
+                         '{ shape = "poly345", duration = "130deg", rise = "-170deg" }]')
+    line = refusal(run("check", path))
+    assert str(path) in line and "groups[1]" in line and "crosses itself" in line and "cam angle" in line, line
+    out = tmp_path / "out"
+    out.mkdir()
+    line = refusal(run("export", path, "--dxf", out / "a.dxf", "--stl", out / "stl"))
+    assert "crosses itself" in line and list(out.iterdir()) == [], (line, list(out.iterdir()))
+
+
+def test_a_plate_not_star_shaped_is_refused_by_the_simulation_naming_file_and_field(tmp_path):
+    """cam_roller's follower lifted 1.5 m within 10deg of the cam: the outline does not cross itself and
+    check accepts it, but it turns back about the pivot, so MuJoCo's convex pieces of the plate cannot be made:
+    compare refuses it in one line that names the file, the cam and its segments (before: 'profile: point
+    536 of 720 at [...] turns back about the pivot', no file, no field)."""
+    path = with_segments(tmp_path, "cam_roller", '[{ shape = "dwell", duration = "90deg" }, { shape = "cycloidal", '
+                         'duration = "10deg", rise = 1.5 }, { shape = "dwell", duration = "130deg" }, '
+                         '{ shape = "poly345", duration = "130deg", rise = -1.5 }]')
     assert run("check", path).returncode == 0
     line = refusal(run("compare", path))
     assert str(path) in line and "groups[1]" in line and "field 'segments'" in line and "pivot" in line, line
