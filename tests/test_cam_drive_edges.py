@@ -168,3 +168,35 @@ def test_a_speed_too_fast_to_simulate_is_refused_naming_the_option():
     line = refusal(run("simulate", LIBRARY / "cam_roller.toml", "--speed", "1e6"))
     assert "cam_roller.toml" in line and "--speed" in line and "omega1" not in line, line
     assert run("simulate", LIBRARY / "cam_roller.toml", "--speed", "30").returncode == 0
+
+
+def actuator_table(tmp_path, rows) -> Path:
+    """scissor_lift with its cylinder driven by a table (t, q: pin-to-pin length [m]) instead of l0 and v."""
+    text = (LIBRARY / "scissor_lift.toml").read_text()
+    text = text.replace('l0 = "l0"\n', "").replace('v = "v"\n', 'table = "law.csv"\n')
+    path = tmp_path / "scissor_lift.toml"
+    path.write_text(text)
+    (tmp_path / "law.csv").write_text("t,q\n" + "".join(f"{t!r},{q!r}\n" for t, q in rows))
+    return path
+
+
+def test_an_actuator_runs_a_table_law_its_first_row_the_start(tmp_path):
+    """SPEC "Motion laws": any input may take a table, its first q the start. Before the fix an actuator could
+    not: with l0 it was refused ('drop l0'), without it too ('field l0 is missing'). The periodic spline
+    through (0, 1.0), (0.5, 1.1), (1, 1.0) is symmetric about t = 0.5: by hand its extremes are the rows'
+    1.0 and 1.1 m."""
+    path = actuator_table(tmp_path, [(0.0, 1.0), (0.5, 1.1), (1.0, 1.0)])
+    r = run("analyze", path, "--csv", tmp_path / "out.csv")
+    assert r.returncode == 0, r.stderr[-600:]
+    rows = (tmp_path / "out.csv").read_text().splitlines()
+    k = rows[0].split(",").index("s_lift")
+    s = [float(row.split(",")[k]) for row in rows[1:]]
+    # the run's samples hit t = 0 and t = 0.5 (361 over the 1 s cycle); the rest is the spline's rounding
+    assert abs(min(s) - 1.0) <= 1e-9 and abs(max(s) - 1.1) <= 1e-9 and abs(s[0] - 1.0) <= 1e-12, (min(s), max(s))
+
+
+def test_an_actuator_table_outside_its_stroke_is_refused_naming_the_stroke(tmp_path):
+    """The same table reaching 2 m, past the stroke [0.75, 1.25] m: analyze refuses it in one line naming the
+    file and the stroke (check prints the range the cylinder assembles in, as for a speed that leaves it)."""
+    line = refusal(run("analyze", actuator_table(tmp_path, [(0.0, 1.0), (0.5, 2.0), (1.0, 1.0)])))
+    assert "scissor_lift.toml" in line and "stroke" in line, line
