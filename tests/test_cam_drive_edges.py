@@ -200,3 +200,18 @@ def test_an_actuator_table_outside_its_stroke_is_refused_naming_the_stroke(tmp_p
     file and the stroke (check prints the range the cylinder assembles in, as for a speed that leaves it)."""
     line = refusal(run("analyze", actuator_table(tmp_path, [(0.0, 1.0), (0.5, 2.0), (1.0, 1.0)])))
     assert "scissor_lift.toml" in line and "stroke" in line, line
+
+
+def test_a_law_whose_cycle_is_too_long_to_step_is_refused_naming_the_file(tmp_path):
+    """servo_press's crank on a table whose cycle lasts 2e12 s: compare cannot step it (4e13 steps), and says so
+    in one line naming the file and the cycle as the thing to shorten (before: no file, 'reduce the
+    revolutions' only, though one revolution is the least a run has)."""
+    text = (LIBRARY / "servo_press.toml").read_text()
+    start = text.index("segments = [")
+    end = text.index("]\n", text.index("\n]", start)) + 2
+    path = tmp_path / "servo_press.toml"
+    path.write_text((text[:start] + 'table = "law.csv"\n' + text[end:]).replace('phi0 = "90deg"', ""))
+    (tmp_path / "law.csv").write_text("t,q_deg\n0,90\n1e12,270\n2e12,450\n")
+    assert run("check", path).returncode == 0
+    line = refusal(run("compare", path))
+    assert str(path) in line and "cycle" in line, line
