@@ -513,13 +513,23 @@ def _crossing(q: np.ndarray) -> tuple[float, float] | None:
 
 
 __all__ = ["Setup", "Follow", "Lift", "CamGeometry", "follow", "at", "build", "problems", "polygon_lift", "read_outline",
-           "elements", "geometry", "MOTIONS", "CONTACTS", "DENSE"]
+           "elements", "geometry", "plate", "MOTIONS", "CONTACTS", "DENSE"]
 
 
 # ------------------------------------------------------------------------------------- from a mechanism
 def elements(mech) -> dict:
     """The mechanism's cams: {name: resolved element}, in solving order."""
     return {e["name"]: e for e in mech.geometry.elements if e["kind"] == "cam"}
+
+
+def plate(element: dict, geo: CamGeometry | None = None, n: int = DENSE) -> np.ndarray:
+    """The cam plate's outline (x, y) [m] in the cam's frame about its pivot, counter-clockwise: a given
+    ``profile`` as the file gives it (analysis mode: the cam as made; the envelope made again from the spline
+    of its lift carries the spline's ripple, and on a coarse polygon overlaps itself), else the profile made
+    from the law (``geo``'s, or built on ``n`` cam angles)."""
+    if element.get("profile"):
+        return np.asarray(element["profile"], dtype=float)
+    return (geo if geo is not None else build(element["setup"], n)).profile
 
 
 def geometry(mech, element, n: int = DENSE) -> CamGeometry:

@@ -402,7 +402,7 @@ def _judge(cmd: str, rc: int | None, out: str, err: str, path: Path, leftover: l
         return "MISHANDLED", f"{len(lines)}-line message: " + last
     if path.name not in last and path.stem not in last:
         return "MISHANDLED", "names no file: " + last
-    if not NAMES_A_FIELD.search(last.replace(str(path), "")):
+    if not NAMES_A_FIELD.search(lines[-1].replace(str(path), "")):
         return "MISHANDLED", "names no field: " + last
     return "refused", last
 

@@ -12,6 +12,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -215,3 +216,31 @@ def test_a_law_whose_cycle_is_too_long_to_step_is_refused_naming_the_file(tmp_pa
     assert run("check", path).returncode == 0
     line = refusal(run("compare", path))
     assert str(path) in line and "cycle" in line, line
+
+
+def test_a_given_profile_is_the_plate_exported(tmp_path):
+    """cam_rocker given a 72-gon circle of 25 mm about its pivot: export draws that outline as the plate (each
+    DXF vertex at 25 mm from the pivot A, which the pose puts at the origin, or inside it by at most the
+    polygon's sag), not an envelope made again from the spline of its lift (before: that envelope overlapped
+    itself and GEOS died on it, a traceback)."""
+    import ezdxf
+    R = 0.025
+    path = given_profile(tmp_path, "cam_rocker", circle(R, 72))
+    r = run("export", path, "--dxf", tmp_path / "c.dxf", "--stl", tmp_path / "stl")
+    assert r.returncode == 0 and "Traceback" not in r.stderr, r.stderr[-600:]
+    doc = ezdxf.readfile(tmp_path / "c.dxf")
+    plate = [e for e in doc.modelspace() if e.dxftype() == "LWPOLYLINE" and e.dxf.layer == "1"]
+    assert len(plate) == 1
+    radius = np.hypot(*np.array([(x, y) for x, y, *_ in plate[0].get_points()]).T)
+    tol = 1e-4 * 0.1                                    # SPEC: within 1e-4 of the size (cam_rocker ~0.1 m)
+    assert radius.max() <= R + tol and radius.min() >= R * math.cos(math.pi / 72) - tol, (radius.min(), radius.max())
+    assert (tmp_path / "stl" / "1.stl").is_file()
+
+
+def test_a_given_profile_is_the_plate_simulated(tmp_path):
+    """cam_flat given a 72-gon circle of 35 mm about its pivot (a dwell all round): compare simulates that
+    outline and passes (before: the simulation collided the envelope made from the spline of its lift, which
+    turns back about the pivot, and refused 'give a counter-clockwise outline around the pivot' for an outline
+    that is one)."""
+    r = run("compare", given_profile(tmp_path, "cam_flat", circle(35.0, 72)))
+    assert r.returncode == 0 and "PASSED" in r.stdout, (r.stdout[-400:], r.stderr[-400:])

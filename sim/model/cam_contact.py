@@ -703,7 +703,8 @@ def add(e: dict, ctx, geo) -> None:
     G = mujoco.mjtGeom
     spec = ctx.spec
     name = e["name"]
-    prof = collision_profile(geo.profile)
+    from analytic.cams import plate
+    prof = collision_profile(plate(e, geo))             # a given profile as given, else the law's
     mech = getattr(ctx, "mech", None)                  # the file and the element, to say where
     where = (f"{mech.definition.source}: " if mech is not None else "") + str(e.get("label", f"cam {name}"))
     if e.get("profile"):

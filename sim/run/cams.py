@@ -102,7 +102,7 @@ def compliance(built, solved_n: np.ndarray, e: dict) -> Compliance:
         # penetration (a looser, not a wrong, bound)
         arm = float(e["arm"])
         m_eff = (b.I + b.m * (b.cx ** 2 + b.cy ** 2)) / arm ** 2
-    P = collision_profile(geo.profile)                   # the outline MuJoCo collides
+    P = collision_profile(C.plate(e, geo))               # the outline MuJoCo collides
     seg = float(np.max(np.hypot(*(np.roll(P, -1, axis=0) - P).T)))
     rho = np.abs(np.asarray(geo.rho))
     rho = float(np.min(rho[rho > 0])) if np.any(rho > 0) else math.inf
