@@ -244,3 +244,14 @@ def test_a_given_profile_is_the_plate_simulated(tmp_path):
     that is one)."""
     r = run("compare", given_profile(tmp_path, "cam_flat", circle(35.0, 72)))
     assert r.returncode == 0 and "PASSED" in r.stdout, (r.stdout[-400:], r.stderr[-400:])
+
+
+def test_a_plate_too_small_to_mesh_is_refused_naming_the_field(tmp_path):
+    """cam_flat given its circle in the wrong units (35e-9 mm): the analytic commands take it (the follower
+    barely moves), the simulation cannot mesh a plate of 3.5e-11 m: compare refuses it in one line naming the
+    file, the cam and its profile (before: 'MuJoCo cannot compile the cam_flat: mesh surface area is too
+    small: cam0_piece0', no file, no field)."""
+    path = given_profile(tmp_path, "cam_flat", circle(35e-9, 72))
+    assert run("check", path).returncode == 0
+    line = refusal(run("compare", path))
+    assert str(path) in line and "groups[1]" in line and "field 'profile'" in line and "units" in line, line

@@ -682,6 +682,12 @@ contact's figures were measured at 720 (chord sagitta 7e-7 m on cam_roller's 29.
 curvature); the 3600 of :func:`analytic.cams.build` made the model's compile and XML 5x slower (1.9 s)."""
 
 
+MIN_PLATE = 1e-6
+"""[m] The smallest cam plate (its largest radius) simulated: a plate 1e-6 m across with ~100 vertices to a
+convex piece has pieces of ~1e-13 m^2, well above the mesh area MuJoCo refuses (mjMINVAL, 1e-15); a profile
+typed in the wrong units (35e-9 mm) is far below it."""
+
+
 def collision_profile(profile: np.ndarray) -> np.ndarray:
     """``profile`` thinned to at most :data:`COLLISION_POINTS` vertices (every k-th: still on the outline)."""
     prof = np.asarray(profile, dtype=float)
@@ -713,6 +719,10 @@ def add(e: dict, ctx, geo) -> None:
         check_star(prof, f"{where}: field 'segments'",
                    "rise less steeply there (a smaller rise or a longer segment) or make base_radius larger")
     size = float(np.max(np.hypot(prof[:, 0], prof[:, 1])))
+    if not size >= MIN_PLATE:
+        field = "profile" if e.get("profile") else "base_radius"
+        raise ParameterError(f"{where}: field '{field}': the cam plate reaches {size:.3g} m from its pivot; the "
+                             f"simulation meshes plates of {MIN_PLATE:g} m and more: check the {field}'s units")
     h = ctx.timestep
     solref = [CONTACT_STEPS * h, 1.0]
     solimp = [IMPEDANCE, IMPEDANCE, 1e-3 * size, 0.5, 2.0]
