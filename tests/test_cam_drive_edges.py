@@ -1,7 +1,9 @@
 """Cams and drives at their edges, from outside (the classes benchmarks/fuzz_cams_drives.py found mishandled):
-a given profile that is a plain polygon (a coarse circle, points repeated) is the cam as made, not an undercut;
-an outline that crosses itself is refused in one line naming the field; the simulation's own refusals (a
-plate not star-shaped about its pivot, a link without rotational inertia) name the file and where."""
+a given profile that is a plain polygon (a coarse circle, points repeated) is the cam as made (checked,
+exported, drawn and simulated as given), not an undercut; an outline that crosses itself, given or made from
+a law, is refused in one line naming the field; an actuator takes a table law; the simulation's own refusals
+(a plate not star-shaped about its pivot or too small to mesh, a link without rotational inertia, a cycle too
+long to step, a --speed too fast) name the file and where; a law that only dwells compares without a crash."""
 
 from __future__ import annotations
 
@@ -64,8 +66,8 @@ def test_a_polygon_circle_about_the_pivot_holds_the_follower_still(tmp_path, bas
     travel = hi - lo
     k = 1e-3 if base == "cam_flat" else 1.0                 # cam_flat's file is in mm
     sag = radius * k * (1 - math.cos(math.pi / n))
-    if column == "phiarm":                                  # the arm (55 mm) turns by the roller centre's
-        sag = sag / (0.055 * 0.5)                           # move over at least half its length (generous)
+    if column == "phiarm":                                  # the roller's centre rides the arm's circle
+        sag = sag / (0.055 * 0.5)                           # (55 mm): move / 55 mm, times 2 for slack
     # the polygon's sag bounds the true motion; the 1440-point spline through it may overshoot by a few sags
     assert travel <= 4 * sag, (column, travel, sag)
 
@@ -84,6 +86,7 @@ def test_repeated_points_are_the_same_outline(tmp_path):
     lo, hi = ra["stappet"]
     # by hand: a flat face on a circle whose centre is eps = 4 mm off the pivot moves harmonically, stroke
     # 2 eps; the 720-gon's support falls short of the circle's by at most R (1 - cos(pi / 720)) ~ 3e-4 mm
+    # (both ends can fall short: twice that; and 1e-9 m for the spline through 1440 samples of the lift)
     assert abs((hi - lo) - 8e-3) <= 2 * 35e-3 * (1 - math.cos(math.pi / 720)) + 1e-9
     # the same polygon read twice: the same arithmetic once the repeats are dropped, so equal to rounding
     for name in ra:
