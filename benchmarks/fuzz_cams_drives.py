@@ -11,8 +11,9 @@ cannot reach the cam or pivoted at the cam's pivot, segments of zero or negative
 return, durations summing to 359.9 or 360.1deg, unknown shapes, profile CSVs of too few, duplicate,
 self-crossing or non-star-shaped points or NaN text; actuator strokes min >= max, a start outside the stroke,
 zero-area pistons, rods as wide as the bore; laws of zero duration, tables of one row or non-monotonic time;
-speeds 0, negative, 1e6; nan/inf literals. A fixed list of such edits runs first, then seeded combinations
-of them up to ``--cases``.
+speeds 0, negative, 1e6; nan/inf literals; and a few sound designs (:data:`VALID`). There are 386 single
+edits: ``--cases`` below that runs a seeded sample of them (the sound designs always), above it every one
+and then seeded pairs and triples; 16 ``simulate --speed`` 0, -30, 1e6, nan cases on the library cams follow.
 
 Each case's file (and CSV) is written to a temp folder and run in fresh processes
 (``python -m sim ...``, PYTHONPATH this checkout): ``check``; where check accepts, also ``analyze --json``,
