@@ -42,6 +42,7 @@ touches the outline coming down (:func:`_rest_arm`); a flat-faced arm is not sup
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import dataclass
 
 import numpy as np
@@ -281,7 +282,9 @@ def problems(geo: CamGeometry, unit: tuple[float, str] = (1.0, "m")) -> str | No
     its name)."""
     st = geo.setup
     k = unit[0]
-    _, i, what = defects(geo)
+    # a given outline is the cam as made: its follower rests on it wherever (analysis mode); undercuts and
+    # cusps are of a profile made from a law, and the spline of a polygon's lift has no curvature to judge
+    _, i, what = defects(geo) if not isinstance(st.law, Lift) else (None, None, "")
     at = None if i is None else f"{math.degrees(geo.theta[i]):.4g}deg"
     if what == "cusp" and st.contact != "flat":
         return f"the pitch curve has a cusp at cam angle {at}; make the base radius larger or the rise gentler"
@@ -294,6 +297,12 @@ def problems(geo: CamGeometry, unit: tuple[float, str] = (1.0, "m")) -> str | No
         return (f"the profile undercuts at cam angle {at}: the roller ({rr / k:.4g} {unit[1]}) is larger than the "
                 f"pitch curve's radius of curvature there ({geo.rho_pitch[i] / k:.4g} {unit[1]}); use a smaller roller or "
                 f"a larger base radius")
+    if what == "" and not isinstance(st.law, Lift):
+        crossing = _crossing(geo.contact_cam)
+        if crossing is not None:                     # no undercut in the small, but the outline overlaps itself
+            i = int(np.argmin(np.hypot(geo.contact_cam[:, 0] - crossing[0], geo.contact_cam[:, 1] - crossing[1])))
+            return (f"the profile crosses itself (undercut) at cam angle {math.degrees(geo.theta[i]):.4g}deg; make the "
+                    f"base radius larger or the rise gentler")
     if st.contact == "flat" and st.face_width is not None and st.face_width < geo.face_travel:
         return (f"field 'face_width': {st.face_width / k:.4g} {unit[1]} is narrower than the contact's travel "
                 f"along the face, {geo.face_travel / k:.4g} {unit[1]}; make it at least that")
@@ -468,24 +477,59 @@ def read_outline(text: str, scale: float) -> np.ndarray:
             raise ValueError(f"line {k}: {ln[:40]!r} is not two finite numbers")
         rows.append(row)
     q = np.asarray(rows) * scale
-    if len(q) > 1 and np.hypot(*(q[0] - q[-1])) <= 1e-12 * max(np.abs(q).max(), 1e-300):
-        q = q[:-1]
+    if len(q) > 1:                                   # a point repeated (the first at the end, or in a row)
+        same = np.hypot(*(np.roll(q, -1, axis=0) - q).T) <= 1e-12 * max(np.abs(q).max(), 1e-300)
+        q = q[~same] if not same.all() else q[:1]
     if len(q) < 8:
-        raise ValueError(f"{len(q)} points; an outline needs at least 8")
+        raise ValueError(f"{len(q)} distinct points; an outline needs at least 8")
     area = 0.5 * float(np.sum(q[:, 0] * np.roll(q[:, 1], -1) - np.roll(q[:, 0], -1) * q[:, 1]))
     if area == 0:
         raise ValueError("the outline encloses no area")
+    crossing = _crossing(q)
+    if crossing is not None:
+        x, y = crossing[0] / scale, crossing[1] / scale
+        raise ValueError(f"the outline crosses itself near ({x:.6g}, {y:.6g}); give the points once round the "
+                         f"cam, in order, without a loop")
     return q if area > 0 else q[::-1].copy()
 
 
+def _crossing(q: np.ndarray) -> tuple[float, float] | None:
+    """A point where the closed polyline ``q`` crosses or touches itself (GEOS's validity test of the polygon
+    it bounds, O(n log n)), or None where it is simple. An outline whose every edge turns the same way about
+    the origin, once round in all, is a polar graph r(angle) and cannot cross itself: it is passed without
+    GEOS (and without importing it)."""
+    a, b = q, np.roll(q, -1, axis=0)
+    cross = a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]
+    turn = float(np.sum(np.arctan2(cross, np.sum(a * b, axis=1))))
+    if (np.all(cross > 0) or np.all(cross < 0)) and abs(abs(turn) - 2 * math.pi) <= 1e-6:
+        return None
+    from shapely import Polygon
+    from shapely.validation import explain_validity
+    why = explain_validity(Polygon(q))
+    if why == "Valid Geometry":
+        return None
+    m = re.search(r"\[\s*([-+0-9.eE]+)\s+([-+0-9.eE]+)", why)
+    return (float(m[1]), float(m[2])) if m else (float(q[0, 0]), float(q[0, 1]))
+
+
 __all__ = ["Setup", "Follow", "Lift", "CamGeometry", "follow", "at", "build", "problems", "polygon_lift", "read_outline",
-           "elements", "geometry", "MOTIONS", "CONTACTS", "DENSE"]
+           "elements", "geometry", "plate", "MOTIONS", "CONTACTS", "DENSE"]
 
 
 # ------------------------------------------------------------------------------------- from a mechanism
 def elements(mech) -> dict:
     """The mechanism's cams: {name: resolved element}, in solving order."""
     return {e["name"]: e for e in mech.geometry.elements if e["kind"] == "cam"}
+
+
+def plate(element: dict, geo: CamGeometry | None = None, n: int = DENSE) -> np.ndarray:
+    """The cam plate's outline (x, y) [m] in the cam's frame about its pivot, counter-clockwise: a given
+    ``profile`` as the file gives it (analysis mode: the cam as made; the envelope made again from the spline
+    of its lift carries the spline's ripple, and on a coarse polygon overlaps itself), else the profile made
+    from the law (``geo``'s, or built on ``n`` cam angles)."""
+    if element.get("profile"):
+        return np.asarray(element["profile"], dtype=float)
+    return (geo if geo is not None else build(element["setup"], n)).profile
 
 
 def geometry(mech, element, n: int = DENSE) -> CamGeometry:

@@ -267,10 +267,15 @@ def _check(data: dict, source: str, default_name: str) -> Definition:
             raise _fail(source, section, f"must be an array of tables ([[{section}]])")
         for i, item in enumerate(items, 1):
             where = labels[len(elements)] if labels else f"{section}[{i}]"
+            written = _table_start(item, where, section, source, UNITS[units])
+            if written is not None:                  # a required start (an actuator's l0) from its table
+                kind = kinds.get(item["kind"])
+                item = {**item, kind.motion_fields[0]: written.table[1][0] / (1.0 if kind.angular else UNITS[units])}
             el = _element(item, where, section, source)
             if section == "inputs":
-                written = lawfield.check(item, kinds.get(el.kind), kinds.get(el.kind).motion_fields, el.label,
-                                         source, UNITS[units])
+                if written is None:
+                    written = lawfield.check(item, kinds.get(el.kind), kinds.get(el.kind).motion_fields, el.label,
+                                             source, UNITS[units])
                 el = replace(el, law=written) if written is not None else el
             elements.append(el)
     elements = _sized_rates(elements, ground, params, source, name)
@@ -404,6 +409,21 @@ def _check_mass(section, links: set, source: str) -> dict:
                     not isinstance(c, bool) and isinstance(c, (int, float)) and abs(c) <= MAX_MAGNITUDE for c in at)):
                 raise _fail(source, f"{where}.at", f"{_short(at)} must be [u, v]: two finite numbers [file units]")
     return section
+
+
+def _table_start(item, where: str, section: str, source: str, scale: float):
+    """An input's ``table`` law (:func:`lawfield.check`) where its kind requires the start value the table's
+    first row gives (an actuator's ``l0``) and the file leaves it out, as SPEC's tables do; else None (the
+    element is read as written, and a start given beside a table is refused there)."""
+    if section != "inputs" or not isinstance(item, dict) or "table" not in item:
+        return None
+    if item.get("kind") not in kinds.of_section(section):
+        return None
+    kind = kinds.get(item["kind"])
+    first = kind.motion_fields[0]
+    if first in item or kind.fields[first].default is not REQUIRED:
+        return None
+    return lawfield.check(item, kind, kind.motion_fields, _placed(item, where), source, scale)
 
 
 def _placed(item: dict, where: str) -> str:

@@ -267,11 +267,11 @@ radius of curvature down to R / 5 (the drawing, the DXF and the solids need noth
 
 def _cam_plates(mech) -> tuple[dict, dict]:
     """({cam link: its outline (k, 2) in the cam's frame [file units], counter-clockwise}, {cam link: the
-    pivot the outline is about}) of the mechanism's cams (:func:`analytic.cams.geometry`)."""
+    pivot the outline is about}) of the mechanism's cams (:func:`analytic.cams.plate`: a given profile as given)."""
     from analytic import cams
     plates, pivots = {}, {}
     for e in cams.elements(mech).values():
-        plates[e["cam"]] = cams.geometry(mech, e, PLATE_POINTS).profile / mech.scale
+        plates[e["cam"]] = cams.plate(e, n=PLATE_POINTS) / mech.scale
         pivots[e["cam"]] = e["pivot"]
     return plates, pivots
 

@@ -196,15 +196,20 @@ def _rot(theta):
     return c, s
 
 
-def check_star(profile: np.ndarray) -> None:
-    """Refuse an outline that is not counter-clockwise and star-shaped about the origin (the pivot)."""
+def check_star(profile: np.ndarray, where: str = "profile",
+               fix: str = "give a counter-clockwise outline around the pivot (star-shaped about it)") -> None:
+    """Refuse an outline that is not counter-clockwise and star-shaped about the origin (the pivot): one line
+    starting with ``where`` (the file, element and field where a mechanism's cam is built) and ending with
+    ``fix``."""
     a, b = profile, np.roll(profile, -1, axis=0)
     cross = a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]
     turn = np.arctan2(cross, np.sum(a * b, axis=1))
     if np.any(cross <= 0) or abs(float(turn.sum()) - 2 * math.pi) > 1e-6:
         k = int(np.argmin(cross))
-        raise ParameterError(f"profile: point {k + 1} of {len(profile)} at {profile[k].tolist()} turns back about "
-                             f"the pivot; give a counter-clockwise outline around the pivot (star-shaped about it)")
+        at = math.degrees(math.atan2(profile[k, 1], profile[k, 0])) % 360
+        raise ParameterError(f"{where}: the cam's outline turns back about the pivot at {at:.4g}deg in the cam's "
+                             f"frame (point {k + 1} of {len(profile)}); the simulation collides a plate star-shaped "
+                             f"about its pivot: {fix}")
 
 
 def convex_pieces(profile: np.ndarray) -> list[tuple[int, int]]:
@@ -677,6 +682,12 @@ contact's figures were measured at 720 (chord sagitta 7e-7 m on cam_roller's 29.
 curvature); the 3600 of :func:`analytic.cams.build` made the model's compile and XML 5x slower (1.9 s)."""
 
 
+MIN_PLATE = 1e-6
+"""[m] The smallest cam plate (its largest radius) simulated: a plate 1e-6 m across with ~100 vertices to a
+convex piece has pieces of ~1e-13 m^2, well above the mesh area MuJoCo refuses (mjMINVAL, 1e-15); a profile
+typed in the wrong units (35e-9 mm) is far below it."""
+
+
 def collision_profile(profile: np.ndarray) -> np.ndarray:
     """``profile`` thinned to at most :data:`COLLISION_POINTS` vertices (every k-th: still on the outline)."""
     prof = np.asarray(profile, dtype=float)
@@ -698,9 +709,20 @@ def add(e: dict, ctx, geo) -> None:
     G = mujoco.mjtGeom
     spec = ctx.spec
     name = e["name"]
-    prof = collision_profile(geo.profile)
-    check_star(prof)
+    from analytic.cams import plate
+    prof = collision_profile(plate(e, geo))             # a given profile as given, else the law's
+    mech = getattr(ctx, "mech", None)                  # the file and the element, to say where
+    where = (f"{mech.definition.source}: " if mech is not None else "") + str(e.get("label", f"cam {name}"))
+    if e.get("profile"):
+        check_star(prof, f"{where}: field 'profile'")
+    else:
+        check_star(prof, f"{where}: field 'segments'",
+                   "rise less steeply there (a smaller rise or a longer segment) or make base_radius larger")
     size = float(np.max(np.hypot(prof[:, 0], prof[:, 1])))
+    if not size >= MIN_PLATE:
+        field = "profile" if e.get("profile") else "base_radius"
+        raise ParameterError(f"{where}: field '{field}': the cam plate reaches {size:.3g} m from its pivot; the "
+                             f"simulation meshes plates of {MIN_PLATE:g} m and more: check the {field}'s units")
     h = ctx.timestep
     solref = [CONTACT_STEPS * h, 1.0]
     solimp = [IMPEDANCE, IMPEDANCE, 1e-3 * size, 0.5, 2.0]

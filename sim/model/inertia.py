@@ -67,7 +67,7 @@ def add_inertias(spec, mech, points, frames, loads):
         b = spec.body(ln)
         inertia = inertias[ln]
         if not (inertia.m >= MIN_MASS and inertia.I >= MIN_INERTIA):
-            raise ParameterError(f"inertia of link {ln}: m = {inertia.m:.3g} kg, I = {inertia.I:.3g} kg m^2; the "
+            raise ParameterError(f"{mech.definition.source}: inertia of link {ln}: m = {inertia.m:.3g} kg, I = {inertia.I:.3g} kg m^2; the "
                                  f"simulation needs m >= {MIN_MASS:g} kg and I >= {MIN_INERTIA:g} kg m^2 "
                                  f"(MuJoCo's minimum): give a realistic [inertia] or --inertia")
         b.explicitinertial = True

@@ -86,7 +86,7 @@ def plates_of(mech) -> tuple:
     for e in cams.elements(mech).values():
         g = cams.geometry(mech, e, n=PLATE_CORNERS)
         pts = mech.topology.links[e["cam"]].points
-        out.append(Plate(e["cam"], e["pivot"], (pts[0], pts[1]), np.asarray(g.profile, dtype=float),
+        out.append(Plate(e["cam"], e["pivot"], (pts[0], pts[1]), np.asarray(cams.plate(e, g), dtype=float),
                          float(e["roller"]) if e["contact"] == "roller" else 0.0, e["point"], face_of(e, g)))
     return tuple(out)
 

@@ -102,7 +102,7 @@ def compliance(built, solved_n: np.ndarray, e: dict) -> Compliance:
         # penetration (a looser, not a wrong, bound)
         arm = float(e["arm"])
         m_eff = (b.I + b.m * (b.cx ** 2 + b.cy ** 2)) / arm ** 2
-    P = collision_profile(geo.profile)                   # the outline MuJoCo collides
+    P = collision_profile(C.plate(e, geo))               # the outline MuJoCo collides
     seg = float(np.max(np.hypot(*(np.roll(P, -1, axis=0) - P).T)))
     rho = np.abs(np.asarray(geo.rho))
     rho = float(np.min(rho[rho > 0])) if np.any(rho > 0) else math.inf
@@ -232,3 +232,20 @@ def speed_sets(mech, speed: float) -> dict[str, str]:
                                  f"scales the inputs' speed parameters (give omega = \"omega1\" under [parameters])")
         sets[name] = repr(inp.motion.rate * speed / w)
     return sets
+
+
+def check_speed(before, after, speed: float, revolutions: float = 1.0) -> None:
+    """``--speed W`` refused in one line naming the option where it alone makes the design too fast to step
+    (:func:`sim.model.timestep.choose_timestep` refuses ``after``, the mechanism at W, and not ``before``, the
+    file's own): otherwise the refusal would tell the user to lower a parameter the option set."""
+    from sim.model.timestep import choose_timestep
+    try:
+        choose_timestep(after, revolutions)
+    except ParameterError:
+        try:
+            choose_timestep(before, revolutions)
+        except ParameterError:
+            return                                   # the file's own problem: its own refusal says it
+        raise ParameterError(f"{before.definition.source}: --speed {speed:g}: the cam turns too fast to simulate "
+                             f"accurately (the time step it needs is below the simulator's least); give a lower "
+                             f"--speed") from None

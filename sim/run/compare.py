@@ -433,7 +433,8 @@ def table(c: Comparison, size: float, display=None, output_point: str | None = N
         lines.append(f"  {name:<{width}s} {e['max']:11.3e} {e['rms']:11.3e} {e['peak']:11.4g} {e['tol']:11.1e}  "
                      f"{e['unit']}{flag}")
     if fixed:
-        worst = max(c.errors[n]["max"] / c.errors[n]["tol"] for n in fixed)
+        # a design that stands still (a law that only dwells) has outputs of tolerance 0 and error 0
+        worst = max(c.errors[n]["max"] / c.errors[n]["tol"] if c.errors[n]["tol"] > 0 else 0.0 for n in fixed)
         shown = " ".join(fixed[:8]) + (" ..." if len(fixed) > 8 else "")
         lines.append(f"  {len(fixed)} fixed outputs ({shown}): within tolerance, worst {worst:.1e} of it")
     length = display.unit("length")

@@ -67,8 +67,10 @@ def steps_for(built: Built, revolutions: float) -> int:
     end = built.mech.duration(revolutions)
     n = int(math.ceil(end / built.timestep - 1e-9)) + 1
     if n > MAX_STEPS:
-        raise ParameterError(f"revolutions={revolutions:g} needs {n:.3g} steps of {built.timestep:.3g} s; at most "
-                             f"{MAX_STEPS:.0e} are simulated at once: reduce the revolutions")
+        raise ParameterError(f"{built.mech.definition.source}: revolutions={revolutions:g} runs {end:.3g} s, "
+                             f"{n:.3g} steps of {built.timestep:.3g} s; at most {MAX_STEPS:.0e} are simulated at "
+                             f"once: reduce the revolutions or shorten the cycle (the inputs' speeds, or their "
+                             f"laws' durations)")
     return n
 
 

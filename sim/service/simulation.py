@@ -459,3 +459,10 @@ def cam_speed_sets(mech: Mechanism, speed: float) -> dict[str, str]:
     (:func:`sim.run.cams.speed_sets`)."""
     from sim.run.cams import speed_sets
     return speed_sets(mech, speed)
+
+
+def check_cam_speed(before: Mechanism, after: Mechanism, speed: float, revolutions: float = 1.0) -> None:
+    """``simulate --speed W``: refused naming the option where W alone makes the design too fast to simulate
+    (:func:`sim.run.cams.check_speed`)."""
+    from sim.run.cams import check_speed
+    check_speed(before, after, speed, revolutions)

@@ -28,10 +28,12 @@ def run(args) -> int:
     if args.speed is not None:
         from sim.front.cli.options import sets_of
         from sim.service import load
-        from sim.service.simulation import cam_speed_sets
+        from sim.service.simulation import cam_speed_sets, check_cam_speed
         sets = sets_of(args.sets)
         sets.update(cam_speed_sets(mech, args.speed))
-        mech = load(args.mechanism, sets)
+        before, mech = mech, load(args.mechanism, sets)
+        if args.timestep is None:
+            check_cam_speed(before, mech, args.speed, args.revolutions)
     check_outputs(args, {"csv": (".csv",)})
     import linkage as lk
     settings = settings_from(args)
