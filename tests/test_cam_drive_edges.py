@@ -258,3 +258,16 @@ def test_a_plate_too_small_to_mesh_is_refused_naming_the_field(tmp_path):
     assert run("check", path).returncode == 0
     line = refusal(run("compare", path))
     assert str(path) in line and "groups[1]" in line and "field 'profile'" in line and "units" in line, line
+
+
+def test_a_given_profile_is_the_outline_analyze_reports(tmp_path):
+    """cam_rocker given a 72-gon circle of 25 mm about its pivot: ``analyze --json``'s outline (SPEC: "profile":
+    [[x, y], ...]) is that polygon, each point 25 mm from the pivot as the file gives it, not the envelope made
+    again from the spline of its lift (which ripples and overlaps itself on a coarse polygon)."""
+    R = 0.025
+    pts = circle(R, 72)
+    r = run("analyze", given_profile(tmp_path, "cam_rocker", pts), "--json")
+    assert r.returncode == 0, r.stderr[-600:]
+    outline = np.asarray(json.loads(r.stdout)["cams"]["rocker"]["profile"])
+    # the file's points, read as written (metres both: rounding only)
+    assert outline.shape == (72, 2) and np.max(np.abs(outline - np.asarray(pts))) <= 1e-12, outline[:3]

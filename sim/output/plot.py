@@ -262,7 +262,8 @@ def cam_panels(axes, mech, u) -> None:
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7, loc="best")
     ax = axes[1, 2]
-    prof, pitch = np.vstack([geo.profile, geo.profile[:1]]) * L, np.vstack([geo.pitch, geo.pitch[:1]]) * L
+    outline = cams.plate(e, geo)                    # a given profile as the file gives it
+    prof, pitch = np.vstack([outline, outline[:1]]) * L, np.vstack([geo.pitch, geo.pitch[:1]]) * L
     ax.fill(prof[:, 0], prof[:, 1], color="tab:blue", alpha=0.15)
     ax.plot(prof[:, 0], prof[:, 1], lw=1.4, color="tab:blue", label="profile")
     if st.contact != "flat":

@@ -158,7 +158,8 @@ def analysis_record(mech: Mechanism, a: Analysis, samples: int, revolutions: flo
 def cams_record(mech: Mechanism, display=None) -> dict:
     """Per cam (SPEC "Cams and followers"): its largest pressure angle, smallest radius of curvature, a flat
     face's required width (the contact's travel along it) and its outline (closed, counter-clockwise, in the
-    cam's frame), lengths in ``display`` units (default SI)."""
+    cam's frame: :func:`analytic.cams.plate`, a given ``profile`` as the file gives it), lengths in ``display``
+    units (default SI)."""
     from analytic import cams
     from analytic import quantities as Q
     display = display or Q.SI
@@ -169,7 +170,7 @@ def cams_record(mech: Mechanism, display=None) -> dict:
                  "rho_min": display.convert(Q.LENGTH, geo.rho_min)}
         if geo.setup.contact == "flat":
             entry["face_width"] = display.convert(Q.LENGTH, geo.face_travel)
-        entry["profile"] = display.convert(Q.LENGTH, geo.profile.tolist())
+        entry["profile"] = display.convert(Q.LENGTH, cams.plate(e, geo).tolist())    # a given outline as given
         out[name] = entry
     return out
 
