@@ -5,7 +5,6 @@ the door (a couple on the crank moves the drive torque by the couple, the crank'
 absent ``input_range`` is the file's own, as in the command line and ``linkage``."""
 
 import inspect
-import json
 import math
 from pathlib import Path
 
@@ -13,6 +12,7 @@ import pytest
 
 import linkage.api as door
 from sim.front import fields
+from tests.app_client import post
 
 LIBRARY = Path(__file__).resolve().parents[1] / "analytic" / "library"
 
@@ -21,17 +21,6 @@ ROUTES = {"solve": "/api/solve", "drag": "/api/drag", "simulate": "/api/simulate
 DOOR_FUNCTIONS = {"solve": ("analyze",), "drag": ("analyze",), "simulate": ("compare",), "render": ("simulate",),
                   "forces": ("forces",), "dynamics": ("dynamics",), "export": ("analyze", "export")}
 """Which door function each action runs, written out here (the module's table is what is checked)."""
-
-
-def post(srv, path, body):
-    import http.client
-    conn = http.client.HTTPConnection("127.0.0.1", srv.port, timeout=300)
-    conn.request("POST", path, body=json.dumps(body).encode(),
-                 headers={"Host": f"127.0.0.1:{srv.port}", "Content-Type": "application/json"})
-    r = conn.getresponse()
-    data = r.read()
-    conn.close()
-    return r.status, json.loads(data)
 
 
 def refusal(srv, path, body) -> str:

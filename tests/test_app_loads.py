@@ -13,6 +13,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from app_client import post  # tests/app_client.py
 from fourbar_text import fourbar_text  # the hand four-bar as text (tests/fourbar_text.py)
 
 
@@ -20,17 +21,6 @@ HERE = Path(__file__).parent
 FOURBAR = fourbar_text("slow_fourbar", 0.001)
 """A four-bar turning at 1e-3 rad/s: the inertia forces (~m r w^2 ~ 1e-7 N) leave statics."""
 
-
-
-def post(srv, path, body):
-    import http.client
-    conn = http.client.HTTPConnection("127.0.0.1", srv.port, timeout=120)
-    conn.request("POST", path, body=json.dumps(body).encode(),
-                 headers={"Host": f"127.0.0.1:{srv.port}", "Content-Type": "application/json"})
-    r = conn.getresponse()
-    status, data = r.status, json.loads(r.read())
-    conn.close()
-    return status, data
 
 
 def ok(srv, path, body):

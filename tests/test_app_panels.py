@@ -12,22 +12,12 @@ import numpy as np
 import pytest
 
 from sim.front import app
+from tests.app_client import post
 
 EXAMPLES = Path(__file__).parent / "peers_examples"
 KINDS = Path(__file__).parent / "kinds"
 G = 9.81
 
-
-
-def post(srv, path, body):
-    import http.client
-    conn = http.client.HTTPConnection("127.0.0.1", srv.port, timeout=300)
-    conn.request("POST", path, body=json.dumps(body).encode(),
-                 headers={"Host": f"127.0.0.1:{srv.port}", "Content-Type": "application/json"})
-    r = conn.getresponse()
-    data = r.read()
-    conn.close()
-    return r.status, json.loads(data)
 
 
 def refused(srv, path, body, expect=range(400, 500)) -> str:

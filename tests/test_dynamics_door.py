@@ -14,18 +14,8 @@ import pytest
 import linkage
 import linkage.api
 from sim.front import app
+from tests.app_client import post
 from tests.cli_runner import run
-
-
-def post(srv, path, body):
-    import http.client
-    conn = http.client.HTTPConnection("127.0.0.1", srv.port, timeout=300)
-    conn.request("POST", path, body=json.dumps(body).encode(),
-                 headers={"Host": f"127.0.0.1:{srv.port}", "Content-Type": "application/json"})
-    r = conn.getresponse()
-    data = r.read()
-    conn.close()
-    return r.status, json.loads(data)
 
 
 def test_the_command_line_and_the_app_call_the_door_with_keywords(server, monkeypatch):
